@@ -1,0 +1,25 @@
+# The two commands of the README: `make demo` (the main job) and `make test`.
+# Each installs what is missing, configures and builds as needed.
+BUILD := build/release
+JOBS ?= $(shell nproc)
+
+.PHONY: deps build test demo bench clean
+
+deps:
+	bash deploy/install-deps.sh
+
+build: deps
+	cmake --preset release >/dev/null
+	cmake --build $(BUILD) -j $(JOBS)
+
+test: build
+	ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS)
+
+demo: build
+	bash deploy/demo.sh $(BUILD)
+
+bench: build
+	bash bench/run_benchmarks.sh $(BUILD)
+
+clean:
+	rm -rf build

@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# Installs every Debian 12 package sweepd needs to build, test and run; idempotent.
+# Runs `apt-get update` once, and only when something is missing. Works as root or via sudo.
+# Where npm is present, also installs the Khronos glTF validator into .tools/ (used by tests).
+set -euo pipefail
+
+packages=(
+  cmake ninja-build g++ pkg-config make
+  libglm-dev libtinygltf-dev libopenmesh-dev libopenexr-dev libasio-dev
+  libegl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri mesa-utils-bin
+  nlohmann-json3-dev libstb-dev libgtest-dev libgmock-dev libbenchmark-dev
+  flatbuffers-compiler libflatbuffers-dev python3 python3-flatbuffers
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+
+if ((${#missing[@]})); then
+  sudo_cmd=()
+  if [ "$(id -u)" -ne 0 ]; then
+    command -v sudo >/dev/null || { echo "install-deps: need root or sudo to install: ${missing[*]}" >&2; exit 1; }
+    sudo_cmd=(sudo)
+  fi
+  echo "install-deps: installing ${missing[*]}"
+  "${sudo_cmd[@]}" apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
+else
+  echo "install-deps: all ${#packages[@]} Debian packages present"
+fi
+
+root=$(cd "$(dirname "$0")/.." && pwd)
+validator="$root/.tools/node_modules/gltf-validator"
+if command -v npm >/dev/null; then
+  if [ ! -d "$validator" ]; then
+    echo "install-deps: installing gltf-validator (npm) into .tools/"
+    npm install --silent --no-audit --no-fund --prefix "$root/.tools" gltf-validator@2.0.0-dev.3.10 >/dev/null \
+      || echo "install-deps: warning: gltf-validator could not be installed; its tests will skip" >&2
+  fi
+else
+  echo "install-deps: npm not found; the glTF validator tests will skip"
+fi
