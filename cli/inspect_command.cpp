@@ -1,10 +1,142 @@
+// sweepctl inspect FILE: what a model (.glb/.gltf) or motion clip (.bvh) holds, for a person.
+#include <algorithm>
 #include <cstdio>
+#include <filesystem>
+#include <string>
 
 #include "cli/commands.h"
+#include "cli/text_format.h"
+#include "deform/mesh_topology.h"
+#include "io/bvh_load.h"
+#include "io/gltf_load.h"
 
 namespace sweepd::cli {
-int run_inspect(const std::vector<std::string>&) {
-  std::fprintf(stderr, "sweepctl inspect: not built yet\n");
-  return 1;
+
+namespace {
+
+constexpr const char* kUsage =
+    "usage: sweepctl inspect FILE\n"
+    "  FILE  a .glb/.gltf model or a .bvh motion clip\n"
+    "Prints counts, the joint tree, UV presence, bounding box and height, skin weight\n"
+    "statistics (models) or channels, frames and frame rate (clips), and warnings.\n";
+
+template <typename Children, typename Label>
+void print_tree(const Children& children_of, const Label& label, int node, int depth) {
+  std::printf("  %*s%s\n", 2 * depth, "", label(node).c_str());
+  for (int child : children_of(node)) print_tree(children_of, label, child, depth + 1);
 }
+
+void print_warnings(const std::vector<std::string>& warnings) {
+  std::printf("warnings:    %s\n", warnings.empty() ? "none" : "");
+  for (const std::string& w : warnings) std::printf("  - %s\n", w.c_str());
+}
+
+int inspect_model(const std::filesystem::path& file) {
+  io::LoadReport report;
+  const deform::Model model = io::load_gltf(file, &report);
+  glm::vec3 lo(1e30f), hi(-1e30f);
+  for (const glm::vec3& p : model.positions) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  int max_influences = 0;
+  double influence_sum = 0.0;
+  for (const auto& weights : model.skin_weights) {
+    const int used = static_cast<int>(std::count_if(weights.begin(), weights.end(),
+                                                    [](float w) { return w > 0.0f; }));
+    max_influences = std::max(max_influences, used);
+    influence_sum += used;
+  }
+  const deform::MeshTopology topology = deform::analyze_topology(model.positions, model.indices);
+  const deform::Skeleton& skeleton = model.skeleton;
+
+  std::printf("file:        %s\n", file.string().c_str());
+  std::printf("kind:        skinned model (glTF)%s%s\n", report.generator.empty() ? "" : ", generator ",
+              report.generator.c_str());
+  std::printf("vertices:    %s\n", with_thousands(model.vertex_count()).c_str());
+  std::printf("triangles:   %s (from %d primitive%s)\n", with_thousands(model.triangle_count()).c_str(),
+              report.source_primitive_count, report.source_primitive_count == 1 ? "" : "s");
+  std::printf("joints:      %d\n", skeleton.size());
+  std::printf("UVs:         %s\n", model.has_uvs() ? "present" : "absent");
+  std::printf("bounds:      min (%.3f, %.3f, %.3f)  max (%.3f, %.3f, %.3f) m\n", lo.x, lo.y, lo.z,
+              hi.x, hi.y, hi.z);
+  std::printf("height:      %.3f m (Y extent)\n", hi.y - lo.y);
+  std::printf("topology:    %s welded positions, %s edges, %zu component%s, %s\n",
+              with_thousands(topology.welded_vertices).c_str(),
+              with_thousands(topology.edges).c_str(), topology.components,
+              topology.components == 1 ? "" : "s",
+              topology.closed_manifold() ? "closed 2-manifold" : "NOT closed 2-manifold");
+  if (!topology.closed_manifold())
+    std::printf("             %zu boundary edges, %zu non-manifold edges, %zu non-manifold vertices\n",
+                topology.boundary_edges, topology.non_manifold_edges,
+                topology.non_manifold_vertices);
+  std::printf("weights:     influences per vertex mean %.2f, max %d; %d renormalised, %d unweighted\n",
+              influence_sum / std::max<std::size_t>(1, model.vertex_count()), max_influences,
+              report.renormalised_weight_count, report.zero_weight_vertex_count);
+  print_warnings(report.warnings);
+  std::printf("joint tree:\n");
+  for (int j = 0; j < skeleton.size(); ++j)
+    if (skeleton.joints[j].parent < 0)
+      print_tree(
+          [&](int n) { return skeleton.children(n); },
+          [&](int n) { return skeleton.joints[n].name; }, j, 0);
+  return 0;
+}
+
+int inspect_motion(const std::filesystem::path& file) {
+  const io::Motion motion = io::load_bvh(file);
+  std::printf("file:        %s\n", file.string().c_str());
+  std::printf("kind:        motion clip (BVH)\n");
+  std::printf("joints:      %zu\n", motion.joints.size());
+  std::printf("channels:    %d per frame\n", motion.channel_count);
+  std::printf("frames:      %s (header says %s)\n", with_thousands(motion.frame_count).c_str(),
+              with_thousands(motion.header_frame_count).c_str());
+  std::printf("frame time:  %.7f s (%.2f fps), duration %.2f s\n", motion.frame_time,
+              motion.frames_per_second(), motion.frame_count * motion.frame_time);
+  print_warnings(motion.warnings);
+  std::printf("joint tree:\n");
+  auto children_of = [&](int j) {
+    std::vector<int> children;
+    for (int c = 0; c < static_cast<int>(motion.joints.size()); ++c)
+      if (motion.joints[c].parent == j) children.push_back(c);
+    return children;
+  };
+  auto label = [&](int j) {
+    std::string text = motion.joints[j].name + " [";
+    for (std::size_t k = 0; k < motion.joints[j].channels.size(); ++k)
+      text += (k ? " " : "") + std::string(io::channel_name(motion.joints[j].channels[k]));
+    return text + "]";
+  };
+  for (int j = 0; j < static_cast<int>(motion.joints.size()); ++j)
+    if (motion.joints[j].parent < 0)
+      print_tree(children_of, label, j, 0);
+  return 0;
+}
+
+}  // namespace
+
+int run_inspect(const std::vector<std::string>& args) {
+  if (args.size() == 1 && (args[0] == "--help" || args[0] == "-h")) {
+    std::fputs(kUsage, stdout);
+    return 0;
+  }
+  if (args.size() != 1) {
+    std::fputs(kUsage, stderr);
+    return 2;
+  }
+  const std::filesystem::path file = args[0];
+  std::string extension = file.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(), ::tolower);
+  try {
+    if (extension == ".bvh") return inspect_motion(file);
+    if (extension == ".glb" || extension == ".gltf") return inspect_model(file);
+    std::fprintf(stderr, "sweepctl inspect: %s: unknown file type '%s' (expected .glb, .gltf or .bvh)\n",
+                 file.string().c_str(), extension.c_str());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "sweepctl inspect: %s\n", e.what());
+    return 1;
+  }
+}
+
 }  // namespace sweepd::cli
