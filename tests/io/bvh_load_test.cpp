@@ -284,6 +284,21 @@ TEST(BvhLoad, AnyChannelSubsetAndOrder) {
   }
 }
 
+TEST(BvhLoad, SeveralRootsAndZeroFramesLoad) {
+  const Motion motion = parse_bvh(
+      "HIERARCHY\nROOT A\n{\nOFFSET 0 0 0\nCHANNELS 1 Xrotation\n}\n"
+      "ROOT B\n{\nOFFSET 1 0 0\nCHANNELS 1 Yposition\n}\n"
+      "MOTION\nFrames: 0\nFrame Time: 0.5\n",
+      "empty_clip.bvh");
+  ASSERT_EQ(motion.joints.size(), 2u);
+  EXPECT_EQ(motion.joints[1].parent, -1);
+  EXPECT_EQ(motion.joints[1].channel_offset, 1);
+  EXPECT_EQ(motion.frame_count, 0);
+  EXPECT_TRUE(motion.values.empty());
+  EXPECT_TRUE(motion.warnings.empty());
+  EXPECT_FLOAT_EQ(motion.frames_per_second(), 2.0f);  // 1 / 0.5, exact in float
+}
+
 TEST(BvhLoad, LengthScaleAppliesToOffsetsAndPositionsOnly) {
   const std::string text = join_lines(kSmallClipLines);
   const Motion plain = parse_bvh(text, "small.bvh");
