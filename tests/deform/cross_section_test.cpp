@@ -9,43 +9,22 @@
 #include <vector>
 
 #include "deform/ellipse_fit.h"
+#include "tests/deform/tube_mesh.h"
 
 namespace sweepd::deform {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-
-struct Mesh {
-  std::vector<glm::vec3> positions;
-  std::vector<std::uint32_t> indices;
-};
-
-// An open tube (no caps): `segments` columns around the axis from `base` along unit `axis`,
-// rings at distance length * j / (rings - 1). covered < 1 leaves a slot (an open mesh).
-void add_tube(Mesh& mesh, glm::vec3 base, glm::vec3 axis, float radius, float length, int segments,
-              int rings, double covered = 1.0) {
-  const glm::vec3 helper = std::abs(axis.x) < 0.9f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
-  const glm::vec3 e1 = glm::normalize(glm::cross(axis, helper)), e2 = glm::cross(axis, e1);
-  const bool closed = covered >= 1.0;
-  const int columns = closed ? segments : segments + 1;
-  const auto first = static_cast<std::uint32_t>(mesh.positions.size());
-  for (int j = 0; j < rings; ++j)
-    for (int k = 0; k < columns; ++k) {
-      const double angle = 2.0 * kPi * covered * k / segments;
-      mesh.positions.push_back(base + axis * (length * static_cast<float>(j) / (rings - 1)) +
-                               radius * (static_cast<float>(std::cos(angle)) * e1 +
-                                         static_cast<float>(std::sin(angle)) * e2));
-    }
-  auto at = [&](int j, int k) {
-    return first + static_cast<std::uint32_t>(j * columns + k % columns);
-  };
-  for (int j = 0; j + 1 < rings; ++j)
-    for (int k = 0; k < segments; ++k)
-      mesh.indices.insert(mesh.indices.end(), {at(j, k), at(j, k + 1), at(j + 1, k + 1), at(j, k),
-                                               at(j + 1, k + 1), at(j + 1, k)});
-}
+using test_geometry::add_tube;
+using test_geometry::Mesh;
+using test_geometry::Tube;
 
 constexpr int kSegments = 64;
+
+// A circular tube of radius r along +y from the origin.
+Tube tube_along_y(float r, float length, int rings) {
+  return {.radius_1 = r, .radius_2 = r, .length = length, .segments = kSegments, .rings = rings};
+}
 
 // The loop of a cut through a tube is an inscribed polygon: its points lie between the
 // chord distance r cos(π/segments) and r from the axis.
@@ -63,7 +42,7 @@ void expect_on_tube(const CrossSection& section, glm::vec3 axis_point, glm::vec3
 TEST(CrossSection, CylinderCutGivesItsCircle) {
   Mesh mesh;
   const float r = 0.5f;
-  add_tube(mesh, {0, 0, 0}, {0, 1, 0}, r, 2.0f, kSegments, 10);
+  add_tube(mesh, tube_along_y(r, 2.0f, 10));
   const PlaneFrame plane = make_plane_frame({0, 0.73f, 0}, {0, 1, 0});
   const CrossSection section = cross_section(mesh.positions, mesh.indices, plane, {0, 0.73f, 0});
   ASSERT_TRUE(section.found);
@@ -89,7 +68,7 @@ TEST(CrossSection, CylinderCutGivesItsCircle) {
 TEST(CrossSection, PlaneThroughARingOfVerticesStillGivesOneClosedLoop) {
   Mesh mesh;
   const float r = 0.5f;
-  add_tube(mesh, {0, 0, 0}, {0, 1, 0}, r, 2.0f, kSegments, 5);  // rings at y = 0, 0.5, 1, ...
+  add_tube(mesh, tube_along_y(r, 2.0f, 5));  // rings at y = 0, 0.5, 1, ...
   const PlaneFrame plane = make_plane_frame({0, 1.0f, 0}, {0, 1, 0});
   const CrossSection section = cross_section(mesh.positions, mesh.indices, plane, {0, 1.0f, 0});
   ASSERT_TRUE(section.found);
@@ -110,8 +89,17 @@ struct TShape {
   Mesh mesh;
   PlaneFrame plane = make_plane_frame({1.5f, 2.0f, 0.0f}, glm::vec3(1, 1, 0));
   TShape() {
-    add_tube(mesh, {0, -3, 0}, {0, 1, 0}, 1.0f, 9.0f, kSegments, 19);
-    add_tube(mesh, {0.5f, 2, 0}, {1, 0, 0}, 0.4f, 3.5f, kSegments, 15);
+    Tube torso = tube_along_y(1.0f, 9.0f, 19);
+    torso.base = {0, -3, 0};
+    add_tube(mesh, torso);
+    add_tube(mesh, {.base = {0.5f, 2, 0},
+                    .axis = {1, 0, 0},
+                    .radial = {0, 0, 1},
+                    .radius_1 = 0.4f,
+                    .radius_2 = 0.4f,
+                    .length = 3.5f,
+                    .segments = kSegments,
+                    .rings = 15});
   }
 };
 
@@ -143,7 +131,9 @@ TEST(CrossSection, LinkPointOutsideEveryLoopTakesTheNearest) {
 
 TEST(CrossSection, OpenMeshGivesAnOpenChain) {
   Mesh mesh;
-  add_tube(mesh, {0, 0, 0}, {0, 1, 0}, 0.5f, 1.0f, kSegments, 4, 0.75);  // a slotted tube
+  Tube slotted = tube_along_y(0.5f, 1.0f, 4);
+  slotted.covered = 0.75;  // leaves a slot: an open mesh
+  add_tube(mesh, slotted);
   const CrossSection section = cross_section(
       mesh.positions, mesh.indices, make_plane_frame({0, 0.4f, 0}, {0, 1, 0}), {0, 0.4f, 0});
   ASSERT_TRUE(section.found);
@@ -154,7 +144,7 @@ TEST(CrossSection, OpenMeshGivesAnOpenChain) {
 
 TEST(CrossSection, MissingThePlaneFindsNothing) {
   Mesh mesh;
-  add_tube(mesh, {0, 0, 0}, {0, 1, 0}, 0.5f, 1.0f, 16, 3);
+  add_tube(mesh, tube_along_y(0.5f, 1.0f, 3));
   const CrossSection section =
       cross_section(mesh.positions, mesh.indices, make_plane_frame({0, 5, 0}, {0, 1, 0}), {});
   EXPECT_FALSE(section.found);
