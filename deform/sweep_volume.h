@@ -7,7 +7,8 @@
 // Quadrature: every key span [t_i, t_{i+1}] is split at its midpoint (the a/b knots) and each
 // half gets 8-point Gauss–Legendre. The integrand is a degree-8 polynomial over the positive
 // quadratic |Q(t)|^2, so the polynomial part is integrated exactly and the rational part to
-// ~1e-9 relative for key rotations up to ~90 degrees apart.
+// better than 1e-10 relative for neighbouring keys up to 150 degrees apart (checked against a
+// 2e6-point midpoint rule).
 // The volume is the signed one: positive when N points along C'.
 #pragma once
 
