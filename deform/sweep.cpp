@@ -62,8 +62,20 @@ void Sweep::set_key_half_axes(std::span<const KeyEllipse> keys) {
 }
 
 glm::vec3 Sweep::point(float theta, float t) const {
-  const glm::dvec3 local(a_.value(t) * std::cos(theta), b_.value(t) * std::sin(theta), 0.0);
-  return glm::vec3(orientation_.rotation(t) * local + centre_.position(t));
+  const SweepFrame f = frame(t);
+  return f.rotation * glm::vec3(f.a * std::cos(theta), f.b * std::sin(theta), 0.0f) + f.centre;
+}
+
+SweepFrame Sweep::frame(float t) const {
+  return {glm::vec3(centre_.position(t)), glm::mat3(orientation_.rotation(t)),
+          static_cast<float>(a_.value(t)), static_cast<float>(b_.value(t))};
+}
+
+void Sweep::frames(std::span<const float> t, std::span<SweepFrame> out) const {
+  if (t.size() != out.size())
+    throw std::invalid_argument("sweep: frames() got " + std::to_string(t.size()) +
+                                " parameters but room for " + std::to_string(out.size()));
+  for (std::size_t i = 0; i < t.size(); ++i) out[i] = frame(t[i]);
 }
 
 }  // namespace sweepd::deform

@@ -12,6 +12,7 @@
 //   values α_i, β_i (one per key) are exposed for the volume correction of §4.4.
 // Per frame, set_key_frames() re-solves C and Q from new key centres/orientations without
 // allocating; a and b are kept (the paper changes them only through volume correction or edits).
+// Evaluation at t outside [0, 1] extends the end pieces of every curve.
 #pragma once
 
 #include <glm/glm.hpp>
@@ -24,6 +25,13 @@
 #include "deform/quaternion_curve.h"
 
 namespace sweepd::deform {
+
+// Everything a vertex bound at parameter t needs: V = C + R ((a cos θ, b sin θ, 0) + d).
+struct SweepFrame {
+  glm::vec3 centre{0.0f};    // C(t)
+  glm::mat3 rotation{1.0f};  // R(t); its third column is N(t)
+  float a = 0.0f, b = 0.0f;  // a(t), b(t)
+};
 
 class Sweep {
  public:
@@ -50,6 +58,10 @@ class Sweep {
   float b(float t) const { return static_cast<float>(b_.value(t)); }
   // S(θ, t).
   glm::vec3 point(float theta, float t) const;
+  // C, R, a, b at t in one evaluation.
+  SweepFrame frame(float t) const;
+  // frame(t[i]) for every i into out[i]; t and out have the same size. No allocation.
+  void frames(std::span<const float> t, std::span<SweepFrame> out) const;
 
   // Control values α_i of a(t) and β_i of b(t), one per key; writable (volume correction).
   std::span<double> alpha() { return a_.controls(); }

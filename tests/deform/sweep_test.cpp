@@ -62,6 +62,22 @@ TEST(Sweep, SurfacePointsLieOnTheMovingEllipse) {
   }
 }
 
+TEST(Sweep, FramesAgreeWithTheSingleEvaluators) {
+  const Sweep sweep(random_keys(5, 13u));
+  const std::vector<float> t{0.0f, 0.1f, 0.5f, 0.77f, 1.0f};
+  std::vector<SweepFrame> out(t.size());
+  sweep.frames(t, out);
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    // Same double evaluation rounded to float the same way: identical results.
+    EXPECT_EQ(out[i].centre, sweep.centre(t[i]));
+    EXPECT_EQ(out[i].rotation, sweep.rotation(t[i]));
+    EXPECT_EQ(out[i].a, sweep.a(t[i]));
+    EXPECT_EQ(out[i].b, sweep.b(t[i]));
+  }
+  std::vector<SweepFrame> too_small(2);
+  EXPECT_THROW(sweep.frames(t, too_small), std::invalid_argument);
+}
+
 TEST(Sweep, OrientationIsSignContinuous) {
   // Keys with the same rotation but alternating quaternion signs: a naive linear blend of q and
   // -q passes through zero; the sign-continuous curve must stay at that rotation throughout.
