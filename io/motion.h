@@ -1,0 +1,77 @@
+// Motion: a joint hierarchy with per-frame channel values, as read from a BVH clip.
+//
+// Joints are in file order, which is parents first (parent index < own index; roots have -1).
+// Each joint has a rest offset from its parent and the channels it animates, in file order.
+// Channel values of all frames sit in one row-major buffer:
+//   values  frame_count × channel_count floats; a joint's channels of frame f start at
+//           values[f * channel_count + joint.channel_offset].
+// Rotation values are degrees. Position values and offsets are already multiplied by the
+// loader's length scale, so they are in the caller's units (e.g. metres).
+#pragma once
+
+#include <cstdint>
+#include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace sweepd::io {
+
+enum class Channel : std::uint8_t {
+  kXposition,
+  kYposition,
+  kZposition,
+  kXrotation,
+  kYrotation,
+  kZrotation,
+};
+
+// The BVH spelling of the channel: "Xposition" ... "Zrotation".
+std::string_view channel_name(Channel channel);
+// The channel with that exact BVH spelling, or nothing.
+std::optional<Channel> channel_from_name(std::string_view name);
+bool is_rotation(Channel channel);
+// Unit axis of the channel: +X, +Y or +Z.
+glm::vec3 channel_axis(Channel channel);
+
+struct MotionJoint {
+  std::string name;
+  int parent = -1;                    // index into Motion::joints, -1 for a root
+  glm::vec3 offset{0.0f};             // rest translation from the parent, scaled
+  std::vector<Channel> channels;      // in file order (any subset, any order)
+  int channel_offset = 0;             // index of the first channel within a frame's row
+  std::optional<glm::vec3> end_site;  // the "End Site" offset, scaled, when the file has one
+};
+
+struct Motion {
+  std::vector<MotionJoint> joints;
+  int channel_count = 0;              // sum of the joints' channel counts
+  int frame_count = 0;                // data rows present in the file
+  int header_frame_count = 0;         // what the file's "Frames:" line claims
+  float frame_time = 0.0f;            // seconds per frame, > 0
+  std::vector<float> values;          // frame_count × channel_count, row-major
+  std::vector<std::string> warnings;  // problems that did not stop loading, in words
+
+  float frames_per_second() const { return 1.0f / frame_time; }
+  // The channel values of one frame (channel_count floats).
+  std::span<const float> frame(int frame) const;
+  // Index of the joint with this exact name, or -1.
+  int find(std::string_view name) const;
+
+  // Rotation of joint relative to its parent at frame: the rotation channels composed in file
+  // order, so "Zrotation Yrotation Xrotation" gives Rz * Ry * Rx (applied to column vectors).
+  // Identity when the joint has no rotation channels.
+  // Requires 0 <= joint < joints.size() and 0 <= frame < frame_count.
+  glm::quat local_rotation(int joint, int frame) const;
+  // Translation of joint relative to its parent at frame: offset plus its position channels.
+  glm::vec3 local_translation(int joint, int frame) const;
+  // local_rotation and local_translation of every joint at frame, into caller-owned buffers.
+  //   rotations, translations  joints.size() each
+  void local_pose(int frame, std::span<glm::quat> rotations,
+                  std::span<glm::vec3> translations) const;
+};
+
+}  // namespace sweepd::io
