@@ -4,8 +4,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "deform/cross_section.h"
-#include "deform/ellipse_fit.h"
+#include "deform/fit_key_ellipse.h"
 
 namespace sweepd::deform {
 
@@ -16,7 +15,7 @@ struct RawKey {
   glm::vec3 origin;
   glm::vec3 normal;
   PlaneFrame frame;
-  EllipseFit fit;
+  KeyEllipseFit fit;
   bool usable = false;
 };
 
@@ -80,14 +79,11 @@ BoundSweep fit_sweep_keys(const Model& model, std::span<const glm::mat4> world_r
                                   key.anchor.fraction);
       key.normal = link_direction[i];
       key.frame = make_plane_frame(key.origin, key.normal, x_hint);
-      const CrossSection section =
-          cross_section(model.positions, model.indices, key.frame, key.origin);
-      if (section.found && section.closed && section.points_2d.size() >= 3) {
-        EllipseFitOptions fit_options;
-        if (key.anchor.is_joint_key()) fit_options.fixed_centre = glm::vec2(0.0f);
-        key.fit = fit_ellipse(section.points_2d, fit_options);
-        key.usable = key.fit.valid && std::isfinite(key.fit.a) && std::isfinite(key.fit.b);
-      }
+      key.fit = fit_key_ellipse(model.positions, model.indices, key.frame, key.origin,
+                                key.anchor.is_joint_key() ? std::optional(key.origin)
+                                                          : std::nullopt);
+      key.usable = key.fit.valid && key.fit.closed_loop && std::isfinite(key.fit.key.a) &&
+                   std::isfinite(key.fit.key.b);
       keys.push_back(key);
     }
   }
@@ -97,7 +93,7 @@ BoundSweep fit_sweep_keys(const Model& model, std::span<const glm::mat4> world_r
     if (!keys[k].usable || !keys[k].anchor.is_joint_key()) continue;
     const int neighbour = nearest_usable(keys, k);
     if (neighbour >= 0 && !keys[neighbour].anchor.is_joint_key() &&
-        keys[k].fit.area > kMaxJointKeyAreaRatio * keys[neighbour].fit.area)
+        keys[k].fit.fit_2d.area > kMaxJointKeyAreaRatio * keys[neighbour].fit.fit_2d.area)
       keys[k].usable = false;
   }
 
@@ -113,13 +109,12 @@ BoundSweep fit_sweep_keys(const Model& model, std::span<const glm::mat4> world_r
       throw std::invalid_argument("cannot fit the " + part_name +
                                   " sweep: no plane orthogonal to its links cuts a closed "
                                   "cross-section of the mesh");
-    const EllipseFit& fit = keys[source].fit;
+    const KeyEllipse& fitted = keys[source].fit.key;
+    const EllipseFit& fit = keys[source].fit.fit_2d;
     const PlaneFrame& frame = key.frame;
-    // Fitted axes in world space; a fallback takes its source's axes onto this plane.
-    const PlaneFrame& source_frame = keys[source].frame;
-    const glm::vec3 source_major = std::cos(fit.angle) * source_frame.x_axis +
-                                   std::sin(fit.angle) * source_frame.y_axis;
-    const glm::vec3 major = project_to_plane(source_major, frame.normal, frame.x_axis);
+    // A fallback takes its source's major axis onto this plane.
+    const glm::vec3 major =
+        project_to_plane(glm::mat3_cast(fitted.orientation)[0], frame.normal, frame.x_axis);
     const glm::vec3 minor = glm::cross(frame.normal, major);
     const glm::vec3 reference = project_to_plane(previous_x, frame.normal, major);
 
@@ -136,9 +131,7 @@ BoundSweep fit_sweep_keys(const Model& model, std::span<const glm::mat4> world_r
     }
     const glm::vec3 y_axis = glm::cross(frame.normal, x_axis);
     ellipse.orientation = glm::normalize(glm::quat_cast(glm::mat3(x_axis, y_axis, frame.normal)));
-    ellipse.centre = key.origin;
-    if (!fallback && !key.anchor.is_joint_key())
-      ellipse.centre += fit.centre.x * frame.x_axis + fit.centre.y * frame.y_axis;
+    ellipse.centre = fallback ? key.origin : fitted.centre;
     previous_x = x_axis;
 
     sweep.anchors.push_back(key.anchor);
