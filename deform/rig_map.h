@@ -86,10 +86,10 @@ const char* to_string(BodyPart part);
 RigMap detect_rig_map(const Skeleton& skeleton);
 
 // Empty when the map fits the skeleton: every id in range, required roles present, each limb
-// role a strict descendant of the previous one, the torso a parent-child path, the neck a
-// parent-child path from a child of the chest to the head, limbs hanging off the torso (arms
-// below the chest's spine, legs below the pelvis) and no joint used twice. Otherwise the
-// first problem, naming the part and the joints.
+// role a strict descendant of the previous one, the torso a parent-child path (at least two
+// joints), the neck a parent-child path from a child of the chest to the head, every limb
+// below the pelvis and no joint used twice. Otherwise the first problem, naming the part and
+// the joints. (Which side a limb is on is not checked: an override may say anything.)
 std::string validate_rig_map(const RigMap& map, const Skeleton& skeleton);
 
 // Per joint (size skeleton.size()): the body part it belongs to. Role joints set the part
@@ -99,6 +99,7 @@ std::string validate_rig_map(const RigMap& map, const Skeleton& skeleton);
 std::vector<BodyPart> label_joints(const RigMap& map, const Skeleton& skeleton);
 
 // Human-readable listing of the map by joint names, one part per line (for sweepctl).
+// `map` must fit `skeleton` (validate_rig_map).
 std::string describe(const RigMap& map, const Skeleton& skeleton);
 
 }  // namespace sweepd::deform

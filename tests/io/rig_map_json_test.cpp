@@ -132,6 +132,8 @@ TEST_F(RigMapJsonTest, ErrorsNameTheFileAndTheProblem) {
          d["left_arm"]["lower"] = "LeftArm";
        },
        "left arm: 'LeftArm' is not below 'LeftForeArm'"},
+      {"joint_used_twice", [](json& d) { d["left_arm"]["clavicle"] = "Spine1"; },
+       "left arm: joint 'Spine1' is already used by the torso"},
       {"missing_part", [](json& d) { d.erase("right_leg"); }, "missing part \"right_leg\""},
       {"unknown_part", [](json& d) { d["lef_arm"] = d["left_arm"]; }, "unknown key \"lef_arm\""},
       {"unknown_role", [](json& d) { d["left_arm"]["elbow"] = "LeftForeArm"; },
