@@ -1,0 +1,411 @@
+// load_gltf on the shared real models, on small crafted files that exercise the glTF features
+// (byteStride, sparse, joint reordering, zero weights), and on bad input of every listed kind.
+#include "io/gltf_load.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <set>
+
+#include "tests/io/gltf_test_files.h"
+
+namespace sweepd::io {
+namespace {
+
+using nlohmann::json;
+using testing::ScratchDirectory;
+using testing::shared_model;
+
+std::string base64(const std::string& bytes) {
+  static const char* alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  for (std::size_t i = 0; i < bytes.size(); i += 3) {
+    const std::size_t n = std::min<std::size_t>(3, bytes.size() - i);
+    std::uint32_t chunk = 0;
+    for (std::size_t k = 0; k < 3; ++k)
+      chunk = chunk << 8 | (k < n ? static_cast<unsigned char>(bytes[i + k]) : 0u);
+    for (std::size_t k = 0; k < 4; ++k)
+      out += k <= n ? alphabet[(chunk >> (18 - 6 * k)) & 63] : '=';
+  }
+  return out;
+}
+
+struct Extent {
+  glm::vec3 low{std::numeric_limits<float>::max()}, high{-std::numeric_limits<float>::max()};
+};
+Extent extent_of(const deform::Model& model) {
+  Extent e;
+  for (const glm::vec3& p : model.positions)
+    e.low = glm::min(e.low, p), e.high = glm::max(e.high, p);
+  return e;
+}
+
+// A two-joint skinned quad (4 vertices, 2 triangles) written as .gltf with one base64 buffer.
+// Node 0 = joint "root" at (0,1,0) with child node 2 = joint "tip" at (0,0.5,0) local; node 1 =
+// the mesh. skin.joints lists the child first ([2, 0]) so the loader has to reorder them.
+struct CraftedQuad {
+  std::vector<float> positions = {0, 1, 0, 1, 1, 0, 1, 2, 0, 0, 2, 0};
+  std::vector<std::uint8_t> joints = {1, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0};
+  std::vector<float> weights = {1, 0, 0, 0, 1, 0, 0, 0, 0.5f, 0.5f, 0, 0, 1, 0, 0, 0};
+  std::vector<std::uint16_t> indices = {0, 1, 2, 0, 2, 3};
+  // Inverse bind matrices per skin slot: inverse world of tip (y 1.5) and root (y 1).
+  std::vector<float> inverse_bind = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, -1.5f, 0, 1,
+                                     1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, -1.0f, 0, 1};
+
+  json to_json() const {
+    std::string buffer;
+    json views = json::array(), accessors = json::array();
+    auto add = [&](const void* data, std::size_t bytes, int component, const char* type,
+                   std::size_t count) {
+      views.push_back({{"buffer", 0}, {"byteOffset", buffer.size()}, {"byteLength", bytes}});
+      buffer.append(static_cast<const char*>(data), bytes);
+      buffer.resize((buffer.size() + 3) / 4 * 4, '\0');
+      accessors.push_back({{"bufferView", views.size() - 1},
+                           {"componentType", component},
+                           {"type", type},
+                           {"count", count}});
+      return accessors.size() - 1;
+    };
+    const auto position =
+        add(positions.data(), positions.size() * 4, 5126, "VEC3", positions.size() / 3);
+    const auto joint = add(joints.data(), joints.size(), 5121, "VEC4", joints.size() / 4);
+    const auto weight = add(weights.data(), weights.size() * 4, 5126, "VEC4", weights.size() / 4);
+    const auto index = add(indices.data(), indices.size() * 2, 5123, "SCALAR", indices.size());
+    const auto bind = add(inverse_bind.data(), inverse_bind.size() * 4, 5126, "MAT4", 2);
+    return {
+        {"asset", {{"version", "2.0"}}},
+        {"scene", 0},
+        {"scenes", {{{"nodes", {0, 1}}}}},
+        {"nodes",
+         {{{"name", "root"}, {"translation", {0, 1, 0}}, {"children", {2}}},
+          {{"mesh", 0}, {"skin", 0}},
+          {{"name", "tip"}, {"translation", {0, 0.5, 0}}}}},
+        {"skins", {{{"joints", {2, 0}}, {"inverseBindMatrices", bind}}}},
+        {"meshes",
+         {{{"primitives",
+            {{{"attributes", {{"POSITION", position}, {"JOINTS_0", joint}, {"WEIGHTS_0", weight}}},
+              {"indices", index}}}}}}},
+        {"accessors", accessors},
+        {"bufferViews", views},
+        {"buffers",
+         {{{"byteLength", buffer.size()},
+           {"uri", "data:application/octet-stream;base64," + base64(buffer)}}}},
+    };
+  }
+};
+
+std::filesystem::path write_gltf(const ScratchDirectory& dir, const json& gltf) {
+  const std::filesystem::path file = dir / "crafted.gltf";
+  testing::write_bytes(file, gltf.dump());
+  return file;
+}
+
+TEST(GltfLoad, MaleHasItsPublishedCounts) {
+  SWEEPD_REQUIRE_SHARED_MODEL(testing::kMale);
+  LoadReport report;
+  const deform::Model model = load_gltf(shared_model(testing::kMale), &report);
+  // Counts from ../shared/data/SOURCES.md.
+  EXPECT_EQ(model.vertex_count(), 14517u);
+  EXPECT_EQ(model.triangle_count(), 26756u);
+  EXPECT_EQ(model.skeleton.size(), 31);
+  EXPECT_TRUE(model.has_uvs());
+  EXPECT_EQ(model.validate(), "");
+  EXPECT_EQ(report.renormalised_weight_count, 0);
+  EXPECT_EQ(report.zero_weight_vertex_count, 0);
+  EXPECT_EQ(report.computed_normal_count, 0);
+  // Height 1.748 m is given to the millimetre in SOURCES.md.
+  const Extent e = extent_of(model);
+  EXPECT_NEAR(e.high.y - e.low.y, 1.748f, 1e-3f);
+  // Feet at y = 0 (SOURCES.md); 1 mm allows the rounding of the published figure.
+  EXPECT_NEAR(e.low.y, 0.0f, 1e-3f);
+  for (std::size_t v = 0; v < model.vertex_count(); ++v) {
+    float sum = 0.0f;
+    for (float w : model.skin_weights[v]) sum += w;
+    // Float sum of 4 renormalised weights: a few ulp of 1.
+    ASSERT_NEAR(sum, 1.0f, 1e-6f) << "vertex " << v;
+  }
+  const int hips = model.skeleton.find("Hips");
+  ASSERT_EQ(hips, 0);
+  EXPECT_EQ(model.skeleton.joints[hips].parent, -1);
+  for (int j = 1; j < model.skeleton.size(); ++j)
+    EXPECT_GE(model.skeleton.joints[j].parent, 0) << model.skeleton.joints[j].name << " is a root";
+}
+
+TEST(GltfLoad, MaleJointWorldRestIsTheHeadOfItsBone) {
+  SWEEPD_REQUIRE_SHARED_MODEL(testing::kMale);
+  // Each joint node carries extras.head (world metres); the world rest translation must match it.
+  const json gltf = [] {
+    const std::string bytes = testing::read_bytes(shared_model(testing::kMale));
+    std::uint32_t json_length;
+    std::memcpy(&json_length, bytes.data() + 12, 4);
+    return json::parse(bytes.substr(20, json_length));
+  }();
+  const deform::Model model = load_gltf(shared_model(testing::kMale));
+  const std::vector<glm::mat4> world = model.skeleton.world_rest_matrices();
+  int checked = 0;
+  for (const json& node : gltf["nodes"]) {
+    if (!node.contains("extras") || !node["extras"].contains("head")) continue;
+    const int j = model.skeleton.find(node["name"].get<std::string>());
+    ASSERT_GE(j, 0) << node["name"];
+    for (int c = 0; c < 3; ++c)  // float translations summed along a chain of <= 10 joints
+      EXPECT_NEAR(world[j][3][c], node["extras"]["head"][c].get<float>(), 1e-5f) << node["name"];
+    ++checked;
+  }
+  EXPECT_EQ(checked, 31);
+}
+
+void expect_rigged_figure(const deform::Model& model, const LoadReport& report) {
+  EXPECT_EQ(model.vertex_count(), 370u);
+  EXPECT_EQ(model.triangle_count(), 256u);
+  ASSERT_EQ(model.skeleton.size(), 19);
+  EXPECT_FALSE(model.has_uvs());
+  EXPECT_EQ(model.validate(), "");
+  // SOURCES.md lists the joint nodes; all are unnamed in the file.
+  const std::set<std::string> expected = {
+      "joint_2",  "joint_11", "joint_12", "joint_19", "joint_20", "joint_16", "joint_13",
+      "joint_17", "joint_14", "joint_18", "joint_15", "joint_7",  "joint_3",  "joint_8",
+      "joint_4",  "joint_9",  "joint_5",  "joint_10", "joint_6"};
+  std::set<std::string> names;
+  for (const deform::Joint& joint : model.skeleton.joints) names.insert(joint.name);
+  EXPECT_EQ(names, expected);
+  EXPECT_EQ(model.skeleton.joints[0].name, "joint_2");  // the only root joint
+  // The validator reports 31 ACCESSOR_WEIGHTS_NON_NORMALIZED errors on this file.
+  EXPECT_EQ(report.renormalised_weight_count, 31);
+  EXPECT_EQ(report.zero_weight_vertex_count, 0);
+  const Extent e = extent_of(model);
+  const glm::vec3 size = e.high - e.low;
+  // Stored Z-up with height 1.45; the root matrix turns it Y-up. 3 cm: the published figure
+  // is rounded and the figure's rest pose is not perfectly upright.
+  EXPECT_NEAR(size.y, 1.45f, 0.03f);
+  EXPECT_GT(size.y, 2.0f * size.z);
+}
+
+TEST(GltfLoad, RiggedFigureWithExternalBin) {
+  SWEEPD_REQUIRE_SHARED_MODEL(testing::kRiggedFigure);
+  LoadReport report;
+  const deform::Model model = load_gltf(shared_model(testing::kRiggedFigure), &report);
+  expect_rigged_figure(model, report);
+  EXPECT_FALSE(report.warnings.empty());  // the renormalisation is reported in words
+}
+
+TEST(GltfLoad, RiggedFigureWithEmbeddedBase64EqualsExternal) {
+  SWEEPD_REQUIRE_SHARED_MODEL(testing::kRiggedFigure);
+  ScratchDirectory dir;
+  json gltf = json::parse(testing::read_bytes(shared_model(testing::kRiggedFigure)));
+  const std::string bin = testing::read_bytes(shared_model("RiggedFigure/RiggedFigure0.bin"));
+  gltf["buffers"][0]["uri"] = "data:application/octet-stream;base64," + base64(bin);
+  const std::filesystem::path file = dir / "embedded.gltf";
+  testing::write_bytes(file, gltf.dump());
+  LoadReport report;
+  const deform::Model embedded = load_gltf(file, &report);
+  expect_rigged_figure(embedded, report);
+  const deform::Model external = load_gltf(shared_model(testing::kRiggedFigure));
+  // Same bytes through the same arithmetic: exactly equal.
+  EXPECT_EQ(embedded.positions, external.positions);
+  EXPECT_EQ(embedded.skin_weights, external.skin_weights);
+}
+
+TEST(GltfLoad, CraftedQuadReordersJointsParentsFirst) {
+  ScratchDirectory dir;
+  const deform::Model model = load_gltf(write_gltf(dir, CraftedQuad().to_json()));
+  ASSERT_EQ(model.skeleton.size(), 2);
+  EXPECT_EQ(model.skeleton.joints[0].name, "root");
+  EXPECT_EQ(model.skeleton.joints[1].name, "tip");
+  EXPECT_EQ(model.skeleton.joints[1].parent, 0);
+  // Vertex 0 was bound to skin slot 1 (root) and vertex 3 to slot 0 (tip).
+  EXPECT_EQ(model.skin_joints[0][0], 0);
+  EXPECT_EQ(model.skin_joints[3][0], 1);
+  // The inverse bind matrices are the inverse world rest matrices, so skinning is the identity.
+  const CraftedQuad quad;
+  for (std::size_t v = 0; v < 4; ++v)
+    for (int c = 0; c < 3; ++c)  // one float matrix product of small integers: exact to 1 ulp
+      EXPECT_NEAR(model.positions[v][c], quad.positions[v * 3 + c], 1e-6f);
+  // No NORMAL in the file: computed, facing +Z for this counter-clockwise quad in z = 0.
+  EXPECT_NEAR(model.normals[0].z, 1.0f, 1e-6f);
+  EXPECT_EQ(model.validate(), "");
+}
+
+TEST(GltfLoad, InverseBindMatricesAreBakedIntoRestPositions) {
+  ScratchDirectory dir;
+  CraftedQuad quad;
+  for (int s = 0; s < 2; ++s) quad.inverse_bind[s * 16 + 13] = 0.0f;  // identity bind matrices
+  const deform::Model model = load_gltf(write_gltf(dir, quad.to_json()));
+  // Vertex 0 on root (world y 1) moves up 1; vertex 3 on tip (world y 1.5) moves up 1.5;
+  // vertex 2 half and half moves up 1.25. Sums of small binary fractions: exact.
+  EXPECT_FLOAT_EQ(model.positions[0].y, 2.0f);
+  EXPECT_FLOAT_EQ(model.positions[3].y, 3.5f);
+  EXPECT_FLOAT_EQ(model.positions[2].y, 3.25f);
+}
+
+TEST(GltfLoad, InterleavedAndSparseAccessors) {
+  ScratchDirectory dir;
+  CraftedQuad quad;
+  json gltf = quad.to_json();
+  // Read positions through a stride-24 view that interleaves them with 12 bytes of padding.
+  std::string interleaved;
+  for (std::size_t v = 0; v < 4; ++v) {
+    interleaved.append(reinterpret_cast<const char*>(&quad.positions[v * 3]), 12);
+    interleaved.append(12, '\x7f');
+  }
+  // Sparse: replace vertex 1's position by (3, 1, 0).
+  const std::uint16_t sparse_index[2] = {1, 0};
+  const float sparse_value[3] = {3, 1, 0};
+  std::string extra = interleaved;
+  extra.append(reinterpret_cast<const char*>(sparse_index), 4);
+  extra.append(reinterpret_cast<const char*>(sparse_value), 12);
+  const std::size_t views = gltf["bufferViews"].size();
+  gltf["buffers"].push_back({{"byteLength", extra.size()},
+                             {"uri", "data:application/octet-stream;base64," + base64(extra)}});
+  gltf["bufferViews"].push_back({{"buffer", 1}, {"byteLength", 96}, {"byteStride", 24}});
+  gltf["bufferViews"].push_back({{"buffer", 1}, {"byteOffset", 96}, {"byteLength", 4}});
+  gltf["bufferViews"].push_back({{"buffer", 1}, {"byteOffset", 100}, {"byteLength", 12}});
+  gltf["accessors"][0]["bufferView"] = views;
+  gltf["accessors"][0]["sparse"] = {
+      {"count", 1},
+      {"indices", {{"bufferView", views + 1}, {"componentType", 5123}}},
+      {"values", {{"bufferView", views + 2}}}};
+  const deform::Model model = load_gltf(write_gltf(dir, gltf));
+  EXPECT_FLOAT_EQ(model.positions[0].x, 0.0f);
+  EXPECT_FLOAT_EQ(model.positions[1].x, 3.0f);  // the sparse value
+  EXPECT_FLOAT_EQ(model.positions[2].y, 2.0f);  // read past the padding, not from it
+}
+
+TEST(GltfLoad, ZeroWeightsBindToTheRootAndAreReported) {
+  ScratchDirectory dir;
+  CraftedQuad quad;
+  std::fill(quad.weights.begin() + 12, quad.weights.end(), 0.0f);  // vertex 3: no weight
+  quad.weights[0] = 0.5f;                                          // vertex 0: sums to 0.5
+  LoadReport report;
+  const deform::Model model = load_gltf(write_gltf(dir, quad.to_json()), &report);
+  EXPECT_EQ(report.zero_weight_vertex_count, 1);
+  EXPECT_EQ(report.renormalised_weight_count, 1);
+  EXPECT_EQ(model.skin_joints[3][0], 0);  // the root
+  EXPECT_EQ(model.skin_weights[3][0], 1.0f);
+  EXPECT_EQ(model.skin_weights[0][0], 1.0f);
+  EXPECT_EQ(model.validate(), "");
+}
+
+TEST(GltfLoad, RepeatedJointNamesGetSuffixes) {
+  ScratchDirectory dir;
+  json gltf = CraftedQuad().to_json();
+  gltf["nodes"][2]["name"] = "root";
+  const deform::Model model = load_gltf(write_gltf(dir, gltf));
+  EXPECT_EQ(model.skeleton.joints[0].name, "root");
+  EXPECT_EQ(model.skeleton.joints[1].name, "root_2");
+}
+
+// Loads `file`, expecting a LoadError whose message names the file and contains `keyword`.
+void expect_load_error(const std::filesystem::path& file, const std::string& keyword) {
+  try {
+    load_gltf(file);
+    ADD_FAILURE() << "no LoadError for " << file << " (expected '" << keyword << "')";
+  } catch (const LoadError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find(file.filename().string()), std::string::npos) << message;
+    EXPECT_NE(message.find(keyword), std::string::npos) << message;
+    EXPECT_EQ(error.file(), file);
+  }
+}
+
+TEST(GltfLoadErrors, TruncatedGlb) {
+  SWEEPD_REQUIRE_SHARED_MODEL(testing::kMale);
+  ScratchDirectory dir;
+  const std::string bytes = testing::read_bytes(shared_model(testing::kMale));
+  // Cut inside the header, inside the JSON chunk, and inside the binary chunk.
+  for (std::size_t keep : {std::size_t{10}, std::size_t{200}, bytes.size() / 2, bytes.size() - 1}) {
+    const std::filesystem::path file = dir / ("cut_" + std::to_string(keep) + ".glb");
+    testing::write_bytes(file, bytes.substr(0, keep));
+    expect_load_error(file, "truncated");
+  }
+}
+
+TEST(GltfLoadErrors, MissingFileAndEmptyFile) {
+  ScratchDirectory dir;
+  expect_load_error(dir / "absent.glb", "cannot open");
+  testing::write_bytes(dir / "empty.gltf", "");
+  expect_load_error(dir / "empty.gltf", "empty");
+}
+
+TEST(GltfLoadErrors, InvalidJson) {
+  ScratchDirectory dir;
+  const std::string text = CraftedQuad().to_json().dump();
+  testing::write_bytes(dir / "broken.gltf", text.substr(0, text.size() / 2));
+  expect_load_error(dir / "broken.gltf", "JSON");
+}
+
+TEST(GltfLoadErrors, MissingBin) {
+  ScratchDirectory dir;
+  json gltf = CraftedQuad().to_json();
+  gltf["buffers"][0]["uri"] = "missing.bin";
+  expect_load_error(write_gltf(dir, gltf), "missing.bin");
+}
+
+TEST(GltfLoadErrors, BufferShorterThanItsViews) {
+  ScratchDirectory dir;
+  json gltf = CraftedQuad().to_json();
+  gltf["bufferViews"][2]["byteOffset"] = 4096;  // weights view points past the buffer's end
+  expect_load_error(write_gltf(dir, gltf), "past the end");
+}
+
+TEST(GltfLoadErrors, JointIndexOutOfRange) {
+  ScratchDirectory dir;
+  CraftedQuad quad;
+  quad.joints[4] = 2;  // the skin has 2 joints
+  expect_load_error(write_gltf(dir, quad.to_json()), "out of range");
+}
+
+TEST(GltfLoadErrors, NaNPosition) {
+  ScratchDirectory dir;
+  CraftedQuad quad;
+  quad.positions[4] = std::numeric_limits<float>::quiet_NaN();
+  expect_load_error(write_gltf(dir, quad.to_json()), "not finite");
+}
+
+TEST(GltfLoadErrors, InfiniteWeight) {
+  ScratchDirectory dir;
+  CraftedQuad quad;
+  quad.weights[1] = std::numeric_limits<float>::infinity();
+  expect_load_error(write_gltf(dir, quad.to_json()), "not finite");
+}
+
+TEST(GltfLoadErrors, LinesInsteadOfTriangles) {
+  ScratchDirectory dir;
+  json gltf = CraftedQuad().to_json();
+  gltf["meshes"][0]["primitives"][0]["mode"] = 1;
+  expect_load_error(write_gltf(dir, gltf), "triangle");
+}
+
+TEST(GltfLoadErrors, MeshWithoutSkin) {
+  ScratchDirectory dir;
+  json gltf = CraftedQuad().to_json();
+  gltf["nodes"][1].erase("skin");
+  expect_load_error(write_gltf(dir, gltf), "no skinned mesh");
+}
+
+TEST(GltfLoadErrors, VertexIndexOutOfRange) {
+  ScratchDirectory dir;
+  CraftedQuad quad;
+  quad.indices[4] = 9;  // 4 vertices
+  expect_load_error(write_gltf(dir, quad.to_json()), "out of range");
+}
+
+TEST(GltfLoadErrors, AccessorLongerThanItsView) {
+  ScratchDirectory dir;
+  json gltf = CraftedQuad().to_json();
+  gltf["accessors"][0]["count"] = 40;
+  expect_load_error(write_gltf(dir, gltf), "out of range");
+}
+
+TEST(GltfLoadErrors, NegativeWeight) {
+  ScratchDirectory dir;
+  CraftedQuad quad;
+  quad.weights[8] = -0.5f;
+  expect_load_error(write_gltf(dir, quad.to_json()), "negative");
+}
+
+}  // namespace
+}  // namespace sweepd::io
