@@ -289,6 +289,43 @@ TEST(GltfLoad, ZeroWeightsBindToTheRootAndAreReported) {
   EXPECT_EQ(model.validate(), "");
 }
 
+TEST(GltfLoad, NonJointNodeBetweenJointsIsFoldedIntoTheChild) {
+  ScratchDirectory dir;
+  json gltf = CraftedQuad().to_json();
+  gltf["nodes"].push_back({{"name", "offset"}, {"translation", {0, 0.25, 0}}, {"children", {2}}});
+  gltf["nodes"][0]["children"] = {3};
+  gltf["nodes"][2]["translation"] = {0, 0.25, 0};  // tip stays at world y 1.5
+  const deform::Model model = load_gltf(write_gltf(dir, gltf));
+  ASSERT_EQ(model.skeleton.size(), 2);
+  EXPECT_EQ(model.skeleton.joints[1].parent, 0);
+  // Local to root: the offset node's 0.25 plus the tip's own 0.25 (binary fractions: exact).
+  EXPECT_EQ(model.skeleton.joints[1].rest_translation, glm::vec3(0.0f, 0.5f, 0.0f));
+  EXPECT_FLOAT_EQ(model.positions[3].y, 2.0f);  // inverse bind still matches: no movement
+}
+
+TEST(GltfLoad, PrimitivesAreMergedAndNonIndexedOnesAccepted) {
+  ScratchDirectory dir;
+  json gltf = CraftedQuad().to_json();
+  json second = gltf["meshes"][0]["primitives"][0];
+  second.erase("indices");  // non-indexed: accessors 0-2 trimmed to one triangle below
+  for (const char* name : {"POSITION", "JOINTS_0", "WEIGHTS_0"}) {
+    json accessor = gltf["accessors"][second["attributes"][name].get<int>()];
+    accessor["count"] = 3;
+    gltf["accessors"].push_back(accessor);
+    second["attributes"][name] = gltf["accessors"].size() - 1;
+  }
+  gltf["meshes"][0]["primitives"].push_back(second);
+  LoadReport report;
+  const deform::Model model = load_gltf(write_gltf(dir, gltf), &report);
+  EXPECT_EQ(report.source_primitive_count, 2);
+  EXPECT_EQ(model.vertex_count(), 7u);
+  ASSERT_EQ(model.triangle_count(), 3u);
+  // The second primitive's triangle is (0, 1, 2) offset by the first primitive's 4 vertices.
+  EXPECT_EQ(std::vector<std::uint32_t>(model.indices.begin() + 6, model.indices.end()),
+            (std::vector<std::uint32_t>{4, 5, 6}));
+  EXPECT_EQ(model.positions[4], model.positions[0]);
+}
+
 TEST(GltfLoad, RepeatedJointNamesGetSuffixes) {
   ScratchDirectory dir;
   json gltf = CraftedQuad().to_json();
