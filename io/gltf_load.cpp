@@ -123,14 +123,17 @@ class AccessorReader {
     const int components = tinygltf::GetNumComponentsInType(acc.type);
     const std::size_t component_size = tinygltf::GetComponentSizeInBytes(acc.componentType);
     const std::size_t element_size = components * component_size;
-    std::vector<double> values(acc.count * components, 0.0);
+    // Bounds first, so that a lying count cannot make us allocate before failing.
+    ElementRange range{nullptr, 0, 0};
     if (acc.bufferView >= 0)
-      decode(acc.bufferView, acc.byteOffset, 0, element_size, acc.count, where,
-             [&](std::size_t i, const unsigned char* bytes) {
-               for (int c = 0; c < components; ++c)
-                 values[i * components + c] =
-                     decode_component(bytes + c * component_size, acc.componentType);
-             });
+      range = locate(acc.bufferView, acc.byteOffset, 0, element_size, acc.count, where);
+    else if (acc.count > kMaxElementsWithoutData)
+      fail(where + " has count " + std::to_string(acc.count) + " but no buffer view");
+    std::vector<double> values(acc.count * components, 0.0);
+    for (std::size_t i = 0; i < range.count; ++i)
+      for (int c = 0; c < components; ++c)
+        values[i * components + c] =
+            decode_component(range.element(i) + c * component_size, acc.componentType);
     if (acc.sparse.isSparse) apply_sparse(acc, where, components, component_size, values);
     for (std::size_t i = 0; i < values.size(); ++i)
       if (!std::isfinite(values[i]))
@@ -143,11 +146,22 @@ class AccessorReader {
   }
 
  private:
-  // Calls visit(i, bytes) for element i of `count` elements of `element_size` bytes in a view.
-  template <typename Visit>
-  void decode(int view_index, std::size_t offset, std::size_t stride, std::size_t element_size,
-              std::size_t count, const std::string& where, Visit visit) const {
-    if (view_index >= static_cast<int>(gltf_.bufferViews.size()))
+  // An accessor's elements may be all zeros with no buffer view; cap how many we accept then.
+  static constexpr std::size_t kMaxElementsWithoutData = std::size_t{1} << 22;
+
+  // `count` elements laid out `stride` bytes apart from `base`, all inside the buffer.
+  struct ElementRange {
+    const unsigned char* base;
+    std::size_t stride;
+    std::size_t count;
+    const unsigned char* element(std::size_t i) const { return base + i * stride; }
+  };
+
+  // Checks that `count` elements of `element_size` bytes at `offset` fit in the view and the
+  // view in its buffer; stride 0 means the view's byteStride (or tightly packed).
+  ElementRange locate(int view_index, std::size_t offset, std::size_t stride,
+                      std::size_t element_size, std::size_t count, const std::string& where) const {
+    if (view_index < 0 || view_index >= static_cast<int>(gltf_.bufferViews.size()))
       fail(where + " refers to missing buffer view " + std::to_string(view_index));
     const tinygltf::BufferView& view = gltf_.bufferViews[view_index];
     if (view.buffer < 0 || view.buffer >= static_cast<int>(gltf_.buffers.size()))
@@ -162,14 +176,16 @@ class AccessorReader {
     if (stride < element_size)
       fail(where + " has byteStride " + std::to_string(stride) + " below its element size " +
            std::to_string(element_size));
-    if (count == 0) return;
-    const std::size_t end = offset + stride * (count - 1) + element_size;
-    if (end > view.byteLength)
-      fail(where + " needs " + std::to_string(end) + " bytes but buffer view " +
-           std::to_string(view_index) + " has " + std::to_string(view.byteLength) +
-           " (out of range)");
-    const unsigned char* base = data.data() + view.byteOffset + offset;
-    for (std::size_t i = 0; i < count; ++i) visit(i, base + i * stride);
+    const unsigned char* base = data.data() + view.byteOffset;
+    if (count == 0) return {base, stride, 0};
+    // count <= byteLength keeps the product below from overflowing (elements are >= 1 byte).
+    if (count > view.byteLength || offset > view.byteLength ||
+        stride * (count - 1) + element_size > view.byteLength - offset)
+      fail(where + " has " + std::to_string(count) + " elements of " +
+           std::to_string(element_size) + " bytes (stride " + std::to_string(stride) +
+           ") that do not fit in buffer view " + std::to_string(view_index) + " of " +
+           std::to_string(view.byteLength) + " bytes (out of range)");
+    return {base + offset, stride, count};
   }
 
   void apply_sparse(const tinygltf::Accessor& acc, const std::string& where, int components,
@@ -183,24 +199,23 @@ class AccessorReader {
            std::to_string(index_type));
     if (sparse.count < 0) fail(where + " has a negative sparse count");
     const std::size_t count = static_cast<std::size_t>(sparse.count);
-    std::vector<std::size_t> targets(count);
     const std::string sparse_where = where + " sparse";
-    decode(sparse.indices.bufferView, sparse.indices.byteOffset,
-           tinygltf::GetComponentSizeInBytes(index_type),
-           tinygltf::GetComponentSizeInBytes(index_type), count, sparse_where + " indices",
-           [&](std::size_t i, const unsigned char* bytes) {
-             const double target = decode_component(bytes, index_type);
-             if (target >= static_cast<double>(acc.count))
-               fail(sparse_where + " index " + std::to_string(i) + " is out of range");
-             targets[i] = static_cast<std::size_t>(target);
-           });
+    const std::size_t index_size = tinygltf::GetComponentSizeInBytes(index_type);
     const std::size_t element_size = components * component_size;
-    decode(sparse.values.bufferView, sparse.values.byteOffset, element_size, element_size, count,
-           sparse_where + " values", [&](std::size_t i, const unsigned char* bytes) {
-             for (int c = 0; c < components; ++c)
-               values[targets[i] * components + c] =
-                   decode_component(bytes + c * component_size, acc.componentType);
-           });
+    const ElementRange indices = locate(sparse.indices.bufferView, sparse.indices.byteOffset,
+                                        index_size, index_size, count, sparse_where + " indices");
+    const ElementRange replacements =
+        locate(sparse.values.bufferView, sparse.values.byteOffset, element_size, element_size,
+               count, sparse_where + " values");
+    for (std::size_t i = 0; i < count; ++i) {
+      const double target = decode_component(indices.element(i), index_type);
+      if (target >= static_cast<double>(acc.count))
+        fail(sparse_where + " index " + std::to_string(i) + " is out of range");
+      const std::size_t element = static_cast<std::size_t>(target);
+      for (int c = 0; c < components; ++c)
+        values[element * components + c] =
+            decode_component(replacements.element(i) + c * component_size, acc.componentType);
+    }
   }
 
   const fs::path& file_;
@@ -252,6 +267,7 @@ tinygltf::Model parse_file(const fs::path& file, LoadReport* report) {
                                           static_cast<unsigned int>(bytes.size()), base_dir);
   if (!ok) {
     std::string reason = trimmed(error.empty() ? warning : error);
+    if (reason.empty()) reason = "malformed glTF (e.g. a non-integer where an index belongs)";
     if (reason.find("parse_error") != std::string::npos) reason = "invalid JSON: " + reason;
     throw LoadError(file,
                     std::string(binary ? "not a valid .glb" : "not a valid .gltf") + ": " + reason);
@@ -660,6 +676,10 @@ deform::Model load_gltf(const fs::path& file, LoadReport* report) {
   if (mesh_node < 0)
     reader.fail("no skinned mesh: " + std::to_string(gltf.meshes.size()) + " meshes, " +
                 std::to_string(gltf.skins.size()) + " skins, but no node with both mesh and skin");
+  if (out.skinned_mesh_count > 1)
+    out.warnings.push_back(std::to_string(out.skinned_mesh_count) +
+                           " nodes have a skinned mesh; loaded node " + std::to_string(mesh_node) +
+                           " (the most vertices), ignored the others");
   const tinygltf::Skin& skin = gltf.skins[gltf.nodes[mesh_node].skin];
   const tinygltf::Mesh& mesh = gltf.meshes[gltf.nodes[mesh_node].mesh];
   const SkinSkeleton skeleton = build_skeleton(reader, gltf, skin, graph);
@@ -681,6 +701,7 @@ deform::Model load_gltf(const fs::path& file, LoadReport* report) {
     assembler.add_primitive(primitive, what);
     ++out.source_primitive_count;
   }
+  if (mesh.primitives.empty()) reader.fail("the skinned " + mesh_what + " has no primitives");
   if (out.source_primitive_count == 0)
     reader.fail("the skinned " + mesh_what + " has no triangle primitives (mode " +
                 std::to_string(last_mode) + "; only triangles, mode 4, are supported)");

@@ -303,18 +303,24 @@ TEST(GltfLoad, NonJointNodeBetweenJointsIsFoldedIntoTheChild) {
   EXPECT_FLOAT_EQ(model.positions[3].y, 2.0f);  // inverse bind still matches: no movement
 }
 
+// A non-indexed copy of the quad's primitive that keeps only its first triangle (3 vertices);
+// its trimmed accessors are appended to `gltf`.
+json first_triangle_primitive(json& gltf) {
+  json primitive = gltf["meshes"][0]["primitives"][0];
+  primitive.erase("indices");
+  for (const char* name : {"POSITION", "JOINTS_0", "WEIGHTS_0"}) {
+    json accessor = gltf["accessors"][primitive["attributes"][name].get<int>()];
+    accessor["count"] = 3;
+    gltf["accessors"].push_back(accessor);
+    primitive["attributes"][name] = gltf["accessors"].size() - 1;
+  }
+  return primitive;
+}
+
 TEST(GltfLoad, PrimitivesAreMergedAndNonIndexedOnesAccepted) {
   ScratchDirectory dir;
   json gltf = CraftedQuad().to_json();
-  json second = gltf["meshes"][0]["primitives"][0];
-  second.erase("indices");  // non-indexed: accessors 0-2 trimmed to one triangle below
-  for (const char* name : {"POSITION", "JOINTS_0", "WEIGHTS_0"}) {
-    json accessor = gltf["accessors"][second["attributes"][name].get<int>()];
-    accessor["count"] = 3;
-    gltf["accessors"].push_back(accessor);
-    second["attributes"][name] = gltf["accessors"].size() - 1;
-  }
-  gltf["meshes"][0]["primitives"].push_back(second);
+  gltf["meshes"][0]["primitives"].push_back(first_triangle_primitive(gltf));
   LoadReport report;
   const deform::Model model = load_gltf(write_gltf(dir, gltf), &report);
   EXPECT_EQ(report.source_primitive_count, 2);
@@ -324,6 +330,22 @@ TEST(GltfLoad, PrimitivesAreMergedAndNonIndexedOnesAccepted) {
   EXPECT_EQ(std::vector<std::uint32_t>(model.indices.begin() + 6, model.indices.end()),
             (std::vector<std::uint32_t>{4, 5, 6}));
   EXPECT_EQ(model.positions[4], model.positions[0]);
+}
+
+TEST(GltfLoad, OfSeveralSkinnedMeshesTheLargestIsLoaded) {
+  ScratchDirectory dir;
+  json gltf = CraftedQuad().to_json();
+  json small_mesh = json::object();
+  small_mesh["primitives"] = json::array({first_triangle_primitive(gltf)});
+  gltf["meshes"].insert(gltf["meshes"].begin(), small_mesh);
+  gltf["nodes"][1]["mesh"] = 1;                         // the quad, now mesh 1
+  gltf["nodes"].push_back({{"mesh", 0}, {"skin", 0}});  // a 3-vertex skinned mesh, listed first
+  gltf["scenes"][0]["nodes"].push_back(3);
+  LoadReport report;
+  const deform::Model model = load_gltf(write_gltf(dir, gltf), &report);
+  EXPECT_EQ(report.skinned_mesh_count, 2);
+  EXPECT_EQ(model.vertex_count(), 4u);
+  EXPECT_FALSE(report.warnings.empty());
 }
 
 TEST(GltfLoad, RepeatedJointNamesGetSuffixes) {
