@@ -44,6 +44,16 @@ Extent extent_of(const deform::Model& model) {
   return e;
 }
 
+// Mean cosine between the loaded (file, skinned) normals and normals computed from the loaded
+// triangles: near 1 when normals went through the same transform as positions.
+double mean_normal_agreement(const deform::Model& model) {
+  const std::vector<glm::vec3> computed =
+      deform::compute_vertex_normals(model.positions, model.indices);
+  double sum = 0.0;
+  for (std::size_t v = 0; v < computed.size(); ++v) sum += glm::dot(computed[v], model.normals[v]);
+  return sum / computed.size();
+}
+
 // A two-joint skinned quad (4 vertices, 2 triangles) written as .gltf with one base64 buffer.
 // Node 0 = joint "root" at (0,1,0) with child node 2 = joint "tip" at (0,0.5,0) local; node 1 =
 // the mesh. skin.joints lists the child first ([2, 0]) so the loader has to reorder them.
@@ -122,6 +132,8 @@ TEST(GltfLoad, MaleHasItsPublishedCounts) {
   EXPECT_NEAR(e.high.y - e.low.y, 1.748f, 1e-3f);
   // Feet at y = 0 (SOURCES.md); 1 mm allows the rounding of the published figure.
   EXPECT_NEAR(e.low.y, 0.0f, 1e-3f);
+  // Smooth file normals vs area-weighted ones: 0.991 measured (UV-seam splits cost a little).
+  EXPECT_GT(mean_normal_agreement(model), 0.95);
   for (std::size_t v = 0; v < model.vertex_count(); ++v) {
     float sum = 0.0f;
     for (float w : model.skin_weights[v]) sum += w;
@@ -182,6 +194,8 @@ void expect_rigged_figure(const deform::Model& model, const LoadReport& report) 
   // is rounded and the figure's rest pose is not perfectly upright.
   EXPECT_NEAR(size.y, 1.45f, 0.03f);
   EXPECT_GT(size.y, 2.0f * size.z);
+  // Normals must turn Y-up with the positions: 0.9987 measured, 0.32 if they stayed Z-up.
+  EXPECT_GT(mean_normal_agreement(model), 0.95);
 }
 
 TEST(GltfLoad, RiggedFigureWithExternalBin) {
