@@ -451,7 +451,8 @@ SkinSkeleton build_skeleton(const AccessorReader& reader, const tinygltf::Model&
 
 // Per-vertex data of one primitive before skinning.
 struct SourceVertices {
-  std::vector<double> positions, normals, uvs, joints, weights;
+  std::vector<double> positions, normals, uvs;
+  std::vector<std::vector<double>> joint_sets, weight_sets;  // JOINTS_n, WEIGHTS_n: 4 per vertex
 };
 
 // Skinning matrices world_rest * inverseBind per new joint index.
@@ -498,8 +499,6 @@ class ModelAssembler {
     };
     for (const char* required : {"POSITION", "JOINTS_0", "WEIGHTS_0"})
       if (attribute(required) < 0) reader_.fail(what + " has no " + required + " attribute");
-    if (attribute("JOINTS_1") >= 0)
-      report_.warnings.push_back(what + ": JOINTS_1/WEIGHTS_1 ignored (4 influences kept)");
     SourceVertices source;
     source.positions = reader_.read(attribute("POSITION"),
                                     {"POSITION of " + what, TINYGLTF_TYPE_VEC3, kFloat, false});
@@ -518,10 +517,17 @@ class ModelAssembler {
     if (attribute("TEXCOORD_0") >= 0)
       source.uvs = read_per_vertex(
           "TEXCOORD_0", {"TEXCOORD_0 of " + what, TINYGLTF_TYPE_VEC2, kFloatOrUnorm, true});
-    source.joints = read_per_vertex(
-        "JOINTS_0", {"JOINTS_0 of " + what, TINYGLTF_TYPE_VEC4, kJointTypes, false});
-    source.weights = read_per_vertex(
-        "WEIGHTS_0", {"WEIGHTS_0 of " + what, TINYGLTF_TYPE_VEC4, kFloatOrUnorm, true});
+    for (int set = 0;; ++set) {
+      const std::string joints_name = "JOINTS_" + std::to_string(set);
+      const std::string weights_name = "WEIGHTS_" + std::to_string(set);
+      if (attribute(joints_name) < 0 && attribute(weights_name) < 0) break;
+      if (attribute(joints_name) < 0 || attribute(weights_name) < 0)
+        reader_.fail(what + " has only one of " + joints_name + " and " + weights_name);
+      source.joint_sets.push_back(read_per_vertex(
+          joints_name, {joints_name + " of " + what, TINYGLTF_TYPE_VEC4, kJointTypes, false}));
+      source.weight_sets.push_back(read_per_vertex(
+          weights_name, {weights_name + " of " + what, TINYGLTF_TYPE_VEC4, kFloatOrUnorm, true}));
+    }
     const std::size_t base = model_.positions.size();
     append_indices(primitive, what, n, base);
     append_vertices(source, what, n);
@@ -546,6 +552,9 @@ class ModelAssembler {
                                  " vertices had skin weights not summing to 1 (lowest sum " +
                                  std::to_string(lowest_sum_) + ", highest " +
                                  std::to_string(highest_sum_) + "); renormalised");
+    if (report_.trimmed_influence_count > 0)
+      report_.warnings.push_back(std::to_string(report_.trimmed_influence_count) +
+                                 " vertices had more than 4 influences; kept the 4 largest");
     if (report_.zero_weight_vertex_count > 0)
       report_.warnings.push_back(std::to_string(report_.zero_weight_vertex_count) +
                                  " vertices had no skin weight; bound to joint '" +
@@ -579,41 +588,67 @@ class ModelAssembler {
     }
   }
 
-  void append_vertices(const SourceVertices& source, const std::string& what, std::size_t n) {
+  // Fills influences_ with vertex v's non-zero (new joint index, weight) pairs over all
+  // JOINTS_n/WEIGHTS_n sets, repeated joints merged; returns the weight sum.
+  double gather_influences(const SourceVertices& source, const std::string& what, std::size_t v) {
     const std::size_t joint_count = skeleton_.new_index.size();
+    influences_.clear();
+    double sum = 0.0;
+    for (std::size_t set = 0; set < source.joint_sets.size(); ++set)
+      for (int k = 0; k < 4; ++k) {
+        const double slot = source.joint_sets[set][v * 4 + k];
+        const double weight = source.weight_sets[set][v * 4 + k];
+        const std::string name =
+            "_" + std::to_string(set) + " of " + what + " vertex " + std::to_string(v);
+        if (slot >= static_cast<double>(joint_count))
+          reader_.fail("JOINTS" + name + " refers to joint " +
+                       std::to_string(static_cast<long>(slot)) + " but the skin has " +
+                       std::to_string(joint_count) + " (out of range)");
+        if (weight < 0.0)
+          reader_.fail("WEIGHTS" + name + " has a negative weight " + std::to_string(weight));
+        if (weight == 0.0) continue;
+        const int joint = skeleton_.new_index[static_cast<int>(slot)];
+        sum += weight;
+        auto same = std::find_if(influences_.begin(), influences_.end(),
+                                 [&](const auto& influence) { return influence.first == joint; });
+        if (same != influences_.end())
+          same->second += weight;
+        else
+          influences_.emplace_back(joint, weight);
+      }
+    return sum;
+  }
+
+  void append_vertices(const SourceVertices& source, const std::string& what, std::size_t n) {
     any_uvs_ = any_uvs_ || !source.uvs.empty();
     if (source.uvs.empty()) missing_uvs_ += n;
     for (std::size_t v = 0; v < n; ++v) {
       std::array<std::uint16_t, deform::kInfluences> joints{};
       std::array<float, deform::kInfluences> weights{};
-      double sum = 0.0;
-      int nonzero = 0;
-      for (int k = 0; k < deform::kInfluences; ++k) {
-        const double slot = source.joints[v * 4 + k];
-        const double weight = source.weights[v * 4 + k];
-        if (slot >= static_cast<double>(joint_count))
-          reader_.fail("JOINTS_0 of " + what + " vertex " + std::to_string(v) +
-                       " refers to joint " + std::to_string(static_cast<long>(slot)) +
-                       " but the skin has " + std::to_string(joint_count) + " (out of range)");
-        if (weight < 0.0)
-          reader_.fail("WEIGHTS_0 of " + what + " vertex " + std::to_string(v) +
-                       " has a negative weight " + std::to_string(weight));
-        joints[k] = static_cast<std::uint16_t>(skeleton_.new_index[static_cast<int>(slot)]);
-        sum += weight;
-        nonzero += weight > 0.0;
-      }
+      const double sum = gather_influences(source, what, v);
       if (sum <= 0.0) {
         ++report_.zero_weight_vertex_count;
-        joints = {static_cast<std::uint16_t>(fallback_joint_), 0, 0, 0};
-        weights = {1.0f, 0.0f, 0.0f, 0.0f};
+        joints[0] = static_cast<std::uint16_t>(fallback_joint_);
+        weights[0] = 1.0f;
       } else {
-        if (std::abs(sum - 1.0) > kWeightTolerancePerInfluence * nonzero) {
+        if (std::abs(sum - 1.0) > kWeightTolerancePerInfluence * influences_.size()) {
           ++report_.renormalised_weight_count;
           lowest_sum_ = std::min(lowest_sum_, sum);
           highest_sum_ = std::max(highest_sum_, sum);
         }
-        for (int k = 0; k < deform::kInfluences; ++k)
-          weights[k] = static_cast<float>(source.weights[v * 4 + k] / sum);
+        // The 4 largest influences, renormalised (more only come with JOINTS_1/WEIGHTS_1).
+        std::stable_sort(influences_.begin(), influences_.end(),
+                         [](const auto& a, const auto& b) { return a.second > b.second; });
+        if (influences_.size() > deform::kInfluences) {
+          ++report_.trimmed_influence_count;
+          influences_.resize(deform::kInfluences);
+        }
+        double kept = 0.0;
+        for (const auto& influence : influences_) kept += influence.second;
+        for (std::size_t k = 0; k < influences_.size(); ++k) {
+          joints[k] = static_cast<std::uint16_t>(influences_[k].first);
+          weights[k] = static_cast<float>(influences_[k].second / kept);
+        }
       }
       glm::dmat4 skin(0.0);
       for (int k = 0; k < deform::kInfluences; ++k)
@@ -651,6 +686,7 @@ class ModelAssembler {
   bool any_uvs_ = false;
   std::size_t missing_uvs_ = 0;
   double lowest_sum_ = 1.0, highest_sum_ = 1.0;
+  std::vector<std::pair<int, double>> influences_;  // scratch for one vertex
 };
 
 // Mesh node's nearest ancestor joint (new index), else joint 0 (the first root).

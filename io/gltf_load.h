@@ -11,8 +11,9 @@
 //           non-joint ancestors of root joints are folded into the root's rest transform;
 //         - positions/normals are the file's vertices skinned with world_rest * inverseBind,
 //           so the skeleton's world rest matrices are the bind matrices;
-//         - weights are renormalised to sum 1 (counted in the report); vertices with no weight
-//           are bound to the mesh node's nearest ancestor joint, else the first root joint.
+//         - influences from every JOINTS_n/WEIGHTS_n set are merged per joint and the 4 largest
+//           kept; weights are renormalised to sum 1 (both counted in the report); vertices
+//           with no weight are bound to the mesh node's nearest ancestor joint, else joint 0.
 // Throws io::LoadError (naming the file and the reason) for any unusable input: unreadable or
 // truncated file, invalid JSON, missing buffers, no skinned mesh, non-triangle primitives,
 // out-of-range indices or joint indices, non-finite attributes, malformed accessors.

@@ -13,6 +13,7 @@ struct LoadReport {
   std::vector<std::string> warnings;  // one line each, in the order they were noticed
   int renormalised_weight_count = 0;  // vertices whose weights did not sum to 1
   int zero_weight_vertex_count = 0;   // vertices with no weight, bound rigidly to one joint
+  int trimmed_influence_count = 0;    // vertices with more than 4 influences (JOINTS_1...)
   int computed_normal_count = 0;      // vertices whose normals the file lacked
   int source_joint_count = 0;         // joints of the chosen skin
   int source_primitive_count = 0;     // triangle primitives merged into the model

@@ -108,6 +108,25 @@ struct CraftedQuad {
   }
 };
 
+// Appends `bytes` as a new base64 buffer; returns its index.
+std::size_t append_buffer(json& gltf, const std::string& bytes) {
+  gltf["buffers"].push_back({{"byteLength", bytes.size()},
+                             {"uri", "data:application/octet-stream;base64," + base64(bytes)}});
+  return gltf["buffers"].size() - 1;
+}
+
+// Appends a tightly packed VEC4 accessor over `bytes` in its own buffer; returns its index.
+std::size_t append_vec4_accessor(json& gltf, const std::string& bytes, int component_type,
+                                 std::size_t count) {
+  const std::size_t buffer = append_buffer(gltf, bytes);
+  gltf["bufferViews"].push_back({{"buffer", buffer}, {"byteLength", bytes.size()}});
+  gltf["accessors"].push_back({{"bufferView", gltf["bufferViews"].size() - 1},
+                               {"componentType", component_type},
+                               {"type", "VEC4"},
+                               {"count", count}});
+  return gltf["accessors"].size() - 1;
+}
+
 std::filesystem::path write_gltf(const ScratchDirectory& dir, const json& gltf) {
   const std::filesystem::path file = dir / "crafted.gltf";
   testing::write_bytes(file, gltf.dump());
@@ -272,8 +291,7 @@ TEST(GltfLoad, InterleavedAndSparseAccessors) {
   extra.append(reinterpret_cast<const char*>(sparse_index), 4);
   extra.append(reinterpret_cast<const char*>(sparse_value), 12);
   const std::size_t views = gltf["bufferViews"].size();
-  gltf["buffers"].push_back({{"byteLength", extra.size()},
-                             {"uri", "data:application/octet-stream;base64," + base64(extra)}});
+  append_buffer(gltf, extra);
   gltf["bufferViews"].push_back({{"buffer", 1}, {"byteLength", 96}, {"byteStride", 24}});
   gltf["bufferViews"].push_back({{"buffer", 1}, {"byteOffset", 96}, {"byteLength", 4}});
   gltf["bufferViews"].push_back({{"buffer", 1}, {"byteOffset", 100}, {"byteLength", 12}});
@@ -286,6 +304,42 @@ TEST(GltfLoad, InterleavedAndSparseAccessors) {
   EXPECT_FLOAT_EQ(model.positions[0].x, 0.0f);
   EXPECT_FLOAT_EQ(model.positions[1].x, 3.0f);  // the sparse value
   EXPECT_FLOAT_EQ(model.positions[2].y, 2.0f);  // read past the padding, not from it
+}
+
+TEST(GltfLoad, SecondInfluenceSetIsMergedAndTrimmedToFour) {
+  ScratchDirectory dir;
+  json gltf = CraftedQuad().to_json();
+  // Four more joints under root (skin slots 2..5); identity bind matrices keep it simple.
+  for (int k = 0; k < 4; ++k) {
+    gltf["nodes"].push_back({{"name", "extra" + std::to_string(k)}});
+    gltf["nodes"][0]["children"].push_back(3 + k);
+    gltf["skins"][0]["joints"].push_back(3 + k);
+  }
+  gltf["skins"][0].erase("inverseBindMatrices");
+  // Vertex 0: WEIGHTS_0 gives root 1.0; WEIGHTS_1 adds slots 2..5 with 0.1, 0.2, 0.3, 0.4.
+  // Vertex 1: WEIGHTS_1 adds root (slot 1) again with 1.0, which must merge, not repeat.
+  std::string joints(16, '\0'), weights(64, '\0');
+  const float extra[4] = {0.1f, 0.2f, 0.3f, 0.4f};
+  for (int k = 0; k < 4; ++k) joints[k] = static_cast<char>(2 + k);
+  std::memcpy(weights.data(), extra, 16);
+  joints[4] = 1;
+  const float one = 1.0f;
+  std::memcpy(weights.data() + 16, &one, 4);
+  auto& attributes = gltf["meshes"][0]["primitives"][0]["attributes"];
+  attributes["JOINTS_1"] = append_vec4_accessor(gltf, joints, 5121, 4);
+  attributes["WEIGHTS_1"] = append_vec4_accessor(gltf, weights, 5126, 4);
+  LoadReport report;
+  const deform::Model model = load_gltf(write_gltf(dir, gltf), &report);
+  EXPECT_EQ(report.trimmed_influence_count, 1);
+  EXPECT_EQ(report.renormalised_weight_count, 2);  // both sum to 2 before renormalising
+  // Kept: root 1.0, extra3 0.4, extra2 0.3, extra1 0.2 (sum 1.9); float division: 1e-6.
+  EXPECT_EQ(model.skeleton.joints[model.skin_joints[0][0]].name, "root");
+  EXPECT_NEAR(model.skin_weights[0][0], 1.0f / 1.9f, 1e-6f);
+  EXPECT_EQ(model.skeleton.joints[model.skin_joints[0][1]].name, "extra3");
+  EXPECT_NEAR(model.skin_weights[0][3], 0.2f / 1.9f, 1e-6f);
+  EXPECT_EQ(model.skeleton.joints[model.skin_joints[1][0]].name, "root");
+  EXPECT_EQ(model.skin_weights[1][0], 1.0f);  // 1 + 1, renormalised, in one slot
+  EXPECT_EQ(model.validate(), "");
 }
 
 TEST(GltfLoad, ZeroWeightsBindToTheRootAndAreReported) {
