@@ -295,6 +295,7 @@ glm::dmat4 node_local_matrix(const tinygltf::Node& node) {
 }
 
 // Splits an affine matrix into translation, rotation and (signed) scale; shear is dropped.
+// False when a scale is zero.
 bool decompose(const glm::dmat4& m, deform::Joint& joint) {
   glm::dvec3 scale(glm::length(glm::dvec3(m[0])), glm::length(glm::dvec3(m[1])),
                    glm::length(glm::dvec3(m[2])));
@@ -308,7 +309,8 @@ bool decompose(const glm::dmat4& m, deform::Joint& joint) {
   return true;
 }
 
-// Rest TRS straight from the node's own fields (exact when it has no matrix).
+// Rest TRS straight from the node's own fields (exact when it has no matrix); false when a
+// scale is zero (no bind matrix could be inverted).
 bool node_trs(const tinygltf::Node& node, deform::Joint& joint) {
   if (node.matrix.size() == 16) return decompose(node_local_matrix(node), joint);
   if (node.translation.size() == 3)
@@ -320,7 +322,17 @@ bool node_trs(const tinygltf::Node& node, deform::Joint& joint) {
                   static_cast<float>(node.rotation[1]), static_cast<float>(node.rotation[2])));
   if (node.scale.size() == 3)
     joint.rest_scale = glm::vec3(glm::dvec3(node.scale[0], node.scale[1], node.scale[2]));
-  return true;
+  return joint.rest_scale.x != 0.0f && joint.rest_scale.y != 0.0f && joint.rest_scale.z != 0.0f;
+}
+
+bool finite_trs(const deform::Joint& joint) {
+  const float values[10] = {joint.rest_translation.x, joint.rest_translation.y,
+                            joint.rest_translation.z, joint.rest_rotation.x,
+                            joint.rest_rotation.y,    joint.rest_rotation.z,
+                            joint.rest_rotation.w,    joint.rest_scale.x,
+                            joint.rest_scale.y,       joint.rest_scale.z};
+  return std::all_of(std::begin(values), std::end(values),
+                     [](float v) { return std::isfinite(v); });
 }
 
 // The node graph: parent per node and world matrices, with bad references rejected.
@@ -444,6 +456,9 @@ SkinSkeleton build_skeleton(const AccessorReader& reader, const tinygltf::Model&
     if (!ok)
       reader.fail("joint node " + std::to_string(node_index) + " ('" + joint.name +
                   "') has a degenerate (zero-scale) rest transform");
+    if (!finite_trs(joint))
+      reader.fail("joint node " + std::to_string(node_index) + " ('" + joint.name +
+                  "') has a rest transform that is not finite (NaN or Inf)");
     result.skeleton.joints.push_back(joint);
   }
   return result;

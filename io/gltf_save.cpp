@@ -81,7 +81,7 @@ tinygltf::Node joint_node(const deform::Joint& joint) {
   tinygltf::Node node;
   node.name = joint.name;
   const glm::vec3& t = joint.rest_translation;
-  const glm::quat& r = joint.rest_rotation;
+  const glm::quat r = glm::normalize(joint.rest_rotation);  // the validator wants unit
   const glm::vec3& s = joint.rest_scale;
   node.translation = {t.x, t.y, t.z};
   node.rotation = {r.x, r.y, r.z, r.w};
@@ -109,7 +109,10 @@ std::map<std::string, int> add_vertex_attributes(GlbBuilder& builder, tinygltf::
   gltf.accessors[attributes["POSITION"]].minValues = {low.x, low.y, low.z};
   gltf.accessors[attributes["POSITION"]].maxValues = {high.x, high.y, high.z};
   std::vector<glm::vec3> normals(model.normals.size());
-  for (std::size_t v = 0; v < normals.size(); ++v) normals[v] = glm::normalize(model.normals[v]);
+  for (std::size_t v = 0; v < normals.size(); ++v) {  // the validator wants unit length
+    const float length = glm::length(model.normals[v]);
+    normals[v] = length > 0.0f ? model.normals[v] / length : glm::vec3(0, 1, 0);
+  }
   attributes["NORMAL"] = builder.add_accessor(normals, TINYGLTF_COMPONENT_TYPE_FLOAT,
                                               TINYGLTF_TYPE_VEC3, TINYGLTF_TARGET_ARRAY_BUFFER);
   if (model.has_uvs())

@@ -534,5 +534,19 @@ TEST(GltfLoadErrors, NegativeWeight) {
   expect_load_error(write_gltf(dir, quad.to_json()), "negative");
 }
 
+TEST(GltfLoadErrors, ZeroScaleJoint) {
+  ScratchDirectory dir;
+  json gltf = CraftedQuad().to_json();
+  gltf["nodes"][2]["scale"] = {0, 1, 1};
+  expect_load_error(write_gltf(dir, gltf), "zero-scale");
+}
+
+TEST(GltfLoadErrors, NodeHierarchyCycle) {
+  ScratchDirectory dir;
+  json gltf = CraftedQuad().to_json();
+  gltf["nodes"][2]["children"] = {0};
+  expect_load_error(write_gltf(dir, gltf), "cycle");
+}
+
 }  // namespace
 }  // namespace sweepd::io
