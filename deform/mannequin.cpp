@@ -10,6 +10,7 @@
 #include "deform/body_shape.h"
 #include "deform/mannequin_anatomy.h"
 #include "deform/marching_tetrahedra.h"
+#include "deform/shortest_edge_decimation.h"
 
 namespace sweepd::deform {
 
@@ -20,6 +21,13 @@ constexpr float kBlendRadius = 0.025f;     // fillet size where body parts meet 
 constexpr float kWeightBlendBand = 0.03f;  // parts this close to the nearest one share its skin
 constexpr float kMinimumHalfAxisPerSpacing = 0.9f;  // thin parts stay visible to the grid
 constexpr int kSmoothingIterations = 2;
+// The grid is sampled for this many times the target's vertices (and at least
+// kMinimumMarchedVertices), then decimated: marching tetrahedra alone needs a coarse grid for a
+// small target, and a coarse grid loses fingers and wrists.
+constexpr float kOversampling = 2.0f;
+constexpr float kMinimumMarchedVertices = 30000.0f;
+// Seam duplicates per welded vertex fall like 1 / sqrt(vertices): about 15 / sqrt(n).
+constexpr float kSeamVerticesPerSqrtVertex = 15.0f;
 // Marching tetrahedra gives about 4.5 vertices per spacing^2 of surface (edge crossings of the
 // 7 Kuhn edge directions, averaged over orientations); the body has about 1.85 m^2 of skin.
 constexpr float kVerticesTimesSpacingSquared = 4.5f * 1.85f;
@@ -88,6 +96,35 @@ VertexNeighbours vertex_neighbours(const WeldedSurface& surface) {
   return result;
 }
 
+WeldedSurface polygonise(const BodyShape& body, float spacing) {
+  SampleGrid grid;
+  grid.spacing = spacing;
+  // Two spare layers of grid points keep the outer layer outside the body.
+  grid.origin = body.lower_bound() - 2.0f * spacing;
+  const glm::vec3 extent = body.upper_bound() + 2.0f * spacing - grid.origin;
+  grid.cells = glm::ivec3(glm::ceil(extent / spacing));
+  IsoSurface iso;
+  marching_tetrahedra(
+      grid,
+      [&body](const glm::vec3& lo, const glm::vec3& hi, std::span<const glm::vec3> points,
+              std::span<float> values) { return body.evaluate_block(lo, hi, points, values); },
+      iso);
+  WeldedSurface surface{std::move(iso.positions), std::move(iso.indices)};
+  keep_largest_component(surface);
+  return surface;
+}
+
+// One Newton step from p towards the body's surface, at most half a grid spacing long.
+glm::vec3 project_onto_surface(const BodyShape& body, float spacing, const glm::vec3& p) {
+  const glm::vec3 gradient = body.gradient(p, 0.25f * spacing);
+  const float gradient2 = glm::dot(gradient, gradient);
+  if (!(gradient2 > 1e-12f)) return p;
+  glm::vec3 step = -body.value(p) * gradient / gradient2;
+  const float step_length = glm::length(step);
+  if (step_length > 0.5f * spacing) step *= 0.5f * spacing / step_length;
+  return p + step;
+}
+
 // Evens out the marching-tetrahedra triangles: each vertex moves halfway towards the centroid
 // of its neighbours within the tangent plane, then back onto the surface (one Newton step).
 void relax_on_surface(const BodyShape& body, float spacing, WeldedSurface& surface) {
@@ -108,34 +145,11 @@ void relax_on_surface(const BodyShape& body, float spacing, WeldedSurface& surfa
       }
       const glm::vec3 normal = gradient / std::sqrt(gradient2);
       const glm::vec3 shift = centroid - p;
-      glm::vec3 q = p + 0.5f * (shift - glm::dot(shift, normal) * normal);
-      glm::vec3 step = -body.value(q) * gradient / gradient2;
-      const float step_length = glm::length(step);
-      if (step_length > 0.5f * spacing) step *= 0.5f * spacing / step_length;
-      moved[v] = q + step;
+      moved[v] = project_onto_surface(body, spacing,
+                                      p + 0.5f * (shift - glm::dot(shift, normal) * normal));
     }
     surface.positions.swap(moved);
   }
-}
-
-WeldedSurface polygonise(const MannequinAnatomy& anatomy, float spacing) {
-  const BodyShape body(anatomy.parts, kBlendRadius, kMinimumHalfAxisPerSpacing * spacing);
-  SampleGrid grid;
-  grid.spacing = spacing;
-  // Two spare layers of grid points keep the outer layer outside the body.
-  grid.origin = body.lower_bound() - 2.0f * spacing;
-  const glm::vec3 extent = body.upper_bound() + 2.0f * spacing - grid.origin;
-  grid.cells = glm::ivec3(glm::ceil(extent / spacing));
-  IsoSurface iso;
-  marching_tetrahedra(
-      grid,
-      [&body](const glm::vec3& lo, const glm::vec3& hi, std::span<const glm::vec3> points,
-              std::span<float> values) { return body.evaluate_block(lo, hi, points, values); },
-      iso);
-  WeldedSurface surface{std::move(iso.positions), std::move(iso.indices)};
-  keep_largest_component(surface);
-  relax_on_surface(body, spacing, surface);
-  return surface;
 }
 
 // Per welded vertex: the part it belongs to (the most inside one) and its part values.
@@ -251,24 +265,33 @@ Model make_mannequin(const MannequinOptions& options) {
   const MannequinAnatomy anatomy = make_mannequin_anatomy();
   const auto target = static_cast<float>(options.target_vertices);
 
-  // Pick the grid spacing: calibrate vertices * spacing^2 on a coarse run, then correct.
-  float spacing = std::sqrt(kVerticesTimesSpacingSquared / target) * 1.5f;
+  // Marching tetrahedra on a grid fine enough for kMinimumMarchedVertices (thin parts keep
+  // their shape), then shortest-edge decimation down to the welded count that, with the UV
+  // seam duplicates, gives the target; the duplicate share is re-measured and corrected.
+  const float marched_target = std::max(kOversampling * target, kMinimumMarchedVertices);
+  float spacing = std::sqrt(kVerticesTimesSpacingSquared / marched_target);
+  const BodyShape body(anatomy.parts, kBlendRadius, kMinimumHalfAxisPerSpacing * spacing);
+  const WeldedSurface marched = polygonise(body, spacing);
+  auto place = [&body, spacing](const glm::vec3& p) {
+    return project_onto_surface(body, spacing, p);
+  };
+  float welded_target = target / (1.0f + kSeamVerticesPerSqrtVertex / std::sqrt(target));
   WeldedSurface surface;
   std::vector<ChartCorner> corners;
   std::vector<glm::vec2> uvs;
   std::vector<std::uint32_t> indices;
-  std::vector<int> owner;
-  for (int attempt = 0; attempt < 5; ++attempt) {
-    surface = polygonise(anatomy, spacing);
-    const BodyShape body(anatomy.parts, kBlendRadius, kMinimumHalfAxisPerSpacing * spacing);
-    owner = owning_parts(body, surface.positions);
-    split_into_charts(body, surface, owner, corners, uvs, indices);
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    surface = marched;
+    decimate_shortest_edges(surface.positions, surface.indices,
+                            static_cast<std::size_t>(welded_target), place);
+    relax_on_surface(body, spacing, surface);
+    split_into_charts(body, surface, owning_parts(body, surface.positions), corners, uvs,
+                      indices);
     const auto count = static_cast<float>(corners.size());
-    if (attempt > 0 && std::abs(count / target - 1.0f) < 0.04f) break;
-    spacing *= std::sqrt(count / target);
+    if (std::abs(count / target - 1.0f) < 0.03f) break;
+    welded_target *= target / count;
   }
 
-  const BodyShape body(anatomy.parts, kBlendRadius, kMinimumHalfAxisPerSpacing * spacing);
   const std::vector<glm::vec3> welded_normals =
       compute_vertex_normals(surface.positions, surface.indices);
   Model model;
