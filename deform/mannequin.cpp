@@ -16,7 +16,7 @@ namespace sweepd::deform {
 
 namespace {
 
-constexpr float kHeight = 1.75f;         // metres, feet to the top of the head
+constexpr float kHeight = 1.75f;           // metres, feet to the top of the head
 constexpr float kBlendRadius = 0.025f;     // fillet size where body parts meet (metres)
 constexpr float kWeightBlendBand = 0.03f;  // parts this close to the nearest one share its skin
 constexpr float kMinimumHalfAxisPerSpacing = 0.9f;  // thin parts stay visible to the grid
@@ -24,7 +24,7 @@ constexpr int kSmoothingIterations = 2;
 // The grid is sampled for this many times the target's vertices (and at least
 // kMinimumMarchedVertices), then decimated: marching tetrahedra alone needs a coarse grid for a
 // small target, and a coarse grid loses fingers and wrists.
-constexpr float kOversampling = 2.0f;
+constexpr float kOversampling = 1.4f;
 constexpr float kMinimumMarchedVertices = 30000.0f;
 // Seam duplicates per welded vertex fall like 1 / sqrt(vertices): about 15 / sqrt(n).
 constexpr float kSeamVerticesPerSqrtVertex = 15.0f;
@@ -285,8 +285,7 @@ Model make_mannequin(const MannequinOptions& options) {
     decimate_shortest_edges(surface.positions, surface.indices,
                             static_cast<std::size_t>(welded_target), place);
     relax_on_surface(body, spacing, surface);
-    split_into_charts(body, surface, owning_parts(body, surface.positions), corners, uvs,
-                      indices);
+    split_into_charts(body, surface, owning_parts(body, surface.positions), corners, uvs, indices);
     const auto count = static_cast<float>(corners.size());
     if (std::abs(count / target - 1.0f) < 0.03f) break;
     welded_target *= target / count;
