@@ -61,21 +61,21 @@ BodyPart part(std::string name, int chain, glm::vec3 start, glm::vec3 end, glm::
 }
 
 void add_spine(SkeletonBuilder& joints, MannequinAnatomy& anatomy) {
-  anatomy.parts.push_back(
-      part("pelvis", kSpineChain, {0.0f, 0.87f, -0.015f}, {0.0f, 1.01f, -0.015f}, kFront,
-           {section(0.0f, 0.150f, 0.105f, -0.005f), section(0.55f, 0.168f, 0.115f, -0.010f),
-            section(1.0f, 0.150f, 0.105f)},
-           0.07f, 0.04f));
-  anatomy.parts.push_back(part("waist", kSpineChain, {0.0f, 0.99f, -0.01f}, {0.0f, 1.17f, -0.01f},
-                               kFront,
-                               {section(0.0f, 0.148f, 0.103f), section(0.5f, 0.136f, 0.100f),
-                                section(1.0f, 0.142f, 0.105f, 0.005f)},
-                               0.03f, 0.03f));
-  anatomy.parts.push_back(
-      part("chest", kSpineChain, {0.0f, 1.15f, -0.01f}, {0.0f, 1.42f, -0.025f}, kFront,
-           {section(0.0f, 0.143f, 0.105f, 0.005f), section(0.45f, 0.160f, 0.116f, 0.012f),
-            section(0.8f, 0.165f, 0.110f, 0.005f), section(1.0f, 0.150f, 0.095f, -0.010f)},
-           0.03f, 0.06f));
+  // One part from the hips to the chest, so the profile has no creases where parts would meet.
+  const float bottom = 0.87f, top = 1.42f;
+  auto at_height = [&](float y, float side, float depth, float depth_offset) {
+    return section((y - bottom) / (top - bottom), side, depth, depth_offset);
+  };
+  anatomy.parts.push_back(part(
+      "torso", kSpineChain, {0.0f, bottom, -0.015f}, {0.0f, top, -0.02f}, kFront,
+      {at_height(0.87f, 0.150f, 0.105f, -0.005f),  // buttocks
+       at_height(0.93f, 0.168f, 0.115f, -0.010f),  // hips
+       at_height(1.01f, 0.150f, 0.105f, -0.005f),
+       at_height(1.08f, 0.137f, 0.100f, 0.000f),                                            // waist
+       at_height(1.17f, 0.143f, 0.105f, 0.005f), at_height(1.25f, 0.160f, 0.116f, 0.012f),  // chest
+       at_height(1.36f, 0.165f, 0.110f, 0.005f),
+       at_height(1.42f, 0.150f, 0.095f, -0.010f)},  // shoulders
+      0.07f, 0.06f));
   anatomy.parts.push_back(part(
       "neck", kSpineChain, {0.0f, 1.44f, -0.035f}, {0.0f, 1.63f, -0.01f}, kFront,
       {section(0.0f, 0.065f, 0.060f), section(0.4f, 0.054f, 0.055f), section(1.0f, 0.050f, 0.052f)},
@@ -122,16 +122,18 @@ void add_leg(const BodySide& side, SkeletonBuilder& joints, MannequinAnatomy& an
                                           {leg_joint, knee, ankle, 0.05f},
                                           {foot_joint, ankle, toe_base, 0.04f},
                                           {toe_joint, toe_base, toe_tip, 0.02f}};
-  anatomy.parts.push_back(
-      part(n + " thigh", side.leg_chain, up_leg, knee, kFront,
-           {section(0.0f, 0.082f, 0.085f), section(0.3f, 0.075f, 0.080f, 0.005f),
-            section(0.75f, 0.058f, 0.062f), section(1.0f, 0.050f, 0.054f)},
-           0.05f, 0.03f));
-  anatomy.parts.push_back(
-      part(n + " shin", side.leg_chain, knee, ankle, kFront,
-           {section(0.0f, 0.050f, 0.052f), section(0.3f, 0.054f, 0.057f, -0.012f),
-            section(0.75f, 0.036f, 0.038f), section(1.0f, 0.032f, 0.034f)},
-           0.03f, 0.03f));
+  // One part from hip to ankle (the knee is within 1.5 cm of that line): no crease at the knee.
+  const float thigh = glm::length(knee - up_leg), shin = glm::length(ankle - knee);
+  auto on_thigh = [&](float f) { return f * thigh / (thigh + shin); };
+  auto on_shin = [&](float f) { return (thigh + f * shin) / (thigh + shin); };
+  anatomy.parts.push_back(part(
+      n + " leg", side.leg_chain, up_leg, ankle, kFront,
+      {section(on_thigh(0.0f), 0.082f, 0.085f),
+       section(on_thigh(0.3f), 0.075f, 0.080f, 0.005f),  // quadriceps
+       section(on_thigh(0.75f), 0.058f, 0.062f), section(on_shin(0.0f), 0.050f, 0.053f),  // knee
+       section(on_shin(0.3f), 0.054f, 0.057f, -0.012f),                                   // calf
+       section(on_shin(0.75f), 0.036f, 0.038f), section(on_shin(1.0f), 0.032f, 0.034f)},  // ankle
+      0.05f, 0.03f));
   // The foot's depth axis is vertical: its sole sits on y = 0 from heel to toes.
   anatomy.parts.push_back(part(n + " foot", side.leg_chain, side.at(0.115f, 0.045f, -0.06f),
                                side.at(0.12f, 0.027f, 0.16f), kUp,
@@ -146,7 +148,7 @@ void add_arm(const BodySide& side, SkeletonBuilder& joints, MannequinAnatomy& an
   const glm::vec3 palm = side.palm_normal();
   const glm::vec3 clavicle = side.at(0.025f, 1.44f, -0.045f);
   const glm::vec3 shoulder = side.at(0.175f, 1.435f, -0.05f);
-  const glm::vec3 elbow = shoulder + 0.29f * d;
+  const glm::vec3 elbow = shoulder + 0.29f * d;  // upper arm 29 cm, forearm 25 cm
   const glm::vec3 wrist = elbow + 0.25f * d;
   const glm::vec3 knuckles = wrist + 0.095f * d;
   const glm::vec3 finger = knuckles + 0.045f * d;
@@ -178,15 +180,19 @@ void add_arm(const BodySide& side, SkeletonBuilder& joints, MannequinAnatomy& an
       part(n + " shoulder", side.arm_chain, clavicle + side.at(0.005f, -0.01f, 0.0f),
            shoulder - 0.005f * d, kFront,
            {section(0.0f, 0.050f, 0.050f), section(1.0f, 0.055f, 0.055f)}, 0.02f, 0.03f));
-  anatomy.parts.push_back(part(n + " upper arm", side.arm_chain, shoulder, elbow, kFront,
-                               {section(0.0f, 0.052f, 0.055f), section(0.2f, 0.048f, 0.050f),
-                                section(0.55f, 0.041f, 0.046f, 0.004f),
-                                section(0.9f, 0.036f, 0.038f), section(1.0f, 0.035f, 0.036f)},
-                               0.03f, 0.03f));
-  anatomy.parts.push_back(part(n + " forearm", side.arm_chain, elbow, wrist, kFront,
-                               {section(0.0f, 0.036f, 0.040f), section(0.25f, 0.039f, 0.043f),
-                                section(0.7f, 0.030f, 0.032f), section(1.0f, 0.021f, 0.028f)},
-                               0.02f, 0.015f));
+  // One part from shoulder to wrist (straight in the A-pose): no crease at the elbow.
+  auto on_upper_arm = [](float f) { return f * 0.29f / 0.54f; };
+  auto on_forearm = [](float f) { return (0.29f + f * 0.25f) / 0.54f; };
+  anatomy.parts.push_back(
+      part(n + " arm", side.arm_chain, shoulder, wrist, kFront,
+           {section(on_upper_arm(0.0f), 0.052f, 0.055f),  // deltoid
+            section(on_upper_arm(0.2f), 0.048f, 0.050f),
+            section(on_upper_arm(0.55f), 0.041f, 0.046f, 0.004f),  // biceps
+            section(on_upper_arm(0.9f), 0.036f, 0.038f),
+            section(on_forearm(0.0f), 0.035f, 0.037f),  // elbow
+            section(on_forearm(0.25f), 0.039f, 0.043f), section(on_forearm(0.7f), 0.030f, 0.032f),
+            section(on_forearm(1.0f), 0.021f, 0.028f)},  // wrist
+           0.03f, 0.015f));
   // Hands: `side` is the palm's thickness, `depth` (towards +Z) its width.
   anatomy.parts.push_back(part(
       n + " hand", side.arm_chain, wrist, knuckles, kFront,

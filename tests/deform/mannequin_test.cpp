@@ -71,7 +71,7 @@ TEST_P(MannequinSizes, IsOneClosedManifoldOnceSeamsAreWelded) {
       << ", inconsistent " << topology.inconsistent_edges << ", degenerate "
       << topology.degenerate_triangles;
   EXPECT_EQ(topology.components, 1u);
-  // UV seams duplicate some vertices: 24 charts, so up to a quarter at 2k, fewer above.
+  // UV seams duplicate some vertices: 17 charts, so up to a quarter at 2k, fewer above.
   EXPECT_LT(topology.welded_vertices, model.vertex_count());
   EXPECT_GT(topology.welded_vertices, model.vertex_count() * 7 / 10);
   std::printf("  welded %zu, euler characteristic %ld\n", topology.welded_vertices,
@@ -147,7 +147,7 @@ TEST_P(MannequinSizes, TrianglesAreWellShapedAndStayInOneUvChart) {
   }
   // Decimation plus relaxation leave few slivers (measured: under 0.1% below 10 degrees).
   EXPECT_LT(slivers, model.triangle_count() / 100);
-  // The 24 charts sit in tiles 1/5 wide: a triangle never stretches across charts.
+  // The 17 charts sit in tiles 1/5 wide (5 x 5 atlas): a triangle never stretches across charts.
   EXPECT_LT(widest_uv_edge, 0.2f);
 }
 
