@@ -9,11 +9,6 @@ namespace sweepd::deform {
 
 namespace {
 
-float smoothstep01(float x) {
-  x = std::clamp(x, 0.0f, 1.0f);
-  return x * x * (3.0f - 2.0f * x);
-}
-
 // Polynomial smooth minimum: min(a, b) rounded over a band of width k.
 float smooth_min(float a, float b, float k) {
   const float h = std::max(k - std::abs(a - b), 0.0f) / k;
@@ -75,11 +70,24 @@ PartSection BodyShape::section_at(const PreparedPart& part, float t) const {
   if (t >= sections.back().t) return sections.back();
   std::size_t i = 1;
   while (sections[i].t < t) ++i;
-  const PartSection& a = sections[i - 1];
-  const PartSection& b = sections[i];
-  const float s = smoothstep01((t - a.t) / (b.t - a.t));
-  return {t, a.side + s * (b.side - a.side), a.depth + s * (b.depth - a.depth),
-          a.depth_offset + s * (b.depth_offset - a.depth_offset)};
+  // Cubic Hermite between sections i-1 and i with Catmull-Rom slopes (flat at both ends):
+  // smooth through every section, so the surface shows no rings where sections sit.
+  const std::size_t a = i - 1, b = i;
+  const float width = sections[b].t - sections[a].t;
+  const float s = (t - sections[a].t) / width;
+  const float h00 = (1.0f + 2.0f * s) * (1.0f - s) * (1.0f - s), h10 = s * (1.0f - s) * (1.0f - s);
+  const float h01 = s * s * (3.0f - 2.0f * s), h11 = s * s * (s - 1.0f);
+  auto interpolate = [&](float PartSection::*field) {
+    auto slope = [&](std::size_t k) {
+      if (k == 0 || k + 1 == sections.size()) return 0.0f;
+      return (sections[k + 1].*field - sections[k - 1].*field) /
+             (sections[k + 1].t - sections[k - 1].t);
+    };
+    return h00 * sections[a].*field + h10 * width * slope(a) + h01 * sections[b].*field +
+           h11 * width * slope(b);
+  };
+  return {t, interpolate(&PartSection::side), interpolate(&PartSection::depth),
+          interpolate(&PartSection::depth_offset)};
 }
 
 float BodyShape::prepared_value(const PreparedPart& part, const glm::vec3& p) const {
