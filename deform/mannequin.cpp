@@ -269,7 +269,7 @@ Model make_mannequin(const MannequinOptions& options) {
   // their shape), then shortest-edge decimation down to the welded count that, with the UV
   // seam duplicates, gives the target; the duplicate share is re-measured and corrected.
   const float marched_target = std::max(kOversampling * target, kMinimumMarchedVertices);
-  float spacing = std::sqrt(kVerticesTimesSpacingSquared / marched_target);
+  const float spacing = std::sqrt(kVerticesTimesSpacingSquared / marched_target);
   const BodyShape body(anatomy.parts, kBlendRadius, kMinimumHalfAxisPerSpacing * spacing);
   const WeldedSurface marched = polygonise(body, spacing);
   auto place = [&body, spacing](const glm::vec3& p) {
@@ -308,8 +308,9 @@ Model make_mannequin(const MannequinOptions& options) {
   for (std::size_t v = 0; v < surface.positions.size(); ++v)
     skin_vertex(anatomy, body, surface.positions[v], welded_joints[v], welded_weights[v]);
 
-  // Feet on the ground and the designed height: coarse grids thicken thin parts (feet, head
-  // top), so scale the model about the lowest point to kHeight and put that point at y = 0.
+  // Feet on the ground and exactly the designed height: the fillets, the thickening of thin
+  // parts and the grid move the soles and the crown by millimetres, so scale the model about
+  // its lowest point to kHeight and put that point at y = 0 (skeleton included).
   float lowest = surface.positions.front().y, highest = lowest;
   for (const glm::vec3& p : surface.positions) {
     lowest = std::min(lowest, p.y);

@@ -17,11 +17,11 @@
 namespace sweepd::deform {
 
 struct MannequinOptions {
-  int target_vertices = 20000;  // 1000 .. 1000000
+  int target_vertices = 20000;  // kMannequinMinVertices .. kMannequinMaxVertices
 };
 
 inline constexpr int kMannequinMinVertices = 1000;
-inline constexpr int kMannequinMaxVertices = 1000000;
+inline constexpr int kMannequinMaxVertices = 500000;
 
 // Throws std::invalid_argument (saying which option and why) for options out of range.
 Model make_mannequin(const MannequinOptions& options);
