@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "deform/key_ellipse_fitting.h"
+#include "deform/mesh_topology.h"
 #include "deform/sweep_blending.h"
 #include "deform/sweep_coordinates.h"
 #include "deform/sweep_volume.h"
@@ -60,12 +61,21 @@ BoundModel bind(const Model& model, const RigMap& rig, const BindOptions& option
   bound.options = options;
   const std::vector<glm::mat4> world_rest = model.skeleton.world_rest_matrices();
 
+  // Cross-section loops are chained through shared vertices: weld the UV-seam copies.
+  std::size_t welded_count = 0;
+  const std::vector<std::uint32_t> welded_id =
+      weld_coincident_positions(model.positions, &welded_count);
+  std::vector<glm::vec3> welded_positions(welded_count);
+  for (std::size_t v = 0; v < welded_id.size(); ++v) welded_positions[welded_id[v]] = model.positions[v];
+  std::vector<std::uint32_t> welded_indices(model.indices.size());
+  for (std::size_t i = 0; i < welded_indices.size(); ++i) welded_indices[i] = welded_id[model.indices[i]];
+
   const std::vector<SweepPlan> plans = plan_sweeps(rig, world_rest);
   std::vector<Sweep> sweeps;
   for (std::size_t s = 0; s < plans.size(); ++s) {
     report(0.5 * s / plans.size(), "fitting key ellipses");
-    BoundSweep sweep = fit_sweep_keys(model, world_rest, plans[s].part, plans[s].chain,
-                                      options.intermediate_keys_per_link, plans[s].x_hint);
+    BoundSweep sweep = fit_sweep_keys(welded_positions, welded_indices, world_rest, plans[s].part,
+                                      plans[s].chain, options, plans[s].x_hint);
     sweeps.push_back(rest_sweep(sweep));
     sweep.rest_volume = sweep_volume(sweeps.back());
     bound.sweeps.push_back(std::move(sweep));

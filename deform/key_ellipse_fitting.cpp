@@ -45,9 +45,13 @@ int nearest_usable(const std::vector<RawKey>& keys, int k) {
 
 }  // namespace
 
-BoundSweep fit_sweep_keys(const Model& model, std::span<const glm::mat4> world_rest,
-                          BodyPart part, std::span<const int> chain, int keys_per_link,
+BoundSweep fit_sweep_keys(std::span<const glm::vec3> positions,
+                          std::span<const std::uint32_t> indices,
+                          std::span<const glm::mat4> world_rest,
+                          BodyPart part, std::span<const int> chain, const BindOptions& options,
                           glm::vec3 x_hint) {
+  const int keys_per_link = options.intermediate_keys_per_link;
+  const bool centre_at_joint = options.joint_key_centre == JointKeyCentre::kAtJoint;
   const std::string part_name = to_string(part);
   if (chain.size() < 2)
     throw std::invalid_argument("the " + part_name + " sweep needs at least two joints");
@@ -79,9 +83,10 @@ BoundSweep fit_sweep_keys(const Model& model, std::span<const glm::mat4> world_r
                                   key.anchor.fraction);
       key.normal = link_direction[i];
       key.frame = make_plane_frame(key.origin, key.normal, x_hint);
-      key.fit = fit_key_ellipse(model.positions, model.indices, key.frame, key.origin,
-                                key.anchor.is_joint_key() ? std::optional(key.origin)
-                                                          : std::nullopt);
+      key.fit = fit_key_ellipse(positions, indices, key.frame, key.origin,
+                                key.anchor.is_joint_key() && centre_at_joint
+                                    ? std::optional(key.origin)
+                                    : std::nullopt);
       key.usable = key.fit.valid && key.fit.closed_loop && std::isfinite(key.fit.key.a) &&
                    std::isfinite(key.fit.key.b);
       keys.push_back(key);

@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -16,7 +17,7 @@ namespace sweepd::io {
 namespace {
 
 constexpr char kMagic[8] = {'S', 'W', 'E', 'E', 'P', 'B', 'N', 'D'};
-constexpr std::size_t kHeaderSize = 28;
+constexpr std::size_t kHeaderSize = 32;  // magic 8, version 4, flags 4, size 8, CRC 4, model 4
 constexpr std::uint64_t kMaxVertices = 1u << 26;
 constexpr std::uint64_t kMaxJoints = 1u << 12;
 constexpr std::uint64_t kMaxKeys = 1u << 10;
@@ -24,7 +25,7 @@ constexpr std::uint64_t kMaxKeys = 1u << 10;
 // Records stored as raw bytes: their layout is the file format (io/SWEEPBIND.md). No padding.
 static_assert(sizeof(deform::KeyAnchor) == 12);
 static_assert(sizeof(deform::KeyEllipse) == 36);
-static_assert(sizeof(deform::BindOptions) == 16);
+static_assert(sizeof(deform::BindOptions) == 20);
 static_assert(sizeof(deform::VertexBinding) == 56);
 
 using deform::BodyPart;
@@ -220,7 +221,7 @@ BoundModel decode_sweepbind(std::span<const std::uint8_t> bytes,
                             const std::filesystem::path& source,
                             const deform::Model* expected_model) {
   ByteReader header(bytes.first(std::min(bytes.size(), kHeaderSize)), source);
-  if (bytes.size() < sizeof(kMagic) || std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0)
+  if (std::memcmp(bytes.data(), kMagic, std::min(bytes.size(), sizeof(kMagic))) != 0)
     header.fail("not a .sweepbind file (wrong magic)");
   for (std::size_t i = 0; i < sizeof(kMagic); ++i) header.get<char>("magic");
   const auto version = header.get<std::uint32_t>("version");
