@@ -12,6 +12,7 @@
 #include "deform/dual_quaternion_skinning.h"
 #include "deform/forward_kinematics.h"
 #include "deform/linear_blend_skinning.h"
+#include "deform/mannequin.h"
 #include "io/gltf_load.h"
 #include "tests/deform/tube_mesh.h"
 
@@ -112,6 +113,10 @@ TEST(Skinning, RestPoseReproducesTheSharedMale) {
   if (!std::filesystem::exists(shared_male()))
     GTEST_SKIP() << "shared data absent: " << shared_male();
   expect_rest_mesh_reproduced(io::load_gltf(shared_male()));
+}
+
+TEST(Skinning, RestPoseReproducesTheMannequin) {
+  expect_rest_mesh_reproduced(make_mannequin({.target_vertices = 15000}));
 }
 
 TEST(Skinning, RigidlyBoundVerticesMoveWithTheirJoint) {
