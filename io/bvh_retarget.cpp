@@ -1,0 +1,335 @@
+#include "io/bvh_retarget.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <stdexcept>
+
+#include "deform/rig_map.h"
+#include "io/json_file.h"
+#include "io/load_error.h"
+
+namespace sweepd::io {
+
+namespace {
+
+constexpr int kUnmatched = -1;
+constexpr int kLeftOut = -2;  // the name map says: leave this BVH joint unmapped
+
+deform::Skeleton skeleton_of(const Motion& motion) {
+  deform::Skeleton skeleton;
+  for (const MotionJoint& joint : motion.joints)
+    skeleton.joints.push_back({.name = joint.name,
+                               .parent = joint.parent,
+                               .rest_translation = joint.offset,
+                               .rest_rotation = glm::identity<glm::quat>(),
+                               .rest_scale = glm::vec3(1.0f)});
+  return skeleton;
+}
+
+std::optional<deform::RigMap> rig_map_or_warning(const deform::Skeleton& skeleton,
+                                                 const std::string& side,
+                                                 std::vector<std::string>& warnings) {
+  try {
+    return deform::detect_rig_map(skeleton);
+  } catch (const std::invalid_argument& e) {
+    warnings.push_back("no rig map for the " + side + " (" + e.what() +
+                       "): joints matched by name and hierarchy only");
+    return std::nullopt;
+  }
+}
+
+// (model joint, BVH joint) for every role both maps fill.
+std::vector<std::pair<int, int>> role_pairs(const deform::RigMap& model,
+                                            const deform::RigMap& bvh) {
+  std::vector<std::pair<int, int>> pairs = {{model.torso.pelvis(), bvh.torso.pelvis()},
+                                            {model.torso.chest(), bvh.torso.chest()},
+                                            {model.neck.head, bvh.neck.head}};
+  const auto arm = [&](const deform::ArmJoints& m, const deform::ArmJoints& b) {
+    pairs.insert(
+        pairs.end(),
+        {{m.clavicle, b.clavicle}, {m.upper, b.upper}, {m.lower, b.lower}, {m.hand, b.hand}});
+  };
+  const auto leg = [&](const deform::LegJoints& m, const deform::LegJoints& b) {
+    pairs.insert(
+        pairs.end(),
+        {{m.hip, b.hip}, {m.upper, b.upper}, {m.lower, b.lower}, {m.foot, b.foot}, {m.toe, b.toe}});
+  };
+  arm(model.left_arm, bvh.left_arm);
+  arm(model.right_arm, bvh.right_arm);
+  leg(model.left_leg, bvh.left_leg);
+  leg(model.right_leg, bvh.right_leg);
+  return pairs;
+}
+
+std::vector<glm::vec3> world_rest_positions(const deform::Skeleton& skeleton) {
+  std::vector<glm::vec3> positions;
+  for (const glm::mat4& m : skeleton.world_rest_matrices()) positions.emplace_back(m[3]);
+  return positions;
+}
+
+bool is_strict_descendant(const deform::Skeleton& skeleton, int joint, int ancestor) {
+  for (int j = skeleton.joints[joint].parent; j >= 0; j = skeleton.joints[j].parent)
+    if (j == ancestor) return true;
+  return false;
+}
+
+// The rotation taking unit vector u onto unit vector v by the shortest arc.
+glm::quat shortest_arc(const glm::vec3& u, const glm::vec3& v) {
+  const float c = glm::dot(u, v);
+  if (c < -1.0f + 1e-6f) {  // opposite: half a turn about any axis orthogonal to u
+    glm::vec3 axis = glm::cross(u, glm::vec3(1, 0, 0));
+    if (glm::dot(axis, axis) < 1e-6f) axis = glm::cross(u, glm::vec3(0, 1, 0));
+    return glm::angleAxis(static_cast<float>(M_PI), glm::normalize(axis));
+  }
+  const glm::vec3 axis = glm::cross(u, v);
+  return glm::normalize(glm::quat(1.0f + c, axis.x, axis.y, axis.z));
+}
+
+// Mean thigh + shin length of the legs, or the pelvis height above the lowest joint.
+float hip_height(const deform::Skeleton& skeleton, const std::optional<deform::RigMap>& map,
+                 const std::vector<glm::vec3>& world, int pelvis) {
+  if (map) {
+    float sum = 0.0f;
+    for (const deform::LegJoints* leg : {&map->left_leg, &map->right_leg})
+      sum += glm::distance(world[leg->upper], world[leg->lower]) +
+             glm::distance(world[leg->lower], world[leg->foot]);
+    return sum / 2.0f;
+  }
+  float lowest = world[pelvis].y;
+  for (int j = 0; j < skeleton.size(); ++j) lowest = std::min(lowest, world[j].y);
+  return world[pelvis].y - lowest;
+}
+
+}  // namespace
+
+const char* to_string(JointMatchReason reason) {
+  switch (reason) {
+    case JointMatchReason::kNameMap:
+      return "name map";
+    case JointMatchReason::kName:
+      return "name";
+    case JointMatchReason::kRole:
+      return "role";
+    case JointMatchReason::kHierarchy:
+      return "hierarchy";
+  }
+  return "?";
+}
+
+Retargeter::Retargeter(Motion motion, deform::Skeleton skeleton,
+                       const std::filesystem::path& name_map)
+    : motion_(std::move(motion)), skeleton_(std::move(skeleton)) {
+  if (motion_.joints.empty() || motion_.frame_count < 1)
+    throw std::invalid_argument("the motion has no joints or no frames to retarget");
+  if (skeleton_.joints.empty()) throw std::invalid_argument("the model has no joints");
+  const deform::Skeleton bvh = skeleton_of(motion_);
+  const OptionalRigMap model_map = rig_map_or_warning(skeleton_, "model", warnings_);
+  const OptionalRigMap bvh_map = rig_map_or_warning(bvh, "BVH clip", warnings_);
+  match_joints(bvh, model_map, bvh_map, name_map);
+  compute_alignments(bvh);
+  compute_root_scale(bvh, model_map, bvh_map);
+}
+
+void Retargeter::match_joints(const deform::Skeleton& bvh, const OptionalRigMap& model_map,
+                              const OptionalRigMap& bvh_map,
+                              const std::filesystem::path& name_map) {
+  bvh_of_model_.assign(skeleton_.joints.size(), kUnmatched);
+  model_of_bvh_.assign(bvh.joints.size(), kUnmatched);
+  std::vector<JointMatchReason> reason(skeleton_.joints.size());
+  const auto match = [&](int model_joint, int bvh_joint, JointMatchReason why) {
+    if (model_joint < 0 || bvh_joint < 0 || bvh_of_model_[model_joint] != kUnmatched ||
+        model_of_bvh_[bvh_joint] != kUnmatched)
+      return false;
+    bvh_of_model_[model_joint] = bvh_joint;
+    model_of_bvh_[bvh_joint] = model_joint;
+    reason[model_joint] = why;
+    return true;
+  };
+
+  if (!name_map.empty()) {
+    const nlohmann::json document = read_json_file(name_map, "joint name map");
+    if (!document.is_object())
+      throw LoadError(name_map, "expected an object {\"BVH joint\": \"model joint\", ...}");
+    for (const auto& [bvh_name, model_name] : document.items()) {
+      const int b = bvh.find(bvh_name);
+      if (b < 0) throw LoadError(name_map, "the BVH clip has no joint named '" + bvh_name + "'");
+      if (model_name.is_null()) {
+        if (model_of_bvh_[b] == kUnmatched) model_of_bvh_[b] = kLeftOut;
+        continue;
+      }
+      if (!model_name.is_string())
+        throw LoadError(name_map, "'" + bvh_name + "': expected a model joint name or null, got " +
+                                      model_name.dump());
+      const int m = skeleton_.find(model_name.get<std::string>());
+      if (m < 0)
+        throw LoadError(name_map, "'" + bvh_name + "': the model has no joint named '" +
+                                      model_name.get<std::string>() + "'");
+      if (!match(m, b, JointMatchReason::kNameMap))
+        throw LoadError(name_map, "'" + bvh_name + "' -> '" + model_name.get<std::string>() +
+                                      "': one of the two joints is already mapped");
+    }
+  }
+
+  for (int m = 0; m < skeleton_.size(); ++m)
+    match(m, bvh.find(skeleton_.joints[m].name), JointMatchReason::kName);
+
+  if (model_map && bvh_map)
+    for (const auto& [m, b] : role_pairs(*model_map, *bvh_map))
+      match(m, b, JointMatchReason::kRole);
+
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (int m = 0; m < skeleton_.size(); ++m) {
+      const int b = bvh_of_model_[m];
+      if (b < 0) continue;
+      std::vector<int> model_children, bvh_children;
+      for (int c : skeleton_.children(m))
+        if (bvh_of_model_[c] == kUnmatched) model_children.push_back(c);
+      for (int c : bvh.children(b))
+        if (model_of_bvh_[c] == kUnmatched) bvh_children.push_back(c);
+      if (model_children.size() == 1 && bvh_children.size() == 1)
+        changed |= match(model_children[0], bvh_children[0], JointMatchReason::kHierarchy);
+    }
+  }
+
+  for (int m = 0; m < skeleton_.size(); ++m)
+    if (bvh_of_model_[m] >= 0) matches_.push_back({bvh_of_model_[m], m, reason[m]});
+}
+
+void Retargeter::compute_alignments(const deform::Skeleton& bvh) {
+  const std::vector<glm::vec3> model_world = world_rest_positions(skeleton_);
+  const std::vector<glm::vec3> bvh_world = world_rest_positions(bvh);
+  world_rest_.resize(skeleton_.joints.size());
+  alignment_.resize(skeleton_.joints.size());
+  for (int m = 0; m < skeleton_.size(); ++m) {
+    const int parent = skeleton_.joints[m].parent;
+    const glm::quat rest = glm::normalize(skeleton_.joints[m].rest_rotation);
+    world_rest_[m] = parent < 0 ? rest : world_rest_[parent] * rest;
+    alignment_[m] = parent < 0 ? glm::identity<glm::quat>() : alignment_[parent];
+    const int b = bvh_of_model_[m];
+    if (b < 0) continue;
+    // The nearest matched descendants whose BVH joints descend from b.
+    std::vector<int> bone_ends, stack = skeleton_.children(m);
+    while (!stack.empty()) {
+      const int c = stack.back();
+      stack.pop_back();
+      if (bvh_of_model_[c] < 0) {
+        const std::vector<int> below = skeleton_.children(c);
+        stack.insert(stack.end(), below.begin(), below.end());
+      } else if (is_strict_descendant(bvh, bvh_of_model_[c], b)) {
+        bone_ends.push_back(c);
+      }
+    }
+    if (bone_ends.size() != 1) continue;
+    const glm::vec3 model_bone = model_world[bone_ends[0]] - model_world[m];
+    const glm::vec3 bvh_bone = bvh_world[bvh_of_model_[bone_ends[0]]] - bvh_world[b];
+    constexpr float kShortest = 1e-6f;
+    if (glm::length(model_bone) < kShortest || glm::length(bvh_bone) < kShortest) continue;
+    alignment_[m] = shortest_arc(glm::normalize(model_bone), glm::normalize(bvh_bone));
+  }
+}
+
+void Retargeter::compute_root_scale(const deform::Skeleton& bvh, const OptionalRigMap& model_map,
+                                    const OptionalRigMap& bvh_map) {
+  bvh_pelvis_ = bvh_map ? bvh_map->torso.pelvis() : 0;
+  model_pelvis_ = model_map ? model_map->torso.pelvis() : 0;
+  const std::vector<glm::vec3> model_world = world_rest_positions(skeleton_);
+  const std::vector<glm::vec3> bvh_world = world_rest_positions(bvh);
+  model_pelvis_rest_ = model_world[model_pelvis_];
+  const float bvh_height = hip_height(bvh, bvh_map, bvh_world, bvh_pelvis_);
+  const float model_height = hip_height(skeleton_, model_map, model_world, model_pelvis_);
+  if (bvh_height > 0.0f && model_height > 0.0f) {
+    root_scale_ = model_height / bvh_height;
+  } else {
+    warnings_.push_back("no hip height on one side: root translation not scaled");
+  }
+}
+
+std::vector<std::string> Retargeter::unmapped_bvh_joints() const {
+  std::vector<std::string> names;
+  for (std::size_t b = 0; b < motion_.joints.size(); ++b)
+    if (model_of_bvh_[b] < 0) names.push_back(motion_.joints[b].name);
+  return names;
+}
+
+std::vector<std::string> Retargeter::unmapped_model_joints() const {
+  std::vector<std::string> names;
+  for (int m = 0; m < skeleton_.size(); ++m)
+    if (bvh_of_model_[m] < 0) names.push_back(skeleton_.joints[m].name);
+  return names;
+}
+
+deform::Pose Retargeter::retarget(std::span<const glm::quat> bvh_local,
+                                  std::span<const glm::vec3> bvh_translation,
+                                  bool keep_root_rest) const {
+  const std::size_t bvh_count = motion_.joints.size();
+  std::vector<glm::quat> bvh_world(bvh_count);
+  std::vector<glm::vec3> bvh_position(bvh_count);
+  for (std::size_t b = 0; b < bvh_count; ++b) {
+    const int parent = motion_.joints[b].parent;
+    bvh_world[b] = parent < 0 ? bvh_local[b] : bvh_world[parent] * bvh_local[b];
+    bvh_position[b] = parent < 0 ? bvh_translation[b]
+                                 : bvh_position[parent] + bvh_world[parent] * bvh_translation[b];
+  }
+  deform::Pose pose;
+  pose.local_rotations.resize(skeleton_.joints.size());
+  std::vector<glm::quat> world(skeleton_.joints.size());
+  for (int m = 0; m < skeleton_.size(); ++m) {
+    const deform::Joint& joint = skeleton_.joints[m];
+    const int b = bvh_of_model_[m];
+    if (b < 0) {
+      world[m] = joint.parent < 0 ? joint.rest_rotation : world[joint.parent] * joint.rest_rotation;
+      pose.local_rotations[m] = joint.rest_rotation;
+      continue;
+    }
+    // BVH rest rotations are the identity, so the BVH world rotation is D_b itself.
+    world[m] = glm::normalize(bvh_world[b] * alignment_[m] * world_rest_[m]);
+    pose.local_rotations[m] =
+        glm::normalize(joint.parent < 0 ? world[m] : glm::inverse(world[joint.parent]) * world[m]);
+  }
+  const glm::vec3 root_rest = skeleton_.joints[0].rest_translation;
+  pose.root_translation =
+      keep_root_rest ? root_rest
+                     : root_rest + root_scale_ * bvh_position[bvh_pelvis_] - model_pelvis_rest_;
+  return pose;
+}
+
+deform::Pose Retargeter::pose_at_frame(int frame) const {
+  if (frame < 0 || frame >= motion_.frame_count)
+    throw std::out_of_range("frame " + std::to_string(frame) + " is outside the clip's " +
+                            std::to_string(motion_.frame_count) + " frames");
+  std::vector<glm::quat> rotations(motion_.joints.size());
+  std::vector<glm::vec3> translations(motion_.joints.size());
+  motion_.local_pose(frame, rotations, translations);
+  return retarget(rotations, translations, false);
+}
+
+deform::Pose Retargeter::pose_at_time(double seconds) const {
+  if (std::isnan(seconds)) throw std::invalid_argument("the time to sample is NaN");
+  const double frame_position = std::clamp(seconds, 0.0, duration()) / motion_.frame_time;
+  const int last = motion_.frame_count - 1;
+  const int first = std::min(static_cast<int>(std::floor(frame_position)), last);
+  const int second = std::min(first + 1, last);
+  const float alpha = static_cast<float>(frame_position - first);
+  const std::size_t count = motion_.joints.size();
+  std::vector<glm::quat> rotations(count), next_rotations(count);
+  std::vector<glm::vec3> translations(count), next_translations(count);
+  motion_.local_pose(first, rotations, translations);
+  motion_.local_pose(second, next_rotations, next_translations);
+  for (std::size_t b = 0; b < count; ++b) {
+    rotations[b] = glm::slerp(rotations[b], next_rotations[b], alpha);
+    translations[b] = glm::mix(translations[b], next_translations[b], alpha);
+  }
+  return retarget(rotations, translations, false);
+}
+
+deform::Pose Retargeter::pose_at_bvh_rest() const {
+  const std::size_t count = motion_.joints.size();
+  std::vector<glm::quat> rotations(count, glm::identity<glm::quat>());
+  std::vector<glm::vec3> translations(count);
+  for (std::size_t b = 0; b < count; ++b) translations[b] = motion_.joints[b].offset;
+  return retarget(rotations, translations, true);
+}
+
+}  // namespace sweepd::io

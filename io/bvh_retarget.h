@@ -1,0 +1,110 @@
+// BVH retargeting: plays a BVH clip (io/motion.h) on a model's skeleton, as deform::Poses.
+//
+// Joint matching (each BVH joint drives at most one model joint and vice versa), in order:
+//   1. name_map   an optional JSON file {"BVH joint name": "model joint name", ...}; a value of
+//                 null leaves that BVH joint unmapped. Unknown names are a LoadError.
+//   2. name       the same joint name on both sides (exact, case-sensitive).
+//   3. role       the same RigMap role (deform::detect_rig_map on both skeletons; see
+//                 deform/rig_naming.h): pelvis, chest, head, clavicles, upper/lower limbs,
+//                 hands, hip links, feet, toes — so CMU names drive Unreal or Mixamo rigs.
+//   4. hierarchy  an unmatched joint that is the only unmatched child of a matched joint on
+//                 both sides (CMU's LFingers under LeftFingerBase ↔ LeftHandFinger1).
+// What is left on either side is reported (unmapped_*); unmapped model joints keep their rest
+// rotation relative to their parent, unmapped BVH joints still move their mapped descendants.
+//
+// Rotations are retargeted relative to each side's rest pose, in world space. For a model joint
+// m driven by BVH joint b:  W_m(frame) = D_b(frame) * A_m * W_m(rest), where
+//   D_b  the world rotation BVH joint b undergoes from its rest pose (all channels zero),
+//   A_m  the rotation taking m's rest bone direction (towards its single matched child) onto
+//        b's rest bone direction (towards that child's BVH joint); joints with no or several
+//        matched children (the root, hands, the chest) take the A of their nearest matched
+//        ancestor (the identity at the root).
+// So at the BVH's rest T-pose an A-pose model stands in a T-pose, and in every frame each of
+// its matched bones points where the BVH's bone points; twist about the bone follows the BVH.
+// The local rotations of the Pose are W_parent^-1 * W_m. Joint scale is ignored (rotations only).
+//
+// Root translation: the model's pelvis goes to root_scale() times the BVH pelvis position,
+// where root_scale() = model hip height / BVH hip height (pelvis above the mean of the two
+// ankle joints in each rest pose; the lowest joint without a rig map). Both sides must be Y-up
+// and in the same length unit (load CMU clips with BvhOptions{.length_scale = 0.056444f}).
+// The shift is applied to the model's root (joint 0), which must carry the pelvis rigidly.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "deform/model.h"
+#include "deform/pose.h"
+#include "deform/rig_map.h"
+#include "deform/skeleton.h"
+#include "io/motion.h"
+
+namespace sweepd::io {
+
+enum class JointMatchReason { kNameMap, kName, kRole, kHierarchy };
+const char* to_string(JointMatchReason reason);
+
+struct JointMatch {
+  int bvh_joint = -1;    // index into Motion::joints
+  int model_joint = -1;  // index into Skeleton::joints
+  JointMatchReason reason = JointMatchReason::kName;
+};
+
+class Retargeter {
+ public:
+  // Throws LoadError for a bad name map file, std::invalid_argument when the motion has no
+  // joints or frames, or the skeleton no joints.
+  Retargeter(Motion motion, deform::Skeleton skeleton, const std::filesystem::path& name_map = {});
+  Retargeter(Motion motion, const deform::Model& model, const std::filesystem::path& name_map = {})
+      : Retargeter(std::move(motion), model.skeleton, name_map) {}
+
+  // Matched pairs, ordered by model joint.
+  const std::vector<JointMatch>& matches() const { return matches_; }
+  // BVH joint matched to model joint m, or -1.
+  int bvh_joint_for(int model_joint) const { return bvh_of_model_[model_joint]; }
+  std::vector<std::string> unmapped_bvh_joints() const;
+  std::vector<std::string> unmapped_model_joints() const;
+  // Problems that did not stop retargeting (e.g. no rig map on one side: no role matching).
+  const std::vector<std::string>& warnings() const { return warnings_; }
+
+  float root_scale() const { return root_scale_; }
+  const Motion& motion() const { return motion_; }
+  int frame_count() const { return motion_.frame_count; }
+  double duration() const { return (motion_.frame_count - 1) * double{motion_.frame_time}; }
+
+  // The model posed as frame `frame`. Throws std::out_of_range outside [0, frame_count()).
+  deform::Pose pose_at_frame(int frame) const;
+  // Between frames: BVH rotations slerped, translations lerped, then retargeted. seconds is
+  // clamped to [0, duration()]; NaN is std::invalid_argument.
+  deform::Pose pose_at_time(double seconds) const;
+  // The model posed as the BVH's rest pose (every channel zero); root at its rest translation.
+  deform::Pose pose_at_bvh_rest() const;
+
+ private:
+  using OptionalRigMap = std::optional<deform::RigMap>;
+  void match_joints(const deform::Skeleton& bvh, const OptionalRigMap& model_map,
+                    const OptionalRigMap& bvh_map, const std::filesystem::path& name_map);
+  void compute_alignments(const deform::Skeleton& bvh);
+  void compute_root_scale(const deform::Skeleton& bvh, const OptionalRigMap& model_map,
+                          const OptionalRigMap& bvh_map);
+  // bvh_local: rotations and translations of every BVH joint (motion_.joints.size()).
+  deform::Pose retarget(std::span<const glm::quat> bvh_local,
+                        std::span<const glm::vec3> bvh_translation, bool keep_root_rest) const;
+
+  Motion motion_;
+  deform::Skeleton skeleton_;
+  std::vector<JointMatch> matches_;
+  std::vector<int> bvh_of_model_;      // per model joint
+  std::vector<int> model_of_bvh_;      // per BVH joint
+  std::vector<glm::quat> alignment_;   // A_m per model joint
+  std::vector<glm::quat> world_rest_;  // W_m(rest) per model joint
+  int bvh_pelvis_ = 0, model_pelvis_ = 0;
+  glm::vec3 model_pelvis_rest_{0.0f};
+  float root_scale_ = 1.0f;
+  std::vector<std::string> warnings_;
+};
+
+}  // namespace sweepd::io
