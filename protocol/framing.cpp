@@ -90,7 +90,10 @@ FrameEvent FrameReader::read(std::span<const std::uint8_t>& input) {
         std::memcpy(length_bytes_ + length_filled_, input.data(), taken);
         input = input.subspan(taken);
         length_filled_ += taken;
-        if (length_filled_ == kLengthPrefixBytes) return start_body();
+        if (length_filled_ == kLengthPrefixBytes) {
+          FrameEvent event = start_body();
+          if (event.status != FrameStatus::kPending) return event;
+        }
         break;
       }
       case State::kBody: {
