@@ -1,0 +1,32 @@
+// load_gltf: reads a skinned human from a glTF 2.0 file (.glb, or .gltf with external .bin or
+// embedded base64 data URIs) into a deform::Model in world-space rest pose.
+//
+// Input:  file    path to a .glb or .gltf (the format is sniffed from the bytes, not the name)
+//         report  optional; receives warnings and source counts (see io/load_report.h)
+// Output: a Model that satisfies Model::validate():
+//         - the skinned mesh is the node with both mesh and skin (the one with most vertices
+//           when several); all its triangle primitives are merged into one vertex/index list;
+//         - skin.joints become the Skeleton, reordered parents-first (JOINTS_0 remapped);
+//           unnamed joints are called joint_<node index>, repeated names get _2, _3, ...;
+//           non-joint ancestors of root joints are folded into the root's rest transform;
+//         - positions/normals are the file's vertices skinned with world_rest * inverseBind,
+//           so the skeleton's world rest matrices are the bind matrices;
+//         - influences from every JOINTS_n/WEIGHTS_n set are merged per joint and the 4 largest
+//           kept; weights are renormalised to sum 1 (both counted in the report); vertices
+//           with no weight are bound to the mesh node's nearest ancestor joint, else joint 0.
+// Throws io::LoadError (naming the file and the reason) for any unusable input: unreadable or
+// truncated file, invalid JSON, missing buffers, no skinned mesh, non-triangle primitives,
+// out-of-range indices or joint indices, non-finite attributes, malformed accessors.
+#pragma once
+
+#include <filesystem>
+
+#include "deform/model.h"
+#include "io/load_error.h"
+#include "io/load_report.h"
+
+namespace sweepd::io {
+
+deform::Model load_gltf(const std::filesystem::path& file, LoadReport* report = nullptr);
+
+}  // namespace sweepd::io
