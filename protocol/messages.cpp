@@ -155,6 +155,22 @@ PosedVerticesFrame::PosedVerticesFrame(flatbuffers::FlatBufferBuilder& builder,
   timings_ = finished->mutable_timings();
 }
 
+PositionMapFrame::PositionMapFrame(flatbuffers::FlatBufferBuilder& builder,
+                                   const PositionMapHeader& header) {
+  builder.Clear();
+  std::uint8_t* moving = nullptr;  // moves as the builder grows: the span is taken below
+  const auto exr = builder.CreateUninitializedVector(header.exr_bytes, &moving);
+  const ServerTimings no_timings{};
+  const auto map = CreatePositionMap(builder, header.model_id, header.sequence, header.width,
+                                     header.height, exr, &no_timings);
+  bytes_ = finish_message(builder, map, header.request_id);
+
+  auto* finished = static_cast<PositionMap*>(
+      GetMutableSizePrefixedMessage(builder.GetBufferPointer())->mutable_body());
+  exr_ = writable(finished->mutable_exr());
+  timings_ = finished->mutable_timings();
+}
+
 bool copy_positions(const PosedVertices& reply, std::span<float> out) {
   return copy_xyz(reply.positions_f32(), reply.positions_f16(), reply.vertex_count(), out);
 }

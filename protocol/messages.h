@@ -8,7 +8,7 @@
 //   build_hello / build_error                  the session's first and most common replies
 //   add_pose(builder, PoseFields)              a Pose table (in a Pose message or a request)
 //   check_pose(pose, joint_count)              joint count, finite values, unit rotations
-//   PosedVerticesFrame                         the reply with its arrays left for the caller
+//   PosedVerticesFrame, PositionMapFrame       replies with their arrays left for the caller
 //                                              to write straight into the builder's buffer
 //   copy_positions / copy_normals              a reply's arrays as float32, either format
 //
@@ -112,6 +112,32 @@ class PosedVerticesFrame {
  private:
   std::span<float> positions_f32_, normals_f32_;
   std::span<std::uint16_t> positions_f16_, normals_f16_;
+  ServerTimings* timings_ = nullptr;
+  std::span<const std::uint8_t> bytes_;
+};
+
+struct PositionMapHeader {
+  std::uint64_t request_id = 0;
+  std::uint32_t model_id = 0;
+  std::uint64_t sequence = 0;  // the request's Pose.sequence
+  std::uint32_t width = 0;
+  std::uint32_t height = 0;
+  std::size_t exr_bytes = 0;  // size of the OpenEXR file the caller will write
+};
+
+// A complete PositionMap frame in `builder` (cleared first) whose `exr` array of
+// header.exr_bytes is left for the caller to write the OpenEXR file straight into.
+// Valid until the builder changes; every byte of exr() must be written before sending.
+class PositionMapFrame {
+ public:
+  PositionMapFrame(flatbuffers::FlatBufferBuilder& builder, const PositionMapHeader& header);
+
+  std::span<std::uint8_t> exr() const { return exr_; }
+  ServerTimings& timings() const { return *timings_; }
+  std::span<const std::uint8_t> bytes() const { return bytes_; }
+
+ private:
+  std::span<std::uint8_t> exr_;
   ServerTimings* timings_ = nullptr;
   std::span<const std::uint8_t> bytes_;
 };

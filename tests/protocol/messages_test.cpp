@@ -24,6 +24,22 @@ using flatbuffers::FlatBufferBuilder;
 
 Bytes copy_of(std::span<const std::uint8_t> frame) { return {frame.begin(), frame.end()}; }
 
+// The one frame `bytes` hold, read as a server reads a socket; valid while `reader` is.
+FrameEvent read_single(FrameReader& reader, const Bytes& bytes) {
+  std::span<const std::uint8_t> input(bytes);
+  FrameEvent event = reader.read(input);
+  EXPECT_TRUE(input.empty());
+  return event;
+}
+
+// Zero copy: an array handed out for writing lies inside the outgoing frame's own bytes.
+void expect_inside_frame(const void* array, std::size_t array_bytes,
+                         std::span<const std::uint8_t> frame) {
+  const auto* begin = static_cast<const std::uint8_t*>(array);
+  EXPECT_GE(begin, frame.data());
+  EXPECT_LE(begin + array_bytes, frame.data() + frame.size());
+}
+
 const std::vector<Quat> kRotations = {Quat(0, 0, 0, 1), Quat(0.5f, 0.5f, 0.5f, 0.5f),
                                       Quat(0, 0.70710678f, 0, 0.70710678f)};
 
@@ -301,8 +317,7 @@ TEST(Messages, BodyTypeFromANewerPeerVerifiesAndReadsAsUnknown) {
   const Bytes frame =
       copy_of(finish_frame(builder, CreateMessage(builder, 5, future_type, body.Union())));
   FrameReader reader;
-  std::span<const std::uint8_t> input(frame);
-  const FrameEvent event = reader.read(input);
+  const FrameEvent event = read_single(reader, frame);
   ASSERT_EQ(event.status, FrameStatus::kFrame) << event.reason;
   EXPECT_GT(event.message->body_type(), Body::MAX);
   EXPECT_EQ(event.message->request_id(), 5u);
@@ -325,11 +340,9 @@ TEST(PosedVerticesFrame, ArraysLieInsideTheFrameAndArriveBitForBit) {
   ASSERT_EQ(frame.positions_f32().size(), 3 * kVertices);
   ASSERT_EQ(frame.normals_f32().size(), 3 * kVertices);
   EXPECT_TRUE(frame.positions_f16().empty());
-  // Zero copy: the spans handed to the deformer are the outgoing frame's own bytes.
-  const auto* begin = reinterpret_cast<const std::uint8_t*>(frame.positions_f32().data());
-  EXPECT_GE(begin, frame.bytes().data());
-  EXPECT_LE(begin + frame.positions_f32().size_bytes(),
-            frame.bytes().data() + frame.bytes().size());
+  expect_inside_frame(frame.positions_f32().data(), frame.positions_f32().size_bytes(),
+                      frame.bytes());
+  expect_inside_frame(frame.normals_f32().data(), frame.normals_f32().size_bytes(), frame.bytes());
   std::mt19937 random(3);
   std::uniform_real_distribution<float> metres(-1.0f, 1.0f);
   std::vector<float> positions(3 * kVertices), normals(3 * kVertices);
@@ -341,8 +354,7 @@ TEST(PosedVerticesFrame, ArraysLieInsideTheFrameAndArriveBitForBit) {
   const Bytes sent = copy_of(frame.bytes());
 
   FrameReader reader;
-  std::span<const std::uint8_t> input(sent);
-  const FrameEvent event = reader.read(input);
+  const FrameEvent event = read_single(reader, sent);
   ASSERT_EQ(event.status, FrameStatus::kFrame) << event.reason;
   EXPECT_EQ(event.message->request_id(), 12u);
   const PosedVertices* reply = event.message->body_as_PosedVertices();
@@ -379,8 +391,7 @@ TEST(PosedVerticesFrame, Float16RepliesDecodeWithinHalfAnUlp) {
   encode_float16(positions, frame.normals_f16());
   const Bytes sent = copy_of(frame.bytes());
   FrameReader reader;
-  std::span<const std::uint8_t> input(sent);
-  const FrameEvent event = reader.read(input);
+  const FrameEvent event = read_single(reader, sent);
   ASSERT_EQ(event.status, FrameStatus::kFrame) << event.reason;
   std::vector<float> received(3 * kVertices);
   ASSERT_TRUE(copy_positions(*event.message->body_as_PosedVertices(), received));
@@ -404,6 +415,37 @@ TEST(PosedVerticesFrame, CopyRefusesAWrongSizedOutputOrMissingArrays) {
   EXPECT_FALSE(copy_normals(*reply, out));
   EXPECT_TRUE(copy_positions(*reply, out));
   EXPECT_EQ(out[29], 1.0f);
+}
+
+TEST(PositionMapFrame, ExrBytesWrittenInPlaceArriveIntact) {
+  FlatBufferBuilder builder;
+  PositionMapFrame frame(builder, {.request_id = 8,
+                                   .model_id = 2,
+                                   .sequence = 77,
+                                   .width = 512,
+                                   .height = 256,
+                                   .exr_bytes = 4099});
+  ASSERT_EQ(frame.exr().size(), 4099u);
+  expect_inside_frame(frame.exr().data(), frame.exr().size(), frame.bytes());
+  for (std::size_t i = 0; i < frame.exr().size(); ++i) {
+    frame.exr()[i] = static_cast<std::uint8_t>(i * 7);
+  }
+  frame.timings().mutate_deform_ns(55);
+  const Bytes sent = copy_of(frame.bytes());
+  FrameReader reader;
+  const FrameEvent event = read_single(reader, sent);
+  ASSERT_EQ(event.status, FrameStatus::kFrame) << event.reason;
+  const PositionMap* map = event.message->body_as_PositionMap();
+  ASSERT_NE(map, nullptr);
+  EXPECT_EQ(map->sequence(), 77u);
+  EXPECT_EQ(map->width(), 512u);
+  EXPECT_EQ(map->timings()->deform_ns(), 55u);
+  ASSERT_EQ(map->exr()->size(), 4099u);
+  int wrong = 0;
+  for (flatbuffers::uoffset_t i = 0; i < map->exr()->size(); ++i) {
+    if (map->exr()->Get(i) != static_cast<std::uint8_t>(i * 7)) ++wrong;
+  }
+  EXPECT_EQ(wrong, 0);
 }
 
 // A Pose table read back from its own frame, for check_pose.
