@@ -40,7 +40,9 @@ std::vector<SweepPlan> plan_sweeps(const RigMap& rig, std::span<const glm::mat4>
 
 }  // namespace
 
-Sweep rest_sweep(const BoundSweep& sweep) { return Sweep(sweep.rest_keys); }
+Sweep rest_sweep(const BoundSweep& sweep, const BindOptions& options) {
+  return Sweep(sweep.rest_keys, options.centre_curve);
+}
 
 BoundModel bind(const Model& model, const RigMap& rig, const BindOptions& options,
                 const BindProgress& progress) {
@@ -76,7 +78,7 @@ BoundModel bind(const Model& model, const RigMap& rig, const BindOptions& option
     report(0.5 * s / plans.size(), "fitting key ellipses");
     BoundSweep sweep = fit_sweep_keys(welded_positions, welded_indices, world_rest, plans[s].part,
                                       plans[s].chain, options, plans[s].x_hint);
-    sweeps.push_back(rest_sweep(sweep));
+    sweeps.push_back(rest_sweep(sweep, options));
     sweep.rest_volume = sweep_volume(sweeps.back());
     bound.sweeps.push_back(std::move(sweep));
   }
@@ -101,7 +103,7 @@ BoundModel bind(const Model& model, const RigMap& rig, const BindOptions& option
 
 std::vector<glm::vec3> rest_positions_from_binding(const BoundModel& bound) {
   std::vector<Sweep> sweeps;
-  for (const BoundSweep& sweep : bound.sweeps) sweeps.push_back(rest_sweep(sweep));
+  for (const BoundSweep& sweep : bound.sweeps) sweeps.push_back(rest_sweep(sweep, bound.options));
   std::vector<glm::vec3> positions(bound.vertices.size());
   for (std::size_t v = 0; v < positions.size(); ++v) {
     const VertexBinding& binding = bound.vertices[v];

@@ -25,8 +25,8 @@ using BindProgress = std::function<void(double fraction, std::string_view stage)
 BoundModel bind(const Model& model, const RigMap& rig, const BindOptions& options = {},
                 const BindProgress& progress = {});
 
-// The sweep of a bound sweep's rest key ellipses.
-Sweep rest_sweep(const BoundSweep& sweep);
+// The sweep of a bound sweep's rest key ellipses, with the centre curve the options choose.
+Sweep rest_sweep(const BoundSweep& sweep, const BindOptions& options);
 
 // Every vertex evaluated from its binding at the rest pose (skinned share: the rest position).
 std::vector<glm::vec3> rest_positions_from_binding(const BoundModel& bound);

@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "deform/bspline.h"
 #include "deform/key_ellipse.h"
 #include "deform/model.h"
 #include "deform/rig_map.h"
@@ -60,14 +61,20 @@ struct VertexBinding {
 enum class JointKeyCentre : std::int32_t {
   kAtJoint = 0,            // the paper: the joint key's centre is the joint
   kAtSectionCentroid = 1,  // at its section's centroid, carried rigidly by the joint
+  kAuto = 2,  // the joint, unless it lies outside the inner half of its section's ellipse
 };
 
 struct BindOptions {
   int intermediate_keys_per_link = 2;  // link keys between two joint keys (paper Fig. 3: >= 1)
   // Spines are rigged near the back (the shared male's lie 6-9 cm behind the torso's centre),
   // where a joint-centred ellipse misfits its section by ~40 %; the centroid fits within ~5 %
-  // and still moves with the joint. kAtJoint is the paper's rule.
-  JointKeyCentre joint_key_centre = JointKeyCentre::kAtSectionCentroid;
+  // and still moves with the joint. kAtJoint is the paper's rule; kAuto keeps it for limbs,
+  // whose joints sit inside their sections, so a limb's keys stay on its bones.
+  JointKeyCentre joint_key_centre = JointKeyCentre::kAuto;
+  // The centre curve C(t): the paper's C2 cubic B-spline interpolant (kNotAKnot) reaches along
+  // the whole limb, so bending an elbow moves the shoulder end by millimetres; kLocal (C1)
+  // keeps every span two keys away from a bent joint rigid with its bone.
+  SplineEnds centre_curve = SplineEnds::kLocal;
   int plane_samples_per_span = 16;     // sampled planes P(t_j) between two keys (§3.3)
   // Half-width of the shoulder/hip/neck-base transition, as a fraction of the limb's first link.
   float transition_half_width = 0.3f;

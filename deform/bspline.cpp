@@ -70,7 +70,9 @@ void InterpolatingCubicSpline::set_parameters(std::span<const double> params, Sp
   const int n = static_cast<int>(t_.size()) - 1;
   points_.assign(n + 1, glm::dvec3(0.0));
   second_.assign(n + 1, glm::dvec3(0.0));
-  const int unknowns = std::max(n - 1, 0);  // C''(t_1) .. C''(t_{n-1})
+  span_second_.assign(2 * n, glm::dvec3(0.0));
+  // C''(t_1) .. C''(t_{n-1}) of the C2 kinds; the local kind solves nothing.
+  const int unknowns = ends_ == SplineEnds::kLocal ? 0 : std::max(n - 1, 0);
   lower_.assign(unknowns, 0.0);
   pivot_.assign(unknowns, 0.0);
   upper_.assign(unknowns, 0.0);
@@ -107,22 +109,60 @@ void InterpolatingCubicSpline::interpolate(std::span<const glm::vec3> points) {
                                 " points, got " + std::to_string(points.size()));
   const int n = static_cast<int>(t_.size()) - 1;
   for (int i = 0; i <= n; ++i) points_[i] = glm::dvec3(points[i]);
+  if (ends_ == SplineEnds::kLocal)
+    local_second_derivatives();
+  else
+    global_second_derivatives();
+}
+
+void InterpolatingCubicSpline::global_second_derivatives() {
+  const int n = static_cast<int>(t_.size()) - 1;
   std::fill(second_.begin(), second_.end(), glm::dvec3(0.0));
-  if (n < 2) return;
   auto h = [&](int i) { return t_[i + 1] - t_[i]; };
-  for (int i = 1; i <= n - 1; ++i)
-    rhs_[i - 1] =
-        6.0 * ((points_[i + 1] - points_[i]) / h(i) - (points_[i] - points_[i - 1]) / h(i - 1));
-  solve_tridiagonal<glm::dvec3>(lower_, pivot_, upper_, rhs_);
-  for (int i = 1; i <= n - 1; ++i) second_[i] = rhs_[i - 1];
-  if (ends_ == SplineEnds::kNotAKnot) {
-    if (n == 2) {
-      second_[0] = second_[2] = second_[1];
-    } else {
-      const double h0 = h(0), h1 = h(1), a = h(n - 2), b = h(n - 1);
-      second_[0] = ((h0 + h1) * second_[1] - h0 * second_[2]) / h1;
-      second_[n] = ((a + b) * second_[n - 1] - b * second_[n - 2]) / a;
+  if (n >= 2) {
+    for (int i = 1; i <= n - 1; ++i)
+      rhs_[i - 1] =
+          6.0 * ((points_[i + 1] - points_[i]) / h(i) - (points_[i] - points_[i - 1]) / h(i - 1));
+    solve_tridiagonal<glm::dvec3>(lower_, pivot_, upper_, rhs_);
+    for (int i = 1; i <= n - 1; ++i) second_[i] = rhs_[i - 1];
+    if (ends_ == SplineEnds::kNotAKnot) {
+      if (n == 2) {
+        second_[0] = second_[2] = second_[1];
+      } else {
+        const double h0 = h(0), h1 = h(1), a = h(n - 2), b = h(n - 1);
+        second_[0] = ((h0 + h1) * second_[1] - h0 * second_[2]) / h1;
+        second_[n] = ((a + b) * second_[n - 1] - b * second_[n - 2]) / a;
+      }
     }
+  }
+  for (int i = 0; i < n; ++i) {
+    span_second_[2 * i] = second_[i];
+    span_second_[2 * i + 1] = second_[i + 1];
+  }
+}
+
+void InterpolatingCubicSpline::local_second_derivatives() {
+  const int n = static_cast<int>(t_.size()) - 1;
+  auto h = [&](int i) { return t_[i + 1] - t_[i]; };
+  auto slope = [&](int i) { return (points_[i + 1] - points_[i]) / h(i); };
+  // Tangents: Bessel at interior knots (the parabola through three neighbours), and at the ends
+  // the parabola through the first/last three points; a single span is the segment.
+  auto tangent = [&](int i) {
+    if (n == 1) return slope(0);
+    if (i == 0) return 2.0 * slope(0) - (h(1) * slope(0) + h(0) * slope(1)) / (h(0) + h(1));
+    if (i == n)
+      return 2.0 * slope(n - 1) -
+             (h(n - 1) * slope(n - 2) + h(n - 2) * slope(n - 1)) / (h(n - 2) + h(n - 1));
+    return (h(i) * slope(i - 1) + h(i - 1) * slope(i)) / (h(i - 1) + h(i));
+  };
+  glm::dvec3 start_tangent = tangent(0);
+  for (int i = 0; i < n; ++i) {
+    const glm::dvec3 end_tangent = tangent(i + 1);
+    const double hi = h(i);
+    const glm::dvec3 d = slope(i);
+    span_second_[2 * i] = (6.0 * d - 4.0 * start_tangent - 2.0 * end_tangent) / hi;
+    span_second_[2 * i + 1] = (-6.0 * d + 2.0 * start_tangent + 4.0 * end_tangent) / hi;
+    start_tangent = end_tangent;
   }
 }
 
@@ -143,16 +183,18 @@ InterpolatingCubicSpline::Weights InterpolatingCubicSpline::weights(double t) co
 glm::dvec3 InterpolatingCubicSpline::position(double t) const {
   const Weights c = weights(t);
   const int i = c.span;
-  return c.w[0] * points_[i] + c.w[1] * points_[i + 1] + c.w[2] * second_[i] +
-         c.w[3] * second_[i + 1];
+  return c.w[0] * points_[i] + c.w[1] * points_[i + 1] + c.w[2] * span_second_[2 * i] +
+         c.w[3] * span_second_[2 * i + 1];
 }
 
 glm::dvec3 InterpolatingCubicSpline::derivative(double t) const {
   const int i = span_of(t);
   const double h = t_[i + 1] - t_[i];
   const double u = t_[i + 1] - t, v = t - t_[i];
-  return (second_[i + 1] * (v * v) - second_[i] * (u * u)) / (2.0 * h) +
-         (points_[i + 1] - points_[i]) / h - (second_[i + 1] - second_[i]) * (h / 6.0);
+  const glm::dvec3& s0 = span_second_[2 * i];
+  const glm::dvec3& s1 = span_second_[2 * i + 1];
+  return (s1 * (v * v) - s0 * (u * u)) / (2.0 * h) + (points_[i + 1] - points_[i]) / h -
+         (s1 - s0) * (h / 6.0);
 }
 
 // ---- quadratic ------------------------------------------------------------------------------

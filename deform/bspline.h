@@ -23,15 +23,19 @@ namespace sweepd::deform {
 // parametrisation exists.
 bool chord_length_parameters(std::span<const glm::vec3> points, std::span<double> params);
 
-// End conditions of the cubic interpolant.
+// Which cubic interpolant, and its end conditions.
 enum class SplineEnds {
-  kNotAKnot,  // C''' continuous at t_1 and t_{n-1}; reproduces cubics; 3 points: the parabola
-  kNatural,   // C''(t_0) = C''(t_n) = 0
+  kNotAKnot,  // C2 (the cubic B-spline interpolant); C''' continuous at t_1 and t_{n-1};
+              // reproduces cubics; 3 points: the parabola
+  kNatural,   // C2, C''(t_0) = C''(t_n) = 0
+  kLocal,     // C1 piecewise cubic Hermite with Bessel (chord-length weighted) tangents, ends
+              // from the parabola through the end points: a point moves only the two spans on
+              // each side of it, so bending one joint leaves the rest of a limb's curve rigid
 };
 
-// C2 cubic spline through n+1 points, knots at the data parameters. This is the cubic B-spline
-// interpolant with those knots, held in second-derivative (piecewise polynomial) form.
-// With 2 points it is the straight segment.
+// Cubic spline through n+1 points, knots at the data parameters: the C2 cubic B-spline
+// interpolant (kNotAKnot, kNatural) or the local C1 one (kLocal), held in piecewise polynomial
+// form (end values and end second derivatives of every span). With 2 points it is the segment.
 class InterpolatingCubicSpline {
  public:
   // params: n+1 strictly increasing values, n >= 1. Throws std::invalid_argument otherwise.
@@ -44,24 +48,28 @@ class InterpolatingCubicSpline {
   int parameter_count() const { return static_cast<int>(t_.size()); }
   std::span<const double> parameters() const { return t_; }
 
-  // C(t) as fixed weights of the data: C(t) = w[0] P_i + w[1] P_{i+1} + w[2] P''_i +
-  // w[3] P''_{i+1} on span i. The weights depend on t only, so a point bound at a fixed t (a
-  // vertex's t_V) is re-evaluated each frame, exactly, from points() and second_derivatives().
+  // C(t) as fixed weights of the data: C(t) = w[0] P_i + w[1] P_{i+1} + w[2] S_{2i} +
+  // w[3] S_{2i+1} on span i, with S = span_second_derivatives(). The weights depend on t only,
+  // so a point bound at a fixed t (a vertex's t_V) is re-evaluated each frame, exactly.
   struct Weights {
     int span = 0;
     std::array<double, 4> w{};
   };
   Weights weights(double t) const;
   std::span<const glm::dvec3> points() const { return points_; }
-  std::span<const glm::dvec3> second_derivatives() const { return second_; }
+  // C'' at the start and at the end of every span: 2n values (equal across a knot for C2).
+  std::span<const glm::dvec3> span_second_derivatives() const { return span_second_; }
 
  private:
   int span_of(double t) const;
+  void global_second_derivatives();
+  void local_second_derivatives();
 
   SplineEnds ends_ = SplineEnds::kNotAKnot;
   std::vector<double> t_;
   std::vector<glm::dvec3> points_;
-  std::vector<glm::dvec3> second_;  // C''(t_i)
+  std::vector<glm::dvec3> second_;       // C''(t_i) of the C2 kinds
+  std::vector<glm::dvec3> span_second_;  // C'' at both ends of each span
   // Thomas factors of the system for C''(t_1..t_{n-1}).
   std::vector<double> lower_, pivot_, upper_;
   std::vector<glm::dvec3> rhs_;

@@ -51,7 +51,7 @@ BoundSweep fit_sweep_keys(std::span<const glm::vec3> positions,
                           BodyPart part, std::span<const int> chain, const BindOptions& options,
                           glm::vec3 x_hint) {
   const int keys_per_link = options.intermediate_keys_per_link;
-  const bool centre_at_joint = options.joint_key_centre == JointKeyCentre::kAtJoint;
+  const JointKeyCentre centre_rule = options.joint_key_centre;
   const std::string part_name = to_string(part);
   if (chain.size() < 2)
     throw std::invalid_argument("the " + part_name + " sweep needs at least two joints");
@@ -84,9 +84,18 @@ BoundSweep fit_sweep_keys(std::span<const glm::vec3> positions,
       key.normal = link_direction[i];
       key.frame = make_plane_frame(key.origin, key.normal, x_hint);
       key.fit = fit_key_ellipse(positions, indices, key.frame, key.origin,
-                                key.anchor.is_joint_key() && centre_at_joint
+                                key.anchor.is_joint_key() && centre_rule == JointKeyCentre::kAtJoint
                                     ? std::optional(key.origin)
                                     : std::nullopt);
+      if (key.fit.valid && key.anchor.is_joint_key() && centre_rule == JointKeyCentre::kAuto) {
+        // The joint's radius in the centroid ellipse: inside the inner half, centre it there.
+        const glm::vec2 offset = -key.fit.fit_2d.centre;
+        const float c = std::cos(key.fit.fit_2d.angle), s = std::sin(key.fit.fit_2d.angle);
+        const glm::vec2 local(c * offset.x + s * offset.y, -s * offset.x + c * offset.y);
+        const float radius = glm::length(local / glm::vec2(key.fit.fit_2d.a, key.fit.fit_2d.b));
+        if (radius <= 0.5f)
+          key.fit = fit_key_ellipse(positions, indices, key.frame, key.origin, key.origin);
+      }
       key.usable = key.fit.valid && key.fit.closed_loop && std::isfinite(key.fit.key.a) &&
                    std::isfinite(key.fit.key.b);
       keys.push_back(key);

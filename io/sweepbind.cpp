@@ -25,7 +25,7 @@ constexpr std::uint64_t kMaxKeys = 1u << 10;
 // Records stored as raw bytes: their layout is the file format (io/SWEEPBIND.md). No padding.
 static_assert(sizeof(deform::KeyAnchor) == 12);
 static_assert(sizeof(deform::KeyEllipse) == 36);
-static_assert(sizeof(deform::BindOptions) == 20);
+static_assert(sizeof(deform::BindOptions) == 24);
 static_assert(sizeof(deform::VertexBinding) == 56);
 
 using deform::BodyPart;
