@@ -43,6 +43,7 @@ namespace sweepd::gpu {
   X(PFNGLDELETEPROGRAMPROC, DeleteProgram)                                   \
   X(PFNGLUSEPROGRAMPROC, UseProgram)                                         \
   X(PFNGLGETUNIFORMLOCATIONPROC, GetUniformLocation)                         \
+  X(PFNGLUNIFORM1FPROC, Uniform1f)                                           \
   X(PFNGLUNIFORM1IPROC, Uniform1i)                                           \
   X(PFNGLUNIFORM3FVPROC, Uniform3fv)                                         \
   X(PFNGLUNIFORM4FVPROC, Uniform4fv)                                         \

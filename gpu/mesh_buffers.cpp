@@ -1,6 +1,23 @@
 #include "gpu/mesh_buffers.h"
 
 namespace sweepd::gpu {
+
+std::string check_vertex_count(const char* what, std::size_t count, std::size_t vertices) {
+  if (count == vertices) return {};
+  return "the mesh has " + std::to_string(count) + " " + what + " for " + std::to_string(vertices) +
+         " vertices (one per vertex needed)";
+}
+
+std::string check_triangle_indices(std::span<const std::uint32_t> indices, std::size_t vertices) {
+  if (indices.size() % 3 != 0) return "the index count is not a multiple of 3";
+  for (std::uint32_t index : indices) {
+    if (index >= vertices) {
+      return "index " + std::to_string(index) + " is out of range (" + std::to_string(vertices) +
+             " vertices)";
+    }
+  }
+  return {};
+}
 MeshBuffers::MeshBuffers(const GlFunctions& gl) : gl_(gl) {
   gl_.GenVertexArrays(1, &vertex_array_);
   gl_.GenBuffers(1, &index_buffer_);

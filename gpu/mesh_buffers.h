@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <glm/glm.hpp>
 #include <span>
+#include <string>
 
 #include "gpu/gl_functions.h"
 
@@ -20,6 +21,12 @@ std::span<const float> as_floats(std::span<const Vector> vectors) {
   static_assert(sizeof(Vector) == sizeof(float) * Vector::length(), "vector must be packed");
   return {reinterpret_cast<const float*>(vectors.data()), vectors.size() * Vector::length()};
 }
+
+// Input checks shared by the renderers (empty string = fine, else the reason in words):
+// a per-vertex array with `count` entries of `what` ("normals") for `vertices` vertices,
+std::string check_vertex_count(const char* what, std::size_t count, std::size_t vertices);
+// and triangle indices: a multiple of 3, each below `vertices`.
+std::string check_triangle_indices(std::span<const std::uint32_t> indices, std::size_t vertices);
 
 class MeshBuffers {
  public:

@@ -133,20 +133,12 @@ std::string PositionMapRenderer::validate(const PositionMapMesh& mesh,
   }
   if (options.gutter_pixels < 0) return "gutter_pixels is negative";
   const std::size_t vertices = mesh.positions.size();
-  if (mesh.uvs.size() != vertices) {
-    return "the mesh has " + std::to_string(mesh.uvs.size()) + " UVs for " +
-           std::to_string(vertices) + " vertices (one UV per vertex needed)";
-  }
-  if (!mesh.normals.empty() && mesh.normals.size() != vertices) {
-    return "the mesh has " + std::to_string(mesh.normals.size()) + " normals for " +
-           std::to_string(vertices) + " vertices";
-  }
-  if (mesh.indices.size() % 3 != 0) return "the index count is not a multiple of 3";
-  for (std::uint32_t index : mesh.indices) {
-    if (index >= vertices) {
-      return "index " + std::to_string(index) + " is out of range (" + std::to_string(vertices) +
-             " vertices)";
-    }
+  for (const std::string& problem :
+       {check_vertex_count("UVs", mesh.uvs.size(), vertices),
+        mesh.normals.empty() ? std::string()
+                             : check_vertex_count("normals", mesh.normals.size(), vertices),
+        check_triangle_indices(mesh.indices, vertices)}) {
+    if (!problem.empty()) return problem;
   }
   const std::size_t texels = static_cast<std::size_t>(options.width) * options.height;
   if (buffers.positions.size() != texels * 3) return "the positions buffer is not W*H*3 floats";
