@@ -8,5 +8,6 @@ namespace sweepd::cli {
 
 int run_inspect(const std::vector<std::string>& args);
 int run_mannequin(const std::vector<std::string>& args);
+int run_bind(const std::vector<std::string>& args);
 
 }  // namespace sweepd::cli

@@ -1,5 +1,6 @@
 // sweepctl mannequin: writes the procedural rigged mannequin (the daemon's default model) as .glb.
 #include <chrono>
+#include <climits>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -34,11 +35,7 @@ int run_mannequin(const std::vector<std::string>& args) {
       return 0;
     } else if (arg == "--vertices" && has_value) {
       const std::string& value = args[++i];
-      try {
-        std::size_t used = 0;
-        options.target_vertices = std::stoi(value, &used);
-        if (used != value.size()) throw std::invalid_argument(value);
-      } catch (const std::exception&) {
+      if (!parse_int(value, INT_MIN, INT_MAX, options.target_vertices)) {
         std::fprintf(stderr, "sweepctl mannequin: --vertices expects a whole number, got '%s'\n",
                      value.c_str());
         return 2;

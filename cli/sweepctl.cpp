@@ -18,6 +18,7 @@ const Command kCommands[] = {
     {"inspect", "counts, joint tree, UVs, bounds and weights of a .glb/.gltf/.bvh file",
      sweepd::cli::run_inspect},
     {"mannequin", "generate the procedural rigged mannequin as .glb", sweepd::cli::run_mannequin},
+    {"bind", "bind a rigged model to its control sweeps, write .sweepbind", sweepd::cli::run_bind},
 };
 
 void print_usage(std::FILE* out) {

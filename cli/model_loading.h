@@ -1,0 +1,21 @@
+// Loading what sweepctl's model commands share: a rigged glTF model and its rig map (from a
+// JSON override file, or detected from the joint names).
+#pragma once
+
+#include <filesystem>
+
+#include "deform/model.h"
+#include "deform/rig_map.h"
+
+namespace sweepd::cli {
+
+struct LoadedModel {
+  deform::Model model;
+  deform::RigMap rig;
+};
+
+// rig_file empty: detect. Throws io::LoadError / std::invalid_argument with the reason.
+LoadedModel load_model_and_rig(const std::filesystem::path& model_file,
+                               const std::filesystem::path& rig_file);
+
+}  // namespace sweepd::cli

@@ -1,0 +1,86 @@
+// BoundModel: a Model bound to its control sweep surfaces (paper §3) — what bind() produces,
+// what .sweepbind files store, and what the poser deforms.
+//
+// Per sweep (torso, neck, arms, legs): the joint chain it follows, its key ellipses in the rest
+// pose with the joint or link each one is attached to, and its rest volume.
+// Per vertex: up to two sweep coordinates (t, θ, displacement, c) with blend weights, plus the
+// share that follows the model's own skin weights (hands, feet, head, and the hand-over zones).
+// The weights of a vertex sum to 1.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "deform/key_ellipse.h"
+#include "deform/model.h"
+#include "deform/rig_map.h"
+
+namespace sweepd::deform {
+
+// Where a key ellipse sits on its chain: at chain joint `joint` (fraction 0: a joint key, whose
+// centre moves with the joint and whose orientation follows both links), or a fraction of the
+// way along the link from `joint` to `next_joint` (a link key, moving rigidly with that link).
+struct KeyAnchor {
+  int joint = -1;
+  int next_joint = -1;  // -1 for the last joint key of the chain
+  float fraction = 0.0f;
+  bool is_joint_key() const { return fraction == 0.0f; }
+};
+
+struct BoundSweep {
+  BodyPart part = BodyPart::kNone;  // kTorso, kNeck, kLeftArm, kRightArm, kLeftLeg, kRightLeg
+  std::vector<int> chain;           // joints the sweep follows, root first
+  std::vector<KeyAnchor> anchors;   // one per key ellipse, in sweep order
+  std::vector<KeyEllipse> rest_keys;
+  std::vector<float> key_fit_errors;   // relative RMS fit error of each key (0 for fallbacks)
+  std::vector<float> key_area_ratios;  // ellipse area / cross-section polygon area, per key
+  std::vector<std::uint8_t> key_fallback;  // 1 where the cut was unusable and the key copied
+  double rest_volume = 0.0;                // the swept volume of the rest keys (m³)
+};
+
+// A vertex's place on one sweep: V = C(t) + R(t) ((a(t)+da) cos θ, (b(t)+db) sin θ, c).
+// da, db are the paper's displacement d_V; c is the offset along N(t) that the paper drops and
+// we keep, so that the rest pose reconstructs exactly.
+struct SweepCoordinate {
+  float t = 0.0f;
+  float theta = 0.0f;
+  float da = 0.0f;
+  float db = 0.0f;
+  float c = 0.0f;
+};
+
+struct VertexBinding {
+  std::array<std::int16_t, 2> sweep{-1, -1};  // index into BoundModel::sweeps, -1 unused
+  std::array<float, 2> weight{0.0f, 0.0f};
+  std::array<SweepCoordinate, 2> coordinate{};
+  float skin_weight = 0.0f;  // share that follows the model's own skinning (LBS)
+};
+
+enum class JointKeyCentre : std::int32_t {
+  kAtJoint = 0,            // the paper: the joint key's centre is the joint
+  kAtSectionCentroid = 1,  // at its section's centroid, carried rigidly by the joint
+};
+
+struct BindOptions {
+  int intermediate_keys_per_link = 2;  // link keys between two joint keys (paper Fig. 3: >= 1)
+  // Spines are rigged near the back (the shared male's lie 6-9 cm behind the torso's centre),
+  // where a joint-centred ellipse misfits its section by ~40 %; the centroid fits within ~5 %
+  // and still moves with the joint. kAtJoint is the paper's rule.
+  JointKeyCentre joint_key_centre = JointKeyCentre::kAtSectionCentroid;
+  int plane_samples_per_span = 16;     // sampled planes P(t_j) between two keys (§3.3)
+  // Half-width of the shoulder/hip/neck-base transition, as a fraction of the limb's first link.
+  float transition_half_width = 0.3f;
+  // Half-width of the hand-over to the skinned hand/foot/head, as a fraction of the last link.
+  float end_blend_half_width = 0.12f;
+};
+
+struct BoundModel {
+  Model model;
+  RigMap rig;
+  BindOptions options;
+  std::vector<BoundSweep> sweeps;
+  std::vector<VertexBinding> vertices;  // one per model vertex
+};
+
+}  // namespace sweepd::deform

@@ -1,0 +1,35 @@
+// .sweepbind files: a BoundModel on disk, so a server restarts without rebinding.
+// The layout is specified in io/SWEEPBIND.md (versioned, CRC-checked, little-endian).
+//
+// save_sweepbind writes to FILE.tmp, flushes it to disk and renames it over FILE, so a crash
+// leaves either the old file or the new one. load_sweepbind refuses, with io::LoadError naming
+// the file and the reason: a wrong magic, a newer version, truncation, a checksum mismatch,
+// counts or indices out of range, non-finite values, and — when expected_model is given — a
+// binding made for another model. A file read back equals what was written, bit for bit.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <span>
+#include <vector>
+
+#include "deform/bound_model.h"
+#include "io/load_error.h"
+
+namespace sweepd::io {
+
+inline constexpr std::uint32_t kSweepbindVersion = 1;
+
+std::vector<std::uint8_t> encode_sweepbind(const deform::BoundModel& bound);
+deform::BoundModel decode_sweepbind(std::span<const std::uint8_t> bytes,
+                                    const std::filesystem::path& source,
+                                    const deform::Model* expected_model = nullptr);
+
+void save_sweepbind(const deform::BoundModel& bound, const std::filesystem::path& file);
+deform::BoundModel load_sweepbind(const std::filesystem::path& file,
+                                  const deform::Model* expected_model = nullptr);
+
+// CRC-32 of a model's positions and triangle indices: which mesh a binding belongs to.
+std::uint32_t model_fingerprint(const deform::Model& model);
+
+}  // namespace sweepd::io
