@@ -10,6 +10,9 @@
 #include <numbers>
 #include <vector>
 
+#include "deform/mannequin.h"
+#include "io/png_write.h"
+
 namespace sweepd::gpu {
 namespace {
 
@@ -171,6 +174,44 @@ TEST_F(PreviewRendererTest, MultisamplingBlendsEdgesOnlyWhenAsked) {
   };
   EXPECT_EQ(blended_pixels(1), 0);
   EXPECT_GT(blended_pixels(4), 20);  // the rim is ~180 pixels long
+}
+
+TEST_F(PreviewRendererTest, MannequinFromTheDefaultCameraIsFramedAndCentred) {
+  const deform::Model model = deform::make_mannequin({5000});
+  constexpr int kSize = 200;
+  const PreviewOptions options = options_for(kSize, 4);
+  Image image(kSize, kSize);
+  renderer_.render({model.positions, model.normals, model.indices, {}}, options, image.rgba);
+  const glm::ivec4 background = to_bytes(options.background);
+  for (auto [x, y] : {std::pair{0, 0}, {kSize - 1, 0}, {0, kSize - 1}, {kSize - 1, kSize - 1}}) {
+    EXPECT_EQ(image.at(x, y), background) << "corner " << x << "," << y;
+  }
+  EXPECT_NE(image.at(kSize / 2, kSize / 2), background);  // the torso
+  int top = kSize, bottom = -1, left = kSize, right = -1;
+  for (int y = 0; y < kSize; ++y)
+    for (int x = 0; x < kSize; ++x)
+      if (image.at(x, y) != background) {
+        top = std::min(top, y), bottom = std::max(bottom, y);
+        left = std::min(left, x), right = std::max(right, x);
+      }
+  const double fraction = image.count_not(background) / double(kSize * kSize);
+  std::printf("silhouette rows %d..%d, columns %d..%d, %.3f of the image\n", top, bottom, left,
+              right, fraction);
+  // The bounding sphere (radius r) is tangent to the 30° view, which is 2r / cos 15° tall at
+  // the centre: a 1.75 m figure in a 1.75 x ~1.2 x ~0.3 m A-pose box (r ~ 1.07 m) spans about
+  // 1.75 cos 15° / 2r ~ 79% of the height; allow 60..85% for the box's exact size. The figure
+  // is symmetric about x = 0 and the box is centred: margins equal within 2% of the image.
+  EXPECT_GE(bottom - top, 0.60 * kSize);
+  EXPECT_LE(bottom - top, 0.85 * kSize);
+  EXPECT_NEAR(left, kSize - 1 - right, 0.02 * kSize);
+  EXPECT_NEAR((top + bottom) / 2.0, kSize / 2.0, 0.02 * kSize);
+  // A thin human shape fills well under half of its box: between 5% and 40% of the image.
+  EXPECT_GT(fraction, 0.05);
+  EXPECT_LT(fraction, 0.40);
+  // The image goes to PNG as is (top row first).
+  std::vector<std::uint8_t> png;
+  io::encode_png(kSize, kSize, image.rgba, png);
+  EXPECT_GT(png.size(), 100u);
 }
 
 TEST_F(PreviewRendererTest, RejectsInputsThatDoNotFitTogether) {

@@ -24,29 +24,13 @@
 #include <string>
 #include <vector>
 
+#include "tests/io/exr_memory_stream.h"
+
 namespace sweepd::io {
 namespace {
 
 namespace fs = std::filesystem;
-
-// An Imf::IStream over bytes in memory, to read what encode_exr produced.
-class ByteStream : public Imf::IStream {
- public:
-  explicit ByteStream(const std::vector<std::uint8_t>& bytes)
-      : Imf::IStream("memory"), bytes_(bytes) {}
-  bool read(char c[], int n) override {
-    if (position_ + n > bytes_.size()) throw std::runtime_error("read past the end");
-    std::memcpy(c, bytes_.data() + position_, n);
-    position_ += n;
-    return position_ < bytes_.size();
-  }
-  std::uint64_t tellg() override { return position_; }
-  void seekg(std::uint64_t position) override { position_ = position; }
-
- private:
-  const std::vector<std::uint8_t>& bytes_;
-  std::size_t position_ = 0;
-};
+using test_support::ExrMemoryStream;
 
 // A 37 x 23 map (odd sizes catch stride mistakes) of random floats plus special values.
 struct Layers {
@@ -171,12 +155,12 @@ TEST_F(ExrWriteTest, MemoryBytesEqualTheFileAndReadBack) {
                                           std::istreambuf_iterator<char>());
   EXPECT_EQ(bytes, on_disk);
 
-  ByteStream stream(bytes);
+  ExrMemoryStream stream(bytes);
   Imf::InputFile input(stream);
   EXPECT_TRUE(same_bits(read_layer(input, "P", 3), layers.positions));
   // A second encode into the same vector replaces its content.
   encode_exr(layers.view(false, false), sample_options(ExrCompression::kNone), bytes);
-  ByteStream again(bytes);
+  ExrMemoryStream again(bytes);
   Imf::InputFile second(again);
   EXPECT_EQ(second.header().compression(), Imf::NO_COMPRESSION);
   EXPECT_EQ(second.header().channels().findChannel("A"), nullptr);
@@ -187,7 +171,7 @@ TEST_F(ExrWriteTest, OptionalLayersAreLeftOutWhenEmpty) {
   const Layers layers;
   std::vector<std::uint8_t> bytes;
   encode_exr(layers.view(false, true), {}, bytes);
-  ByteStream stream(bytes);
+  ExrMemoryStream stream(bytes);
   Imf::InputFile input(stream);
   std::vector<std::string> channels;
   for (auto c = input.header().channels().begin(); c != input.header().channels().end(); ++c)
