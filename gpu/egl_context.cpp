@@ -165,11 +165,18 @@ EGLContext create_core_context(EGLDisplay display, bool debug, std::string& fail
   return context;
 }
 
-void APIENTRY print_debug_message(GLenum /*source*/, GLenum type, GLuint id, GLenum severity,
-                                  GLsizei /*length*/, const GLchar* message, const void* /*user*/) {
+void APIENTRY forward_debug_message(GLenum /*source*/, GLenum type, GLuint id, GLenum severity,
+                                    GLsizei /*length*/, const GLchar* message, const void* user) {
   if (severity == GL_DEBUG_SEVERITY_NOTIFICATION) return;
-  std::fprintf(stderr, "sweepd GL debug [%s, id %u]: %s\n",
-               type == GL_DEBUG_TYPE_ERROR ? "error" : "warning", id, message);
+  const std::string text = std::string("GL ") +
+                           (type == GL_DEBUG_TYPE_ERROR ? "error" : "warning") + " (id " +
+                           std::to_string(id) + "): " + message;
+  const auto& sink = *static_cast<const std::function<void(const std::string&)>*>(user);
+  if (sink) {
+    sink(text);
+  } else {
+    std::fprintf(stderr, "sweepd %s\n", text.c_str());
+  }
 }
 
 }  // namespace
@@ -202,8 +209,10 @@ Context::Context(const ContextOptions& options) {
     remove_display_user(candidate.display);
   }
   if (context_ == nullptr) {
-    throw ContextError("no headless OpenGL 4.5 core context through EGL: " +
-                       (failures.empty() ? std::string("no EGL display to try") : failures));
+    if (failures.empty()) failures = "no EGL display to try; ";
+    failures.resize(failures.size() - 2);  // the last "; "
+    throw ContextError("no headless OpenGL 4.5 core context through EGL: " + failures +
+                       " (needs an EGL driver: Mesa's libegl-mesa0 + libgl1-mesa-dri, or a GPU's)");
   }
   const std::string missing = load_gl_functions(gl_);
   if (!missing.empty()) {
@@ -220,7 +229,8 @@ Context::Context(const ContextOptions& options) {
   if (options.debug_output) {
     gl_.Enable(GL_DEBUG_OUTPUT);
     gl_.Enable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
-    gl_.DebugMessageCallback(print_debug_message, nullptr);
+    debug_sink_ = options.debug_sink;
+    gl_.DebugMessageCallback(forward_debug_message, &debug_sink_);
   }
 }
 

@@ -6,11 +6,13 @@
 //   2. EGL_MESA_platform_surfaceless on the default display.
 // The context is made current with no surface on the constructing thread; GL calls through
 // gl() are valid on that thread only (gpu::Worker gives the context a thread of its own).
-// With ContextOptions::debug_output, GL debug messages (KHR_debug) go to stderr.
+// With ContextOptions::debug_output, GL debug messages (KHR_debug, synchronous) go to stderr or
+// to ContextOptions::debug_sink.
 // Construction throws ContextError listing every attempt and why it failed, so a machine with no
 // usable EGL says so; the CPU paths of sweepd do not need a Context.
 #pragma once
 
+#include <functional>
 #include <stdexcept>
 #include <string>
 
@@ -29,6 +31,9 @@ struct ContextOptions {
 #else
   bool debug_output = true;  // debug builds report GL errors and warnings on stderr
 #endif
+  // Receives each debug message (errors, warnings, performance notes; not notifications) on
+  // the context's thread; empty: they go to stderr.
+  std::function<void(const std::string&)> debug_sink;
 };
 
 class Context {
@@ -58,6 +63,7 @@ class Context {
   void* display_ = nullptr;  // EGLDisplay
   void* context_ = nullptr;  // EGLContext
   GlFunctions gl_;
+  std::function<void(const std::string&)> debug_sink_;
   std::string renderer_, version_, platform_;
   int major_ = 0, minor_ = 0;
   bool core_profile_ = false, software_ = false;

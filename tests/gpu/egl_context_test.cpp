@@ -3,7 +3,9 @@
 #include "gpu/egl_context.h"
 
 #include <gtest/gtest.h>
+#include <stdlib.h>
 
+#include <cstdlib>
 #include <future>
 #include <stdexcept>
 #include <thread>
@@ -35,6 +37,54 @@ TEST(EglContext, TwoContextsLiveSideBySideOnTheSameDisplay) {
   GLint max_texture_size = 0;
   second.gl().GetIntegerv(GL_MAX_TEXTURE_SIZE, &max_texture_size);
   EXPECT_GE(max_texture_size, 1024);  // GL 4.5 guarantees at least 16384
+}
+
+TEST(EglContext, DebugOutputReportsAGlErrorToTheSink) {
+  std::vector<std::string> messages;
+  ContextOptions options;
+  options.debug_output = true;
+  options.debug_sink = [&messages](const std::string& message) { messages.push_back(message); };
+  Context context(options);
+  ASSERT_TRUE(messages.empty());
+  context.gl().BindTexture(GL_TEXTURE_2D, 987654);  // not a name from glGenTextures: an error
+  EXPECT_EQ(context.gl().GetError(), static_cast<GLenum>(GL_INVALID_OPERATION));
+  ASSERT_FALSE(messages.empty());  // synchronous output: the message arrived during the call
+  EXPECT_NE(messages.front().find("GL error"), std::string::npos) << messages.front();
+}
+
+TEST(EglContextDeathTest, NoEglDriverGivesAClearError) {
+  // A fresh process whose EGL loader (libglvnd) finds no vendor library: construction must
+  // throw ContextError saying no context could be had — not crash, not hang.
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  EXPECT_EXIT(
+      {
+        ::setenv("__EGL_VENDOR_LIBRARY_FILENAMES", "/nonexistent/sweepd_no_vendor.json", 1);
+        ::unsetenv("__EGL_VENDOR_LIBRARY_DIRS");
+        try {
+          Context context;
+        } catch (const ContextError& error) {
+          std::fprintf(stderr, "%s\n", error.what());
+          std::exit(0);
+        }
+        std::exit(1);
+      },
+      ::testing::ExitedWithCode(0), "no headless OpenGL 4.5 core context through EGL");
+}
+
+TEST(GpuWorkerDeathTest, ReportsTheContextErrorFromItsConstructor) {
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  EXPECT_EXIT(
+      {
+        ::setenv("__EGL_VENDOR_LIBRARY_FILENAMES", "/nonexistent/sweepd_no_vendor.json", 1);
+        try {
+          Worker worker;
+        } catch (const ContextError& error) {
+          std::fprintf(stderr, "worker: %s\n", error.what());
+          std::exit(0);
+        }
+        std::exit(1);
+      },
+      ::testing::ExitedWithCode(0), "worker: no headless OpenGL");
 }
 
 TEST(GpuWorker, RunsJobsInOrderOnItsOwnThreadAndReturnsResults) {
