@@ -9,13 +9,14 @@
 // Orientation: texel (x, y) has its centre at uv = ((x + 0.5) / W, (y + 0.5) / H); row y = 0
 // holds v ≈ 0. Written as-is to an EXR (whose first row is the top of the image), the map has
 // uv (0, 0) at the top-left — glTF's texture convention, so it lines up with the model's
-// textures. Sampling is at texel centres (no multisampling): covered values are exact
-// barycentric interpolations. Where UV triangles overlap, the later triangle wins.
+// textures. Sampling is at texel centres (no multisampling): a covered texel holds the
+// barycentric interpolation at its centre (float32). Where UV triangles overlap, the later
+// triangle wins. The gutter costs one full-target pass per pixel of width.
 // Gutter: with gutter_pixels = n, n dilation passes copy, into every uncovered texel next to a
 // filled one, that neighbour's P and N (4-neighbours before diagonals), so texture filtering at
 // island borders does not pull in zeros. A stays 0 there: A marks real coverage only.
 // Texels neither covered nor reached by the gutter hold P = N = 0.
-// Construct and use on the thread where the Context is current.
+// Construct and use on the thread where the Context is current; it must not outlive the Context.
 #pragma once
 
 #include <cstdint>

@@ -10,7 +10,7 @@
 // Output: rgba, W·H·4 bytes, caller-owned, row 0 = top row (ready for io::write_png). A pixel
 //   covered by the mesh is colour · (ambient + (1 - ambient) · max(0, n·l)); others are the
 //   background.
-// Construct and use on the thread where the Context is current.
+// Construct and use on the thread where the Context is current; it must not outlive the Context.
 #pragma once
 
 #include <cstdint>
