@@ -1,0 +1,24 @@
+// Camera: view and projection matrices for previews and camera-space position maps, and the
+// default camera that frames a mesh from the front.
+//
+// Conventions: right-handed world, Y up, models face +Z (glTF). view maps world to camera space
+// (camera looks down -Z); projection is an OpenGL clip-space projection (z in [-w, w]).
+#pragma once
+
+#include <glm/glm.hpp>
+#include <span>
+
+namespace sweepd::gpu {
+
+struct Camera {
+  glm::mat4 view{1.0f};
+  glm::mat4 projection{1.0f};
+};
+
+// A perspective camera on the +Z side of the positions' bounding box, looking at its centre,
+// placed so the box's bounding sphere fits the view for this aspect (width / height) and
+// vertical field of view. positions: V points, V >= 1.
+Camera front_camera(std::span<const glm::vec3> positions, float aspect,
+                    float vertical_fov_degrees = 30.0f);
+
+}  // namespace sweepd::gpu

@@ -1,0 +1,86 @@
+// PositionMapRenderer: posed positions (and normals) of a UV-mapped mesh rasterised in UV space
+// into float32 maps — the "position map" a render farm reads as an EXR.
+//
+// Inputs (PositionMapMesh): uvs V×2, positions V×3, normals V×3 (or empty), indices 3F.
+// Outputs (PositionMapBuffers, caller-owned, row-major, 3 floats per texel for P and N):
+//   positions  W·H·3  P = interpolated position (object space, or camera space with a view);
+//   normals    W·H·3  N = normalised interpolated normal (optional: leave the span empty);
+//   coverage   W·H    A = 1 where a triangle covers the texel centre, else 0 (optional).
+// Orientation: texel (x, y) has its centre at uv = ((x + 0.5) / W, (y + 0.5) / H); row y = 0
+// holds v ≈ 0. Written as-is to an EXR (whose first row is the top of the image), the map has
+// uv (0, 0) at the top-left — glTF's texture convention, so it lines up with the model's
+// textures. Sampling is at texel centres (no multisampling): a covered texel holds the
+// barycentric interpolation at its centre (float32). Where UV triangles overlap, the later
+// triangle wins. The gutter costs one full-target pass per pixel of width.
+// Gutter: with gutter_pixels = n, n dilation passes copy, into every uncovered texel next to a
+// filled one, that neighbour's P and N (4-neighbours before diagonals), so texture filtering at
+// island borders does not pull in zeros. A stays 0 there: A marks real coverage only.
+// Texels neither covered nor reached by the gutter hold P = N = 0.
+// Construct and use on the thread where the Context is current; it must not outlive the Context.
+#pragma once
+
+#include <cstdint>
+#include <glm/glm.hpp>
+#include <optional>
+#include <span>
+#include <string>
+
+#include "gpu/egl_context.h"
+#include "gpu/mesh_buffers.h"
+#include "gpu/shader_program.h"
+
+namespace sweepd::gpu {
+
+struct PositionMapMesh {
+  std::span<const glm::vec2> uvs;
+  std::span<const glm::vec3> positions;
+  std::span<const glm::vec3> normals;  // empty: N is not rendered
+  std::span<const std::uint32_t> indices;
+};
+
+struct PositionMapOptions {
+  int width = 1024;
+  int height = 1024;
+  int gutter_pixels = 0;
+  // Set: P = view · (position, 1), N = rotation part of view · normal ("camera" space).
+  std::optional<glm::mat4> view;
+};
+
+struct PositionMapBuffers {
+  std::span<float> positions;  // W·H·3
+  std::span<float> normals;    // W·H·3 or empty
+  std::span<float> coverage;   // W·H or empty
+};
+
+class PositionMapRenderer {
+ public:
+  explicit PositionMapRenderer(const Context& context);
+  ~PositionMapRenderer();
+  PositionMapRenderer(const PositionMapRenderer&) = delete;
+  PositionMapRenderer& operator=(const PositionMapRenderer&) = delete;
+
+  // Empty when mesh, options and buffers fit together; otherwise what is wrong, in words.
+  std::string validate(const PositionMapMesh& mesh, const PositionMapOptions& options,
+                       const PositionMapBuffers& buffers) const;
+  // Renders and reads back into buffers; throws std::invalid_argument with validate()'s reason.
+  void render(const PositionMapMesh& mesh, const PositionMapOptions& options,
+              const PositionMapBuffers& buffers);
+
+ private:
+  void resize_targets(int width, int height);
+  void delete_targets();
+
+  const GlFunctions& gl_;
+  GLint max_size_ = 0;
+  ShaderProgram rasterise_;
+  ShaderProgram dilate_;
+  MeshBuffers mesh_;
+  GLuint empty_vertex_array_ = 0;  // the full-screen dilation pass has no attributes
+  int width_ = 0, height_ = 0;
+  // Textures: P and N twice (ping-pong for the gutter), A once. Framebuffers: the rasterising
+  // one (P0, N0, A) and one per ping-pong side ((P0, N0) and (P1, N1)).
+  GLuint textures_[5] = {};
+  GLuint framebuffers_[3] = {};
+};
+
+}  // namespace sweepd::gpu
