@@ -9,5 +9,8 @@ namespace sweepd::cli {
 int run_inspect(const std::vector<std::string>& args);
 int run_mannequin(const std::vector<std::string>& args);
 int run_bind(const std::vector<std::string>& args);
+int run_pose(const std::vector<std::string>& args);
+int run_render(const std::vector<std::string>& args);
+int run_positionmap(const std::vector<std::string>& args);
 
 }  // namespace sweepd::cli

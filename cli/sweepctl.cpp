@@ -19,11 +19,14 @@ const Command kCommands[] = {
      sweepd::cli::run_inspect},
     {"mannequin", "generate the procedural rigged mannequin as .glb", sweepd::cli::run_mannequin},
     {"bind", "bind a rigged model to its control sweeps, write .sweepbind", sweepd::cli::run_bind},
+    {"pose", "deform a model into a pose or clip frames, write .glb", sweepd::cli::run_pose},
+    {"render", "shaded PNG preview of a posed model (headless EGL)", sweepd::cli::run_render},
+    {"positionmap", "posed positions in UV space as an OpenEXR map", sweepd::cli::run_positionmap},
 };
 
 void print_usage(std::FILE* out) {
   std::fprintf(out, "usage: sweepctl COMMAND [ARGS...]   (sweepctl COMMAND --help for details)\n\n");
-  for (const Command& c : kCommands) std::fprintf(out, "  %-10s %s\n", c.name, c.summary);
+  for (const Command& c : kCommands) std::fprintf(out, "  %-12s %s\n", c.name, c.summary);
 }
 
 }  // namespace

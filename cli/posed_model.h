@@ -1,0 +1,58 @@
+// What sweepctl's posing commands (pose, render, positionmap) share: a bound model from a
+// .glb/.gltf (bound on the spot) or a .sweepbind file, the pose source (a BVH clip retargeted
+// onto it, a pose JSON file, or the rest pose), and the deformation method.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "deform/bound_model.h"
+#include "deform/deformer.h"
+#include "io/bvh_retarget.h"
+
+namespace sweepd::cli {
+
+struct PosingArguments {
+  std::filesystem::path model;      // .glb/.gltf/.sweepbind
+  std::filesystem::path rig;        // optional rig map JSON (binding a glTF)
+  std::filesystem::path bvh;        // optional clip
+  std::filesystem::path bvh_map;    // optional BVH→model joint name map JSON
+  std::filesystem::path pose_file;  // optional pose JSON
+  int first_frame = 0, last_frame = 0;  // --frame N or --frames A-B (clip frames)
+  bool frame_range = false;
+  deform::DeformMethod method = deform::DeformMethod::kSweep;
+};
+
+// Takes the options it knows out of args (leaving the rest in order). Returns "" or the
+// reason the arguments are unusable.
+std::string take_posing_arguments(std::vector<std::string>& args, PosingArguments& out);
+extern const char* const kPosingUsage;
+
+class PosedModel {
+ public:
+  // Loads, binds (for glTF) and prepares the pose source. Throws with a clear reason.
+  explicit PosedModel(const PosingArguments& arguments);
+  const deform::Model& model() const { return bound_->model; }
+  const deform::BoundModel& bound() const { return *bound_; }
+  const PosingArguments& arguments() const { return arguments_; }
+  // The pose of clip frame `frame` (or the pose file / rest pose without a clip).
+  deform::Pose pose(int frame) const;
+  // Deforms into positions and normals (vertex_count() each).
+  void deform(int frame, std::vector<glm::vec3>& positions, std::vector<glm::vec3>& normals);
+
+ private:
+  PosingArguments arguments_;
+  std::unique_ptr<deform::BoundModel> bound_;
+  std::unique_ptr<deform::Deformer> deformer_;
+  std::optional<io::Retargeter> retargeter_;
+  std::optional<deform::Pose> file_pose_;
+};
+
+// A stable 64-bit hash (FNV-1a) of a pose's numbers: names a frame's pose in EXR headers.
+std::uint64_t pose_hash(const deform::Pose& pose);
+
+}  // namespace sweepd::cli
