@@ -24,9 +24,10 @@
 // The local rotations of the Pose are W_parent^-1 * W_m. Joint scale is ignored (rotations only).
 //
 // Root translation: the model's pelvis goes to root_scale() times the BVH pelvis position,
-// where root_scale() = model hip height / BVH hip height (pelvis above the mean of the two
-// ankle joints in each rest pose; the lowest joint without a rig map). Both sides must be Y-up
-// and in the same length unit (load CMU clips with BvhOptions{.length_scale = 0.056444f}).
+// where root_scale() = model hip height / BVH hip height, each measured in its rest pose as the
+// mean thigh + shin length of the two legs (so the CMU rest pose's splayed legs do not skew it);
+// without a rig map on a side, as the pelvis height above its lowest joint. Both sides must be
+// Y-up and in the same length unit (load CMU clips with BvhOptions{.length_scale = 0.056444f}).
 // The shift is applied to the model's root (joint 0), which must carry the pelvis rigidly.
 #pragma once
 
