@@ -4,6 +4,7 @@
 #include <cmath>
 #include <tuple>
 
+#include "deform/float_lanes.h"
 #include "deform/skinning_buffers.h"
 #include "deform/vertex_blocks.h"
 
@@ -11,7 +12,9 @@ namespace sweepd::deform {
 
 namespace {
 
-// Vertices [begin, end): the columns of the blended matrix (4-wide), then position and normal.
+FloatLanes column(const glm::mat4& m, int c) { return load_lanes(&m[c][0]); }
+
+// Vertices [begin, end): the columns of the blended matrix (4 lanes), then position and normal.
 template <bool kNormals>
 void skin_block(const Model& model, std::span<const glm::mat4> skinning,
                 std::span<glm::vec3> positions, std::span<glm::vec3> normals, std::size_t begin,
@@ -24,16 +27,18 @@ void skin_block(const Model& model, std::span<const glm::mat4> skinning,
     const glm::mat4& m2 = skinning[j[2]];
     const glm::mat4& m3 = skinning[j[3]];
     const float w0 = w[0] * scale, w1 = w[1] * scale, w2 = w[2] * scale, w3 = w[3] * scale;
-    const glm::vec4 c0 = m0[0] * w0 + m1[0] * w1 + m2[0] * w2 + m3[0] * w3;
-    const glm::vec4 c1 = m0[1] * w0 + m1[1] * w1 + m2[1] * w2 + m3[1] * w3;
-    const glm::vec4 c2 = m0[2] * w0 + m1[2] * w1 + m2[2] * w2 + m3[2] * w3;
-    const glm::vec4 c3 = m0[3] * w0 + m1[3] * w1 + m2[3] * w2 + m3[3] * w3;
+    FloatLanes c[4];
+    for (int k = 0; k < 4; ++k)
+      c[k] = column(m0, k) * w0 + column(m1, k) * w1 + column(m2, k) * w2 + column(m3, k) * w3;
     const glm::vec3 p = model.positions[v];
-    positions[v] = glm::vec3(c0 * p.x + c1 * p.y + c2 * p.z + c3);
+    const FloatLanes moved = c[0] * p.x + c[1] * p.y + c[2] * p.z + c[3];
+    positions[v] = glm::vec3(moved[0], moved[1], moved[2]);
     if constexpr (kNormals) {
       const glm::vec3 n = model.normals[v];
-      const glm::vec3 turned = glm::vec3(c0 * n.x + c1 * n.y + c2 * n.z);
-      normals[v] = turned * (1.0f / std::sqrt(glm::dot(turned, turned)));
+      const FloatLanes turned = c[0] * n.x + c[1] * n.y + c[2] * n.z;
+      const float inverse_length =
+          1.0f / std::sqrt(turned[0] * turned[0] + turned[1] * turned[1] + turned[2] * turned[2]);
+      normals[v] = glm::vec3(turned[0], turned[1], turned[2]) * inverse_length;
     }
   }
 }
