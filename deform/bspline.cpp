@@ -131,13 +131,20 @@ int InterpolatingCubicSpline::span_of(double t) const {
   return static_cast<int>(it - t_.begin()) - 1;
 }
 
-glm::dvec3 InterpolatingCubicSpline::position(double t) const {
-  const int i = span_of(t);
+InterpolatingCubicSpline::Weights InterpolatingCubicSpline::weights(double t) const {
+  Weights result;
+  const int i = result.span = span_of(t);
   const double h = t_[i + 1] - t_[i];
   const double u = t_[i + 1] - t, v = t - t_[i];
-  return (second_[i] * (u * u * u) + second_[i + 1] * (v * v * v)) / (6.0 * h) +
-         (points_[i] / h - second_[i] * (h / 6.0)) * u +
-         (points_[i + 1] / h - second_[i + 1] * (h / 6.0)) * v;
+  result.w = {u / h, v / h, (u * u * u / h - h * u) / 6.0, (v * v * v / h - h * v) / 6.0};
+  return result;
+}
+
+glm::dvec3 InterpolatingCubicSpline::position(double t) const {
+  const Weights c = weights(t);
+  const int i = c.span;
+  return c.w[0] * points_[i] + c.w[1] * points_[i + 1] + c.w[2] * second_[i] +
+         c.w[3] * second_[i + 1];
 }
 
 glm::dvec3 InterpolatingCubicSpline::derivative(double t) const {

@@ -44,6 +44,17 @@ class InterpolatingCubicSpline {
   int parameter_count() const { return static_cast<int>(t_.size()); }
   std::span<const double> parameters() const { return t_; }
 
+  // C(t) as fixed weights of the data: C(t) = w[0] P_i + w[1] P_{i+1} + w[2] P''_i +
+  // w[3] P''_{i+1} on span i. The weights depend on t only, so a point bound at a fixed t (a
+  // vertex's t_V) is re-evaluated each frame, exactly, from points() and second_derivatives().
+  struct Weights {
+    int span = 0;
+    std::array<double, 4> w{};
+  };
+  Weights weights(double t) const;
+  std::span<const glm::dvec3> points() const { return points_; }
+  std::span<const glm::dvec3> second_derivatives() const { return second_; }
+
  private:
   int span_of(double t) const;
 

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The main job, as far as the code goes today: generate the default model (the procedural
-# mannequin), inspect it, and inspect the shared real model and motion clip when present.
+# mannequin), inspect it, bind it to its control sweeps, and inspect the shared real model and
+# motion clip when present.
 # The daemon issue turns this into "start sweepd, stream poses to it".
 set -euo pipefail
 build=${1:-build/release}
@@ -13,14 +14,17 @@ mkdir -p "$out"
 echo "== 1. default model: the procedural mannequin"
 "$sweepctl" mannequin --vertices 20000 -o "$out/mannequin.glb"
 "$sweepctl" inspect "$out/mannequin.glb" | head -n 14
+echo
+echo "== 2. bind it to its control sweeps (paper section 3)"
+"$sweepctl" bind "$out/mannequin.glb" -o "$out/mannequin.sweepbind" | grep -E "^(bound|sweep|skinned|rest|wrote)"
 
 shared=../shared/data
 if [ -f "$shared/models/makehuman_male_cmu.glb" ]; then
   echo
-  echo "== 2. a real rigged human (shared data)"
+  echo "== 3. a real rigged human (shared data)"
   "$sweepctl" inspect "$shared/models/makehuman_male_cmu.glb" | head -n 14
   echo
-  echo "== 3. a CMU motion clip (shared data)"
+  echo "== 4. a CMU motion clip (shared data)"
   "$sweepctl" inspect "$shared/motion/cmu_01_01.bvh" | head -n 7
 else
   echo "(../shared/data not found: skipping the real model and clip)"

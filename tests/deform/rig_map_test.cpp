@@ -166,6 +166,9 @@ HumanoidSpec vrm_spec() {
           "right"};
 }
 
+// Names the case in test listings (else gtest dumps the object's bytes into every test name).
+void PrintTo(const ConventionCase& c, std::ostream* out) { *out << c.convention; }
+
 class RigMapConventionTest : public testing::TestWithParam<ConventionCase> {};
 
 TEST_P(RigMapConventionTest, DetectsConventionAndEveryChain) {

@@ -1,0 +1,164 @@
+#include "protocol/framing.h"
+
+#include <algorithm>
+#include <cstring>
+
+namespace sweepd::protocol {
+namespace {
+
+// The identifier as readable text: printable ASCII as is, other bytes as \xNN.
+std::string printable_identifier(const std::uint8_t* bytes) {
+  static constexpr char kHex[] = "0123456789abcdef";
+  std::string text;
+  for (std::size_t i = 0; i < flatbuffers::kFileIdentifierLength; ++i) {
+    const std::uint8_t byte = bytes[i];
+    if (byte >= 0x20 && byte < 0x7f && byte != '\\' && byte != '"') {
+      text += static_cast<char>(byte);
+    } else {
+      text += "\\x";
+      text += kHex[byte >> 4];
+      text += kHex[byte & 0xf];
+    }
+  }
+  return text;
+}
+
+FrameEvent error_event(FrameError error, std::uint32_t declared_bytes, std::string reason) {
+  FrameEvent event;
+  event.status = FrameStatus::kError;
+  event.error = error;
+  event.declared_bytes = declared_bytes;
+  event.reason = std::move(reason);
+  return event;
+}
+
+}  // namespace
+
+std::span<const std::uint8_t> finish_frame(flatbuffers::FlatBufferBuilder& builder,
+                                           flatbuffers::Offset<Message> message) {
+  builder.FinishSizePrefixed(message, kFileIdentifier);
+  return {builder.GetBufferPointer(), builder.GetSize()};
+}
+
+const char* frame_error_name(FrameError error) {
+  switch (error) {
+    case FrameError::kNone:
+      return "none";
+    case FrameError::kTooShort:
+      return "too_short";
+    case FrameError::kOversized:
+      return "oversized";
+    case FrameError::kWrongIdentifier:
+      return "wrong_identifier";
+    case FrameError::kVerificationFailed:
+      return "verification_failed";
+  }
+  return "unknown";
+}
+
+ErrorCode error_code_for(FrameError error) {
+  switch (error) {
+    case FrameError::kOversized:
+      return ErrorCode::FrameTooLarge;
+    case FrameError::kWrongIdentifier:
+      return ErrorCode::WrongIdentifier;
+    case FrameError::kTooShort:
+    case FrameError::kVerificationFailed:
+      return ErrorCode::BadFrame;
+    case FrameError::kNone:
+      break;
+  }
+  return ErrorCode::Internal;
+}
+
+FrameReader::FrameReader(std::uint32_t max_frame_bytes) : max_frame_bytes_(max_frame_bytes) {}
+
+bool FrameReader::mid_frame() const { return state_ != State::kLength || length_filled_ > 0; }
+
+FrameEvent FrameReader::read(std::span<const std::uint8_t>& input) {
+  while (!input.empty()) {
+    switch (state_) {
+      case State::kSkipping: {
+        const std::size_t taken = std::min(input.size(), skip_remaining_);
+        input = input.subspan(taken);
+        skip_remaining_ -= taken;
+        if (skip_remaining_ == 0) state_ = State::kLength;
+        break;
+      }
+      case State::kLength: {
+        const std::size_t taken = std::min(input.size(), kLengthPrefixBytes - length_filled_);
+        std::memcpy(length_bytes_ + length_filled_, input.data(), taken);
+        input = input.subspan(taken);
+        length_filled_ += taken;
+        if (length_filled_ == kLengthPrefixBytes) {
+          FrameEvent event = start_body();
+          if (event.status != FrameStatus::kPending) return event;
+        }
+        break;
+      }
+      case State::kBody: {
+        const std::size_t taken = std::min(input.size(), body_bytes_ - body_filled_);
+        std::memcpy(storage_bytes() + kLengthPrefixBytes + body_filled_, input.data(), taken);
+        input = input.subspan(taken);
+        body_filled_ += taken;
+        if (body_filled_ == body_bytes_) return check_frame();
+        break;
+      }
+    }
+  }
+  return {};
+}
+
+FrameEvent FrameReader::start_body() {
+  length_filled_ = 0;
+  body_bytes_ = flatbuffers::ReadScalar<std::uint32_t>(length_bytes_);  // little-endian
+  if (body_bytes_ > max_frame_bytes_) {
+    skip_remaining_ = body_bytes_;
+    state_ = State::kSkipping;
+    return error_event(FrameError::kOversized, body_bytes_,
+                       "frame of " + std::to_string(body_bytes_) + " bytes exceeds the limit of " +
+                           std::to_string(max_frame_bytes_) + " bytes");
+  }
+  const std::size_t words = (kLengthPrefixBytes + body_bytes_ + sizeof(Word) - 1) / sizeof(Word);
+  if (storage_.size() < words) storage_.resize(words);
+  std::memcpy(storage_bytes(), length_bytes_, kLengthPrefixBytes);
+  body_filled_ = 0;
+  state_ = State::kBody;
+  if (body_bytes_ == 0) return check_frame();
+  return {};
+}
+
+FrameEvent FrameReader::check_frame() {
+  state_ = State::kLength;
+  const std::uint8_t* frame = storage_bytes();
+  const std::size_t frame_bytes = kLengthPrefixBytes + body_bytes_;
+  if (body_bytes_ < kMinimumFrameBytes) {
+    return error_event(FrameError::kTooShort, body_bytes_,
+                       "frame of " + std::to_string(body_bytes_) +
+                           " bytes is too short for a FlatBuffer (at least " +
+                           std::to_string(kMinimumFrameBytes) +
+                           " bytes: root offset and file identifier)");
+  }
+  if (!SizePrefixedMessageBufferHasIdentifier(frame)) {
+    return error_event(
+        FrameError::kWrongIdentifier, body_bytes_,
+        "frame identifier is \"" +
+            printable_identifier(frame + kLengthPrefixBytes + sizeof(flatbuffers::uoffset_t)) +
+            "\", expected \"" + kFileIdentifier + "\"");
+  }
+  flatbuffers::Verifier verifier(frame, frame_bytes);
+  if (!VerifySizePrefixedMessageBuffer(verifier)) {
+    return error_event(FrameError::kVerificationFailed, body_bytes_,
+                       "frame of " + std::to_string(body_bytes_) +
+                           " bytes is not a valid sweepd Message (FlatBuffers verification "
+                           "failed)");
+  }
+  FrameEvent event;
+  event.status = FrameStatus::kFrame;
+  event.declared_bytes = body_bytes_;
+  event.frame = {frame, frame_bytes};
+  event.message = GetSizePrefixedMessage(frame);
+  return event;
+}
+
+}  // namespace sweepd::protocol
