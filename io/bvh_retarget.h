@@ -80,6 +80,8 @@ class Retargeter {
   int frame_count() const { return motion_.frame_count; }
   double duration() const { return (motion_.frame_count - 1) * double{motion_.frame_time}; }
 
+  // Sampling is const and thread-safe; each call allocates a few per-joint scratch vectors
+  // (tens of joints: microseconds), which is fine per frame but not per vertex.
   // The model posed as frame `frame`. Throws std::out_of_range outside [0, frame_count()).
   deform::Pose pose_at_frame(int frame) const;
   // Between frames: BVH rotations slerped, translations lerped, then retargeted. seconds is
