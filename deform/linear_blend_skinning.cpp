@@ -4,6 +4,7 @@
 #include <cmath>
 #include <tuple>
 
+#include "deform/float_lanes.h"
 #include "deform/skinning_buffers.h"
 #include "deform/vertex_blocks.h"
 
@@ -11,11 +12,13 @@ namespace sweepd::deform {
 
 namespace {
 
-// Vertices [begin, end): the columns of the blended matrix, then position and normal.
+FloatLanes column(const glm::mat4& m, int c) { return load_lanes(&m[c][0]); }
+
+// Vertices [begin, end): the columns of the blended matrix (4 lanes), then position and normal.
+template <bool kNormals>
 void skin_block(const Model& model, std::span<const glm::mat4> skinning,
                 std::span<glm::vec3> positions, std::span<glm::vec3> normals, std::size_t begin,
                 std::size_t end) {
-  const bool with_normals = !normals.empty();
   for (std::size_t v = begin; v < end; ++v) {
     const auto& [w, j] = std::tie(model.skin_weights[v], model.skin_joints[v]);
     const float scale = 1.0f / (w[0] + w[1] + w[2] + w[3]);
@@ -24,17 +27,29 @@ void skin_block(const Model& model, std::span<const glm::mat4> skinning,
     const glm::mat4& m2 = skinning[j[2]];
     const glm::mat4& m3 = skinning[j[3]];
     const float w0 = w[0] * scale, w1 = w[1] * scale, w2 = w[2] * scale, w3 = w[3] * scale;
-    const glm::vec3 c0 = glm::vec3(m0[0] * w0 + m1[0] * w1 + m2[0] * w2 + m3[0] * w3);
-    const glm::vec3 c1 = glm::vec3(m0[1] * w0 + m1[1] * w1 + m2[1] * w2 + m3[1] * w3);
-    const glm::vec3 c2 = glm::vec3(m0[2] * w0 + m1[2] * w1 + m2[2] * w2 + m3[2] * w3);
-    const glm::vec3 c3 = glm::vec3(m0[3] * w0 + m1[3] * w1 + m2[3] * w2 + m3[3] * w3);
+    FloatLanes c[4];
+    for (int k = 0; k < 4; ++k)
+      c[k] = column(m0, k) * w0 + column(m1, k) * w1 + column(m2, k) * w2 + column(m3, k) * w3;
     const glm::vec3 p = model.positions[v];
-    positions[v] = c0 * p.x + c1 * p.y + c2 * p.z + c3;
-    if (with_normals) {
+    const FloatLanes moved = c[0] * p.x + c[1] * p.y + c[2] * p.z + c[3];
+    positions[v] = glm::vec3(moved[0], moved[1], moved[2]);
+    if constexpr (kNormals) {
       const glm::vec3 n = model.normals[v];
-      const glm::vec3 turned = c0 * n.x + c1 * n.y + c2 * n.z;
-      normals[v] = turned * (1.0f / std::sqrt(glm::dot(turned, turned)));
+      const FloatLanes turned = c[0] * n.x + c[1] * n.y + c[2] * n.z;
+      const float inverse_length =
+          1.0f / std::sqrt(turned[0] * turned[0] + turned[1] * turned[1] + turned[2] * turned[2]);
+      normals[v] = glm::vec3(turned[0], turned[1], turned[2]) * inverse_length;
     }
+  }
+}
+
+void skin_range(const Model& model, std::span<const glm::mat4> skinning,
+                std::span<glm::vec3> positions, std::span<glm::vec3> normals, std::size_t begin,
+                std::size_t end) {
+  if (normals.empty()) {
+    skin_block<false>(model, skinning, positions, normals, begin, end);
+  } else {
+    skin_block<true>(model, skinning, positions, normals, begin, end);
   }
 }
 
@@ -43,7 +58,7 @@ void skin_block(const Model& model, std::span<const glm::mat4> skinning,
 void linear_blend_skinning(const Model& model, std::span<const glm::mat4> skinning,
                            std::span<glm::vec3> positions, std::span<glm::vec3> normals) {
   assert(skinning_buffers_fit(model, skinning.size(), positions.size(), normals.size()));
-  skin_block(model, skinning, positions, normals, 0, model.vertex_count());
+  skin_range(model, skinning, positions, normals, 0, model.vertex_count());
 }
 
 void linear_blend_skinning_parallel(const Model& model, std::span<const glm::mat4> skinning,
@@ -51,7 +66,7 @@ void linear_blend_skinning_parallel(const Model& model, std::span<const glm::mat
                                     int threads) {
   assert(skinning_buffers_fit(model, skinning.size(), positions.size(), normals.size()));
   run_in_vertex_blocks(model.vertex_count(), threads, [&](std::size_t begin, std::size_t end) {
-    skin_block(model, skinning, positions, normals, begin, end);
+    skin_range(model, skinning, positions, normals, begin, end);
   });
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 
@@ -86,19 +87,39 @@ glm::quat shortest_arc(const glm::vec3& u, const glm::vec3& v) {
   return glm::normalize(glm::quat(1.0f + c, axis.x, axis.y, axis.z));
 }
 
-// Mean thigh + shin length of the legs, or the pelvis height above the lowest joint.
-float hip_height(const deform::Skeleton& skeleton, const std::optional<deform::RigMap>& map,
-                 const std::vector<glm::vec3>& world, int pelvis) {
-  if (map) {
-    float sum = 0.0f;
-    for (const deform::LegJoints* leg : {&map->left_leg, &map->right_leg})
-      sum += glm::distance(world[leg->upper], world[leg->lower]) +
-             glm::distance(world[leg->lower], world[leg->foot]);
-    return sum / 2.0f;
+// Pelvis height above the floor on straight legs (see the header), or plain pelvis height.
+float hip_height(const std::optional<deform::RigMap>& map, const std::vector<glm::vec3>& world,
+                 int pelvis, float floor) {
+  if (!map) return world[pelvis].y - floor;
+  float sum = 0.0f;
+  for (const deform::LegJoints* leg : {&map->left_leg, &map->right_leg})
+    sum += world[pelvis].y - world[leg->upper].y +
+           glm::distance(world[leg->upper], world[leg->lower]) +
+           glm::distance(world[leg->lower], world[leg->foot]) + world[leg->foot].y - floor;
+  return sum / 2.0f;
+}
+
+float lowest_joint_height(const deform::Skeleton& skeleton) {
+  float lowest = std::numeric_limits<float>::infinity();
+  for (const glm::vec3& p : world_rest_positions(skeleton)) lowest = std::min(lowest, p.y);
+  return lowest;
+}
+
+float lowest_vertex_height(const deform::Model& model) {
+  float lowest = std::numeric_limits<float>::infinity();
+  for (const glm::vec3& p : model.positions) lowest = std::min(lowest, p.y);
+  return model.positions.empty() ? lowest_joint_height(model.skeleton) : lowest;
+}
+
+// The clip's rest pose has identity rotations: End Sites sit at their joint plus the offset.
+float lowest_clip_height(const Motion& motion, const std::vector<glm::vec3>& world) {
+  float lowest = std::numeric_limits<float>::infinity();
+  for (std::size_t b = 0; b < motion.joints.size(); ++b) {
+    lowest = std::min(lowest, world[b].y);
+    if (motion.joints[b].end_site)
+      lowest = std::min(lowest, world[b].y + motion.joints[b].end_site->y);
   }
-  float lowest = world[pelvis].y;
-  for (int j = 0; j < skeleton.size(); ++j) lowest = std::min(lowest, world[j].y);
-  return world[pelvis].y - lowest;
+  return lowest;
 }
 
 }  // namespace
@@ -117,8 +138,16 @@ const char* to_string(JointMatchReason reason) {
   return "?";
 }
 
+Retargeter::Retargeter(Motion motion, const deform::Model& model,
+                       const std::filesystem::path& name_map)
+    : Retargeter(std::move(motion), model.skeleton, name_map, lowest_vertex_height(model)) {}
+
 Retargeter::Retargeter(Motion motion, deform::Skeleton skeleton,
                        const std::filesystem::path& name_map)
+    : Retargeter(std::move(motion), skeleton, name_map, lowest_joint_height(skeleton)) {}
+
+Retargeter::Retargeter(Motion motion, deform::Skeleton skeleton,
+                       const std::filesystem::path& name_map, float model_floor)
     : motion_(std::move(motion)), skeleton_(std::move(skeleton)) {
   if (motion_.joints.empty() || motion_.frame_count < 1)
     throw std::invalid_argument("the motion has no joints or no frames to retarget");
@@ -128,7 +157,7 @@ Retargeter::Retargeter(Motion motion, deform::Skeleton skeleton,
   const OptionalRigMap bvh_map = rig_map_or_warning(bvh, "BVH clip", warnings_);
   match_joints(bvh, model_map, bvh_map, name_map);
   compute_alignments(bvh);
-  compute_root_scale(bvh, model_map, bvh_map);
+  compute_root_scale(bvh, model_map, bvh_map, model_floor);
 }
 
 void Retargeter::match_joints(const deform::Skeleton& bvh, const OptionalRigMap& model_map,
@@ -231,14 +260,15 @@ void Retargeter::compute_alignments(const deform::Skeleton& bvh) {
 }
 
 void Retargeter::compute_root_scale(const deform::Skeleton& bvh, const OptionalRigMap& model_map,
-                                    const OptionalRigMap& bvh_map) {
+                                    const OptionalRigMap& bvh_map, float model_floor) {
   bvh_pelvis_ = bvh_map ? bvh_map->torso.pelvis() : 0;
   model_pelvis_ = model_map ? model_map->torso.pelvis() : 0;
   const std::vector<glm::vec3> model_world = world_rest_positions(skeleton_);
   const std::vector<glm::vec3> bvh_world = world_rest_positions(bvh);
   model_pelvis_rest_ = model_world[model_pelvis_];
-  const float bvh_height = hip_height(bvh, bvh_map, bvh_world, bvh_pelvis_);
-  const float model_height = hip_height(skeleton_, model_map, model_world, model_pelvis_);
+  const float bvh_height =
+      hip_height(bvh_map, bvh_world, bvh_pelvis_, lowest_clip_height(motion_, bvh_world));
+  const float model_height = hip_height(model_map, model_world, model_pelvis_, model_floor);
   if (bvh_height > 0.0f && model_height > 0.0f) {
     root_scale_ = model_height / bvh_height;
   } else {

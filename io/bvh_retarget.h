@@ -24,9 +24,13 @@
 // The local rotations of the Pose are W_parent^-1 * W_m. Joint scale is ignored (rotations only).
 //
 // Root translation: the model's pelvis goes to root_scale() times the BVH pelvis position,
-// where root_scale() = model hip height / BVH hip height (pelvis above the mean of the two
-// ankle joints in each rest pose; the lowest joint without a rig map). Both sides must be Y-up
-// and in the same length unit (load CMU clips with BvhOptions{.length_scale = 0.056444f}).
+// where root_scale() = model hip height / BVH hip height. Each side's hip height is its pelvis
+// height above the floor when standing on straight legs, measured in its rest pose whatever
+// the legs' splay: the drop from the pelvis to the hip joint, plus thigh and shin lengths, plus
+// the ankle's height above the floor (means of both legs). The floor is the model's lowest
+// vertex (its lowest joint for a bare skeleton) and the clip's lowest joint or End Site. Without
+// a rig map on a side, the pelvis height above the floor. Both sides must be Y-up and in the
+// same length unit (load CMU clips with BvhOptions{.length_scale = 0.056444f}).
 // The shift is applied to the model's root (joint 0), which must carry the pelvis rigidly.
 #pragma once
 
@@ -57,9 +61,10 @@ class Retargeter {
  public:
   // Throws LoadError for a bad name map file, std::invalid_argument when the motion has no
   // joints or frames, or the skeleton no joints.
+  // The model's floor is its lowest vertex.
+  Retargeter(Motion motion, const deform::Model& model, const std::filesystem::path& name_map = {});
+  // A bare skeleton: its floor is its lowest joint.
   Retargeter(Motion motion, deform::Skeleton skeleton, const std::filesystem::path& name_map = {});
-  Retargeter(Motion motion, const deform::Model& model, const std::filesystem::path& name_map = {})
-      : Retargeter(std::move(motion), model.skeleton, name_map) {}
 
   // Matched pairs, ordered by model joint.
   const std::vector<JointMatch>& matches() const { return matches_; }
@@ -75,6 +80,8 @@ class Retargeter {
   int frame_count() const { return motion_.frame_count; }
   double duration() const { return (motion_.frame_count - 1) * double{motion_.frame_time}; }
 
+  // Sampling is const and thread-safe; each call allocates a few per-joint scratch vectors
+  // (tens of joints: microseconds), which is fine per frame but not per vertex.
   // The model posed as frame `frame`. Throws std::out_of_range outside [0, frame_count()).
   deform::Pose pose_at_frame(int frame) const;
   // Between frames: BVH rotations slerped, translations lerped, then retargeted. seconds is
@@ -84,12 +91,14 @@ class Retargeter {
   deform::Pose pose_at_bvh_rest() const;
 
  private:
+  Retargeter(Motion motion, deform::Skeleton skeleton, const std::filesystem::path& name_map,
+             float model_floor);
   using OptionalRigMap = std::optional<deform::RigMap>;
   void match_joints(const deform::Skeleton& bvh, const OptionalRigMap& model_map,
                     const OptionalRigMap& bvh_map, const std::filesystem::path& name_map);
   void compute_alignments(const deform::Skeleton& bvh);
   void compute_root_scale(const deform::Skeleton& bvh, const OptionalRigMap& model_map,
-                          const OptionalRigMap& bvh_map);
+                          const OptionalRigMap& bvh_map, float model_floor);
   // bvh_local: rotations and translations of every BVH joint (motion_.joints.size()).
   deform::Pose retarget(std::span<const glm::quat> bvh_local,
                         std::span<const glm::vec3> bvh_translation, bool keep_root_rest) const;
