@@ -55,6 +55,7 @@ std::vector<VertexBinding> blend_shares(const Model& model, const RigMap& rig,
   const std::vector<BodyPart> joint_part = label_joints(rig, model.skeleton);
   const int sweep_count = static_cast<int>(sweeps.size());
   std::vector<PlanePair> start(sweep_count), finish(sweep_count);
+  PlanePair torso_top, torso_bottom;  // beyond the torso's end keys, skinning takes over
   int torso = -1;
   for (int s = 0; s < sweep_count; ++s) {
     const std::vector<int>& chain = sweeps[s].chain;
@@ -63,6 +64,12 @@ std::vector<VertexBinding> blend_shares(const Model& model, const RigMap& rig,
     start[s] = planes_at(world_rest, chain[0], chain[0], chain[1], options.transition_half_width);
     finish[s] = planes_at(world_rest, chain[n - 1], chain[n - 2], chain[n - 1],
                           options.end_blend_half_width);
+    if (s == torso) {
+      torso_top = finish[s];
+      torso_top.centre += torso_top.half_width * torso_top.direction;
+      torso_bottom = planes_at(world_rest, chain[0], chain[1], chain[0], options.end_blend_half_width);
+      torso_bottom.centre += torso_bottom.half_width * torso_bottom.direction;
+    }
   }
 
   std::vector<VertexBinding> result(model.vertex_count());
@@ -85,7 +92,12 @@ std::vector<VertexBinding> blend_shares(const Model& model, const RigMap& rig,
     }
     if (limbs > 1.0f)
       for (float& s : share) s /= limbs;
-    if (torso >= 0) share[torso] = std::max(0.0f, 1.0f - std::min(limbs, 1.0f));
+    if (torso >= 0) {
+      share[torso] = std::max(0.0f, 1.0f - std::min(limbs, 1.0f));
+      // Above the chest key (shoulders, upper chest) and below the pelvis key the torso sweep
+      // only extrapolates; the model's own skinning (clavicles, hips) knows better.
+      skinned += share[torso] * std::max(torso_top.weight(p), torso_bottom.weight(p));
+    }
     for (int s = 0; s < sweep_count; ++s) {
       if (s == torso || share[s] == 0.0f) continue;
       // The hand/foot/head's own skin weight takes over once it passes one half.

@@ -9,7 +9,9 @@
 // the torso takes the rest. A vertex keeps its two largest sweep shares.
 // At a sweep's far end (wrist, ankle, head) the share of the skinned remainder rises the same
 // way across two planes around the end joint, or with the skin weight of the hand/foot/head,
-// whichever is larger. Every share is a continuous function of position and skin weights.
+// whichever is larger; beyond the torso's first and last keys (below the pelvis, above the
+// chest: the shoulders) its share hands over to skinning the same way, starting at the key.
+// Every share is a continuous function of position and skin weights.
 // Inputs:  model (n vertices), rig, world_rest (one per joint), sweeps (part + chain filled),
 //          options.
 // Output:  n VertexBinding with sweep, weight and skin_weight set (coordinates left empty);
