@@ -1,5 +1,6 @@
 #include "deform/sweep_poser.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -39,32 +40,54 @@ SweepPoser::SweepPoser(const BoundModel& bound) : bound_(bound) {
   joint_rotation_.resize(world_rest.size());
   pose_joint_ = rest_joint_;
 
+  // Table rows: kSamplesPerSpan per key span, aligned with the keys, plus the last key.
   for (const BoundSweep& sweep : bound.sweeps) {
     sweeps_.push_back(rest_sweep(sweep, bound.options));
     posed_keys_.push_back(sweep.rest_keys);
-    frame_.emplace_back();
+    sweep_data_.emplace_back();
+    first_sample_.push_back(static_cast<std::uint32_t>(sample_weights_.size()));
+    const Sweep& curve = sweeps_.back();
+    const auto t = curve.parameters();
+    for (std::size_t i = 0; i + 1 < t.size(); ++i)
+      for (int k = 0; k <= kSamplesPerSpan; ++k) {
+        if (k == kSamplesPerSpan && i + 2 < t.size()) break;  // the next span's first row
+        const double at = t[i] + (t[i + 1] - t[i]) * k / kSamplesPerSpan;
+        SampleWeights w{};
+        w.sweep = static_cast<std::uint16_t>(sweeps_.size() - 1);
+        w.span = static_cast<std::uint16_t>(i);
+        const auto spline = curve.centre_curve().weights(at);
+        for (int r = 0; r < 4; ++r) w.spline[r] = static_cast<float>(spline.w[r]);
+        w.span = static_cast<std::uint16_t>(spline.span);
+        w.q_mix = static_cast<float>((at - t[spline.span]) / (t[spline.span + 1] - t[spline.span]));
+        std::array<double, InterpolatingQuadraticSpline::kMaxDegree + 1> basis{};
+        w.axis_first = static_cast<std::uint16_t>(curve.a_function().nonzero_basis(at, basis));
+        for (int r = 0; r < 3; ++r)
+          w.axis[r] = r <= curve.a_function().degree() ? static_cast<float>(basis[r]) : 0.0f;
+        sample_weights_.push_back(w);
+      }
   }
+  table_.resize(sample_weights_.size());
 
   const std::size_t n = bound.model.vertex_count();
   first_binding_.assign(n + 1, 0);
+  skin_weight_.resize(n);
   for (std::size_t v = 0; v < n; ++v) {
     const VertexBinding& vb = bound.vertices[v];
+    skin_weight_[v] = vb.skin_weight;
     for (int k = 0; k < 2; ++k) {
       if (vb.sweep[k] < 0 || vb.weight[k] == 0.0f) continue;
-      const Sweep& sweep = sweeps_[vb.sweep[k]];
       const SweepCoordinate& c = vb.coordinate[k];
+      // The row at or below t (the last row's predecessor at t = 1), and the fraction past it.
+      const auto t = sweeps_[vb.sweep[k]].parameters();
+      const std::size_t span = std::min<std::size_t>(
+          std::upper_bound(t.begin() + 1, t.end() - 1, static_cast<double>(c.t)) - t.begin() - 1,
+          t.size() - 2);
+      const double within = (c.t - t[span]) / (t[span + 1] - t[span]) * kSamplesPerSpan;
+      const int step = std::clamp(static_cast<int>(within), 0, kSamplesPerSpan - 1);
       Binding b{};
-      b.sweep = static_cast<std::uint16_t>(vb.sweep[k]);
+      b.sample = first_sample_[vb.sweep[k]] + static_cast<std::uint32_t>(span * kSamplesPerSpan + step);
+      b.fraction = static_cast<float>(within - step);
       b.weight = vb.weight[k];
-      const auto spline = sweep.centre_curve().weights(c.t);
-      b.span = static_cast<std::uint16_t>(spline.span);
-      for (int r = 0; r < 4; ++r) b.spline[r] = static_cast<float>(spline.w[r]);
-      const auto t = sweep.parameters();
-      b.q_mix = static_cast<float>((c.t - t[spline.span]) / (t[spline.span + 1] - t[spline.span]));
-      std::array<double, InterpolatingQuadraticSpline::kMaxDegree + 1> basis{};
-      b.axis_first = static_cast<std::uint16_t>(sweep.a_function().nonzero_basis(c.t, basis));
-      for (int r = 0; r < 3; ++r)
-        b.axis[r] = r <= sweep.a_function().degree() ? static_cast<float>(basis[r]) : 0.0f;
       b.cos_theta = std::cos(c.theta);
       b.sin_theta = std::sin(c.theta);
       b.da = c.da;
@@ -78,18 +101,33 @@ SweepPoser::SweepPoser(const BoundModel& bound) : bound_(bound) {
   std::size_t welded_count = 0;
   welded_ = weld_coincident_positions(bound.model.positions, &welded_count);
   welded_normals_.resize(welded_count);
-  refresh_half_axes();
-  std::vector<glm::mat4> rest(world_rest);
-  set_pose(rest);
+  set_pose(world_rest);
 }
 
-void SweepPoser::refresh_half_axes() {
+void SweepPoser::refresh_table() {
   for (std::size_t s = 0; s < sweeps_.size(); ++s) {
-    SweepFrameData& f = frame_[s];
-    f.alpha.assign(sweeps_[s].alpha().begin(), sweeps_[s].alpha().end());
-    f.beta.assign(sweeps_[s].beta().begin(), sweeps_[s].beta().end());
-    f.alpha.resize(f.alpha.size() + 2, 0.0f);
-    f.beta.resize(f.beta.size() + 2, 0.0f);
+    SweepData& d = sweep_data_[s];
+    const Sweep& sweep = sweeps_[s];
+    const auto& curve = sweep.centre_curve();
+    d.points.assign(curve.points().begin(), curve.points().end());
+    d.second.assign(curve.span_second_derivatives().begin(), curve.span_second_derivatives().end());
+    d.keys.assign(sweep.orientation_curve().keys().begin(), sweep.orientation_curve().keys().end());
+    d.alpha.assign(sweep.alpha().begin(), sweep.alpha().end());
+    d.beta.assign(sweep.beta().begin(), sweep.beta().end());
+    d.alpha.resize(d.alpha.size() + 2, 0.0f);
+    d.beta.resize(d.beta.size() + 2, 0.0f);
+  }
+  for (std::size_t row = 0; row < table_.size(); ++row) {
+    const SampleWeights& w = sample_weights_[row];
+    const SweepData& d = sweep_data_[w.sweep];
+    const int i = w.span, k = w.axis_first;
+    const glm::vec3 centre = w.spline[0] * d.points[i] + w.spline[1] * d.points[i + 1] +
+                             w.spline[2] * d.second[2 * i] + w.spline[3] * d.second[2 * i + 1];
+    const glm::mat3 r = glm::mat3_cast(
+        glm::normalize((1.0f - w.q_mix) * d.keys[i] + w.q_mix * d.keys[i + 1]));
+    const float a = w.axis[0] * d.alpha[k] + w.axis[1] * d.alpha[k + 1] + w.axis[2] * d.alpha[k + 2];
+    const float b = w.axis[0] * d.beta[k] + w.axis[1] * d.beta[k + 1] + w.axis[2] * d.beta[k + 2];
+    table_[row] = {centre, a, r[0], b, r[1], 0.0f, r[2], 0.0f};
   }
 }
 
@@ -102,36 +140,27 @@ void SweepPoser::set_pose(std::span<const glm::mat4> world_pose) {
     pose_key_ellipses(bound_.sweeps[s], bound_.model.skeleton, joint_rotation_, rest_joint_,
                       pose_joint_, posed_keys_[s]);
     sweeps_[s].set_key_frames(posed_keys_[s]);
-    SweepFrameData& f = frame_[s];
-    const auto& curve = sweeps_[s].centre_curve();
-    f.points.assign(curve.points().begin(), curve.points().end());
-    f.second.assign(curve.span_second_derivatives().begin(), curve.span_second_derivatives().end());
-    f.keys.assign(sweeps_[s].orientation_curve().keys().begin(),
-                  sweeps_[s].orientation_curve().keys().end());
   }
+  refresh_table();
 }
 
 void SweepPoser::deform_block(std::span<const glm::mat4> skinning, std::span<glm::vec3> positions,
                               std::size_t begin, std::size_t end) const {
   const Model& model = bound_.model;
+  const Sample* table = table_.data();
   for (std::size_t v = begin; v < end; ++v) {
-    const float skin = bound_.vertices[v].skin_weight;
+    const float skin = skin_weight_[v];
     glm::vec3 p = skin > 0.0f ? skin * skinned_position(model, skinning, v) : glm::vec3(0.0f);
     for (std::uint32_t i = first_binding_[v]; i < first_binding_[v + 1]; ++i) {
       const Binding& b = bindings_[i];
-      const SweepFrameData& f = frame_[b.sweep];
-      const int s = b.span;
-      const glm::vec3 centre = b.spline[0] * f.points[s] + b.spline[1] * f.points[s + 1] +
-                               b.spline[2] * f.second[2 * s] + b.spline[3] * f.second[2 * s + 1];
-      const glm::quat q =
-          glm::normalize((1.0f - b.q_mix) * f.keys[s] + b.q_mix * f.keys[s + 1]);
-      const int a0 = b.axis_first;
-      const float a = b.axis[0] * f.alpha[a0] + b.axis[1] * f.alpha[a0 + 1] +
-                      b.axis[2] * f.alpha[a0 + 2];
-      const float bb = b.axis[0] * f.beta[a0] + b.axis[1] * f.beta[a0 + 1] +
-                       b.axis[2] * f.beta[a0 + 2];
-      const glm::vec3 local((a + b.da) * b.cos_theta, (bb + b.db) * b.sin_theta, b.c);
-      p += b.weight * (centre + glm::mat3_cast(q) * local);
+      const Sample& s0 = table[b.sample];
+      const Sample& s1 = table[b.sample + 1];
+      const float f = b.fraction;
+      const float x = (s0.a + f * (s1.a - s0.a) + b.da) * b.cos_theta;
+      const float y = (s0.b + f * (s1.b - s0.b) + b.db) * b.sin_theta;
+      const glm::vec3 at0 = s0.centre + x * s0.x_axis + y * s0.y_axis + b.c * s0.normal;
+      const glm::vec3 at1 = s1.centre + x * s1.x_axis + y * s1.y_axis + b.c * s1.normal;
+      p += b.weight * (at0 + f * (at1 - at0));
     }
     positions[v] = p;
   }

@@ -1,8 +1,11 @@
-// Skinning baselines benchmark: LBS and DQS (4 influences, one thread) in ns per vertex on the
-// procedural mannequin at about 15k, 72k and 250k vertices and on the shared MakeHuman male,
-// positions only and positions + normals.
+// Deformation benchmark: control sweeps (the paper) against the LBS and DQS baselines (4
+// influences), one thread, in ns per vertex on the procedural mannequin at about 15k, 72k and
+// 250k vertices and on the shared MakeHuman male, positions only and positions + normals.
+// Sweep includes its per-frame work (posing the key ellipses, rebuilding C(t) and Q(t)); its
+// normals are recomputed from the posed triangles (area-weighted), the baselines' are turned.
+// bench/run_benchmarks.sh prints the table (with the sweep/LBS ratio) for the README.
 //
-// Run a Release build: build/<dir>/bench/skinning_bench [--benchmark_filter=...]
+// Run a Release build: build/<dir>/bench/deform_bench [--benchmark_filter=...]
 // The "per_vertex" counter is the time per vertex (Google Benchmark prints it in seconds with
 // an SI prefix: "2.1n" = 2.1 ns). The pose bends every joint; its cost is outside the timing
 // except for the per-frame matrix conversion DQS does itself.
@@ -15,10 +18,13 @@
 #include <string>
 #include <vector>
 
+#include "deform/bind.h"
 #include "deform/dual_quaternion_skinning.h"
 #include "deform/forward_kinematics.h"
 #include "deform/linear_blend_skinning.h"
 #include "deform/mannequin.h"
+#include "deform/rig_map.h"
+#include "deform/sweep_poser.h"
 #include "io/gltf_load.h"
 
 namespace {
@@ -28,18 +34,29 @@ using namespace sweepd;
 struct BenchModel {
   std::string name;
   deform::Model model;
-  std::vector<glm::mat4> skinning;
+  std::vector<glm::mat4> world, skinning;
+  std::unique_ptr<deform::BoundModel> bound;
 };
 
 // Every joint turned 0.3 rad about one oblique axis (the cost does not depend on the angles).
-std::vector<glm::mat4> bent_skinning(const deform::Skeleton& skeleton) {
+void bend(BenchModel& subject) {
+  const deform::Skeleton& skeleton = subject.model.skeleton;
   deform::Pose pose = deform::rest_pose(skeleton);
   const glm::quat bend = glm::angleAxis(0.3f, glm::normalize(glm::vec3(1, 2, 3)));
   for (glm::quat& rotation : pose.local_rotations) rotation = rotation * bend;
-  std::vector<glm::mat4> world(skeleton.joints.size()), skinning(world.size());
-  deform::forward_kinematics(skeleton, pose, world);
-  deform::skinning_matrices(world, deform::world_rest_inverse_matrices(skeleton), skinning);
-  return skinning;
+  subject.world.resize(skeleton.joints.size());
+  subject.skinning.resize(skeleton.joints.size());
+  deform::forward_kinematics(skeleton, pose, subject.world);
+  deform::skinning_matrices(subject.world, deform::world_rest_inverse_matrices(skeleton),
+                            subject.skinning);
+}
+
+// The "per_vertex" counter: seconds per vertex of one frame.
+void report_per_vertex(benchmark::State& state, std::size_t n) {
+  state.counters["vertices"] = static_cast<double>(n);
+  state.counters["per_vertex"] =
+      benchmark::Counter(static_cast<double>(n), benchmark::Counter::kIsIterationInvariantRate |
+                                                     benchmark::Counter::kInvert);
 }
 
 using Skin = void (*)(const deform::Model&, std::span<const glm::mat4>, std::span<glm::vec3>,
@@ -54,10 +71,21 @@ void run(benchmark::State& state, const BenchModel* subject, Skin skin, bool wit
     benchmark::DoNotOptimize(normals.data());
     benchmark::ClobberMemory();
   }
-  state.counters["vertices"] = static_cast<double>(n);
-  state.counters["per_vertex"] =
-      benchmark::Counter(static_cast<double>(n), benchmark::Counter::kIsIterationInvariantRate |
-                                                     benchmark::Counter::kInvert);
+  report_per_vertex(state, n);
+}
+
+void run_sweep(benchmark::State& state, const BenchModel* subject, bool with_normals) {
+  const std::size_t n = subject->model.vertex_count();
+  std::vector<glm::vec3> positions(n), normals(with_normals ? n : 0);
+  deform::SweepPoser poser(*subject->bound);
+  for (auto _ : state) {
+    poser.set_pose(subject->world);
+    poser.deform(subject->skinning, positions, normals);
+    benchmark::DoNotOptimize(positions.data());
+    benchmark::DoNotOptimize(normals.data());
+    benchmark::ClobberMemory();
+  }
+  report_per_vertex(state, n);
 }
 
 }  // namespace
@@ -68,18 +96,26 @@ int main(int argc, char** argv) {
   for (int target : {15000, 72000, 250000}) {
     deform::Model model = deform::make_mannequin({.target_vertices = target});
     const std::string name = "mannequin_" + std::to_string(target / 1000) + "k";
-    models.push_back(std::make_unique<BenchModel>(BenchModel{name, std::move(model), {}}));
+    models.push_back(std::make_unique<BenchModel>(BenchModel{name, std::move(model), {}, {}, {}}));
   }
   const std::filesystem::path male =
       std::filesystem::path(SWEEPD_SHARED_DATA) / "models" / "makehuman_male_cmu.glb";
   if (std::filesystem::exists(male)) {
-    models.push_back(std::make_unique<BenchModel>(BenchModel{"male", io::load_gltf(male), {}}));
+    models.push_back(std::make_unique<BenchModel>(BenchModel{"male", io::load_gltf(male), {}, {}, {}}));
   } else {
     std::fprintf(stderr, "shared male absent (%s): benchmarking the mannequins only\n",
                  male.string().c_str());
   }
   for (const auto& subject : models) {
-    subject->skinning = bent_skinning(subject->model.skeleton);
+    bend(*subject);
+    subject->bound = std::make_unique<deform::BoundModel>(
+        deform::bind(subject->model, deform::detect_rig_map(subject->model.skeleton)));
+    for (const bool with_normals : {false, true}) {
+      const std::string name = "sweep/" + subject->name + "/" +
+                               (with_normals ? "positions+normals" : "positions");
+      benchmark::RegisterBenchmark(name.c_str(), run_sweep, subject.get(), with_normals)
+          ->Unit(benchmark::kMicrosecond);
+    }
     for (const auto& [method, skin] :
          {std::pair<const char*, Skin>{"lbs", deform::linear_blend_skinning},
           std::pair<const char*, Skin>{"dqs", deform::dual_quaternion_skinning}})
