@@ -32,7 +32,7 @@ void print_sweep(const deform::BoundModel& bound, int s) {
   std::size_t primary = 0, blended = 0;
   for (const deform::VertexBinding& b : bound.vertices) {
     primary += b.sweep[0] == s;
-    blended += (b.sweep[0] == s && b.sweep[1] >= 0) || b.sweep[1] == s;
+    blended += (b.sweep[0] == s && b.sweep[1] >= 0) || b.sweep[1] == s || b.sweep[2] == s;
   }
   std::printf("\nsweep %-10s %zu keys, %s vertices (%s shared with another sweep), volume %.5f m3\n",
               deform::to_string(sweep.part), sweep.rest_keys.size(),

@@ -68,7 +68,7 @@ int run_render(const std::vector<std::string>& arguments) {
       const deform::BoundModel& bound = posed.bound();
       for (const deform::VertexBinding& b : bound.vertices) {
         glm::vec3 c = b.skin_weight * glm::vec3(0.6f);
-        for (int k = 0; k < 2; ++k)
+        for (int k = 0; k < deform::kSweepsPerVertex; ++k)
           if (b.sweep[k] >= 0) c += b.weight[k] * segment_colour(b.sweep[k]);
         colours.push_back(c);
       }

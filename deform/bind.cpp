@@ -92,7 +92,7 @@ BoundModel bind(const Model& model, const RigMap& rig, const BindOptions& option
   for (std::size_t v = 0; v < n; ++v) {
     if (v % 4096 == 0) report(0.55 + 0.45 * v / n, "binding vertices");
     VertexBinding& binding = bound.vertices[v];
-    for (int k = 0; k < 2; ++k)
+    for (int k = 0; k < kSweepsPerVertex; ++k)
       if (binding.sweep[k] >= 0)
         binding.coordinate[k] =
             bind_point(sweeps[binding.sweep[k]], planes[binding.sweep[k]], model.positions[v]);
@@ -108,7 +108,7 @@ std::vector<glm::vec3> rest_positions_from_binding(const BoundModel& bound) {
   for (std::size_t v = 0; v < positions.size(); ++v) {
     const VertexBinding& binding = bound.vertices[v];
     glm::vec3 p = binding.skin_weight * bound.model.positions[v];
-    for (int k = 0; k < 2; ++k)
+    for (int k = 0; k < kSweepsPerVertex; ++k)
       if (binding.sweep[k] >= 0)
         p += binding.weight[k] * evaluate_point(sweeps[binding.sweep[k]], binding.coordinate[k]);
     positions[v] = p;

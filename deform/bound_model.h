@@ -3,7 +3,7 @@
 //
 // Per sweep (torso, neck, arms, legs): the joint chain it follows, its key ellipses in the rest
 // pose with the joint or link each one is attached to, and its rest volume.
-// Per vertex: up to two sweep coordinates (t, θ, displacement, c) with blend weights, plus the
+// Per vertex: up to three sweep coordinates (t, θ, displacement, c) with blend weights, plus the
 // share that follows the model's own skin weights (hands, feet, head, and the hand-over zones).
 // The weights of a vertex sum to 1.
 #pragma once
@@ -51,10 +51,14 @@ struct SweepCoordinate {
   float c = 0.0f;
 };
 
+// Up to three sweeps meet at a vertex: the torso and both legs in the crotch.
+inline constexpr int kSweepsPerVertex = 3;
+
 struct VertexBinding {
-  std::array<std::int16_t, 2> sweep{-1, -1};  // index into BoundModel::sweeps, -1 unused
-  std::array<float, 2> weight{0.0f, 0.0f};
-  std::array<SweepCoordinate, 2> coordinate{};
+  std::array<std::int16_t, 4> sweep{-1, -1, -1, -1};  // into BoundModel::sweeps, -1 unused;
+                                                      // the 4th keeps the record unpadded
+  std::array<float, kSweepsPerVertex> weight{};
+  std::array<SweepCoordinate, kSweepsPerVertex> coordinate{};
   float skin_weight = 0.0f;  // share that follows the model's own skinning (LBS)
 };
 

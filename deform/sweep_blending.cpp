@@ -2,12 +2,16 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdint>
+
+#include "deform/mesh_topology.h"
 
 namespace sweepd::deform {
 
 namespace {
 
 constexpr int kPartCount = static_cast<int>(BodyPart::kRightFoot) + 1;
+constexpr int kShareSmoothingPasses = 48;
 
 float smoothstep01(float x) {
   x = std::clamp(x, 0.0f, 1.0f);
@@ -33,6 +37,49 @@ PlanePair planes_at(std::span<const glm::mat4> world_rest, int joint, int link_f
   pair.direction = glm::normalize(to - from);
   pair.half_width = half_width_fraction * glm::length(to - from);
   return pair;
+}
+
+// Where sweeps meet (a vertex with shares of two sweeps or more), averages each vertex's row of
+// shares with its mesh neighbours', kShareSmoothingPasses times (half its own, half the
+// neighbours' mean): skin weights may jump between neighbouring vertices (the shared male's
+// gluteal cleft), and a share jump between two sweeps that disagree in a deep pose tears the
+// skin (14x edge stretch in a CMU crouch before this). Single-sweep hand-overs to skinning
+// (wrists, ankles, head) keep their planes: smoothing them lets twist collapse the forearm.
+void smooth_over_mesh(const std::vector<std::uint32_t>& welded, std::span<const std::uint32_t> indices,
+                      std::size_t count, int columns, std::vector<float>& shares) {
+  std::vector<bool> junction(count);
+  for (std::size_t v = 0; v < count; ++v) {
+    int sweeps = 0;
+    for (int c = 0; c + 1 < columns; ++c) sweeps += shares[v * columns + c] > 0.0f;
+    junction[v] = sweeps >= 2;
+  }
+  std::vector<std::vector<std::uint32_t>> neighbours(count);
+  for (std::size_t t = 0; t + 2 < indices.size(); t += 3)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = welded[indices[t + k]], b = welded[indices[t + (k + 1) % 3]];
+      neighbours[a].push_back(b);
+      neighbours[b].push_back(a);
+    }
+  for (auto& list : neighbours) {
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+  }
+  std::vector<float> next(shares.size());
+  for (int pass = 0; pass < kShareSmoothingPasses; ++pass) {
+    for (std::size_t v = 0; v < count; ++v) {
+      const float* own = &shares[v * columns];
+      float* out = &next[v * columns];
+      if (!junction[v] || neighbours[v].empty()) {
+        std::copy(own, own + columns, out);
+        continue;
+      }
+      const float scale = 0.5f / static_cast<float>(neighbours[v].size());
+      for (int c = 0; c < columns; ++c) out[c] = 0.5f * own[c];
+      for (std::uint32_t u : neighbours[v])
+        for (int c = 0; c < columns; ++c) out[c] += scale * shares[u * columns + c];
+    }
+    shares.swap(next);
+  }
 }
 
 }  // namespace
@@ -72,7 +119,11 @@ std::vector<VertexBinding> blend_shares(const Model& model, const RigMap& rig,
     }
   }
 
-  std::vector<VertexBinding> result(model.vertex_count());
+  // Shares per welded vertex: one per sweep, then the skinned share; each row sums to 1.
+  std::size_t welded_count = 0;
+  const std::vector<std::uint32_t> welded = weld_coincident_positions(model.positions, &welded_count);
+  const int columns = sweep_count + 1;
+  std::vector<float> shares(welded_count * columns, 0.0f);
   std::vector<float> share(sweep_count);
   for (std::size_t v = 0; v < model.vertex_count(); ++v) {
     std::array<float, kPartCount> skin{};
@@ -102,33 +153,43 @@ std::vector<VertexBinding> blend_shares(const Model& model, const RigMap& rig,
       if (s == torso || share[s] == 0.0f) continue;
       // The hand/foot/head's own skin weight takes over once it passes one half.
       const float end_skin = skin[static_cast<int>(end_part(sweeps[s].part))];
-      const float end_share = std::max(finish[s].weight(p), std::clamp(2.0f * end_skin - 1.0f, 0.0f, 1.0f));
+      const float end_share =
+          std::max(finish[s].weight(p), std::clamp(2.0f * end_skin - 1.0f, 0.0f, 1.0f));
       skinned += share[s] * end_share;
     }
     skinned = std::clamp(skinned, 0.0f, 1.0f);
+    float total = 0.0f;
+    for (float s : share) total += s;
+    float* row = &shares[welded[v] * columns];
+    if (total <= 0.0f) skinned = 1.0f;
+    for (int s = 0; s < sweep_count; ++s) row[s] = total > 0.0f ? share[s] * (1.0f - skinned) / total : 0.0f;
+    row[sweep_count] = skinned;
+  }
+  smooth_over_mesh(welded, model.indices, welded_count, columns, shares);
 
-    // Keep the two largest sweep shares, scaled to fill what skinning leaves.
+  // Keep the kSweepsPerVertex largest sweep shares, scaled to fill what skinning leaves.
+  std::vector<VertexBinding> result(model.vertex_count());
+  std::vector<int> order(sweep_count);
+  for (std::size_t v = 0; v < model.vertex_count(); ++v) {
+    const float* row = &shares[welded[v] * columns];
     VertexBinding& binding = result[v];
-    for (int s = 0; s < sweep_count; ++s) {
-      if (share[s] > binding.weight[0]) {
-        binding.weight[1] = binding.weight[0];
-        binding.sweep[1] = binding.sweep[0];
-        binding.weight[0] = share[s];
-        binding.sweep[0] = static_cast<std::int16_t>(s);
-      } else if (share[s] > binding.weight[1]) {
-        binding.weight[1] = share[s];
-        binding.sweep[1] = static_cast<std::int16_t>(s);
-      }
+    float sweeps_total = 0.0f, kept = 0.0f;
+    for (int s = 0; s < sweep_count; ++s) sweeps_total += row[s];
+    for (int s = 0; s < sweep_count; ++s) order[s] = s;
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return row[a] > row[b]; });
+    for (int k = 0; k < std::min(kSweepsPerVertex, sweep_count) && row[order[k]] > 0.0f; ++k) {
+      binding.sweep[k] = static_cast<std::int16_t>(order[k]);
+      binding.weight[k] = row[order[k]];
+      kept += row[order[k]];
     }
-    const float kept = binding.weight[0] + binding.weight[1];
-    if (kept <= 0.0f || skinned >= 1.0f) {
+    if (kept <= 1e-6f) {
       binding = VertexBinding{};
       binding.skin_weight = 1.0f;
       continue;
     }
-    for (float& w : binding.weight) w *= (1.0f - skinned) / kept;
-    binding.skin_weight = 1.0f - binding.weight[0] - binding.weight[1];
-    if (binding.weight[1] == 0.0f) binding.sweep[1] = -1;
+    float sum = 0.0f;
+    for (int k = 0; k < kSweepsPerVertex; ++k) sum += binding.weight[k] *= sweeps_total / kept;
+    binding.skin_weight = std::max(0.0f, 1.0f - sum);
   }
   return result;
 }

@@ -6,7 +6,7 @@
 // link, transition_half_width × the link's length on either side; a vertex's share of the limb
 // sweep rises smoothly (smoothstep) from 0 at the inner plane to 1 at the outer one, times a mask
 // from the model's skin weights on that limb (so the chest beside a shoulder stays torso), and
-// the torso takes the rest. A vertex keeps its two largest sweep shares.
+// the torso takes the rest. A vertex keeps its three largest sweep shares.
 // At a sweep's far end (wrist, ankle, head) the share of the skinned remainder rises the same
 // way across two planes around the end joint, or with the skin weight of the hand/foot/head,
 // whichever is larger; beyond the torso's first and last keys (below the pelvis, above the
@@ -15,7 +15,7 @@
 // Inputs:  model (n vertices), rig, world_rest (one per joint), sweeps (part + chain filled),
 //          options.
 // Output:  n VertexBinding with sweep, weight and skin_weight set (coordinates left empty);
-//          weight[0] + weight[1] + skin_weight = 1.
+//          the weights and skin_weight sum to 1.
 #pragma once
 
 #include <glm/glm.hpp>

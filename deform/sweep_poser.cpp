@@ -74,7 +74,7 @@ SweepPoser::SweepPoser(const BoundModel& bound) : bound_(bound) {
   for (std::size_t v = 0; v < n; ++v) {
     const VertexBinding& vb = bound.vertices[v];
     skin_weight_[v] = vb.skin_weight;
-    for (int k = 0; k < 2; ++k) {
+    for (int k = 0; k < kSweepsPerVertex; ++k) {
       if (vb.sweep[k] < 0 || vb.weight[k] == 0.0f) continue;
       const SweepCoordinate& c = vb.coordinate[k];
       // The row at or below t (the last row's predecessor at t = 1), and the fraction past it.
@@ -194,7 +194,7 @@ void SweepPoser::compute_normals(std::span<const glm::vec3> positions,
 glm::vec3 SweepPoser::reference_position(std::size_t v, std::span<const glm::mat4> skinning) const {
   const VertexBinding& vb = bound_.vertices[v];
   glm::vec3 p = vb.skin_weight * skinned_position(bound_.model, skinning, v);
-  for (int k = 0; k < 2; ++k)
+  for (int k = 0; k < kSweepsPerVertex; ++k)
     if (vb.sweep[k] >= 0) p += vb.weight[k] * evaluate_point(sweeps_[vb.sweep[k]], vb.coordinate[k]);
   return p;
 }

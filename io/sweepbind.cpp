@@ -26,7 +26,7 @@ constexpr std::uint64_t kMaxKeys = 1u << 10;
 static_assert(sizeof(deform::KeyAnchor) == 12);
 static_assert(sizeof(deform::KeyEllipse) == 36);
 static_assert(sizeof(deform::BindOptions) == 24);
-static_assert(sizeof(deform::VertexBinding) == 56);
+static_assert(sizeof(deform::VertexBinding) == 84);
 
 using deform::BodyPart;
 using deform::BoundModel;
@@ -172,7 +172,7 @@ std::string validate(const BoundModel& bound) {
   for (std::size_t v = 0; v < bound.vertices.size(); ++v) {
     const deform::VertexBinding& b = bound.vertices[v];
     float sum = b.skin_weight;
-    for (int k = 0; k < 2; ++k) {
+    for (int k = 0; k < deform::kSweepsPerVertex; ++k) {
       const deform::SweepCoordinate& c = b.coordinate[k];
       if (b.sweep[k] < -1 || b.sweep[k] >= sweeps || !finite(b.weight[k]) || !finite(c.t) ||
           !finite(c.theta) || !finite(c.da) || !finite(c.db) || !finite(c.c))

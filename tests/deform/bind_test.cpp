@@ -47,9 +47,9 @@ BoundModel bind_and_check(const Model& model, const std::string& label) {
   std::size_t sweep_bound = 0, sweep_part_vertices = 0, sweep_part_on_sweeps = 0;
   for (std::size_t v = 0; v < model.vertex_count(); ++v) {
     const VertexBinding& b = bound.vertices[v];
-    const float sum = b.weight[0] + b.weight[1] + b.skin_weight;
+    const float sum = b.weight[0] + b.weight[1] + b.weight[2] + b.skin_weight;
     EXPECT_NEAR(sum, 1.0f, 1e-5f) << label;  // shares are normalised in float
-    for (int k = 0; k < 2; ++k) {
+    for (int k = 0; k < kSweepsPerVertex; ++k) {
       if (b.sweep[k] >= 0) {
         EXPECT_TRUE(finite(b.coordinate[k])) << label;
       }
