@@ -95,6 +95,55 @@ TEST(SweepctlMannequin, WritesAClosedUvMappedModelNearTheRequestedSizeThatInspec
   fs::remove(out);
 }
 
+TEST(SweepctlPosing, BindPoseRenderAndPositionMapAClipFrame) {
+  const fs::path clip = shared("motion/cmu_01_01.bvh");
+  if (!fs::exists(clip)) GTEST_SKIP() << "shared data absent: " << clip;
+  const fs::path dir = temp_dir();
+  const std::string model = (dir / "m.glb").string(), binding = (dir / "m.sweepbind").string();
+  ASSERT_EQ(run_sweepctl("mannequin --vertices 3000 -o " + model).exit_code, 0);
+  Result r = run_sweepctl("bind " + model + " -o " + binding);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("rest-pose error"), std::string::npos) << r.output;
+
+  const std::string posing = binding + " --bvh " + clip.string() + " --frame 600";
+  r = run_sweepctl("pose " + posing + " -o " + (dir / "sweep.glb").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = run_sweepctl("pose " + posing + " --method lbs -o " + (dir / "lbs.glb").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const sweepd::deform::Model rest = sweepd::io::load_gltf(model);
+  const sweepd::deform::Model swept = sweepd::io::load_gltf(dir / "sweep.glb");
+  const sweepd::deform::Model skinned = sweepd::io::load_gltf(dir / "lbs.glb");
+  ASSERT_EQ(swept.vertex_count(), rest.vertex_count());
+  // A clip frame moves the body (the hips translate), and the two methods differ at joints.
+  float moved = 0.0f, differ = 0.0f;
+  for (std::size_t v = 0; v < rest.vertex_count(); ++v) {
+    moved = std::max(moved, glm::length(swept.positions[v] - rest.positions[v]));
+    differ = std::max(differ, glm::length(swept.positions[v] - skinned.positions[v]));
+  }
+  EXPECT_GT(moved, 0.05f);
+  EXPECT_GT(differ, 1e-4f);
+
+  r = run_sweepctl("pose " + posing + " --frames 10-12 -o " + (dir / "frames").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(dir / "frames" / "frame_00012.glb"));
+
+  r = run_sweepctl("render " + posing + " --size 64 --png " + (dir / "f.png").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_GT(fs::file_size(dir / "f.png"), 100u);
+  r = run_sweepctl("positionmap " + posing + " --size 64 -o " + (dir / "f.exr").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_GT(fs::file_size(dir / "f.exr"), 100u);
+
+  r = run_sweepctl("pose " + binding + " --frame 3 -o x.glb");
+  EXPECT_EQ(r.exit_code, 2) << r.output;  // a frame without a clip
+  r = run_sweepctl("pose " + binding + " --bvh " + clip.string() + " --frame 99999 -o x.glb");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("does not exist"), std::string::npos) << r.output;
+  r = run_sweepctl("pose " + posing + " --method wobble -o x.glb");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  fs::remove_all(dir);
+}
+
 TEST(SweepctlErrors, NameTheFileAndTheProblemWithoutCrashing) {
   const fs::path dir = temp_dir();
   const fs::path truncated = dir / "truncated.glb";
