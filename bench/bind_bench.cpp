@@ -32,8 +32,7 @@ int main(int argc, char** argv) {
   static deform::Model male_model;
   if (std::filesystem::exists(male)) {
     male_model = io::load_gltf(male);
-    benchmark::RegisterBenchmark("bind/male", run_bind, &male_model)
-        ->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark("bind/male", run_bind, &male_model)->Unit(benchmark::kMillisecond);
   }
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();

@@ -101,7 +101,8 @@ int main(int argc, char** argv) {
   const std::filesystem::path male =
       std::filesystem::path(SWEEPD_SHARED_DATA) / "models" / "makehuman_male_cmu.glb";
   if (std::filesystem::exists(male)) {
-    models.push_back(std::make_unique<BenchModel>(BenchModel{"male", io::load_gltf(male), {}, {}, {}}));
+    models.push_back(
+        std::make_unique<BenchModel>(BenchModel{"male", io::load_gltf(male), {}, {}, {}}));
   } else {
     std::fprintf(stderr, "shared male absent (%s): benchmarking the mannequins only\n",
                  male.string().c_str());
@@ -111,8 +112,8 @@ int main(int argc, char** argv) {
     subject->bound = std::make_unique<deform::BoundModel>(
         deform::bind(subject->model, deform::detect_rig_map(subject->model.skeleton)));
     for (const bool with_normals : {false, true}) {
-      const std::string name = "sweep/" + subject->name + "/" +
-                               (with_normals ? "positions+normals" : "positions");
+      const std::string name =
+          "sweep/" + subject->name + "/" + (with_normals ? "positions+normals" : "positions");
       benchmark::RegisterBenchmark(name.c_str(), run_sweep, subject.get(), with_normals)
           ->Unit(benchmark::kMicrosecond);
     }

@@ -9,6 +9,7 @@
 #include "cli/commands.h"
 #include "cli/model_loading.h"
 #include "cli/progress_bar.h"
+#include "cli/subcommand.h"
 #include "cli/text_format.h"
 #include "deform/bind.h"
 #include "io/sweepbind.h"
@@ -34,9 +35,10 @@ void print_sweep(const deform::BoundModel& bound, int s) {
     primary += b.sweep[0] == s;
     blended += (b.sweep[0] == s && b.sweep[1] >= 0) || b.sweep[1] == s || b.sweep[2] == s;
   }
-  std::printf("\nsweep %-10s %zu keys, %s vertices (%s shared with another sweep), volume %.5f m3\n",
-              deform::to_string(sweep.part), sweep.rest_keys.size(),
-              with_thousands(primary).c_str(), with_thousands(blended).c_str(), sweep.rest_volume);
+  std::printf(
+      "\nsweep %-10s %zu keys, %s vertices (%s shared with another sweep), volume %.5f m3\n",
+      deform::to_string(sweep.part), sweep.rest_keys.size(), with_thousands(primary).c_str(),
+      with_thousands(blended).c_str(), sweep.rest_volume);
   std::printf("  %-26s %-26s %7s %7s %8s %6s\n", "key", "centre (m)", "a (m)", "b (m)", "fit err",
               "area");
   for (std::size_t k = 0; k < sweep.rest_keys.size(); ++k) {
@@ -56,36 +58,29 @@ void print_sweep(const deform::BoundModel& bound, int s) {
 
 }  // namespace
 
-int run_bind(const std::vector<std::string>& args) {
+int run_bind(const std::vector<std::string>& arguments) {
   std::filesystem::path model_file, out, rig_file;
   deform::BindOptions options;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& arg = args[i];
-    const bool has_value = i + 1 < args.size();
-    if (arg == "--help" || arg == "-h") {
-      std::fputs(kUsage, stdout);
-      return 0;
-    } else if (arg == "-o" && has_value) {
-      out = args[++i];
-    } else if (arg == "--rig" && has_value) {
-      rig_file = args[++i];
-    } else if (arg == "--keys-per-link" && has_value) {
-      if (!parse_int(args[++i], 0, 8, options.intermediate_keys_per_link)) {
-        std::fprintf(stderr, "sweepctl bind: --keys-per-link expects a whole number 0..8\n");
-        return 2;
+  auto parse = [&](const std::vector<std::string>& args) -> std::string {
+    for (std::size_t i = 0; i < args.size(); ++i) {
+      const std::string& arg = args[i];
+      const bool has_value = i + 1 < args.size();
+      if (arg == "-o" && has_value) {
+        out = args[++i];
+      } else if (arg == "--rig" && has_value) {
+        rig_file = args[++i];
+      } else if (arg == "--keys-per-link" && has_value) {
+        if (!parse_int(args[++i], 0, 8, options.intermediate_keys_per_link))
+          return "--keys-per-link expects a whole number 0..8";
+      } else if (arg.starts_with("-") || !model_file.empty()) {
+        return "unexpected argument '" + arg + "'";
+      } else {
+        model_file = arg;
       }
-    } else if (arg.starts_with("-") || !model_file.empty()) {
-      std::fprintf(stderr, "sweepctl bind: unexpected argument '%s'\n\n%s", arg.c_str(), kUsage);
-      return 2;
-    } else {
-      model_file = arg;
     }
-  }
-  if (model_file.empty() || out.empty()) {
-    std::fprintf(stderr, "sweepctl bind: need MODEL and -o OUT.sweepbind\n\n%s", kUsage);
-    return 2;
-  }
-  try {
+    return model_file.empty() || out.empty() ? "need MODEL and -o OUT.sweepbind" : "";
+  };
+  return run_subcommand("bind", kUsage, arguments, parse, [&] {
     const LoadedModel loaded = load_model_and_rig(model_file, rig_file);
     const auto start = std::chrono::steady_clock::now();
     deform::BoundModel bound;
@@ -112,14 +107,12 @@ int run_bind(const std::vector<std::string>& args) {
                 with_thousands(loaded.model.vertex_count()).c_str(), bound.sweeps.size(),
                 bound.rig.convention.c_str(), seconds);
     for (int s = 0; s < static_cast<int>(bound.sweeps.size()); ++s) print_sweep(bound, s);
-    std::printf("\nskinned only (hands, feet, head): %s vertices\n", with_thousands(skinned).c_str());
+    std::printf("\nskinned only (hands, feet, head): %s vertices\n",
+                with_thousands(skinned).c_str());
     std::printf("rest-pose error: max %.3g m (%.3g x height)\n", worst, worst / (hi - lo));
     std::printf("wrote %s\n", out.string().c_str());
     return 0;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "sweepctl bind: %s\n", e.what());
-    return 1;
-  }
+  });
 }
 
 }  // namespace sweepd::cli

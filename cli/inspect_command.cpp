@@ -42,8 +42,8 @@ int inspect_model(const std::filesystem::path& file) {
   int max_influences = 0;
   double influence_sum = 0.0;
   for (const auto& weights : model.skin_weights) {
-    const int used = static_cast<int>(std::count_if(weights.begin(), weights.end(),
-                                                    [](float w) { return w > 0.0f; }));
+    const int used = static_cast<int>(
+        std::count_if(weights.begin(), weights.end(), [](float w) { return w > 0.0f; }));
     max_influences = std::max(max_influences, used);
     influence_sum += used;
   }
@@ -51,11 +51,12 @@ int inspect_model(const std::filesystem::path& file) {
   const deform::Skeleton& skeleton = model.skeleton;
 
   std::printf("file:        %s\n", file.string().c_str());
-  std::printf("kind:        skinned model (glTF)%s%s\n", report.generator.empty() ? "" : ", generator ",
-              report.generator.c_str());
+  std::printf("kind:        skinned model (glTF)%s%s\n",
+              report.generator.empty() ? "" : ", generator ", report.generator.c_str());
   std::printf("vertices:    %s\n", with_thousands(model.vertex_count()).c_str());
-  std::printf("triangles:   %s (from %d primitive%s)\n", with_thousands(model.triangle_count()).c_str(),
-              report.source_primitive_count, report.source_primitive_count == 1 ? "" : "s");
+  std::printf("triangles:   %s (from %d primitive%s)\n",
+              with_thousands(model.triangle_count()).c_str(), report.source_primitive_count,
+              report.source_primitive_count == 1 ? "" : "s");
   std::printf("joints:      %d\n", skeleton.size());
   std::printf("UVs:         %s\n", model.has_uvs() ? "present" : "absent");
   std::printf("bounds:      min (%.3f, %.3f, %.3f)  max (%.3f, %.3f, %.3f) m\n", lo.x, lo.y, lo.z,
@@ -67,19 +68,19 @@ int inspect_model(const std::filesystem::path& file) {
               topology.components == 1 ? "" : "s",
               topology.closed_manifold() ? "closed 2-manifold" : "NOT closed 2-manifold");
   if (!topology.closed_manifold())
-    std::printf("             %zu boundary edges, %zu non-manifold edges, %zu non-manifold vertices\n",
-                topology.boundary_edges, topology.non_manifold_edges,
-                topology.non_manifold_vertices);
-  std::printf("weights:     influences per vertex mean %.2f, max %d; %d renormalised, %d unweighted\n",
-              influence_sum / std::max<std::size_t>(1, model.vertex_count()), max_influences,
-              report.renormalised_weight_count, report.zero_weight_vertex_count);
+    std::printf(
+        "             %zu boundary edges, %zu non-manifold edges, %zu non-manifold vertices\n",
+        topology.boundary_edges, topology.non_manifold_edges, topology.non_manifold_vertices);
+  std::printf(
+      "weights:     influences per vertex mean %.2f, max %d; %d renormalised, %d unweighted\n",
+      influence_sum / std::max<std::size_t>(1, model.vertex_count()), max_influences,
+      report.renormalised_weight_count, report.zero_weight_vertex_count);
   print_warnings(report.warnings);
   std::printf("joint tree:\n");
   for (int j = 0; j < skeleton.size(); ++j)
     if (skeleton.joints[j].parent < 0)
-      print_tree(
-          [&](int n) { return skeleton.children(n); },
-          [&](int n) { return skeleton.joints[n].name; }, j, 0);
+      print_tree([&](int n) { return skeleton.children(n); },
+                 [&](int n) { return skeleton.joints[n].name; }, j, 0);
   return 0;
 }
 
@@ -108,8 +109,7 @@ int inspect_motion(const std::filesystem::path& file) {
     return text + "]";
   };
   for (int j = 0; j < static_cast<int>(motion.joints.size()); ++j)
-    if (motion.joints[j].parent < 0)
-      print_tree(children_of, label, j, 0);
+    if (motion.joints[j].parent < 0) print_tree(children_of, label, j, 0);
   return 0;
 }
 
@@ -130,7 +130,8 @@ int run_inspect(const std::vector<std::string>& args) {
   try {
     if (extension == ".bvh") return inspect_motion(file);
     if (extension == ".glb" || extension == ".gltf") return inspect_model(file);
-    std::fprintf(stderr, "sweepctl inspect: %s: unknown file type '%s' (expected .glb, .gltf or .bvh)\n",
+    std::fprintf(stderr,
+                 "sweepctl inspect: %s: unknown file type '%s' (expected .glb, .gltf or .bvh)\n",
                  file.string().c_str(), extension.c_str());
     return 2;
   } catch (const std::exception& e) {

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "cli/commands.h"
+#include "cli/subcommand.h"
 #include "cli/text_format.h"
 #include "deform/mannequin.h"
 #include "io/gltf_save.h"
@@ -24,41 +25,29 @@ constexpr int kMinVertices = 2000;
 constexpr int kMaxVertices = 300000;
 }  // namespace
 
-int run_mannequin(const std::vector<std::string>& args) {
+int run_mannequin(const std::vector<std::string>& arguments) {
   deform::MannequinOptions options;
   std::filesystem::path out;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& arg = args[i];
-    const bool has_value = i + 1 < args.size();
-    if (arg == "--help" || arg == "-h") {
-      std::fputs(kUsage, stdout);
-      return 0;
-    } else if (arg == "--vertices" && has_value) {
-      const std::string& value = args[++i];
-      if (!parse_int(value, INT_MIN, INT_MAX, options.target_vertices)) {
-        std::fprintf(stderr, "sweepctl mannequin: --vertices expects a whole number, got '%s'\n",
-                     value.c_str());
-        return 2;
+  auto parse = [&](const std::vector<std::string>& args) -> std::string {
+    for (std::size_t i = 0; i < args.size(); ++i) {
+      const std::string& arg = args[i];
+      const bool has_value = i + 1 < args.size();
+      if (arg == "--vertices" && has_value) {
+        if (!parse_int(args[++i], INT_MIN, INT_MAX, options.target_vertices))
+          return "--vertices expects a whole number, got '" + args[i] + "'";
+      } else if (arg == "-o" && has_value) {
+        out = args[++i];
+      } else {
+        return "unexpected argument '" + arg + "'";
       }
-    } else if (arg == "-o" && has_value) {
-      out = args[++i];
-    } else {
-      std::fprintf(stderr, "sweepctl mannequin: unexpected argument '%s'\n\n", arg.c_str());
-      std::fputs(kUsage, stderr);
-      return 2;
     }
-  }
-  if (out.empty()) {
-    std::fprintf(stderr, "sweepctl mannequin: missing -o OUT.glb\n\n");
-    std::fputs(kUsage, stderr);
-    return 2;
-  }
-  if (options.target_vertices < kMinVertices || options.target_vertices > kMaxVertices) {
-    std::fprintf(stderr, "sweepctl mannequin: --vertices %d is outside %d..%d\n",
-                 options.target_vertices, kMinVertices, kMaxVertices);
-    return 2;
-  }
-  try {
+    if (out.empty()) return "missing -o OUT.glb";
+    if (options.target_vertices < kMinVertices || options.target_vertices > kMaxVertices)
+      return "--vertices " + std::to_string(options.target_vertices) + " is outside " +
+             std::to_string(kMinVertices) + ".." + std::to_string(kMaxVertices);
+    return "";
+  };
+  return run_subcommand("mannequin", kUsage, arguments, parse, [&] {
     const auto start = std::chrono::steady_clock::now();
     const deform::Model model = deform::make_mannequin(options);
     io::save_gltf(model, out);
@@ -68,10 +57,7 @@ int run_mannequin(const std::vector<std::string>& args) {
                 with_thousands(model.vertex_count()).c_str(),
                 with_thousands(model.triangle_count()).c_str(), model.skeleton.size(), seconds);
     return 0;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "sweepctl mannequin: %s\n", e.what());
-    return 1;
-  }
+  });
 }
 
 }  // namespace sweepd::cli

@@ -6,38 +6,34 @@
 #include "cli/commands.h"
 #include "cli/posed_model.h"
 #include "cli/progress_bar.h"
+#include "cli/subcommand.h"
 #include "io/gltf_save.h"
 
 namespace sweepd::cli {
 
 namespace {
-const std::string kUsage = std::string(
-    "usage: sweepctl pose MODEL [--bvh CLIP [--frame N | --frames A-B]] [--pose POSE.json]\n"
-    "                     [--method sweep|lbs|dqs] -o OUT\n"
-    "  -o OUT             posed .glb for one frame; a folder for --frames (frame_NNNNN.glb)\n") +
-                           kPosingUsage;
+const std::string kUsage =
+    std::string(
+        "usage: sweepctl pose MODEL [--bvh CLIP [--frame N | --frames A-B]] [--pose POSE.json]\n"
+        "                     [--method sweep|lbs|dqs] -o OUT\n"
+        "  -o OUT             posed .glb for one frame; a folder for --frames "
+        "(frame_NNNNN.glb)\n") +
+    kPosingUsage;
 }  // namespace
 
 int run_pose(const std::vector<std::string>& arguments) {
-  std::vector<std::string> args = arguments;
-  if (!args.empty() && (args[0] == "--help" || args[0] == "-h")) {
-    std::fputs(kUsage.c_str(), stdout);
-    return 0;
-  }
   PosingArguments posing;
-  std::string problem = take_posing_arguments(args, posing);
   std::filesystem::path out;
-  if (problem.empty()) {
-    if (args.size() == 2 && args[0] == "-o")
+  auto parse = [&](std::vector<std::string> args) {
+    std::string problem = take_posing_arguments(args, posing);
+    if (!problem.empty()) return problem;
+    if (args.size() == 2 && args[0] == "-o") {
       out = args[1];
-    else
-      problem = args.empty() ? "missing -o OUT" : "unexpected argument '" + args[0] + "'";
-  }
-  if (!problem.empty()) {
-    std::fprintf(stderr, "sweepctl pose: %s\n\n%s", problem.c_str(), kUsage.c_str());
-    return 2;
-  }
-  try {
+      return std::string();
+    }
+    return args.empty() ? std::string("missing -o OUT") : "unexpected argument '" + args[0] + "'";
+  };
+  return run_subcommand("pose", kUsage, arguments, parse, [&] {
     PosedModel posed(posing);
     deform::Model frame_model = posed.model();
     auto write_frame = [&](int frame, const std::filesystem::path& file) {
@@ -64,10 +60,7 @@ int run_pose(const std::vector<std::string>& arguments) {
     std::printf("wrote %d frames to %s (%s)\n", posing.last_frame - posing.first_frame + 1,
                 out.string().c_str(), deform::to_string(posing.method));
     return 0;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "sweepctl pose: %s\n", e.what());
-    return 1;
-  }
+  });
 }
 
 }  // namespace sweepd::cli

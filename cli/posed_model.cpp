@@ -77,9 +77,8 @@ PosedModel::PosedModel(const PosingArguments& arguments) : arguments_(arguments)
     retargeter_.emplace(io::load_bvh(arguments.bvh), bound_->model, arguments.bvh_map);
     if (arguments.last_frame >= retargeter_->frame_count())
       throw std::invalid_argument(arguments.bvh.string() + " has " +
-                                  std::to_string(retargeter_->frame_count()) +
-                                  " frames; frame " + std::to_string(arguments.last_frame) +
-                                  " does not exist");
+                                  std::to_string(retargeter_->frame_count()) + " frames; frame " +
+                                  std::to_string(arguments.last_frame) + " does not exist");
   }
   if (!arguments.pose_file.empty())
     file_pose_ = io::load_pose_json(arguments.pose_file, bound_->model.skeleton);

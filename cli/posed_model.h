@@ -17,11 +17,11 @@
 namespace sweepd::cli {
 
 struct PosingArguments {
-  std::filesystem::path model;      // .glb/.gltf/.sweepbind
-  std::filesystem::path rig;        // optional rig map JSON (binding a glTF)
-  std::filesystem::path bvh;        // optional clip
-  std::filesystem::path bvh_map;    // optional BVH→model joint name map JSON
-  std::filesystem::path pose_file;  // optional pose JSON
+  std::filesystem::path model;          // .glb/.gltf/.sweepbind
+  std::filesystem::path rig;            // optional rig map JSON (binding a glTF)
+  std::filesystem::path bvh;            // optional clip
+  std::filesystem::path bvh_map;        // optional BVH→model joint name map JSON
+  std::filesystem::path pose_file;      // optional pose JSON
   int first_frame = 0, last_frame = 0;  // --frame N or --frames A-B (clip frames)
   bool frame_range = false;
   deform::DeformMethod method = deform::DeformMethod::kSweep;

@@ -5,6 +5,7 @@
 
 #include "cli/commands.h"
 #include "cli/posed_model.h"
+#include "cli/subcommand.h"
 #include "cli/text_format.h"
 #include "gpu/egl_context.h"
 #include "gpu/position_map_renderer.h"
@@ -13,13 +14,14 @@
 namespace sweepd::cli {
 
 namespace {
-const std::string kUsage = std::string(
-    "usage: sweepctl positionmap MODEL [posing options] -o OUT.exr [--size N] [--gutter G]\n"
-    "                            [--normals] [--compression zip|zips|piz|none]\n"
-    "  --size N           map width and height (default 1024)\n"
-    "  --gutter G         pixels of island dilation (default 0)\n"
-    "  --normals          also write N.X N.Y N.Z\n") +
-                           kPosingUsage;
+const std::string kUsage =
+    std::string(
+        "usage: sweepctl positionmap MODEL [posing options] -o OUT.exr [--size N] [--gutter G]\n"
+        "                            [--normals] [--compression zip|zips|piz|none]\n"
+        "  --size N           map width and height (default 1024)\n"
+        "  --gutter G         pixels of island dilation (default 0)\n"
+        "  --normals          also write N.X N.Y N.Z\n") +
+    kPosingUsage;
 
 std::optional<io::ExrCompression> parse_compression(const std::string& name) {
   if (name == "zip") return io::ExrCompression::kZip;
@@ -31,42 +33,38 @@ std::optional<io::ExrCompression> parse_compression(const std::string& name) {
 }  // namespace
 
 int run_positionmap(const std::vector<std::string>& arguments) {
-  std::vector<std::string> args = arguments;
-  if (!args.empty() && (args[0] == "--help" || args[0] == "-h")) {
-    std::fputs(kUsage.c_str(), stdout);
-    return 0;
-  }
   PosingArguments posing;
-  std::string problem = take_posing_arguments(args, posing);
   std::filesystem::path out;
   int size = 1024, gutter = 0;
   bool with_normals = false;
   io::ExrOptions exr;
-  for (std::size_t i = 0; problem.empty() && i < args.size(); ++i) {
-    const bool has_value = i + 1 < args.size();
-    if (args[i] == "-o" && has_value) {
-      out = args[++i];
-    } else if (args[i] == "--size" && has_value) {
-      if (!parse_int(args[++i], 1, 16384, size)) problem = "--size expects 1..16384";
-    } else if (args[i] == "--gutter" && has_value) {
-      if (!parse_int(args[++i], 0, 64, gutter)) problem = "--gutter expects 0..64";
-    } else if (args[i] == "--normals") {
-      with_normals = true;
-    } else if (args[i] == "--compression" && has_value) {
-      const auto compression = parse_compression(args[++i]);
-      if (!compression) problem = "--compression expects zip, zips, piz or none";
-      else exr.compression = *compression;
-    } else {
-      problem = "unexpected argument '" + args[i] + "'";
+  auto parse = [&](std::vector<std::string> args) {
+    std::string problem = take_posing_arguments(args, posing);
+    for (std::size_t i = 0; problem.empty() && i < args.size(); ++i) {
+      const bool has_value = i + 1 < args.size();
+      if (args[i] == "-o" && has_value) {
+        out = args[++i];
+      } else if (args[i] == "--size" && has_value) {
+        if (!parse_int(args[++i], 1, 16384, size)) problem = "--size expects 1..16384";
+      } else if (args[i] == "--gutter" && has_value) {
+        if (!parse_int(args[++i], 0, 64, gutter)) problem = "--gutter expects 0..64";
+      } else if (args[i] == "--normals") {
+        with_normals = true;
+      } else if (args[i] == "--compression" && has_value) {
+        const auto compression = parse_compression(args[++i]);
+        if (!compression)
+          problem = "--compression expects zip, zips, piz or none";
+        else
+          exr.compression = *compression;
+      } else {
+        problem = "unexpected argument '" + args[i] + "'";
+      }
     }
-  }
-  if (problem.empty() && out.empty()) problem = "missing -o OUT.exr";
-  if (problem.empty() && posing.frame_range) problem = "positionmap takes one --frame";
-  if (!problem.empty()) {
-    std::fprintf(stderr, "sweepctl positionmap: %s\n\n%s", problem.c_str(), kUsage.c_str());
-    return 2;
-  }
-  try {
+    if (problem.empty() && out.empty()) problem = "missing -o OUT.exr";
+    if (problem.empty() && posing.frame_range) problem = "positionmap takes one --frame";
+    return problem;
+  };
+  return run_subcommand("positionmap", kUsage, arguments, parse, [&] {
     PosedModel posed(posing);
     if (!posed.model().has_uvs())
       throw std::invalid_argument(posing.model.string() + " has no UVs: no position map");
@@ -79,9 +77,9 @@ int run_positionmap(const std::vector<std::string>& arguments) {
     options.gutter_pixels = gutter;
     const std::size_t texels = static_cast<std::size_t>(size) * size;
     std::vector<float> p(texels * 3), n(with_normals ? texels * 3 : 0), a(texels);
-    renderer.render({posed.model().uvs, positions, with_normals ? normals : std::vector<glm::vec3>{},
-                     posed.model().indices},
-                    options, {p, n, a});
+    if (!with_normals) normals.clear();
+    renderer.render({posed.model().uvs, positions, normals, posed.model().indices}, options,
+                    {p, n, a});
     exr.model = posed.model().name;
     exr.frame = posing.first_frame;
     exr.pose_hash = pose_hash(posed.pose(posing.first_frame));
@@ -89,10 +87,7 @@ int run_positionmap(const std::vector<std::string>& arguments) {
     std::printf("wrote %s (%dx%d, %s, %s)\n", out.string().c_str(), size, size,
                 deform::to_string(posing.method), context.renderer().c_str());
     return 0;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "sweepctl positionmap: %s\n", e.what());
-    return 1;
-  }
+  });
 }
 
 }  // namespace sweepd::cli

@@ -5,6 +5,7 @@
 
 #include "cli/commands.h"
 #include "cli/posed_model.h"
+#include "cli/subcommand.h"
 #include "cli/text_format.h"
 #include "gpu/egl_context.h"
 #include "gpu/preview_renderer.h"
@@ -14,12 +15,14 @@ namespace sweepd::cli {
 
 namespace {
 
-const std::string kUsage = std::string(
-    "usage: sweepctl render MODEL [posing options] --png OUT.png [--size N] [--segments]\n"
-    "  --png OUT.png      where to write the picture\n"
-    "  --size N           image width and height in pixels (default 800)\n"
-    "  --segments         colour vertices by sweep (torso, neck, arms, legs) and skinned parts\n") +
-                           kPosingUsage;
+const std::string kUsage =
+    std::string(
+        "usage: sweepctl render MODEL [posing options] --png OUT.png [--size N] [--segments]\n"
+        "  --png OUT.png      where to write the picture\n"
+        "  --size N           image width and height in pixels (default 800)\n"
+        "  --segments         colour vertices by sweep (torso, neck, arms, legs) and skinned "
+        "parts\n") +
+    kPosingUsage;
 
 // One colour per sweep in bind order (torso, neck, left/right arm, left/right leg); grey for
 // the share that follows the model's own skinning.
@@ -33,40 +36,33 @@ glm::vec3 segment_colour(int sweep) {
 }  // namespace
 
 int run_render(const std::vector<std::string>& arguments) {
-  std::vector<std::string> args = arguments;
-  if (!args.empty() && (args[0] == "--help" || args[0] == "-h")) {
-    std::fputs(kUsage.c_str(), stdout);
-    return 0;
-  }
   PosingArguments posing;
-  std::string problem = take_posing_arguments(args, posing);
   std::filesystem::path png;
   int size = 800;
   bool segments = false;
-  for (std::size_t i = 0; problem.empty() && i < args.size(); ++i) {
-    if (args[i] == "--png" && i + 1 < args.size()) {
-      png = args[++i];
-    } else if (args[i] == "--size" && i + 1 < args.size()) {
-      if (!parse_int(args[++i], 16, 8192, size)) problem = "--size expects 16..8192";
-    } else if (args[i] == "--segments") {
-      segments = true;
-    } else {
-      problem = "unexpected argument '" + args[i] + "'";
+  auto parse = [&](std::vector<std::string> args) {
+    std::string problem = take_posing_arguments(args, posing);
+    for (std::size_t i = 0; problem.empty() && i < args.size(); ++i) {
+      if (args[i] == "--png" && i + 1 < args.size()) {
+        png = args[++i];
+      } else if (args[i] == "--size" && i + 1 < args.size()) {
+        if (!parse_int(args[++i], 16, 8192, size)) problem = "--size expects 16..8192";
+      } else if (args[i] == "--segments") {
+        segments = true;
+      } else {
+        problem = "unexpected argument '" + args[i] + "'";
+      }
     }
-  }
-  if (problem.empty() && png.empty()) problem = "missing --png OUT.png";
-  if (problem.empty() && posing.frame_range) problem = "render takes one --frame";
-  if (!problem.empty()) {
-    std::fprintf(stderr, "sweepctl render: %s\n\n%s", problem.c_str(), kUsage.c_str());
-    return 2;
-  }
-  try {
+    if (problem.empty() && png.empty()) problem = "missing --png OUT.png";
+    if (problem.empty() && posing.frame_range) problem = "render takes one --frame";
+    return problem;
+  };
+  return run_subcommand("render", kUsage, arguments, parse, [&] {
     PosedModel posed(posing);
     std::vector<glm::vec3> positions, normals, colours;
     posed.deform(posing.first_frame, positions, normals);
     if (segments) {
-      const deform::BoundModel& bound = posed.bound();
-      for (const deform::VertexBinding& b : bound.vertices) {
+      for (const deform::VertexBinding& b : posed.bound().vertices) {
         glm::vec3 c = b.skin_weight * glm::vec3(0.6f);
         for (int k = 0; k < deform::kSweepsPerVertex; ++k)
           if (b.sweep[k] >= 0) c += b.weight[k] * segment_colour(b.sweep[k]);
@@ -83,10 +79,7 @@ int run_render(const std::vector<std::string>& arguments) {
     std::printf("wrote %s (%dx%d, %s, %s)\n", png.string().c_str(), size, size,
                 deform::to_string(posing.method), context.renderer().c_str());
     return 0;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "sweepctl render: %s\n", e.what());
-    return 1;
-  }
+  });
 }
 
 }  // namespace sweepd::cli

@@ -25,7 +25,8 @@ const Command kCommands[] = {
 };
 
 void print_usage(std::FILE* out) {
-  std::fprintf(out, "usage: sweepctl COMMAND [ARGS...]   (sweepctl COMMAND --help for details)\n\n");
+  std::fprintf(out,
+               "usage: sweepctl COMMAND [ARGS...]   (sweepctl COMMAND --help for details)\n\n");
   for (const Command& c : kCommands) std::fprintf(out, "  %-12s %s\n", c.name, c.summary);
 }
 

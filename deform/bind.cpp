@@ -29,10 +29,12 @@ std::vector<SweepPlan> plan_sweeps(const RigMap& rig, std::span<const glm::mat4>
   return {
       {BodyPart::kTorso, rig.torso.chain, lateral},
       {BodyPart::kNeck, rig.neck.chain, lateral},
-      {BodyPart::kLeftArm, limb(rig.left_arm.upper, rig.left_arm.lower, rig.left_arm.hand), forward},
+      {BodyPart::kLeftArm, limb(rig.left_arm.upper, rig.left_arm.lower, rig.left_arm.hand),
+       forward},
       {BodyPart::kRightArm, limb(rig.right_arm.upper, rig.right_arm.lower, rig.right_arm.hand),
        forward},
-      {BodyPart::kLeftLeg, limb(rig.left_leg.upper, rig.left_leg.lower, rig.left_leg.foot), forward},
+      {BodyPart::kLeftLeg, limb(rig.left_leg.upper, rig.left_leg.lower, rig.left_leg.foot),
+       forward},
       {BodyPart::kRightLeg, limb(rig.right_leg.upper, rig.right_leg.lower, rig.right_leg.foot),
        forward},
   };
@@ -68,9 +70,11 @@ BoundModel bind(const Model& model, const RigMap& rig, const BindOptions& option
   const std::vector<std::uint32_t> welded_id =
       weld_coincident_positions(model.positions, &welded_count);
   std::vector<glm::vec3> welded_positions(welded_count);
-  for (std::size_t v = 0; v < welded_id.size(); ++v) welded_positions[welded_id[v]] = model.positions[v];
+  for (std::size_t v = 0; v < welded_id.size(); ++v)
+    welded_positions[welded_id[v]] = model.positions[v];
   std::vector<std::uint32_t> welded_indices(model.indices.size());
-  for (std::size_t i = 0; i < welded_indices.size(); ++i) welded_indices[i] = welded_id[model.indices[i]];
+  for (std::size_t i = 0; i < welded_indices.size(); ++i)
+    welded_indices[i] = welded_id[model.indices[i]];
 
   const std::vector<SweepPlan> plans = plan_sweeps(rig, world_rest);
   std::vector<Sweep> sweeps;
@@ -87,7 +91,8 @@ BoundModel bind(const Model& model, const RigMap& rig, const BindOptions& option
   bound.vertices = blend_shares(model, rig, world_rest, bound.sweeps, options);
 
   std::vector<SweepPlanes> planes;
-  for (const Sweep& sweep : sweeps) planes.push_back(sample_planes(sweep, options.plane_samples_per_span));
+  for (const Sweep& sweep : sweeps)
+    planes.push_back(sample_planes(sweep, options.plane_samples_per_span));
   const std::size_t n = model.vertex_count();
   for (std::size_t v = 0; v < n; ++v) {
     if (v % 4096 == 0) report(0.55 + 0.45 * v / n, "binding vertices");

@@ -34,10 +34,10 @@ int nearest_usable(const std::vector<RawKey>& keys, int k) {
   int best = -1;
   for (int i = 0; i < static_cast<int>(keys.size()); ++i) {
     if (i == k || !keys[i].usable) continue;
-    const bool better_kind = best < 0 || (!keys[i].anchor.is_joint_key() &&
-                                          keys[best].anchor.is_joint_key());
-    const bool same_kind = best >= 0 && keys[i].anchor.is_joint_key() ==
-                                            keys[best].anchor.is_joint_key();
+    const bool better_kind =
+        best < 0 || (!keys[i].anchor.is_joint_key() && keys[best].anchor.is_joint_key());
+    const bool same_kind =
+        best >= 0 && keys[i].anchor.is_joint_key() == keys[best].anchor.is_joint_key();
     if (better_kind || (same_kind && std::abs(i - k) < std::abs(best - k))) best = i;
   }
   return best;
@@ -47,8 +47,8 @@ int nearest_usable(const std::vector<RawKey>& keys, int k) {
 
 BoundSweep fit_sweep_keys(std::span<const glm::vec3> positions,
                           std::span<const std::uint32_t> indices,
-                          std::span<const glm::mat4> world_rest,
-                          BodyPart part, std::span<const int> chain, const BindOptions& options,
+                          std::span<const glm::mat4> world_rest, BodyPart part,
+                          std::span<const int> chain, const BindOptions& options,
                           glm::vec3 x_hint) {
   const int keys_per_link = options.intermediate_keys_per_link;
   const JointKeyCentre centre_rule = options.joint_key_centre;
@@ -58,8 +58,8 @@ BoundSweep fit_sweep_keys(std::span<const glm::vec3> positions,
   const int joints = static_cast<int>(chain.size());
   std::vector<glm::vec3> link_direction(joints);
   for (int i = 0; i + 1 < joints; ++i) {
-    const glm::vec3 link = joint_position(world_rest, chain[i + 1]) -
-                           joint_position(world_rest, chain[i]);
+    const glm::vec3 link =
+        joint_position(world_rest, chain[i + 1]) - joint_position(world_rest, chain[i]);
     if (glm::length(link) < 1e-5f)
       throw std::invalid_argument("the " + part_name + " sweep: joints " +
                                   std::to_string(chain[i]) + " and " +

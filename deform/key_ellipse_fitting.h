@@ -13,8 +13,8 @@
 // previous key's (to x_hint for the first key), so Q(t) does not twist by 90° where a limb's
 // section turns from wide to deep; a may therefore be smaller than b.
 // Inputs:  positions, indices: the rest mesh with UV-seam duplicates welded (cut loops are
-//          chained through shared vertices), world_rest (Skeleton::world_rest_matrices, one per joint),
-//          part and chain (>= 2 joints, root first), options, x_hint (world direction).
+//          chained through shared vertices), world_rest (Skeleton::world_rest_matrices, one per
+//          joint), part and chain (>= 2 joints, root first), options, x_hint (world direction).
 // Output:  BoundSweep with chain, anchors, rest_keys, key_fit_errors, key_area_ratios,
 //          key_fallback filled (rest_volume is left to the caller).
 // Throws std::invalid_argument naming the part when no key of the chain can be fitted or two
@@ -34,8 +34,7 @@ inline constexpr float kMaxJointKeyAreaRatio = 1.8f;
 
 BoundSweep fit_sweep_keys(std::span<const glm::vec3> positions,
                           std::span<const std::uint32_t> indices,
-                          std::span<const glm::mat4> world_rest,
-                          BodyPart part, std::span<const int> chain, const BindOptions& options,
-                          glm::vec3 x_hint);
+                          std::span<const glm::mat4> world_rest, BodyPart part,
+                          std::span<const int> chain, const BindOptions& options, glm::vec3 x_hint);
 
 }  // namespace sweepd::deform

@@ -45,8 +45,9 @@ PlanePair planes_at(std::span<const glm::mat4> world_rest, int joint, int link_f
 // gluteal cleft), and a share jump between two sweeps that disagree in a deep pose tears the
 // skin (14x edge stretch in a CMU crouch before this). Single-sweep hand-overs to skinning
 // (wrists, ankles, head) keep their planes: smoothing them lets twist collapse the forearm.
-void smooth_over_mesh(const std::vector<std::uint32_t>& welded, std::span<const std::uint32_t> indices,
-                      std::size_t count, int columns, std::vector<float>& shares) {
+void smooth_over_mesh(const std::vector<std::uint32_t>& welded,
+                      std::span<const std::uint32_t> indices, std::size_t count, int columns,
+                      std::vector<float>& shares) {
   std::vector<bool> junction(count);
   for (std::size_t v = 0; v < count; ++v) {
     int sweeps = 0;
@@ -86,12 +87,18 @@ void smooth_over_mesh(const std::vector<std::uint32_t>& welded, std::span<const 
 
 BodyPart end_part(BodyPart sweep_part) {
   switch (sweep_part) {
-    case BodyPart::kNeck: return BodyPart::kHead;
-    case BodyPart::kLeftArm: return BodyPart::kLeftHand;
-    case BodyPart::kRightArm: return BodyPart::kRightHand;
-    case BodyPart::kLeftLeg: return BodyPart::kLeftFoot;
-    case BodyPart::kRightLeg: return BodyPart::kRightFoot;
-    default: return BodyPart::kNone;
+    case BodyPart::kNeck:
+      return BodyPart::kHead;
+    case BodyPart::kLeftArm:
+      return BodyPart::kLeftHand;
+    case BodyPart::kRightArm:
+      return BodyPart::kRightHand;
+    case BodyPart::kLeftLeg:
+      return BodyPart::kLeftFoot;
+    case BodyPart::kRightLeg:
+      return BodyPart::kRightFoot;
+    default:
+      return BodyPart::kNone;
   }
 }
 
@@ -114,14 +121,16 @@ std::vector<VertexBinding> blend_shares(const Model& model, const RigMap& rig,
     if (s == torso) {
       torso_top = finish[s];
       torso_top.centre += torso_top.half_width * torso_top.direction;
-      torso_bottom = planes_at(world_rest, chain[0], chain[1], chain[0], options.end_blend_half_width);
+      torso_bottom =
+          planes_at(world_rest, chain[0], chain[1], chain[0], options.end_blend_half_width);
       torso_bottom.centre += torso_bottom.half_width * torso_bottom.direction;
     }
   }
 
   // Shares per welded vertex: one per sweep, then the skinned share; each row sums to 1.
   std::size_t welded_count = 0;
-  const std::vector<std::uint32_t> welded = weld_coincident_positions(model.positions, &welded_count);
+  const std::vector<std::uint32_t> welded =
+      weld_coincident_positions(model.positions, &welded_count);
   const int columns = sweep_count + 1;
   std::vector<float> shares(welded_count * columns, 0.0f);
   std::vector<float> share(sweep_count);
@@ -136,8 +145,8 @@ std::vector<VertexBinding> blend_shares(const Model& model, const RigMap& rig,
       share[s] = 0.0f;
       if (s == torso) continue;
       const BodyPart part = sweeps[s].part, end = end_part(part);
-      const float mask = std::min(
-          1.0f, 2.0f * (skin[static_cast<int>(part)] + skin[static_cast<int>(end)]));
+      const float mask =
+          std::min(1.0f, 2.0f * (skin[static_cast<int>(part)] + skin[static_cast<int>(end)]));
       share[s] = start[s].weight(p) * mask;
       limbs += share[s];
     }
@@ -162,7 +171,8 @@ std::vector<VertexBinding> blend_shares(const Model& model, const RigMap& rig,
     for (float s : share) total += s;
     float* row = &shares[welded[v] * columns];
     if (total <= 0.0f) skinned = 1.0f;
-    for (int s = 0; s < sweep_count; ++s) row[s] = total > 0.0f ? share[s] * (1.0f - skinned) / total : 0.0f;
+    for (int s = 0; s < sweep_count; ++s)
+      row[s] = total > 0.0f ? share[s] * (1.0f - skinned) / total : 0.0f;
     row[sweep_count] = skinned;
   }
   smooth_over_mesh(welded, model.indices, welded_count, columns, shares);

@@ -10,7 +10,8 @@ SweepPlanes sample_planes(const Sweep& sweep, int samples_per_span) {
   const auto keys = sweep.parameters();
   for (std::size_t i = 0; i + 1 < keys.size(); ++i)
     for (int s = 0; s < samples_per_span; ++s)
-      planes.t.push_back(static_cast<float>(keys[i] + (keys[i + 1] - keys[i]) * s / samples_per_span));
+      planes.t.push_back(
+          static_cast<float>(keys[i] + (keys[i + 1] - keys[i]) * s / samples_per_span));
   planes.t.push_back(1.0f);
   for (float t : planes.t) {
     planes.centre.push_back(sweep.centre(t));
@@ -40,7 +41,7 @@ SweepCoordinate bind_point(const Sweep& sweep, const SweepPlanes& planes, glm::v
     }
     previous = current;
   }
-  if (previous >= 0.0f) consider(1.0f);  // after the last plane
+  if (previous >= 0.0f) consider(1.0f);               // after the last plane
   if (!std::isfinite(best_distance)) consider(0.0f);  // unreachable for a finite point; be safe
 
   SweepCoordinate coordinate;

@@ -20,9 +20,9 @@
 namespace sweepd::deform {
 
 struct SweepPlanes {
-  std::vector<float> t;            // sample parameters, increasing, t[0] = 0, t.back() = 1
-  std::vector<glm::vec3> centre;   // C(t_j)
-  std::vector<glm::vec3> normal;   // N(t_j)
+  std::vector<float> t;           // sample parameters, increasing, t[0] = 0, t.back() = 1
+  std::vector<glm::vec3> centre;  // C(t_j)
+  std::vector<glm::vec3> normal;  // N(t_j)
 };
 
 // samples_per_span >= 1 planes per key span (plus the last one).

@@ -83,8 +83,8 @@ class ByteReader {
  private:
   void need(std::uint64_t size, const char* what) const {
     if (size > remaining())
-      fail(std::string("truncated: ") + what + " needs " + std::to_string(size) +
-           " bytes, only " + std::to_string(remaining()) + " left");
+      fail(std::string("truncated: ") + what + " needs " + std::to_string(size) + " bytes, only " +
+           std::to_string(remaining()) + " left");
   }
 
   std::span<const std::uint8_t> bytes_;

@@ -154,7 +154,8 @@ std::string validate(const BoundModel& bound) {
         sweep.key_area_ratios.size() != keys || sweep.key_fallback.size() != keys)
       return name + ": key arrays disagree in size or hold fewer than 2 keys";
     for (int j : sweep.chain)
-      if (j < 0 || j >= joints) return name + ": chain joint " + std::to_string(j) + " out of range";
+      if (j < 0 || j >= joints)
+        return name + ": chain joint " + std::to_string(j) + " out of range";
     for (const deform::KeyAnchor& anchor : sweep.anchors)
       if (anchor.joint < 0 || anchor.joint >= joints || anchor.next_joint < -1 ||
           anchor.next_joint >= joints || !(anchor.fraction >= 0.0f && anchor.fraction < 1.0f))
@@ -226,8 +227,8 @@ BoundModel decode_sweepbind(std::span<const std::uint8_t> bytes,
   for (std::size_t i = 0; i < sizeof(kMagic); ++i) header.get<char>("magic");
   const auto version = header.get<std::uint32_t>("version");
   if (version != kSweepbindVersion)
-    header.fail("unsupported .sweepbind version " + std::to_string(version) + " (this sweepd reads " +
-                std::to_string(kSweepbindVersion) + ")");
+    header.fail("unsupported .sweepbind version " + std::to_string(version) +
+                " (this sweepd reads " + std::to_string(kSweepbindVersion) + ")");
   header.get<std::uint32_t>("flags");
   const auto payload_size = header.get<std::uint64_t>("payload size");
   const auto payload_crc = header.get<std::uint32_t>("payload checksum");
@@ -260,7 +261,8 @@ void save_sweepbind(const BoundModel& bound, const std::filesystem::path& file) 
   const std::vector<std::uint8_t> bytes = encode_sweepbind(bound);
   const std::filesystem::path temporary = file.string() + ".tmp";
   const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) throw std::runtime_error("cannot write " + temporary.string() + ": " + std::strerror(errno));
+  if (fd < 0)
+    throw std::runtime_error("cannot write " + temporary.string() + ": " + std::strerror(errno));
   std::size_t written = 0;
   while (written < bytes.size()) {
     const ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);

@@ -58,8 +58,8 @@ BoundModel bind_and_check(const Model& model, const std::string& label) {
     const auto& w = model.skin_weights[v];
     const int dominant = static_cast<int>(std::max_element(w.begin(), w.end()) - w.begin());
     const BodyPart part = labels[model.skin_joints[v][dominant]];
-    if (part == BodyPart::kNeck || part == BodyPart::kLeftArm ||
-        part == BodyPart::kRightArm || part == BodyPart::kLeftLeg || part == BodyPart::kRightLeg) {
+    if (part == BodyPart::kNeck || part == BodyPart::kLeftArm || part == BodyPart::kRightArm ||
+        part == BodyPart::kLeftLeg || part == BodyPart::kRightLeg) {
       ++sweep_part_vertices;
       sweep_part_on_sweeps += b.skin_weight < 1.0f;
     }

@@ -45,8 +45,9 @@ TEST(ClipDeformation, EveryCmuFrameOnTheMaleDeformsToFiniteVertices) {
       if (!seen.insert({a, b}).second) continue;
       const float length = glm::length(model.positions[a] - model.positions[b]);
       if (length <= 0.0f) continue;
-      edges.push_back({a, b, length,
-                       bound.vertices[a].skin_weight < 0.5f && bound.vertices[b].skin_weight < 0.5f});
+      edges.push_back(
+          {a, b, length,
+           bound.vertices[a].skin_weight < 0.5f && bound.vertices[b].skin_weight < 0.5f});
     }
 
   std::vector<glm::vec3> positions(model.vertex_count());
@@ -72,10 +73,11 @@ TEST(ClipDeformation, EveryCmuFrameOnTheMaleDeformsToFiniteVertices) {
           }
         }
       }
-      std::printf("%s, %s: %d frames, largest edge stretch %.2fx on sweep-bound edges (frame %d), "
-                  "%.2fx overall (hands and feet included)\n",
-                  clip, to_string(method), retargeter.frame_count(), worst_sweep_edges,
-                  worst_frame, worst_any);
+      std::printf(
+          "%s, %s: %d frames, largest edge stretch %.2fx on sweep-bound edges (frame %d), "
+          "%.2fx overall (hands and feet included)\n",
+          clip, to_string(method), retargeter.frame_count(), worst_sweep_edges, worst_frame,
+          worst_any);
       EXPECT_EQ(non_finite_frames, 0) << clip << " " << to_string(method);
       worst_by_method[method == DeformMethod::kSweep ? 0 : 1] = worst_sweep_edges;
     }

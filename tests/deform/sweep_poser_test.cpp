@@ -27,7 +27,7 @@ struct Fixture {
 };
 
 const Fixture* male() {
-  static const Fixture* fixture = [] () -> const Fixture* {
+  static const Fixture* fixture = []() -> const Fixture* {
     const fs::path file = fs::path(SWEEPD_SHARED_DATA) / "models/makehuman_male_cmu.glb";
     if (!fs::exists(file)) return nullptr;
     auto* f = new Fixture;
@@ -41,7 +41,7 @@ const Fixture* male() {
   return fixture;
 }
 
-#define REQUIRE_MALE()                                                        \
+#define REQUIRE_MALE()                                                       \
   if (!male()) GTEST_SKIP() << "shared data absent: makehuman_male_cmu.glb"; \
   const Fixture& fx = *male()
 
@@ -146,10 +146,13 @@ float smallest_section_near(std::span<const glm::vec3> posed, test::WeldedMesh& 
                             float spacing) {
   float smallest = 1e9f;
   for (float s : {0.5f, 1.0f}) {
-    smallest = std::min(smallest, welded.section_area(posed, joint - s * spacing * upper_dir, upper_dir));
-    smallest = std::min(smallest, welded.section_area(posed, joint + s * spacing * lower_dir, lower_dir));
+    smallest =
+        std::min(smallest, welded.section_area(posed, joint - s * spacing * upper_dir, upper_dir));
+    smallest =
+        std::min(smallest, welded.section_area(posed, joint + s * spacing * lower_dir, lower_dir));
   }
-  return std::min(smallest, welded.section_area(posed, joint, glm::normalize(upper_dir + lower_dir)));
+  return std::min(smallest,
+                  welded.section_area(posed, joint, glm::normalize(upper_dir + lower_dir)));
 }
 
 TEST(SweepPoser, ReportsSectionsAt135DegreesAndKeepsMoreThanSkinningAtTheKnee) {
@@ -157,7 +160,12 @@ TEST(SweepPoser, ReportsSectionsAt135DegreesAndKeepsMoreThanSkinningAtTheKnee) {
   const Model& model = fx.bound.model;
   Deformer deformer(fx.bound);
   test::WeldedMesh welded(model);
-  struct Case { const char* upper; const char* joint; const char* end; glm::vec3 axis; };
+  struct Case {
+    const char* upper;
+    const char* joint;
+    const char* end;
+    glm::vec3 axis;
+  };
   for (const Case& c : {Case{"LeftArm", "LeftForeArm", "LeftHand", {0, 0, 1}},
                         Case{"LeftUpLeg", "LeftLeg", "LeftFoot", {1, 0, 0}}}) {
     const glm::vec3 top = joint_position(model, c.upper), joint = joint_position(model, c.joint),
@@ -167,13 +175,15 @@ TEST(SweepPoser, ReportsSectionsAt135DegreesAndKeepsMoreThanSkinningAtTheKnee) {
     if (std::string(c.joint) == "LeftLeg") axis = glm::vec3(1, 0, 0);  // the knee bends backwards
     const Pose pose = turned(model, c.joint, axis, 135.0f);
     const glm::vec3 upper_dir = glm::normalize(joint - top);
-    const glm::vec3 lower_dir = glm::angleAxis(glm::radians(135.0f), axis) * glm::normalize(end - joint);
+    const glm::vec3 lower_dir =
+        glm::angleAxis(glm::radians(135.0f), axis) * glm::normalize(end - joint);
     const float spacing = 0.12f * glm::length(end - joint);
     std::printf("%s at 135 deg, smallest section near the joint:", c.joint);
     float area[3];
     for (DeformMethod m : {DeformMethod::kSweep, DeformMethod::kLbs, DeformMethod::kDqs}) {
       const auto posed = deformed(deformer, pose, m);
-      area[static_cast<int>(m)] = smallest_section_near(posed, welded, joint, upper_dir, lower_dir, spacing);
+      area[static_cast<int>(m)] =
+          smallest_section_near(posed, welded, joint, upper_dir, lower_dir, spacing);
       std::printf(" %s %.2f cm2", to_string(m), 1e4f * area[static_cast<int>(m)]);
     }
     std::printf("\n");
@@ -191,7 +201,8 @@ TEST(SweepPoser, ForearmTwistedBy150DegreesKeepsItsSections) {
   const Model& model = fx.bound.model;
   Deformer deformer(fx.bound);
   test::WeldedMesh welded(model);
-  const glm::vec3 elbow = joint_position(model, "LeftForeArm"), wrist = joint_position(model, "LeftHand");
+  const glm::vec3 elbow = joint_position(model, "LeftForeArm"),
+                  wrist = joint_position(model, "LeftHand");
   const glm::vec3 axis = glm::normalize(wrist - elbow);
   // Pronation: the hand turns 150° about the forearm's axis; the forearm's skin must follow
   // without collapsing (LBS's "candy wrapper").

@@ -3,9 +3,9 @@
 
 #include <gtest/gtest.h>
 
-#include <filesystem>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 
 #include "deform/bind.h"
 #include "deform/mannequin.h"
@@ -37,7 +37,8 @@ std::string decode_error(const std::vector<std::uint8_t>& bytes,
 }
 
 TEST(Sweepbind, RoundTripsBitExactlyThroughAFile) {
-  const fs::path file = fs::temp_directory_path() / ("roundtrip_" + std::to_string(getpid()) + ".sweepbind");
+  const fs::path file =
+      fs::temp_directory_path() / ("roundtrip_" + std::to_string(getpid()) + ".sweepbind");
   save_sweepbind(bound_mannequin(), file);
   EXPECT_FALSE(fs::exists(file.string() + ".tmp"));  // renamed into place
   const deform::BoundModel loaded = load_sweepbind(file, &bound_mannequin().model);
