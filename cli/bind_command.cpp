@@ -9,9 +9,11 @@
 #include "cli/commands.h"
 #include "cli/model_loading.h"
 #include "cli/progress_bar.h"
+#include "cli/segment_colours.h"
 #include "cli/subcommand.h"
 #include "cli/text_format.h"
 #include "deform/bind.h"
+#include "io/gltf_save.h"
 #include "io/sweepbind.h"
 
 namespace sweepd::cli {
@@ -20,10 +22,13 @@ namespace {
 
 constexpr const char* kUsage =
     "usage: sweepctl bind MODEL -o OUT.sweepbind [--rig RIG.json] [--keys-per-link N]\n"
+    "                     [--debug-gltf OUT.glb]\n"
     "  MODEL            a rigged .glb/.gltf model\n"
     "  -o OUT           the binding file to write (read back by the server and by pose)\n"
     "  --rig RIG.json   which joints form torso, neck, arms and legs (default: detected)\n"
     "  --keys-per-link  intermediate key ellipses per link (default 2)\n"
+    "  --debug-gltf OUT.glb  the mesh coloured by sweep and blend share, with every key\n"
+    "                   ellipse as a line loop, for a glTF viewer\n"
     "Prints per sweep the key ellipses (centre, half-axes, fit error, area ratio), the bound\n"
     "vertices, and the rest-pose reconstruction error.\n";
 
@@ -56,10 +61,29 @@ void print_sweep(const deform::BoundModel& bound, int s) {
   }
 }
 
+// The bound mesh coloured by segment and blend share, with the key ellipses as line loops.
+void write_debug_gltf(const deform::BoundModel& bound, const std::filesystem::path& file) {
+  io::SaveOptions options;
+  for (const glm::vec3& c : segment_colours(bound)) options.vertex_colors.emplace_back(c, 1.0f);
+  constexpr int kLoopPoints = 48;
+  for (const deform::BoundSweep& sweep : bound.sweeps)
+    for (const deform::KeyEllipse& key : sweep.rest_keys) {
+      const glm::mat3 r = glm::mat3_cast(key.orientation);
+      std::vector<glm::vec3> loop;
+      for (int i = 0; i < kLoopPoints; ++i) {
+        const float theta = 2.0f * static_cast<float>(M_PI) * i / kLoopPoints;
+        loop.push_back(key.centre + key.a * std::cos(theta) * r[0] +
+                       key.b * std::sin(theta) * r[1]);
+      }
+      options.line_loops.push_back(std::move(loop));
+    }
+  io::save_gltf(bound.model, file, options);
+}
+
 }  // namespace
 
 int run_bind(const std::vector<std::string>& arguments) {
-  std::filesystem::path model_file, out, rig_file;
+  std::filesystem::path model_file, out, rig_file, debug_gltf;
   deform::BindOptions options;
   auto parse = [&](const std::vector<std::string>& args) -> std::string {
     for (std::size_t i = 0; i < args.size(); ++i) {
@@ -67,6 +91,8 @@ int run_bind(const std::vector<std::string>& arguments) {
       const bool has_value = i + 1 < args.size();
       if (arg == "-o" && has_value) {
         out = args[++i];
+      } else if (arg == "--debug-gltf" && has_value) {
+        debug_gltf = args[++i];
       } else if (arg == "--rig" && has_value) {
         rig_file = args[++i];
       } else if (arg == "--keys-per-link" && has_value) {
@@ -111,6 +137,11 @@ int run_bind(const std::vector<std::string>& arguments) {
                 with_thousands(skinned).c_str());
     std::printf("rest-pose error: max %.3g m (%.3g x height)\n", worst, worst / (hi - lo));
     std::printf("wrote %s\n", out.string().c_str());
+    if (!debug_gltf.empty()) {
+      write_debug_gltf(bound, debug_gltf);
+      std::printf("wrote %s (segments as vertex colours, key ellipses as line loops)\n",
+                  debug_gltf.string().c_str());
+    }
     return 0;
   });
 }

@@ -5,6 +5,7 @@
 
 #include "cli/commands.h"
 #include "cli/posed_model.h"
+#include "cli/segment_colours.h"
 #include "cli/subcommand.h"
 #include "cli/text_format.h"
 #include "gpu/egl_context.h"
@@ -23,15 +24,6 @@ const std::string kUsage =
         "  --segments         colour vertices by sweep (torso, neck, arms, legs) and skinned "
         "parts\n") +
     kPosingUsage;
-
-// One colour per sweep in bind order (torso, neck, left/right arm, left/right leg); grey for
-// the share that follows the model's own skinning.
-glm::vec3 segment_colour(int sweep) {
-  static const glm::vec3 colours[] = {{0.85f, 0.45f, 0.35f}, {0.9f, 0.8f, 0.3f},
-                                      {0.35f, 0.6f, 0.9f},   {0.35f, 0.85f, 0.8f},
-                                      {0.55f, 0.8f, 0.35f},  {0.75f, 0.5f, 0.85f}};
-  return colours[sweep % 6];
-}
 
 }  // namespace
 
@@ -61,14 +53,7 @@ int run_render(const std::vector<std::string>& arguments) {
     PosedModel posed(posing);
     std::vector<glm::vec3> positions, normals, colours;
     posed.deform(posing.first_frame, positions, normals);
-    if (segments) {
-      for (const deform::VertexBinding& b : posed.bound().vertices) {
-        glm::vec3 c = b.skin_weight * glm::vec3(0.6f);
-        for (int k = 0; k < deform::kSweepsPerVertex; ++k)
-          if (b.sweep[k] >= 0) c += b.weight[k] * segment_colour(b.sweep[k]);
-        colours.push_back(c);
-      }
-    }
+    if (segments) colours = segment_colours(posed.bound());
     gpu::Context context;
     gpu::PreviewRenderer renderer(context);
     gpu::PreviewOptions options;

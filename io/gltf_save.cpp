@@ -98,16 +98,23 @@ tinygltf::Material default_material() {
   return material;
 }
 
+// A POSITION accessor with the min/max bounds glTF requires for it.
+int add_positions(GlbBuilder& builder, tinygltf::Model& gltf,
+                  const std::vector<glm::vec3>& positions) {
+  const int accessor = builder.add_accessor(positions, TINYGLTF_COMPONENT_TYPE_FLOAT,
+                                            TINYGLTF_TYPE_VEC3, TINYGLTF_TARGET_ARRAY_BUFFER);
+  glm::vec3 low(std::numeric_limits<float>::max()), high(-std::numeric_limits<float>::max());
+  for (const glm::vec3& p : positions) low = glm::min(low, p), high = glm::max(high, p);
+  gltf.accessors[accessor].minValues = {low.x, low.y, low.z};
+  gltf.accessors[accessor].maxValues = {high.x, high.y, high.z};
+  return accessor;
+}
+
 std::map<std::string, int> add_vertex_attributes(GlbBuilder& builder, tinygltf::Model& gltf,
                                                  const deform::Model& model,
                                                  const SaveOptions& options) {
   std::map<std::string, int> attributes;
-  attributes["POSITION"] = builder.add_accessor(model.positions, TINYGLTF_COMPONENT_TYPE_FLOAT,
-                                                TINYGLTF_TYPE_VEC3, TINYGLTF_TARGET_ARRAY_BUFFER);
-  glm::vec3 low(std::numeric_limits<float>::max()), high(-std::numeric_limits<float>::max());
-  for (const glm::vec3& p : model.positions) low = glm::min(low, p), high = glm::max(high, p);
-  gltf.accessors[attributes["POSITION"]].minValues = {low.x, low.y, low.z};
-  gltf.accessors[attributes["POSITION"]].maxValues = {high.x, high.y, high.z};
+  attributes["POSITION"] = add_positions(builder, gltf, model.positions);
   std::vector<glm::vec3> normals(model.normals.size());
   for (std::size_t v = 0; v < normals.size(); ++v) {  // the validator wants unit length
     const float length = glm::length(model.normals[v]);
@@ -184,6 +191,23 @@ tinygltf::Model build_gltf(const deform::Model& model, const SaveOptions& option
   mesh_node.skin = 0;
   gltf.nodes.push_back(mesh_node);
   scene.nodes.push_back(joint_count);
+  if (!options.line_loops.empty()) {  // one unskinned mesh of LINE_LOOP primitives
+    tinygltf::Mesh lines;
+    lines.name = "line loops";
+    for (const std::vector<glm::vec3>& loop : options.line_loops) {
+      tinygltf::Primitive primitive;
+      primitive.mode = TINYGLTF_MODE_LINE_LOOP;
+      primitive.material = 0;
+      primitive.attributes["POSITION"] = add_positions(builder, gltf, loop);
+      lines.primitives.push_back(primitive);
+    }
+    gltf.meshes.push_back(lines);
+    tinygltf::Node lines_node;
+    lines_node.name = "line loops";
+    lines_node.mesh = 1;
+    gltf.nodes.push_back(lines_node);
+    scene.nodes.push_back(joint_count + 1);
+  }
   gltf.scenes.push_back(scene);
   gltf.defaultScene = 0;
   gltf.buffers[0].name = "sweepd";
@@ -196,6 +220,9 @@ void save_gltf(const deform::Model& model, const std::filesystem::path& file,
                const SaveOptions& options) {
   if (std::string why = model.validate(); !why.empty())
     throw std::invalid_argument("save_gltf " + file.string() + ": invalid model: " + why);
+  for (const auto& loop : options.line_loops)
+    if (loop.size() < 2)
+      throw std::invalid_argument("save_gltf " + file.string() + ": a line loop needs 2 points");
   if (!options.vertex_colors.empty() && options.vertex_colors.size() != model.vertex_count())
     throw std::invalid_argument(
         "save_gltf " + file.string() + ": " + std::to_string(options.vertex_colors.size()) +

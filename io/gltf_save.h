@@ -23,8 +23,10 @@ namespace sweepd::io {
 
 struct SaveOptions {
   // COLOR_0 per vertex (linear RGBA), e.g. to show binding regions in a viewer; empty = none.
-  // Extension point: further debug geometry (e.g. sweep line loops) belongs here as new fields.
   std::vector<glm::vec4> vertex_colors;
+  // Closed polylines (>= 2 points each) written as an unskinned LINE_LOOP mesh, e.g. the key
+  // ellipses of a binding; empty = none.
+  std::vector<std::vector<glm::vec3>> line_loops;
 };
 
 void save_gltf(const deform::Model& model, const std::filesystem::path& file,

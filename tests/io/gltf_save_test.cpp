@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
+#include "deform/mannequin.h"
 #include "io/gltf_load.h"
 #include "tests/io/gltf_test_files.h"
 
@@ -211,6 +212,17 @@ TEST(GltfSaveValidator, SyntheticTubeWithColoursHasNoErrors) {
   options.vertex_colors.assign(tube.vertex_count(), glm::vec4(0.2f, 0.4f, 0.8f, 1.0f));
   save_gltf(tube, dir / "tube.glb", options);
   expect_validator_accepts(dir / "tube.glb");
+}
+
+TEST(GltfSaveValidator, MannequinAt72kVerticesWithLineLoopsHasNoErrors) {
+  // The acceptance for the mannequin, plus the line loops of `bind --debug-gltf`.
+  ScratchDirectory dir;
+  const deform::Model mannequin = deform::make_mannequin({.target_vertices = 72000});
+  SaveOptions options;
+  options.line_loops = {{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}}, {{0, 2, 0}, {0, 2, 1}}};
+  save_gltf(mannequin, dir / "mannequin.glb", options);
+  expect_validator_accepts(dir / "mannequin.glb");
+  EXPECT_EQ(load_gltf(dir / "mannequin.glb").vertex_count(), mannequin.vertex_count());
 }
 
 TEST(GltfSaveValidator, ThreeHundredJointsUseShortJointIndices) {
