@@ -60,7 +60,7 @@ class DaemonProcess {
     pid_ = fork();
     if (pid_ == 0) {
       const std::string log = log_file_.string();
-      std::freopen(log.c_str(), "a", stderr);
+      std::freopen(log.c_str(), "w", stderr);  // this run's log only
       std::freopen("/dev/null", "w", stdout);
       std::vector<char*> argv;
       for (std::string& arg : args) argv.push_back(arg.data());
