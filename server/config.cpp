@@ -62,6 +62,7 @@ const std::vector<Setting>& settings() {
       integer_setting("worker_threads", &ServerConfig::worker_threads, 0, 1024),
       integer_setting("deform_threads", &ServerConfig::deform_threads, 1, 1024),
       integer_setting("mannequin_vertices", &ServerConfig::mannequin_vertices, 1000, 500000),
+      integer_setting("position_maps", &ServerConfig::position_maps, 0, 1),
   };
   return all;
 }
@@ -169,6 +170,7 @@ Flags (each also a key of the JSON config file, with '_' for '-'):
   --worker-threads N        deformation workers; 0 = one per core (default 0)
   --deform-threads N        threads one pose is split over (default 1)
   --mannequin-vertices N    size of the default "mannequin" model (default 20000)
+  --position-maps 0|1       render PositionMapRequest with EGL (GPU or llvmpipe) (default 1)
 Signals: SIGTERM/SIGINT finish in-flight work, send Bye, and exit 0.
 Logs: one JSON object per line on stderr.
 )";

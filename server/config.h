@@ -32,6 +32,7 @@ struct ServerConfig {
   int worker_threads = 0;                        // 0: one per core
   int deform_threads = 1;                        // threads one pose is split over
   int mannequin_vertices = 20000;                // the default model's size
+  int position_maps = 1;  // 1: answer PositionMapRequest on the GPU worker (EGL); 0: off
   bool show_help = false;
 };
 

@@ -22,8 +22,11 @@ std::uint64_t nanoseconds_since(std::chrono::steady_clock::time_point from) {
           .count());
 }
 
-std::vector<std::string> capabilities() {
-  return {"sweep", "lbs", "dqs", "float16", "normals", "latest_wins", "upload"};
+std::vector<std::string> capabilities(bool position_maps) {
+  std::vector<std::string> list = {"sweep",   "lbs",         "dqs",   "float16",
+                                   "normals", "latest_wins", "upload"};
+  if (position_maps) list.push_back("position_map");
+  return list;
 }
 
 }  // namespace
@@ -144,10 +147,16 @@ void Connection::handle_frame(const pb::Message& message) {
       log_event("bye_received", {{"connection", id()}});
       drain();
       break;
-    case pb::Body::PositionMapRequest:
-      send_error(pb::ErrorCode::NotAvailable, "position maps are not available on this server yet",
-                 0, request_id);
+    case pb::Body::PositionMapRequest: {
+      const pb::PositionMapRequest* map = message.body_as_PositionMapRequest();
+      if (map->pose() == nullptr) {
+        send_error(pb::ErrorCode::InvalidArgument, "a PositionMapRequest needs a pose", 0,
+                   request_id);
+      } else {
+        handle_pose(*map->pose(), request_id, map);
+      }
       break;
+    }
     case pb::Body::EditKeyEllipse:
       send_error(pb::ErrorCode::NotAvailable,
                  "key ellipse editing is not available on this server yet", 0, request_id);
@@ -192,13 +201,14 @@ void Connection::handle_hello(const pb::Hello& hello, std::uint64_t request_id) 
   flatbuffers::FlatBufferBuilder builder = take_builder();
   const auto welcome = pb::CreateWelcome(
       builder, pb::kProtocolVersionMajor, pb::kProtocolVersionMinor, builder.CreateString("sweepd"),
-      builder.CreateVectorOfStrings(capabilities()), environment_.config.max_frame_bytes,
-      environment_.config.max_poses_in_flight, id());
+      builder.CreateVectorOfStrings(capabilities(environment_.position_maps.enabled())),
+      environment_.config.max_frame_bytes, environment_.config.max_poses_in_flight, id());
   pb::finish_message(builder, welcome, request_id);
   send(std::move(builder));
 }
 
-void Connection::handle_pose(const pb::Pose& pose, std::uint64_t request_id) {
+void Connection::handle_pose(const pb::Pose& pose, std::uint64_t request_id,
+                             const pb::PositionMapRequest* map) {
   ++counters_.poses_received;
   const ModelHandle model = environment_.registry.find(pose.model_id());
   if (!model) {
@@ -213,11 +223,22 @@ void Connection::handle_pose(const pb::Pose& pose, std::uint64_t request_id) {
     send_error(problem->code, problem->message, pose.sequence(), request_id);
     return;
   }
+  if (map != nullptr) {
+    if (const std::string problem = check_position_map_request(*map, model->bound.model);
+        !problem.empty()) {
+      send_error(pb::ErrorCode::InvalidArgument, problem, pose.sequence(), request_id);
+      return;
+    }
+    request.position_map =
+        PositionMapParams{map->width(), map->height(), map->layers(), map->compression()};
+  }
   request.received = Clock::now();
-  if (delivery_ == pb::PoseDelivery::LatestWins && !waiting_poses_.empty()) {
-    dropped_since_reply_ += static_cast<std::uint32_t>(waiting_poses_.size());
-    counters_.poses_dropped += waiting_poses_.size();
-    waiting_poses_.clear();
+  if (delivery_ == pb::PoseDelivery::LatestWins) {
+    // Only plain poses go stale; a requested position map is always rendered.
+    const std::size_t dropped = std::erase_if(
+        waiting_poses_, [](const PoseRequest& waiting) { return !waiting.position_map; });
+    dropped_since_reply_ += static_cast<std::uint32_t>(dropped);
+    counters_.poses_dropped += dropped;
   }
   waiting_poses_.push_back(std::move(request));
   start_next_pose();
@@ -326,18 +347,29 @@ void Connection::start_next_pose() {
   auto builder = std::make_shared<flatbuffers::FlatBufferBuilder>(take_builder());
   asio::post(environment_.workers, [self = shared_from_this(), request, builder, dropped]() {
     std::string failure;
+    pb::ErrorCode code = pb::ErrorCode::Internal;
     try {
-      self->writer_.write(*request, dropped, *builder);
+      if (request->position_map) {
+        self->writer_.write_position_map(*request, self->environment_.position_maps, *builder);
+      } else {
+        self->writer_.write(*request, dropped, *builder);
+      }
+    } catch (const PositionMapUnavailable& error) {
+      code = pb::ErrorCode::NotAvailable;
+      failure = error.what();
+    } catch (const std::invalid_argument& error) {
+      code = pb::ErrorCode::InvalidArgument;
+      failure = error.what();
     } catch (const std::exception& error) {
       failure = error.what();
     }
-    asio::post(self->socket_.get_executor(), [self, request, builder, failure]() {
+    asio::post(self->socket_.get_executor(), [self, request, builder, failure, code, dropped]() {
       self->pose_running_ = false;
       if (failure.empty()) {
         self->finish_pose(std::move(*builder), request->received);
       } else {
-        self->send_error(pb::ErrorCode::Internal,
-                         "pose " + std::to_string(request->sequence) + ": " + failure,
+        self->dropped_since_reply_ += request->position_map ? 0 : dropped;  // still owed
+        self->send_error(code, "pose " + std::to_string(request->sequence) + ": " + failure,
                          request->sequence, request->request_id);
       }
       self->start_next_pose();

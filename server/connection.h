@@ -43,6 +43,7 @@ struct ConnectionEnvironment {
   const ServerConfig& config;
   ModelRegistry& registry;
   asio::thread_pool& workers;
+  PositionMapService& position_maps;
   std::chrono::steady_clock::time_point started;
   std::function<void(std::uint64_t connection_id)> on_close;
   std::function<std::vector<ConnectionCounters>()> all_counters;
@@ -71,7 +72,9 @@ class Connection : public std::enable_shared_from_this<Connection> {
   bool reading_paused() const;
   void handle_frame(const protocol::Message& message);
   void handle_hello(const protocol::Hello& hello, std::uint64_t request_id);
-  void handle_pose(const protocol::Pose& pose, std::uint64_t request_id);
+  // A Pose, or the pose of a PositionMapRequest (`map` set), checked and queued.
+  void handle_pose(const protocol::Pose& pose, std::uint64_t request_id,
+                   const protocol::PositionMapRequest* map = nullptr);
   void handle_list_models(std::uint64_t request_id);
   void handle_load_model(const protocol::LoadModel& load, std::uint64_t request_id);
   void handle_stats(std::uint64_t request_id);

@@ -1,5 +1,7 @@
 #include "server/pose_request.h"
 
+#include <algorithm>
+
 #include "protocol/float16.h"
 
 namespace sweepd::server {
@@ -116,6 +118,40 @@ std::uint64_t PosedVerticesWriter::write(PoseRequest& request, std::uint32_t dro
   timings.mutate_features_ns(0);
   timings.mutate_encode_ns(nanoseconds_between(started, Clock::now()) - deform_ns);
   return deform_ns;
+}
+
+void PosedVerticesWriter::write_position_map(PoseRequest& request, PositionMapService& service,
+                                             flatbuffers::FlatBufferBuilder& builder) {
+  const Clock::time_point started = Clock::now();
+  const PositionMapParams& params = *request.position_map;
+  const std::size_t vertex_count = request.model->bound.model.vertex_count();
+  positions_scratch_.resize(vertex_count);
+  normals_scratch_.resize(vertex_count);
+  deformer_for(request.model)
+      .deform(request.pose, request.method, positions_scratch_, normals_scratch_, deform_threads_);
+  const std::uint64_t deform_ns = nanoseconds_between(started, Clock::now());
+  service.render({.model = &request.model->bound.model,
+                  .positions = positions_scratch_,
+                  .normals = normals_scratch_,
+                  .width = params.width,
+                  .height = params.height,
+                  .layers = params.layers,
+                  .compression = params.compression,
+                  .frame = request.sequence},
+                 exr_scratch_);
+  protocol::PositionMapFrame frame(builder, {.request_id = request.request_id,
+                                             .model_id = request.model->id,
+                                             .sequence = request.sequence,
+                                             .width = params.width,
+                                             .height = params.height,
+                                             .exr_bytes = exr_scratch_.size()});
+  // encode_exr writes a growing vector, so the file is copied once into the frame.
+  std::copy(exr_scratch_.begin(), exr_scratch_.end(), frame.exr().begin());
+  protocol::ServerTimings& timings = frame.timings();
+  timings.mutate_queued_ns(nanoseconds_between(request.received, started));
+  timings.mutate_deform_ns(deform_ns);
+  timings.mutate_features_ns(0);
+  timings.mutate_encode_ns(nanoseconds_between(started, Clock::now()) - deform_ns);
 }
 
 }  // namespace sweepd::server

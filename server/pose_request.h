@@ -10,7 +10,8 @@
 // PosedVerticesWriter::write(request, dropped_before, builder): builds the complete reply
 //   frame in `builder` (protocol::PosedVerticesFrame) — float32 positions/normals are
 //   written by the deformer in place; float16 go through one scratch buffer, kept between
-//   frames. One writer per connection (its Deformers are not shared between threads).
+//   frames. write_position_map: the same pose rendered to an EXR position map instead.
+//   One writer per connection (its Deformers are not shared between threads).
 #pragma once
 
 #include <chrono>
@@ -23,8 +24,16 @@
 #include "deform/deformer.h"
 #include "protocol/messages.h"
 #include "server/model_registry.h"
+#include "server/position_map_service.h"
 
 namespace sweepd::server {
+
+// What a PositionMapRequest asks for beyond its pose.
+struct PositionMapParams {
+  std::uint32_t width = 0, height = 0;
+  protocol::MapLayers layers = protocol::MapLayers::Position;
+  protocol::ExrCompression compression = protocol::ExrCompression::Zip;
+};
 
 struct PoseRequest {
   std::uint64_t request_id = 0;
@@ -35,6 +44,7 @@ struct PoseRequest {
   deform::DeformMethod method = deform::DeformMethod::kSweep;
   protocol::PositionFormat format = protocol::PositionFormat::Float32;
   bool normals = false;
+  std::optional<PositionMapParams> position_map;  // set: answer with a PositionMap
   std::chrono::steady_clock::time_point received;
 };
 
@@ -49,6 +59,10 @@ class PosedVerticesWriter {
   // Returns the time spent deforming, in nanoseconds.
   std::uint64_t write(PoseRequest& request, std::uint32_t dropped_before,
                       flatbuffers::FlatBufferBuilder& builder);
+  // The PositionMap reply for a request with position_map set (PositionMapService::render's
+  // exceptions pass through).
+  void write_position_map(PoseRequest& request, PositionMapService& service,
+                          flatbuffers::FlatBufferBuilder& builder);
 
  private:
   deform::Deformer& deformer_for(const ModelHandle& model);
@@ -56,7 +70,8 @@ class PosedVerticesWriter {
   int deform_threads_;
   // Per model id: the model (kept alive while its deformer refers to it) and its deformer.
   std::map<std::uint32_t, std::pair<ModelHandle, std::unique_ptr<deform::Deformer>>> deformers_;
-  std::vector<glm::vec3> positions_scratch_, normals_scratch_;  // float16 replies only
+  std::vector<glm::vec3> positions_scratch_, normals_scratch_;  // float16 and position maps
+  std::vector<std::uint8_t> exr_scratch_;
 };
 
 }  // namespace sweepd::server

@@ -20,6 +20,7 @@
 #include "server/config.h"
 #include "server/connection.h"
 #include "server/model_registry.h"
+#include "server/position_map_service.h"
 
 namespace sweepd::server {
 
@@ -42,6 +43,7 @@ class Server {
   const ServerConfig& config_;
   asio::io_context io_;
   asio::thread_pool workers_;
+  PositionMapService position_maps_;
   asio::signal_set signals_;
   std::optional<asio::ip::tcp::acceptor> tcp_acceptor_;
   std::optional<asio::local::stream_protocol::acceptor> unix_acceptor_;

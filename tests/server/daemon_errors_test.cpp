@@ -20,7 +20,7 @@ class DaemonErrors : public ::testing::Test {
   static void SetUpTestSuite() {
     directory_ = new fs::path(fresh_directory("errors"));
     daemon_ = new DaemonProcess(*directory_, {"--max-frame-bytes", std::to_string(kMaxFrameBytes),
-                                              "--max-connections", "3"});
+                                              "--max-connections", "3", "--position-maps", "0"});
   }
   static void TearDownTestSuite() {
     delete daemon_;
@@ -133,12 +133,12 @@ TEST_F(DaemonErrors, FeaturesWithoutAnImplementationAreNotAvailable) {
   expect_error_then_service(protocol::ErrorCode::NotAvailable, "features", 46);
 }
 
-TEST_F(DaemonErrors, PositionMapRequestIsNotAvailable) {
+TEST_F(DaemonErrors, PositionMapsSwitchedOffAreNotAvailable) {
   flatbuffers::FlatBufferBuilder builder;
   const auto pose = protocol::add_pose(builder, pose_fields(1, 47, rotations_));
   broken_->send_bytes(protocol::finish_message(
       builder, protocol::CreatePositionMapRequest(builder, pose, 64, 64), 12));
-  expect_error_then_service(protocol::ErrorCode::NotAvailable, "position map");
+  expect_error_then_service(protocol::ErrorCode::NotAvailable, "switched off", 47);
 }
 
 TEST_F(DaemonErrors, BodyTypeFromANewerPeerIsAnUnknownMessage) {

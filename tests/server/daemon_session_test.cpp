@@ -53,8 +53,8 @@ TEST_F(DaemonSession, RightTokenIsWelcomedWithLimitsAndCapabilities) {
   std::vector<std::string> capabilities;
   for (const auto* c : *welcome->capabilities()) capabilities.push_back(c->str());
   EXPECT_NE(std::find(capabilities.begin(), capabilities.end(), "sweep"), capabilities.end());
-  // No GPU path yet: the server must not claim position maps.
-  EXPECT_EQ(std::find(capabilities.begin(), capabilities.end(), "position_map"),
+  // Position maps are on by default (EGL: a GPU or llvmpipe).
+  EXPECT_NE(std::find(capabilities.begin(), capabilities.end(), "position_map"),
             capabilities.end());
 }
 
