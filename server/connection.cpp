@@ -14,7 +14,6 @@ namespace {
 namespace pb = sweepd::protocol;
 constexpr std::size_t kReadChunkBytes = 64 * 1024;
 constexpr std::size_t kSpareBuilders = 4;
-constexpr std::size_t kLatencySamples = 1024;  // recent poses kept for Stats percentiles
 
 std::uint64_t nanoseconds_since(std::chrono::steady_clock::time_point from) {
   return static_cast<std::uint64_t>(
@@ -220,6 +219,7 @@ void Connection::handle_pose(const pb::Pose& pose, std::uint64_t request_id,
   }
   PoseRequest request;
   if (auto problem = read_pose_request(pose, model, request_id, request)) {
+    ++environment_.model_counters[model->id].errors;
     send_error(problem->code, problem->message, pose.sequence(), request_id);
     return;
   }
@@ -309,22 +309,18 @@ void Connection::handle_load_model(const pb::LoadModel& load, std::uint64_t requ
 void Connection::handle_stats(std::uint64_t request_id) {
   flatbuffers::FlatBufferBuilder builder = take_builder();
   std::vector<flatbuffers::Offset<pb::ConnectionStats>> connections;
-  for (ConnectionCounters& c : environment_.all_counters()) {
-    pb::LatencyPercentiles latency{};
-    if (!c.latencies_ns.empty()) {
-      std::sort(c.latencies_ns.begin(), c.latencies_ns.end());
-      auto at = [&](double q) {
-        return c.latencies_ns[static_cast<std::size_t>(q * (c.latencies_ns.size() - 1))];
-      };
-      latency = pb::LatencyPercentiles(at(0.5), at(0.9), at(0.99), c.latencies_ns.back());
-    }
+  for (const ConnectionCounters& c : environment_.all_counters()) {
+    const pb::LatencyPercentiles latency = c.latency.percentiles();
     connections.push_back(pb::CreateConnectionStatsDirect(
         builder, c.connection_id, c.peer.c_str(), c.client_name.c_str(), c.poses_received,
         c.poses_answered, c.poses_dropped, c.errors, c.bytes_in, c.bytes_out, &latency));
   }
   std::vector<flatbuffers::Offset<pb::ModelStats>> models;
   for (const ModelHandle& model : environment_.registry.models()) {
-    models.push_back(pb::CreateModelStatsDirect(builder, model->id, model->name.c_str()));
+    const ModelCounters& counters = environment_.model_counters[model->id];
+    const pb::LatencyPercentiles latency = counters.deform_latency.percentiles();
+    models.push_back(pb::CreateModelStatsDirect(builder, model->id, model->name.c_str(),
+                                                counters.poses, counters.errors, &latency));
   }
   pb::finish_message(builder,
                      pb::CreateStatsDirect(builder, nanoseconds_since(environment_.started),
@@ -342,17 +338,20 @@ void Connection::start_next_pose() {
   pose_running_ = true;
   auto request = std::make_shared<PoseRequest>(std::move(waiting_poses_.front()));
   waiting_poses_.pop_front();
-  const std::uint32_t dropped = dropped_since_reply_;
-  dropped_since_reply_ = 0;
+  // Drops are reported by the next PosedVertices (a PositionMap has no field for them).
+  const std::uint32_t dropped = request->position_map ? 0 : dropped_since_reply_;
+  dropped_since_reply_ -= dropped;
   auto builder = std::make_shared<flatbuffers::FlatBufferBuilder>(take_builder());
   asio::post(environment_.workers, [self = shared_from_this(), request, builder, dropped]() {
     std::string failure;
     pb::ErrorCode code = pb::ErrorCode::Internal;
+    std::uint64_t deform_ns = 0;
     try {
       if (request->position_map) {
-        self->writer_.write_position_map(*request, self->environment_.position_maps, *builder);
+        deform_ns =
+            self->writer_.write_position_map(*request, self->environment_.position_maps, *builder);
       } else {
-        self->writer_.write(*request, dropped, *builder);
+        deform_ns = self->writer_.write(*request, dropped, *builder);
       }
     } catch (const PositionMapUnavailable& error) {
       code = pb::ErrorCode::NotAvailable;
@@ -363,12 +362,14 @@ void Connection::start_next_pose() {
     } catch (const std::exception& error) {
       failure = error.what();
     }
-    asio::post(self->socket_.get_executor(), [self, request, builder, failure, code, dropped]() {
+    asio::post(self->socket_.get_executor(), [self, request, builder, failure, code, dropped,
+                                              deform_ns]() {
       self->pose_running_ = false;
       if (failure.empty()) {
-        self->finish_pose(std::move(*builder), request->received);
+        self->finish_pose(std::move(*builder), *request, deform_ns);
       } else {
-        self->dropped_since_reply_ += request->position_map ? 0 : dropped;  // still owed
+        ++self->environment_.model_counters[request->model->id].errors;
+        self->dropped_since_reply_ += dropped;  // still owed to the next reply
         self->send_error(code, "pose " + std::to_string(request->sequence) + ": " + failure,
                          request->sequence, request->request_id);
       }
@@ -379,12 +380,13 @@ void Connection::start_next_pose() {
   });
 }
 
-void Connection::finish_pose(flatbuffers::FlatBufferBuilder builder, Clock::time_point received) {
+void Connection::finish_pose(flatbuffers::FlatBufferBuilder builder, const PoseRequest& request,
+                             std::uint64_t deform_ns) {
   ++counters_.poses_answered;
-  if (counters_.latencies_ns.size() >= kLatencySamples) {
-    counters_.latencies_ns.erase(counters_.latencies_ns.begin());
-  }
-  counters_.latencies_ns.push_back(nanoseconds_since(received));
+  counters_.latency.add(nanoseconds_since(request.received));
+  ModelCounters& model = environment_.model_counters[request.model->id];
+  ++model.poses;
+  model.deform_latency.add(deform_ns);
   send(std::move(builder));
 }
 

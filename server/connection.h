@@ -19,12 +19,14 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "protocol/framing.h"
 #include "server/config.h"
+#include "server/latency_samples.h"
 #include "server/model_registry.h"
 #include "server/pose_request.h"
 
@@ -36,7 +38,13 @@ struct ConnectionCounters {
   std::string peer, client_name;
   std::uint64_t poses_received = 0, poses_answered = 0, poses_dropped = 0, errors = 0;
   std::uint64_t bytes_in = 0, bytes_out = 0;
-  std::vector<std::uint64_t> latencies_ns;  // frame read → reply queued, recent poses
+  LatencySamples latency;  // frame read → reply queued, recent poses
+};
+
+// Per model, kept by the server (touched on the I/O thread only).
+struct ModelCounters {
+  std::uint64_t poses = 0, errors = 0;
+  LatencySamples deform_latency;
 };
 
 struct ConnectionEnvironment {
@@ -47,6 +55,7 @@ struct ConnectionEnvironment {
   std::chrono::steady_clock::time_point started;
   std::function<void(std::uint64_t connection_id)> on_close;
   std::function<std::vector<ConnectionCounters>()> all_counters;
+  std::map<std::uint32_t, ModelCounters> model_counters;
 };
 
 class Connection : public std::enable_shared_from_this<Connection> {
@@ -80,7 +89,8 @@ class Connection : public std::enable_shared_from_this<Connection> {
   void handle_stats(std::uint64_t request_id);
 
   void start_next_pose();
-  void finish_pose(flatbuffers::FlatBufferBuilder builder, Clock::time_point received);
+  void finish_pose(flatbuffers::FlatBufferBuilder builder, const PoseRequest& request,
+                   std::uint64_t deform_ns);
   void send(flatbuffers::FlatBufferBuilder builder);
   void send_error(protocol::ErrorCode code, const std::string& message, std::uint64_t sequence,
                   std::uint64_t request_id, bool fatal = false);

@@ -120,8 +120,9 @@ std::uint64_t PosedVerticesWriter::write(PoseRequest& request, std::uint32_t dro
   return deform_ns;
 }
 
-void PosedVerticesWriter::write_position_map(PoseRequest& request, PositionMapService& service,
-                                             flatbuffers::FlatBufferBuilder& builder) {
+std::uint64_t PosedVerticesWriter::write_position_map(PoseRequest& request,
+                                                      PositionMapService& service,
+                                                      flatbuffers::FlatBufferBuilder& builder) {
   const Clock::time_point started = Clock::now();
   const PositionMapParams& params = *request.position_map;
   const std::size_t vertex_count = request.model->bound.model.vertex_count();
@@ -152,6 +153,7 @@ void PosedVerticesWriter::write_position_map(PoseRequest& request, PositionMapSe
   timings.mutate_deform_ns(deform_ns);
   timings.mutate_features_ns(0);
   timings.mutate_encode_ns(nanoseconds_between(started, Clock::now()) - deform_ns);
+  return deform_ns;
 }
 
 }  // namespace sweepd::server

@@ -60,9 +60,9 @@ class PosedVerticesWriter {
   std::uint64_t write(PoseRequest& request, std::uint32_t dropped_before,
                       flatbuffers::FlatBufferBuilder& builder);
   // The PositionMap reply for a request with position_map set (PositionMapService::render's
-  // exceptions pass through).
-  void write_position_map(PoseRequest& request, PositionMapService& service,
-                          flatbuffers::FlatBufferBuilder& builder);
+  // exceptions pass through). Returns the deformation time, in nanoseconds.
+  std::uint64_t write_position_map(PoseRequest& request, PositionMapService& service,
+                                   flatbuffers::FlatBufferBuilder& builder);
 
  private:
   deform::Deformer& deformer_for(const ModelHandle& model);

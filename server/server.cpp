@@ -21,7 +21,7 @@ Server::Server(const ServerConfig& config, ModelRegistry& registry)
       position_maps_(config.position_maps != 0),
       signals_(io_, SIGTERM, SIGINT),
       environment_{config, registry, workers_, position_maps_, std::chrono::steady_clock::now(),
-                   {},     {}} {
+                   {},     {},       {}} {
   environment_.on_close = [this](std::uint64_t id) {
     // Deferred: the connection may still be on the call stack.
     asio::post(io_, [this, id]() { connections_.erase(id); });

@@ -230,6 +230,12 @@ TEST_F(DaemonSession, StatsCountThisConnectionsPoses) {
   EXPECT_EQ(mine->client_name()->str(), "server_test");
   EXPECT_GT(mine->server_latency()->p50_ns(), 0u);
   EXPECT_LE(mine->server_latency()->p50_ns(), mine->server_latency()->max_ns());
+  ASSERT_GE(stats->models()->size(), 1u);
+  const protocol::ModelStats* mannequin = stats->models()->Get(0);
+  EXPECT_EQ(mannequin->name()->str(), "mannequin");
+  EXPECT_GE(mannequin->poses(), 3u);  // other tests of this process may have posed it too
+  EXPECT_GT(mannequin->deform_latency()->p50_ns(), 0u);
+  EXPECT_LE(mannequin->deform_latency()->p99_ns(), mannequin->deform_latency()->max_ns());
 }
 
 }  // namespace
