@@ -189,7 +189,7 @@ int run(const Options& options) {
             std::chrono::duration<double, std::milli>(Clock::now() - sent_at[sequence]).count());
         ++answered;
         dropped += reply->dropped_before();
-        for (std::uint32_t d = 0; d < reply->dropped_before(); ++d) slots.release();
+
       } else if (const pb::Error* error = message.body_as_Error()) {
         sequence = error->sequence();
         ++errors;
@@ -197,7 +197,7 @@ int run(const Options& options) {
                      error->message()->c_str());
       }
       last = std::max(last, sequence);
-      slots.release();
+      if (!options.latest_wins) slots.release();  // InOrder: every pose gets one reply
     }
   });
 

@@ -63,6 +63,16 @@ int main(int argc, char** argv) {
                                            {"vertices", model->bound.model.vertex_count()}});
     }
     ensure_default_model(config, registry);
+    server::log_event("starting",
+                      {{"store_dir", config.store_dir.string()},
+                       {"model_dir", config.model_dir.string()},
+                       {"auth", config.token.empty() ? "none (any token accepted)" : "token"},
+                       {"max_connections", config.max_connections},
+                       {"max_models", config.max_models},
+                       {"max_frame_bytes", config.max_frame_bytes},
+                       {"max_poses_in_flight", config.max_poses_in_flight},
+                       {"worker_threads", config.worker_threads},
+                       {"position_maps", config.position_maps != 0}});
     server::Server server(config, registry);
     const int port = server.open();
     if (!config.port_file.empty()) {
