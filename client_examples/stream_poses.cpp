@@ -8,7 +8,8 @@
 //    server's default "mannequin" (LoadModel by name). ModelInfo gives the joint order.
 // 3. Stream the clip: every frame's joint rotations in model order, at the clip's frame rate
 //    or --flat-out (as fast as the server answers, up to Welcome.max_poses_in_flight queued).
-// 4. Print poses sent/answered/dropped/errors and round-trip latency percentiles.
+// 4. Print poses sent/answered/dropped/errors, round-trip latency percentiles, and the
+//    server's own deformation time for the model (from Stats), to show the overhead.
 //
 // The wire is the protocol alone (protocol/). Turning BVH frames into local joint rotations
 // needs the model's rest skeleton, which the protocol does not carry, so this example links
@@ -229,6 +230,13 @@ int run(const Options& options) {
   }
   reader.join();
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  // The server's own deformation time for this model: round trip ÷ deformation = overhead.
+  builder.Clear();
+  channel.send(pb::finish_message(builder, pb::CreateStatsRequest(builder)));
+  double deform_p50_ms = 0.0;
+  for (const pb::ModelStats* model : *channel.expect<pb::Stats>().models()) {
+    if (model->model_id() == model_id) deform_p50_ms = model->deform_latency()->p50_ns() * 1e-6;
+  }
   builder.Clear();
   channel.send(pb::finish_message(builder, pb::CreateByeDirect(builder, "clip finished")));
 
@@ -239,6 +247,9 @@ int run(const Options& options) {
   std::printf("round trip ms: p50 %.3f  p90 %.3f  p99 %.3f  max %.3f\n",
               percentile_ms(latencies_ms, 0.5), percentile_ms(latencies_ms, 0.9),
               percentile_ms(latencies_ms, 0.99), percentile_ms(latencies_ms, 1.0));
+  std::printf("server deformation ms: p50 %.3f (round trip p50 / deformation p50 = %.2f)\n",
+              deform_p50_ms,
+              deform_p50_ms > 0.0 ? percentile_ms(latencies_ms, 0.5) / deform_p50_ms : 0.0);
   return errors == 0 ? 0 : 1;
 }
 
