@@ -92,6 +92,40 @@ TEST(DaemonRestart, AcknowledgedUploadSurvivesKill9WithoutRebinding) {
   fs::remove_all(directory);
 }
 
+TEST(DaemonModelDirectory, ListsUnloadedFilesAndLoadsThemByName) {
+  const fs::path directory = fresh_directory("model_dir");
+  fs::create_directories(directory / "models");
+  io::save_gltf(deform::make_mannequin({.target_vertices = 3000}),
+                directory / "models" / "small.glb");
+  DaemonProcess daemon(directory, {"--model-dir", (directory / "models").string()});
+  ASSERT_TRUE(daemon.running()) << daemon.log();
+  FrameClient client(daemon.port());
+  ASSERT_NE(client.hello(""), nullptr);
+  // A model directory replaces the default mannequin: only the file, not loaded (0 vertices).
+  EXPECT_EQ(list_models(client),
+            (std::vector<std::pair<std::string, std::uint32_t>>{{"small.glb", 0}}));
+
+  flatbuffers::FlatBufferBuilder builder;
+  client.send_bytes(
+      protocol::finish_message(builder, protocol::CreateLoadModelDirect(builder, "small.glb"), 23));
+  const protocol::ModelInfo* info = client.receive_as<protocol::ModelInfo>();
+  ASSERT_NE(info, nullptr);
+  EXPECT_EQ(info->model_id(), 1u);
+  EXPECT_TRUE(info->has_uvs());
+  const std::uint32_t vertices = info->vertex_count();
+  EXPECT_EQ(list_models(client),
+            (std::vector<std::pair<std::string, std::uint32_t>>{{"small.glb", vertices}}));
+
+  builder.Clear();
+  client.send_bytes(
+      protocol::finish_message(builder, protocol::CreateLoadModelDirect(builder, "absent"), 24));
+  const protocol::Error* error = client.receive_as<protocol::Error>();
+  ASSERT_NE(error, nullptr);
+  EXPECT_EQ(error->code(), protocol::ErrorCode::UnknownModel);
+  EXPECT_NE(error->message()->str().find("absent"), std::string::npos);
+  fs::remove_all(directory);
+}
+
 TEST(DaemonRestart, ModelLimitIsAnErrorAndTheSessionGoesOn) {
   const fs::path directory = fresh_directory("model_limit");
   DaemonProcess daemon(directory, {"--max-models", "1"});
