@@ -58,6 +58,7 @@ const std::vector<Setting>& settings() {
       integer_setting("max_models", &ServerConfig::max_models, 1, 100000),
       integer_setting("max_connections", &ServerConfig::max_connections, 1, 100000),
       integer_setting("max_poses_in_flight", &ServerConfig::max_poses_in_flight, 1, 4096),
+      integer_setting("hello_timeout_ms", &ServerConfig::hello_timeout_ms, 1, 3'600'000),
       integer_setting("max_model_vertices", &ServerConfig::max_model_vertices, 1, 100'000'000),
       integer_setting("worker_threads", &ServerConfig::worker_threads, 0, 1024),
       integer_setting("deform_threads", &ServerConfig::deform_threads, 1, 1024),
@@ -166,6 +167,7 @@ Flags (each also a key of the JSON config file, with '_' for '-'):
   --max-models N            most models held (default 16)
   --max-connections N       most simultaneous connections (default 64)
   --max-poses-in-flight N   queued poses per connection before backpressure (default 8)
+  --hello-timeout-ms N      close connections that send no Hello in time (default 10000)
   --max-model-vertices N    largest model accepted for loading (default 2000000)
   --worker-threads N        deformation workers; 0 = one per core (default 0)
   --deform-threads N        threads one pose is split over (default 1)

@@ -28,6 +28,7 @@ struct ServerConfig {
   std::uint32_t max_models = 16;
   std::uint32_t max_connections = 64;
   std::uint32_t max_poses_in_flight = 8;
+  std::uint32_t hello_timeout_ms = 10000;  // a connection silent this long before Hello: closed
   std::uint32_t max_model_vertices = 2'000'000;  // uploads above it: MemoryLimit
   int worker_threads = 0;                        // 0: one per core
   int deform_threads = 1;                        // threads one pose is split over

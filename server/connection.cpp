@@ -34,6 +34,7 @@ Connection::Connection(Socket socket, std::uint64_t id, std::string peer,
                        ConnectionEnvironment& environment)
     : socket_(std::move(socket)),
       environment_(environment),
+      hello_deadline_(socket_.get_executor()),
       reader_(environment.config.max_frame_bytes),
       read_buffer_(kReadChunkBytes),
       writer_(environment.config.deform_threads) {
@@ -43,6 +44,14 @@ Connection::Connection(Socket socket, std::uint64_t id, std::string peer,
 
 void Connection::start() {
   log_event("connection_open", {{"connection", id()}, {"peer", counters_.peer}});
+  hello_deadline_.expires_after(std::chrono::milliseconds(environment_.config.hello_timeout_ms));
+  hello_deadline_.async_wait([self = shared_from_this()](std::error_code error) {
+    if (error || self->authenticated_ || self->draining_) return;
+    self->send_error(
+        pb::ErrorCode::NotAuthenticated,
+        "no Hello within " + std::to_string(self->environment_.config.hello_timeout_ms) + " ms", 0,
+        0, true);
+  });
   read_more();
 }
 
@@ -192,6 +201,7 @@ void Connection::handle_hello(const pb::Hello& hello, std::uint64_t request_id) 
     return;
   }
   authenticated_ = true;
+  hello_deadline_.cancel();
   delivery_ = hello.delivery() == pb::PoseDelivery::LatestWins ? pb::PoseDelivery::LatestWins
                                                                : pb::PoseDelivery::InOrder;
   log_event("hello", {{"connection", id()},
@@ -471,6 +481,7 @@ void Connection::close_if_done() {
 void Connection::close_now() {
   if (closed_) return;
   closed_ = true;
+  hello_deadline_.cancel();
   std::error_code ignored;
   socket_.shutdown(asio::socket_base::shutdown_both, ignored);
   socket_.close(ignored);

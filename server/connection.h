@@ -2,7 +2,8 @@
 //
 // Runs on the server's single I/O thread; only deformation and model loading go to the
 // worker pool. Frames are read with protocol::FrameReader; the first must be Hello (token
-// compared in constant time), anything else before it is a fatal NotAuthenticated. Frame
+// compared in constant time), anything else before it — or no Hello within
+// config.hello_timeout_ms — is a fatal NotAuthenticated. Frame
 // errors (BadFrame, WrongIdentifier, FrameTooLarge) and request errors (UnknownModel,
 // WrongJointCount, InvalidPose, ...) are answered with an Error and the session goes on.
 //
@@ -102,6 +103,7 @@ class Connection : public std::enable_shared_from_this<Connection> {
 
   Socket socket_;
   ConnectionEnvironment& environment_;
+  asio::steady_timer hello_deadline_;
   protocol::FrameReader reader_;
   std::vector<std::uint8_t> read_buffer_;
   std::span<const std::uint8_t> input_;

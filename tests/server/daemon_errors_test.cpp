@@ -19,8 +19,9 @@ class DaemonErrors : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     directory_ = new fs::path(fresh_directory("errors"));
-    daemon_ = new DaemonProcess(*directory_, {"--max-frame-bytes", std::to_string(kMaxFrameBytes),
-                                              "--max-connections", "3", "--position-maps", "0"});
+    daemon_ = new DaemonProcess(
+        *directory_, {"--max-frame-bytes", std::to_string(kMaxFrameBytes), "--max-connections", "3",
+                      "--position-maps", "0", "--hello-timeout-ms", "300"});
   }
   static void TearDownTestSuite() {
     delete daemon_;
@@ -171,6 +172,19 @@ TEST_F(DaemonErrors, ClientVanishingMidFrameLeavesOthersServed) {
   const protocol::PosedVertices* reply = healthy_->receive_as<protocol::PosedVertices>();
   ASSERT_NE(reply, nullptr);
   EXPECT_EQ(reply->sequence(), 2u);
+}
+
+TEST_F(DaemonErrors, SilentConnectionIsClosedAfterTheHelloTimeout) {
+  FrameClient silent(daemon_->port());
+  const auto connected = std::chrono::steady_clock::now();
+  const protocol::Error* error = silent.receive_as<protocol::Error>();
+  ASSERT_NE(error, nullptr);
+  EXPECT_EQ(error->code(), protocol::ErrorCode::NotAuthenticated);
+  EXPECT_TRUE(error->fatal());
+  EXPECT_NE(error->message()->str().find("300 ms"), std::string::npos) << error->message()->str();
+  // Not before the 300 ms deadline (a little slack for the clocks of two processes).
+  EXPECT_GE(std::chrono::steady_clock::now() - connected, std::chrono::milliseconds(250));
+  EXPECT_TRUE(silent.closed_by_server());
 }
 
 TEST_F(DaemonErrors, ConnectionsBeyondTheLimitAreRefused) {
