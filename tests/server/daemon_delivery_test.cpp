@@ -57,6 +57,23 @@ TEST_F(DaemonDelivery, InOrderAnswersEveryPoseInOrder) {
   }
 }
 
+TEST_F(DaemonDelivery, ByeAfterPipelinedPosesAnswersThemAllBeforeClosing) {
+  FrameClient client(daemon_->port());
+  ASSERT_NE(client.hello(""), nullptr);
+  constexpr std::uint64_t kPoses = 6;
+  std::vector<std::uint8_t> bytes = pipelined_poses(kPoses);
+  flatbuffers::FlatBufferBuilder builder;
+  const auto bye = protocol::finish_message(builder, protocol::CreateByeDirect(builder, "done"));
+  bytes.insert(bytes.end(), bye.begin(), bye.end());
+  ASSERT_TRUE(client.send_bytes(bytes));
+  for (std::uint64_t s = 1; s <= kPoses; ++s) {
+    const protocol::PosedVertices* reply = client.receive_as<protocol::PosedVertices>();
+    ASSERT_NE(reply, nullptr) << "pose " << s << " was not answered before closing";
+    EXPECT_EQ(reply->sequence(), s);
+  }
+  EXPECT_TRUE(client.closed_by_server());
+}
+
 TEST_F(DaemonDelivery, LatestWinsDropsStalePosesAndCountsThem) {
   FrameClient client(daemon_->port());
   ASSERT_NE(client.hello("", protocol::PoseDelivery::LatestWins), nullptr);
