@@ -1,0 +1,265 @@
+// stream_poses: a sweepd client that streams a BVH clip as poses and reports latency.
+//
+//   stream_poses --bvh clip.bvh [--host 127.0.0.1] [--port 7878] [--token T]
+//                [--model-file body.glb] [--frames N] [--flat-out] [--latest-wins] [--float16]
+//
+// 1. Connect, Hello (with the token; LatestWins if asked), read Welcome.
+// 2. Choose the model: --model-file uploads a .glb (LoadModel with bytes); otherwise the
+//    server's default "mannequin" (LoadModel by name). ModelInfo gives the joint order.
+// 3. Stream the clip: every frame's joint rotations in model order, at the clip's frame rate
+//    or --flat-out (as fast as the server answers, up to Welcome.max_poses_in_flight queued).
+// 4. Print poses sent/answered/dropped/errors, round-trip latency percentiles, and the
+//    server's own deformation time for the model (from Stats), to show the overhead.
+//
+// The wire is the protocol alone (protocol/). Turning BVH frames into local joint rotations
+// needs the model's rest skeleton, which the protocol does not carry, so this example links
+// the project's io library for BVH reading and retargeting (io::load_bvh, io::Retargeter) and
+// takes the skeleton from the uploaded .glb, or, for the default model, from the procedural
+// mannequin (deform::make_mannequin, as the server builds it). CMU clips are in inches:
+// --bvh-scale defaults to 0.056444 (CMU units to metres).
+#include <algorithm>
+#include <asio.hpp>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <mutex>
+#include <semaphore>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "deform/mannequin.h"
+#include "io/bvh_load.h"
+#include "io/bvh_retarget.h"
+#include "io/gltf_load.h"
+#include "protocol/messages.h"
+
+namespace {
+
+namespace pb = sweepd::protocol;
+using Clock = std::chrono::steady_clock;
+
+struct Options {
+  std::string host = "127.0.0.1", port = "7878", token, bvh, model_file;
+  float bvh_scale = 0.056444f;
+  int frames = 0;  // 0: the whole clip
+  int mannequin_vertices = 20000;
+  bool flat_out = false, latest_wins = false, float16 = false;
+};
+
+// Frames on a blocking socket: u32 length + body, kept 8-byte aligned for FlatBuffers.
+class Channel {
+ public:
+  Channel(const std::string& host, const std::string& port) : socket_(io_) {
+    asio::connect(socket_, asio::ip::tcp::resolver(io_).resolve(host, port));
+    socket_.set_option(asio::ip::tcp::no_delay(true));
+  }
+  void send(std::span<const std::uint8_t> frame) {
+    asio::write(socket_, asio::buffer(frame.data(), frame.size()));
+  }
+  const pb::Message& receive() {
+    std::uint32_t length = 0;
+    asio::read(socket_, asio::buffer(&length, 4));
+    storage_.resize((4 + length + 7) / 8);
+    auto* bytes = reinterpret_cast<std::uint8_t*>(storage_.data());
+    std::memcpy(bytes, &length, 4);
+    asio::read(socket_, asio::buffer(bytes + 4, length));
+    flatbuffers::Verifier verifier(bytes, 4 + length);
+    if (!pb::VerifySizePrefixedMessageBuffer(verifier)) throw std::runtime_error("bad frame");
+    return *pb::GetSizePrefixedMessage(bytes);
+  }
+  // The reply of type T, or an exception carrying the server's Error.
+  template <typename T>
+  const T& expect() {
+    const pb::Message& message = receive();
+    if (const pb::Error* error = message.body_as_Error()) {
+      throw std::runtime_error(std::string("server error ") + pb::EnumNameErrorCode(error->code()) +
+                               ": " + error->message()->str());
+    }
+    if (const T* body = message.template body_as<T>()) return *body;
+    throw std::runtime_error(std::string("unexpected reply ") +
+                             pb::EnumNameBody(message.body_type()));
+  }
+
+ private:
+  asio::io_context io_;
+  asio::ip::tcp::socket socket_;
+  std::vector<std::uint64_t> storage_;
+};
+
+Options parse(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string flag = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc) throw std::invalid_argument(flag + ": missing value");
+      return argv[++i];
+    };
+    if (flag == "--host")
+      o.host = value();
+    else if (flag == "--port")
+      o.port = value();
+    else if (flag == "--token")
+      o.token = value();
+    else if (flag == "--bvh")
+      o.bvh = value();
+    else if (flag == "--bvh-scale")
+      o.bvh_scale = std::stof(value());
+    else if (flag == "--model-file")
+      o.model_file = value();
+    else if (flag == "--frames")
+      o.frames = std::stoi(value());
+    else if (flag == "--mannequin-vertices")
+      o.mannequin_vertices = std::stoi(value());
+    else if (flag == "--flat-out")
+      o.flat_out = true;
+    else if (flag == "--latest-wins")
+      o.latest_wins = true;
+    else if (flag == "--float16")
+      o.float16 = true;
+    else
+      throw std::invalid_argument(flag + ": unknown flag");
+  }
+  if (o.bvh.empty()) throw std::invalid_argument("--bvh FILE is required");
+  return o;
+}
+
+double percentile_ms(std::vector<double> values, double q) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  return values[static_cast<std::size_t>(q * static_cast<double>(values.size() - 1))];
+}
+
+int run(const Options& options) {
+  Channel channel(options.host, options.port);
+  flatbuffers::FlatBufferBuilder builder;
+  channel.send(pb::build_hello(
+      builder, options.token, "stream_poses",
+      options.latest_wins ? pb::PoseDelivery::LatestWins : pb::PoseDelivery::InOrder));
+  const std::uint32_t window = channel.expect<pb::Welcome>().max_poses_in_flight();
+
+  // The model: upload a .glb, or use the server's default mannequin.
+  sweepd::deform::Skeleton skeleton;
+  builder.Clear();
+  if (!options.model_file.empty()) {
+    std::ifstream in(options.model_file, std::ios::binary);
+    const std::vector<std::uint8_t> glb{std::istreambuf_iterator<char>(in), {}};
+    skeleton = sweepd::io::load_gltf(options.model_file).skeleton;
+    pb::finish_message(builder,
+                       pb::CreateLoadModelDirect(builder, options.model_file.c_str(), &glb));
+  } else {
+    skeleton =
+        sweepd::deform::make_mannequin({.target_vertices = options.mannequin_vertices}).skeleton;
+    pb::finish_message(builder, pb::CreateLoadModelDirect(builder, "mannequin"));
+  }
+  channel.send({builder.GetBufferPointer(), builder.GetSize()});
+  const pb::ModelInfo& info = channel.expect<pb::ModelInfo>();
+  const std::uint32_t model_id = info.model_id();
+  if (info.joint_names()->size() != skeleton.joints.size()) {
+    throw std::runtime_error("the server's model has another skeleton than the local one");
+  }
+  for (std::size_t j = 0; j < skeleton.joints.size(); ++j) {
+    if (info.joint_names()->Get(j)->str() != skeleton.joints[j].name) {
+      throw std::runtime_error("joint " + std::to_string(j) + " differs: server " +
+                               info.joint_names()->Get(j)->str() + ", local " +
+                               skeleton.joints[j].name);
+    }
+  }
+  std::printf("model %u: %u vertices, %zu joints\n", model_id, info.vertex_count(),
+              skeleton.joints.size());
+
+  const sweepd::io::Retargeter clip(
+      sweepd::io::load_bvh(options.bvh, {.length_scale = options.bvh_scale}), skeleton);
+  const int frames =
+      options.frames > 0 ? std::min(options.frames, clip.frame_count()) : clip.frame_count();
+
+  // Replies are read on their own thread; `slots` bounds the poses in flight.
+  std::counting_semaphore<1 << 16> slots(static_cast<std::ptrdiff_t>(window));
+  std::vector<Clock::time_point> sent_at(static_cast<std::size_t>(frames) + 1);
+  std::vector<double> latencies_ms;
+  std::uint64_t answered = 0, dropped = 0, errors = 0;
+  std::thread reader([&]() {
+    for (std::uint64_t last = 0; last < static_cast<std::uint64_t>(frames);) {
+      const pb::Message& message = channel.receive();
+      std::uint64_t sequence = 0;
+      if (const pb::PosedVertices* reply = message.body_as_PosedVertices()) {
+        sequence = reply->sequence();
+        latencies_ms.push_back(
+            std::chrono::duration<double, std::milli>(Clock::now() - sent_at[sequence]).count());
+        ++answered;
+        dropped += reply->dropped_before();
+
+      } else if (const pb::Error* error = message.body_as_Error()) {
+        sequence = error->sequence();
+        ++errors;
+        std::fprintf(stderr, "error %s: %s\n", pb::EnumNameErrorCode(error->code()),
+                     error->message()->c_str());
+      }
+      last = std::max(last, sequence);
+      if (!options.latest_wins) slots.release();  // InOrder: every pose gets one reply
+    }
+  });
+
+  const Clock::time_point start = Clock::now();
+  std::vector<pb::Quat> rotations(skeleton.joints.size());
+  for (int frame = 0; frame < frames; ++frame) {
+    if (!options.flat_out) {
+      std::this_thread::sleep_until(
+          start + std::chrono::duration_cast<Clock::duration>(
+                      std::chrono::duration<double>(frame * double{clip.motion().frame_time})));
+    }
+    const sweepd::deform::Pose pose = clip.pose_at_frame(frame);
+    for (std::size_t j = 0; j < rotations.size(); ++j) {
+      const glm::quat& q = pose.local_rotations[j];
+      rotations[j] = pb::Quat(q.x, q.y, q.z, q.w);
+    }
+    pb::PoseFields fields;
+    fields.model_id = model_id;
+    fields.sequence = static_cast<std::uint64_t>(frame) + 1;
+    fields.rotations = rotations;
+    fields.root_translation =
+        pb::Vec3(pose.root_translation.x, pose.root_translation.y, pose.root_translation.z);
+    fields.positions = options.float16 ? pb::PositionFormat::Float16 : pb::PositionFormat::Float32;
+    if (!options.latest_wins) slots.acquire();  // LatestWins: the server drops, we never wait
+    builder.Clear();
+    const auto frame_bytes = pb::finish_message(builder, pb::add_pose(builder, fields));
+    sent_at[fields.sequence] = Clock::now();
+    channel.send(frame_bytes);
+  }
+  reader.join();
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  // The server's own deformation time for this model: round trip ÷ deformation = overhead.
+  builder.Clear();
+  channel.send(pb::finish_message(builder, pb::CreateStatsRequest(builder)));
+  double deform_p50_ms = 0.0;
+  for (const pb::ModelStats* model : *channel.expect<pb::Stats>().models()) {
+    if (model->model_id() == model_id) deform_p50_ms = model->deform_latency()->p50_ns() * 1e-6;
+  }
+  builder.Clear();
+  channel.send(pb::finish_message(builder, pb::CreateByeDirect(builder, "clip finished")));
+
+  std::printf("poses: sent %d, answered %llu, dropped %llu, errors %llu in %.2f s (%.0f/s)\n",
+              frames, static_cast<unsigned long long>(answered),
+              static_cast<unsigned long long>(dropped), static_cast<unsigned long long>(errors),
+              seconds, static_cast<double>(answered) / seconds);
+  std::printf("round trip ms: p50 %.3f  p90 %.3f  p99 %.3f  max %.3f\n",
+              percentile_ms(latencies_ms, 0.5), percentile_ms(latencies_ms, 0.9),
+              percentile_ms(latencies_ms, 0.99), percentile_ms(latencies_ms, 1.0));
+  std::printf("server deformation ms: p50 %.3f (round trip p50 / deformation p50 = %.2f)\n",
+              deform_p50_ms,
+              deform_p50_ms > 0.0 ? percentile_ms(latencies_ms, 0.5) / deform_p50_ms : 0.0);
+  return errors == 0 ? 0 : 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(parse(argc, argv));
+  } catch (const std::exception& error) {
+    std::fprintf(stderr, "stream_poses: %s\n", error.what());
+    return 2;
+  }
+}

@@ -1,0 +1,181 @@
+#include "server/config.h"
+
+#include <charconv>
+#include <fstream>
+#include <functional>
+#include <nlohmann/json.hpp>
+
+namespace sweepd::server {
+namespace {
+
+// One setting, under its flag name (--max-frame-bytes) and config key (max_frame_bytes).
+struct Setting {
+  const char* key;
+  std::function<void(ServerConfig&, const std::string& value, const std::string& where)> apply;
+};
+
+std::int64_t parse_integer(const std::string& value, const std::string& where, std::int64_t low,
+                           std::int64_t high) {
+  std::int64_t number = 0;
+  const char* end = value.data() + value.size();
+  auto [stop, error] = std::from_chars(value.data(), end, number);
+  if (error != std::errc() || stop != end) {
+    throw ConfigError(where + ": '" + value + "' is not an integer");
+  }
+  if (number < low || number > high) {
+    throw ConfigError(where + ": " + value + " is out of range [" + std::to_string(low) + ", " +
+                      std::to_string(high) + "]");
+  }
+  return number;
+}
+
+template <typename Field>
+Setting integer_setting(const char* key, Field ServerConfig::*field, std::int64_t low,
+                        std::int64_t high) {
+  return {key, [field, low, high](ServerConfig& config, const std::string& value,
+                                  const std::string& where) {
+            config.*field = static_cast<Field>(parse_integer(value, where, low, high));
+          }};
+}
+
+template <typename Field>
+Setting text_setting(const char* key, Field ServerConfig::*field) {
+  return {key, [field](ServerConfig& config, const std::string& value, const std::string&) {
+            config.*field = Field(value);
+          }};
+}
+
+const std::vector<Setting>& settings() {
+  static const std::vector<Setting> all = {
+      text_setting("listen", &ServerConfig::listen_address),
+      integer_setting("port", &ServerConfig::port, -1, 65535),
+      text_setting("unix_socket", &ServerConfig::unix_socket),
+      text_setting("port_file", &ServerConfig::port_file),
+      text_setting("model_dir", &ServerConfig::model_dir),
+      text_setting("store_dir", &ServerConfig::store_dir),
+      text_setting("token", &ServerConfig::token),
+      integer_setting("max_frame_bytes", &ServerConfig::max_frame_bytes, 1024, 1u << 30),
+      integer_setting("max_models", &ServerConfig::max_models, 1, 100000),
+      integer_setting("max_connections", &ServerConfig::max_connections, 1, 100000),
+      integer_setting("max_poses_in_flight", &ServerConfig::max_poses_in_flight, 1, 4096),
+      integer_setting("hello_timeout_ms", &ServerConfig::hello_timeout_ms, 1, 3'600'000),
+      integer_setting("max_model_vertices", &ServerConfig::max_model_vertices, 1, 100'000'000),
+      integer_setting("worker_threads", &ServerConfig::worker_threads, 0, 1024),
+      integer_setting("deform_threads", &ServerConfig::deform_threads, 1, 1024),
+      integer_setting("mannequin_vertices", &ServerConfig::mannequin_vertices, 1000, 500000),
+      integer_setting("position_maps", &ServerConfig::position_maps, 0, 1),
+  };
+  return all;
+}
+
+const Setting* find_setting(const std::string& key) {
+  for (const Setting& setting : settings()) {
+    if (key == setting.key) return &setting;
+  }
+  return nullptr;
+}
+
+std::string flag_to_key(std::string_view flag) {
+  std::string key(flag.substr(2));
+  for (char& c : key) {
+    if (c == '-') c = '_';
+  }
+  return key;
+}
+
+std::string read_token_file(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  if (!in) throw ConfigError("--token-file " + file.string() + ": cannot read the file");
+  std::string token;
+  std::getline(in, token);
+  return token;
+}
+
+}  // namespace
+
+void apply_config_file(const std::filesystem::path& file, ServerConfig& config) {
+  std::ifstream in(file);
+  if (!in) throw ConfigError("config file " + file.string() + ": cannot read the file");
+  nlohmann::json json;
+  try {
+    json = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& error) {
+    throw ConfigError("config file " + file.string() + ": not valid JSON (" + error.what() + ")");
+  }
+  if (!json.is_object()) {
+    throw ConfigError("config file " + file.string() + ": the top level must be an object");
+  }
+  for (const auto& [key, value] : json.items()) {
+    const std::string where = "config file " + file.string() + ", key '" + key + "'";
+    const Setting* setting = find_setting(key);
+    if (setting == nullptr) throw ConfigError(where + ": unknown key");
+    if (value.is_string()) {
+      setting->apply(config, value.get<std::string>(), where);
+    } else if (value.is_number_integer()) {
+      setting->apply(config, std::to_string(value.get<std::int64_t>()), where);
+    } else {
+      throw ConfigError(where + ": expected a string or an integer");
+    }
+  }
+}
+
+ServerConfig parse_server_config(std::span<const std::string_view> args) {
+  // The config file comes first so that flags override it wherever they stand.
+  ServerConfig config;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    if (args[i] == "--config") {
+      if (i + 1 >= args.size()) throw ConfigError("--config: missing value");
+      apply_config_file(std::filesystem::path(args[i + 1]), config);
+    }
+  }
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string_view flag = args[i];
+    if (flag == "--help" || flag == "-h") {
+      config.show_help = true;
+      continue;
+    }
+    if (!flag.starts_with("--")) {
+      throw ConfigError("'" + std::string(flag) + "': not a flag (see --help)");
+    }
+    if (i + 1 >= args.size()) throw ConfigError(std::string(flag) + ": missing value");
+    const std::string value(args[++i]);
+    if (flag == "--config") continue;
+    if (flag == "--token-file") {
+      config.token = read_token_file(value);
+      continue;
+    }
+    const Setting* setting = find_setting(flag_to_key(flag));
+    if (setting == nullptr) throw ConfigError(std::string(flag) + ": unknown flag (see --help)");
+    setting->apply(config, value, std::string(flag));
+  }
+  return config;
+}
+
+const char* config_usage() {
+  return R"(usage: sweepd [flags]
+Flags (each also a key of the JSON config file, with '_' for '-'):
+  --config FILE             JSON object of the keys below; flags override it
+  --listen ADDR             TCP listen address (default 127.0.0.1)
+  --port N                  TCP port; 0 picks a free one, -1 disables TCP (default 7878)
+  --unix-socket PATH        also listen on a Unix socket at PATH
+  --port-file FILE          write the bound TCP port to FILE once listening
+  --model-dir DIR           .glb/.gltf files clients may load by name
+  --store-dir DIR           where bound models are kept (default ./sweepd-store)
+  --token TOKEN             shared token clients must send in Hello (default: none)
+  --token-file FILE         read the token from the first line of FILE (not a config key)
+  --max-frame-bytes N       largest accepted frame (default 67108864)
+  --max-models N            most models held (default 16)
+  --max-connections N       most simultaneous connections (default 64)
+  --max-poses-in-flight N   queued poses per connection before backpressure (default 8)
+  --hello-timeout-ms N      close connections that send no Hello in time (default 10000)
+  --max-model-vertices N    largest model accepted for loading (default 2000000)
+  --worker-threads N        deformation workers; 0 = one per core (default 0)
+  --deform-threads N        threads one pose is split over (default 1)
+  --mannequin-vertices N    size of the default "mannequin" model (default 20000)
+  --position-maps 0|1       render PositionMapRequest with EGL (GPU or llvmpipe) (default 1)
+Signals: SIGTERM/SIGINT finish in-flight work, send Bye, and exit 0.
+Logs: one JSON object per line on stderr.
+)";
+}
+
+}  // namespace sweepd::server

@@ -1,0 +1,52 @@
+// ServerConfig: how sweepd is set up — from command-line flags and an optional JSON config
+// file (flags win over the file, the file over the defaults).
+//
+// parse_server_config(args): args are argv[1..] (program name excluded). Throws ConfigError
+// naming the flag, key or file and the reason (unknown flag, missing value, bad number,
+// unreadable or invalid JSON). `--help` sets `show_help`.
+// config_usage(): the text `sweepd --help` prints, listing every flag and config key.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+namespace sweepd::server {
+
+struct ServerConfig {
+  std::string listen_address = "127.0.0.1";  // TCP listen address
+  int port = 7878;                           // 0: ephemeral (see port_file); -1: no TCP
+  std::filesystem::path unix_socket;         // empty: no Unix-socket listener
+  std::filesystem::path port_file;           // written (tmp + rename) with the bound TCP port
+  std::filesystem::path model_dir;           // .glb/.gltf files clients may load by name
+  std::filesystem::path store_dir = "sweepd-store";  // bound models (.sweepbind) + index
+  std::string token;                                 // shared auth token; empty: none asked
+  std::uint32_t max_frame_bytes = 64u << 20;
+  std::uint32_t max_models = 16;
+  std::uint32_t max_connections = 64;
+  std::uint32_t max_poses_in_flight = 8;
+  std::uint32_t hello_timeout_ms = 10000;  // a connection silent this long before Hello: closed
+  std::uint32_t max_model_vertices = 2'000'000;  // uploads above it: MemoryLimit
+  int worker_threads = 0;                        // 0: one per core
+  int deform_threads = 1;                        // threads one pose is split over
+  int mannequin_vertices = 20000;                // the default model's size
+  int position_maps = 1;  // 1: answer PositionMapRequest on the GPU worker (EGL); 0: off
+  bool show_help = false;
+};
+
+class ConfigError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+ServerConfig parse_server_config(std::span<const std::string_view> args);
+
+// Reads `file` (JSON object, keys as in config_usage) into `config`.
+void apply_config_file(const std::filesystem::path& file, ServerConfig& config);
+
+const char* config_usage();
+
+}  // namespace sweepd::server

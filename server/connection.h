@@ -1,0 +1,128 @@
+// Connection: one client session of sweepd, on TCP or a Unix socket.
+//
+// Runs on the server's single I/O thread; only deformation and model loading go to the
+// worker pool. Frames are read with protocol::FrameReader; the first must be Hello (token
+// compared in constant time), anything else before it — or no Hello within
+// config.hello_timeout_ms — is a fatal NotAuthenticated. Frame
+// errors (BadFrame, WrongIdentifier, FrameTooLarge) and request errors (UnknownModel,
+// WrongJointCount, InvalidPose, ...) are answered with an Error and the session goes on.
+//
+// Poses run one at a time per connection, in order. InOrder delivery: at most
+// max_poses_in_flight poses are queued (or replies waiting to be written); beyond that the
+// connection stops reading the socket (TCP backpressure). LatestWins: a queued pose is
+// replaced by a newer one, and the next reply's dropped_before counts the drops.
+// Bye (from the client) or shut_down() (SIGTERM): work already received is finished and
+// answered, then the server sends Bye (on shutdown) and closes.
+#pragma once
+
+#include <asio.hpp>
+#include <chrono>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "protocol/framing.h"
+#include "server/config.h"
+#include "server/latency_samples.h"
+#include "server/model_registry.h"
+#include "server/pose_request.h"
+
+namespace sweepd::server {
+
+// What a connection sees of its server and of the other connections.
+struct ConnectionCounters {
+  std::uint64_t connection_id = 0;
+  std::string peer, client_name;
+  std::uint64_t poses_received = 0, poses_answered = 0, poses_dropped = 0, errors = 0;
+  std::uint64_t bytes_in = 0, bytes_out = 0;
+  LatencySamples latency;  // frame read → reply queued, recent poses
+};
+
+// Per model, kept by the server (touched on the I/O thread only).
+struct ModelCounters {
+  std::uint64_t poses = 0, errors = 0;
+  LatencySamples deform_latency;
+};
+
+struct ConnectionEnvironment {
+  const ServerConfig& config;
+  ModelRegistry& registry;
+  asio::thread_pool& workers;
+  PositionMapService& position_maps;
+  std::chrono::steady_clock::time_point started;
+  std::function<void(std::uint64_t connection_id)> on_close;
+  std::function<std::vector<ConnectionCounters>()> all_counters;
+  std::map<std::uint32_t, ModelCounters> model_counters;
+};
+
+class Connection : public std::enable_shared_from_this<Connection> {
+ public:
+  using Socket = asio::generic::stream_protocol::socket;
+
+  Connection(Socket socket, std::uint64_t id, std::string peer, ConnectionEnvironment& environment);
+
+  void start();
+  // Answers with a fatal error (e.g. ConnectionLimit) and closes, reading nothing.
+  void refuse(protocol::ErrorCode code, const std::string& message);
+  // SIGTERM: new work is answered with ShuttingDown; in-flight work finishes; then Bye.
+  void shut_down();
+
+  std::uint64_t id() const { return counters_.connection_id; }
+  const ConnectionCounters& counters() const { return counters_; }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+
+  void read_more();
+  void process_input();
+  bool reading_paused() const;
+  void handle_frame(const protocol::Message& message);
+  void handle_hello(const protocol::Hello& hello, std::uint64_t request_id);
+  // A Pose, or the pose of a PositionMapRequest (`map` set), checked and queued.
+  void handle_pose(const protocol::Pose& pose, std::uint64_t request_id,
+                   const protocol::PositionMapRequest* map = nullptr);
+  void handle_list_models(std::uint64_t request_id);
+  void handle_load_model(const protocol::LoadModel& load, std::uint64_t request_id);
+  void handle_stats(std::uint64_t request_id);
+
+  void start_next_pose();
+  void finish_pose(flatbuffers::FlatBufferBuilder builder, const PoseRequest& request,
+                   std::uint64_t deform_ns);
+  void send(flatbuffers::FlatBufferBuilder builder);
+  void send_error(protocol::ErrorCode code, const std::string& message, std::uint64_t sequence,
+                  std::uint64_t request_id, bool fatal = false);
+  void write_next();
+  void drain();  // stop taking work; close once in-flight work is answered
+  void close_if_done();
+  void close_now();
+  flatbuffers::FlatBufferBuilder take_builder();
+
+  Socket socket_;
+  ConnectionEnvironment& environment_;
+  asio::steady_timer hello_deadline_;
+  protocol::FrameReader reader_;
+  std::vector<std::uint8_t> read_buffer_;
+  std::span<const std::uint8_t> input_;
+  bool reading_ = false;
+  bool authenticated_ = false;
+  bool draining_ = false;       // Bye, end of stream, a fatal error or shutdown
+  bool shutting_down_ = false;  // shutdown: send Bye when drained
+  bool bye_sent_ = false;
+  bool closed_ = false;
+  int loads_running_ = 0;
+  protocol::PoseDelivery delivery_ = protocol::PoseDelivery::InOrder;
+  std::deque<PoseRequest> waiting_poses_;
+  bool pose_running_ = false;
+  std::uint32_t dropped_since_reply_ = 0;
+  std::deque<flatbuffers::FlatBufferBuilder> outgoing_;
+  bool writing_ = false;
+  std::vector<flatbuffers::FlatBufferBuilder> spare_builders_;
+  PosedVerticesWriter writer_;  // used by one worker job at a time
+  ConnectionCounters counters_;
+};
+
+}  // namespace sweepd::server

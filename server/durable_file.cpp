@@ -1,0 +1,50 @@
+#include "server/durable_file.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
+namespace sweepd::server {
+namespace {
+
+[[noreturn]] void fail(const std::filesystem::path& file, const char* step) {
+  throw std::runtime_error("cannot write " + file.string() + " (" + step + ": " +
+                           std::strerror(errno) + ")");
+}
+
+}  // namespace
+
+void write_file_durably(const std::filesystem::path& file, std::span<const std::uint8_t> bytes) {
+  const std::filesystem::path temporary = file.string() + ".tmp";
+  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) fail(temporary, "open");
+  std::size_t written = 0;
+  while (written < bytes.size()) {
+    const ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      ::close(fd);
+      fail(temporary, "write");
+    }
+    written += static_cast<std::size_t>(n);
+  }
+  if (::fsync(fd) != 0) {
+    ::close(fd);
+    fail(temporary, "fsync");
+  }
+  ::close(fd);
+  if (::rename(temporary.c_str(), file.c_str()) != 0) fail(file, "rename");
+  const std::filesystem::path directory =
+      file.has_parent_path() ? file.parent_path() : std::filesystem::path(".");
+  const int directory_fd = ::open(directory.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (directory_fd >= 0) {
+    ::fsync(directory_fd);
+    ::close(directory_fd);
+  }
+}
+
+}  // namespace sweepd::server

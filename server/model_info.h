@@ -1,0 +1,17 @@
+// build_model_info: a ModelInfo reply for a registered model — joint names and parents in
+// model order (what Pose.rotations follow), vertex/triangle counts, UVs, and a summary of the
+// binding (rig convention, sweeps, key ellipses, swept and skinned vertex counts).
+// Finishes `builder` as one frame carrying `request_id`.
+#pragma once
+
+#include <cstdint>
+
+#include "protocol/sweepd_generated.h"
+#include "server/model_registry.h"
+
+namespace sweepd::server {
+
+void build_model_info(flatbuffers::FlatBufferBuilder& builder, const RegisteredModel& model,
+                      std::uint64_t request_id);
+
+}  // namespace sweepd::server

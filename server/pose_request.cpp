@@ -1,0 +1,159 @@
+#include "server/pose_request.h"
+
+#include <algorithm>
+
+#include "protocol/float16.h"
+
+namespace sweepd::server {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+std::uint64_t nanoseconds_between(Clock::time_point from, Clock::time_point to) {
+  return static_cast<std::uint64_t>(
+      std::chrono::duration_cast<std::chrono::nanoseconds>(to - from).count());
+}
+
+std::span<glm::vec3> as_vectors(std::span<float> values) {
+  static_assert(sizeof(glm::vec3) == 3 * sizeof(float));
+  return {reinterpret_cast<glm::vec3*>(values.data()), values.size() / 3};
+}
+
+std::span<const float> as_floats(std::span<const glm::vec3> vectors) {
+  return {reinterpret_cast<const float*>(vectors.data()), vectors.size() * 3};
+}
+
+}  // namespace
+
+std::optional<protocol::PoseProblem> read_pose_request(const protocol::Pose& pose,
+                                                       const ModelHandle& model,
+                                                       std::uint64_t request_id, PoseRequest& out) {
+  const deform::Skeleton& skeleton = model->bound.model.skeleton;
+  if (auto problem = protocol::check_pose(pose, skeleton.joints.size())) return problem;
+  if (pose.features() != protocol::Features::NONE) {
+    return protocol::PoseProblem{
+        protocol::ErrorCode::NotAvailable,
+        "pose " + std::to_string(pose.sequence()) +
+            ": anatomical features (folding, protrusion, bulge, volume) are not available on "
+            "this server yet; send features = 0"};
+  }
+  out.request_id = request_id;
+  out.model = model;
+  out.sequence = pose.sequence();
+  out.client_time_ns = pose.client_time_ns();
+  out.format = pose.positions();
+  out.normals = pose.normals();
+  switch (pose.method()) {
+    case protocol::DeformMethod::Lbs:
+      out.method = deform::DeformMethod::kLbs;
+      break;
+    case protocol::DeformMethod::Dqs:
+      out.method = deform::DeformMethod::kDqs;
+      break;
+    default:
+      out.method = deform::DeformMethod::kSweep;
+  }
+  out.pose.local_rotations.resize(skeleton.joints.size());
+  for (std::size_t j = 0; j < skeleton.joints.size(); ++j) {
+    const protocol::Quat* q = pose.rotations()->Get(static_cast<flatbuffers::uoffset_t>(j));
+    out.pose.local_rotations[j] = glm::quat(q->w(), q->x(), q->y(), q->z());
+  }
+  const protocol::Vec3* root = pose.root_translation();
+  out.pose.root_translation = root != nullptr           ? glm::vec3(root->x(), root->y(), root->z())
+                              : skeleton.joints.empty() ? glm::vec3(0.0f)
+                                                        : skeleton.joints[0].rest_translation;
+  const std::string problem = deform::normalize_and_validate(out.pose, skeleton);
+  if (!problem.empty()) {
+    return protocol::PoseProblem{protocol::ErrorCode::InvalidPose,
+                                 "pose " + std::to_string(pose.sequence()) + ": " + problem};
+  }
+  return std::nullopt;
+}
+
+deform::Deformer& PosedVerticesWriter::deformer_for(const ModelHandle& model) {
+  auto& slot = deformers_[model->id];
+  if (slot.first != model) {
+    slot.second.reset();
+    slot.first = model;
+    slot.second = std::make_unique<deform::Deformer>(model->bound);
+  }
+  return *slot.second;
+}
+
+std::uint64_t PosedVerticesWriter::write(PoseRequest& request, std::uint32_t dropped_before,
+                                         flatbuffers::FlatBufferBuilder& builder) {
+  const Clock::time_point started = Clock::now();
+  const deform::BoundModel& bound = request.model->bound;
+  const std::size_t vertex_count = bound.model.vertex_count();
+  protocol::PosedVerticesHeader header;
+  header.request_id = request.request_id;
+  header.model_id = request.model->id;
+  header.sequence = request.sequence;
+  header.client_time_ns = request.client_time_ns;
+  header.vertex_count = static_cast<std::uint32_t>(vertex_count);
+  header.format = request.format;
+  header.normals = request.normals;
+  header.dropped_before = dropped_before;
+  protocol::PosedVerticesFrame frame(builder, header);
+  deform::Deformer& deformer = deformer_for(request.model);
+
+  const Clock::time_point deform_start = Clock::now();
+  std::uint64_t deform_ns = 0;
+  if (request.format == protocol::PositionFormat::Float32) {
+    deformer.deform(request.pose, request.method, as_vectors(frame.positions_f32()),
+                    as_vectors(frame.normals_f32()), deform_threads_);
+    deform_ns = nanoseconds_between(deform_start, Clock::now());
+  } else {
+    positions_scratch_.resize(vertex_count);
+    normals_scratch_.resize(request.normals ? vertex_count : 0);
+    deformer.deform(request.pose, request.method, positions_scratch_, normals_scratch_,
+                    deform_threads_);
+    deform_ns = nanoseconds_between(deform_start, Clock::now());
+    protocol::encode_float16(as_floats(positions_scratch_), frame.positions_f16());
+    if (request.normals) protocol::encode_float16(as_floats(normals_scratch_), frame.normals_f16());
+  }
+  protocol::ServerTimings& timings = frame.timings();
+  timings.mutate_queued_ns(nanoseconds_between(request.received, started));
+  timings.mutate_deform_ns(deform_ns);
+  timings.mutate_features_ns(0);
+  timings.mutate_encode_ns(nanoseconds_between(started, Clock::now()) - deform_ns);
+  return deform_ns;
+}
+
+std::uint64_t PosedVerticesWriter::write_position_map(PoseRequest& request,
+                                                      PositionMapService& service,
+                                                      flatbuffers::FlatBufferBuilder& builder) {
+  const Clock::time_point started = Clock::now();
+  const PositionMapParams& params = *request.position_map;
+  const std::size_t vertex_count = request.model->bound.model.vertex_count();
+  positions_scratch_.resize(vertex_count);
+  normals_scratch_.resize(vertex_count);
+  deformer_for(request.model)
+      .deform(request.pose, request.method, positions_scratch_, normals_scratch_, deform_threads_);
+  const std::uint64_t deform_ns = nanoseconds_between(started, Clock::now());
+  service.render({.model = &request.model->bound.model,
+                  .positions = positions_scratch_,
+                  .normals = normals_scratch_,
+                  .width = params.width,
+                  .height = params.height,
+                  .layers = params.layers,
+                  .compression = params.compression,
+                  .frame = request.sequence},
+                 exr_scratch_);
+  protocol::PositionMapFrame frame(builder, {.request_id = request.request_id,
+                                             .model_id = request.model->id,
+                                             .sequence = request.sequence,
+                                             .width = params.width,
+                                             .height = params.height,
+                                             .exr_bytes = exr_scratch_.size()});
+  // encode_exr writes a growing vector, so the file is copied once into the frame.
+  std::copy(exr_scratch_.begin(), exr_scratch_.end(), frame.exr().begin());
+  protocol::ServerTimings& timings = frame.timings();
+  timings.mutate_queued_ns(nanoseconds_between(request.received, started));
+  timings.mutate_deform_ns(deform_ns);
+  timings.mutate_features_ns(0);
+  timings.mutate_encode_ns(nanoseconds_between(started, Clock::now()) - deform_ns);
+  return deform_ns;
+}
+
+}  // namespace sweepd::server

@@ -1,0 +1,77 @@
+// PoseRequest: a client's Pose message checked once against its model and turned into what
+// the deformer takes; PosedVerticesWriter: the answer to it, deformed straight into the
+// outgoing PosedVertices frame.
+//
+// read_pose_request(pose, model, request_id, out): fills `out` (rotations converted from the
+//   wire's x,y,z,w to glm's w,x,y,z, normalised; an absent root translation becomes the
+//   model's rest root position). Returns the problem (code + message naming the pose's
+//   sequence) instead when the pose cannot be posed: wrong joint count, NaN/inf, far from
+//   unit rotations, or a method, feature or format this server does not offer.
+// PosedVerticesWriter::write(request, dropped_before, builder): builds the complete reply
+//   frame in `builder` (protocol::PosedVerticesFrame) — float32 positions/normals are
+//   written by the deformer in place; float16 go through one scratch buffer, kept between
+//   frames. write_position_map: the same pose rendered to an EXR position map instead.
+//   One writer per connection (its Deformers are not shared between threads).
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "deform/deformer.h"
+#include "protocol/messages.h"
+#include "server/model_registry.h"
+#include "server/position_map_service.h"
+
+namespace sweepd::server {
+
+// What a PositionMapRequest asks for beyond its pose.
+struct PositionMapParams {
+  std::uint32_t width = 0, height = 0;
+  protocol::MapLayers layers = protocol::MapLayers::Position;
+  protocol::ExrCompression compression = protocol::ExrCompression::Zip;
+};
+
+struct PoseRequest {
+  std::uint64_t request_id = 0;
+  ModelHandle model;
+  std::uint64_t sequence = 0;
+  std::uint64_t client_time_ns = 0;
+  deform::Pose pose;
+  deform::DeformMethod method = deform::DeformMethod::kSweep;
+  protocol::PositionFormat format = protocol::PositionFormat::Float32;
+  bool normals = false;
+  std::optional<PositionMapParams> position_map;  // set: answer with a PositionMap
+  std::chrono::steady_clock::time_point received;
+};
+
+std::optional<protocol::PoseProblem> read_pose_request(const protocol::Pose& pose,
+                                                       const ModelHandle& model,
+                                                       std::uint64_t request_id, PoseRequest& out);
+
+class PosedVerticesWriter {
+ public:
+  explicit PosedVerticesWriter(int deform_threads) : deform_threads_(deform_threads) {}
+
+  // Returns the time spent deforming, in nanoseconds.
+  std::uint64_t write(PoseRequest& request, std::uint32_t dropped_before,
+                      flatbuffers::FlatBufferBuilder& builder);
+  // The PositionMap reply for a request with position_map set (PositionMapService::render's
+  // exceptions pass through). Returns the deformation time, in nanoseconds.
+  std::uint64_t write_position_map(PoseRequest& request, PositionMapService& service,
+                                   flatbuffers::FlatBufferBuilder& builder);
+
+ private:
+  deform::Deformer& deformer_for(const ModelHandle& model);
+
+  int deform_threads_;
+  // Per model id: the model (kept alive while its deformer refers to it) and its deformer.
+  std::map<std::uint32_t, std::pair<ModelHandle, std::unique_ptr<deform::Deformer>>> deformers_;
+  std::vector<glm::vec3> positions_scratch_, normals_scratch_;  // float16 and position maps
+  std::vector<std::uint8_t> exr_scratch_;
+};
+
+}  // namespace sweepd::server

@@ -1,0 +1,134 @@
+#include "server/server.h"
+
+#include <csignal>
+#include <thread>
+
+#include "server/log_event.h"
+
+namespace sweepd::server {
+namespace {
+
+std::size_t worker_count(const ServerConfig& config) {
+  if (config.worker_threads > 0) return static_cast<std::size_t>(config.worker_threads);
+  return std::max(1u, std::thread::hardware_concurrency());
+}
+
+}  // namespace
+
+Server::Server(const ServerConfig& config, ModelRegistry& registry)
+    : config_(config),
+      workers_(worker_count(config)),
+      position_maps_(config.position_maps != 0),
+      signals_(io_, SIGTERM, SIGINT),
+      environment_{config, registry, workers_, position_maps_, std::chrono::steady_clock::now(),
+                   {},     {},       {}} {
+  environment_.on_close = [this](std::uint64_t id) {
+    // Deferred: the connection may still be on the call stack.
+    asio::post(io_, [this, id]() { connections_.erase(id); });
+  };
+  environment_.all_counters = [this]() {
+    std::vector<ConnectionCounters> all;
+    for (const auto& [id, connection] : connections_) all.push_back(connection->counters());
+    return all;
+  };
+}
+
+Server::~Server() { workers_.join(); }
+
+int Server::open() {
+  int port = 0;
+  if (config_.port >= 0) {
+    try {
+      const asio::ip::tcp::endpoint endpoint(asio::ip::make_address(config_.listen_address),
+                                             static_cast<unsigned short>(config_.port));
+      tcp_acceptor_.emplace(io_, endpoint, /*reuse_address=*/true);
+      port = tcp_acceptor_->local_endpoint().port();
+    } catch (const std::exception& error) {
+      throw std::runtime_error("cannot listen on " + config_.listen_address + ":" +
+                               std::to_string(config_.port) + " (" + error.what() + ")");
+    }
+    log_event("listening", {{"address", config_.listen_address}, {"port", port}});
+    accept_next(*tcp_acceptor_);
+  }
+  if (!config_.unix_socket.empty()) {
+    std::error_code ignored;
+    std::filesystem::remove(config_.unix_socket, ignored);
+    try {
+      unix_acceptor_.emplace(io_, asio::local::stream_protocol::endpoint(config_.unix_socket));
+    } catch (const std::exception& error) {
+      throw std::runtime_error("cannot listen on Unix socket " + config_.unix_socket.string() +
+                               " (" + error.what() + ")");
+    }
+    log_event("listening", {{"unix_socket", config_.unix_socket.string()}});
+    accept_next(*unix_acceptor_);
+  }
+  return port;
+}
+
+template <typename Acceptor>
+void Server::accept_next(Acceptor& acceptor) {
+  acceptor.async_accept(
+      [this, &acceptor](std::error_code error, typename Acceptor::protocol_type::socket socket) {
+        if (shutting_down_ || error == asio::error::operation_aborted) return;
+        if (!error) {
+          std::error_code ignored;
+          std::string peer;
+          if constexpr (std::is_same_v<Acceptor, asio::ip::tcp::acceptor>) {
+            socket.set_option(asio::ip::tcp::no_delay(true), ignored);
+            const auto endpoint = socket.remote_endpoint(ignored);
+            peer = endpoint.address().to_string() + ":" + std::to_string(endpoint.port());
+          } else {
+            peer = "unix:" + config_.unix_socket.string();
+          }
+          admit(Connection::Socket(std::move(socket)), std::move(peer));
+        } else {
+          log_event("accept_failed", {{"reason", error.message()}});
+        }
+        accept_next(acceptor);
+      });
+}
+
+void Server::admit(Connection::Socket socket, std::string peer) {
+  const std::uint64_t id = next_connection_id_++;
+  auto connection = std::make_shared<Connection>(std::move(socket), id, peer, environment_);
+  if (connections_.size() >= config_.max_connections) {
+    connection->refuse(protocol::ErrorCode::ConnectionLimit,
+                       "the server already holds its limit of " +
+                           std::to_string(config_.max_connections) + " connections");
+    return;
+  }
+  connections_.emplace(id, connection);
+  connection->start();
+}
+
+void Server::run() {
+  signals_.async_wait([this](std::error_code error, int signal) {
+    if (!error) begin_shutdown(signal == SIGTERM ? "SIGTERM" : "SIGINT");
+  });
+  io_.run();
+  workers_.join();
+  if (!config_.unix_socket.empty()) {
+    std::error_code ignored;
+    std::filesystem::remove(config_.unix_socket, ignored);
+  }
+  log_event("stopped");
+}
+
+void Server::request_shutdown() {
+  asio::post(io_, [this]() { begin_shutdown("request"); });
+}
+
+void Server::begin_shutdown(const char* reason) {
+  if (shutting_down_) return;
+  shutting_down_ = true;
+  log_event("shutdown", {{"reason", reason}, {"connections", connections_.size()}});
+  std::error_code ignored;
+  signals_.cancel(ignored);
+  if (tcp_acceptor_) tcp_acceptor_->close(ignored);
+  if (unix_acceptor_) unix_acceptor_->close(ignored);
+  // Copy: a connection that closes at once removes itself from the map (deferred anyway).
+  const auto connections = connections_;
+  for (const auto& [id, connection] : connections) connection->shut_down();
+}
+
+}  // namespace sweepd::server

@@ -1,0 +1,56 @@
+// Server: sweepd's listeners, connections and worker pool.
+//
+// open(): binds the TCP listener (config.listen_address:port; port 0 picks a free one) and
+//   the Unix-socket listener (config.unix_socket, a stale socket file is replaced). Throws
+//   std::runtime_error naming the address and the reason. Returns the bound TCP port (0 with
+//   no TCP listener).
+// run(): serves until SIGTERM/SIGINT or request_shutdown(), then stops accepting, lets every
+//   connection finish its in-flight work and say Bye, joins the workers and returns.
+// Connections beyond config.max_connections get a fatal Error{ConnectionLimit}.
+// All socket work runs on the thread that calls run(); deformation and model loading run on
+// a pool of config.worker_threads (0: one per core).
+#pragma once
+
+#include <asio.hpp>
+#include <chrono>
+#include <map>
+#include <memory>
+#include <optional>
+
+#include "server/config.h"
+#include "server/connection.h"
+#include "server/model_registry.h"
+#include "server/position_map_service.h"
+
+namespace sweepd::server {
+
+class Server {
+ public:
+  Server(const ServerConfig& config, ModelRegistry& registry);
+  ~Server();
+
+  int open();
+  void run();
+  // Thread-safe: asks run() to shut down as on SIGTERM.
+  void request_shutdown();
+
+ private:
+  template <typename Acceptor>
+  void accept_next(Acceptor& acceptor);
+  void admit(Connection::Socket socket, std::string peer);
+  void begin_shutdown(const char* reason);
+
+  const ServerConfig& config_;
+  asio::io_context io_;
+  asio::thread_pool workers_;
+  PositionMapService position_maps_;
+  asio::signal_set signals_;
+  std::optional<asio::ip::tcp::acceptor> tcp_acceptor_;
+  std::optional<asio::local::stream_protocol::acceptor> unix_acceptor_;
+  ConnectionEnvironment environment_;
+  std::map<std::uint64_t, std::shared_ptr<Connection>> connections_;
+  std::uint64_t next_connection_id_ = 1;
+  bool shutting_down_ = false;
+};
+
+}  // namespace sweepd::server

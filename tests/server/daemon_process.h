@@ -1,0 +1,233 @@
+// DaemonProcess: the real sweepd binary (SWEEPD_DAEMON) run as a child process for the
+// integration tests — on an ephemeral localhost port (--port 0 --port-file), with its own
+// store directory, stderr (the JSON logs) captured to a file for failure messages.
+// FrameClient: a blocking socket client speaking the sweepd framing, with a receive timeout,
+// so a test fails instead of hanging when the server does not answer.
+#pragma once
+
+#include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <signal.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "protocol/framing.h"
+#include "protocol/messages.h"
+
+namespace sweepd::test {
+
+namespace fs = std::filesystem;
+
+inline fs::path fresh_directory(const std::string& name) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("sweepd_server_test_" + std::to_string(getpid()) + "_" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+inline std::string read_text(const fs::path& file) {
+  std::ifstream in(file);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+class DaemonProcess {
+ public:
+  // `directory` holds the store (directory/store), the port file and the log.
+  DaemonProcess(const fs::path& directory, std::vector<std::string> extra_args)
+      : directory_(directory) {
+    const fs::path port_file = directory / "port";
+    fs::remove(port_file);
+    std::vector<std::string> args = {
+        SWEEPD_DAEMON, "--port", "0", "--port-file", port_file, "--store-dir", directory / "store"};
+    args.insert(args.end(), extra_args.begin(), extra_args.end());
+    log_file_ = directory / "sweepd.log";
+    pid_ = fork();
+    if (pid_ == 0) {
+      const std::string log = log_file_.string();
+      std::freopen(log.c_str(), "w", stderr);  // this run's log only
+      std::freopen("/dev/null", "w", stdout);
+      std::vector<char*> argv;
+      for (std::string& arg : args) argv.push_back(arg.data());
+      argv.push_back(nullptr);
+      execv(argv[0], argv.data());
+      _exit(127);
+    }
+    // The port file appears (written whole, then renamed) once the listener is bound.
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (std::chrono::steady_clock::now() < deadline) {
+      if (fs::exists(port_file)) {
+        port_ = std::stoi(read_text(port_file));
+        return;
+      }
+      int status = 0;
+      if (waitpid(pid_, &status, WNOHANG) == pid_) {
+        pid_ = -1;
+        break;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    ADD_FAILURE() << "sweepd did not start; log:\n" << log();
+  }
+  ~DaemonProcess() {
+    if (pid_ > 0) {
+      kill(pid_, SIGKILL);
+      waitpid(pid_, nullptr, 0);
+    }
+  }
+  DaemonProcess(const DaemonProcess&) = delete;
+  DaemonProcess& operator=(const DaemonProcess&) = delete;
+
+  int port() const { return port_; }
+  bool running() const { return pid_ > 0 && port_ > 0; }
+  std::string log() const { return read_text(log_file_); }
+
+  void signal(int number) { kill(pid_, number); }
+  // Waits for the process to end; its exit code, or -signal when killed, or nullopt on timeout.
+  std::optional<int> wait(std::chrono::seconds timeout = std::chrono::seconds(30)) {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    while (std::chrono::steady_clock::now() < deadline) {
+      int status = 0;
+      if (waitpid(pid_, &status, WNOHANG) == pid_) {
+        pid_ = -1;
+        return WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return std::nullopt;
+  }
+
+ private:
+  fs::path directory_, log_file_;
+  pid_t pid_ = -1;
+  int port_ = 0;
+};
+
+class FrameClient {
+ public:
+  static constexpr int kTimeoutSeconds = 30;
+
+  explicit FrameClient(int port) {
+    fd_ = socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_port = htons(static_cast<std::uint16_t>(port));
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    connected_ = connect(fd_, reinterpret_cast<sockaddr*>(&address), sizeof(address)) == 0;
+    const int one = 1;
+    setsockopt(fd_, IPPROTO_TCP, TCP_NODELAY, &one, sizeof(one));
+    set_timeout();
+  }
+  explicit FrameClient(const fs::path& unix_socket) {
+    fd_ = socket(AF_UNIX, SOCK_STREAM, 0);
+    sockaddr_un address{};
+    address.sun_family = AF_UNIX;
+    std::strncpy(address.sun_path, unix_socket.c_str(), sizeof(address.sun_path) - 1);
+    connected_ = connect(fd_, reinterpret_cast<sockaddr*>(&address), sizeof(address)) == 0;
+    set_timeout();
+  }
+  ~FrameClient() { close(fd_); }
+  FrameClient(const FrameClient&) = delete;
+  FrameClient& operator=(const FrameClient&) = delete;
+
+  bool connected() const { return connected_; }
+
+  bool send_bytes(std::span<const std::uint8_t> bytes) {
+    std::size_t sent = 0;
+    while (sent < bytes.size()) {
+      const ssize_t n = ::send(fd_, bytes.data() + sent, bytes.size() - sent, MSG_NOSIGNAL);
+      if (n <= 0) return false;
+      sent += static_cast<std::size_t>(n);
+    }
+    return true;
+  }
+
+  // The next frame's Message, or nullptr at end of stream / timeout (valid until next call).
+  const protocol::Message* receive() {
+    std::uint8_t prefix[4];
+    if (!receive_exactly(prefix, 4)) return nullptr;
+    std::uint32_t length = 0;
+    std::memcpy(&length, prefix, 4);
+    storage_.assign((4 + length + 7) / 8, 0);
+    auto* bytes = reinterpret_cast<std::uint8_t*>(storage_.data());
+    std::memcpy(bytes, prefix, 4);
+    if (!receive_exactly(bytes + 4, length)) return nullptr;
+    last_frame_ = {bytes, 4 + length};
+    flatbuffers::Verifier verifier(bytes, 4 + length);
+    if (!protocol::VerifySizePrefixedMessageBuffer(verifier)) {
+      ADD_FAILURE() << "the server sent a frame that does not verify";
+      return nullptr;
+    }
+    return protocol::GetSizePrefixedMessage(bytes);
+  }
+
+  // The next frame's body of type T, failing the test (and returning nullptr) otherwise.
+  template <typename T>
+  const T* receive_as() {
+    const protocol::Message* message = receive();
+    if (message == nullptr) {
+      ADD_FAILURE() << "no reply (connection closed or timed out)";
+      return nullptr;
+    }
+    const T* body = message->body_as<T>();
+    if (body == nullptr) {
+      const protocol::Error* error = message->body_as_Error();
+      ADD_FAILURE() << "expected " << protocol::EnumNameBody(protocol::BodyTraits<T>::enum_value)
+                    << ", got " << protocol::EnumNameBody(message->body_type())
+                    << (error ? " " + std::string(protocol::EnumNameErrorCode(error->code())) +
+                                    ": " + error->message()->str()
+                              : std::string());
+    }
+    return body;
+  }
+
+  // True when the server has closed the connection (a read returns end of stream).
+  bool closed_by_server() {
+    std::uint8_t byte;
+    return recv(fd_, &byte, 1, 0) == 0;
+  }
+
+  const protocol::Welcome* hello(
+      const std::string& token, protocol::PoseDelivery delivery = protocol::PoseDelivery::InOrder) {
+    flatbuffers::FlatBufferBuilder builder;
+    send_bytes(protocol::build_hello(builder, token, "server_test", delivery, 1));
+    return receive_as<protocol::Welcome>();
+  }
+
+ private:
+  void set_timeout() {
+    timeval timeout{kTimeoutSeconds, 0};
+    setsockopt(fd_, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof(timeout));
+  }
+  bool receive_exactly(std::uint8_t* out, std::size_t count) {
+    std::size_t got = 0;
+    while (got < count) {
+      const ssize_t n = recv(fd_, out + got, count - got, 0);
+      if (n <= 0) return false;
+      got += static_cast<std::size_t>(n);
+    }
+    return true;
+  }
+
+  int fd_ = -1;
+  bool connected_ = false;
+  std::vector<std::uint64_t> storage_;
+  std::span<const std::uint8_t> last_frame_;
+};
+
+}  // namespace sweepd::test

@@ -1,0 +1,173 @@
+// sweepd's durability and shutdown: an acknowledged upload survives kill -9 and a restart
+// without rebinding; SIGTERM finishes in-flight poses, says Bye and exits 0.
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "deform/mannequin.h"
+#include "io/gltf_save.h"
+#include "io/sweepbind.h"
+#include "tests/server/daemon_process.h"
+#include "tests/server/pose_frames.h"
+
+namespace sweepd::test {
+namespace {
+
+std::vector<std::uint8_t> read_bytes(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// A small rigged model as a client would upload it: the mannequin written as .glb.
+std::vector<std::uint8_t> small_glb(const fs::path& directory) {
+  const fs::path file = directory / "small.glb";
+  io::save_gltf(deform::make_mannequin({.target_vertices = 3000}), file);
+  return read_bytes(file);
+}
+
+const protocol::ModelInfo* upload(FrameClient& client, const std::string& name,
+                                  const std::vector<std::uint8_t>& glb) {
+  flatbuffers::FlatBufferBuilder builder;
+  client.send_bytes(protocol::finish_message(
+      builder, protocol::CreateLoadModelDirect(builder, name.c_str(), &glb), 21));
+  return client.receive_as<protocol::ModelInfo>();
+}
+
+std::vector<std::pair<std::string, std::uint32_t>> list_models(FrameClient& client) {
+  flatbuffers::FlatBufferBuilder builder;
+  client.send_bytes(protocol::finish_message(builder, protocol::CreateListModels(builder)));
+  std::vector<std::pair<std::string, std::uint32_t>> models;
+  if (const protocol::ModelList* list = client.receive_as<protocol::ModelList>()) {
+    for (const protocol::ModelSummary* m : *list->models()) {
+      models.emplace_back(m->name()->str(), m->vertex_count());
+    }
+  }
+  return models;
+}
+
+TEST(DaemonRestart, AcknowledgedUploadSurvivesKill9WithoutRebinding) {
+  const fs::path directory = fresh_directory("kill9");
+  const std::vector<std::uint8_t> glb = small_glb(directory);
+  std::uint32_t small_id = 0, small_vertices = 0;
+  {
+    DaemonProcess daemon(directory, {});
+    ASSERT_TRUE(daemon.running()) << daemon.log();
+    FrameClient client(daemon.port());
+    ASSERT_NE(client.hello(""), nullptr);
+    const protocol::ModelInfo* info = upload(client, "small", glb);
+    ASSERT_NE(info, nullptr);
+    small_id = info->model_id();
+    small_vertices = info->vertex_count();
+    EXPECT_EQ(small_id, 2u);  // after the default mannequin
+    EXPECT_GT(small_vertices, 2000u);
+    daemon.signal(SIGKILL);  // no chance to flush anything after the acknowledgement
+    EXPECT_EQ(daemon.wait(), -SIGKILL);
+  }
+  DaemonProcess restarted(directory, {});
+  ASSERT_TRUE(restarted.running()) << restarted.log();
+  FrameClient client(restarted.port());
+  ASSERT_NE(client.hello(""), nullptr);
+  const auto models = list_models(client);
+  ASSERT_EQ(models.size(), 2u);
+  EXPECT_EQ(models[0].first, "mannequin");
+  EXPECT_EQ(models[1], std::make_pair(std::string("small"), small_vertices));
+  // Restored from the store, not bound again.
+  const std::string log = restarted.log();
+  EXPECT_NE(log.find("\"event\":\"model_restored\""), std::string::npos) << log;
+  EXPECT_EQ(log.find("\"event\":\"model_loaded\""), std::string::npos) << log;
+
+  // And it poses exactly as the library does with the stored binding.
+  const deform::BoundModel bound =
+      io::load_sweepbind(directory / "store" / (std::to_string(small_id) + ".sweepbind"));
+  const std::vector<glm::quat> rotations = bent_rotations(bound.model.skeleton.joints.size());
+  const std::vector<protocol::Quat> wire = to_wire(rotations);
+  ASSERT_TRUE(send_pose(client, pose_fields(small_id, 1, wire)));
+  const protocol::PosedVertices* reply = client.receive_as<protocol::PosedVertices>();
+  ASSERT_NE(reply, nullptr);
+  const Deformed library = library_deformation(bound, rotations, deform::DeformMethod::kSweep);
+  ASSERT_EQ(reply->positions_f32()->size(), 3 * library.positions.size());
+  EXPECT_EQ(std::memcmp(reply->positions_f32()->data(), library.positions.data(),
+                        library.positions.size() * sizeof(glm::vec3)),
+            0);
+  fs::remove_all(directory);
+}
+
+TEST(DaemonModelDirectory, ListsUnloadedFilesAndLoadsThemByName) {
+  const fs::path directory = fresh_directory("model_dir");
+  fs::create_directories(directory / "models");
+  io::save_gltf(deform::make_mannequin({.target_vertices = 3000}),
+                directory / "models" / "small.glb");
+  DaemonProcess daemon(directory, {"--model-dir", (directory / "models").string()});
+  ASSERT_TRUE(daemon.running()) << daemon.log();
+  FrameClient client(daemon.port());
+  ASSERT_NE(client.hello(""), nullptr);
+  // A model directory replaces the default mannequin: only the file, not loaded (0 vertices).
+  EXPECT_EQ(list_models(client),
+            (std::vector<std::pair<std::string, std::uint32_t>>{{"small.glb", 0}}));
+
+  flatbuffers::FlatBufferBuilder builder;
+  client.send_bytes(
+      protocol::finish_message(builder, protocol::CreateLoadModelDirect(builder, "small.glb"), 23));
+  const protocol::ModelInfo* info = client.receive_as<protocol::ModelInfo>();
+  ASSERT_NE(info, nullptr);
+  EXPECT_EQ(info->model_id(), 1u);
+  EXPECT_TRUE(info->has_uvs());
+  const std::uint32_t vertices = info->vertex_count();
+  EXPECT_EQ(list_models(client),
+            (std::vector<std::pair<std::string, std::uint32_t>>{{"small.glb", vertices}}));
+
+  builder.Clear();
+  client.send_bytes(
+      protocol::finish_message(builder, protocol::CreateLoadModelDirect(builder, "absent"), 24));
+  const protocol::Error* error = client.receive_as<protocol::Error>();
+  ASSERT_NE(error, nullptr);
+  EXPECT_EQ(error->code(), protocol::ErrorCode::UnknownModel);
+  EXPECT_NE(error->message()->str().find("absent"), std::string::npos);
+  fs::remove_all(directory);
+}
+
+TEST(DaemonRestart, ModelLimitIsAnErrorAndTheSessionGoesOn) {
+  const fs::path directory = fresh_directory("model_limit");
+  DaemonProcess daemon(directory, {"--max-models", "1"});
+  ASSERT_TRUE(daemon.running()) << daemon.log();
+  FrameClient client(daemon.port());
+  ASSERT_NE(client.hello(""), nullptr);
+  flatbuffers::FlatBufferBuilder builder;
+  const std::vector<std::uint8_t> glb = small_glb(directory);
+  client.send_bytes(protocol::finish_message(
+      builder, protocol::CreateLoadModelDirect(builder, "small", &glb), 22));
+  const protocol::Error* error = client.receive_as<protocol::Error>();
+  ASSERT_NE(error, nullptr);
+  EXPECT_EQ(error->code(), protocol::ErrorCode::ModelLimit);
+  EXPECT_NE(error->message()->str().find("limit of 1"), std::string::npos);
+  EXPECT_EQ(list_models(client).size(), 1u);
+  fs::remove_all(directory);
+}
+
+TEST(DaemonRestart, SigtermAnswersPosesInFlightThenSaysByeAndExitsZero) {
+  const fs::path directory = fresh_directory("sigterm");
+  DaemonProcess daemon(directory, {"--mannequin-vertices", "60000"});
+  ASSERT_TRUE(daemon.running()) << daemon.log();
+  FrameClient client(daemon.port());
+  ASSERT_NE(client.hello(""), nullptr);
+  constexpr std::uint64_t kPoses = 6;
+  const std::vector<protocol::Quat> wire = to_wire(bent_rotations(31));
+  for (std::uint64_t s = 1; s <= kPoses; ++s) {
+    ASSERT_TRUE(send_pose(client, pose_fields(1, s, wire)));
+  }
+  ASSERT_NE(client.receive_as<protocol::PosedVertices>(), nullptr);  // work is under way
+  daemon.signal(SIGTERM);
+  for (std::uint64_t s = 2; s <= kPoses; ++s) {
+    const protocol::PosedVertices* reply = client.receive_as<protocol::PosedVertices>();
+    ASSERT_NE(reply, nullptr) << "pose " << s << " was not answered";
+    EXPECT_EQ(reply->sequence(), s);
+  }
+  EXPECT_NE(client.receive_as<protocol::Bye>(), nullptr);
+  EXPECT_TRUE(client.closed_by_server());
+  EXPECT_EQ(daemon.wait(), 0) << daemon.log();
+  EXPECT_NE(daemon.log().find("\"reason\":\"SIGTERM\""), std::string::npos);
+  fs::remove_all(directory);
+}
+
+}  // namespace
+}  // namespace sweepd::test

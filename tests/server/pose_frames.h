@@ -1,0 +1,65 @@
+// Poses for the server tests: a deterministic non-trivial pose for any joint count, sending it
+// as a Pose frame, and the library's own deformation of the same pose to compare replies with.
+#pragma once
+
+#include <glm/gtc/quaternion.hpp>
+#include <vector>
+
+#include "deform/deformer.h"
+#include "tests/server/daemon_process.h"
+
+namespace sweepd::test {
+
+// Every joint bent by up to 0.35 rad about a joint-dependent axis: far from the rest pose.
+inline std::vector<glm::quat> bent_rotations(std::size_t joint_count, float phase = 0.0f) {
+  std::vector<glm::quat> rotations;
+  for (std::size_t j = 0; j < joint_count; ++j) {
+    const float f = static_cast<float>(j) + phase;
+    const glm::vec3 axis = glm::normalize(glm::vec3(std::sin(f), std::cos(2.0f * f), 0.5f));
+    rotations.push_back(glm::angleAxis(0.35f * std::sin(f + 1.0f), axis));
+  }
+  return rotations;
+}
+
+inline std::vector<protocol::Quat> to_wire(const std::vector<glm::quat>& rotations) {
+  std::vector<protocol::Quat> wire;
+  for (const glm::quat& q : rotations) wire.emplace_back(q.x, q.y, q.z, q.w);
+  return wire;
+}
+
+inline protocol::PoseFields pose_fields(std::uint32_t model_id, std::uint64_t sequence,
+                                        std::span<const protocol::Quat> rotations) {
+  protocol::PoseFields fields;
+  fields.model_id = model_id;
+  fields.sequence = sequence;
+  fields.rotations = rotations;
+  return fields;
+}
+
+inline bool send_pose(FrameClient& client, protocol::PoseFields fields,
+                      std::uint64_t request_id = 0) {
+  flatbuffers::FlatBufferBuilder builder;
+  const auto pose = protocol::add_pose(builder, fields);
+  return client.send_bytes(protocol::finish_message(builder, pose, request_id));
+}
+
+struct Deformed {
+  std::vector<glm::vec3> positions, normals;
+};
+
+// What the library itself gives for `rotations` (rest root translation), one thread.
+inline Deformed library_deformation(const deform::BoundModel& bound,
+                                    const std::vector<glm::quat>& rotations,
+                                    deform::DeformMethod method) {
+  deform::Deformer deformer(bound);
+  deform::Pose pose;
+  pose.local_rotations = rotations;
+  pose.root_translation = bound.model.skeleton.joints[0].rest_translation;
+  Deformed out;
+  out.positions.resize(bound.model.vertex_count());
+  out.normals.resize(bound.model.vertex_count());
+  deformer.deform(pose, method, out.positions, out.normals, 1);
+  return out;
+}
+
+}  // namespace sweepd::test
