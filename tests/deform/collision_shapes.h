@@ -54,6 +54,34 @@ inline void add_grid(SoupMesh& mesh, glm::vec3 origin, glm::vec3 u, glm::vec3 v,
   }
 }
 
+// Closed box [lo, hi] with n cells along every edge; vertices shared across faces and edges,
+// triangles outward-facing (so enclosed_volume gives the box's volume).
+inline void add_subdivided_box(SoupMesh& mesh, glm::vec3 lo, glm::vec3 hi, int n) {
+  std::vector<std::int64_t> index((n + 1) * (n + 1) * (n + 1), -1);
+  auto vertex = [&](glm::ivec3 c) {
+    std::int64_t& id = index[(c.x * (n + 1) + c.y) * (n + 1) + c.z];
+    if (id < 0) {
+      id = static_cast<std::int64_t>(mesh.positions.size());
+      mesh.positions.push_back(lo + (hi - lo) * glm::vec3(c) / static_cast<float>(n));
+    }
+    return static_cast<std::uint32_t>(id);
+  };
+  for (int a = 0; a < 3; ++a) {
+    const int b = (a + 1) % 3, c = (a + 2) % 3;
+    for (int at : {0, n}) {
+      for (int u = 0; u < n; ++u) {
+        for (int v = 0; v < n; ++v) {
+          glm::ivec3 q[4];
+          const int du[4] = {0, 1, 1, 0}, dv[4] = {0, 0, 1, 1};
+          for (int k = 0; k < 4; ++k) q[k][a] = at, q[k][b] = u + du[k], q[k][c] = v + dv[k];
+          if (at == 0) std::swap(q[1], q[3]);  // face -a: reverse so it faces outward
+          for (int k : {0, 1, 2, 0, 2, 3}) mesh.indices.push_back(vertex(q[k]));
+        }
+      }
+    }
+  }
+}
+
 // `count` random triangles of edge length up to `size` in the unit cube (no shared vertices).
 inline SoupMesh random_soup(int count, float size, unsigned seed) {
   std::mt19937 rng(seed);
