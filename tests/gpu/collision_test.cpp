@@ -10,6 +10,7 @@
 
 #include "../deform/collision_shapes.h"
 #include "deform/bind.h"
+#include "deform/collision_features.h"
 #include "deform/collision_regions.h"
 #include "deform/deformer.h"
 #include "deform/rig_map.h"
@@ -147,6 +148,20 @@ TEST_F(CollisionTest, BentMaleRegionsMatchTheCpuBeforeAndAfterFolding) {
     }
   }
   EXPECT_GT(total, 0u) << "the bent elbow and knee must give pairs to compare";
+
+  // The whole feature pass with GPU pairs moves every vertex exactly as the CPU reference.
+  deformer.deform(pose, deform::DeformMethod::kSweep, positions, {});
+  std::vector<glm::vec3> with_gpu = positions;
+  deform::CollisionFeatures features(bound);
+  const deform::FeatureReport on_cpu = features.apply(deformer.skinning(), positions);
+  const deform::FeatureReport on_gpu = features.apply(
+      deformer.skinning(), with_gpu,
+      [&](auto p, auto i, auto t, std::vector<TrianglePair>& out) { gpu_.detect(p, i, t, out); });
+  EXPECT_GT(on_cpu.pairs_before, 0);
+  EXPECT_EQ(on_gpu.pairs_before, on_cpu.pairs_before);
+  EXPECT_EQ(on_gpu.pairs_after, on_cpu.pairs_after);
+  EXPECT_EQ(on_gpu.folded, on_cpu.folded);
+  EXPECT_EQ(with_gpu, positions);
 }
 
 }  // namespace
