@@ -166,6 +166,7 @@ void main() {
   for (uint j = i + 1; j < uint(slot_count); ++j) {
     vec3 t0 = corners[3 * j].xyz, t1 = corners[3 * j + 1].xyz, t2 = corners[3 * j + 2].xyz;
     vec3 other_lo = min(t0, min(t1, t2)), other_hi = max(t0, max(t1, t2));
+    if (other_lo.x > hi.x) break;  // slots are sorted by lo.x: no later box reaches back
     if (any(greaterThan(lo, other_hi)) || any(greaterThan(other_lo, hi))) continue;
     uvec4 other = records[j];
     if (own.w == other.w || share_a_vertex(own, other)) continue;
@@ -197,8 +198,18 @@ void CollisionDetector::detect(std::span<const glm::vec3> positions,
   const std::size_t count = triangles.size();
   corners_.resize(3 * count);
   records_.resize(count);
+  // Sort and sweep along x: slots ordered by their boxes' lower x, so each invocation stops at
+  // the first later box that starts past its own.
+  order_.resize(count);
   for (std::size_t s = 0; s < count; ++s) {
     const std::uint32_t t = triangles[s];
+    const float x0 = positions[indices[3 * t]].x, x1 = positions[indices[3 * t + 1]].x,
+                x2 = positions[indices[3 * t + 2]].x;
+    order_[s] = {std::min(x0, std::min(x1, x2)), t};
+  }
+  std::sort(order_.begin(), order_.end());
+  for (std::size_t s = 0; s < count; ++s) {
+    const std::uint32_t t = order_[s].second;
     for (int k = 0; k < 3; ++k) corners_[3 * s + k] = glm::vec4(positions[indices[3 * t + k]], 0);
     records_[s] = glm::uvec4(indices[3 * t], indices[3 * t + 1], indices[3 * t + 2], t);
   }

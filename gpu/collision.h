@@ -9,19 +9,20 @@
 //            triangles  #T ids of the triangles to test against each other (a few thousand)
 //   Output:  pairs      {first < second} triangle ids whose closed triangles meet, sorted,
 //                       unique; cleared first.
-// Broad phase: brute force — one invocation per triangle tests every later triangle's
-// bounding box (#T²/2 box tests; a region of 1,300 triangles is 0.85 M, less than a frame's
-// vertex work); narrow phase: the Guigue–Devillers test of deform/triangle_intersection.h,
-// transcribed to GLSL with the same double-precision operations in the same order (`precise`,
-// so no fused multiply-adds), so the pairs are bit-identical to the CPU reference.
-// Construct, call and destroy on the context's thread (gpu::Worker jobs); the Context must
-// outlive the detector. GL buffers are kept and grown between calls.
+// Broad phase: sort and sweep along x — the triangles are uploaded sorted by their boxes'
+// lower x; one invocation per triangle tests the boxes of the later ones until one starts past
+// its own upper x (at worst #T²/2 box tests); narrow phase: the Guigue–Devillers test of
+// deform/triangle_intersection.h, transcribed to GLSL with the same double-precision operations in
+// the same order (`precise`, so no fused multiply-adds), so the pairs are bit-identical to the CPU
+// reference. Construct, call and destroy on the context's thread (gpu::Worker jobs); the Context
+// must outlive the detector. GL buffers are kept and grown between calls.
 #pragma once
 
 #include <cstdint>
 #include <glm/glm.hpp>
 #include <memory>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "deform/self_intersection.h"
@@ -48,6 +49,7 @@ class CollisionDetector {
   std::vector<glm::vec4> corners_;
   std::vector<glm::uvec4> records_;
   std::vector<glm::uvec2> found_;
+  std::vector<std::pair<float, std::uint32_t>> order_;  // (box lower x, triangle id)
 };
 
 }  // namespace sweepd::gpu
