@@ -13,7 +13,7 @@
 // pose_bone_proxy: positions (42) = skinning[proxy.joint] applied to the rest vertices; returns
 //   the posed anchor (the key ellipse's centre, on the bone: where depth rays start).
 // push_out_of_bone_proxy
-//   Inputs:  the posed proxy (vertices, indices, centre), its collision region, the welded
+//   Inputs:  the posed proxy (vertices, indices, anchor), its collision region, the welded
 //            indices, gap (m)
 //   In/out:  positions (#V): every region vertex inside the proxy moves along the ray from the
 //            anchor through it to where the ray leaves the proxy, plus `gap` — outward, away
@@ -22,6 +22,11 @@
 //            and last hit).
 //            Call copy_to_seam_copies afterwards.
 //   Output:  ProtrusionResult (vertices moved, largest depth, volume change over the region).
+// Only vertices are tested (as in the paper): a proxy smaller than the mesh spacing can poke
+// through between vertices unnoticed. Measured on the shared male bent 150°: the default
+// proxies (0.3 × the smaller half-axis, outermost point at 0.9 × the key's extent) stay under
+// the skin, which the sweep keeps about one half-axis from the joint at any bend; proxies of
+// 0.7 × at 1.0 × reach through at 2–11 vertices each and are pushed out (depth up to 32 mm).
 #pragma once
 
 #include <cstdint>

@@ -1,7 +1,7 @@
-// Skin folding (paper §4.3): where a bending joint makes the skin pass through itself, the
-// intersecting triangles are grouped, a least-squares bisecting plane is fitted to each
-// group's vertices, and the skin that went through the plane is pulled back to it — the two
-// skins meet along the plane and a fold forms.
+// Skin folding (paper §4.3): where a bending joint makes the skin pass through itself, a
+// least-squares bisecting plane is fitted to the intersecting triangles' vertices, and the skin
+// that went through the plane is pulled back behind it — the two skins meet along the plane
+// and a fold forms.
 //
 // SkinFolder::fold
 //   Inputs:  region     a collision region (deform/collision_regions.h): its vertices and the
@@ -24,9 +24,12 @@
 // [-deepest, band] map linearly onto [gap, band], band = 2 deepest + 4 gap. So the skin that
 // went through ends behind the plane and the layers keep their order (projected onto the plane
 // itself they would lie coplanar and overlap). Buffers are kept between calls.
-// Measured on the shared male (tests/deform/collision_features_test.cpp): every pair between a
-// triangle wholly before and one wholly past the joint is removed by one call; pairs among the
-// crease triangles (corners on both sides) and at the region's border remain.
+// Measured on the shared male (tests/deform/collision_features_test.cpp), one call: elbow at
+// 90°: 85 pairs -> 0; elbow at 150°: 156 -> 133; knee at 150°: 75 -> 31. Every pair between a
+// triangle wholly before and one wholly past the joint goes (85 -> 0, 50 -> 0); what remains
+// are pairs among the crease triangles (corners on both sides of the joint, whose in-plane
+// layout the pinched sweep has folded) and at the region's border. Moving only along the
+// normal cannot undo an in-plane fold; calling again does not reduce them further.
 #pragma once
 
 #include <cstdint>
