@@ -79,7 +79,12 @@ namespace sweepd::gpu {
   X(PFNGLRENDERBUFFERSTORAGEMULTISAMPLEPROC, RenderbufferStorageMultisample) \
   X(PFNGLDELETERENDERBUFFERSPROC, DeleteRenderbuffers)                       \
   X(PFNGLDEBUGMESSAGECALLBACKPROC, DebugMessageCallback)                     \
-  X(PFNGLDEBUGMESSAGECONTROLPROC, DebugMessageControl)
+  X(PFNGLDEBUGMESSAGECONTROLPROC, DebugMessageControl)                       \
+  X(PFNGLDISPATCHCOMPUTEPROC, DispatchCompute)                               \
+  X(PFNGLMEMORYBARRIERPROC, MemoryBarrier)                                   \
+  X(PFNGLBINDBUFFERBASEPROC, BindBufferBase)                                 \
+  X(PFNGLBUFFERSUBDATAPROC, BufferSubData)                                   \
+  X(PFNGLGETBUFFERSUBDATAPROC, GetBufferSubData)
 
 struct GlFunctions {
 #define SWEEPD_GL_DECLARE(type, name) type name = nullptr;

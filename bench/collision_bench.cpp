@@ -1,0 +1,145 @@
+// Collision + anatomical features per frame on the shared male, left elbow and knee bent 150°:
+// the CPU reference (grid broad phase) and gpu::CollisionDetector (llvmpipe here, a real GPU
+// where one is lent), for pair detection over all 8 regions and for the whole feature pass
+// (detect, fold, re-detect, protrusion). The sweep deformation itself is timed alongside.
+#include <benchmark/benchmark.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <glm/gtc/quaternion.hpp>
+#include <memory>
+
+#include "deform/bind.h"
+#include "deform/collision_features.h"
+#include "deform/deformer.h"
+#include "deform/rig_map.h"
+#include "gpu/collision.h"
+#include "io/gltf_load.h"
+
+namespace {
+
+using namespace sweepd;
+
+struct Scene {
+  deform::BoundModel bound;
+  deform::Pose pose;
+  std::unique_ptr<deform::Deformer> deformer;
+  std::vector<glm::vec3> posed;
+};
+
+Scene* scene() {
+  static Scene* instance = []() -> Scene* {
+    const auto file = std::filesystem::path(SWEEPD_SHARED_DATA) / "models/makehuman_male_cmu.glb";
+    if (!std::filesystem::exists(file)) return nullptr;
+    auto* s = new Scene;
+    const deform::Model model = io::load_gltf(file);
+    s->bound = deform::bind(model, deform::detect_rig_map(model.skeleton));
+    auto joint = [&](const char* name) {
+      return glm::vec3(model.skeleton.world_rest_matrices()[model.skeleton.find(name)][3]);
+    };
+    s->pose = deform::rest_pose(model.skeleton);
+    s->pose.local_rotations[model.skeleton.find("LeftForeArm")] = glm::angleAxis(
+        glm::radians(150.0f),
+        glm::normalize(glm::cross(joint("LeftForeArm") - joint("LeftArm"), glm::vec3(0, 0, 1))));
+    s->pose.local_rotations[model.skeleton.find("LeftLeg")] =
+        glm::angleAxis(glm::radians(150.0f), glm::vec3(1, 0, 0));
+    s->deformer = std::make_unique<deform::Deformer>(s->bound);
+    s->posed.resize(model.vertex_count());
+    s->deformer->deform(s->pose, deform::DeformMethod::kSweep, s->posed, {});
+    return s;
+  }();
+  return instance;
+}
+
+gpu::CollisionDetector* gpu_detector() {
+  static std::unique_ptr<gpu::Context> context;
+  static std::unique_ptr<gpu::CollisionDetector> detector = []() {
+    try {
+      context = std::make_unique<gpu::Context>();
+      std::fprintf(stderr, "GL_RENDERER: %s\n", context->renderer().c_str());
+      auto made = std::make_unique<gpu::CollisionDetector>(*context);
+      // Warm up: the driver compiles the shader on its first dispatch.
+      const std::vector<glm::vec3> corners = {{0, 0, 0},  {1, 0, 0},       {0, 1, 0},
+                                              {0, 0, -1}, {0.2f, 0.2f, 1}, {0.3f, 0.2f, 1}};
+      const std::vector<std::uint32_t> indices = {0, 1, 2, 3, 4, 5}, ids = {0, 1};
+      std::vector<deform::TrianglePair> pairs;
+      made->detect(corners, indices, ids, pairs);
+      return made;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "no GPU collision: %s\n", e.what());
+      return std::unique_ptr<gpu::CollisionDetector>();
+    }
+  }();
+  return detector.get();
+}
+
+deform::DetectPairs gpu_hook(gpu::CollisionDetector& detector) {
+  return [&detector](auto p, auto i, auto t, std::vector<deform::TrianglePair>& out) {
+    detector.detect(p, i, t, out);
+  };
+}
+
+void BM_SweepDeform(benchmark::State& state) {
+  Scene* s = scene();
+  if (s == nullptr) return state.SkipWithError("shared male absent");
+  std::vector<glm::vec3> positions(s->posed.size());
+  for (auto _ : state) {
+    s->deformer->deform(s->pose, deform::DeformMethod::kSweep, positions, {});
+    benchmark::DoNotOptimize(positions.data());
+  }
+}
+
+// Pairs over all 8 collision regions, CPU (0) or GPU (1).
+void BM_DetectAllRegions(benchmark::State& state) {
+  Scene* s = scene();
+  if (s == nullptr) return state.SkipWithError("shared male absent");
+  deform::CollisionFeatures features(s->bound);
+  gpu::CollisionDetector* detector = state.range(0) ? gpu_detector() : nullptr;
+  if (state.range(0) && detector == nullptr) return state.SkipWithError("no GL context");
+  deform::SelfIntersectionDetector cpu;
+  std::vector<deform::TrianglePair> pairs;
+  std::size_t found = 0, triangles = 0;
+  for (auto _ : state) {
+    found = triangles = 0;
+    for (const deform::CollisionRegion& region : features.regions().regions) {
+      if (detector) {
+        detector->detect(s->posed, features.regions().welded_indices, region.triangles, pairs);
+      } else {
+        cpu.detect(s->posed, features.regions().welded_indices, region.triangles, pairs);
+      }
+      found += pairs.size();
+      triangles += region.triangles.size();
+    }
+  }
+  state.counters["pairs"] = static_cast<double>(found);
+  state.counters["triangles"] = static_cast<double>(triangles);
+}
+
+// The whole feature pass per frame (detect, fold, re-detect, protrusion), CPU or GPU pairs.
+void BM_CollisionFeatures(benchmark::State& state) {
+  Scene* s = scene();
+  if (s == nullptr) return state.SkipWithError("shared male absent");
+  gpu::CollisionDetector* detector = state.range(0) ? gpu_detector() : nullptr;
+  if (state.range(0) && detector == nullptr) return state.SkipWithError("no GL context");
+  deform::CollisionFeatures features(s->bound);
+  const deform::DetectPairs hook = detector ? gpu_hook(*detector) : deform::DetectPairs{};
+  std::vector<glm::vec3> positions = s->posed;
+  deform::FeatureReport report;
+  for (auto _ : state) {
+    state.PauseTiming();
+    positions = s->posed;
+    state.ResumeTiming();
+    report = features.apply(s->deformer->skinning(), positions, hook);
+  }
+  state.counters["pairs_before"] = report.pairs_before;
+  state.counters["pairs_after"] = report.pairs_after;
+  state.counters["folded"] = report.folded;
+}
+
+BENCHMARK(BM_SweepDeform)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DetectAllRegions)->ArgName("gpu")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CollisionFeatures)->ArgName("gpu")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,71 @@
+// CollisionFeatures: the per-frame anatomical features of paper §4.3 on a posed mesh — skin
+// folding where a bent joint makes the skin pass through itself, then elbow/knee protrusion
+// over the bone proxies — in one call, on the CPU reference or with the pairs found elsewhere
+// (gpu::CollisionDetector).
+//
+// apply
+//   Inputs:  skinning   J skinning matrices of the pose (Deformer::skinning())
+//            detect     optional pair finder with SelfIntersectionDetector::detect's contract;
+//                       empty: the CPU reference
+//   In/out:  positions  #V posed positions (Deformer::deform's output); region vertices move,
+//                       UV-seam copies follow their representative
+//   Output:  FeatureReport (counts, deepest penetrations, volume change for I_C)
+// Per region: detect → fold (when pairs) → detect again (pairs_after); then every bone proxy
+// pushes its region's skin out. Allocation-free once warm (the detect hook aside).
+#pragma once
+
+#include <functional>
+#include <span>
+#include <vector>
+
+#include "deform/bone_proxy.h"
+#include "deform/collision_regions.h"
+#include "deform/self_intersection.h"
+#include "deform/skin_folding.h"
+
+namespace sweepd::deform {
+
+using DetectPairs =
+    std::function<void(std::span<const glm::vec3> positions, std::span<const std::uint32_t> indices,
+                       std::span<const std::uint32_t> triangles, std::vector<TrianglePair>& pairs)>;
+
+struct CollisionFeatureOptions {
+  CollisionRegionOptions regions;
+  BoneProxyOptions proxies;
+  bool folding = true;
+  bool protrusion = true;
+  float folding_gap = 5e-4f;     // m between the two skins of a fold
+  float protrusion_gap = 2e-4f;  // m between a proxy and the skin pushed over it
+};
+
+struct FeatureReport {
+  int pairs_before = 0;  // intersecting pairs over all regions, before folding
+  int pairs_after = 0;   // ... after folding (regions that had none are not re-tested)
+  int folded = 0;        // vertices pulled back by folding
+  int protruded = 0;     // vertices pushed out by bone proxies
+  float deepest_fold = 0.0f, deepest_protrusion = 0.0f;  // m
+  double volume_change = 0.0;                            // m³, both features together
+};
+
+class CollisionFeatures {
+ public:
+  // The BoundModel must outlive this object.
+  explicit CollisionFeatures(const BoundModel& bound, const CollisionFeatureOptions& options = {});
+
+  FeatureReport apply(std::span<const glm::mat4> skinning, std::span<glm::vec3> positions,
+                      const DetectPairs& detect = {});
+
+  const CollisionRegions& regions() const { return regions_; }
+  const std::vector<BoneProxy>& proxies() const { return proxies_; }
+
+ private:
+  CollisionFeatureOptions options_;
+  CollisionRegions regions_;
+  std::vector<BoneProxy> proxies_;
+  SelfIntersectionDetector detector_;
+  SkinFolder folder_;
+  std::vector<TrianglePair> pairs_;
+  std::vector<glm::vec3> proxy_positions_;
+};
+
+}  // namespace sweepd::deform
