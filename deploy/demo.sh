@@ -1,43 +1,46 @@
 #!/usr/bin/env bash
-# The main job, as far as the code goes today: generate the default model (the procedural
-# mannequin), inspect it, bind it to its control sweeps, pose, render and position-map it with a
-# CMU clip, and inspect the shared real model and motion clip when present.
-# The daemon issue turns this into "start sweepd, stream poses to it".
+# The main job: start the sweepd daemon on its default model (the procedural mannequin), stream
+# a CMU motion clip to it with the stream_poses client, print the latency figures, write one EXR
+# position map and a PNG preview of the daemon's bound model, and stop the daemon.
 set -euo pipefail
 build=${1:-build/release}
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
-sweepctl="$build/cli/sweepctl"
 out=out/demo
+rm -rf "$out"
 mkdir -p "$out"
+clip=../shared/data/motion/cmu_01_01.bvh
+token=demo-token
 
-echo "== 1. default model: the procedural mannequin"
-"$sweepctl" mannequin --vertices 20000 -o "$out/mannequin.glb"
-"$sweepctl" inspect "$out/mannequin.glb" | head -n 14
-echo
-echo "== 2. bind it to its control sweeps (paper section 3)"
-"$sweepctl" bind "$out/mannequin.glb" -o "$out/mannequin.sweepbind" | grep -E "^(bound|sweep|skinned|rest|wrote)"
+echo "== 1. start sweepd (default model: the procedural mannequin, bound at start-up)"
+"$build/server/sweepd" --port 0 --port-file "$out/port" --store-dir "$out/store" \
+  --token "$token" 2>"$out/sweepd.log" &
+daemon=$!
+trap 'kill -TERM $daemon 2>/dev/null || true' EXIT
+for _ in $(seq 100); do [ -s "$out/port" ] && break; sleep 0.1; done
+[ -s "$out/port" ] || { echo "sweepd did not start; its log:"; cat "$out/sweepd.log"; exit 1; }
+port=$(cat "$out/port")
+echo "sweepd listening on 127.0.0.1:$port"
 
-shared=../shared/data
-clip=$shared/motion/cmu_01_01.bvh
-if [ -f "$clip" ]; then
-  echo
-  echo "== 3. pose it with a CMU clip (frame 600): sweeps, and LBS for comparison"
-  "$sweepctl" pose "$out/mannequin.sweepbind" --bvh "$clip" --frame 600 -o "$out/frame600_sweep.glb"
-  "$sweepctl" pose "$out/mannequin.sweepbind" --bvh "$clip" --frame 600 --method lbs -o "$out/frame600_lbs.glb"
-  "$sweepctl" render "$out/mannequin.sweepbind" --bvh "$clip" --frame 600 --png "$out/frame600.png" --size 600
-  "$sweepctl" positionmap "$out/mannequin.sweepbind" --bvh "$clip" --frame 600 --normals -o "$out/frame600.exr"
-fi
-
-if [ -f "$shared/models/makehuman_male_cmu.glb" ]; then
-  echo
-  echo "== 4. a real rigged human (shared data)"
-  "$sweepctl" inspect "$shared/models/makehuman_male_cmu.glb" | head -n 14
-  echo
-  echo "== 5. a CMU motion clip (shared data)"
-  "$sweepctl" inspect "$shared/motion/cmu_01_01.bvh" | head -n 7
+if [ ! -f "$clip" ]; then
+  echo "(no $clip: ../shared/data is not beside this checkout, nothing to stream)"
 else
-  echo "(../shared/data not found: skipping the real model and clip)"
+  echo
+  echo "== 2. stream 240 frames of cmu_01_01 at the clip's 120 fps (stream_poses)"
+  "$build/client_examples/stream_poses" --port "$port" --token "$token" --bvh "$clip" --frames 240
+
+  echo
+  echo "== 3. frame 600 of the clip on the daemon's bound model: EXR position map and PNG preview"
+  binding=$(ls "$out"/store/*.sweepbind | head -n 1)
+  "$build/cli/sweepctl" positionmap "$binding" --bvh "$clip" --frame 600 --normals -o "$out/frame600.exr"
+  "$build/cli/sweepctl" render "$binding" --bvh "$clip" --frame 600 --png "$out/frame600.png" --size 600
 fi
+
+echo
+echo "== 4. stop sweepd (SIGTERM: finishes in-flight work, says Bye, exits 0)"
+kill -TERM "$daemon"
+wait "$daemon"
+trap - EXIT
+tail -n 2 "$out/sweepd.log"
 echo
 echo "demo done: outputs in $out/"
