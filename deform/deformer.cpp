@@ -32,6 +32,7 @@ Deformer::Deformer(const BoundModel& bound)
       world_rest_inverse_(world_rest_inverse_matrices(bound.model.skeleton)),
       world_pose_(bound.model.skeleton.joints.size()),
       skinning_(bound.model.skeleton.joints.size()) {
+  if (!bound.edits.edits.empty()) set_edits(bound.edits);
   sweep_poser_.set_key_adjuster([this](int sweep, std::span<KeyEllipse> keys) {
     const auto rotations = sweep_poser_.joint_rotations();
     if (options_.edits && !edits_.edits.empty())

@@ -54,6 +54,8 @@ class Deformer {
 
   void set_options(DeformOptions options) { options_ = std::move(options); }
   const DeformOptions& options() const { return options_; }
+  // The edits start as the bound model's own (BoundModel::edits; the constructor validates them
+  // and throws like set_edits); set_edits replaces them.
   // Validates (validate in key_ellipse_edits.h) and keeps the edits; throws
   // std::invalid_argument with the reason when they do not fit the bound model.
   void set_edits(KeyEllipseEdits edits);

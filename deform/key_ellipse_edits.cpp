@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 
+#include "deform/bound_model.h"
 #include "deform/joint_turn.h"
 
 namespace sweepd::deform {

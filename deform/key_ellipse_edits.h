@@ -12,7 +12,8 @@
 // Applied to a posed key: centre += R (offset), orientation = orientation · exp(rotation),
 // a *= scale_a, b *= scale_b, where R is the posed key's frame and rotation a rotation vector in
 // that frame (degrees × unit axis).
-// The edits go with the BoundModel they were made for (sweep and key indices refer to it).
+// The edits go with the BoundModel they were made for (BoundModel::edits; sweep and key
+// indices refer to it) and are stored in its .sweepbind file.
 #pragma once
 
 #include <glm/glm.hpp>
@@ -21,9 +22,11 @@
 #include <string>
 #include <vector>
 
-#include "deform/bound_model.h"
+#include "deform/key_ellipse.h"
 
 namespace sweepd::deform {
+
+struct BoundModel;
 
 struct KeyEllipseCorrection {
   glm::vec3 offset{0.0f};    // metres, in the key's frame (x: a axis, y: b axis, z: normal)
@@ -35,6 +38,7 @@ struct KeyEllipseEditSample {
   float angle_degrees = 0.0f;
   KeyEllipseCorrection correction;
 };
+static_assert(sizeof(KeyEllipseEditSample) == 36, "stored packed in .sweepbind files");
 
 struct KeyEllipseEdit {
   int sweep = -1;                             // into BoundModel::sweeps

@@ -29,9 +29,10 @@ inline const BoundModel* shared_male() {
   return bound;
 }
 
-#define REQUIRE_SHARED_MALE()                                                             \
-  if (!test::shared_male()) GTEST_SKIP() << "shared data absent: makehuman_male_cmu.glb"; \
-  const BoundModel& male = *test::shared_male()
+#define REQUIRE_SHARED_MALE()                                     \
+  if (!::sweepd::deform::test::shared_male())                     \
+    GTEST_SKIP() << "shared data absent: makehuman_male_cmu.glb"; \
+  const ::sweepd::deform::BoundModel& male = *::sweepd::deform::test::shared_male()
 
 inline glm::vec3 rest_joint_position(const Model& model, const std::string& name) {
   return glm::vec3(model.skeleton.world_rest_matrices()[model.skeleton.find(name)][3]);
