@@ -47,7 +47,16 @@ bool segment_crosses(const glm::vec3& p, const glm::vec3& q, const glm::vec3& a,
   return t >= 0.0f && t <= 1.0f;
 }
 
+// Whether all of y lies strictly on one side of x's plane (then they cannot cross).
+bool one_side_of_plane(const std::array<glm::vec3, 3>& x, const std::array<glm::vec3, 3>& y) {
+  const glm::vec3 n = glm::cross(x[1] - x[0], x[2] - x[0]);
+  const float d0 = glm::dot(n, y[0] - x[0]), d1 = glm::dot(n, y[1] - x[0]),
+              d2 = glm::dot(n, y[2] - x[0]);
+  return (d0 > 0.0f && d1 > 0.0f && d2 > 0.0f) || (d0 < 0.0f && d1 < 0.0f && d2 < 0.0f);
+}
+
 bool triangles_cross(const std::array<glm::vec3, 3>& x, const std::array<glm::vec3, 3>& y) {
+  if (one_side_of_plane(x, y) || one_side_of_plane(y, x)) return false;
   for (int e = 0; e < 3; ++e) {
     if (segment_crosses(x[e], x[(e + 1) % 3], y[0], y[1], y[2])) return true;
     if (segment_crosses(y[e], y[(e + 1) % 3], x[0], x[1], x[2])) return true;
@@ -71,6 +80,7 @@ int count_self_intersections(std::span<const glm::vec3> positions,
     edge_sum += glm::length(positions[indices[3 * t + 1]] - positions[indices[3 * t]]);
   const float cell = static_cast<float>(2.0 * edge_sum / triangles) + 1e-9f;
   std::vector<glm::ivec3> lo(triangles), hi(triangles);
+  std::vector<glm::vec3> box_min(triangles), box_max(triangles);
   std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> grid;
   auto key = [](glm::ivec3 c) {
     return (static_cast<std::uint64_t>(c.x & 0x1fffff) << 42) |
@@ -83,6 +93,7 @@ int count_self_intersections(std::span<const glm::vec3> positions,
       mn = glm::min(mn, positions[indices[3 * t + k]]);
       mx = glm::max(mx, positions[indices[3 * t + k]]);
     }
+    box_min[t] = mn, box_max[t] = mx;
     lo[t] = glm::ivec3(glm::floor(mn / cell));
     hi[t] = glm::ivec3(glm::floor(mx / cell));
     for (int x = lo[t].x; x <= hi[t].x; ++x)
@@ -98,6 +109,9 @@ int count_self_intersections(std::span<const glm::vec3> positions,
         const glm::ivec3 first = glm::max(lo[a], lo[b]);  // the pair's first shared cell
         if (glm::any(glm::greaterThan(first, glm::min(hi[a], hi[b])))) continue;
         if (key(first) != cell_key) continue;  // counted in that cell
+        if (glm::any(glm::greaterThan(box_min[a], box_max[b])) ||
+            glm::any(glm::greaterThan(box_min[b], box_max[a])))
+          continue;  // the bounds do not overlap
         bool shared = false;
         for (int p = 0; p < 3 && !shared; ++p)
           for (int q = 0; q < 3 && !shared; ++q)

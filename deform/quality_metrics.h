@@ -8,13 +8,14 @@
 // - the smallest limb cross-section area ratio: the mesh cut by the planes (C(t), N(t)) of the
 //   posed limb sweeps at kSectionsPerLimb parameters, loop area over the rest area there;
 // - self-intersecting triangle pairs (triangles sharing no welded vertex; a uniform grid of
-//   triangle bounds, then edge–triangle crossings; coplanar touching is not counted);
+//   triangle bounds, bound overlap, plane sides, then edge–triangle crossings; coplanar
+//   touching is not counted);
 // - the largest edge stretch max |l / l_rest − 1| over the welded edges;
 // - the rest-pose error: the largest distance to the rest positions (measure it on the rest
 //   pose's output).
 // Inputs: positions: vertex_count() posed positions; the SweepPoser posed to the same pose
 // (its sweeps give the section planes and I). Outputs: QualityMetrics.
-// Not a per-frame hot path (each call allocates scratch); ~10 ms for the shared male.
+// Not a per-frame hot path (each call allocates scratch): 30-45 ms for the shared male.
 #pragma once
 
 #include <cstdint>

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cstdio>
 
 #include "shared_male.h"
@@ -86,8 +87,12 @@ TEST(QualityMetrics, SectionRatioCatchesTheCandyWrapperOfSkinning) {
   for (DeformMethod method : {DeformMethod::kSweep, DeformMethod::kLbs, DeformMethod::kDqs}) {
     const auto positions = test::deformed(deformer, pose, method);
     if (method != DeformMethod::kSweep) deformer.sweep_poser().set_pose(deformer.world_pose());
+    const auto start = std::chrono::steady_clock::now();
     const QualityMetrics m =
         meter.measure(positions, deformer.sweep_poser(), method == DeformMethod::kSweep);
+    std::printf("measure: %.0f ms\n",
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+                    .count());
     ratio[static_cast<int>(method)] = m.smallest_section_ratio;
     std::printf(
         "forearm twisted 150 deg, %s: smallest section ratio %.3f, edge stretch %.3f, "
