@@ -102,9 +102,11 @@ void Deformer::deform_preserving_volume(std::span<glm::vec3> positions,
         continue;
       const double change =
           regions_->volume(static_cast<int>(s), positions) / rest_region_volume_[s] - 1.0;
-      if (std::abs(change) < volume.mesh_tolerance) continue;
-      // The region changed by `change` while the sweep holds its target: folding's share, in
-      // the sweep's units, lowers I_C (raises the target) by as much.
+      // Folding only loses volume: a region that grew (where parts blend, e.g. a raised arm
+      // stretching the torso's shoulder zone) is left alone rather than shrunk as a whole.
+      if (change > -volume.mesh_tolerance) continue;
+      // The region lost `change` while the sweep holds its target: folding's share, in the
+      // sweep's units, lowers I_C (raises the target) by as much.
       const double fold = change * volume_preserver_.rest_volume(static_cast<int>(s));
       fold_volume_[s] += fold;
       added_volume_[s] += fold;

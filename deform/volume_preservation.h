@@ -33,9 +33,10 @@ struct VolumePreservationOptions {
   int joint_key_iterations = 3;  // steps on the most-turned joint keys before neighbours join
   // Folding feedback (Deformer only): the sweep integral does not see the skin that folds into
   // itself at a bent joint, so after the correction the Deformer deforms the mesh, measures each
-  // corrected part's closed region (part_regions.h), counts the shortfall against the sweep's
-  // change as I_C (folding's net volume change), corrects again, up to this many times, until the
-  // region is within mesh_tolerance of its rest volume. 0: the paper's plain correction.
+  // corrected part's closed region (part_regions.h), counts the region's loss as I_C (folding's
+  // net volume change, negative), corrects again, up to this many times, until no region has
+  // lost more than mesh_tolerance of its rest volume. Regions that grew are left alone (the
+  // growth comes from where parts blend, not from folding). 0: the paper's plain correction.
   int fold_feedback_iterations = 3;
   double mesh_tolerance = 0.005;  // on |V − V_rest| / V_rest of the closed part region
 };
