@@ -12,5 +12,7 @@ int run_bind(const std::vector<std::string>& args);
 int run_pose(const std::vector<std::string>& args);
 int run_render(const std::vector<std::string>& args);
 int run_positionmap(const std::vector<std::string>& args);
+int run_metrics(const std::vector<std::string>& args);
+int run_edit(const std::vector<std::string>& args);
 
 }  // namespace sweepd::cli

@@ -22,6 +22,8 @@ const Command kCommands[] = {
     {"pose", "deform a model into a pose or clip frames, write .glb", sweepd::cli::run_pose},
     {"render", "shaded PNG preview of a posed model (headless EGL)", sweepd::cli::run_render},
     {"positionmap", "posed positions in UV space as an OpenEXR map", sweepd::cli::run_positionmap},
+    {"metrics", "volume, section, crossing and stretch metrics per method", sweepd::cli::run_metrics},
+    {"edit", "store key-ellipse edits (JSON) in a .sweepbind file", sweepd::cli::run_edit},
 };
 
 void print_usage(std::FILE* out) {

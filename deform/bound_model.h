@@ -6,6 +6,7 @@
 // Per vertex: up to three sweep coordinates (t, θ, displacement, c) with blend weights, plus the
 // share that follows the model's own skin weights (hands, feet, head, and the hand-over zones).
 // The weights of a vertex sum to 1.
+// Edits: the user's key-ellipse corrections as functions of joint angles (paper §4.2).
 #pragma once
 
 #include <array>
@@ -14,6 +15,7 @@
 
 #include "deform/bspline.h"
 #include "deform/key_ellipse.h"
+#include "deform/key_ellipse_edits.h"
 #include "deform/model.h"
 #include "deform/rig_map.h"
 
@@ -92,6 +94,7 @@ struct BoundModel {
   BindOptions options;
   std::vector<BoundSweep> sweeps;
   std::vector<VertexBinding> vertices;  // one per model vertex
+  KeyEllipseEdits edits;                // key-ellipse corrections (empty: none)
 };
 
 }  // namespace sweepd::deform

@@ -139,7 +139,9 @@ void SweepPoser::set_pose(std::span<const glm::mat4> world_pose) {
   for (std::size_t s = 0; s < sweeps_.size(); ++s) {
     pose_key_ellipses(bound_.sweeps[s], bound_.model.skeleton, joint_rotation_, rest_joint_,
                       pose_joint_, posed_keys_[s]);
+    if (key_adjuster_) key_adjuster_(static_cast<int>(s), posed_keys_[s]);
     sweeps_[s].set_key_frames(posed_keys_[s]);
+    sweeps_[s].set_key_half_axes(posed_keys_[s]);
   }
   refresh_table();
 }

@@ -1,7 +1,9 @@
 // SweepPoser: the per-frame sweep deformation of a bound model (paper §4.1) — the fast path.
 //
-// set_pose: world joint matrices → posed key ellipses → each sweep's C(t) and Q(t) rebuilt
-//   (a(t), b(t) stay; volume correction and edits change them through sweep()).
+// set_pose: world joint matrices → posed key ellipses → (the key adjuster, if set: edits,
+//   muscle bulge) → each sweep's C(t), Q(t), a(t) and b(t) rebuilt from the keys (so a volume
+//   correction of the previous frame does not carry over; it changes α, β through sweep()
+//   after set_pose, followed by refresh_table()).
 // deform: every vertex from its binding, V = Σ_k w_k [C_k(t) + R_k(t) ((a+da) cos θ,
 //   (b+db) sin θ, c)] + w_skin · LBS(V), blended where two sweeps meet.
 // Speed: per frame each sweep is evaluated once at a table of samples (kSamplesPerSpan per key
@@ -16,9 +18,11 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "deform/bound_model.h"
@@ -48,6 +52,13 @@ class SweepPoser {
   std::span<const KeyEllipse> posed_keys(int s) const { return posed_keys_[s]; }
   // Call after changing a sweep's α/β (volume correction) so deform sees them.
   void refresh_table();
+
+  // Called by set_pose for every sweep with its posed keys, before the sweep is rebuilt from
+  // them: edits and muscle bulge change centres, orientations and half-axes here. Empty: none.
+  using KeyAdjuster = std::function<void(int sweep, std::span<KeyEllipse> keys)>;
+  void set_key_adjuster(KeyAdjuster adjuster) { key_adjuster_ = std::move(adjuster); }
+  // World rotation deltas (pose · rest⁻¹) of the joints in the last pose.
+  std::span<const glm::quat> joint_rotations() const { return joint_rotation_; }
 
  private:
   static constexpr int kSamplesPerSpan = 64;
@@ -84,6 +95,7 @@ class SweepPoser {
   void compute_normals(std::span<const glm::vec3> positions, std::span<glm::vec3> normals);
 
   const BoundModel& bound_;
+  KeyAdjuster key_adjuster_;
   std::vector<Sweep> sweeps_;
   std::vector<std::vector<KeyEllipse>> posed_keys_;
   std::vector<std::uint32_t> first_sample_;  // per sweep: its first row in table_

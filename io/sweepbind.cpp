@@ -21,6 +21,8 @@ constexpr std::size_t kHeaderSize = 32;  // magic 8, version 4, flags 4, size 8,
 constexpr std::uint64_t kMaxVertices = 1u << 26;
 constexpr std::uint64_t kMaxJoints = 1u << 12;
 constexpr std::uint64_t kMaxKeys = 1u << 10;
+constexpr std::uint64_t kMaxEdits = 1u << 12;
+constexpr std::uint64_t kMaxEditSamples = 1u << 10;
 
 // Records stored as raw bytes: their layout is the file format (io/SWEEPBIND.md). No padding.
 static_assert(sizeof(deform::KeyAnchor) == 12);
@@ -206,6 +208,11 @@ std::vector<std::uint8_t> encode_sweepbind(const BoundModel& bound) {
   payload.put<std::uint64_t>(bound.sweeps.size());
   for (const deform::BoundSweep& sweep : bound.sweeps) put_sweep(payload, sweep);
   payload.put_array(std::span<const deform::VertexBinding>(bound.vertices));
+  payload.put<std::uint64_t>(bound.edits.edits.size());
+  for (const deform::KeyEllipseEdit& edit : bound.edits.edits) {
+    for (int value : {edit.sweep, edit.key, edit.joint}) payload.put<std::int32_t>(value);
+    payload.put_array(std::span<const deform::KeyEllipseEditSample>(edit.samples));
+  }
 
   ByteWriter file;
   for (char c : kMagic) file.put(c);
@@ -252,8 +259,20 @@ BoundModel decode_sweepbind(std::span<const std::uint8_t> bytes,
   if (sweeps > 64) in.fail("sweep count " + std::to_string(sweeps) + " is out of range");
   for (std::uint64_t s = 0; s < sweeps; ++s) bound.sweeps.push_back(get_sweep(in));
   bound.vertices = in.get_array<deform::VertexBinding>("vertex bindings", kMaxVertices);
+  const auto edits = in.get<std::uint64_t>("edit count");
+  if (edits > kMaxEdits) in.fail("edit count " + std::to_string(edits) + " is out of range");
+  for (std::uint64_t e = 0; e < edits; ++e) {
+    deform::KeyEllipseEdit edit;
+    edit.sweep = in.get<std::int32_t>("edit sweep");
+    edit.key = in.get<std::int32_t>("edit key");
+    edit.joint = in.get<std::int32_t>("edit joint");
+    edit.samples = in.get_array<deform::KeyEllipseEditSample>("edit samples", kMaxEditSamples);
+    bound.edits.edits.push_back(std::move(edit));
+  }
   if (in.remaining() != 0) in.fail("trailing bytes inside the payload");
   if (std::string why = validate(bound); !why.empty()) in.fail("invalid binding: " + why);
+  if (std::string why = deform::validate(bound.edits, bound); !why.empty())
+    in.fail("invalid key ellipse edits: " + why);
   return bound;
 }
 

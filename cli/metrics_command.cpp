@@ -1,0 +1,234 @@
+// sweepctl metrics: how well each deformation method keeps the body's shape — per body part
+// volume change (closed mesh region and sweep integral), smallest limb section ratio,
+// crossing triangle pairs, largest edge stretch and the rest-pose error — for one pose or over a
+// clip (worst, mean and the frame of the worst), as a table, JSON or CSV.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "cli/commands.h"
+#include "cli/posed_model.h"
+#include "cli/progress_bar.h"
+#include "cli/text_format.h"
+#include "deform/quality_metrics.h"
+#include "io/bvh_load.h"
+
+namespace sweepd::cli {
+
+namespace {
+
+const std::string kUsage =
+    std::string(
+        "usage: sweepctl metrics MODEL [--bvh CLIP [--frame N | --frames A-B] [--step N]\n"
+        "                               | --pose POSE.json]\n"
+        "                        [--method sweep,sweep+volume,lbs,dqs] [--json | --csv]\n"
+        "  --method LIST      comma-separated methods (default: all four); sweep+volume is the\n"
+        "                     sweep method with volume preservation (arms, legs, torso)\n"
+        "  --step N           with a clip: every Nth frame (default 1: all frames)\n"
+        "  --json, --csv      machine-readable output instead of the table\n") +
+    kPosingUsage;
+
+struct Method {
+  std::string name;
+  deform::DeformMethod method;
+  bool preserve_volume;
+};
+
+// One metric over the measured frames: the worst value (by `badness`), its frame, the mean.
+struct Series {
+  std::string name;
+  double worst = 0.0, worst_badness = -1.0, sum = 0.0;
+  int worst_frame = -1, count = 0;
+  void add(double value, double badness, int frame) {
+    sum += value;
+    ++count;
+    if (badness > worst_badness) worst = value, worst_badness = badness, worst_frame = frame;
+  }
+  double mean() const { return count ? sum / count : 0.0; }
+};
+
+struct MethodReport {
+  std::string method;
+  double rest_error_m = 0.0;
+  std::vector<Series> series;
+};
+
+std::string take_methods(std::vector<std::string>& args, std::vector<Method>& methods,
+                         std::string& format, int& step) {
+  std::vector<std::string> rest;
+  std::string list = "sweep,sweep+volume,lbs,dqs";
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    if (args[i] == "--method" && i + 1 < args.size()) {
+      list = args[++i];
+    } else if (args[i] == "--json" || args[i] == "--csv") {
+      if (!format.empty()) return "give --json or --csv, not both";
+      format = args[i].substr(2);
+    } else if (args[i] == "--step" && i + 1 < args.size()) {
+      if (!parse_int(args[++i], 1, 1 << 20, step))
+        return "--step expects a number >= 1, got '" + args[i] + "'";
+    } else {
+      rest.push_back(args[i]);
+    }
+  }
+  args = std::move(rest);
+  std::stringstream names(list);
+  for (std::string name; std::getline(names, name, ',');) {
+    const bool preserve = name == "sweep+volume";
+    const auto method = deform::parse_deform_method(preserve ? "sweep" : name);
+    if (!method)
+      return "--method expects a comma-separated list of sweep, sweep+volume, lbs, dqs; got '" +
+             name + "'";
+    methods.push_back({name, *method, preserve});
+  }
+  if (methods.empty()) return "--method names no method";
+  return {};
+}
+
+MethodReport measure_method(const Method& m, PosedModel& posed, const deform::QualityMeter& meter,
+                            const std::vector<int>& frames, ProgressBar* bar, int done, int total) {
+  const deform::BoundModel& bound = posed.bound();
+  deform::Deformer deformer(bound);
+  deform::DeformOptions options;
+  options.preserve_volume = m.preserve_volume;
+  deformer.set_options(options);
+  MethodReport report;
+  report.method = m.name;
+  std::vector<glm::vec3> positions(bound.model.vertex_count());
+  deform::Pose rest = deform::rest_pose(bound.model.skeleton);
+  deformer.deform(rest, m.method, positions, {});
+  report.rest_error_m = deform::largest_distance(positions, bound.model.positions);
+
+  const bool sweep = m.method == deform::DeformMethod::kSweep;
+  for (const deform::BoundSweep& s : bound.sweeps)
+    report.series.push_back({std::string(deform::to_string(s.part)) + " mesh volume %"});
+  if (sweep)
+    for (const deform::BoundSweep& s : bound.sweeps)
+      report.series.push_back({std::string(deform::to_string(s.part)) + " sweep integral %"});
+  for (const char* name : {"smallest section ratio", "crossing triangle pairs", "edge stretch %"})
+    report.series.push_back({name});
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    deform::Pose pose = posed.pose(frames[i]);
+    deformer.deform(pose, m.method, positions, {});
+    if (!sweep) deformer.sweep_poser().set_pose(deformer.world_pose());  // section planes
+    const deform::QualityMetrics q = meter.measure(positions, deformer.sweep_poser(), sweep);
+    std::size_t k = 0;
+    for (const deform::PartMetrics& part : q.parts) {
+      const double percent = 100.0 * part.mesh_volume_change;
+      report.series[k++].add(percent, std::abs(percent), frames[i]);
+    }
+    if (sweep)
+      for (const deform::PartMetrics& part : q.parts) {
+        const double percent = 100.0 * part.sweep_volume_change;
+        report.series[k++].add(percent, std::abs(percent), frames[i]);
+      }
+    report.series[k++].add(q.smallest_section_ratio, -q.smallest_section_ratio, frames[i]);
+    report.series[k++].add(q.self_intersections, q.self_intersections, frames[i]);
+    report.series[k++].add(100.0 * q.largest_edge_stretch, q.largest_edge_stretch, frames[i]);
+    if (bar) bar->update(static_cast<double>(done + i + 1) / total, "measuring " + m.name);
+  }
+  return report;
+}
+
+void print_table(const std::vector<MethodReport>& reports, std::size_t frames) {
+  const bool clip = frames > 1;
+  for (const MethodReport& r : reports) {
+    std::printf("\n%s (rest-pose error %.3g mm)\n", r.method.c_str(), 1e3 * r.rest_error_m);
+    if (clip) std::printf("  %-34s %10s %10s %8s\n", "metric", "worst", "mean", "at frame");
+    for (const Series& s : r.series) {
+      if (clip)
+        std::printf("  %-34s %10.3f %10.3f %8d\n", s.name.c_str(), s.worst, s.mean(),
+                    s.worst_frame);
+      else
+        std::printf("  %-34s %10.3f\n", s.name.c_str(), s.worst);
+    }
+  }
+}
+
+void print_json(const std::vector<MethodReport>& reports, const PosingArguments& posing,
+                std::size_t frames) {
+  nlohmann::json out;
+  out["model"] = posing.model.string();
+  if (!posing.bvh.empty()) out["clip"] = posing.bvh.string();
+  out["frames"] = frames;
+  for (const MethodReport& r : reports) {
+    nlohmann::json method;
+    method["method"] = r.method;
+    method["rest_error_m"] = r.rest_error_m;
+    for (const Series& s : r.series)
+      method["metrics"].push_back({{"name", s.name},
+                                   {"worst", s.worst},
+                                   {"mean", s.mean()},
+                                   {"worst_frame", s.worst_frame}});
+    out["methods"].push_back(method);
+  }
+  std::printf("%s\n", out.dump(2).c_str());
+}
+
+void print_csv(const std::vector<MethodReport>& reports) {
+  std::printf("method,metric,worst,mean,worst_frame\n");
+  for (const MethodReport& r : reports) {
+    std::printf("%s,rest-pose error m,%.9g,%.9g,-1\n", r.method.c_str(), r.rest_error_m,
+                r.rest_error_m);
+    for (const Series& s : r.series)
+      std::printf("%s,%s,%.9g,%.9g,%d\n", r.method.c_str(), s.name.c_str(), s.worst, s.mean(),
+                  s.worst_frame);
+  }
+}
+
+}  // namespace
+
+int run_metrics(const std::vector<std::string>& arguments) {
+  std::vector<std::string> args = arguments;
+  if (!args.empty() && (args[0] == "--help" || args[0] == "-h")) {
+    std::fputs(kUsage.c_str(), stdout);
+    return 0;
+  }
+  std::vector<Method> methods;
+  std::string format;
+  int step = 1;
+  std::string problem = take_methods(args, methods, format, step);
+  PosingArguments posing;
+  const bool one_frame = std::find(args.begin(), args.end(), "--frame") != args.end();
+  if (problem.empty()) problem = take_posing_arguments(args, posing);
+  if (problem.empty() && !args.empty()) problem = "unexpected argument '" + args[0] + "'";
+  if (!problem.empty()) {
+    std::fprintf(stderr, "sweepctl metrics: %s\n\n%s", problem.c_str(), kUsage.c_str());
+    return 2;
+  }
+  try {
+    PosedModel posed(posing);
+    std::vector<int> frames;
+    if (posing.bvh.empty()) {
+      frames.push_back(0);
+    } else {
+      const bool whole_clip = !posing.frame_range && !one_frame;
+      const int last = whole_clip ? io::load_bvh(posing.bvh).frame_count - 1 : posing.last_frame;
+      for (int f = posing.first_frame; f <= last; f += step) frames.push_back(f);
+    }
+    const deform::QualityMeter meter(posed.bound());
+    std::vector<MethodReport> reports;
+    {
+      std::unique_ptr<ProgressBar> bar;
+      if (frames.size() > 1) bar = std::make_unique<ProgressBar>("metrics");
+      const int total = static_cast<int>(frames.size() * methods.size());
+      for (std::size_t m = 0; m < methods.size(); ++m)
+        reports.push_back(measure_method(methods[m], posed, meter, frames, bar.get(),
+                                         static_cast<int>(m * frames.size()), total));
+    }
+    if (format == "json")
+      print_json(reports, posing, frames.size());
+    else if (format == "csv")
+      print_csv(reports);
+    else
+      print_table(reports, frames.size());
+    return 0;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "sweepctl metrics: %s\n", e.what());
+    return 1;
+  }
+}
+
+}  // namespace sweepd::cli

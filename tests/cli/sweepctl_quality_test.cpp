@@ -1,0 +1,137 @@
+// sweepctl's quality commands as a user runs them: `metrics` (a posed elbow and a few clip
+// frames, table, JSON and CSV, bad arguments) and `edit` (edits stored in a .sweepbind that
+// reads back, a bad edits file refused with its name).
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "io/sweepbind.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path scratch() {
+  const fs::path dir = fs::temp_directory_path() / ("sweepctl_quality_" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::string read_text(const fs::path& file) {
+  std::ifstream in(file);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// Runs sweepctl with these arguments; returns its exit code and fills `output` with its stdout
+// followed by its stderr (progress and errors).
+int sweepctl(const std::string& arguments, std::string& output) {
+  const fs::path out = scratch() / "stdout.txt", err = scratch() / "stderr.txt";
+  const std::string command =
+      std::string(SWEEPD_SWEEPCTL) + " " + arguments + " > " + out.string() + " 2> " + err.string();
+  const int status = std::system(command.c_str());
+  output = read_text(out) + read_text(err);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+const fs::path kMale = fs::path(SWEEPD_SHARED_DATA) / "models/makehuman_male_cmu.glb";
+const fs::path kClip = fs::path(SWEEPD_SHARED_DATA) / "motion/cmu_01_01.bvh";
+
+#define REQUIRE_DATA() \
+  if (!fs::exists(kMale) || !fs::exists(kClip)) GTEST_SKIP() << "shared data absent"
+
+TEST(SweepctlMetrics, ElbowPoseAsJsonShowsVolumePreservationAtWork) {
+  REQUIRE_DATA();
+  const fs::path pose = scratch() / "elbow.json";
+  std::ofstream(pose)
+      << R"({"rotations": {"LeftForeArm": {"axis": [-0.7, -0.7, 0], "degrees": 120}}})";
+  std::string out;
+  ASSERT_EQ(sweepctl("metrics " + kMale.string() + " --pose " + pose.string() +
+                         " --method sweep,sweep+volume,lbs --json",
+                     out),
+            0)
+      << out;
+  const auto report = nlohmann::json::parse(out.substr(0, out.rfind('}') + 1));
+  ASSERT_EQ(report["methods"].size(), 3u);
+  auto metric = [&](int method, const std::string& name) {
+    for (const auto& m : report["methods"][method]["metrics"])
+      if (m["name"] == name) return m["worst"].get<double>();
+    ADD_FAILURE() << "no metric " << name;
+    return 0.0;
+  };
+  // The left elbow flexed (about cross(upper arm, +Z)): the plain sweep loses volume, preservation
+  // brings the closed region back within its 0.5 % feedback tolerance (plus rounding), and LBS has
+  // no sweep integral.
+  EXPECT_LT(metric(0, "left arm mesh volume %"), -5.0);
+  EXPECT_LT(std::abs(metric(1, "left arm mesh volume %")), 0.6);
+  for (const auto& m : report["methods"][2]["metrics"])
+    EXPECT_EQ(m["name"].get<std::string>().find("sweep integral"), std::string::npos);
+  EXPECT_LT(report["methods"][2]["rest_error_m"].get<double>(), 1e-5);  // LBS at rest: exact
+}
+
+TEST(SweepctlMetrics, ClipFramesGiveWorstMeanAndFrameAsCsvAndTable) {
+  REQUIRE_DATA();
+  std::string csv, table;
+  const std::string common = "metrics " + kMale.string() + " --bvh " + kClip.string() +
+                             " --frames 0-20 --step 10 --method dqs";
+  ASSERT_EQ(sweepctl(common + " --csv", csv), 0) << csv;
+  EXPECT_EQ(csv.rfind("method,metric,worst,mean,worst_frame\n", 0), 0u) << csv;
+  std::istringstream lines(csv);
+  std::string line;
+  int rows = 0;
+  while (std::getline(lines, line)) {
+    if (!line.starts_with("dqs,") || line.starts_with("dqs,rest")) continue;
+    const int frame = std::stoi(line.substr(line.rfind(',') + 1));
+    EXPECT_TRUE(frame == 0 || frame == 10 || frame == 20) << line;  // a measured frame
+    ++rows;
+  }
+  EXPECT_EQ(rows, 6 + 3);  // six part volumes, section ratio, crossings, edge stretch
+  ASSERT_EQ(sweepctl(common, table), 0) << table;
+  EXPECT_NE(table.find("at frame"), std::string::npos) << table;
+}
+
+TEST(SweepctlMetrics, RefusesBadArgumentsWithUsage) {
+  std::string out;
+  EXPECT_EQ(sweepctl("metrics model.glb --method sweep,bogus", out), 2);
+  EXPECT_NE(out.find("got 'bogus'"), std::string::npos) << out;
+  EXPECT_EQ(sweepctl("metrics model.glb --json --csv", out), 2);
+  EXPECT_NE(out.find("not both"), std::string::npos) << out;
+  EXPECT_EQ(sweepctl("metrics /nonexistent/model.glb", out), 1);
+  EXPECT_NE(out.find("/nonexistent/model.glb"), std::string::npos) << out;
+}
+
+TEST(SweepctlEdit, StoresEditsInTheSweepbindAndRefusesABadFile) {
+  REQUIRE_DATA();
+  const fs::path dir = scratch();
+  std::string out;
+  ASSERT_EQ(sweepctl("bind " + kMale.string() + " -o " + (dir / "male.sweepbind").string(), out), 0)
+      << out;
+  std::ofstream(dir / "edits.json") << R"({"edits": [{"part": "left arm", "key": 1,
+      "joint": "LeftArm", "samples": [{"angle": 120, "rotation": [0, 0, 30]}]}]})";
+  ASSERT_EQ(
+      sweepctl("edit " + (dir / "male.sweepbind").string() + " " + (dir / "edits.json").string(),
+               out),
+      0)
+      << out;
+  const auto bound = sweepd::io::load_sweepbind(dir / "male.sweepbind");
+  ASSERT_EQ(bound.edits.edits.size(), 1u);
+  EXPECT_EQ(bound.edits.edits[0].samples[0].correction.rotation.z, 30.0f);
+
+  std::ofstream(dir / "bad.json") << R"({"edits": [{"part": "left arm", "key": 1,
+      "joint": "LeftArm", "samples": [{"angle": -5}]}]})";
+  EXPECT_EQ(
+      sweepctl("edit " + (dir / "male.sweepbind").string() + " " + (dir / "bad.json").string(),
+               out),
+      1);
+  EXPECT_NE(out.find("bad.json"), std::string::npos) << out;
+  EXPECT_NE(out.find("must be positive"), std::string::npos) << out;
+  fs::remove_all(dir);
+}
+
+}  // namespace

@@ -1,0 +1,73 @@
+// Test fixture: the shared male (makehuman_male_cmu.glb) bound once per test program, and poses
+// that turn one joint about a world axis (its rest frames are world-aligned, so a local rotation
+// is a world rotation at that joint).
+#pragma once
+
+#include <filesystem>
+#include <glm/gtc/quaternion.hpp>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "deform/bind.h"
+#include "deform/deformer.h"
+#include "deform/pose.h"
+#include "deform/rig_map.h"
+#include "io/gltf_load.h"
+
+namespace sweepd::deform::test {
+
+// The bound male, or nullptr when the shared data is absent.
+inline const BoundModel* shared_male() {
+  static const BoundModel* bound = []() -> const BoundModel* {
+    const std::filesystem::path file =
+        std::filesystem::path(SWEEPD_SHARED_DATA) / "models/makehuman_male_cmu.glb";
+    if (!std::filesystem::exists(file)) return nullptr;
+    const Model model = io::load_gltf(file);
+    return new BoundModel(bind(model, detect_rig_map(model.skeleton)));
+  }();
+  return bound;
+}
+
+#define REQUIRE_SHARED_MALE()                                     \
+  if (!::sweepd::deform::test::shared_male())                     \
+    GTEST_SKIP() << "shared data absent: makehuman_male_cmu.glb"; \
+  const ::sweepd::deform::BoundModel& male = *::sweepd::deform::test::shared_male()
+
+inline glm::vec3 rest_joint_position(const Model& model, const std::string& name) {
+  return glm::vec3(model.skeleton.world_rest_matrices()[model.skeleton.find(name)][3]);
+}
+
+// Adds a turn of `degrees` about a world axis at `joint` to the pose.
+inline void turn(const Model& model, Pose& pose, const std::string& joint, glm::vec3 axis,
+                 float degrees) {
+  pose.local_rotations[model.skeleton.find(joint)] =
+      glm::angleAxis(glm::radians(degrees), glm::normalize(axis));
+}
+
+// The left elbow's flexion axis: orthogonal to the upper arm and the model's front (+Z).
+inline glm::vec3 left_elbow_flexion_axis(const Model& model) {
+  const glm::vec3 upper =
+      rest_joint_position(model, "LeftForeArm") - rest_joint_position(model, "LeftArm");
+  return glm::normalize(glm::cross(glm::normalize(upper), glm::vec3(0, 0, 1)));
+}
+
+inline Pose left_elbow_bent(const Model& model, float degrees) {
+  Pose pose = rest_pose(model.skeleton);
+  turn(model, pose, "LeftForeArm", left_elbow_flexion_axis(model), degrees);
+  return pose;
+}
+
+inline int sweep_of(const BoundModel& bound, BodyPart part) {
+  for (std::size_t s = 0; s < bound.sweeps.size(); ++s)
+    if (bound.sweeps[s].part == part) return static_cast<int>(s);
+  return -1;
+}
+
+inline std::vector<glm::vec3> deformed(Deformer& deformer, Pose pose, DeformMethod method) {
+  std::vector<glm::vec3> positions(deformer.bound().model.vertex_count());
+  deformer.deform(pose, method, positions, {});
+  return positions;
+}
+
+}  // namespace sweepd::deform::test
