@@ -20,12 +20,14 @@ glm::quat rotation_of(const glm::mat4& m) {
                                                  glm::normalize(glm::vec3(m[2])))));
 }
 
+// LBS of one vertex: blend the four matrices' columns, then one transform (as LBS does).
 glm::vec3 skinned_position(const Model& model, std::span<const glm::mat4> skinning, std::size_t v) {
-  const glm::vec4 rest(model.positions[v], 1.0f);
-  glm::vec3 p(0.0f);
-  for (int k = 0; k < kInfluences; ++k)
-    p += model.skin_weights[v][k] * glm::vec3(skinning[model.skin_joints[v][k]] * rest);
-  return p;
+  const auto& w = model.skin_weights[v];
+  const auto& j = model.skin_joints[v];
+  const glm::mat4 m = skinning[j[0]] * w[0] + skinning[j[1]] * w[1] + skinning[j[2]] * w[2] +
+                      skinning[j[3]] * w[3];
+  const glm::vec3 p = model.positions[v];
+  return glm::vec3(m[0]) * p.x + glm::vec3(m[1]) * p.y + glm::vec3(m[2]) * p.z + glm::vec3(m[3]);
 }
 
 }  // namespace
