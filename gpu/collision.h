@@ -26,8 +26,8 @@
 #include <vector>
 
 #include "deform/self_intersection.h"
-#include "gpu/compute_program.h"
 #include "gpu/egl_context.h"
+#include "gpu/shader_program.h"
 
 namespace sweepd::gpu {
 
@@ -43,7 +43,7 @@ class CollisionDetector {
 
  private:
   const GlFunctions& gl_;
-  ComputeProgram program_;
+  ShaderProgram program_;
   GLuint buffers_[4] = {0, 0, 0, 0};  // corners, triangle records, pair count, pairs
   std::size_t pair_capacity_ = 0;
   std::vector<glm::vec4> corners_;

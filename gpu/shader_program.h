@@ -1,4 +1,4 @@
-// ShaderProgram: a linked GLSL program (vertex + fragment), deleted with the object.
+// ShaderProgram: a linked GLSL program (vertex + fragment, or compute), deleted with the object.
 //
 // Inputs: GLSL 4.50 core sources. Compile or link failures throw std::runtime_error carrying
 // the stage name, the label given and the driver's info log. Use on the context's thread.
@@ -12,6 +12,8 @@ class ShaderProgram {
  public:
   ShaderProgram(const GlFunctions& gl, const char* label, const char* vertex_source,
                 const char* fragment_source);
+  // A compute program.
+  ShaderProgram(const GlFunctions& gl, const char* label, const char* compute_source);
   ~ShaderProgram();
   ShaderProgram(const ShaderProgram&) = delete;
   ShaderProgram& operator=(const ShaderProgram&) = delete;
