@@ -15,46 +15,28 @@
 #include "deform/rig_map.h"
 #include "io/gltf_load.h"
 #include "posed_section.h"
+#include "shared_male.h"
 
 namespace sweepd::deform {
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Fixture {
-  BoundModel bound;
-  float height = 0.0f;
-};
-
-const Fixture* male() {
-  static const Fixture* fixture = []() -> const Fixture* {
-    const fs::path file = fs::path(SWEEPD_SHARED_DATA) / "models/makehuman_male_cmu.glb";
-    if (!fs::exists(file)) return nullptr;
-    auto* f = new Fixture;
-    const Model model = io::load_gltf(file);
-    f->bound = bind(model, detect_rig_map(model.skeleton));
-    float lo = 1e9f, hi = -1e9f;
-    for (const glm::vec3& p : model.positions) lo = std::min(lo, p.y), hi = std::max(hi, p.y);
-    f->height = hi - lo;
-    return f;
-  }();
-  return fixture;
+float height(const Model& model) {
+  float lo = 1e9f, hi = -1e9f;
+  for (const glm::vec3& p : model.positions) lo = std::min(lo, p.y), hi = std::max(hi, p.y);
+  return hi - lo;
 }
 
-#define REQUIRE_MALE()                                                       \
-  if (!male()) GTEST_SKIP() << "shared data absent: makehuman_male_cmu.glb"; \
-  const Fixture& fx = *male()
-
 glm::vec3 joint_position(const Model& model, const std::string& name) {
-  return glm::vec3(model.skeleton.world_rest_matrices()[model.skeleton.find(name)][3]);
+  return test::rest_joint_position(model, name);
 }
 
 // The rest pose with `joint` turned by `degrees` about a world axis. The male's rest frames are
 // world-aligned (translation only), so a local rotation is a world rotation at that joint.
 Pose turned(const Model& model, const std::string& joint, glm::vec3 axis, float degrees) {
   Pose pose = rest_pose(model.skeleton);
-  pose.local_rotations[model.skeleton.find(joint)] =
-      glm::angleAxis(glm::radians(degrees), glm::normalize(axis));
+  test::turn(model, pose, joint, axis, degrees);
   return pose;
 }
 
@@ -71,20 +53,20 @@ float max_distance(std::span<const glm::vec3> a, std::span<const glm::vec3> b) {
 }
 
 TEST(SweepPoser, RestPoseReproducesTheRestMeshWithEveryMethod) {
-  REQUIRE_MALE();
-  Deformer deformer(fx.bound);
+  REQUIRE_SHARED_MALE();
+  Deformer deformer(male);
   for (DeformMethod method : {DeformMethod::kSweep, DeformMethod::kLbs, DeformMethod::kDqs}) {
-    const auto positions = deformed(deformer, rest_pose(fx.bound.model.skeleton), method);
-    const float error = max_distance(positions, fx.bound.model.positions);
+    const auto positions = deformed(deformer, rest_pose(male.model.skeleton), method);
+    const float error = max_distance(positions, male.model.positions);
     std::printf("rest pose, %s: worst %.3g m\n", to_string(method), error);
-    EXPECT_LE(error, 1e-5f * fx.height) << to_string(method);  // the bound
+    EXPECT_LE(error, 1e-5f * height(male.model)) << to_string(method);  // the bound
   }
 }
 
 TEST(SweepPoser, FastPathMatchesDirectEvaluationAndThreadsAreBitIdentical) {
-  REQUIRE_MALE();
-  const Model& model = fx.bound.model;
-  Deformer deformer(fx.bound);
+  REQUIRE_SHARED_MALE();
+  const Model& model = male.model;
+  Deformer deformer(male);
   Pose pose = turned(model, "LeftForeArm", {0.7f, 0.7f, 0.0f}, 120.0f);
   pose.local_rotations[model.skeleton.find("RightUpLeg")] =
       glm::angleAxis(glm::radians(-80.0f), glm::vec3(1, 0, 0));
@@ -104,13 +86,13 @@ TEST(SweepPoser, FastPathMatchesDirectEvaluationAndThreadsAreBitIdentical) {
     worst = std::max(worst, glm::length(one[v] - deformer.sweep_poser().reference_position(
                                                      v, deformer.skinning())));
   std::printf("fast path vs direct evaluation: worst %.3g m\n", worst);
-  EXPECT_LE(worst, 1e-5f * fx.height);  // the bound; float rounding is ~1e-7 m
+  EXPECT_LE(worst, 1e-5f * height(male.model));  // the bound; float rounding is ~1e-7 m
 }
 
 TEST(SweepPoser, AgreesWithSkinningFarFromABentElbow) {
-  REQUIRE_MALE();
-  const Model& model = fx.bound.model;
-  Deformer deformer(fx.bound);
+  REQUIRE_SHARED_MALE();
+  const Model& model = male.model;
+  Deformer deformer(male);
   const Pose pose = turned(model, "LeftForeArm", {0.7f, 0.7f, 0.0f}, 90.0f);
   const auto sweep = deformed(deformer, pose, DeformMethod::kSweep);
   const auto lbs = deformed(deformer, pose, DeformMethod::kLbs);
@@ -136,7 +118,7 @@ TEST(SweepPoser, AgreesWithSkinningFarFromABentElbow) {
   std::printf("sweep vs LBS beyond the elbow's transition zone (%d vertices): worst %.3g m\n",
               compared, worst);
   EXPECT_GT(compared, static_cast<int>(model.vertex_count()) * 3 / 4);
-  EXPECT_LE(worst, 1e-4f * fx.height);  // the bound
+  EXPECT_LE(worst, 1e-4f * height(male.model));  // the bound
 }
 
 // Smallest section area near a joint bent by `degrees`: planes through the joint orthogonal to
@@ -156,9 +138,9 @@ float smallest_section_near(std::span<const glm::vec3> posed, test::WeldedMesh& 
 }
 
 TEST(SweepPoser, ReportsSectionsAt135DegreesAndKeepsMoreThanSkinningAtTheKnee) {
-  REQUIRE_MALE();
-  const Model& model = fx.bound.model;
-  Deformer deformer(fx.bound);
+  REQUIRE_SHARED_MALE();
+  const Model& model = male.model;
+  Deformer deformer(male);
   test::WeldedMesh welded(model);
   struct Case {
     const char* upper;
@@ -197,9 +179,9 @@ TEST(SweepPoser, ReportsSectionsAt135DegreesAndKeepsMoreThanSkinningAtTheKnee) {
 }
 
 TEST(SweepPoser, ForearmTwistedBy150DegreesKeepsItsSections) {
-  REQUIRE_MALE();
-  const Model& model = fx.bound.model;
-  Deformer deformer(fx.bound);
+  REQUIRE_SHARED_MALE();
+  const Model& model = male.model;
+  Deformer deformer(male);
   test::WeldedMesh welded(model);
   const glm::vec3 elbow = joint_position(model, "LeftForeArm"),
                   wrist = joint_position(model, "LeftHand");
@@ -227,13 +209,13 @@ TEST(SweepPoser, ForearmTwistedBy150DegreesKeepsItsSections) {
 }
 
 TEST(Deformer, RefusesBadPosesWithTheReason) {
-  REQUIRE_MALE();
-  Deformer deformer(fx.bound);
-  std::vector<glm::vec3> out(fx.bound.model.vertex_count());
-  Pose pose = rest_pose(fx.bound.model.skeleton);
+  REQUIRE_SHARED_MALE();
+  Deformer deformer(male);
+  std::vector<glm::vec3> out(male.model.vertex_count());
+  Pose pose = rest_pose(male.model.skeleton);
   pose.local_rotations.pop_back();
   EXPECT_THROW(deformer.deform(pose, DeformMethod::kSweep, out, {}), std::invalid_argument);
-  pose = rest_pose(fx.bound.model.skeleton);
+  pose = rest_pose(male.model.skeleton);
   pose.local_rotations[3] = glm::quat(0, 0, 0, 0);
   try {
     deformer.deform(pose, DeformMethod::kSweep, out, {});
@@ -242,7 +224,7 @@ TEST(Deformer, RefusesBadPosesWithTheReason) {
     EXPECT_NE(std::string(e.what()).find("invalid pose"), std::string::npos) << e.what();
   }
   std::vector<glm::vec3> short_buffer(10);
-  pose = rest_pose(fx.bound.model.skeleton);
+  pose = rest_pose(male.model.skeleton);
   EXPECT_THROW(deformer.deform(pose, DeformMethod::kLbs, short_buffer, {}), std::invalid_argument);
 }
 
