@@ -44,6 +44,13 @@ int run_pose(const std::vector<std::string>& arguments) {
       write_frame(posing.first_frame, out);
       std::printf("wrote %s (%s, frame %d)\n", out.string().c_str(),
                   deform::to_string(posing.method), posing.first_frame);
+      if (posing.folding || posing.protrusion) {
+        const deform::FeatureReport& r = posed.feature_report();
+        std::printf(
+            "features: %d intersecting pairs before folding, %d after; %d vertices folded, "
+            "%d pushed out of bone proxies; volume change %.1f cm3\n",
+            r.pairs_before, r.pairs_after, r.folded, r.protruded, r.volume_change * 1e6);
+      }
       return 0;
     }
     std::filesystem::create_directories(out);

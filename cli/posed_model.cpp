@@ -19,7 +19,9 @@ const char* const kPosingUsage =
     "  --bvh-map MAP.json BVH joint name -> model joint name, for rigs the names do not match\n"
     "  --frame N          the clip frame (default 0)\n"
     "  --pose POSE.json   a hand-written pose (format in io/pose_json.h) instead of a clip\n"
-    "  --method M         sweep (default), lbs or dqs\n";
+    "  --method M         sweep (default), lbs or dqs\n"
+    "  --features LIST    with sweep: any of folding,protrusion (collision, paper 4.3),\n"
+    "                     volume (preservation, 4.4), bulge (biceps, 4.3)\n";
 
 std::string take_posing_arguments(std::vector<std::string>& args, PosingArguments& out) {
   std::vector<std::string> rest;
@@ -47,6 +49,23 @@ std::string take_posing_arguments(std::vector<std::string>& args, PosingArgument
           out.last_frame < out.first_frame)
         return "--frames expects A-B with 0 <= A <= B, got '" + range + "'";
       out.frame_range = true;
+    } else if (arg == "--features" && has_value) {
+      std::string list = args[++i] + ",";
+      for (std::size_t start = 0, comma; (comma = list.find(',', start)) != std::string::npos;
+           start = comma + 1) {
+        const std::string feature = list.substr(start, comma - start);
+        if (feature == "folding")
+          out.folding = true;
+        else if (feature == "protrusion")
+          out.protrusion = true;
+        else if (feature == "volume")
+          out.volume = true;
+        else if (feature == "bulge")
+          out.bulge = true;
+        else
+          return "--features expects folding, protrusion, volume and/or bulge, got '" + feature +
+                 "'";
+      }
     } else if (arg == "--method" && has_value) {
       const auto method = deform::parse_deform_method(args[++i]);
       if (!method) return "--method expects sweep, lbs or dqs, got '" + args[i] + "'";
@@ -62,6 +81,8 @@ std::string take_posing_arguments(std::vector<std::string>& args, PosingArgument
   if (!out.bvh.empty() && !out.pose_file.empty()) return "give --bvh or --pose, not both";
   if (out.bvh.empty() && (out.frame_range || out.first_frame != 0))
     return "--frame/--frames need --bvh";
+  if (out.any_feature() && out.method != deform::DeformMethod::kSweep)
+    return "--features apply to --method sweep";
   return {};
 }
 
@@ -82,6 +103,18 @@ PosedModel::PosedModel(const PosingArguments& arguments) : arguments_(arguments)
   }
   if (!arguments.pose_file.empty())
     file_pose_ = io::load_pose_json(arguments.pose_file, bound_->model.skeleton);
+  if (arguments.volume || arguments.bulge) {
+    deform::DeformOptions options;
+    options.preserve_volume = arguments.volume;
+    options.muscle_bulge = arguments.bulge;
+    deformer_->set_options(options);
+  }
+  if (arguments.folding || arguments.protrusion) {
+    deform::CollisionFeatureOptions options;
+    options.folding = arguments.folding;
+    options.protrusion = arguments.protrusion;
+    collision_ = std::make_unique<deform::CollisionFeatures>(*bound_, options);
+  }
 }
 
 deform::Pose PosedModel::pose(int frame) const {
@@ -96,6 +129,10 @@ void PosedModel::deform(int frame, std::vector<glm::vec3>& positions,
   normals.resize(model().vertex_count());
   deform::Pose p = pose(frame);
   deformer_->deform(p, arguments_.method, positions, normals);
+  if (!collision_) return;
+  feature_report_ = collision_->apply(deformer_->skinning(), positions);
+  if (feature_report_.folded + feature_report_.protruded > 0)
+    normals = deform::compute_vertex_normals(positions, bound_->model.indices);
 }
 
 std::uint64_t pose_hash(const deform::Pose& pose) {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "deform/bound_model.h"
+#include "deform/collision_features.h"
 #include "deform/deformer.h"
 #include "io/bvh_retarget.h"
 
@@ -25,6 +26,9 @@ struct PosingArguments {
   int first_frame = 0, last_frame = 0;  // --frame N or --frames A-B (clip frames)
   bool frame_range = false;
   deform::DeformMethod method = deform::DeformMethod::kSweep;
+  // --features: anatomical features on top of the sweep method (paper §4.3, §4.4).
+  bool folding = false, protrusion = false, volume = false, bulge = false;
+  bool any_feature() const { return folding || protrusion || volume || bulge; }
 };
 
 // Takes the options it knows out of args (leaving the rest in order). Returns "" or the
@@ -41,8 +45,10 @@ class PosedModel {
   const PosingArguments& arguments() const { return arguments_; }
   // The pose of clip frame `frame` (or the pose file / rest pose without a clip).
   deform::Pose pose(int frame) const;
-  // Deforms into positions and normals (vertex_count() each).
+  // Deforms into positions and normals (vertex_count() each), features included.
   void deform(int frame, std::vector<glm::vec3>& positions, std::vector<glm::vec3>& normals);
+  // What folding and protrusion did in the last deform (zeros without them).
+  const deform::FeatureReport& feature_report() const { return feature_report_; }
 
  private:
   PosingArguments arguments_;
@@ -50,6 +56,8 @@ class PosedModel {
   std::unique_ptr<deform::Deformer> deformer_;
   std::optional<io::Retargeter> retargeter_;
   std::optional<deform::Pose> file_pose_;
+  std::unique_ptr<deform::CollisionFeatures> collision_;
+  deform::FeatureReport feature_report_;
 };
 
 // A stable 64-bit hash (FNV-1a) of a pose's numbers: names a frame's pose in EXR headers.

@@ -3,6 +3,7 @@
 #include <sys/wait.h>
 
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -142,6 +143,27 @@ TEST(SweepctlPosing, BindPoseRenderAndPositionMapAClipFrame) {
   EXPECT_NE(r.output.find("does not exist"), std::string::npos) << r.output;
   r = run_sweepctl("pose " + posing + " --method wobble -o x.glb");
   EXPECT_EQ(r.exit_code, 2) << r.output;
+  r = run_sweepctl("pose " + posing + " --features folding,glitter -o x.glb");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("glitter"), std::string::npos) << r.output;
+  r = run_sweepctl("pose " + posing + " --method lbs --features volume -o x.glb");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  fs::remove_all(dir);
+}
+
+TEST(SweepctlPosing, FeaturesFoldTheSharedMalesBentElbow) {
+  // Frame 1257 of cmu_01_01 bends the male's left elbow most (sweepctl metrics, left arm).
+  const fs::path male = shared("models/makehuman_male_cmu.glb");
+  const fs::path clip = shared("motion/cmu_01_01.bvh");
+  if (!fs::exists(male) || !fs::exists(clip)) GTEST_SKIP() << "shared data absent";
+  const fs::path dir = temp_dir();
+  const Result r = run_sweepctl("pose " + male.string() + " --bvh " + clip.string() +
+                                " --frame 1257 --features folding,protrusion,volume,bulge -o " +
+                                (dir / "f.glb").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("features: "), std::string::npos) << r.output;
+  const sweepd::deform::Model posed = sweepd::io::load_gltf(dir / "f.glb");
+  for (const glm::vec3& p : posed.positions) ASSERT_TRUE(std::isfinite(p.x + p.y + p.z));
   fs::remove_all(dir);
 }
 
