@@ -23,6 +23,15 @@ std::span<const float> as_floats(std::span<const glm::vec3> vectors) {
   return {reinterpret_cast<const float*>(vectors.data()), vectors.size() * 3};
 }
 
+// The reply's timings: queued before work started, deforming, and everything else (encoding).
+void fill_timings(protocol::ServerTimings& timings, const PoseRequest& request,
+                  Clock::time_point started, std::uint64_t deform_ns) {
+  timings.mutate_queued_ns(nanoseconds_between(request.received, started));
+  timings.mutate_deform_ns(deform_ns);
+  timings.mutate_features_ns(0);
+  timings.mutate_encode_ns(nanoseconds_between(started, Clock::now()) - deform_ns);
+}
+
 }  // namespace
 
 std::optional<protocol::PoseProblem> read_pose_request(const protocol::Pose& pose,
@@ -112,11 +121,7 @@ std::uint64_t PosedVerticesWriter::write(PoseRequest& request, std::uint32_t dro
     protocol::encode_float16(as_floats(positions_scratch_), frame.positions_f16());
     if (request.normals) protocol::encode_float16(as_floats(normals_scratch_), frame.normals_f16());
   }
-  protocol::ServerTimings& timings = frame.timings();
-  timings.mutate_queued_ns(nanoseconds_between(request.received, started));
-  timings.mutate_deform_ns(deform_ns);
-  timings.mutate_features_ns(0);
-  timings.mutate_encode_ns(nanoseconds_between(started, Clock::now()) - deform_ns);
+  fill_timings(frame.timings(), request, started, deform_ns);
   return deform_ns;
 }
 
@@ -148,11 +153,7 @@ std::uint64_t PosedVerticesWriter::write_position_map(PoseRequest& request,
                                              .exr_bytes = exr_scratch_.size()});
   // encode_exr writes a growing vector, so the file is copied once into the frame.
   std::copy(exr_scratch_.begin(), exr_scratch_.end(), frame.exr().begin());
-  protocol::ServerTimings& timings = frame.timings();
-  timings.mutate_queued_ns(nanoseconds_between(request.received, started));
-  timings.mutate_deform_ns(deform_ns);
-  timings.mutate_features_ns(0);
-  timings.mutate_encode_ns(nanoseconds_between(started, Clock::now()) - deform_ns);
+  fill_timings(frame.timings(), request, started, deform_ns);
   return deform_ns;
 }
 
