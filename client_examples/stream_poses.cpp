@@ -11,12 +11,11 @@
 // 4. Print poses sent/answered/dropped/errors, round-trip latency percentiles, and the
 //    server's own deformation time for the model (from Stats), to show the overhead.
 //
-// The wire is the protocol alone (protocol/). Turning BVH frames into local joint rotations
-// needs the model's rest skeleton, which the protocol does not carry, so this example links
-// the project's io library for BVH reading and retargeting (io::load_bvh, io::Retargeter) and
-// takes the skeleton from the uploaded .glb, or, for the default model, from the procedural
-// mannequin (deform::make_mannequin, as the server builds it). CMU clips are in inches:
-// --bvh-scale defaults to 0.056444 (CMU units to metres).
+// The wire is the protocol alone (protocol/, with the blocking connection of client/).
+// Turning BVH frames into local joint rotations needs the model's rest skeleton: ModelInfo
+// carries it (protocol 1.1), and the project's io library reads and retargets the clip
+// (io::load_bvh, client::retarget_onto). CMU clips are in inches: --bvh-scale defaults to
+// 0.056444 (CMU units to metres).
 #include <algorithm>
 #include <asio.hpp>
 #include <chrono>
@@ -30,10 +29,9 @@
 #include <thread>
 #include <vector>
 
-#include "deform/mannequin.h"
+#include "client/connection.h"
+#include "client/model_skeleton.h"
 #include "io/bvh_load.h"
-#include "io/bvh_retarget.h"
-#include "io/gltf_load.h"
 #include "protocol/messages.h"
 
 namespace {
@@ -45,48 +43,7 @@ struct Options {
   std::string host = "127.0.0.1", port = "7878", token, bvh, model_file;
   float bvh_scale = 0.056444f;
   int frames = 0;  // 0: the whole clip
-  int mannequin_vertices = 20000;
   bool flat_out = false, latest_wins = false, float16 = false;
-};
-
-// Frames on a blocking socket: u32 length + body, kept 8-byte aligned for FlatBuffers.
-class Channel {
- public:
-  Channel(const std::string& host, const std::string& port) : socket_(io_) {
-    asio::connect(socket_, asio::ip::tcp::resolver(io_).resolve(host, port));
-    socket_.set_option(asio::ip::tcp::no_delay(true));
-  }
-  void send(std::span<const std::uint8_t> frame) {
-    asio::write(socket_, asio::buffer(frame.data(), frame.size()));
-  }
-  const pb::Message& receive() {
-    std::uint32_t length = 0;
-    asio::read(socket_, asio::buffer(&length, 4));
-    storage_.resize((4 + length + 7) / 8);
-    auto* bytes = reinterpret_cast<std::uint8_t*>(storage_.data());
-    std::memcpy(bytes, &length, 4);
-    asio::read(socket_, asio::buffer(bytes + 4, length));
-    flatbuffers::Verifier verifier(bytes, 4 + length);
-    if (!pb::VerifySizePrefixedMessageBuffer(verifier)) throw std::runtime_error("bad frame");
-    return *pb::GetSizePrefixedMessage(bytes);
-  }
-  // The reply of type T, or an exception carrying the server's Error.
-  template <typename T>
-  const T& expect() {
-    const pb::Message& message = receive();
-    if (const pb::Error* error = message.body_as_Error()) {
-      throw std::runtime_error(std::string("server error ") + pb::EnumNameErrorCode(error->code()) +
-                               ": " + error->message()->str());
-    }
-    if (const T* body = message.template body_as<T>()) return *body;
-    throw std::runtime_error(std::string("unexpected reply ") +
-                             pb::EnumNameBody(message.body_type()));
-  }
-
- private:
-  asio::io_context io_;
-  asio::ip::tcp::socket socket_;
-  std::vector<std::uint64_t> storage_;
 };
 
 Options parse(int argc, char** argv) {
@@ -111,8 +68,6 @@ Options parse(int argc, char** argv) {
       o.model_file = value();
     else if (flag == "--frames")
       o.frames = std::stoi(value());
-    else if (flag == "--mannequin-vertices")
-      o.mannequin_vertices = std::stoi(value());
     else if (flag == "--flat-out")
       o.flat_out = true;
     else if (flag == "--latest-wins")
@@ -133,45 +88,28 @@ double percentile_ms(std::vector<double> values, double q) {
 }
 
 int run(const Options& options) {
-  Channel channel(options.host, options.port);
-  flatbuffers::FlatBufferBuilder builder;
-  channel.send(pb::build_hello(
-      builder, options.token, "stream_poses",
-      options.latest_wins ? pb::PoseDelivery::LatestWins : pb::PoseDelivery::InOrder));
-  const std::uint32_t window = channel.expect<pb::Welcome>().max_poses_in_flight();
+  sweepd::client::Connection channel(options.host, options.port);
+  const std::uint32_t window =
+      channel
+          .hello(options.token, "stream_poses",
+                 options.latest_wins ? pb::PoseDelivery::LatestWins : pb::PoseDelivery::InOrder)
+          .max_poses_in_flight();
 
   // The model: upload a .glb, or use the server's default mannequin.
-  sweepd::deform::Skeleton skeleton;
-  builder.Clear();
+  std::vector<std::uint8_t> glb;
   if (!options.model_file.empty()) {
     std::ifstream in(options.model_file, std::ios::binary);
-    const std::vector<std::uint8_t> glb{std::istreambuf_iterator<char>(in), {}};
-    skeleton = sweepd::io::load_gltf(options.model_file).skeleton;
-    pb::finish_message(builder,
-                       pb::CreateLoadModelDirect(builder, options.model_file.c_str(), &glb));
-  } else {
-    skeleton =
-        sweepd::deform::make_mannequin({.target_vertices = options.mannequin_vertices}).skeleton;
-    pb::finish_message(builder, pb::CreateLoadModelDirect(builder, "mannequin"));
+    if (!in) throw std::runtime_error("cannot read " + options.model_file);
+    glb.assign(std::istreambuf_iterator<char>(in), {});
   }
-  channel.send({builder.GetBufferPointer(), builder.GetSize()});
-  const pb::ModelInfo& info = channel.expect<pb::ModelInfo>();
+  const pb::ModelInfo& info =
+      channel.load_model(options.model_file.empty() ? "mannequin" : options.model_file, glb);
   const std::uint32_t model_id = info.model_id();
-  if (info.joint_names()->size() != skeleton.joints.size()) {
-    throw std::runtime_error("the server's model has another skeleton than the local one");
-  }
-  for (std::size_t j = 0; j < skeleton.joints.size(); ++j) {
-    if (info.joint_names()->Get(j)->str() != skeleton.joints[j].name) {
-      throw std::runtime_error("joint " + std::to_string(j) + " differs: server " +
-                               info.joint_names()->Get(j)->str() + ", local " +
-                               skeleton.joints[j].name);
-    }
-  }
-  std::printf("model %u: %u vertices, %zu joints\n", model_id, info.vertex_count(),
-              skeleton.joints.size());
+  const sweepd::io::Retargeter clip = sweepd::client::retarget_onto(
+      info, sweepd::io::load_bvh(options.bvh, {.length_scale = options.bvh_scale}));
+  const std::size_t joint_count = info.joint_names()->size();
+  std::printf("model %u: %u vertices, %zu joints\n", model_id, info.vertex_count(), joint_count);
 
-  const sweepd::io::Retargeter clip(
-      sweepd::io::load_bvh(options.bvh, {.length_scale = options.bvh_scale}), skeleton);
   const int frames =
       options.frames > 0 ? std::min(options.frames, clip.frame_count()) : clip.frame_count();
 
@@ -202,8 +140,9 @@ int run(const Options& options) {
     }
   });
 
+  flatbuffers::FlatBufferBuilder& builder = channel.builder();
   const Clock::time_point start = Clock::now();
-  std::vector<pb::Quat> rotations(skeleton.joints.size());
+  std::vector<pb::Quat> rotations(joint_count);
   for (int frame = 0; frame < frames; ++frame) {
     if (!options.flat_out) {
       std::this_thread::sleep_until(
@@ -237,8 +176,7 @@ int run(const Options& options) {
   for (const pb::ModelStats* model : *channel.expect<pb::Stats>().models()) {
     if (model->model_id() == model_id) deform_p50_ms = model->deform_latency()->p50_ns() * 1e-6;
   }
-  builder.Clear();
-  channel.send(pb::finish_message(builder, pb::CreateByeDirect(builder, "clip finished")));
+  channel.close("clip finished");
 
   std::printf("poses: sent %d, answered %llu, dropped %llu, errors %llu in %.2f s (%.0f/s)\n",
               frames, static_cast<unsigned long long>(answered),

@@ -65,6 +65,10 @@ class Retargeter {
   Retargeter(Motion motion, const deform::Model& model, const std::filesystem::path& name_map = {});
   // A bare skeleton: its floor is its lowest joint.
   Retargeter(Motion motion, deform::Skeleton skeleton, const std::filesystem::path& name_map = {});
+  // A bare skeleton whose mesh's lowest point is known (e.g. from sweepd's ModelInfo): the same
+  // retargeting as from the model itself.
+  Retargeter(Motion motion, deform::Skeleton skeleton, const std::filesystem::path& name_map,
+             float model_floor);
 
   // Matched pairs, ordered by model joint.
   const std::vector<JointMatch>& matches() const { return matches_; }
@@ -91,8 +95,6 @@ class Retargeter {
   deform::Pose pose_at_bvh_rest() const;
 
  private:
-  Retargeter(Motion motion, deform::Skeleton skeleton, const std::filesystem::path& name_map,
-             float model_floor);
   using OptionalRigMap = std::optional<deform::RigMap>;
   void match_joints(const deform::Skeleton& bvh, const OptionalRigMap& model_map,
                     const OptionalRigMap& bvh_map, const std::filesystem::path& name_map);

@@ -1,5 +1,7 @@
 #include "server/model_info.h"
 
+#include <algorithm>
+#include <limits>
 #include <vector>
 
 #include "protocol/messages.h"
@@ -20,10 +22,19 @@ void build_model_info(flatbuffers::FlatBufferBuilder& builder, const RegisteredM
   }
   std::vector<flatbuffers::Offset<flatbuffers::String>> joint_names;
   std::vector<std::int32_t> joint_parents;
+  std::vector<pb::Vec3> translations, scales;
+  std::vector<pb::Quat> rotations;
   for (const deform::Joint& joint : bound.model.skeleton.joints) {
     joint_names.push_back(builder.CreateString(joint.name));
     joint_parents.push_back(joint.parent);
+    const glm::vec3 &t = joint.rest_translation, &s = joint.rest_scale;
+    const glm::quat& r = joint.rest_rotation;
+    translations.emplace_back(t.x, t.y, t.z);
+    rotations.emplace_back(r.x, r.y, r.z, r.w);
+    scales.emplace_back(s.x, s.y, s.z);
   }
+  float floor = std::numeric_limits<float>::infinity();
+  for (const glm::vec3& p : bound.model.positions) floor = std::min(floor, p.y);
   const auto summary = pb::CreateBindSummaryDirect(
       builder, bound.rig.convention.c_str(), static_cast<std::uint32_t>(bound.sweeps.size()),
       key_count, swept, static_cast<std::uint32_t>(bound.vertices.size()) - swept,
@@ -31,7 +42,8 @@ void build_model_info(flatbuffers::FlatBufferBuilder& builder, const RegisteredM
   const auto info = pb::CreateModelInfoDirect(
       builder, model.id, model.name.c_str(), &joint_names, &joint_parents,
       static_cast<std::uint32_t>(bound.model.vertex_count()),
-      static_cast<std::uint32_t>(bound.model.triangle_count()), bound.model.has_uvs(), summary);
+      static_cast<std::uint32_t>(bound.model.triangle_count()), bound.model.has_uvs(), summary,
+      &translations, &rotations, &scales, floor);
   pb::finish_message(builder, info, request_id);
 }
 

@@ -1,0 +1,99 @@
+#include "client/connection.h"
+
+#include <cstring>
+
+namespace sweepd::client {
+
+namespace pb = sweepd::protocol;
+
+namespace {
+
+std::pair<std::string, std::string> split_address(const std::string& address) {
+  const std::size_t colon = address.rfind(':');
+  if (colon == std::string::npos || colon + 1 == address.size()) {
+    throw std::invalid_argument("server address '" + address + "' is not HOST:PORT");
+  }
+  std::string host = address.substr(0, colon);
+  if (host.size() >= 2 && host.front() == '[' && host.back() == ']') {
+    host = host.substr(1, host.size() - 2);
+  }
+  return {host.empty() ? "127.0.0.1" : host, address.substr(colon + 1)};
+}
+
+}  // namespace
+
+ServerError::ServerError(pb::ErrorCode code, const std::string& message)
+    : std::runtime_error(std::string("server error ") + pb::EnumNameErrorCode(code) + ": " +
+                         message),
+      code_(code) {}
+
+Connection::Connection(const std::string& address)
+    : Connection(split_address(address).first, split_address(address).second) {}
+
+Connection::Connection(const std::string& host, const std::string& port)
+    : address_(host + ":" + port), socket_(io_) {
+  try {
+    asio::connect(socket_, asio::ip::tcp::resolver(io_).resolve(host, port));
+  } catch (const std::system_error& error) {
+    throw std::runtime_error("cannot connect to sweepd at " + address_ + ": " + error.what());
+  }
+  socket_.set_option(asio::ip::tcp::no_delay(true));
+}
+
+const pb::Welcome& Connection::hello(std::string_view token, std::string_view client_name,
+                                     pb::PoseDelivery delivery) {
+  builder_.Clear();
+  send(pb::build_hello(builder_, token, client_name, delivery));
+  return expect<pb::Welcome>();
+}
+
+const pb::ModelInfo& Connection::load_model(const std::string& name,
+                                            std::span<const std::uint8_t> glb) {
+  builder_.Clear();
+  const auto bytes = glb.empty() ? 0 : builder_.CreateVector(glb.data(), glb.size());
+  send(pb::finish_message(builder_,
+                          pb::CreateLoadModel(builder_, builder_.CreateString(name), bytes)));
+  return expect<pb::ModelInfo>();
+}
+
+void Connection::send(std::span<const std::uint8_t> frame) {
+  try {
+    asio::write(socket_, asio::buffer(frame.data(), frame.size()));
+  } catch (const std::system_error& error) {
+    throw std::runtime_error("sending to sweepd at " + address_ + ": " + error.what());
+  }
+}
+
+const pb::Message& Connection::receive() {
+  std::uint32_t length = 0;
+  try {
+    asio::read(socket_, asio::buffer(&length, 4));
+    storage_.resize((4 + std::size_t{length} + 7) / 8);
+    asio::read(socket_, asio::buffer(reinterpret_cast<std::uint8_t*>(storage_.data()) + 4, length));
+  } catch (const std::system_error& error) {
+    throw std::runtime_error("reading from sweepd at " + address_ + ": " + error.what());
+  }
+  auto* bytes = reinterpret_cast<std::uint8_t*>(storage_.data());
+  std::memcpy(bytes, &length, 4);
+  flatbuffers::Verifier verifier(bytes, 4 + std::size_t{length});
+  if (!pb::VerifySizePrefixedMessageBuffer(verifier)) {
+    throw std::runtime_error("sweepd at " + address_ + " sent a frame that does not verify");
+  }
+  return *pb::GetSizePrefixedMessage(bytes);
+}
+
+void Connection::close(std::string_view reason) {
+  builder_.Clear();
+  send(pb::finish_message(builder_, pb::CreateBye(builder_, builder_.CreateString(reason))));
+  std::error_code ignored;
+  socket_.shutdown(asio::ip::tcp::socket::shutdown_both, ignored);
+  socket_.close(ignored);
+}
+
+void Connection::throw_if_error(const pb::Message& message) {
+  if (const pb::Error* error = message.body_as_Error()) {
+    throw ServerError(error->code(), error->message() ? error->message()->str() : "");
+  }
+}
+
+}  // namespace sweepd::client

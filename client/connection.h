@@ -1,0 +1,77 @@
+// Connection: a blocking client connection to sweepd over TCP — what the C++ clients
+// (client_examples/, `sweepctl --server`, bench/server_bench) share.
+//
+//   Connection connection("127.0.0.1:7878");          // or Connection(host, port)
+//   const Welcome& welcome = connection.hello(token, "my client");
+//   const ModelInfo& info = connection.load_model("mannequin");
+//   connection.send(frame);                              // any frame (protocol/messages.h)
+//   const PosedVertices& reply = connection.expect<PosedVertices>();
+//
+// A reply is valid until the next receive. Server errors become ServerError exceptions
+// (with the code); socket and framing problems std::runtime_error naming the address.
+#pragma once
+
+#include <asio.hpp>
+#include <cstdint>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "protocol/messages.h"
+
+namespace sweepd::client {
+
+class ServerError : public std::runtime_error {
+ public:
+  ServerError(protocol::ErrorCode code, const std::string& message);
+  protocol::ErrorCode code() const { return code_; }
+
+ private:
+  protocol::ErrorCode code_;
+};
+
+class Connection {
+ public:
+  // address: "HOST:PORT" ("[::1]:7878" for IPv6 literals).
+  explicit Connection(const std::string& address);
+  Connection(const std::string& host, const std::string& port);
+
+  // Hello with the token → Welcome (protocol version checked by the server).
+  const protocol::Welcome& hello(std::string_view token, std::string_view client_name,
+                                 protocol::PoseDelivery delivery = protocol::PoseDelivery::InOrder);
+  // LoadModel: upload .glb bytes under `name`, or (empty bytes) load `name` on the server.
+  const protocol::ModelInfo& load_model(const std::string& name,
+                                        std::span<const std::uint8_t> glb = {});
+
+  void send(std::span<const std::uint8_t> frame);
+  // The next frame, verified. Throws std::runtime_error on a closed socket or a bad frame.
+  const protocol::Message& receive();
+  // The next frame as a T, or ServerError when it is an Error.
+  template <typename T>
+  const T& expect() {
+    const protocol::Message& message = receive();
+    throw_if_error(message);
+    if (const T* body = message.template body_as<T>()) return *body;
+    throw std::runtime_error(address_ + ": unexpected reply " +
+                             protocol::EnumNameBody(message.body_type()));
+  }
+  // Bye, then the socket is closed.
+  void close(std::string_view reason = "done");
+
+  // A builder for the caller's requests (cleared before each use by the caller).
+  flatbuffers::FlatBufferBuilder& builder() { return builder_; }
+  const std::string& address() const { return address_; }
+
+ private:
+  static void throw_if_error(const protocol::Message& message);
+
+  std::string address_;
+  asio::io_context io_;
+  asio::ip::tcp::socket socket_;
+  std::vector<std::uint64_t> storage_;  // 8-byte aligned for FlatBuffers
+  flatbuffers::FlatBufferBuilder builder_;
+};
+
+}  // namespace sweepd::client

@@ -1,0 +1,71 @@
+// ModelInfo carries the rest skeleton (protocol 1.1): a client rebuilds it exactly and
+// retargets a clip onto the served model as the library does from the model file.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "client/model_skeleton.h"
+#include "deform/bind.h"
+#include "deform/rig_map.h"
+#include "io/bvh_load.h"
+#include "io/gltf_load.h"
+#include "server/model_info.h"
+
+namespace sweepd::test {
+namespace {
+
+namespace fs = std::filesystem;
+namespace pb = sweepd::protocol;
+
+TEST(ModelInfoSkeleton, RebuildsTheMalesSkeletonAndRetargetsLikeTheLibrary) {
+  const fs::path data(SWEEPD_SHARED_DATA);
+  const fs::path male = data / "models/makehuman_male_cmu.glb";
+  if (!fs::exists(male)) GTEST_SKIP() << "shared data absent: " << male;
+  const deform::Model model = io::load_gltf(male);
+  server::RegisteredModel registered{.id = 7, .name = "male", .bound = {}, .bind_time_ns = 0};
+  registered.bound = deform::bind(model, deform::detect_rig_map(model.skeleton));
+  flatbuffers::FlatBufferBuilder builder;
+  server::build_model_info(builder, registered, 1);
+  const pb::ModelInfo& info =
+      *pb::GetSizePrefixedMessage(builder.GetBufferPointer())->body_as_ModelInfo();
+
+  // Floats travel unchanged through FlatBuffers: the skeleton comes back bit-exact.
+  const deform::Skeleton skeleton = client::rest_skeleton(info);
+  ASSERT_EQ(skeleton.size(), model.skeleton.size());
+  for (int j = 0; j < skeleton.size(); ++j) {
+    const deform::Joint &got = skeleton.joints[j], &want = model.skeleton.joints[j];
+    EXPECT_EQ(got.name, want.name);
+    EXPECT_EQ(got.parent, want.parent);
+    EXPECT_EQ(got.rest_translation, want.rest_translation) << want.name;
+    EXPECT_EQ(got.rest_rotation, want.rest_rotation) << want.name;
+    EXPECT_EQ(got.rest_scale, want.rest_scale) << want.name;
+  }
+
+  // The same inputs (skeleton, floor, motion) → the same poses, bit for bit.
+  const io::BvhOptions cmu{.length_scale = 0.056444f};
+  const io::Motion motion = io::load_bvh(data / "motion/cmu_01_01.bvh", cmu);
+  const io::Retargeter remote = client::retarget_onto(info, motion);
+  const io::Retargeter local(motion, model);
+  for (int frame : {0, 600, 1257}) {
+    const deform::Pose a = remote.pose_at_frame(frame), b = local.pose_at_frame(frame);
+    EXPECT_EQ(a.root_translation, b.root_translation) << frame;
+    for (std::size_t j = 0; j < a.local_rotations.size(); ++j)
+      EXPECT_EQ(a.local_rotations[j], b.local_rotations[j]) << frame << " joint " << j;
+  }
+}
+
+TEST(ModelInfoSkeleton, AServerWithoutTheRestSkeletonIsAClearError) {
+  flatbuffers::FlatBufferBuilder builder;
+  const std::vector<std::int32_t> parents{-1};
+  builder.Finish(pb::CreateModelInfoDirect(builder, 1, "old", nullptr, &parents));
+  const pb::ModelInfo& info = *flatbuffers::GetRoot<pb::ModelInfo>(builder.GetBufferPointer());
+  try {
+    client::rest_skeleton(info);
+    FAIL() << "no exception";
+  } catch (const std::runtime_error& error) {
+    EXPECT_NE(std::string(error.what()).find("protocol 1.0"), std::string::npos) << error.what();
+  }
+}
+
+}  // namespace
+}  // namespace sweepd::test
