@@ -3,39 +3,15 @@
 #include <gtest/gtest.h>
 
 #include <array>
-#include <cstdio>
-#include <regex>
 
+#include "tests/server/client_run.h"
 #include "tests/server/daemon_process.h"
 
 namespace sweepd::test {
 namespace {
 
-struct ClientRun {
-  int exit_code = -1;
-  std::string output;
-};
-
 ClientRun run_stream_poses(const std::string& arguments) {
-  const std::string command = std::string(SWEEPD_STREAM_POSES) + " " + arguments + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return {};
-  ClientRun run;
-  std::array<char, 4096> buffer;
-  while (std::size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe)) {
-    run.output.append(buffer.data(), n);
-  }
-  const int status = pclose(pipe);
-  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return run;
-}
-
-// "poses: sent S, answered A, dropped D, errors E" from the client's report.
-std::array<int, 4> pose_counts(const std::string& output) {
-  std::smatch match;
-  const std::regex line(R"(poses: sent (\d+), answered (\d+), dropped (\d+), errors (\d+))");
-  if (!std::regex_search(output, match, line)) return {-1, -1, -1, -1};
-  return {std::stoi(match[1]), std::stoi(match[2]), std::stoi(match[3]), std::stoi(match[4])};
+  return run_client(std::string(SWEEPD_STREAM_POSES) + " " + arguments);
 }
 
 class StreamPoses : public ::testing::Test {
