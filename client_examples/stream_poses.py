@@ -741,7 +741,8 @@ def import_protocol(protocol_dir):
     """Puts the generated package on sys.path; its modules (and flatbuffers) in a namespace."""
     here = os.path.dirname(os.path.abspath(__file__))
     directory = (protocol_dir or os.environ.get("SWEEPD_PROTOCOL_PYTHON") or
-                 os.path.join(here, "..", "build", "release", "protocol", "python"))
+                 os.path.normpath(os.path.join(here, "..", "build", "release", "protocol",
+                                               "python")))
     if not os.path.isfile(os.path.join(directory, "sweepd", "protocol", "Message.py")):
         raise BadInput(f"no generated protocol package in {directory} (build the CMake target "
                        "sweep_protocol_python, then pass --protocol-dir <build>/protocol/python "
@@ -797,10 +798,10 @@ class Connection:
             raise ConnectionLost(f"{self.address}: send failed: "
                                  f"{error.strerror or error}") from error
 
-    def receive_exactly(self, count):
-        data = bytearray(count)
-        view, got = memoryview(data), 0
-        while got < count:
+    def receive_into(self, view):
+        """Fills the memoryview `view` from the socket."""
+        got = 0
+        while got < len(view):
             try:
                 n = self.socket.recv_into(view[got:])
             except OSError as error:
@@ -808,13 +809,14 @@ class Connection:
             if n == 0:
                 raise ConnectionLost(f"{self.address}: the server closed the connection")
             got += n
-        return data
 
     def receive(self):
         """The next Message (prefix and body kept together: alignment counts from byte 0)."""
-        prefix = self.receive_exactly(4)
+        prefix = bytearray(4)
+        self.receive_into(memoryview(prefix))
         (size,) = struct.unpack("<I", prefix)
-        frame = bytes(prefix + self.receive_exactly(size))
+        frame = prefix + bytearray(size)
+        self.receive_into(memoryview(frame)[4:])
         if size < 8 or not self.pb.Message.Message.MessageBufferHasIdentifier(frame, 0, True):
             raise ConnectionLost(f"{self.address}: a frame without the SWPD identifier")
         return self.pb.Message.Message.GetRootAs(frame, 4)
@@ -1083,6 +1085,9 @@ def main(argv):
     except (BadInput, ConnectionLost, ServerError) as error:
         print(f"stream_poses.py: {error}", file=sys.stderr)
         return exit_codes[type(error)]
+    except KeyboardInterrupt:
+        print("stream_poses.py: interrupted", file=sys.stderr)
+        return 130
 
 
 if __name__ == "__main__":
