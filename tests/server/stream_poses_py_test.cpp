@@ -2,19 +2,24 @@
 // python3-flatbuffers) against the real daemon: a CMU clip is answered pose for pose over TCP
 // and a Unix socket; a wrong token, an unknown model, a bad BVH file and an unreachable server
 // end it with their own exit code and reason; and its retargeting (--dump-poses) equals the C++
-// library's (client::retarget_onto) on the default mannequin and on the uploaded shared male.
+// library's (client::retarget_onto) on the default mannequin and on the uploaded shared male,
+// with its own CMU joint names and with Unreal ones.
 #include <gtest/gtest.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "client/connection.h"
 #include "client/model_skeleton.h"
 #include "io/bvh_load.h"
+#include "io/gltf_load.h"
+#include "io/gltf_save.h"
 #include "tests/server/client_run.h"
 #include "tests/server/daemon_process.h"
 
@@ -118,6 +123,35 @@ TEST_F(StreamPosesPy, RefusalsAndBadInputEndTheScriptWithTheirReason) {
   EXPECT_NE(unreachable.output.find("cannot connect"), std::string::npos) << unreachable.output;
 }
 
+// The shared male with Unreal joint names (pelvis, thigh_l, upperarm_l, ...; the joints
+// Unreal has no role for get names of their own), so a CMU clip drives it by rig role and
+// hierarchy, not by name. Written as a .glb under `directory`.
+fs::path save_male_with_unreal_names(const fs::path& male, const fs::path& directory) {
+  const std::map<std::string, std::string> unreal = {
+      {"Hips", "pelvis"},        {"LowerBack", "spine_01"}, {"Spine", "spine_02"},
+      {"Spine1", "spine_03"},    {"Neck", "neck_01"},       {"Neck1", "neck_02"},
+      {"Head", "head"},          {"HipJoint", "hip_link_"}, {"UpLeg", "thigh_"},
+      {"Leg", "calf_"},          {"Foot", "foot_"},         {"ToeBase", "ball_"},
+      {"Shoulder", "clavicle_"}, {"Arm", "upperarm_"},      {"ForeArm", "lowerarm_"},
+      {"Hand", "hand_"},         {"FingerBase", "palm_"},   {"HandFinger1", "fingers_"},
+      {"Thumb", "thumb_"}};
+  deform::Model model = io::load_gltf(male);
+  for (deform::Joint& joint : model.skeleton.joints) {
+    std::string name = joint.name, side;
+    for (const std::string prefix : {"Left", "Right", "L", "R"}) {
+      if (name.starts_with(prefix) && unreal.contains(name.substr(prefix.size()))) {
+        side = prefix.substr(0, 1) == "L" ? "l" : "r";
+        name = name.substr(prefix.size());
+        break;
+      }
+    }
+    joint.name = unreal.at(name) + side;
+  }
+  const fs::path file = directory / "male_unreal.glb";
+  io::save_gltf(model, file);
+  return file;
+}
+
 // The poses the script sent (--dump-poses) against client::retarget_onto for the same
 // ModelInfo and clip. Python computes in double from the file's text, C++ in float (values
 // rounded to float, ~10 quaternion products per joint): they differ by less than 1e-6, so
@@ -128,20 +162,23 @@ TEST_F(StreamPosesPy, RetargetsLikeTheCppLibrary) {
   constexpr double kTolerance = 1e-4, kRootTolerance = 1e-5;
   const fs::path male = data_ / "models/makehuman_male_cmu.glb";
   ASSERT_TRUE(fs::exists(male)) << male;
+  const fs::path male_unreal = save_male_with_unreal_names(male, directory_);
   struct Case {
     std::string clip;
     int first_frame;
-    std::string model;  // "mannequin", or a name the script uploads the male under
+    std::string model;  // its name on the server
+    fs::path upload;    // the .glb the script uploads; empty: the default mannequin
   };
-  for (const Case& c : {Case{"cmu_01_01", 700, "mannequin"}, Case{"cmu_01_03", 2000, "mannequin"},
-                        Case{"cmu_01_01", 1500, "male_a"}, Case{"cmu_01_03", 3200, "male_b"}}) {
+  for (const Case& c :
+       {Case{"cmu_01_01", 700, "mannequin", {}}, Case{"cmu_01_03", 2000, "mannequin", {}},
+        Case{"cmu_01_01", 1500, "male", male},
+        Case{"cmu_01_03", 3200, "male_unreal", male_unreal}}) {
     SCOPED_TRACE(c.clip + " on " + c.model);
-    const bool upload = c.model != "mannequin";
     const fs::path dump = directory_ / "poses.jsonl";
     const ClientRun run = run_script(
         server_arguments() + " --bvh " + clip(c.clip) + " --flat-out --frames 12 --first-frame " +
         std::to_string(c.first_frame) + " --dump-poses " + dump.string() + " --model " + c.model +
-        (upload ? " --model-file " + male.string() : std::string()));
+        (c.upload.empty() ? std::string() : " --model-file " + c.upload.string()));
     ASSERT_EQ(run.exit_code, 0) << run.output << daemon_->log();
 
     // The model as the server holds it (the upload is loaded under its name by now).
@@ -150,6 +187,12 @@ TEST_F(StreamPosesPy, RetargetsLikeTheCppLibrary) {
     const protocol::ModelInfo& info = connection.load_model(c.model);
     const io::Retargeter expected =
         client::retarget_onto(info, io::load_bvh(clip(c.clip), {.length_scale = 0.056444f}));
+    if (c.model == "male_unreal") {
+      const auto by_role = std::count_if(
+          expected.matches().begin(), expected.matches().end(),
+          [](const io::JointMatch& m) { return m.reason == io::JointMatchReason::kRole; });
+      EXPECT_GE(by_role, 10) << "the Unreal names are matched by role";
+    }
 
     std::ifstream lines(dump);
     int compared = 0;
