@@ -99,7 +99,8 @@ TEST_F(StreamPosesPy, RefusalsAndBadInputEndTheScriptWithTheirReason) {
 
   const ClientRun unknown_model = run_script(server_arguments() + bvh + " --model no_such_body");
   EXPECT_EQ(unknown_model.exit_code, kExitRefused) << unknown_model.output;
-  EXPECT_NE(unknown_model.output.find("no_such_body"), std::string::npos) << unknown_model.output;
+  EXPECT_NE(unknown_model.output.find("UnknownModel: model 'no_such_body'"), std::string::npos)
+      << unknown_model.output;
 
   const fs::path broken = directory_ / "broken.bvh";
   std::ofstream(broken) << "HIERARCHY\nROOT Hips\n{\n  OFFSET 0 0\n}\n";
