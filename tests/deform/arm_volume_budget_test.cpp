@@ -136,7 +136,7 @@ TEST(ArmVolumeBudget, TheGapAtABentElbowIsTheDisplacementOfAnOffCentreSection) {
   // Skin on the ellipses is the signed swept volume with the region's caps: it follows I
   // (0.19 measured), inner fold and all — the region and the sweep cover the same extent.
   EXPECT_LT(std::abs(b.region[3] - b.integral), 0.5);
-  // So the gap is the displacements from the ellipses: -11.2 points measured.
+  // So the gap is the displacements from the ellipses: -11.30 points measured.
   EXPECT_LT(b.region[2] - b.region[3], -10.0);
 }
 
@@ -159,7 +159,7 @@ TEST(ArmVolumeBudget, SectionCentredJointKeysCloseTheGap) {
   REQUIRE_SHARED_MALE();
   const Budget b = budget(section_centred_male(male), 150.0f, paper_correction());
   // Measured: integral +0.00, actual +1.46, sweep only +1.46, without c +1.47, on the
-  // ellipses +1.06: the displacements add 0.4 points instead of -11.2.
+  // ellipses +1.06: the displacements add 0.4 points instead of -11.30.
   EXPECT_LT(std::abs(b.integral), 0.5);
   EXPECT_LT(std::abs(b.region[2] - b.region[3]), 1.0);
   EXPECT_LT(std::abs(b.region[0]), 2.0);  // the bound on the closed region
