@@ -168,11 +168,12 @@ TEST(VolumePreservation, FoldFeedbackKeepsTheClosedArmRegionWithinTwoPercent) {
   EXPECT_LE(worst_target, 0.005);  // the integral meets its target I0 - I_C within ±0.5 %
 }
 
-TEST(VolumePreservation, ReportsItsCostPerFrame) {
+TEST(VolumePreservation, ReportsItsCostPerFrameAndBoundsItsWork) {
   REQUIRE_SHARED_MALE();
   const Pose pose = test::left_elbow_bent(male.model, 120.0f);
   std::vector<glm::vec3> positions(male.model.vertex_count());
   double milliseconds[3];
+  int feedback_rounds = 0, most_steps = 0;
   const DeformOptions options[3] = {DeformOptions{}, without_fold_feedback(), preserving()};
   for (int i = 0; i < 3; ++i) {
     Deformer deformer(male);
@@ -189,14 +190,23 @@ TEST(VolumePreservation, ReportsItsCostPerFrame) {
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
             .count() /
         kFrames;
+    if (i == 2) {
+      feedback_rounds = deformer.fold_feedback_iterations();
+      for (const VolumeCorrection& c : deformer.volume_preserver().last_corrections())
+        most_steps = std::max(most_steps, c.iterations);
+    }
   }
   std::printf(
       "per frame, one thread: sweep %.2f ms, +volume (paper) %.2f ms, "
-      "+volume (fold feedback) %.2f ms\n",
-      milliseconds[0], milliseconds[1], milliseconds[2]);
-  // Fold feedback deforms at most 1 + 3 times and measures six regions: it costs more than the
-  // plain sweep but stays within 10x of it.
-  EXPECT_LT(milliseconds[2], 10.0 * milliseconds[0] + 1.0);
+      "+volume (fold feedback) %.2f ms; %d feedback rounds, at most %d update steps a sweep\n",
+      milliseconds[0], milliseconds[1], milliseconds[2], feedback_rounds, most_steps);
+  // The cost in work rather than wall-clock time (which depends on the machine's load): the
+  // 120° elbow loses more than 0.5 % of its region, so fold feedback runs, deforming at most
+  // 1 + 3 times; each correction stops on its tolerance before max_iterations (3 rounds, and
+  // 1 step in the last round, measured).
+  EXPECT_GE(feedback_rounds, 1);
+  EXPECT_LE(feedback_rounds, preserving().volume.fold_feedback_iterations);
+  EXPECT_LT(most_steps, preserving().volume.max_iterations);
 }
 
 TEST(VolumePreservation, RestPoseIsLeftExactlyAsItWas) {
