@@ -76,18 +76,29 @@ double sweep_volume_gradient(const Sweep& sweep, std::span<double> d_alpha,
 double volume_correction_step(const Sweep& sweep, double target_volume,
                               std::span<const int> controls, std::span<double> delta_alpha,
                               std::span<double> delta_beta) {
-  for (int c : controls)
-    if (c < 0 || c >= sweep.key_count())
-      throw std::invalid_argument("sweep volume: control index " + std::to_string(c) +
-                                  " out of range [0, " + std::to_string(sweep.key_count()) + ")");
+  return volume_correction_step(sweep, target_volume, controls, controls, delta_alpha, delta_beta);
+}
+
+double volume_correction_step(const Sweep& sweep, double target_volume,
+                              std::span<const int> alpha_controls,
+                              std::span<const int> beta_controls, std::span<double> delta_alpha,
+                              std::span<double> delta_beta) {
+  for (std::span<const int> controls : {alpha_controls, beta_controls})
+    for (int c : controls)
+      if (c < 0 || c >= sweep.key_count())
+        throw std::invalid_argument("sweep volume: control index " + std::to_string(c) +
+                                    " out of range [0, " + std::to_string(sweep.key_count()) + ")");
   const double volume = sweep_volume_gradient(sweep, delta_alpha, delta_beta);
+  auto active = [](std::span<const int> controls, int i) {
+    return std::find(controls.begin(), controls.end(), i) != controls.end();
+  };
   double norm2 = 0.0;
-  for (int c : controls) norm2 += delta_alpha[c] * delta_alpha[c] + delta_beta[c] * delta_beta[c];
+  for (int c : alpha_controls) norm2 += delta_alpha[c] * delta_alpha[c];
+  for (int c : beta_controls) norm2 += delta_beta[c] * delta_beta[c];
   const double scale = norm2 > 0.0 ? (target_volume - volume) / norm2 : 0.0;
   for (int i = 0; i < sweep.key_count(); ++i) {
-    const bool active = std::find(controls.begin(), controls.end(), i) != controls.end();
-    delta_alpha[i] = active ? scale * delta_alpha[i] : 0.0;
-    delta_beta[i] = active ? scale * delta_beta[i] : 0.0;
+    delta_alpha[i] = active(alpha_controls, i) ? scale * delta_alpha[i] : 0.0;
+    delta_beta[i] = active(beta_controls, i) ? scale * delta_beta[i] : 0.0;
   }
   return volume;
 }

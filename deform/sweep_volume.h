@@ -36,6 +36,13 @@ double volume_correction_step(const Sweep& sweep, double target_volume,
                               std::span<const int> controls, std::span<double> delta_alpha,
                               std::span<double> delta_beta);
 
+// The same with separate control sets for α and β (e.g. a bent joint's key corrected only
+// along the half-axis that does not lie in the bend plane). An index in neither is frozen.
+double volume_correction_step(const Sweep& sweep, double target_volume,
+                              std::span<const int> alpha_controls,
+                              std::span<const int> beta_controls, std::span<double> delta_alpha,
+                              std::span<double> delta_beta);
+
 // α += delta_alpha, β += delta_beta (sizes key_count()).
 void apply_half_axis_deltas(Sweep& sweep, std::span<const double> delta_alpha,
                             std::span<const double> delta_beta);

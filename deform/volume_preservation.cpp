@@ -36,10 +36,39 @@ VolumePreserver::VolumePreserver(const BoundModel& bound) : bound_(bound) {
   }
   corrections_.resize(bound.sweeps.size());
   turn_.reserve(most_keys);
-  first_controls_.reserve(most_keys);
-  controls_.reserve(most_keys);
+  for (std::vector<int>* list :
+       {&first_controls_, &controls_, &first_alpha_, &first_beta_, &alpha_, &beta_})
+    list->reserve(most_keys);
   delta_alpha_.reserve(most_keys);
   delta_beta_.reserve(most_keys);
+}
+
+void VolumePreserver::split_axes(const Sweep& sweep, std::span<const int> keys,
+                                 const VolumePreservationOptions& options, std::vector<int>& alpha,
+                                 std::vector<int>& beta) const {
+  alpha.clear();
+  beta.clear();
+  const std::span<const double> t = sweep.parameters();
+  const int last = sweep.key_count() - 1;
+  const float threshold = glm::radians(options.bend_plane_degrees);
+  for (int k : keys) {
+    const glm::quat before = sweep.orientation(static_cast<float>(t[std::max(k - 1, 0)]));
+    const glm::quat after = sweep.orientation(static_cast<float>(t[std::min(k + 1, last)]));
+    const glm::quat turn = after * glm::conjugate(before);
+    const float angle = 2.0f * std::acos(std::min(1.0f, std::abs(turn.w)));
+    if (options.bend_plane_degrees < 0.0f || angle < threshold) {
+      alpha.push_back(k);
+      beta.push_back(k);
+      continue;
+    }
+    // The bend axis; the half-axis more nearly along it is the one across the bend plane.
+    const glm::vec3 axis = glm::normalize(glm::vec3(turn.x, turn.y, turn.z));
+    const glm::mat3 frame = sweep.rotation(static_cast<float>(t[k]));
+    if (std::abs(glm::dot(frame[0], axis)) >= std::abs(glm::dot(frame[1], axis)))
+      alpha.push_back(k);
+    else
+      beta.push_back(k);
+  }
 }
 
 int VolumePreserver::choose_controls(int s, std::span<const glm::quat> joint_rotation) {
@@ -82,6 +111,8 @@ void VolumePreserver::apply(SweepPoser& poser, std::span<const glm::quat> joint_
     record.corrected = true;
     record.target = rest_volume_[s] - (added_volume.empty() ? 0.0 : added_volume[s]);
     record.most_turned_key = choose_controls(s, joint_rotation);
+    split_axes(sweep, first_controls_, options, first_alpha_, first_beta_);
+    split_axes(sweep, controls_, options, alpha_, beta_);
     delta_alpha_.resize(sweep.key_count());
     delta_beta_.resize(sweep.key_count());
     const double scale = std::abs(rest_volume_[s]);
@@ -90,8 +121,8 @@ void VolumePreserver::apply(SweepPoser& poser, std::span<const glm::quat> joint_
     while (record.iterations < options.max_iterations &&
            std::abs(volume - record.target) >= options.tolerance * scale) {
       const bool neighbours = record.iterations >= options.joint_key_iterations;
-      volume_correction_step(sweep, record.target, neighbours ? controls_ : first_controls_,
-                             delta_alpha_, delta_beta_);
+      volume_correction_step(sweep, record.target, neighbours ? alpha_ : first_alpha_,
+                             neighbours ? beta_ : first_beta_, delta_alpha_, delta_beta_);
       apply_half_axis_deltas(sweep, delta_alpha_, delta_beta_);
       volume = sweep_volume(sweep);
       ++record.iterations;

@@ -7,7 +7,8 @@
 // or protrusion add elsewhere; 0 by default): first on the joint key(s) that turned most (every
 // joint key whose turn is at least half the largest one), and after `joint_key_iterations`
 // steps on their neighbouring keys as well, until |I − target| / I0 < tolerance or
-// max_iterations. Then it refreshes the poser's sample table.
+// max_iterations; at a key where the sweep bends, only the half-axis across the bend plane
+// (bend_plane_degrees). Then it refreshes the poser's sample table.
 // Inputs:  the posed SweepPoser, the joint rotation deltas of the pose (J), I_C per sweep
 //          (sweep_count() values, or empty for zeros).
 // Outputs: the poser's α, β (changed in place), and last_corrections(): one record per sweep.
@@ -31,6 +32,12 @@ struct VolumePreservationOptions {
   double tolerance = 1e-3;       // on |I − target| / I0
   int max_iterations = 20;       // update steps per sweep and frame
   int joint_key_iterations = 3;  // steps on the most-turned joint keys before neighbours join
+  // At a control key where the sweep bends by at least this much between its neighbouring
+  // keys, only the half-axis across the bend plane (along the bend axis) is corrected: growing
+  // the one in the bend plane moves the ellipse's inner side past the bend's centre, where the
+  // sweep folds through itself — the integral counts that fold negatively, so the correction
+  // would chase its own loss. A negative value corrects both everywhere (the paper).
+  float bend_plane_degrees = 10.0f;
   // Folding feedback (Deformer only): the sweep integral does not see the skin that folds into
   // itself at a bent joint, so after the correction the Deformer deforms the mesh, measures each
   // corrected part's closed region (part_regions.h), counts the region's loss as I_C (folding's
@@ -69,12 +76,17 @@ class VolumePreserver {
   // The controls for a sweep's first steps (most-turned joint keys) and later ones (with their
   // neighbours); returns the most-turned key.
   int choose_controls(int sweep, std::span<const glm::quat> joint_rotation);
+  // Splits `keys` into α and β controls, leaving out the bend-plane half-axis of bent keys.
+  void split_axes(const Sweep& sweep, std::span<const int> keys,
+                  const VolumePreservationOptions& options, std::vector<int>& alpha,
+                  std::vector<int>& beta) const;
 
   const BoundModel& bound_;
   std::vector<double> rest_volume_;
   std::vector<VolumeCorrection> corrections_;
-  std::vector<float> turn_;                     // scratch: per key of one sweep
-  std::vector<int> first_controls_, controls_;  // scratch
+  std::vector<float> turn_;                                   // scratch: per key of one sweep
+  std::vector<int> first_controls_, controls_;                // scratch: keys
+  std::vector<int> first_alpha_, first_beta_, alpha_, beta_;  // scratch: per half-axis
   std::vector<double> delta_alpha_, delta_beta_;
 };
 

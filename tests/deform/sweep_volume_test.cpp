@@ -183,5 +183,29 @@ TEST(SweepVolume, CorrectionStepsRestoreTheRestVolume) {
                std::invalid_argument);
 }
 
+TEST(SweepVolume, ACorrectionStepOnOneHalfAxisHitsItsTargetAndLeavesTheOtherAlone) {
+  const std::vector<float> heights{0.0f, 0.5f, 1.0f, 1.5f};
+  auto keys = straight_keys(
+      heights, glm::quat(1, 0, 0, 0), [](float) { return 0.2f; }, [](float) { return 0.15f; });
+  Sweep sweep(keys);
+  const double target = 1.1 * sweep_volume(sweep);
+  const int n = sweep.key_count();
+  std::vector<double> d_alpha(n), d_beta(n);
+  const std::vector<int> key_one{1}, none{};
+  volume_correction_step(sweep, target, key_one, none, d_alpha, d_beta);
+  for (int i = 0; i < n; ++i) {
+    EXPECT_EQ(d_beta[i], 0.0);  // β is frozen
+    if (i != 1) {
+      EXPECT_EQ(d_alpha[i], 0.0);
+    }
+  }
+  EXPECT_GT(d_alpha[1], 0.0);
+  apply_half_axis_deltas(sweep, d_alpha, d_beta);
+  // I is linear in α for fixed β, so one step on α alone lands on the target (to rounding).
+  EXPECT_NEAR(sweep_volume(sweep), target, 1e-9 * target);
+  EXPECT_THROW(volume_correction_step(sweep, target, none, std::vector<int>{-1}, d_alpha, d_beta),
+               std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace sweepd::deform

@@ -1,7 +1,9 @@
 // Volume preservation (paper §4.4) on the shared male: the elbow bent 0→150° keeps the arm
 // sweep's integral (the paper's correction) or, with fold feedback, the closed arm region's
-// mesh volume, with LBS, DQS and uncorrected sweeps reported beside it; the rest pose is untouched;
-// the correction starts on the elbow key, honours I_C, and leaves parts that are off alone.
+// mesh volume, with LBS, DQS and uncorrected sweeps reported beside it; bound with its joint
+// keys at their section centroids, it keeps both; the rest pose is untouched; the correction
+// starts on the elbow key, grows only its half-axis across the bend plane, honours I_C, and
+// leaves parts that are off alone.
 #include "deform/volume_preservation.h"
 
 #include <gtest/gtest.h>
@@ -59,36 +61,98 @@ DeformOptions without_fold_feedback() {
   return options;
 }
 
-TEST(VolumePreservation, PaperCorrectionKeepsTheArmSweepIntegralAtRest) {
-  REQUIRE_SHARED_MALE();
+// The elbow table on one binding of the male: the arm sweep's integral and the closed arm
+// region's volume, % against rest, for the plain sweep, the paper's correction and the default
+// (fold feedback), with LBS and DQS beside them. Returns the paper's and the default's rows.
+struct ElbowTable {
+  std::vector<ElbowRow> plain, paper, folded;
+};
+ElbowTable print_elbow_table(const BoundModel& male, const char* binding) {
   const int arm = test::sweep_of(male, BodyPart::kLeftArm);
-  ASSERT_GE(arm, 0);
-  const auto plain = bend_left_elbow(male, DeformOptions{});
-  const auto paper = bend_left_elbow(male, without_fold_feedback());
-  const auto folded = bend_left_elbow(male, preserving());
+  ElbowTable table{bend_left_elbow(male, DeformOptions{}),
+                   bend_left_elbow(male, without_fold_feedback()),
+                   bend_left_elbow(male, preserving())};
   Deformer skinning(male);
   PartRegions regions(male);
   const double rest_mesh = regions.volume(arm, male.model.positions);
   std::printf(
-      "left elbow bent, %% change against rest. integral: sweep, +volume (paper), "
-      "+volume (fold feedback) | closed arm region: the same three, lbs, dqs\n");
-  double worst = 0.0;
-  for (std::size_t i = 0; i < plain.size(); ++i) {
-    const Pose pose = test::left_elbow_bent(male.model, static_cast<float>(plain[i].degrees));
+      "left elbow bent (%s), %% change against rest. integral: sweep, +volume (paper), "
+      "+volume (default) | closed arm region: the same three, lbs, dqs\n",
+      binding);
+  for (std::size_t i = 0; i < table.plain.size(); ++i) {
+    const Pose pose = test::left_elbow_bent(male.model, static_cast<float>(table.plain[i].degrees));
     const double lbs =
         regions.volume(arm, test::deformed(skinning, pose, DeformMethod::kLbs)) / rest_mesh - 1;
     const double dqs =
         regions.volume(arm, test::deformed(skinning, pose, DeformMethod::kDqs)) / rest_mesh - 1;
     std::printf("%4d  %+7.2f %+7.2f %+7.2f | %+7.2f %+7.2f %+7.2f %+7.2f %+7.2f\n",
-                plain[i].degrees, 100 * plain[i].integral, 100 * paper[i].integral,
-                100 * folded[i].integral, 100 * plain[i].mesh, 100 * paper[i].mesh,
-                100 * folded[i].mesh, 100 * lbs, 100 * dqs);
-    worst = std::max(worst, std::abs(paper[i].integral));
+                table.plain[i].degrees, 100 * table.plain[i].integral,
+                100 * table.paper[i].integral, 100 * table.folded[i].integral,
+                100 * table.plain[i].mesh, 100 * table.paper[i].mesh, 100 * table.folded[i].mesh,
+                100 * lbs, 100 * dqs);
   }
-  EXPECT_LE(worst, 0.005);  // the bound on the sweep integral: ±0.5 % of rest
+  return table;
+}
+
+double worst(const std::vector<ElbowRow>& rows, double ElbowRow::*field) {
+  double result = 0.0;
+  for (const ElbowRow& row : rows) result = std::max(result, std::abs(row.*field));
+  return result;
+}
+
+TEST(VolumePreservation, PaperCorrectionKeepsTheArmSweepIntegralAtRest) {
+  REQUIRE_SHARED_MALE();
+  const ElbowTable table = print_elbow_table(male, "joint-centred elbow key, the default");
+  EXPECT_LE(worst(table.paper, &ElbowRow::integral), 0.005);  // the bound: ±0.5 %
   // Uncorrected, the bend loses volume (-11.8 % of the integral at 150° measured): the
   // correction has something to do.
-  EXPECT_LT(plain.back().integral, -0.05);
+  EXPECT_LT(table.plain.back().integral, -0.05);
+  // Not asserted, because it does not hold on this binding: the closed region with the paper's
+  // correction, -11.41 % at 150° measured (LBS -7.97 %, DQS -10.98 %). The elbow key sits on
+  // the joint, 2.2 cm behind the section's centroid, so the bend sweeps the section's first
+  // moment inwards where the ellipse integral cannot see it (arm_volume_budget_test.cpp): with
+  // the integral at rest the region cannot be, whatever the half-axes are. The default (fold
+  // feedback) holds the region (-0.92 % at 150°) and lets the integral rise (+18.47 %).
+}
+
+TEST(VolumePreservation, WithElbowKeysAtTheSectionCentroidBothBoundsHold) {
+  REQUIRE_SHARED_MALE();
+  BindOptions options;
+  options.joint_key_centre = JointKeyCentre::kAtSectionCentroid;
+  const BoundModel centred = bind(male.model, male.rig, options);
+  const ElbowTable table = print_elbow_table(centred, "joint keys at their section centroids");
+  // Measured with preservation on (the default options; fold feedback never starts, no region
+  // loses 0.5 %): integral within 0.01 % at every angle, region +1.46 % at 150° (+0.39 % at
+  // 120°, +0.07 % at 90°). The bounds: ±0.5 % and ±2 %.
+  EXPECT_LE(worst(table.folded, &ElbowRow::integral), 0.005);
+  EXPECT_LE(worst(table.folded, &ElbowRow::mesh), 0.02);
+  EXPECT_LE(worst(table.paper, &ElbowRow::integral), 0.005);
+  EXPECT_LE(worst(table.paper, &ElbowRow::mesh), 0.02);
+}
+
+TEST(VolumePreservation, AtTheBentElbowOnlyTheHalfAxisAcrossTheBendPlaneIsCorrected) {
+  REQUIRE_SHARED_MALE();
+  const int arm = test::sweep_of(male, BodyPart::kLeftArm);
+  Deformer plain(male), corrected(male);
+  corrected.set_options(without_fold_feedback());
+  const Pose pose = test::left_elbow_bent(male.model, 120.0f);
+  test::deformed(plain, pose, DeformMethod::kSweep);
+  test::deformed(corrected, pose, DeformMethod::kSweep);
+  const int elbow = corrected.volume_preserver().last_corrections()[arm].most_turned_key;
+  const Sweep& before = plain.sweep_poser().sweep(arm);
+  const Sweep& after = corrected.sweep_poser().sweep(arm);
+  const glm::mat3 frame = after.rotation(static_cast<float>(after.parameters()[elbow]));
+  const glm::vec3 axis = test::left_elbow_flexion_axis(male.model);
+  // The half-axis whose direction is more nearly along the flexion axis grows; the other, in
+  // the bend plane, keeps its posed control value exactly.
+  const bool alpha_across = std::abs(glm::dot(frame[0], axis)) > std::abs(glm::dot(frame[1], axis));
+  const double across = alpha_across ? after.alpha()[elbow] / before.alpha()[elbow]
+                                     : after.beta()[elbow] / before.beta()[elbow];
+  const double in_plane = alpha_across ? after.beta()[elbow] / before.beta()[elbow]
+                                       : after.alpha()[elbow] / before.alpha()[elbow];
+  std::printf("elbow key at 120°: across the bend plane x%.3f, in it x%.3f\n", across, in_plane);
+  EXPECT_GT(across, 1.05);  // the bend lost 8 % of the integral; the elbow key restores it
+  EXPECT_EQ(in_plane, 1.0);
 }
 
 TEST(VolumePreservation, FoldFeedbackKeepsTheClosedArmRegionWithinTwoPercent) {
@@ -104,11 +168,12 @@ TEST(VolumePreservation, FoldFeedbackKeepsTheClosedArmRegionWithinTwoPercent) {
   EXPECT_LE(worst_target, 0.005);  // the integral meets its target I0 - I_C within ±0.5 %
 }
 
-TEST(VolumePreservation, ReportsItsCostPerFrame) {
+TEST(VolumePreservation, ReportsItsCostPerFrameAndBoundsItsWork) {
   REQUIRE_SHARED_MALE();
   const Pose pose = test::left_elbow_bent(male.model, 120.0f);
   std::vector<glm::vec3> positions(male.model.vertex_count());
   double milliseconds[3];
+  int feedback_rounds = 0, most_steps = 0;
   const DeformOptions options[3] = {DeformOptions{}, without_fold_feedback(), preserving()};
   for (int i = 0; i < 3; ++i) {
     Deformer deformer(male);
@@ -125,14 +190,23 @@ TEST(VolumePreservation, ReportsItsCostPerFrame) {
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
             .count() /
         kFrames;
+    if (i == 2) {
+      feedback_rounds = deformer.fold_feedback_iterations();
+      for (const VolumeCorrection& c : deformer.volume_preserver().last_corrections())
+        most_steps = std::max(most_steps, c.iterations);
+    }
   }
   std::printf(
       "per frame, one thread: sweep %.2f ms, +volume (paper) %.2f ms, "
-      "+volume (fold feedback) %.2f ms\n",
-      milliseconds[0], milliseconds[1], milliseconds[2]);
-  // Fold feedback deforms at most 1 + 3 times and measures six regions: it costs more than the
-  // plain sweep but stays within 10x of it.
-  EXPECT_LT(milliseconds[2], 10.0 * milliseconds[0] + 1.0);
+      "+volume (fold feedback) %.2f ms; %d feedback rounds, at most %d update steps a sweep\n",
+      milliseconds[0], milliseconds[1], milliseconds[2], feedback_rounds, most_steps);
+  // The cost in work rather than wall-clock time (which depends on the machine's load): the
+  // 120° elbow loses more than 0.5 % of its region, so fold feedback runs, deforming at most
+  // 1 + 3 times; each correction stops on its tolerance before max_iterations (3 rounds, and
+  // 1 step in the last round, measured).
+  EXPECT_GE(feedback_rounds, 1);
+  EXPECT_LE(feedback_rounds, preserving().volume.fold_feedback_iterations);
+  EXPECT_LT(most_steps, preserving().volume.max_iterations);
 }
 
 TEST(VolumePreservation, RestPoseIsLeftExactlyAsItWas) {
