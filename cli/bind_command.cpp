@@ -69,10 +69,11 @@ void write_debug_gltf(const deform::BoundModel& bound, const std::filesystem::pa
   for (const deform::BoundSweep& sweep : bound.sweeps)
     for (const deform::KeyEllipse& key : sweep.rest_keys) {
       const glm::mat3 r = glm::mat3_cast(key.orientation);
+      const glm::vec3 ellipse_centre = key.centre + r * glm::vec3(key.offset, 0.0f);
       std::vector<glm::vec3> loop;
       for (int i = 0; i < kLoopPoints; ++i) {
         const float theta = 2.0f * static_cast<float>(M_PI) * i / kLoopPoints;
-        loop.push_back(key.centre + key.a * std::cos(theta) * r[0] +
+        loop.push_back(ellipse_centre + key.a * std::cos(theta) * r[0] +
                        key.b * std::sin(theta) * r[1]);
       }
       options.line_loops.push_back(std::move(loop));

@@ -65,7 +65,7 @@ struct VertexBinding {
 };
 
 enum class JointKeyCentre : std::int32_t {
-  kAtJoint = 0,            // the paper: the joint key's centre is the joint
+  kAtJoint = 0,            // the paper: C(t) through the joint (ellipse: KeyEllipse::offset)
   kAtSectionCentroid = 1,  // at its section's centroid, carried rigidly by the joint
   kAuto = 2,  // the joint, unless it lies outside the inner half of its section's ellipse
 };

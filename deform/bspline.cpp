@@ -268,4 +268,18 @@ double InterpolatingQuadraticSpline::value(double t) const {
   return sum;
 }
 
+double InterpolatingQuadraticSpline::derivative(double t) const {
+  // f' = Σ p (c_i - c_{i-1}) / (u_{i+p} - u_i) N_{i,p-1}: on the span [u_k, u_{k+1}] the
+  // degree-(p-1) basis is 1 (p = 1) or the two hat pieces (p = 2).
+  std::array<double, kMaxDegree + 1> basis{};
+  const int p = degree_;
+  const int k = nonzero_basis(t, basis) + p;
+  auto slope = [&](int i) {
+    return p * (controls_[i] - controls_[i - 1]) / (knots_[i + p] - knots_[i]);
+  };
+  if (p == 1) return slope(k);
+  const double s = (t - knots_[k]) / (knots_[k + 1] - knots_[k]);
+  return (1.0 - s) * slope(k - 1) + s * slope(k);
+}
+
 }  // namespace sweepd::deform

@@ -91,6 +91,7 @@ class InterpolatingQuadraticSpline {
   void interpolate(std::span<const double> values);
 
   double value(double t) const;
+  double derivative(double t) const;  // f'(t) (one-sided at the knots, where f' may jump)
   // The degree()+1 basis functions that may be nonzero at t: B_first .. B_{first+degree()};
   // writes them to basis[0..degree()] and returns first.
   int nonzero_basis(double t, std::array<double, kMaxDegree + 1>& basis) const;

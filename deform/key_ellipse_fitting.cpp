@@ -15,7 +15,8 @@ struct RawKey {
   glm::vec3 origin;
   glm::vec3 normal;
   PlaneFrame frame;
-  KeyEllipseFit fit;
+  KeyEllipseFit fit;      // about the section's centroid
+  bool at_joint = false;  // a joint key centred on its joint, its ellipse offset to the fit
   bool usable = false;
 };
 
@@ -83,18 +84,15 @@ BoundSweep fit_sweep_keys(std::span<const glm::vec3> positions,
                                   key.anchor.fraction);
       key.normal = link_direction[i];
       key.frame = make_plane_frame(key.origin, key.normal, x_hint);
-      key.fit = fit_key_ellipse(positions, indices, key.frame, key.origin,
-                                key.anchor.is_joint_key() && centre_rule == JointKeyCentre::kAtJoint
-                                    ? std::optional(key.origin)
-                                    : std::nullopt);
+      key.fit = fit_key_ellipse(positions, indices, key.frame, key.origin);
+      key.at_joint = key.anchor.is_joint_key() && centre_rule == JointKeyCentre::kAtJoint;
       if (key.fit.valid && key.anchor.is_joint_key() && centre_rule == JointKeyCentre::kAuto) {
         // The joint's radius in the centroid ellipse: inside the inner half, centre it there.
         const glm::vec2 offset = -key.fit.fit_2d.centre;
         const float c = std::cos(key.fit.fit_2d.angle), s = std::sin(key.fit.fit_2d.angle);
         const glm::vec2 local(c * offset.x + s * offset.y, -s * offset.x + c * offset.y);
         const float radius = glm::length(local / glm::vec2(key.fit.fit_2d.a, key.fit.fit_2d.b));
-        if (radius <= 0.5f)
-          key.fit = fit_key_ellipse(positions, indices, key.frame, key.origin, key.origin);
+        key.at_joint = radius <= 0.5f;
       }
       key.usable = key.fit.valid && key.fit.closed_loop && std::isfinite(key.fit.key.a) &&
                    std::isfinite(key.fit.key.b);
@@ -145,7 +143,11 @@ BoundSweep fit_sweep_keys(std::span<const glm::vec3> positions,
     }
     const glm::vec3 y_axis = glm::cross(frame.normal, x_axis);
     ellipse.orientation = glm::normalize(glm::quat_cast(glm::mat3(x_axis, y_axis, frame.normal)));
-    ellipse.centre = fallback ? key.origin : fitted.centre;
+    ellipse.centre = fallback || key.at_joint ? key.origin : fitted.centre;
+    if (!fallback && key.at_joint) {
+      const glm::vec3 to_section = fitted.centre - key.origin;
+      ellipse.offset = {glm::dot(to_section, x_axis), glm::dot(to_section, y_axis)};
+    }
     previous_x = x_axis;
 
     sweep.anchors.push_back(key.anchor);

@@ -2,7 +2,9 @@
 //
 // One joint key per chain joint, fitted to the cross-section cut by a plane through the joint
 // orthogonal to its lower link (the last joint uses the link above it), centred at the joint or
-// at the section's centroid (JointKeyCentre); and
+// at the section's centroid (JointKeyCentre) — a joint-centred key's ellipse is still the
+// section's (fitted about its centroid), placed by the key's in-plane offset from the joint
+// (KeyEllipse::offset); and
 // `intermediate_keys_per_link` link keys evenly along each link, centred at their section's
 // centroid. Each section keeps only the loop around the link (cross_section) and is fitted by
 // its area moments with the area matched (fit_ellipse).

@@ -25,6 +25,7 @@ void pose_key_ellipses(const BoundSweep& sweep, const Skeleton& skeleton,
     posed.orientation = glm::normalize(turn * rest.orientation);
     posed.a = rest.a;
     posed.b = rest.b;
+    posed.offset = rest.offset;  // in the key's own frame: it turns with the key
   }
 }
 

@@ -30,11 +30,20 @@ void QuaternionCurve::finish_keys() {
     if (glm::dot(keys_[i - 1], keys_[i]) < 0.0) keys_[i] = -keys_[i];
 }
 
-glm::dquat QuaternionCurve::unnormalised(double t) const {
+int QuaternionCurve::piece(double t) const {
   const auto it = std::upper_bound(t_.begin() + 1, t_.end() - 1, t);
-  const int i = static_cast<int>(it - t_.begin()) - 1;
+  return static_cast<int>(it - t_.begin()) - 1;
+}
+
+glm::dquat QuaternionCurve::unnormalised(double t) const {
+  const int i = piece(t);
   const double s = (t - t_[i]) / (t_[i + 1] - t_[i]);
   return keys_[i] * (1.0 - s) + keys_[i + 1] * s;
+}
+
+glm::dquat QuaternionCurve::derivative(double t) const {
+  const int i = piece(t);
+  return (keys_[i + 1] - keys_[i]) / (t_[i + 1] - t_[i]);
 }
 
 glm::dquat QuaternionCurve::unit(double t) const { return glm::normalize(unnormalised(t)); }

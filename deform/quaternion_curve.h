@@ -26,6 +26,7 @@ class QuaternionCurve {
   void finish_keys();  // applies the sign continuity to keys set by set_key
 
   glm::dquat unnormalised(double t) const;  // Q(t)
+  glm::dquat derivative(double t) const;    // Q'(t), constant on each piece
   glm::dquat unit(double t) const;          // Q(t) / |Q(t)|
   glm::dmat3 rotation(double t) const;      // R(t)
   int parameter_count() const { return static_cast<int>(t_.size()); }
@@ -33,6 +34,7 @@ class QuaternionCurve {
   std::span<const glm::dquat> keys() const { return keys_; }
 
  private:
+  int piece(double t) const;  // i with t_i <= t < t_{i+1}, clamped to the end pieces
   std::vector<double> t_;
   std::vector<glm::dquat> keys_;
 };

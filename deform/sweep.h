@@ -1,5 +1,6 @@
 // Sweep: the control sweep surface of a moving ellipse (paper §3.1–3.2),
-//   S(θ, t) = R(t) (a(t) cos θ, b(t) sin θ, 0)^T + C(t),   t in [0, 1],
+//   S(θ, t) = R(t) (o_x(t) + a(t) cos θ, o_y(t) + b(t) sin θ, 0)^T + C(t),   t in [0, 1],
+// i.e. an ellipse centred at C̃(t) = C(t) + R(t) (o_x(t), o_y(t), 0) (KeyEllipse::offset),
 // built from n+1 >= 2 key ellipses:
 // - t_i: chord-length parameters of the key centres at construction, normalised to [0, 1].
 //   They stay fixed afterwards (t is a material coordinate: vertex bindings (t_V, θ_V) remain
@@ -10,8 +11,12 @@
 //   N(t) is its third column.
 // - a(t), b(t): quadratic B-spline functions interpolating the key half-axes; their control
 //   values α_i, β_i (one per key) are exposed for the volume correction of §4.4.
+// - o(t) = (o_x(t), o_y(t)): the keys' in-plane offsets, interpolated like a and b (the same
+//   quadratic B-spline basis). C(t) passes through the key centres (the joints), so spans far
+//   from a bent joint stay rigid, while the ellipses sit on the sections beside the joints.
 // Per frame, set_key_frames() re-solves C and Q from new key centres/orientations without
-// allocating; a and b are kept (the paper changes them only through volume correction or edits).
+// allocating; a, b and o are kept (the paper changes a and b only through volume correction or
+// edits; o is a rest property of the keys, in their own frames, so it turns with them).
 // Evaluation at t outside [0, 1] extends the end pieces of every curve.
 #pragma once
 
@@ -26,9 +31,9 @@
 
 namespace sweepd::deform {
 
-// Everything a vertex bound at parameter t needs: V = C + R ((a cos θ, b sin θ, 0) + d).
+// Everything a vertex bound at parameter t needs: V = C̃ + R ((a cos θ, b sin θ, 0) + d).
 struct SweepFrame {
-  glm::vec3 centre{0.0f};    // C(t)
+  glm::vec3 centre{0.0f};    // C̃(t), the ellipse's centre
   glm::mat3 rotation{1.0f};  // R(t); its third column is N(t)
   float a = 0.0f, b = 0.0f;  // a(t), b(t)
 };
@@ -42,7 +47,8 @@ class Sweep {
   // New centres and orientations (same count as at construction); a and b are ignored.
   // Allocation-free. Throws std::invalid_argument on a count mismatch.
   void set_key_frames(std::span<const KeyEllipse> keys);
-  // Re-interpolates a(t), b(t) through the keys' half-axes (resets the volume correction).
+  // Re-interpolates a(t), b(t) through the keys' half-axes (resets the volume correction) and
+  // o(t) through their offsets.
   // Allocation-free. Throws std::invalid_argument on a count mismatch.
   void set_key_half_axes(std::span<const KeyEllipse> keys);
 
@@ -56,9 +62,13 @@ class Sweep {
   glm::vec3 normal(float t) const { return rotation(t)[2]; }                               // N(t)
   float a(float t) const { return static_cast<float>(a_.value(t)); }
   float b(float t) const { return static_cast<float>(b_.value(t)); }
+  glm::vec2 offset(float t) const;          // o(t)
+  glm::vec3 ellipse_centre(float t) const;  // C̃(t) = C(t) + R(t) (o(t), 0)
+  // C̃'(t) = C'(t) + R'(t) (o, 0) + R(t) (o', 0), in double precision (the volume integral).
+  glm::dvec3 ellipse_centre_derivative(double t) const;
   // S(θ, t).
   glm::vec3 point(float theta, float t) const;
-  // C, R, a, b at t in one evaluation.
+  // C̃, R, a, b at t in one evaluation.
   SweepFrame frame(float t) const;
   // frame(t[i]) for every i into out[i]; t and out have the same size. No allocation.
   void frames(std::span<const float> t, std::span<SweepFrame> out) const;
@@ -74,14 +84,16 @@ class Sweep {
   const QuaternionCurve& orientation_curve() const { return orientation_; }
   const InterpolatingQuadraticSpline& a_function() const { return a_; }
   const InterpolatingQuadraticSpline& b_function() const { return b_; }
+  const InterpolatingQuadraticSpline& offset_x_function() const { return offset_x_; }
+  const InterpolatingQuadraticSpline& offset_y_function() const { return offset_y_; }
 
  private:
   std::vector<double> parameters_;
   std::vector<glm::vec3> centres_;  // scratch for set_key_frames
-  std::vector<double> half_axes_;   // scratch for set_key_half_axes
+  std::vector<double> key_values_;  // scratch for set_key_half_axes
   InterpolatingCubicSpline centre_;
   QuaternionCurve orientation_;
-  InterpolatingQuadraticSpline a_, b_;
+  InterpolatingQuadraticSpline a_, b_, offset_x_, offset_y_;
 };
 
 }  // namespace sweepd::deform

@@ -25,7 +25,7 @@ SweepCoordinate bind_point(const Sweep& sweep, const SweepPlanes& planes, glm::v
   float best_t = 0.0f;
   float best_distance = std::numeric_limits<float>::infinity();
   auto consider = [&](float t) {
-    const float distance = glm::length(point - sweep.centre(t));
+    const float distance = glm::length(point - sweep.ellipse_centre(t));
     if (distance < best_distance) {
       best_distance = distance;
       best_t = t;
@@ -46,7 +46,8 @@ SweepCoordinate bind_point(const Sweep& sweep, const SweepPlanes& planes, glm::v
 
   SweepCoordinate coordinate;
   coordinate.t = best_t;
-  const glm::vec3 local = glm::transpose(sweep.rotation(best_t)) * (point - sweep.centre(best_t));
+  const glm::vec3 local =
+      glm::transpose(sweep.rotation(best_t)) * (point - sweep.ellipse_centre(best_t));
   const float a = sweep.a(best_t), b = sweep.b(best_t);
   const float u = local.x / a, v = local.y / b;
   const float r = std::sqrt(u * u + v * v);
@@ -61,7 +62,7 @@ glm::vec3 evaluate_point(const Sweep& sweep, const SweepCoordinate& coordinate) 
   const float t = coordinate.t;
   const glm::vec3 local((sweep.a(t) + coordinate.da) * std::cos(coordinate.theta),
                         (sweep.b(t) + coordinate.db) * std::sin(coordinate.theta), coordinate.c);
-  return sweep.centre(t) + sweep.rotation(t) * local;
+  return sweep.ellipse_centre(t) + sweep.rotation(t) * local;
 }
 
 }  // namespace sweepd::deform

@@ -4,11 +4,13 @@
 // bind_point: the sweep's planes P(t_j) are sampled (SweepPlanes); a point between two
 // neighbouring planes gets t_V = (d_{j+1} t_j + d_j t_{j+1}) / (d_j + d_{j+1}) from its distances
 // to them. Where the planes cross (a curved torso) several pairs may enclose the point: the one
-// whose ellipse centre C(t_V) is nearest wins, never a far one. A point before the first plane
+// whose ellipse centre C̃(t_V) is nearest wins, never a far one. A point before the first plane
 // or after the last is bound to the end ellipse (t = 0 or 1); its offset along N is kept in c.
-// Then (x, y, c) = R(t_V)^T (V - C(t_V)), θ_V = atan2(y / b, x / a), and with
-// r = |(x / a, y / b)| the displacement is da = (r - 1) a, db = (r - 1) b.
-// evaluate_point: V = C(t) + R(t) ((a(t) + da) cos θ, (b(t) + db) sin θ, c) — exact at rest.
+// Then (x, y, c) = R(t_V)^T (V - C̃(t_V)) with C̃ = C + R (o, 0) the ellipse's centre,
+// θ_V = atan2(y / b, x / a), and with r = |(x / a, y / b)| the displacement is
+// da = (r - 1) a, db = (r - 1) b.
+// evaluate_point: V = C̃(t) + R(t) ((a(t) + da) cos θ, (b(t) + db) sin θ, c) — exact at rest.
+// The planes P(t) are those through C(t) and C̃(t) alike: o is in the plane.
 #pragma once
 
 #include <glm/glm.hpp>

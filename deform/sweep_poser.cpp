@@ -66,6 +66,7 @@ SweepPoser::SweepPoser(const BoundModel& bound) : bound_(bound) {
         for (int r = 0; r < 3; ++r)
           w.axis[r] = r <= curve.a_function().degree() ? static_cast<float>(basis[r]) : 0.0f;
         sample_weights_.push_back(w);
+        sample_offset_.push_back(curve.offset(static_cast<float>(at)));
       }
   }
   table_.resize(sample_weights_.size());
@@ -129,7 +130,8 @@ void SweepPoser::refresh_table() {
         glm::normalize((1.0f - w.q_mix) * d.keys[i] + w.q_mix * d.keys[i + 1]));
     const float a = w.axis[0] * d.alpha[k] + w.axis[1] * d.alpha[k + 1] + w.axis[2] * d.alpha[k + 2];
     const float b = w.axis[0] * d.beta[k] + w.axis[1] * d.beta[k + 1] + w.axis[2] * d.beta[k + 2];
-    table_[row] = {centre, a, r[0], b, r[1], 0.0f, r[2], 0.0f};
+    const glm::vec3 ellipse_centre = centre + r * glm::vec3(sample_offset_[row], 0.0f);  // C̃
+    table_[row] = {ellipse_centre, a, r[0], b, r[1], 0.0f, r[2], 0.0f};
   }
 }
 

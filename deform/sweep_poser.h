@@ -100,6 +100,7 @@ class SweepPoser {
   std::vector<std::vector<KeyEllipse>> posed_keys_;
   std::vector<std::uint32_t> first_sample_;  // per sweep: its first row in table_
   std::vector<SampleWeights> sample_weights_;  // per row
+  std::vector<glm::vec2> sample_offset_;       // per row: o(t), fixed (a rest property of keys)
   std::vector<SweepData> sweep_data_;          // per sweep
   std::vector<Sample> table_;                 // per frame: every sweep at its samples
   std::vector<float> skin_weight_;            // per vertex: share that follows LBS

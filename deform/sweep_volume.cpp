@@ -27,7 +27,7 @@ void require_size(std::span<const double> buffer, const Sweep& sweep, const char
 double add_sample(const Sweep& sweep, double t, double w, std::span<double> d_alpha,
                   std::span<double> d_beta) {
   const glm::dvec3 normal = sweep.orientation_curve().rotation(t)[2];
-  const double flux = w * std::numbers::pi * glm::dot(normal, sweep.centre_curve().derivative(t));
+  const double flux = w * std::numbers::pi * glm::dot(normal, sweep.ellipse_centre_derivative(t));
   const auto& a_fn = sweep.a_function();
   const auto& b_fn = sweep.b_function();
   std::array<double, InterpolatingQuadraticSpline::kMaxDegree + 1> a_basis{}, b_basis{};

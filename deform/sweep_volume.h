@@ -1,15 +1,20 @@
 // Swept volume of a Sweep and the volume-preserving update of its half-axis controls
 // (paper §3.1 and §4.4).
 //
-//   I(α, β) = ∫_0^1 a(t) b(t) π <N(t), C'(t)> dt,   a = Σ α_i A_i(t), b = Σ β_i B_i(t)
-// where A_i, B_i are the quadratic B-spline bases of the sweep's a(t), b(t). I is bilinear in
-// (α, β), so ∂I/∂α_i = ∫ A_i b π <N, C'> dt and ∂I/∂β_i = ∫ a B_i π <N, C'> dt exactly.
+//   I(α, β) = ∫_0^1 a(t) b(t) π <N(t), C̃'(t)> dt,   a = Σ α_i A_i(t), b = Σ β_i B_i(t)
+// where A_i, B_i are the quadratic B-spline bases of the sweep's a(t), b(t) and C̃ is the
+// ellipses' centre curve (Sweep::ellipse_centre): the volume a moving planar section sweeps is
+// its area times the normal speed of its centroid (the turn about the centroid sweeps as much
+// forwards as backwards). C̃' = C' + R' (o, 0) + R (o', 0); the last term lies in the plane, so
+// only the turning offset R' (o, 0) adds to C'. I is bilinear in (α, β), so
+// ∂I/∂α_i = ∫ A_i b π <N, C̃'> dt and ∂I/∂β_i = ∫ a B_i π <N, C̃'> dt exactly.
 // Quadrature: every key span [t_i, t_{i+1}] is split at its midpoint (the a/b knots) and each
 // half gets 8-point Gauss–Legendre. The integrand is a degree-8 polynomial over the positive
-// quadratic |Q(t)|^2, so the polynomial part is integrated exactly and the rational part to
+// quadratic |Q(t)|^2 (zero offsets; an offset adds a rational term of the same kind), so the
+// polynomial part is integrated exactly and the rational part to
 // better than 1e-10 relative for neighbouring keys up to 150 degrees apart (checked against a
 // 2e6-point midpoint rule).
-// The volume is the signed one: positive when N points along C'.
+// The volume is the signed one: positive when N points along C̃'.
 #pragma once
 
 #include <span>

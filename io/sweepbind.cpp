@@ -26,7 +26,7 @@ constexpr std::uint64_t kMaxEditSamples = 1u << 10;
 
 // Records stored as raw bytes: their layout is the file format (io/SWEEPBIND.md). No padding.
 static_assert(sizeof(deform::KeyAnchor) == 12);
-static_assert(sizeof(deform::KeyEllipse) == 36);
+static_assert(sizeof(deform::KeyEllipse) == 44);
 static_assert(sizeof(deform::BindOptions) == 24);
 static_assert(sizeof(deform::VertexBinding) == 84);
 
@@ -165,7 +165,7 @@ std::string validate(const BoundModel& bound) {
     for (const deform::KeyEllipse& key : sweep.rest_keys)
       if (!finite(key.centre.x) || !finite(key.centre.y) || !finite(key.centre.z) ||
           !finite(key.orientation.w) || !(key.a > 0.0f) || !(key.b > 0.0f) ||
-          !std::isfinite(key.a * key.b))
+          !std::isfinite(key.a * key.b) || !finite(key.offset.x) || !finite(key.offset.y))
         return name + ": a key ellipse is not finite or has a non-positive half-axis";
   }
   if (bound.vertices.size() != bound.model.vertex_count())
@@ -235,7 +235,8 @@ BoundModel decode_sweepbind(std::span<const std::uint8_t> bytes,
   const auto version = header.get<std::uint32_t>("version");
   if (version != kSweepbindVersion)
     header.fail("unsupported .sweepbind version " + std::to_string(version) +
-                " (this sweepd reads " + std::to_string(kSweepbindVersion) + ")");
+                " (this sweepd reads " + std::to_string(kSweepbindVersion) +
+                "; bind the model again to rebuild it)");
   header.get<std::uint32_t>("flags");
   const auto payload_size = header.get<std::uint64_t>("payload size");
   const auto payload_crc = header.get<std::uint32_t>("payload checksum");

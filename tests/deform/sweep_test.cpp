@@ -1,4 +1,5 @@
-// Tests for the sweep surface S(θ, t) of deform/sweep.h and its orientation curve Q(t).
+// Tests for the sweep surface S(θ, t) of deform/sweep.h, its orientation curve Q(t) and its
+// ellipses' centre curve C̃(t) = C(t) + R(t) (o(t), 0) with in-plane key offsets o.
 #include "deform/sweep.h"
 
 #include <gtest/gtest.h>
@@ -20,6 +21,7 @@ std::vector<KeyEllipse> random_keys(int count, unsigned seed) {
     keys[i].orientation = glm::normalize(glm::quat(2.0f, unit(rng), unit(rng), unit(rng)));
     keys[i].a = size(rng);
     keys[i].b = size(rng);
+    keys[i].offset = 0.1f * glm::vec2(unit(rng), unit(rng));
   }
   return keys;
 }
@@ -44,6 +46,30 @@ TEST(Sweep, ReproducesItsKeyEllipses) {
     EXPECT_LT(max_abs_difference(sweep.rotation(t), glm::mat3_cast(keys[i].orientation)), 1e-5f);
     EXPECT_NEAR(sweep.a(t), keys[i].a, 1e-5f);
     EXPECT_NEAR(sweep.b(t), keys[i].b, 1e-5f);
+    EXPECT_LT(glm::length(sweep.offset(t) - keys[i].offset), 1e-5f);
+    const glm::vec3 ellipse_centre =
+        keys[i].centre + glm::mat3_cast(keys[i].orientation) * glm::vec3(keys[i].offset, 0.0f);
+    EXPECT_LT(glm::length(sweep.ellipse_centre(t) - ellipse_centre), 1e-5f);
+  }
+}
+
+TEST(Sweep, EllipseCentreDerivativeMatchesCentralDifferences) {
+  // C̃' = C' + R' (o, 0) + R (o', 0) against central differences of C̃ in double precision,
+  // inside the pieces (C̃ is smooth there; Q' and o' jump at keys and knot midpoints).
+  const Sweep sweep(random_keys(5, 17u));
+  auto ellipse_centre = [&](double t) {
+    const glm::dvec3 offset(sweep.offset_x_function().value(t), sweep.offset_y_function().value(t),
+                            0.0);
+    return sweep.centre_curve().position(t) + sweep.orientation_curve().rotation(t) * offset;
+  };
+  const double h = 1e-6;
+  for (double t : {0.03, 0.17, 0.31, 0.52, 0.69, 0.88, 0.97}) {
+    const glm::dvec3 numeric = (ellipse_centre(t + h) - ellipse_centre(t - h)) / (2.0 * h);
+    const glm::dvec3 analytic = sweep.ellipse_centre_derivative(t);
+    // Central difference error ~h² |C̃'''| ~1e-11, rounding ~1e-16 / h ~1e-10: 1e-7 is safe.
+    EXPECT_LT(glm::length(analytic - numeric), 1e-7 * glm::length(numeric)) << "t = " << t;
+    // The offset terms matter here: C' alone differs by more than the tolerance.
+    EXPECT_GT(glm::length(sweep.centre_curve().derivative(t) - numeric), 1e-3) << "t = " << t;
   }
 }
 
@@ -52,7 +78,7 @@ TEST(Sweep, SurfacePointsLieOnTheMovingEllipse) {
   for (float t : {0.0f, 0.21f, 0.5f, 0.93f}) {
     for (float theta : {0.0f, 1.0f, 2.5f, 4.0f}) {
       const glm::vec3 local =
-          glm::transpose(sweep.rotation(t)) * (sweep.point(theta, t) - sweep.centre(t));
+          glm::transpose(sweep.rotation(t)) * (sweep.point(theta, t) - sweep.ellipse_centre(t));
       // Float round trip through R and R^T: ~1e-6 absolute at these sizes.
       EXPECT_NEAR(local.x, sweep.a(t) * std::cos(theta), 1e-5f);
       EXPECT_NEAR(local.y, sweep.b(t) * std::sin(theta), 1e-5f);
@@ -69,7 +95,7 @@ TEST(Sweep, FramesAgreeWithTheSingleEvaluators) {
   sweep.frames(t, out);
   for (std::size_t i = 0; i < t.size(); ++i) {
     // Same double evaluation rounded to float the same way: identical results.
-    EXPECT_EQ(out[i].centre, sweep.centre(t[i]));
+    EXPECT_EQ(out[i].centre, sweep.ellipse_centre(t[i]));
     EXPECT_EQ(out[i].rotation, sweep.rotation(t[i]));
     EXPECT_EQ(out[i].a, sweep.a(t[i]));
     EXPECT_EQ(out[i].b, sweep.b(t[i]));
@@ -128,18 +154,20 @@ TEST(Sweep, RigidMotionOfTheKeysMovesTheSurfaceRigidly) {
   }
 }
 
-TEST(Sweep, SetKeyHalfAxesReinterpolatesAAndB) {
+TEST(Sweep, SetKeyHalfAxesReinterpolatesAAndBAndTheOffsets) {
   auto keys = random_keys(4, 3u);
   Sweep sweep(keys);
   for (auto& k : keys) {
     k.a *= 2.0f;
     k.b *= 0.5f;
+    k.offset = glm::vec2(k.offset.y, -2.0f * k.offset.x);
   }
   sweep.set_key_half_axes(keys);
   for (int i = 0; i < 4; ++i) {
     const float t = static_cast<float>(sweep.parameters()[i]);
     EXPECT_NEAR(sweep.a(t), keys[i].a, 1e-5f);  // interpolation, float output
     EXPECT_NEAR(sweep.b(t), keys[i].b, 1e-5f);
+    EXPECT_LT(glm::length(sweep.offset(t) - keys[i].offset), 1e-5f);
   }
 }
 
@@ -152,6 +180,9 @@ TEST(Sweep, RejectsInvalidKeys) {
   auto flat = keys;
   flat[2].b = 0.0f;
   EXPECT_THROW(Sweep{flat}, std::invalid_argument);
+  auto astray = keys;
+  astray[1].offset.x = std::nanf("");
+  EXPECT_THROW(Sweep{astray}, std::invalid_argument);
   Sweep sweep(keys);
   EXPECT_THROW(sweep.set_key_frames(std::span(keys).first(2)), std::invalid_argument);
 }

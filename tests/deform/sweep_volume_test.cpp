@@ -88,55 +88,88 @@ TEST(SweepVolume, BentTubeMatchesPappus) {
   for (float t = 0.0f; t <= 1.0f; t += 0.01f) EXPECT_NEAR(glm::length(sweep.centre(t)), R, 1e-6);
 }
 
+TEST(SweepVolume, BentTubeWithOffsetEllipsesMatchesPappusAtTheEllipseCentres) {
+  // The same arc for C(t), with every ellipse moved in its plane by o along the radial axis
+  // (R's second column): the tube's axis is the arc of radius R + o, so the volume is
+  // π r² (R + o) φ. R' (o, 0) carries all of the difference (o' = 0); the error sources are
+  // those of the test above, so the same 1e-6.
+  const double R = 1.0, phi = kPi / 2.0;
+  const float r = 0.1f;
+  for (const float o : {0.3f, -0.3f}) {
+    auto keys = arc_keys(33, R, phi, r, r);
+    for (KeyEllipse& key : keys) key.offset = glm::vec2(0.0f, o);
+    const Sweep sweep(keys);
+    const double expected = kPi * double(r) * double(r) * (R + o) * phi;
+    EXPECT_NEAR(sweep_volume(sweep), expected, 1e-6 * expected) << "offset " << o;
+  }
+}
+
 TEST(SweepVolume, QuadratureMatchesAFineMidpointRuleOnATwistedSweep) {
   // Neighbouring keys 120 degrees apart make the rational part of the integrand (1/|Q(t)|^2)
-  // vary strongly. Reference: 200000-point midpoint rule on the same curves, whose own error
-  // (~h²/24 |f''|) is below 1e-9 relative here; 1e-8 leaves room for it.
+  // vary strongly; the offset ellipses add R' (o, 0) to C'. Reference: 2×100000-point midpoint
+  // rule on the same curves, whose own error (~h²/24 |f''|) is below 1e-9 relative here; 1e-8
+  // leaves room for it.
   std::vector<KeyEllipse> keys{
-      {{0, 0, 0}, glm::quat(1, 0, 0, 0), 0.3f, 0.2f},
+      {{0, 0, 0}, glm::quat(1, 0, 0, 0), 0.3f, 0.2f, {0.05f, 0.0f}},
       {{0.2f, 0, 1},
        glm::angleAxis(glm::radians(120.0f), glm::normalize(glm::vec3(1, 1, 0))),
        0.5f,
-       0.1f},
-      {{0.5f, 0.3f, 1.5f}, glm::angleAxis(glm::radians(240.0f), glm::vec3(0, 0, 1)), 0.2f, 0.3f}};
+       0.1f,
+       {-0.1f, 0.08f}},
+      {{0.5f, 0.3f, 1.5f},
+       glm::angleAxis(glm::radians(240.0f), glm::vec3(0, 0, 1)),
+       0.2f,
+       0.3f,
+       {0.0f, 0.12f}}};
   const Sweep sweep(keys);
-  const int samples = 200000;
+  // Per key span: R' (o, 0) jumps at the keys (Q is piecewise linear), which a midpoint rule
+  // across a key would only resolve to O(h).
+  const int samples = 100000;  // per span
+  const auto spans = sweep.parameters();
   double reference = 0.0;
-  for (int k = 0; k < samples; ++k) {
-    const double t = (k + 0.5) / samples;
-    const glm::dvec3 normal = sweep.orientation_curve().rotation(t)[2];
-    reference += sweep.a_function().value(t) * sweep.b_function().value(t) * kPi *
-                 glm::dot(normal, sweep.centre_curve().derivative(t)) / samples;
+  for (std::size_t i = 0; i + 1 < spans.size(); ++i) {
+    const double h = (spans[i + 1] - spans[i]) / samples;
+    for (int k = 0; k < samples; ++k) {
+      const double t = spans[i] + (k + 0.5) * h;
+      const glm::dvec3 normal = sweep.orientation_curve().rotation(t)[2];
+      reference += sweep.a_function().value(t) * sweep.b_function().value(t) * kPi *
+                   glm::dot(normal, sweep.ellipse_centre_derivative(t)) * h;
+    }
   }
   EXPECT_NEAR(sweep_volume(sweep), reference, 1e-8 * std::abs(reference));
 }
 
 TEST(SweepVolume, GradientMatchesCentralDifferences) {
-  // A bent tube with varying half-axes. I is bilinear in (α, β), so a central difference in one
+  // A bent tube with varying half-axes, its ellipses centred on the arc and then offset in
+  // their planes. I is bilinear in (α, β) whatever the offsets, so a central difference in one
   // control is exact up to rounding; 1e-5 relative leaves room for that rounding only.
-  auto keys = arc_keys(6, 1.0, 2.0, 0.2f, 0.1f);
-  for (std::size_t i = 0; i < keys.size(); ++i) {
-    keys[i].a += 0.03f * static_cast<float>(i);
-    keys[i].b += 0.02f * static_cast<float>(i % 3);
-  }
-  Sweep sweep(keys);
-  const int n = sweep.key_count();
-  std::vector<double> d_alpha(n), d_beta(n);
-  const double volume = sweep_volume_gradient(sweep, d_alpha, d_beta);
-  EXPECT_NEAR(volume, sweep_volume(sweep), 1e-12 * volume);
-  const double eps = 1e-3;
-  for (int i = 0; i < n; ++i) {
-    for (auto [controls, analytic] :
-         {std::pair{sweep.alpha(), d_alpha[i]}, std::pair{sweep.beta(), d_beta[i]}}) {
-      const double saved = controls[i];
-      controls[i] = saved + eps;
-      const double plus = sweep_volume(sweep);
-      controls[i] = saved - eps;
-      const double minus = sweep_volume(sweep);
-      controls[i] = saved;
-      const double numeric = (plus - minus) / (2 * eps);
-      EXPECT_NEAR(analytic, numeric, 1e-5 * std::abs(numeric)) << "control " << i;
-      EXPECT_GT(std::abs(numeric), 0.0);
+  for (const float offset : {0.0f, 0.15f}) {
+    auto keys = arc_keys(6, 1.0, 2.0, 0.2f, 0.1f);
+    for (std::size_t i = 0; i < keys.size(); ++i) {
+      keys[i].a += 0.03f * static_cast<float>(i);
+      keys[i].b += 0.02f * static_cast<float>(i % 3);
+      keys[i].offset = offset * glm::vec2(std::cos(float(i)), std::sin(float(i)));
+    }
+    Sweep sweep(keys);
+    const int n = sweep.key_count();
+    std::vector<double> d_alpha(n), d_beta(n);
+    const double volume = sweep_volume_gradient(sweep, d_alpha, d_beta);
+    EXPECT_NEAR(volume, sweep_volume(sweep), 1e-12 * volume);
+    const double eps = 1e-3;
+    for (int i = 0; i < n; ++i) {
+      for (auto [controls, analytic] :
+           {std::pair{sweep.alpha(), d_alpha[i]}, std::pair{sweep.beta(), d_beta[i]}}) {
+        const double saved = controls[i];
+        controls[i] = saved + eps;
+        const double plus = sweep_volume(sweep);
+        controls[i] = saved - eps;
+        const double minus = sweep_volume(sweep);
+        controls[i] = saved;
+        const double numeric = (plus - minus) / (2 * eps);
+        EXPECT_NEAR(analytic, numeric, 1e-5 * std::abs(numeric))
+            << "control " << i << ", offset " << offset;
+        EXPECT_GT(std::abs(numeric), 0.0);
+      }
     }
   }
 }

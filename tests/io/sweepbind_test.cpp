@@ -47,7 +47,30 @@ TEST(Sweepbind, RoundTripsBitExactlyThroughAFile) {
   EXPECT_EQ(loaded.model.positions.size(), bound_mannequin().model.positions.size());
   EXPECT_EQ(0, std::memcmp(loaded.vertices.data(), bound_mannequin().vertices.data(),
                            loaded.vertices.size() * sizeof(deform::VertexBinding)));
+  // The key ellipses too, offsets included; the binding has joint keys with non-zero ones, so
+  // the offsets are really carried (a reader that dropped them would fail here).
+  int offset_keys = 0;
+  ASSERT_EQ(loaded.sweeps.size(), bound_mannequin().sweeps.size());
+  for (std::size_t s = 0; s < loaded.sweeps.size(); ++s) {
+    const auto& keys = bound_mannequin().sweeps[s].rest_keys;
+    ASSERT_EQ(loaded.sweeps[s].rest_keys.size(), keys.size());
+    EXPECT_EQ(0, std::memcmp(loaded.sweeps[s].rest_keys.data(), keys.data(),
+                             keys.size() * sizeof(deform::KeyEllipse)));
+    for (const deform::KeyEllipse& key : keys) offset_keys += key.offset != glm::vec2(0.0f);
+  }
+  EXPECT_GT(offset_keys, 0);
   fs::remove(file);
+}
+
+TEST(Sweepbind, RefusesAVersion3FileAskingForARebind) {
+  // Version 3 had no key offsets: its joint keys were fitted about their joints.
+  std::vector<std::uint8_t> bytes = encode_sweepbind(bound_mannequin());
+  bytes[8] = 3;
+  const std::string error = decode_error(bytes);
+  EXPECT_NE(error.find("unsupported .sweepbind version 3 (this sweepd reads 4; bind the model "
+                       "again to rebuild it)"),
+            std::string::npos)
+      << error;
 }
 
 TEST(Sweepbind, RefusesDamagedFilesWithTheReason) {
