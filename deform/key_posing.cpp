@@ -29,6 +29,23 @@ glm::vec2 mitre_factors(const KeyEllipse& rest, const glm::quat& upper_turn,
   return {std::sqrt(1.0f + grow * on_a * on_a), std::sqrt(1.0f + grow * on_b * on_b)};
 }
 
+// Whether the links meeting at chain joint `joint` (from the chain joint before it, and on to
+// `next`) are further from straight in the pose than at rest. Straightening a joint the rest
+// pose bends (the shared male's elbows, 46°) cuts no mitre: its rest key already has the
+// bent joint's section, and growing it inflated the arm by 2.4 % when the clip's T-pose
+// straightened the elbows.
+bool bends_further_than_at_rest(std::span<const int> chain, int joint, int next,
+                                std::span<const glm::vec3> rest_joint,
+                                std::span<const glm::vec3> pose_joint) {
+  const auto at = std::find(chain.begin(), chain.end(), joint);
+  if (at == chain.begin() || at == chain.end()) return false;
+  const int previous = *(at - 1);
+  auto straightness = [&](std::span<const glm::vec3> p) {
+    return glm::dot(glm::normalize(p[joint] - p[previous]), glm::normalize(p[next] - p[joint]));
+  };
+  return straightness(pose_joint) < straightness(rest_joint);
+}
+
 // Grows the half-axis function's control value of key k (Sweep's a(t), b(t): quadratic
 // B-splines interpolating the keys' half-axes) so that its value at key k is `factor` times
 // the rest one. Only the keys k-1..k+1 change, by that control's basis function, so a(t) and
@@ -80,7 +97,8 @@ void pose_key_ellipses(const BoundSweep& sweep, const Skeleton& skeleton,
     const int parent = skeleton.joints[j].parent;
     if (anchor.is_joint_key() && parent >= 0) {
       turn = halfway(joint_rotation[parent], turn);
-      if (j != sweep.chain.front() && anchor.next_joint >= 0) {  // an inner joint key
+      if (j != sweep.chain.front() && anchor.next_joint >= 0 &&
+          bends_further_than_at_rest(sweep.chain, j, anchor.next_joint, rest_joint, pose_joint)) {
         const glm::vec2 factor =
             mitre_factors(rest, joint_rotation[parent], joint_rotation[j], turn);
         if (factor != glm::vec2(1.0f)) {

@@ -12,7 +12,9 @@
 // (the shared male's elbow turned 135° kept 26 cm² of its section near the joint, LBS 36).
 // φ is the swing between the links (the angle between the key normal as each link carries
 // it), so twist alone stretches nothing; the stretch is capped at kLargestMitreStretch (a 133°
-// swing), past which the two links' sections overlap and the mitre grows without bound.
+// swing), past which the two links' sections overlap and the mitre grows without bound. Only
+// a joint bent further than at rest is mitred: the rest key already has the section of a
+// joint the rest pose bends (the male's elbows, 46°), and straightening it inflated the arm.
 // The growth goes into the joint key's control value of a(t) and b(t) (Sweep's quadratic
 // B-splines through the keys' half-axes): the keys beside it grow by that control's basis
 // function, so a(t) and b(t) change only up to halfway to the keys two away. (A change of the
