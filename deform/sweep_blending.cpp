@@ -11,7 +11,7 @@ namespace sweepd::deform {
 namespace {
 
 constexpr int kPartCount = static_cast<int>(BodyPart::kRightFoot) + 1;
-constexpr int kShareSmoothingPasses = 48;
+constexpr int kShareSmoothingPasses = 150;
 
 float smoothstep01(float x) {
   x = std::clamp(x, 0.0f, 1.0f);
@@ -39,21 +39,28 @@ PlanePair planes_at(std::span<const glm::mat4> world_rest, int joint, int link_f
   return pair;
 }
 
-// Where sweeps meet (a vertex with shares of two sweeps or more), averages each vertex's row of
-// shares with its mesh neighbours', kShareSmoothingPasses times (half its own, half the
-// neighbours' mean): skin weights may jump between neighbouring vertices (the shared male's
-// gluteal cleft), and a share jump between two sweeps that disagree in a deep pose tears the
-// skin (14x edge stretch in a CMU crouch before this). Single-sweep hand-overs to skinning
-// (wrists, ankles, head) keep their planes: smoothing them lets twist collapse the forearm.
+// Where sweeps meet (a vertex with shares of two sweeps or more), replaces each vertex's row
+// of shares by half its own plus half its mesh neighbours' mean, kShareSmoothingPasses times,
+// each neighbour weighted by 1 / edge length (the other vertices' rows stay as they are).
+// Skin weights may jump between neighbouring vertices (the shared male's gluteal cleft, the
+// crotch midline), and a share jump between two sweeps that disagree in a deep pose tears the
+// skin (14x edge stretch in a CMU crouch). Weighting by inverse length spreads a jump over a
+// distance rather than over a count of edges, which matters where the mesh is dense: the
+// male's crotch midline has 2-4 mm edges, where 48 plain passes left the left and right leg
+// shares 0.13 apart across 2 mm (6.1x stretch in cmu_01_03). Now no edge where both legs share
+// stretches over 2.2x (cmu_01_01) and 2.9x (cmu_01_03: the lower back, bent 52° forward);
+// 400 passes would spread the leg shares further up the back (3.0x there).
+// The same smoothing covers the neck's hand-over to the head where the head's skin weights
+// drive it (head_weight_handover: not its planes): on the shared male they reach 6 cm down the
+// throat, 0.75-0.89 between neighbours 8 mm apart, and a turned head stretched that edge 5.3x
+// (cmu_01_01). The wrists' and ankles' hand-overs keep their planes: smoothing them lets twist
+// collapse the forearm, and leaks leg shares into the feet.
 void smooth_over_mesh(const std::vector<std::uint32_t>& welded,
-                      std::span<const std::uint32_t> indices, std::size_t count, int columns,
+                      std::span<const std::uint32_t> indices, std::span<const glm::vec3> positions,
+                      std::size_t count, int columns, const std::vector<bool>& head_weight_handover,
                       std::vector<float>& shares) {
-  std::vector<bool> junction(count);
-  for (std::size_t v = 0; v < count; ++v) {
-    int sweeps = 0;
-    for (int c = 0; c + 1 < columns; ++c) sweeps += shares[v * columns + c] > 0.0f;
-    junction[v] = sweeps >= 2;
-  }
+  std::vector<glm::vec3> at(count);
+  for (std::size_t v = 0; v < welded.size(); ++v) at[welded[v]] = positions[v];
   std::vector<std::vector<std::uint32_t>> neighbours(count);
   for (std::size_t t = 0; t + 2 < indices.size(); t += 3)
     for (int k = 0; k < 3; ++k) {
@@ -61,23 +68,36 @@ void smooth_over_mesh(const std::vector<std::uint32_t>& welded,
       neighbours[a].push_back(b);
       neighbours[b].push_back(a);
     }
-  for (auto& list : neighbours) {
+  // The junction vertices and, per junction vertex, its neighbours with their weights.
+  struct Neighbour {
+    std::uint32_t vertex;
+    float weight;
+  };
+  std::vector<std::uint32_t> junction, first{0};
+  std::vector<Neighbour> weighted;
+  for (std::size_t v = 0; v < count; ++v) {
+    int sweeps = 0;
+    for (int c = 0; c + 1 < columns; ++c) sweeps += shares[v * columns + c] > 0.0f;
+    std::vector<std::uint32_t>& list = neighbours[v];
     std::sort(list.begin(), list.end());
     list.erase(std::unique(list.begin(), list.end()), list.end());
+    if ((sweeps < 2 && !head_weight_handover[v]) || list.empty()) continue;
+    float total = 0.0f;
+    for (std::uint32_t u : list) total += 1.0f / std::max(glm::length(at[u] - at[v]), 1e-6f);
+    for (std::uint32_t u : list)
+      weighted.push_back({u, 0.5f / std::max(glm::length(at[u] - at[v]), 1e-6f) / total});
+    junction.push_back(static_cast<std::uint32_t>(v));
+    first.push_back(static_cast<std::uint32_t>(weighted.size()));
   }
-  std::vector<float> next(shares.size());
+  std::vector<float> next = shares;
   for (int pass = 0; pass < kShareSmoothingPasses; ++pass) {
-    for (std::size_t v = 0; v < count; ++v) {
-      const float* own = &shares[v * columns];
+    for (std::size_t j = 0; j < junction.size(); ++j) {
+      const std::size_t v = junction[j];
       float* out = &next[v * columns];
-      if (!junction[v] || neighbours[v].empty()) {
-        std::copy(own, own + columns, out);
-        continue;
-      }
-      const float scale = 0.5f / static_cast<float>(neighbours[v].size());
-      for (int c = 0; c < columns; ++c) out[c] = 0.5f * own[c];
-      for (std::uint32_t u : neighbours[v])
-        for (int c = 0; c < columns; ++c) out[c] += scale * shares[u * columns + c];
+      for (int c = 0; c < columns; ++c) out[c] = 0.5f * shares[v * columns + c];
+      for (std::uint32_t i = first[j]; i < first[j + 1]; ++i)
+        for (int c = 0; c < columns; ++c)
+          out[c] += weighted[i].weight * shares[weighted[i].vertex * columns + c];
     }
     shares.swap(next);
   }
@@ -134,6 +154,7 @@ std::vector<VertexBinding> blend_shares(const Model& model, const RigMap& rig,
   const int columns = sweep_count + 1;
   std::vector<float> shares(welded_count * columns, 0.0f);
   std::vector<float> share(sweep_count);
+  std::vector<bool> head_weight_handover(welded_count, false);
   for (std::size_t v = 0; v < model.vertex_count(); ++v) {
     std::array<float, kPartCount> skin{};
     for (int k = 0; k < kInfluences; ++k)
@@ -162,8 +183,10 @@ std::vector<VertexBinding> blend_shares(const Model& model, const RigMap& rig,
       if (s == torso || share[s] == 0.0f) continue;
       // The hand/foot/head's own skin weight takes over once it passes one half.
       const float end_skin = skin[static_cast<int>(end_part(sweeps[s].part))];
-      const float end_share =
-          std::max(finish[s].weight(p), std::clamp(2.0f * end_skin - 1.0f, 0.0f, 1.0f));
+      const float by_skin = std::clamp(2.0f * end_skin - 1.0f, 0.0f, 1.0f);
+      const float end_share = std::max(finish[s].weight(p), by_skin);
+      if (sweeps[s].part == BodyPart::kNeck && by_skin > finish[s].weight(p))
+        head_weight_handover[welded[v]] = true;
       skinned += share[s] * end_share;
     }
     skinned = std::clamp(skinned, 0.0f, 1.0f);
@@ -175,7 +198,8 @@ std::vector<VertexBinding> blend_shares(const Model& model, const RigMap& rig,
       row[s] = total > 0.0f ? share[s] * (1.0f - skinned) / total : 0.0f;
     row[sweep_count] = skinned;
   }
-  smooth_over_mesh(welded, model.indices, welded_count, columns, shares);
+  smooth_over_mesh(welded, model.indices, model.positions, welded_count, columns,
+                   head_weight_handover, shares);
 
   // Keep the kSweepsPerVertex largest sweep shares, scaled to fill what skinning leaves.
   std::vector<VertexBinding> result(model.vertex_count());

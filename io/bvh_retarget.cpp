@@ -200,6 +200,24 @@ void Retargeter::match_joints(const deform::Skeleton& bvh, const OptionalRigMap&
     }
   }
 
+  // Fingers and thumbs are not measured (see the header): left out unless the name map drives
+  // them.
+  if (bvh_map) {
+    std::vector<std::string> left_out;
+    for (int b = 0; b < bvh.size(); ++b)
+      for (int hand : {bvh_map->left_arm.hand, bvh_map->right_arm.hand})
+        if (model_of_bvh_[b] == kUnmatched && is_strict_descendant(bvh, b, hand)) {
+          model_of_bvh_[b] = kLeftOut;
+          left_out.push_back(bvh.joints[b].name);
+        }
+    if (!left_out.empty()) {
+      std::string names;
+      for (const std::string& name : left_out) names += (names.empty() ? "" : ", ") + name;
+      warnings_.push_back("the clip's fingers and thumbs are not driven (" + names +
+                          "): pair them in a name map to drive them");
+    }
+  }
+
   for (int m = 0; m < skeleton_.size(); ++m)
     match(m, bvh.find(skeleton_.joints[m].name), JointMatchReason::kName);
 

@@ -8,9 +8,17 @@
 //                 deform/rig_naming.h): pelvis, chest, head, clavicles, upper/lower limbs,
 //                 hands, hip links, feet, toes — so CMU names drive Unreal or Mixamo rigs.
 //   4. hierarchy  an unmatched joint that is the only unmatched child of a matched joint on
-//                 both sides (CMU's LFingers under LeftFingerBase ↔ LeftHandFinger1).
+//                 both sides (e.g. CMU's LFingers under LeftFingerBase ↔ LeftHandFinger1,
+//                 when the name map drives the fingers).
 // What is left on either side is reported (unmapped_*); unmapped model joints keep their rest
 // rotation relative to their parent, unmapped BVH joints still move their mapped descendants.
+//
+// Fingers and thumbs: the clip's joints below its hands (the BVH rig map's hand roles; CMU's
+// LeftFingerBase, LFingers, LThumb) are left unmapped unless the name map pairs them, so the
+// model's hand moves rigidly with the clip's hand joint. Optical mocap does not measure them:
+// CMU puts no marker on a finger or thumb joint, and its solver's fits are noise (RThumb in
+// cmu_01_03 swings through ±180° and flips by up to 180° between frames; a smooth 30-60° thumb
+// turn in the others stretches the model's skinned thumb webbing 3-4x).
 //
 // Rotations are retargeted relative to each side's rest pose, in world space. For a model joint
 // m driven by BVH joint b:  W_m(frame) = D_b(frame) * A_m * W_m(rest), where

@@ -1,10 +1,15 @@
 // Every frame of both shared CMU clips, retargeted onto the shared male and deformed with
-// sweeps (and LBS, for comparison): finite everywhere; the largest edge stretch is reported.
-// The issue's bound (no edge over 3× its rest length) is not met yet: the crotch, where the
-// torso and both leg sweeps meet, reaches 4-6x in the deepest frames (LBS: the thumb webbing
-// 10x); see the closing note of issue 4.
+// sweeps and with LBS: finite everywhere, and each region's largest edge stretch (posed length
+// over rest length) reported with its frame and edge.
+// Regions: the hips (an end shares both leg sweeps: the crotch, the buttocks, the lower back),
+// else the body part of the joint that weighs most on the edge's first vertex.
+// The issue's bound, 3x on every edge, holds at the hips and the hands (asserted); not yet at
+// the inner elbow in the deepest bend (3.65x), the armpits with the arms overhead (3.5x), the
+// throat with the head turned furthest (3.5x) and the feet, which LBS alone moves (4.1x: the
+// clip's toe channels).
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -22,20 +27,39 @@ namespace {
 
 namespace fs = std::filesystem;
 
+constexpr int kRegions = static_cast<int>(BodyPart::kRightFoot) + 2;
+constexpr int kHips = kRegions - 1;
+
+const char* region_name(int region) {
+  return region == kHips ? "hips" : to_string(static_cast<BodyPart>(region));
+}
+
 struct Edge {
   std::uint32_t a, b;
   float rest_length;
-  bool on_sweeps;  // both ends mostly on sweeps (not the skinned hands, feet and head)
+  int region;
 };
 
-TEST(ClipDeformation, EveryCmuFrameOnTheMaleDeformsToFiniteVertices) {
-  const fs::path data(SWEEPD_SHARED_DATA);
-  const fs::path male = data / "models/makehuman_male_cmu.glb";
-  if (!fs::exists(male)) GTEST_SKIP() << "shared data absent: " << male;
-  const Model model = io::load_gltf(male);
-  const BoundModel bound = bind(model, detect_rig_map(model.skeleton));
-  Deformer deformer(bound);
+struct Worst {
+  float stretch = 0.0f;
+  int frame = -1;
+  const Edge* edge = nullptr;
+};
 
+bool shares_both_legs(const BoundModel& bound, std::uint32_t v) {
+  int legs = 0;
+  for (int k = 0; k < kSweepsPerVertex; ++k) {
+    const int s = bound.vertices[v].sweep[k];
+    if (s < 0 || bound.vertices[v].weight[k] <= 0.0f) continue;
+    const BodyPart part = bound.sweeps[s].part;
+    legs += part == BodyPart::kLeftLeg || part == BodyPart::kRightLeg;
+  }
+  return legs == 2;
+}
+
+std::vector<Edge> edges_by_region(const BoundModel& bound) {
+  const Model& model = bound.model;
+  const std::vector<BodyPart> joint_part = label_joints(bound.rig, model.skeleton);
   std::set<std::pair<std::uint32_t, std::uint32_t>> seen;
   std::vector<Edge> edges;
   for (std::size_t t = 0; t < model.indices.size(); t += 3)
@@ -45,18 +69,33 @@ TEST(ClipDeformation, EveryCmuFrameOnTheMaleDeformsToFiniteVertices) {
       if (!seen.insert({a, b}).second) continue;
       const float length = glm::length(model.positions[a] - model.positions[b]);
       if (length <= 0.0f) continue;
-      edges.push_back(
-          {a, b, length,
-           bound.vertices[a].skin_weight < 0.5f && bound.vertices[b].skin_weight < 0.5f});
+      int heaviest = 0;
+      for (int i = 1; i < kInfluences; ++i)
+        if (model.skin_weights[a][i] > model.skin_weights[a][heaviest]) heaviest = i;
+      const int region = shares_both_legs(bound, a) || shares_both_legs(bound, b)
+                             ? kHips
+                             : static_cast<int>(joint_part[model.skin_joints[a][heaviest]]);
+      edges.push_back({a, b, length, region});
     }
+  return edges;
+}
+
+TEST(ClipDeformation, EveryCmuFrameOnTheMaleIsFiniteAndEachRegionsStretchIsReported) {
+  const fs::path data(SWEEPD_SHARED_DATA);
+  const fs::path male = data / "models/makehuman_male_cmu.glb";
+  if (!fs::exists(male)) GTEST_SKIP() << "shared data absent: " << male;
+  const Model model = io::load_gltf(male);
+  const BoundModel bound = bind(model, detect_rig_map(model.skeleton));
+  Deformer deformer(bound);
+  const std::vector<Edge> edges = edges_by_region(bound);
 
   std::vector<glm::vec3> positions(model.vertex_count());
   for (const char* clip : {"motion/cmu_01_01.bvh", "motion/cmu_01_03.bvh"}) {
     const io::Retargeter retargeter(io::load_bvh(data / clip), model);
-    float worst_by_method[2] = {0.0f, 0.0f};
+    std::array<std::array<Worst, kRegions>, 2> worst{};  // [sweep, lbs][region]
     for (DeformMethod method : {DeformMethod::kSweep, DeformMethod::kLbs}) {
-      float worst_sweep_edges = 0.0f, worst_any = 0.0f;
-      int worst_frame = -1, non_finite_frames = 0;
+      std::array<Worst, kRegions>& by_region = worst[method == DeformMethod::kSweep ? 0 : 1];
+      int non_finite_frames = 0;
       for (int frame = 0; frame < retargeter.frame_count(); ++frame) {
         Pose pose = retargeter.pose_at_frame(frame);
         deformer.deform(pose, method, positions, {});
@@ -66,23 +105,33 @@ TEST(ClipDeformation, EveryCmuFrameOnTheMaleDeformsToFiniteVertices) {
         non_finite_frames += !finite;
         for (const Edge& e : edges) {
           const float stretch = glm::length(positions[e.a] - positions[e.b]) / e.rest_length;
-          worst_any = std::max(worst_any, stretch);
-          if (e.on_sweeps && stretch > worst_sweep_edges) {
-            worst_sweep_edges = stretch;
-            worst_frame = frame;
-          }
+          if (stretch > by_region[e.region].stretch) by_region[e.region] = {stretch, frame, &e};
         }
       }
-      std::printf(
-          "%s, %s: %d frames, largest edge stretch %.2fx on sweep-bound edges (frame %d), "
-          "%.2fx overall (hands and feet included)\n",
-          clip, to_string(method), retargeter.frame_count(), worst_sweep_edges, worst_frame,
-          worst_any);
       EXPECT_EQ(non_finite_frames, 0) << clip << " " << to_string(method);
-      worst_by_method[method == DeformMethod::kSweep ? 0 : 1] = worst_sweep_edges;
     }
-    // Where sweeps govern, they tear the skin less than LBS does (measured 4.2 vs 8.3, 6.1 vs 9.2).
-    EXPECT_LT(worst_by_method[0], worst_by_method[1]) << clip;
+    std::printf("%s, %d frames, largest edge stretch per region, sweep | lbs:\n", clip,
+                retargeter.frame_count());
+    float sweep_overall = 0.0f, lbs_overall = 0.0f;
+    for (int r = 0; r < kRegions; ++r) {
+      const Worst& s = worst[0][r];
+      const Worst& l = worst[1][r];
+      if (!s.edge) continue;
+      std::printf("  %-10s %5.2fx frame %4d edge %5u-%5u (rest %5.2f mm) | %5.2fx frame %4d\n",
+                  region_name(r), s.stretch, s.frame, s.edge->a, s.edge->b,
+                  1e3f * s.edge->rest_length, l.stretch, l.frame);
+      sweep_overall = std::max(sweep_overall, s.stretch);
+      lbs_overall = std::max(lbs_overall, l.stretch);
+    }
+    std::printf("  overall    %5.2fx | %5.2fx\n", sweep_overall, lbs_overall);
+    // The issue's bound where the torso and both leg sweeps meet (4.3x and 6.1x at the crotch
+    // before length-weighted share smoothing) and at the hands (the clip's thumbs stretched
+    // the skinned thumb webbing up to 10.7x before fingers and thumbs were left undriven).
+    for (int region :
+         {kHips, static_cast<int>(BodyPart::kLeftHand), static_cast<int>(BodyPart::kRightHand)})
+      EXPECT_LE(worst[0][region].stretch, 3.0f) << clip << " " << region_name(region);
+    // Overall the sweeps tear the skin less than LBS does.
+    EXPECT_LT(sweep_overall, lbs_overall) << clip;
   }
 }
 
