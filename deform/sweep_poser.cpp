@@ -6,7 +6,6 @@
 
 #include "deform/bind.h"
 #include "deform/key_posing.h"
-#include "deform/mesh_topology.h"
 #include "deform/sweep_coordinates.h"
 #include "deform/vertex_blocks.h"
 
@@ -32,7 +31,8 @@ glm::vec3 skinned_position(const Model& model, std::span<const glm::mat4> skinni
 
 }  // namespace
 
-SweepPoser::SweepPoser(const BoundModel& bound) : bound_(bound) {
+SweepPoser::SweepPoser(const BoundModel& bound)
+    : bound_(bound), normals_(bound.model.positions, bound.model.indices) {
   const Skeleton& skeleton = bound.model.skeleton;
   const std::vector<glm::mat4> world_rest = skeleton.world_rest_matrices();
   for (const glm::mat4& m : world_rest) {
@@ -110,10 +110,6 @@ SweepPoser::SweepPoser(const BoundModel& bound) : bound_(bound) {
   }
   vertex_kinds_.emplace(bound.model, skin_share, first_term, terms);
 
-  std::size_t welded_count = 0;
-  welded_ = weld_coincident_positions(bound.model.positions, &welded_count);
-  welded_normals_.resize(welded_count);
-  for (const std::uint32_t corner : bound.model.indices) welded_corner_.push_back(welded_[corner]);
   set_pose(world_rest);
 }
 
@@ -193,24 +189,7 @@ void SweepPoser::deform(std::span<const glm::mat4> skinning, std::span<glm::vec3
                        [&](std::size_t begin, std::size_t end) {
                          vertex_kinds_->evaluate(table_, skinning, positions, begin, end);
                        });
-  if (!normals.empty()) compute_normals(positions, normals);
-}
-
-void SweepPoser::compute_normals(std::span<const glm::vec3> positions,
-                                 std::span<glm::vec3> normals) {
-  std::fill(welded_normals_.begin(), welded_normals_.end(), glm::vec3(0.0f));
-  const auto& indices = bound_.model.indices;
-  for (std::size_t t = 0; t + 2 < indices.size(); t += 3) {
-    const glm::vec3& a = positions[indices[t]];
-    const glm::vec3 area_normal =
-        glm::cross(positions[indices[t + 1]] - a, positions[indices[t + 2]] - a);
-    for (int k = 0; k < 3; ++k) welded_normals_[welded_corner_[t + k]] += area_normal;
-  }
-  for (glm::vec3& n : welded_normals_) {
-    const float length = glm::length(n);
-    n = length > 0.0f ? n / length : glm::vec3(0, 1, 0);
-  }
-  for (std::size_t v = 0; v < normals.size(); ++v) normals[v] = welded_normals_[welded_[v]];
+  if (!normals.empty()) normals_.compute(positions, normals);
 }
 
 glm::vec3 SweepPoser::reference_position(std::size_t v, std::span<const glm::mat4> skinning) const {

@@ -33,6 +33,7 @@
 #include "deform/bound_model.h"
 #include "deform/sweep.h"
 #include "deform/sweep_vertex_kinds.h"
+#include "deform/welded_normals.h"
 
 namespace sweepd::deform {
 
@@ -82,8 +83,6 @@ class SweepPoser {
     std::vector<float> alpha, beta;  // padded with zeros for a degree below 2
   };
 
-  void compute_normals(std::span<const glm::vec3> positions, std::span<glm::vec3> normals);
-
   const BoundModel& bound_;
   KeyAdjuster key_adjuster_;
   std::vector<Sweep> sweeps_;
@@ -100,9 +99,7 @@ class SweepPoser {
   std::optional<SweepVertexKinds> vertex_kinds_;
   std::vector<glm::quat> rest_rotation_inverse_, joint_rotation_;
   std::vector<glm::vec3> rest_joint_, pose_joint_;
-  std::vector<std::uint32_t> welded_corner_;  // per triangle corner: its welded vertex
-  std::vector<std::uint32_t> welded_;         // welded id per vertex, for seam-consistent normals
-  std::vector<glm::vec3> welded_normals_;
+  WeldedNormals normals_;
 };
 
 }  // namespace sweepd::deform
