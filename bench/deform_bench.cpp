@@ -74,10 +74,11 @@ void run(benchmark::State& state, const BenchModel* subject, Skin skin, bool wit
   report_per_vertex(state, n);
 }
 
-void run_sweep(benchmark::State& state, const BenchModel* subject, bool with_normals) {
+void run_sweep(benchmark::State& state, const BenchModel* subject,
+               deform::VertexLoopInstructions instructions, bool with_normals) {
   const std::size_t n = subject->model.vertex_count();
   std::vector<glm::vec3> positions(n), normals(with_normals ? n : 0);
-  deform::SweepPoser poser(*subject->bound);
+  deform::SweepPoser poser(*subject->bound, instructions);
   for (auto _ : state) {
     poser.set_pose(subject->world);
     poser.deform(subject->skinning, positions, normals);
@@ -111,12 +112,19 @@ int main(int argc, char** argv) {
     bend(*subject);
     subject->bound = std::make_unique<deform::BoundModel>(
         deform::bind(subject->model, deform::detect_rig_map(subject->model.skeleton)));
-    for (const bool with_normals : {false, true}) {
-      const std::string name =
-          "sweep/" + subject->name + "/" + (with_normals ? "positions+normals" : "positions");
-      benchmark::RegisterBenchmark(name.c_str(), run_sweep, subject.get(), with_normals)
-          ->Unit(benchmark::kMicrosecond);
-    }
+    // "sweep": the widest vertex loops this CPU has; "sweep_sse2": the x86-64 baseline's.
+    std::vector<std::pair<std::string, deform::VertexLoopInstructions>> sweeps = {
+        {"sweep", deform::widest_vertex_loop_instructions()}};
+    if (sweeps[0].second != deform::VertexLoopInstructions::kBaseline)
+      sweeps.emplace_back("sweep_sse2", deform::VertexLoopInstructions::kBaseline);
+    for (const auto& [method, instructions] : sweeps)
+      for (const bool with_normals : {false, true}) {
+        const std::string name =
+            method + "/" + subject->name + "/" + (with_normals ? "positions+normals" : "positions");
+        benchmark::RegisterBenchmark(name.c_str(), run_sweep, subject.get(), instructions,
+                                     with_normals)
+            ->Unit(benchmark::kMicrosecond);
+      }
     for (const auto& [method, skin] :
          {std::pair<const char*, Skin>{"lbs", deform::linear_blend_skinning},
           std::pair<const char*, Skin>{"dqs", deform::dual_quaternion_skinning}})

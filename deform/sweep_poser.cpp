@@ -31,7 +31,7 @@ glm::vec3 skinned_position(const Model& model, std::span<const glm::mat4> skinni
 
 }  // namespace
 
-SweepPoser::SweepPoser(const BoundModel& bound)
+SweepPoser::SweepPoser(const BoundModel& bound, VertexLoopInstructions instructions)
     : bound_(bound), normals_(bound.model.positions, bound.model.indices) {
   const Skeleton& skeleton = bound.model.skeleton;
   const std::vector<glm::mat4> world_rest = skeleton.world_rest_matrices();
@@ -108,7 +108,7 @@ SweepPoser::SweepPoser(const BoundModel& bound)
     }
     first_term[v + 1] = static_cast<std::uint32_t>(terms.size());
   }
-  vertex_kinds_.emplace(bound.model, skin_share, first_term, terms);
+  vertex_kinds_.emplace(bound.model, skin_share, first_term, terms, instructions);
 
   set_pose(world_rest);
 }
@@ -165,6 +165,11 @@ void SweepPoser::refresh_table() {
           w.axis[0] * d.alpha[k] + w.axis[1] * d.alpha[k + 1] + w.axis[2] * d.alpha[k + 2];
       table[row].b = w.axis[0] * d.beta[k] + w.axis[1] * d.beta[k + 1] + w.axis[2] * d.beta[k + 2];
     }
+  }
+  // A sweep's last row gets the next sweep's first row: no term starts there.
+  for (std::size_t row = 0; row + 1 < table_.size(); ++row) {
+    table[row].a_step = table[row + 1].a - table[row].a;
+    table[row].b_step = table[row + 1].b - table[row].b;
   }
 }
 

@@ -39,7 +39,10 @@ namespace sweepd::deform {
 
 class SweepPoser {
  public:
-  explicit SweepPoser(const BoundModel& bound);
+  // instructions: what the vertex loops run on (SweepVertexKinds); the widest the CPU has by
+  // default.
+  explicit SweepPoser(const BoundModel& bound,
+                      VertexLoopInstructions instructions = widest_vertex_loop_instructions());
 
   // world_pose: skeleton.size() world joint matrices (forward_kinematics).
   void set_pose(std::span<const glm::mat4> world_pose);

@@ -8,8 +8,11 @@
 // loop walks them in order:
 //   skinned share  Σ_j M_j (s w_j p, s w_j)   (s: skin share, w_j: skin weight, p: rest position)
 //   sweep term     g0 · at(row) + g1 · at(row + 1), at(r) = C_r + x X_r + y Y_r + c N_r,
-//                  x = a(f) cos θ + da cos θ, y = b(f) sin θ + db sin θ, a(f), b(f) interpolated
-//                  between the rows at the fraction f; g0 = w (1 - f), g1 = w f.
+//                  x = a(f) cos θ + da cos θ, y = b(f) sin θ + db sin θ, a(f) = a + f a_step
+//                  and b(f) likewise (the rows interpolated at the fraction f); g0 = w (1 - f),
+//                  g1 = w f.
+// The loops run on SSE2 (any x86-64, or the generic vector code elsewhere) or, where the CPU
+// has them, AVX2 with FMA (8 lanes, fused multiply-adds: the results differ by rounding).
 // evaluate() computes items [begin, end) from the per-frame table (SweepSample rows) and the
 // skinning matrices; each vertex is computed by the same code whatever the range, so results do
 // not depend on how the items are split between threads.
@@ -25,16 +28,18 @@
 
 namespace sweepd::deform {
 
-// One row of the per-frame table: a sweep at one sample, 16 floats (one cache line).
+// One row of the per-frame table: a sweep at one sample, 16 floats (one cache line). The steps
+// are the next row's a and b minus this row's (meaningless on a sweep's last row, where no term
+// starts).
 struct alignas(64) SweepSample {
   glm::vec3 centre;
   float a;
   glm::vec3 x_axis;
   float b;
   glm::vec3 y_axis;
-  float pad0;
+  float a_step;
   glm::vec3 normal;
-  float pad1;
+  float b_step;
 };
 
 // One (vertex, sweep) term; see the header comment.
@@ -47,12 +52,18 @@ struct SweepTerm {
   float c;                 // offset along the sweep's normal
 };
 
+enum class VertexLoopInstructions { kBaseline, kAvx2Fma };
+// kAvx2Fma on an x86-64 CPU that has AVX2 and FMA, else kBaseline.
+VertexLoopInstructions widest_vertex_loop_instructions();
+
 class SweepVertexKinds {
  public:
   // skin_share: per vertex, the share that follows LBS; terms of vertex v:
-  // terms[first_term[v], first_term[v + 1]), at most kSweepsPerVertex.
+  // terms[first_term[v], first_term[v + 1]), at most kSweepsPerVertex. Throws for more terms,
+  // mismatched sizes, or kAvx2Fma on a CPU without them.
   SweepVertexKinds(const Model& model, std::span<const float> skin_share,
-                   std::span<const std::uint32_t> first_term, std::span<const SweepTerm> terms);
+                   std::span<const std::uint32_t> first_term, std::span<const SweepTerm> terms,
+                   VertexLoopInstructions instructions = widest_vertex_loop_instructions());
 
   std::size_t item_count() const { return vertex_.size(); }
 
@@ -67,6 +78,7 @@ class SweepVertexKinds {
     std::size_t first_influence, first_term;
   };
 
+  VertexLoopInstructions instructions_;
   std::vector<Kind> kinds_;
   std::vector<std::uint32_t> vertex_;   // per item
   std::vector<glm::vec4> scaled_rest_;  // per influence: s w_j (p, 1)
