@@ -1,8 +1,10 @@
 // Deformation benchmark: control sweeps (the paper) against the LBS and DQS baselines (4
 // influences), one thread, in ns per vertex on the procedural mannequin at about 15k, 72k and
 // 250k vertices and on the shared MakeHuman male, positions only and positions + normals.
-// Sweep includes its per-frame work (posing the key ellipses, rebuilding C(t) and Q(t)); its
-// normals are recomputed from the posed triangles (area-weighted), the baselines' are turned.
+// Sweep includes its per-frame work (posing the key ellipses, rebuilding C(t) and Q(t), refreshing
+// the sample table); its normals are recomputed from the posed triangles (area-weighted), the
+// baselines' are turned. "sweep" runs the widest vertex loops the CPU has; where that is AVX2,
+// "sweep_sse2" rows time the x86-64 baseline's loops too.
 // bench/run_benchmarks.sh prints the table (with the sweep/LBS ratio) for the README.
 //
 // Run a Release build: build/<dir>/bench/deform_bench [--benchmark_filter=...]
