@@ -1,6 +1,6 @@
 // WeldedNormals: seam copies share the welded normal, area weighting, the fallback for vertices
-// outside every triangle, bad indices refused, and agreement with a direct per-triangle sum on
-// the shared male.
+// outside every triangle, bad indices and buffer sizes refused, and agreement with a direct
+// per-triangle sum on the shared male.
 #include "deform/welded_normals.h"
 
 #include <gtest/gtest.h>
@@ -47,8 +47,12 @@ TEST(WeldedNormals, WeighsTrianglesByArea) {
   EXPECT_LE(glm::length(out[0] - glm::normalize(glm::vec3(1, 0, 4))), 1e-6f);  // float rounding
 }
 
-TEST(WeldedNormals, RefusesBadIndices) {
+TEST(WeldedNormals, RefusesBadIndicesAndBuffers) {
   Octahedron mesh;
+  WeldedNormals normals(mesh.positions, mesh.indices);
+  std::vector<glm::vec3> short_buffer(3), out(mesh.positions.size());
+  EXPECT_THROW(normals.compute(short_buffer, out), std::invalid_argument);
+  EXPECT_THROW(normals.compute(mesh.positions, short_buffer), std::invalid_argument);
   mesh.indices.push_back(0);
   EXPECT_THROW(WeldedNormals(mesh.positions, mesh.indices), std::invalid_argument);
   mesh.indices.insert(mesh.indices.end(), {1, 8});
