@@ -49,28 +49,23 @@ WeldedNormals::WeldedNormals(std::span<const glm::vec3> rest_positions,
   std::size_t welded_count = 0;
   welded_ = weld_coincident_positions(rest_positions, &welded_count);
   sums_.resize((welded_count + 3) / 4 * 4);
-  position_lanes_.resize(rest_positions.size());
   corner_welded_.reserve(corner_vertex_.size());
   for (const std::uint32_t v : corner_vertex_) corner_welded_.push_back(welded_[v]);
 }
 
 void WeldedNormals::compute(std::span<const glm::vec3> positions, std::span<glm::vec3> normals) {
-  if (positions.size() != position_lanes_.size() || normals.size() != positions.size())
+  if (positions.size() != welded_.size() || normals.size() != positions.size())
     throw std::invalid_argument("welded normals: " + std::to_string(positions.size()) +
                                 " positions and " + std::to_string(normals.size()) +
-                                " normals for " + std::to_string(position_lanes_.size()) +
-                                " vertices");
+                                " normals for " + std::to_string(welded_.size()) + " vertices");
   std::fill(sums_.begin(), sums_.end(), FloatLanes{0.0f, 0.0f, 0.0f, 0.0f});
-  // Positions in 4 lanes first: the triangles then read each corner with one load.
-  FloatLanes* lanes = position_lanes_.data();
-  for (std::size_t v = 0; v < position_lanes_.size(); ++v) lanes[v] = lanes_of(positions[v]);
   const std::uint32_t* vertex = corner_vertex_.data();
   const std::uint32_t* welded = corner_welded_.data();
   FloatLanes* sums = sums_.data();
   for (std::size_t corner = 0; corner < corner_vertex_.size(); corner += 3) {
-    const FloatLanes a = lanes[vertex[corner]];
-    const FloatLanes area_normal =
-        cross(lanes[vertex[corner + 1]] - a, lanes[vertex[corner + 2]] - a);
+    const FloatLanes a = lanes_of(positions[vertex[corner]]);
+    const FloatLanes area_normal = cross(lanes_of(positions[vertex[corner + 1]]) - a,
+                                         lanes_of(positions[vertex[corner + 2]]) - a);
     sums[welded[corner]] += area_normal;
     sums[welded[corner + 1]] += area_normal;
     sums[welded[corner + 2]] += area_normal;

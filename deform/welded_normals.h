@@ -26,7 +26,6 @@ class WeldedNormals {
   std::vector<std::uint32_t> corner_vertex_;  // per triangle corner: its vertex
   std::vector<std::uint32_t> corner_welded_;  // per triangle corner: its welded vertex
   std::vector<std::uint32_t> welded_;         // per vertex: its welded vertex
-  std::vector<FloatLanes> position_lanes_;    // per vertex, per frame
   std::vector<FloatLanes> sums_;              // per welded vertex (padded to 4), per frame
 };
 
