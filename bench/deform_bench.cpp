@@ -1,8 +1,10 @@
 // Deformation benchmark: control sweeps (the paper) against the LBS and DQS baselines (4
 // influences), one thread, in ns per vertex on the procedural mannequin at about 15k, 72k and
 // 250k vertices and on the shared MakeHuman male, positions only and positions + normals.
-// Sweep includes its per-frame work (posing the key ellipses, rebuilding C(t) and Q(t)); its
-// normals are recomputed from the posed triangles (area-weighted), the baselines' are turned.
+// Sweep includes its per-frame work (posing the key ellipses, rebuilding C(t) and Q(t), refreshing
+// the sample table); its normals are recomputed from the posed triangles (area-weighted), the
+// baselines' are turned. "sweep" runs the widest vertex loops the CPU has; where that is AVX2,
+// "sweep_sse2" rows time the x86-64 baseline's loops too.
 // bench/run_benchmarks.sh prints the table (with the sweep/LBS ratio) for the README.
 //
 // Run a Release build: build/<dir>/bench/deform_bench [--benchmark_filter=...]
@@ -74,10 +76,11 @@ void run(benchmark::State& state, const BenchModel* subject, Skin skin, bool wit
   report_per_vertex(state, n);
 }
 
-void run_sweep(benchmark::State& state, const BenchModel* subject, bool with_normals) {
+void run_sweep(benchmark::State& state, const BenchModel* subject,
+               deform::VertexLoopInstructions instructions, bool with_normals) {
   const std::size_t n = subject->model.vertex_count();
   std::vector<glm::vec3> positions(n), normals(with_normals ? n : 0);
-  deform::SweepPoser poser(*subject->bound);
+  deform::SweepPoser poser(*subject->bound, instructions);
   for (auto _ : state) {
     poser.set_pose(subject->world);
     poser.deform(subject->skinning, positions, normals);
@@ -111,12 +114,19 @@ int main(int argc, char** argv) {
     bend(*subject);
     subject->bound = std::make_unique<deform::BoundModel>(
         deform::bind(subject->model, deform::detect_rig_map(subject->model.skeleton)));
-    for (const bool with_normals : {false, true}) {
-      const std::string name =
-          "sweep/" + subject->name + "/" + (with_normals ? "positions+normals" : "positions");
-      benchmark::RegisterBenchmark(name.c_str(), run_sweep, subject.get(), with_normals)
-          ->Unit(benchmark::kMicrosecond);
-    }
+    // "sweep": the widest vertex loops this CPU has; "sweep_sse2": the x86-64 baseline's.
+    std::vector<std::pair<std::string, deform::VertexLoopInstructions>> sweeps = {
+        {"sweep", deform::widest_vertex_loop_instructions()}};
+    if (sweeps[0].second != deform::VertexLoopInstructions::kBaseline)
+      sweeps.emplace_back("sweep_sse2", deform::VertexLoopInstructions::kBaseline);
+    for (const auto& [method, instructions] : sweeps)
+      for (const bool with_normals : {false, true}) {
+        const std::string name =
+            method + "/" + subject->name + "/" + (with_normals ? "positions+normals" : "positions");
+        benchmark::RegisterBenchmark(name.c_str(), run_sweep, subject.get(), instructions,
+                                     with_normals)
+            ->Unit(benchmark::kMicrosecond);
+      }
     for (const auto& [method, skin] :
          {std::pair<const char*, Skin>{"lbs", deform::linear_blend_skinning},
           std::pair<const char*, Skin>{"dqs", deform::dual_quaternion_skinning}})

@@ -12,6 +12,7 @@
 
 #include "deform/bind.h"
 #include "deform/deformer.h"
+#include "deform/forward_kinematics.h"
 #include "deform/rig_map.h"
 #include "io/gltf_load.h"
 #include "posed_section.h"
@@ -87,6 +88,47 @@ TEST(SweepPoser, FastPathMatchesDirectEvaluationAndThreadsAreBitIdentical) {
                                                      v, deformer.skinning())));
   std::printf("fast path vs direct evaluation: worst %.3g m\n", worst);
   EXPECT_LE(worst, 1e-5f * height(male.model));  // the bound; float rounding is ~1e-7 m
+}
+
+TEST(SweepPoser, EveryInstructionSetMatchesDirectEvaluationWithAnyThreadCount) {
+  REQUIRE_SHARED_MALE();
+  const Model& model = male.model;
+  Pose pose = turned(model, "LeftForeArm", {0.7f, 0.7f, 0.0f}, 120.0f);
+  pose.local_rotations[model.skeleton.find("LeftUpLeg")] =
+      glm::angleAxis(glm::radians(-70.0f), glm::vec3(1, 0, 0));
+  pose.local_rotations[model.skeleton.find("Spine")] =
+      glm::angleAxis(glm::radians(-20.0f), glm::vec3(0, 0, 1));
+  std::vector<glm::mat4> world(model.skeleton.joints.size()), skinning(world.size());
+  forward_kinematics(model.skeleton, pose, world);
+  skinning_matrices(world, world_rest_inverse_matrices(model.skeleton), skinning);
+  std::vector<VertexLoopInstructions> sets = {VertexLoopInstructions::kBaseline};
+  if (widest_vertex_loop_instructions() != VertexLoopInstructions::kBaseline)
+    sets.push_back(widest_vertex_loop_instructions());
+  const std::size_t n = model.vertex_count();
+  std::vector<std::vector<glm::vec3>> by_set;
+  for (const VertexLoopInstructions set : sets) {
+    SweepPoser poser(male, set);
+    poser.set_pose(world);
+    std::vector<glm::vec3> one(n), one_normals(n), four(n), four_normals(n);
+    poser.deform(skinning, one, one_normals, 1);
+    poser.deform(skinning, four, four_normals, 4);
+    EXPECT_EQ(0, std::memcmp(one.data(), four.data(), n * sizeof(glm::vec3)));
+    EXPECT_EQ(0, std::memcmp(one_normals.data(), four_normals.data(), n * sizeof(glm::vec3)));
+    float worst = 0.0f;
+    for (std::size_t v = 0; v < n; ++v)
+      worst = std::max(worst, glm::length(one[v] - poser.reference_position(v, skinning)));
+    std::printf("instruction set %d: worst %.3g m from direct evaluation\n", static_cast<int>(set),
+                worst);
+    EXPECT_LE(worst, 1e-5f * height(model));  // the bound
+    by_set.push_back(std::move(one));
+  }
+  // The sets differ by rounding only (fused multiply-adds, another order of the sums): float
+  // rounding at 1-2 m from the origin is ~1e-7 m per operation, some tens of operations.
+  for (std::size_t s = 1; s < by_set.size(); ++s) {
+    const float apart = max_distance(by_set[0], by_set[s]);
+    std::printf("instruction sets 0 and %zu: %.3g m apart\n", s, apart);
+    EXPECT_LE(apart, 2e-6f);
+  }
 }
 
 TEST(SweepPoser, AgreesWithSkinningFarFromABentElbow) {
