@@ -72,7 +72,6 @@ SweepPoser::SweepPoser(const BoundModel& bound, VertexLoopInstructions instructi
         for (int r = 0; r < 3; ++r)
           axis.axis[r] = r <= curve.a_function().degree() ? static_cast<float>(basis[r]) : 0.0f;
         sample_axis_.push_back(axis);
-        sample_offset_.push_back(curve.offset(static_cast<float>(at)));
       }
   }
   table_.resize(sample_q_mix_.size());
@@ -122,10 +121,14 @@ void SweepPoser::refresh_table() {
     d.points.assign(curve.points().begin(), curve.points().end());
     d.second.assign(curve.span_second_derivatives().begin(), curve.span_second_derivatives().end());
     d.keys.assign(sweep.orientation_curve().keys().begin(), sweep.orientation_curve().keys().end());
-    d.alpha.assign(sweep.alpha().begin(), sweep.alpha().end());
-    d.beta.assign(sweep.beta().begin(), sweep.beta().end());
-    d.alpha.resize(d.alpha.size() + 2, 0.0f);
-    d.beta.resize(d.beta.size() + 2, 0.0f);
+    auto padded = [](std::vector<float>& out, std::span<const double> controls) {
+      out.assign(controls.begin(), controls.end());
+      out.resize(out.size() + 2, 0.0f);
+    };
+    padded(d.alpha, sweep.alpha());
+    padded(d.beta, sweep.beta());
+    padded(d.offset_x, sweep.offset_x_function().controls());
+    padded(d.offset_y, sweep.offset_y_function().controls());
   }
   // Centre and frame: one loop per run of rows on the same span, over the rows' weights only
   // (the span's points and keys are loop constants), so it vectorises.
@@ -155,7 +158,6 @@ void SweepPoser::refresh_table() {
       out.x_axis = glm::vec3(1.0f - (yy + zz), xy + wz, xz - wy);
       out.y_axis = glm::vec3(xy - wz, 1.0f - (xx + zz), yz + wx);
       out.normal = glm::vec3(xz + wy, yz - wx, 1.0f - (xx + yy));
-      out.centre += sample_offset_[row].x * out.x_axis + sample_offset_[row].y * out.y_axis;
     }
   }
   for (const SampleRun& run : sample_runs_) {
@@ -166,6 +168,12 @@ void SweepPoser::refresh_table() {
       table[row].a =
           w.axis[0] * d.alpha[k] + w.axis[1] * d.alpha[k + 1] + w.axis[2] * d.alpha[k + 2];
       table[row].b = w.axis[0] * d.beta[k] + w.axis[1] * d.beta[k + 1] + w.axis[2] * d.beta[k + 2];
+      // The ellipse's centre C + R (o, 0) (KeyEllipse::offset).
+      const float ox =
+          w.axis[0] * d.offset_x[k] + w.axis[1] * d.offset_x[k + 1] + w.axis[2] * d.offset_x[k + 2];
+      const float oy =
+          w.axis[0] * d.offset_y[k] + w.axis[1] * d.offset_y[k + 1] + w.axis[2] * d.offset_y[k + 2];
+      table[row].centre += ox * table[row].x_axis + oy * table[row].y_axis;
     }
   }
   // A sweep's last row gets the next sweep's first row: no term starts there.

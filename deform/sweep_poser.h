@@ -84,7 +84,7 @@ class SweepPoser {
   struct SweepData {  // per frame, float copies of a sweep's curve data
     std::vector<glm::vec3> points, second;
     std::vector<glm::quat> keys;
-    std::vector<float> alpha, beta;  // padded with zeros for a degree below 2
+    std::vector<float> alpha, beta, offset_x, offset_y;  // padded with zeros for a degree below 2
   };
 
   const BoundModel& bound_;
@@ -93,13 +93,11 @@ class SweepPoser {
   std::vector<std::vector<KeyEllipse>> posed_keys_;
   // How each table row follows from its sweep's data, fixed at construction. Per row:
   // C = Σ spline[r] · (P_span, P_span+1, P''_2span, P''_2span+1), Q = nlerp(q_span, q_span+1,
-  // q_mix); a and b from the axis weights; the ellipse's centre C + R (o, 0) from the row's
-  // offset o (fixed: a rest property of the keys, KeyEllipse::offset).
+  // q_mix); a, b and the offset o (the ellipse's centre is C + R (o, 0)) from the axis weights.
   std::vector<SampleRun> sample_runs_;
   std::array<std::vector<float>, 4> sample_spline_;
   std::vector<float> sample_q_mix_;
   std::vector<SampleAxisWeights> sample_axis_;
-  std::vector<glm::vec2> sample_offset_;
   std::vector<SweepData> sweep_data_;  // per sweep
   std::vector<SweepSample> table_;     // per frame: every sweep at its samples
   std::optional<SweepVertexKinds> vertex_kinds_;

@@ -120,11 +120,18 @@ TEST(JointSection, BendingTheElbowGrowsOnlyTheKeysBesideIt) {
   const float grown = std::max(posed[elbow].a / sweep.rest_keys[elbow].a,
                                posed[elbow].b / sweep.rest_keys[elbow].b);
   std::printf("elbow bent 90 deg: elbow key half-axis grown %.3fx\n", grown);
-  EXPECT_GT(grown, 1.2f);  // most of the mitre's 1.41 lies along one half-axis
+  // The ellipse reaches out on the outside of the bend only: its half-axes grow by half of the
+  // mitre's 1.41 (most of it along one half-axis; 1.19 measured) and its centre moves out by
+  // the other half, so the inner side stays.
+  EXPECT_GT(grown, 1.1f);
+  const glm::vec2 moved = posed[elbow].offset - sweep.rest_keys[elbow].offset;
+  EXPECT_NEAR(std::abs(moved.x), posed[elbow].a - sweep.rest_keys[elbow].a, 1e-6f);  // rounding
+  EXPECT_NEAR(std::abs(moved.y), posed[elbow].b - sweep.rest_keys[elbow].b, 1e-6f);
   for (int k = 0; k < static_cast<int>(posed.size()); ++k) {
     if (std::abs(k - elbow) <= 1) continue;
     EXPECT_EQ(posed[k].a, sweep.rest_keys[k].a) << k;  // untouched: copied from rest
     EXPECT_EQ(posed[k].b, sweep.rest_keys[k].b) << k;
+    EXPECT_EQ(posed[k].offset, sweep.rest_keys[k].offset) << k;
   }
 }
 
