@@ -96,7 +96,8 @@ std::vector<BoneProxy> make_bone_proxies(const BoundModel& bound, const Collisio
     proxy.joint = region.joint;
     proxy.region = static_cast<int>(r);
     proxy.rest_anchor = key->centre;
-    proxy.rest_centre = key->centre + out * (options.surface_fraction * extent - radius);
+    const glm::vec3 ellipse_centre = key->centre + frame * glm::vec3(key->offset, 0.0f);
+    proxy.rest_centre = ellipse_centre + out * (options.surface_fraction * extent - radius);
     for (const glm::vec3& s : sphere) {
       proxy.rest_positions.push_back(proxy.rest_centre + out * (s.x * radius) +
                                      side * (s.y * radius) + frame[2] * (s.z * 1.5f * radius));

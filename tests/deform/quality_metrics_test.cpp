@@ -65,7 +65,9 @@ TEST(QualityMetrics, RestPoseMeasuresAsRestForEveryMethod) {
         meter.measure(positions, deformer.sweep_poser(), method == DeformMethod::kSweep);
     for (const PartMetrics& part : m.parts) {
       EXPECT_LE(std::abs(part.mesh_volume_change), 1e-4) << to_string(method);  // float rest error
-      EXPECT_LE(std::abs(part.sweep_volume_change), 1e-9) << to_string(method);
+      // The keys posed at rest differ from the rest keys by float rounding (~1e-7 rad); the
+      // offset ellipses (KeyEllipse::offset, ~2 cm) turning through that move I by ~4e-9.
+      EXPECT_LE(std::abs(part.sweep_volume_change), 1e-8) << to_string(method);
     }
     EXPECT_NEAR(m.smallest_section_ratio, 1.0, 1e-3) << to_string(method);
     EXPECT_LE(m.largest_edge_stretch, 1e-3) << to_string(method);
