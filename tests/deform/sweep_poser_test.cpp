@@ -1,6 +1,6 @@
 // Posing (paper §4.1) on the shared male: rest pose, the fast path against direct evaluation,
 // threads, agreement with skinning away from a bent joint, and what each method keeps of a
-// limb's cross-section at a 135° bend and a 150° twist.
+// limb's cross-section at a 150° twist (a 135° bend: joint_section_test.cpp).
 #include "deform/sweep_poser.h"
 
 #include <gtest/gtest.h>
@@ -119,63 +119,6 @@ TEST(SweepPoser, AgreesWithSkinningFarFromABentElbow) {
               compared, worst);
   EXPECT_GT(compared, static_cast<int>(model.vertex_count()) * 3 / 4);
   EXPECT_LE(worst, 1e-4f * height(male.model));  // the issue's bound
-}
-
-// Smallest section area near a joint bent by `degrees`: planes through the joint orthogonal to
-// the bisector and to each link, and at ±spacing along each link.
-float smallest_section_near(std::span<const glm::vec3> posed, test::WeldedMesh& welded,
-                            glm::vec3 joint, glm::vec3 upper_dir, glm::vec3 lower_dir,
-                            float spacing) {
-  float smallest = 1e9f;
-  for (float s : {0.5f, 1.0f}) {
-    smallest =
-        std::min(smallest, welded.section_area(posed, joint - s * spacing * upper_dir, upper_dir));
-    smallest =
-        std::min(smallest, welded.section_area(posed, joint + s * spacing * lower_dir, lower_dir));
-  }
-  return std::min(smallest,
-                  welded.section_area(posed, joint, glm::normalize(upper_dir + lower_dir)));
-}
-
-TEST(SweepPoser, ReportsSectionsAt135DegreesAndKeepsMoreThanSkinningAtTheKnee) {
-  REQUIRE_SHARED_MALE();
-  const Model& model = male.model;
-  Deformer deformer(male);
-  test::WeldedMesh welded(model);
-  struct Case {
-    const char* upper;
-    const char* joint;
-    const char* end;
-    glm::vec3 axis;
-  };
-  for (const Case& c : {Case{"LeftArm", "LeftForeArm", "LeftHand", {0, 0, 1}},
-                        Case{"LeftUpLeg", "LeftLeg", "LeftFoot", {1, 0, 0}}}) {
-    const glm::vec3 top = joint_position(model, c.upper), joint = joint_position(model, c.joint),
-                    end = joint_position(model, c.end);
-    // Flexion: the lower link turns about the axis orthogonal to the limb's plane.
-    glm::vec3 axis = glm::normalize(glm::cross(glm::normalize(joint - top), c.axis));
-    if (std::string(c.joint) == "LeftLeg") axis = glm::vec3(1, 0, 0);  // the knee bends backwards
-    const Pose pose = turned(model, c.joint, axis, 135.0f);
-    const glm::vec3 upper_dir = glm::normalize(joint - top);
-    const glm::vec3 lower_dir =
-        glm::angleAxis(glm::radians(135.0f), axis) * glm::normalize(end - joint);
-    const float spacing = 0.12f * glm::length(end - joint);
-    std::printf("%s at 135 deg, smallest section near the joint:", c.joint);
-    float area[3];
-    for (DeformMethod m : {DeformMethod::kSweep, DeformMethod::kLbs, DeformMethod::kDqs}) {
-      const auto posed = deformed(deformer, pose, m);
-      area[static_cast<int>(m)] =
-          smallest_section_near(posed, welded, joint, upper_dir, lower_dir, spacing);
-      std::printf(" %s %.2f cm2", to_string(m), 1e4f * area[static_cast<int>(m)]);
-    }
-    std::printf("\n");
-    // The issue: sweep keeps more than LBS. It holds at the knee; at the shared male's elbow the
-    // halfway key leaves the inner fold to collision folding (issue 6), and sweep keeps less
-    // (26 against 36 cm2 measured): reported above, asserted for the knee only until then.
-    if (std::string(c.joint) == "LeftLeg") {
-      EXPECT_GT(area[0], area[1]) << c.joint;
-    }
-  }
 }
 
 TEST(SweepPoser, ForearmTwistedBy150DegreesKeepsItsSections) {
