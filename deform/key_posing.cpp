@@ -1,126 +1,25 @@
 #include "deform/key_posing.h"
 
-#include <algorithm>
-#include <array>
-#include <cmath>
-#include <vector>
-
-#include "deform/bspline.h"
-
 namespace sweepd::deform {
-
-namespace {
-
-// An inner joint key's mitre in a pose: how much its half-axes would stretch, (a, b) factors
-// (1 for none), and the bend's direction (towards the inside of the bend) on its (a, b) axes.
-struct Mitre {
-  glm::vec2 factor{1.0f};
-  glm::vec2 inner{0.0f};
-};
-Mitre mitre_factors(const KeyEllipse& rest, const glm::quat& upper_turn,
-                    const glm::quat& lower_turn, const glm::quat& turn) {
-  const glm::vec3 rest_normal = rest.orientation * glm::vec3(0, 0, 1);
-  const glm::vec3 upper = upper_turn * rest_normal, lower = lower_turn * rest_normal;
-  const float stretch = mitre_stretch(upper, lower);
-  // The bend's direction in the posed key's plane, taken back to the rest key's axes.
-  glm::vec3 along = glm::inverse(turn) * (lower - upper);
-  along -= glm::dot(along, rest_normal) * rest_normal;
-  const float length = glm::length(along);
-  if (stretch <= 1.0f || length < 1e-6f) return {};
-  along /= length;
-  const float grow = stretch * stretch - 1.0f;
-  const float on_a = glm::dot(along, rest.orientation * glm::vec3(1, 0, 0));
-  const float on_b = glm::dot(along, rest.orientation * glm::vec3(0, 1, 0));
-  return {{std::sqrt(1.0f + grow * on_a * on_a), std::sqrt(1.0f + grow * on_b * on_b)},
-          {on_a, on_b}};
-}
-
-// Whether the links meeting at chain joint `joint` (from the chain joint before it, and on to
-// `next`) are further from straight in the pose than at rest. Straightening a joint the rest
-// pose bends (the shared male's elbows, 46°) cuts no mitre: its rest key already has the
-// bent joint's section, and growing it inflated the arm by 2.4 % when the clip's T-pose
-// straightened the elbows.
-bool bends_further_than_at_rest(std::span<const int> chain, int joint, int next,
-                                std::span<const glm::vec3> rest_joint,
-                                std::span<const glm::vec3> pose_joint) {
-  const auto at = std::find(chain.begin(), chain.end(), joint);
-  if (at == chain.begin() || at == chain.end()) return false;
-  const int previous = *(at - 1);
-  auto straightness = [&](std::span<const glm::vec3> p) {
-    return glm::dot(glm::normalize(p[joint] - p[previous]), glm::normalize(p[next] - p[joint]));
-  };
-  return straightness(pose_joint) < straightness(rest_joint);
-}
-
-// Stretches key k's ellipse along the outside of the bend only: its half-axes grow by half of
-// what the mitre stretches them, and its offset (KeyEllipse::offset) moves the other half away
-// from the inside, so the inner side stays where it was and the outer side reaches as far as
-// the mitre's. (Stretched both ways, the inner side passes the bend's centre, where the sweep
-// runs backwards through itself: the integral counts that fold negatively while the mesh
-// hardly resolves it, and the shared male's arm region then differs from the integral by 8.9
-// points at a 150° elbow.) The change goes into key k's control values of a(t), b(t) and the
-// offsets (Sweep's quadratic B-splines through the keys' values): only the keys k-1..k+1
-// change, by that control's basis function, so the curves change only where that basis
-// function lives (up to halfway to keys k±2).
-void grow_half_axes_at(const InterpolatingQuadraticSpline& half_axes, std::span<const double> t,
-                       std::span<const KeyEllipse> rest, int k, const Mitre& mitre,
-                       std::span<KeyEllipse> keys) {
-  std::array<double, InterpolatingQuadraticSpline::kMaxDegree + 1> basis{};
-  auto basis_k_at = [&](int site) {
-    const int first = half_axes.nonzero_basis(t[site], basis);
-    const int r = k - first;
-    return r >= 0 && r <= half_axes.degree() ? static_cast<float>(basis[r]) : 0.0f;
-  };
-  const float at_k = basis_k_at(k);
-  if (at_k <= 0.0f) return;
-  const glm::vec2 control_growth =
-      0.5f * (mitre.factor - 1.0f) * glm::vec2(rest[k].a, rest[k].b) / at_k;
-  const glm::vec2 control_shift = -glm::sign(mitre.inner) * control_growth;
-  const int count = static_cast<int>(rest.size());
-  for (int i = std::max(0, k - 1); i <= std::min(count - 1, k + 1); ++i) {
-    const float weight = basis_k_at(i);
-    keys[i].a += weight * control_growth.x;
-    keys[i].b += weight * control_growth.y;
-    keys[i].offset += weight * control_shift;
-  }
-}
-
-}  // namespace
 
 glm::quat halfway(const glm::quat& a, const glm::quat& b) {
   const glm::quat b_near = glm::dot(a, b) < 0.0f ? -b : b;
   return glm::normalize(a + b_near);  // slerp(a, b, 0.5) exactly: the bisector of the arc
 }
 
-float mitre_stretch(const glm::vec3& upper_normal, const glm::vec3& lower_normal) {
-  const float cos_half =
-      std::sqrt(std::max(0.0f, 0.5f * (1.0f + glm::dot(upper_normal, lower_normal))));
-  return 1.0f / std::max(cos_half, 1.0f / kLargestMitreStretch);
-}
-
 void pose_key_ellipses(const BoundSweep& sweep, const Skeleton& skeleton,
                        std::span<const glm::quat> joint_rotation,
                        std::span<const glm::vec3> rest_joint, std::span<const glm::vec3> pose_joint,
                        std::span<KeyEllipse> keys) {
-  const int count = static_cast<int>(sweep.rest_keys.size());
-  std::vector<Mitre> growth;  // per key, allocated only when a joint bends
-  for (int k = 0; k < count; ++k) {
+  for (std::size_t k = 0; k < sweep.rest_keys.size(); ++k) {
     const KeyAnchor& anchor = sweep.anchors[k];
     const int j = anchor.joint;
-    const KeyEllipse& rest = sweep.rest_keys[k];
     glm::quat turn = joint_rotation[j];
-    const int parent = skeleton.joints[j].parent;
-    if (anchor.is_joint_key() && parent >= 0) {
-      turn = halfway(joint_rotation[parent], turn);
-      if (j != sweep.chain.front() && anchor.next_joint >= 0 &&
-          bends_further_than_at_rest(sweep.chain, j, anchor.next_joint, rest_joint, pose_joint)) {
-        const Mitre mitre = mitre_factors(rest, joint_rotation[parent], joint_rotation[j], turn);
-        if (mitre.factor != glm::vec2(1.0f)) {
-          growth.resize(count);
-          growth[k] = mitre;
-        }
-      }
+    if (anchor.is_joint_key()) {
+      const int parent = skeleton.joints[j].parent;
+      if (parent >= 0) turn = halfway(joint_rotation[parent], turn);
     }
+    const KeyEllipse& rest = sweep.rest_keys[k];
     KeyEllipse& posed = keys[k];
     posed.centre = pose_joint[j] + turn * (rest.centre - rest_joint[j]);
     posed.orientation = glm::normalize(turn * rest.orientation);
@@ -128,16 +27,6 @@ void pose_key_ellipses(const BoundSweep& sweep, const Skeleton& skeleton,
     posed.b = rest.b;
     posed.offset = rest.offset;  // in the key's own frame: it turns with the key
   }
-  if (growth.empty()) return;
-  std::vector<glm::vec3> centres(count);
-  std::vector<double> t(count);
-  for (int k = 0; k < count; ++k) centres[k] = sweep.rest_keys[k].centre;
-  if (!chord_length_parameters(centres, t)) return;  // Sweep refuses such keys anyway
-  InterpolatingQuadraticSpline half_axes;
-  half_axes.set_parameters(t);
-  for (int k = 0; k < count; ++k)
-    if (growth[k].factor != glm::vec2(1.0f))
-      grow_half_axes_at(half_axes, t, sweep.rest_keys, k, growth[k], keys);
 }
 
 }  // namespace sweepd::deform

@@ -48,8 +48,8 @@ PlanePair planes_at(std::span<const glm::mat4> world_rest, int joint, int link_f
 // distance rather than over a count of edges, which matters where the mesh is dense: the
 // male's crotch midline has 2-4 mm edges, where 48 plain passes left the left and right leg
 // shares 0.13 apart across 2 mm (6.1x stretch in cmu_01_03). Now no edge where both legs share
-// stretches over 2.2x (cmu_01_01) and 2.9x (cmu_01_03: the lower back, bent 52° forward);
-// 400 passes would spread the leg shares further up the back (3.0x there).
+// stretches over 2.2x (cmu_01_01) and 2.8x (cmu_01_03: the lower back, bent 52° forward);
+// more passes spread the leg shares further up the back and stretch it more there.
 // The same smoothing covers the neck's hand-over to the head where the head's skin weights
 // drive it (head_weight_handover: not its planes): on the shared male they reach 6 cm down the
 // throat, 0.75-0.89 between neighbours 8 mm apart, and a turned head stretched that edge 5.3x

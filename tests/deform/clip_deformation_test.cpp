@@ -4,9 +4,9 @@
 // Regions: the hips (an end shares both leg sweeps: the crotch, the buttocks, the lower back),
 // else the body part of the joint that weighs most on the edge's first vertex.
 // The bound, 3x on every edge, holds at the hips and the hands (asserted); not yet at
-// the inner elbow in the deepest bend (3.65x), the armpits with the arms overhead (3.5x), the
-// throat with the head turned furthest (3.5x) and the feet, which LBS alone moves (4.1x: the
-// clip's toe channels).
+// the armpits with the arms overhead (3.5x, cmu_01_03), the throat with the head turned
+// furthest (3.4x, cmu_01_01) and the feet, which LBS alone moves (4.1x at the toe crease,
+// cmu_01_03: the clip's toe channels, equal with LBS).
 #include <gtest/gtest.h>
 
 #include <array>
