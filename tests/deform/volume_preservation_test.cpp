@@ -109,6 +109,7 @@ TEST(VolumePreservation, ReportsItsCostPerFrame) {
   const Pose pose = test::left_elbow_bent(male.model, 120.0f);
   std::vector<glm::vec3> positions(male.model.vertex_count());
   double milliseconds[3];
+  int fold_rounds = -1;
   const DeformOptions options[3] = {DeformOptions{}, without_fold_feedback(), preserving()};
   for (int i = 0; i < 3; ++i) {
     Deformer deformer(male);
@@ -121,6 +122,7 @@ TEST(VolumePreservation, ReportsItsCostPerFrame) {
       copy = pose;
       deformer.deform(copy, DeformMethod::kSweep, positions, {});
     }
+    if (i == 2) fold_rounds = deformer.fold_feedback_iterations();
     milliseconds[i] =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
             .count() /
@@ -128,11 +130,13 @@ TEST(VolumePreservation, ReportsItsCostPerFrame) {
   }
   std::printf(
       "per frame, one thread: sweep %.2f ms, +volume (paper) %.2f ms, "
-      "+volume (fold feedback) %.2f ms\n",
-      milliseconds[0], milliseconds[1], milliseconds[2]);
-  // Fold feedback deforms at most 1 + 3 times and measures six regions: it costs more than the
-  // plain sweep but stays within 10x of it.
-  EXPECT_LT(milliseconds[2], 10.0 * milliseconds[0] + 1.0);
+      "+volume (fold feedback) %.2f ms (%d feedback rounds)\n",
+      milliseconds[0], milliseconds[1], milliseconds[2], fold_rounds);
+  // The times are reported, not asserted (the plain sweep now costs less than measuring the six
+  // regions, so their ratio follows the machine's load). Asserted: the bent elbow loses volume,
+  // so fold feedback runs, and it deforms at most 1 + fold_feedback_iterations times a frame.
+  EXPECT_GE(fold_rounds, 1);
+  EXPECT_LE(fold_rounds, options[2].volume.fold_feedback_iterations);
 }
 
 TEST(VolumePreservation, RestPoseIsLeftExactlyAsItWas) {
