@@ -16,7 +16,7 @@
 //   from a bent joint stay rigid, while the ellipses sit on the sections beside the joints.
 // Per frame, set_key_frames() re-solves C and Q from new key centres/orientations without
 // allocating; a, b and o are kept (the paper changes a and b only through volume correction or
-// edits; o is in the keys' own frames, so it turns with them; posing's mitre moves it).
+// edits; o is in the keys' own frames, so it turns with them).
 // Evaluation at t outside [0, 1] extends the end pieces of every curve.
 #pragma once
 

@@ -65,11 +65,12 @@ TEST(SweepctlMetrics, ElbowPoseAsJsonShowsVolumePreservationAtWork) {
     ADD_FAILURE() << "no metric " << name;
     return 0.0;
   };
-  // The left elbow flexed (about cross(upper arm, +Z)): the plain sweep loses volume, preservation
-  // brings the closed region back within its 0.5 % feedback tolerance (plus rounding), and LBS has
-  // no sweep integral.
+  // The left elbow flexed (about cross(upper arm, +Z)): the plain sweep loses volume (-13.0 %
+  // measured), preservation holds the sweep integral and with it the closed region within
+  // issue 5's 2 % (+0.78 % measured: the elbow's ellipse sits on its section,
+  // KeyEllipse::offset; a gain, which fold feedback leaves alone), and LBS has no sweep integral.
   EXPECT_LT(metric(0, "left arm mesh volume %"), -5.0);
-  EXPECT_LT(std::abs(metric(1, "left arm mesh volume %")), 0.6);
+  EXPECT_LT(std::abs(metric(1, "left arm mesh volume %")), 2.0);
   for (const auto& m : report["methods"][2]["metrics"])
     EXPECT_EQ(m["name"].get<std::string>().find("sweep integral"), std::string::npos);
   EXPECT_LT(report["methods"][2]["rest_error_m"].get<double>(), 1e-5);  // LBS at rest: exact

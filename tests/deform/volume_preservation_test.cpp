@@ -102,20 +102,20 @@ double worst(const std::vector<ElbowRow>& rows, double ElbowRow::*field) {
 TEST(VolumePreservation, PaperCorrectionKeepsTheArmIntegralAndItsClosedRegionAtRest) {
   REQUIRE_SHARED_MALE();
   const ElbowTable table = print_elbow_table(male, "the default binding");
-  // Measured: integral within 0.01 % at every angle, region +1.64 % at 150° (+1.20 % at 120°,
-  // +0.68 % at 90°; LBS -7.68 %, DQS -10.59 % at 150°), with and without fold feedback (it
+  // Measured: integral within 0.01 % at every angle, region +1.41 % at 150° (+0.80 % at 120°,
+  // +0.44 % at 90°; LBS -7.68 %, DQS -10.59 % at 150°), with and without fold feedback (it
   // never starts: no region loses). The bounds: ±0.5 % and ±2 %.
   for (const auto* rows : {&table.paper, &table.folded}) {
     EXPECT_LE(worst(*rows, &ElbowRow::integral), 0.005);
     EXPECT_LE(worst(*rows, &ElbowRow::mesh), 0.02);
   }
-  // Uncorrected, the bend changes the integral (-3.5 % at 70°, +15.0 % at 140° measured, the
-  // mitred elbow key of deform/key_posing.h): the correction has something to do. The elbow's
-  // ellipse sits on its section (KeyEllipse::offset), so the integral follows the closed region
-  // (within 1.46 points at every angle measured).
-  EXPECT_GT(std::abs(table.plain.back().integral), 0.05);
+  // Uncorrected, the bend loses volume (-19.2 % of the integral at 150° measured): the
+  // correction has something to do. The elbow's ellipse sits on its section
+  // (KeyEllipse::offset), so the integral follows the closed region (-17.5 % at 150°; within
+  // 1.64 points at every angle measured; 11.4 points apart with the ellipse on the joint).
+  EXPECT_LT(table.plain.back().integral, -0.05);
   for (const ElbowRow& row : table.plain)
-    EXPECT_NEAR(row.integral, row.mesh, 0.015) << row.degrees << "°";
+    EXPECT_NEAR(row.integral, row.mesh, 0.02) << row.degrees << "°";
 }
 
 TEST(VolumePreservation, AtTheBentElbowOnlyTheHalfAxisAcrossTheBendPlaneIsCorrected) {
@@ -139,9 +139,7 @@ TEST(VolumePreservation, AtTheBentElbowOnlyTheHalfAxisAcrossTheBendPlaneIsCorrec
   const double in_plane = alpha_across ? after.beta()[elbow] / before.beta()[elbow]
                                        : after.alpha()[elbow] / before.alpha()[elbow];
   std::printf("elbow key at 120°: across the bend plane x%.3f, in it x%.3f\n", across, in_plane);
-  // x0.94 measured: the mitred bend adds 4.6 % to the integral at 120°, the correction takes
-  // it back across the bend plane.
-  EXPECT_GT(std::abs(across - 1.0), 0.03);
+  EXPECT_GT(across, 1.05);  // x1.14 measured: the bend lost 14 % of the integral
   EXPECT_EQ(in_plane, 1.0);
 }
 
@@ -191,7 +189,7 @@ TEST(VolumePreservation, ReportsItsCostPerFrameAndBoundsItsWork) {
       "+volume (fold feedback) %.2f ms; %d feedback rounds, at most %d update steps a sweep\n",
       milliseconds[0], milliseconds[1], milliseconds[2], feedback_rounds, most_steps);
   // The cost in work rather than wall-clock time (which depends on the machine's load): the
-  // 120° elbow's region grows (+1.20 % measured) rather than loses, so fold feedback measures
+  // 120° elbow's region grows (+0.80 % measured) rather than loses, so fold feedback measures
   // it once and corrects nothing more; each correction stops on its tolerance before
   // max_iterations (1 step measured).
   EXPECT_EQ(feedback_rounds, 0);
