@@ -29,8 +29,9 @@ constexpr const char* kUsage =
     "  --keys-per-link  intermediate key ellipses per link (default 2)\n"
     "  --debug-gltf OUT.glb  the mesh coloured by sweep and blend share, with every key\n"
     "                   ellipse as a line loop, for a glTF viewer\n"
-    "Prints per sweep the key ellipses (centre, half-axes, fit error, area ratio), the bound\n"
-    "vertices, and the rest-pose reconstruction error.\n";
+    "Prints per sweep the key ellipses (centre, half-axes, fit error, area ratio, the ellipse's\n"
+    "in-plane offset from the centre where it has one), the bound vertices, and the rest-pose\n"
+    "reconstruction error.\n";
 
 void print_sweep(const deform::BoundModel& bound, int s) {
   const deform::BoundSweep& sweep = bound.sweeps[s];
@@ -55,9 +56,14 @@ void print_sweep(const deform::BoundModel& bound, int s) {
       where += fraction;
     }
     const deform::KeyEllipse& key = sweep.rest_keys[k];
-    std::printf("  %-26s (%7.3f,%7.3f,%7.3f)  %7.4f %7.4f %8.4f %6.3f%s\n", where.c_str(),
+    char offset[64] = "";
+    if (key.offset != glm::vec2(0.0f))
+      std::snprintf(offset, sizeof offset, "  (ellipse off the centre by %.1f, %.1f cm)",
+                    100 * key.offset.x, 100 * key.offset.y);
+    std::printf("  %-26s (%7.3f,%7.3f,%7.3f)  %7.4f %7.4f %8.4f %6.3f%s%s\n", where.c_str(),
                 key.centre.x, key.centre.y, key.centre.z, key.a, key.b, sweep.key_fit_errors[k],
-                sweep.key_area_ratios[k], sweep.key_fallback[k] ? "  (copied: cut unusable)" : "");
+                sweep.key_area_ratios[k], sweep.key_fallback[k] ? "  (copied: cut unusable)" : "",
+                offset);
   }
 }
 
