@@ -4,18 +4,19 @@
 //   muscle bulge) → each sweep's C(t), Q(t), a(t) and b(t) rebuilt from the keys (so a volume
 //   correction of the previous frame does not carry over; it changes α, β through sweep()
 //   after set_pose, followed by refresh_table()).
-// deform: every vertex from its binding, V = Σ_k w_k [C_k(t) + R_k(t) ((a+da) cos θ,
-//   (b+db) sin θ, c)] + w_skin · LBS(V), blended where two sweeps meet.
+// deform: every vertex from its binding, V = Σ_k w_k [C̃_k(t) + R_k(t) ((a+da) cos θ,
+//   (b+db) sin θ, c)] + w_skin · LBS(V), blended where two sweeps meet (C̃: the ellipse's
+//   centre, Sweep::ellipse_centre).
 // Speed: per frame each sweep is evaluated once at a table of samples (kSamplesPerSpan per key
-//   span, aligned with the keys): C, R (as 3 columns), a, b; the rows of one span are filled by
+//   span, aligned with the keys): C̃, R (as 3 columns), a, b; the rows of one span are filled by
 //   one vectorised loop. t_V is fixed per vertex, so each binding keeps its sample index and
 //   fraction, cos θ and sin θ; a sweep term then costs two table rows combined with θ and a
 //   linear interpolation. The vertices are grouped by kind (SweepVertexKinds: skin influences ×
 //   sweep terms) so each group runs a loop without branches, and the skinned share transforms
 //   the rest position by each influence's matrix (cheaper than blending the matrices for 1–3
 //   influences). Nothing is allocated, and the result matches the direct evaluation
-//   (reference_position) within 1e-5 m (7.5e-6 m on the shared male: R interpolated between
-//   samples 1/64 of a span apart).
+//   (reference_position) within 1e-5 × height (9.1e-6 m on the shared male, 7.5e-6 m before
+//   the ellipses' offsets: R interpolated between samples 1/64 of a span apart).
 // Threads: deform(…, threads) splits the vertices into blocks; results are bit-identical for
 //   any thread count.
 // The BoundModel must outlive the poser.
