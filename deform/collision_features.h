@@ -34,6 +34,7 @@ struct CollisionFeatureOptions {
   BoneProxyOptions proxies;
   bool folding = true;
   bool protrusion = true;
+  int folding_rounds = 16;       // detect -> fold rounds per region at most
   float folding_gap = 5e-4f;     // m between the two skins of a fold
   float protrusion_gap = 2e-4f;  // m between a proxy and the skin pushed over it
 };
@@ -54,18 +55,31 @@ class CollisionFeatures {
 
   FeatureReport apply(std::span<const glm::mat4> skinning, std::span<glm::vec3> positions,
                       const DetectPairs& detect = {});
+  // Switches folding and protrusion on or off for the next apply calls.
+  void select(bool folding, bool protrusion) {
+    options_.folding = folding;
+    options_.protrusion = protrusion;
+  }
 
   const CollisionRegions& regions() const { return regions_; }
   const std::vector<BoneProxy>& proxies() const { return proxies_; }
 
  private:
+  int find_pairs(const CollisionRegion& region, std::span<const glm::vec3> positions,
+                 const DetectPairs& detect);
+  // Detect -> fold/relax rounds on one region holding `pairs` (in pairs_); returns the pairs
+  // left.
+  int fold_region(const CollisionRegion& region, int pairs, std::span<glm::vec3> positions,
+                  const DetectPairs& detect, FeatureReport& report);
+
   CollisionFeatureOptions options_;
   CollisionRegions regions_;
   std::vector<BoneProxy> proxies_;
   SelfIntersectionDetector detector_;
   SkinFolder folder_;
-  std::vector<TrianglePair> pairs_;
+  std::vector<TrianglePair> pairs_, saved_pairs_;
   std::vector<glm::vec3> proxy_positions_;
+  std::vector<glm::vec3> saved_;  // region positions before a folding round
 };
 
 }  // namespace sweepd::deform

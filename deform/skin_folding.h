@@ -58,6 +58,8 @@ class SkinFolder {
   FoldingResult fold(const CollisionRegion& region, std::span<const std::uint32_t> indices,
                      std::span<const TrianglePair> pairs, float gap,
                      std::span<glm::vec3> positions);
+  void relax(const CollisionRegion& region, std::span<const std::uint32_t> indices,
+             std::span<const TrianglePair> pairs, std::span<glm::vec3> positions);
 
  private:
   std::uint32_t find(std::uint32_t slot);
@@ -66,6 +68,10 @@ class SkinFolder {
   std::vector<std::uint32_t> triangles_, parent_;
   std::vector<std::int32_t> slot_of_vertex_;  // per mesh vertex, -1 when unused
   std::vector<glm::vec3> points_;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> order_;  // (group root, slot)
+  std::vector<std::uint8_t> mark_;
+  std::vector<glm::vec3> sum_;
+  std::vector<int> count_;
 };
 
 }  // namespace sweepd::deform

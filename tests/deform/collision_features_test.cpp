@@ -18,6 +18,8 @@
 #include "deform/rig_map.h"
 #include "deform/self_intersection.h"
 #include "deform/skin_folding.h"
+#include "io/bvh_load.h"
+#include "io/bvh_retarget.h"
 #include "io/gltf_load.h"
 
 namespace sweepd::deform {
@@ -325,6 +327,30 @@ TEST(CollisionFeatures, OneCallFoldsProtrudesAndKeepsSeamCopiesTogether) {
     if (!in_region[fx.regions.representative[v]]) {
       ASSERT_EQ(positions[v], unfolded[v]) << v;
     }
+  }
+}
+
+TEST(CollisionFeatures, FoldingNeverAddsPairsOnClipFrames) {
+  REQUIRE_MALE();
+  const fs::path data = fs::path(SWEEPD_SHARED_DATA);
+  Deformer deformer(fx.bound);
+  CollisionFeatureOptions options;
+  options.protrusion = false;
+  CollisionFeatures features(fx.bound, options);
+  // Frames where the male's arms fold: 1257 of cmu_01_01, and 2000 of cmu_01_03, where one
+  // plane fitted across two separate intersecting groups once tripled the pairs.
+  for (const auto& [clip, frame] :
+       {std::pair{"motion/cmu_01_01.bvh", 1257}, std::pair{"motion/cmu_01_03.bvh", 2000}}) {
+    SCOPED_TRACE(std::string(clip) + " frame " + std::to_string(frame));
+    const io::Retargeter retargeter(io::load_bvh(data / clip), fx.bound.model);
+    Pose pose = retargeter.pose_at_frame(frame);
+    std::vector<glm::vec3> positions(fx.bound.model.vertex_count());
+    deformer.deform(pose, DeformMethod::kSweep, positions, {});
+    const FeatureReport report = features.apply(deformer.skinning(), positions);
+    std::printf("%s frame %d: %d pairs -> %d, %d vertices pulled back\n", clip, frame,
+                report.pairs_before, report.pairs_after, report.folded);
+    EXPECT_GT(report.pairs_before, 0);
+    EXPECT_LE(report.pairs_after, report.pairs_before);
   }
 }
 
