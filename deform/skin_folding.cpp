@@ -8,6 +8,9 @@
 namespace sweepd::deform {
 namespace {
 
+constexpr int kRelaxIterations = 12;
+constexpr float kRelaxStep = 0.5f;  // of the way to the neighbours' mean, per iteration
+
 // Eigenvector of the smallest eigenvalue of a symmetric 3x3 matrix (columns c).
 glm::dvec3 smallest_eigenvector(const glm::dmat3& c) {
   // Eigenvalues by the trigonometric method (symmetric, so all real).
@@ -186,7 +189,7 @@ void SkinFolder::relax(const CollisionRegion& region, std::span<const std::uint3
   }
   sum_.resize(positions.size());
   count_.resize(positions.size());
-  for (int iteration = 0; iteration < 12; ++iteration) {
+  for (int iteration = 0; iteration < kRelaxIterations; ++iteration) {
     for (std::uint32_t t : region.triangles) {
       for (int k = 0; k < 3; ++k) {
         const std::uint32_t v = indices[3 * t + k];
@@ -204,7 +207,7 @@ void SkinFolder::relax(const CollisionRegion& region, std::span<const std::uint3
     }
     for (std::uint32_t v : region.vertices) {
       if (mark_[v] == 2 && count_[v] > 0)
-        positions[v] += 0.5f * (sum_[v] / static_cast<float>(count_[v]) - positions[v]);
+        positions[v] += kRelaxStep * (sum_[v] / static_cast<float>(count_[v]) - positions[v]);
     }
   }
 }
