@@ -24,8 +24,7 @@ void FeatureApplier::select(const AnatomicalFeatures& features, Deformer& deform
     options.muscle_bulge = features.bulge;
     deformer.set_options(std::move(options));
   }
-  if (features.collision() && !collision_)
-    collision_ = std::make_unique<CollisionFeatures>(bound_);
+  if (features.collision() && !collision_) collision_ = std::make_unique<CollisionFeatures>(bound_);
   if (collision_) collision_->select(features.folding, features.protrusion);
   selected_ = features;
 }
