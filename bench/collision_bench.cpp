@@ -1,7 +1,8 @@
 // Collision + anatomical features per frame on the shared male, left elbow and knee bent 150°:
 // the CPU reference (grid broad phase) and gpu::CollisionDetector (llvmpipe here, a real GPU
 // where one is lent), for pair detection over all 8 regions and for the whole feature pass
-// (detect, fold, re-detect, protrusion). The sweep deformation itself is timed alongside.
+// (per region: detect, then fold/relax rounds each followed by a detection; protrusion). The
+// sweep deformation itself is timed alongside.
 #include <benchmark/benchmark.h>
 
 #include <cstdio>
@@ -115,7 +116,7 @@ void BM_DetectAllRegions(benchmark::State& state) {
   state.counters["triangles"] = static_cast<double>(triangles);
 }
 
-// The whole feature pass per frame (detect, fold, re-detect, protrusion), CPU or GPU pairs.
+// The whole feature pass per frame (detect, fold/relax rounds, protrusion), CPU or GPU pairs.
 void BM_CollisionFeatures(benchmark::State& state) {
   Scene* s = scene();
   if (s == nullptr) return state.SkipWithError("shared male absent");

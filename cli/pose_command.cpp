@@ -44,7 +44,7 @@ int run_pose(const std::vector<std::string>& arguments) {
       write_frame(posing.first_frame, out);
       std::printf("wrote %s (%s, frame %d)\n", out.string().c_str(),
                   deform::to_string(posing.method), posing.first_frame);
-      if (posing.folding || posing.protrusion) {
+      if (posing.features.collision()) {
         const deform::FeatureReport& r = posed.feature_report();
         std::printf(
             "features: %d intersecting pairs before folding, %d after; %d vertices folded, "

@@ -55,13 +55,13 @@ std::string take_posing_arguments(std::vector<std::string>& args, PosingArgument
            start = comma + 1) {
         const std::string feature = list.substr(start, comma - start);
         if (feature == "folding")
-          out.folding = true;
+          out.features.folding = true;
         else if (feature == "protrusion")
-          out.protrusion = true;
+          out.features.protrusion = true;
         else if (feature == "volume")
-          out.volume = true;
+          out.features.volume = true;
         else if (feature == "bulge")
-          out.bulge = true;
+          out.features.bulge = true;
         else
           return "--features expects folding, protrusion, volume and/or bulge, got '" + feature +
                  "'";
@@ -81,7 +81,7 @@ std::string take_posing_arguments(std::vector<std::string>& args, PosingArgument
   if (!out.bvh.empty() && !out.pose_file.empty()) return "give --bvh or --pose, not both";
   if (out.bvh.empty() && (out.frame_range || out.first_frame != 0))
     return "--frame/--frames need --bvh";
-  if (out.any_feature() && out.method != deform::DeformMethod::kSweep)
+  if (out.features.any() && out.method != deform::DeformMethod::kSweep)
     return "--features apply to --method sweep";
   return {};
 }
@@ -103,17 +103,9 @@ PosedModel::PosedModel(const PosingArguments& arguments) : arguments_(arguments)
   }
   if (!arguments.pose_file.empty())
     file_pose_ = io::load_pose_json(arguments.pose_file, bound_->model.skeleton);
-  if (arguments.volume || arguments.bulge) {
-    deform::DeformOptions options;
-    options.preserve_volume = arguments.volume;
-    options.muscle_bulge = arguments.bulge;
-    deformer_->set_options(options);
-  }
-  if (arguments.folding || arguments.protrusion) {
-    deform::CollisionFeatureOptions options;
-    options.folding = arguments.folding;
-    options.protrusion = arguments.protrusion;
-    collision_ = std::make_unique<deform::CollisionFeatures>(*bound_, options);
+  if (arguments.features.any()) {
+    features_ = std::make_unique<deform::FeatureApplier>(*bound_);
+    features_->select(arguments.features, *deformer_);
   }
 }
 
@@ -129,10 +121,7 @@ void PosedModel::deform(int frame, std::vector<glm::vec3>& positions,
   normals.resize(model().vertex_count());
   deform::Pose p = pose(frame);
   deformer_->deform(p, arguments_.method, positions, normals);
-  if (!collision_) return;
-  feature_report_ = collision_->apply(deformer_->skinning(), positions);
-  if (feature_report_.folded + feature_report_.protruded > 0)
-    normals = deform::compute_vertex_normals(positions, bound_->model.indices);
+  if (features_) feature_report_ = features_->apply(*deformer_, positions, normals);
 }
 
 std::uint64_t pose_hash(const deform::Pose& pose) {

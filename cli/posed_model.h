@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "deform/anatomical_features.h"
 #include "deform/bound_model.h"
-#include "deform/collision_features.h"
 #include "deform/deformer.h"
 #include "io/bvh_retarget.h"
 
@@ -27,8 +27,7 @@ struct PosingArguments {
   bool frame_range = false;
   deform::DeformMethod method = deform::DeformMethod::kSweep;
   // --features: anatomical features on top of the sweep method (paper §4.3, §4.4).
-  bool folding = false, protrusion = false, volume = false, bulge = false;
-  bool any_feature() const { return folding || protrusion || volume || bulge; }
+  deform::AnatomicalFeatures features;
 };
 
 // Takes the options it knows out of args (leaving the rest in order). Returns "" or the
@@ -56,7 +55,7 @@ class PosedModel {
   std::unique_ptr<deform::Deformer> deformer_;
   std::optional<io::Retargeter> retargeter_;
   std::optional<deform::Pose> file_pose_;
-  std::unique_ptr<deform::CollisionFeatures> collision_;
+  std::unique_ptr<deform::FeatureApplier> features_;
   deform::FeatureReport feature_report_;
 };
 

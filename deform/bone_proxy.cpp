@@ -42,6 +42,20 @@ const KeyEllipse* joint_key(const BoundSweep& sweep, int joint) {
   return nullptr;
 }
 
+// The joint the bent limb's upper segment starts at: shoulder for an elbow, hip for a knee.
+int upper_joint(const RigMap& rig, CollisionSite site) {
+  switch (site) {
+    case CollisionSite::kLeftElbow:
+      return rig.left_arm.upper;
+    case CollisionSite::kRightElbow:
+      return rig.right_arm.upper;
+    case CollisionSite::kLeftKnee:
+      return rig.left_leg.upper;
+    default:
+      return rig.right_leg.upper;
+  }
+}
+
 constexpr float kMiss = -INFINITY;
 
 // Möller–Trumbore: signed distance along the unit line to the triangle, kMiss when it misses.
@@ -88,7 +102,18 @@ std::vector<BoneProxy> make_bone_proxies(const BoundModel& bound, const Collisio
     glm::vec3 out = elbow ? -forward : forward;
     out = glm::normalize(out - glm::dot(out, frame[2]) * frame[2]);
     const float dx = glm::dot(out, frame[0]), dy = glm::dot(out, frame[1]);
-    const float extent = std::sqrt(key->a * dx * key->a * dx + key->b * dy * key->b * dy);
+    const float key_extent = std::sqrt(key->a * dx * key->a * dx + key->b * dy * key->b * dy);
+    // The rest skin's depth along `out`: the nearest region vertex within 30° of the ray and
+    // within a quarter of the key's extent from its plane (the key can be wider than the skin).
+    float extent = key_extent;
+    for (std::uint32_t v : region.vertices) {
+      const glm::vec3 d = bound.model.positions[v] - key->centre;
+      const float along = glm::dot(d, out);
+      if (std::abs(glm::dot(d, frame[2])) > 0.25f * key_extent || along <= 0.0f) continue;
+      if (along < std::cos(glm::radians(30.0f)) * glm::length(d - glm::dot(d, frame[2]) * frame[2]))
+        continue;
+      extent = std::min(extent, along);
+    }
     const float radius = options.radius_fraction * std::min(key->a, key->b);
     const glm::vec3 side = glm::cross(frame[2], out);
     BoneProxy proxy;
@@ -96,8 +121,10 @@ std::vector<BoneProxy> make_bone_proxies(const BoundModel& bound, const Collisio
     proxy.joint = region.joint;
     proxy.region = static_cast<int>(r);
     proxy.rest_anchor = key->centre;
-    const glm::vec3 ellipse_centre = key->centre + frame * glm::vec3(key->offset, 0.0f);
-    proxy.rest_centre = ellipse_centre + out * (options.surface_fraction * extent - radius);
+    glm::vec3 proximal = position(upper_joint(rig, region.site)) - position(region.joint);
+    proximal = glm::normalize(proximal - glm::dot(proximal, out) * out);
+    proxy.rest_centre = key->centre + out * (options.surface_fraction * extent - radius) +
+                        proximal * (options.proximal_fraction * extent);
     for (const glm::vec3& s : sphere) {
       proxy.rest_positions.push_back(proxy.rest_centre + out * (s.x * radius) +
                                      side * (s.y * radius) + frame[2] * (s.z * 1.5f * radius));

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "deform/enclosed_volume.h"
+
 namespace sweepd::deform {
 
 CollisionFeatures::CollisionFeatures(const BoundModel& bound,
@@ -10,28 +12,63 @@ CollisionFeatures::CollisionFeatures(const BoundModel& bound,
       regions_(find_collision_regions(bound, options.regions)),
       proxies_(make_bone_proxies(bound, regions_, options.proxies)) {}
 
+int CollisionFeatures::find_pairs(const CollisionRegion& region,
+                                  std::span<const glm::vec3> positions, const DetectPairs& detect) {
+  if (detect) {
+    detect(positions, regions_.welded_indices, region.triangles, pairs_);
+  } else {
+    detector_.detect(positions, regions_.welded_indices, region.triangles, pairs_);
+  }
+  return static_cast<int>(pairs_.size());
+}
+
+int CollisionFeatures::fold_region(const CollisionRegion& region, int pairs,
+                                   std::span<glm::vec3> positions, const DetectPairs& detect,
+                                   FeatureReport& report) {
+  for (int round = 0; round < options_.folding_rounds && pairs > 0; ++round) {
+    for (std::size_t i = 0; i < region.vertices.size(); ++i)
+      saved_[i] = positions[region.vertices[i]];
+    saved_pairs_ = pairs_;
+    bool reduced = false;
+    // A fold step; when it does not reduce the pairs, a relax step instead; else stop.
+    for (int step = 0; step < 2 && !reduced; ++step) {
+      FoldingResult folded;
+      if (step == 0) {
+        folded = folder_.fold(region, regions_.welded_indices, saved_pairs_, options_.folding_gap,
+                              positions);
+      } else {
+        folder_.relax(region, regions_.welded_indices, saved_pairs_, positions);
+      }
+      const int now = find_pairs(region, positions, detect);
+      reduced = now < pairs;
+      if (!reduced) {  // never keep a step that does not help
+        for (std::size_t i = 0; i < region.vertices.size(); ++i)
+          positions[region.vertices[i]] = saved_[i];
+        continue;
+      }
+      pairs = now;
+      report.folded += folded.moved;
+      report.deepest_fold = std::max(report.deepest_fold, folded.max_depth);
+    }
+    if (!reduced) break;
+  }
+  return pairs;
+}
+
 FeatureReport CollisionFeatures::apply(std::span<const glm::mat4> skinning,
                                        std::span<glm::vec3> positions, const DetectPairs& detect) {
   FeatureReport report;
-  auto find_pairs = [&](const CollisionRegion& region) {
-    if (detect) {
-      detect(positions, regions_.welded_indices, region.triangles, pairs_);
-    } else {
-      detector_.detect(positions, regions_.welded_indices, region.triangles, pairs_);
-    }
-    return static_cast<int>(pairs_.size());
-  };
   if (options_.folding) {
     for (const CollisionRegion& region : regions_.regions) {
-      const int before = find_pairs(region);
+      const int before = find_pairs(region, positions, detect);
       report.pairs_before += before;
       if (before == 0) continue;
-      const FoldingResult folded =
-          folder_.fold(region, regions_.welded_indices, pairs_, options_.folding_gap, positions);
-      report.folded += folded.moved;
-      report.deepest_fold = std::max(report.deepest_fold, folded.max_depth);
-      report.volume_change += folded.volume_change;
-      report.pairs_after += find_pairs(region);
+      saved_.resize(region.vertices.size());
+      const double volume_before =
+          enclosed_volume(positions, regions_.welded_indices, region.triangles);
+      report.pairs_after += fold_region(region, before, positions, detect, report);
+      report.volume_change +=
+          enclosed_volume(positions, regions_.welded_indices, region.triangles) - volume_before;
     }
   }
   if (options_.protrusion) {

@@ -67,7 +67,7 @@ struct CollisionRegions {
 };
 
 struct CollisionRegionOptions {
-  float joint_window = 0.5f;  // half-width, as a fraction of the shorter adjacent link
+  float joint_window = 0.7f;  // half-width, as a fraction of the shorter adjacent link
 };
 
 CollisionRegions find_collision_regions(const BoundModel& bound,

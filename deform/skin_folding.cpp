@@ -8,6 +8,9 @@
 namespace sweepd::deform {
 namespace {
 
+constexpr int kRelaxIterations = 12;
+constexpr float kRelaxStep = 0.5f;  // of the way to the neighbours' mean, per iteration
+
 // Eigenvector of the smallest eigenvalue of a symmetric 3x3 matrix (columns c).
 glm::dvec3 smallest_eigenvector(const glm::dmat3& c) {
   // Eigenvalues by the trigonometric method (symmetric, so all real).
@@ -144,26 +147,69 @@ FoldingResult SkinFolder::fold(const CollisionRegion& region,
     }
   }
 
-  for (std::uint32_t slot = 0; slot < triangles_.size(); ++slot)
-    result.groups += find(slot) == slot;
-
-  // One plane for the region's fold, through the distinct vertices of all its intersecting
-  // triangles (each claimed by exactly one slot above).
-  points_.clear();
-  for (std::uint32_t slot = 0; slot < triangles_.size(); ++slot) {
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t v = indices[3 * triangles_[slot] + k];
-      if (slot_of_vertex_[v] != static_cast<std::int32_t>(slot)) continue;
-      points_.push_back(positions[v]);
-    }
-  }
+  // Slots grouped by their root; one plane per group, through the group's distinct vertices
+  // (each claimed by exactly one slot above).
+  order_.resize(triangles_.size());
+  for (std::uint32_t slot = 0; slot < triangles_.size(); ++slot) order_[slot] = {find(slot), slot};
+  std::sort(order_.begin(), order_.end());
   const double volume_before = enclosed_volume(positions, indices, region.triangles);
-  pull_back(region, gap, positions, result);
+  for (std::size_t begin = 0; begin < order_.size();) {
+    std::size_t end = begin;
+    points_.clear();
+    for (; end < order_.size() && order_[end].first == order_[begin].first; ++end) {
+      const std::uint32_t slot = order_[end].second;
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t v = indices[3 * triangles_[slot] + k];
+        if (slot_of_vertex_[v] == static_cast<std::int32_t>(slot)) points_.push_back(positions[v]);
+      }
+    }
+    ++result.groups;
+    pull_back(region, gap, positions, result);
+    begin = end;
+  }
   result.volume_change = enclosed_volume(positions, indices, region.triangles) - volume_before;
   for (std::uint32_t t : triangles_) {
     for (int k = 0; k < 3; ++k) slot_of_vertex_[indices[3 * t + k]] = -1;
   }
   return result;
+}
+
+void SkinFolder::relax(const CollisionRegion& region, std::span<const std::uint32_t> indices,
+                       std::span<const TrianglePair> pairs, std::span<glm::vec3> positions) {
+  // Movable: region vertices (mark 1), and of them the corners of intersecting triangles (2).
+  mark_.assign(positions.size(), 0);
+  for (std::uint32_t v : region.vertices) mark_[v] = 1;
+  for (const TrianglePair& p : pairs) {
+    for (std::uint32_t t : {p.first, p.second}) {
+      for (int k = 0; k < 3; ++k) {
+        std::uint8_t& m = mark_[indices[3 * t + k]];
+        if (m) m = 2;
+      }
+    }
+  }
+  sum_.resize(positions.size());
+  count_.resize(positions.size());
+  for (int iteration = 0; iteration < kRelaxIterations; ++iteration) {
+    for (std::uint32_t t : region.triangles) {
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t v = indices[3 * t + k];
+        sum_[v] = glm::vec3(0.0f), count_[v] = 0;
+      }
+    }
+    for (std::uint32_t t : region.triangles) {
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t v = indices[3 * t + k];
+        if (mark_[v] != 2) continue;
+        sum_[v] +=
+            positions[indices[3 * t + (k + 1) % 3]] + positions[indices[3 * t + (k + 2) % 3]];
+        count_[v] += 2;
+      }
+    }
+    for (std::uint32_t v : region.vertices) {
+      if (mark_[v] == 2 && count_[v] > 0)
+        positions[v] += kRelaxStep * (sum_[v] / static_cast<float>(count_[v]) - positions[v]);
+    }
+  }
 }
 
 }  // namespace sweepd::deform

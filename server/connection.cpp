@@ -22,8 +22,9 @@ std::uint64_t nanoseconds_since(std::chrono::steady_clock::time_point from) {
 }
 
 std::vector<std::string> capabilities(bool position_maps) {
-  std::vector<std::string> list = {"sweep",   "lbs",         "dqs",   "float16",
-                                   "normals", "latest_wins", "upload"};
+  std::vector<std::string> list = {"sweep",      "lbs",         "dqs",   "folding",
+                                   "protrusion", "volume",      "bulge", "float16",
+                                   "normals",    "latest_wins", "upload"};
   if (position_maps) list.push_back("position_map");
   return list;
 }

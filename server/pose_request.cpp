@@ -23,13 +23,25 @@ std::span<const float> as_floats(std::span<const glm::vec3> vectors) {
   return {reinterpret_cast<const float*>(vectors.data()), vectors.size() * 3};
 }
 
-// The reply's timings: queued before work started, deforming, and everything else (encoding).
+// The reply's timings: queued before work started, deforming (volume and bulge included: the
+// sweep poser applies them), folding and protrusion, and everything else (encoding).
 void fill_timings(protocol::ServerTimings& timings, const PoseRequest& request,
-                  Clock::time_point started, std::uint64_t deform_ns) {
+                  Clock::time_point started, std::pair<std::uint64_t, std::uint64_t> work_ns) {
+  const auto [deform_ns, features_ns] = work_ns;
   timings.mutate_queued_ns(nanoseconds_between(request.received, started));
   timings.mutate_deform_ns(deform_ns);
-  timings.mutate_features_ns(0);
-  timings.mutate_encode_ns(nanoseconds_between(started, Clock::now()) - deform_ns);
+  timings.mutate_features_ns(features_ns);
+  timings.mutate_encode_ns(nanoseconds_between(started, Clock::now()) - deform_ns - features_ns);
+}
+
+deform::AnatomicalFeatures features_of(protocol::Features bits) {
+  auto has = [&](protocol::Features bit) {
+    return (static_cast<unsigned>(bits) & static_cast<unsigned>(bit)) != 0;
+  };
+  return {.folding = has(protocol::Features::Folding),
+          .protrusion = has(protocol::Features::Protrusion),
+          .volume = has(protocol::Features::Volume),
+          .bulge = has(protocol::Features::Bulge)};
 }
 
 }  // namespace
@@ -39,12 +51,13 @@ std::optional<protocol::PoseProblem> read_pose_request(const protocol::Pose& pos
                                                        std::uint64_t request_id, PoseRequest& out) {
   const deform::Skeleton& skeleton = model->bound.model.skeleton;
   if (auto problem = protocol::check_pose(pose, skeleton.joints.size())) return problem;
-  if (pose.features() != protocol::Features::NONE) {
-    return protocol::PoseProblem{
-        protocol::ErrorCode::NotAvailable,
-        "pose " + std::to_string(pose.sequence()) +
-            ": anatomical features (folding, protrusion, bulge, volume) are not available on "
-            "this server yet; send features = 0"};
+  out.features = features_of(pose.features());
+  if (out.features.any() && pose.method() != protocol::DeformMethod::Sweep) {
+    return protocol::PoseProblem{protocol::ErrorCode::InvalidArgument,
+                                 "pose " + std::to_string(pose.sequence()) + ": features (" +
+                                     to_string(out.features) +
+                                     ") apply to the sweep method only; send features = 0 with " +
+                                     protocol::EnumNameDeformMethod(pose.method())};
   }
   out.request_id = request_id;
   out.model = model;
@@ -79,14 +92,28 @@ std::optional<protocol::PoseProblem> read_pose_request(const protocol::Pose& pos
   return std::nullopt;
 }
 
-deform::Deformer& PosedVerticesWriter::deformer_for(const ModelHandle& model) {
-  auto& slot = deformers_[model->id];
-  if (slot.first != model) {
-    slot.second.reset();
-    slot.first = model;
-    slot.second = std::make_unique<deform::Deformer>(model->bound);
+PosedVerticesWriter::Posing& PosedVerticesWriter::posing_for(const ModelHandle& model) {
+  Posing& slot = posings_[model->id];
+  if (slot.model != model) {
+    slot = {};
+    slot.model = model;
+    slot.deformer = std::make_unique<deform::Deformer>(model->bound);
+    slot.features = std::make_unique<deform::FeatureApplier>(model->bound);
   }
-  return *slot.second;
+  return slot;
+}
+
+std::pair<std::uint64_t, std::uint64_t> PosedVerticesWriter::deform(PoseRequest& request,
+                                                                    std::span<glm::vec3> positions,
+                                                                    std::span<glm::vec3> normals) {
+  Posing& posing = posing_for(request.model);
+  const Clock::time_point start = Clock::now();
+  posing.features->select(request.features, *posing.deformer);
+  posing.deformer->deform(request.pose, request.method, positions, normals, deform_threads_);
+  const Clock::time_point deformed = Clock::now();
+  if (!request.features.collision()) return {nanoseconds_between(start, deformed), 0};
+  posing.features->apply(*posing.deformer, positions, normals);
+  return {nanoseconds_between(start, deformed), nanoseconds_between(deformed, Clock::now())};
 }
 
 std::uint64_t PosedVerticesWriter::write(PoseRequest& request, std::uint32_t dropped_before,
@@ -104,25 +131,18 @@ std::uint64_t PosedVerticesWriter::write(PoseRequest& request, std::uint32_t dro
   header.normals = request.normals;
   header.dropped_before = dropped_before;
   protocol::PosedVerticesFrame frame(builder, header);
-  deform::Deformer& deformer = deformer_for(request.model);
-
-  const Clock::time_point deform_start = Clock::now();
-  std::uint64_t deform_ns = 0;
+  std::pair<std::uint64_t, std::uint64_t> work_ns;
   if (request.format == protocol::PositionFormat::Float32) {
-    deformer.deform(request.pose, request.method, as_vectors(frame.positions_f32()),
-                    as_vectors(frame.normals_f32()), deform_threads_);
-    deform_ns = nanoseconds_between(deform_start, Clock::now());
+    work_ns = deform(request, as_vectors(frame.positions_f32()), as_vectors(frame.normals_f32()));
   } else {
     positions_scratch_.resize(vertex_count);
     normals_scratch_.resize(request.normals ? vertex_count : 0);
-    deformer.deform(request.pose, request.method, positions_scratch_, normals_scratch_,
-                    deform_threads_);
-    deform_ns = nanoseconds_between(deform_start, Clock::now());
+    work_ns = deform(request, positions_scratch_, normals_scratch_);
     protocol::encode_float16(as_floats(positions_scratch_), frame.positions_f16());
     if (request.normals) protocol::encode_float16(as_floats(normals_scratch_), frame.normals_f16());
   }
-  fill_timings(frame.timings(), request, started, deform_ns);
-  return deform_ns;
+  fill_timings(frame.timings(), request, started, work_ns);
+  return work_ns.first + work_ns.second;
 }
 
 std::uint64_t PosedVerticesWriter::write_position_map(PoseRequest& request,
@@ -133,9 +153,8 @@ std::uint64_t PosedVerticesWriter::write_position_map(PoseRequest& request,
   const std::size_t vertex_count = request.model->bound.model.vertex_count();
   positions_scratch_.resize(vertex_count);
   normals_scratch_.resize(vertex_count);
-  deformer_for(request.model)
-      .deform(request.pose, request.method, positions_scratch_, normals_scratch_, deform_threads_);
-  const std::uint64_t deform_ns = nanoseconds_between(started, Clock::now());
+  const std::pair<std::uint64_t, std::uint64_t> work_ns =
+      deform(request, positions_scratch_, normals_scratch_);
   service.render({.model = &request.model->bound.model,
                   .positions = positions_scratch_,
                   .normals = normals_scratch_,
@@ -153,8 +172,8 @@ std::uint64_t PosedVerticesWriter::write_position_map(PoseRequest& request,
                                              .exr_bytes = exr_scratch_.size()});
   // encode_exr writes a growing vector, so the file is copied once into the frame.
   std::copy(exr_scratch_.begin(), exr_scratch_.end(), frame.exr().begin());
-  fill_timings(frame.timings(), request, started, deform_ns);
-  return deform_ns;
+  fill_timings(frame.timings(), request, started, work_ns);
+  return work_ns.first + work_ns.second;
 }
 
 }  // namespace sweepd::server

@@ -6,11 +6,15 @@
 //   wire's x,y,z,w to glm's w,x,y,z, normalised; an absent root translation becomes the
 //   model's rest root position). Returns the problem (code + message naming the pose's
 //   sequence) instead when the pose cannot be posed: wrong joint count, NaN/inf, far from
-//   unit rotations, or a method, feature or format this server does not offer.
+//   unit rotations, a method, feature or format this server does not offer, or features on
+//   a method other than sweep (InvalidArgument).
 // PosedVerticesWriter::write(request, dropped_before, builder): builds the complete reply
 //   frame in `builder` (protocol::PosedVerticesFrame) — float32 positions/normals are
 //   written by the deformer in place; float16 go through one scratch buffer, kept between
 //   frames. write_position_map: the same pose rendered to an EXR position map instead.
+//   The request's features go through one deform::FeatureApplier per model (volume and bulge
+//   inside the deformation, then folding and protrusion), so the vertices equal the library's
+//   bit for bit; ServerTimings.features_ns times folding and protrusion.
 //   One writer per connection (its Deformers are not shared between threads).
 #pragma once
 
@@ -21,6 +25,7 @@
 #include <optional>
 #include <vector>
 
+#include "deform/anatomical_features.h"
 #include "deform/deformer.h"
 #include "protocol/messages.h"
 #include "server/model_registry.h"
@@ -42,6 +47,7 @@ struct PoseRequest {
   std::uint64_t client_time_ns = 0;
   deform::Pose pose;
   deform::DeformMethod method = deform::DeformMethod::kSweep;
+  deform::AnatomicalFeatures features;  // sweep only
   protocol::PositionFormat format = protocol::PositionFormat::Float32;
   bool normals = false;
   std::optional<PositionMapParams> position_map;  // set: answer with a PositionMap
@@ -56,7 +62,7 @@ class PosedVerticesWriter {
  public:
   explicit PosedVerticesWriter(int deform_threads) : deform_threads_(deform_threads) {}
 
-  // Returns the time spent deforming, in nanoseconds.
+  // Returns the time spent deforming (features included), in nanoseconds.
   std::uint64_t write(PoseRequest& request, std::uint32_t dropped_before,
                       flatbuffers::FlatBufferBuilder& builder);
   // The PositionMap reply for a request with position_map set (PositionMapService::render's
@@ -65,11 +71,19 @@ class PosedVerticesWriter {
                                    flatbuffers::FlatBufferBuilder& builder);
 
  private:
-  deform::Deformer& deformer_for(const ModelHandle& model);
+  struct Posing {       // per model: a deformer and the features applied on top of it
+    ModelHandle model;  // kept alive while the deformer refers to it
+    std::unique_ptr<deform::Deformer> deformer;
+    std::unique_ptr<deform::FeatureApplier> features;
+  };
+  Posing& posing_for(const ModelHandle& model);
+  // Deforms the request's pose with its method and features; returns (deform, features) ns.
+  std::pair<std::uint64_t, std::uint64_t> deform(PoseRequest& request,
+                                                 std::span<glm::vec3> positions,
+                                                 std::span<glm::vec3> normals);
 
   int deform_threads_;
-  // Per model id: the model (kept alive while its deformer refers to it) and its deformer.
-  std::map<std::uint32_t, std::pair<ModelHandle, std::unique_ptr<deform::Deformer>>> deformers_;
+  std::map<std::uint32_t, Posing> posings_;                     // per model id
   std::vector<glm::vec3> positions_scratch_, normals_scratch_;  // float16 and position maps
   std::vector<std::uint8_t> exr_scratch_;
 };

@@ -1,6 +1,7 @@
 // Skin folding on a configuration with a known answer: two closed boxes standing for the skin
 // before and past a joint, pushed 5 cm into each other. Folding must separate them exactly at
-// the bisecting plane, leave the far ends alone, and report the volume taken out.
+// the bisecting plane, leave the far ends alone, and report the volume taken out. Relaxing
+// smooths a spike through a plate and nothing else; separate folds get separate planes.
 #include "deform/skin_folding.h"
 
 #include <gtest/gtest.h>
@@ -94,6 +95,34 @@ TEST(SkinFolding, InterpenetratingBoxesAreSeparatedAtTheBisectingPlane) {
   EXPECT_NEAR(result.volume_change, volume_after - volume_before, 1e-6);
 }
 
+TEST(SkinFolding, SeparateGroupsEachGetTheirOwnPlane) {
+  // The boxes of interpenetrating_boxes (meeting across x = 0), and a second pair 5 m away
+  // meeting across y = 5: one plane fitted to both groups would cut neither fold.
+  TwoBoxes boxes = interpenetrating_boxes();
+  testing::SoupMesh& mesh = boxes.mesh;
+  const auto first_second_pair = static_cast<std::uint32_t>(mesh.positions.size());
+  testing::add_subdivided_box(mesh, {-0.5f, 4.0f, 4.5f}, {0.5f, 5.05f, 5.5f}, 10);
+  const auto second_past = static_cast<std::uint32_t>(mesh.positions.size());
+  testing::add_subdivided_box(mesh, {-0.5f, 4.95f, 4.5f}, {0.5f, 6.0f, 5.5f}, 10);
+  for (std::uint32_t v = first_second_pair; v < mesh.positions.size(); ++v) {
+    boxes.region.vertices.push_back(v);
+    boxes.region.sides.push_back(v < second_past ? -1 : 1);
+  }
+  boxes.region.triangles = mesh.all_triangles();
+  SelfIntersectionDetector detector;
+  std::vector<TrianglePair> pairs;
+  detector.detect(mesh.positions, mesh.indices, boxes.region.triangles, pairs);
+  ASSERT_FALSE(pairs.empty());
+  SkinFolder folder;
+  const FoldingResult result =
+      folder.fold(boxes.region, mesh.indices, pairs, 1e-3f, mesh.positions);
+  EXPECT_EQ(result.groups, 2);
+  // Both went 5 cm through their own plane (float grid coordinates).
+  EXPECT_NEAR(result.max_depth, 0.05f, 1e-5f);
+  detector.detect(mesh.positions, mesh.indices, boxes.region.triangles, pairs);
+  EXPECT_TRUE(pairs.empty()) << pairs.size() << " pairs left";
+}
+
 TEST(SkinFolding, NoPairsMovesNothing) {
   TwoBoxes boxes = interpenetrating_boxes();
   const std::vector<glm::vec3> before = boxes.mesh.positions;
@@ -103,6 +132,44 @@ TEST(SkinFolding, NoPairsMovesNothing) {
   EXPECT_EQ(result.moved, 0);
   EXPECT_EQ(result.groups, 0);
   EXPECT_EQ(boxes.mesh.positions, before);
+}
+
+TEST(SkinFolding, RelaxSmoothsOnlyTheIntersectingTrianglesCorners) {
+  // A 1 m grid (10 x 10 cells) in z = 0 whose middle vertex is pulled 0.3 m up, and a small
+  // plate it pokes through at z = 0.2.
+  testing::SoupMesh mesh;
+  testing::add_grid(mesh, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 10);
+  const std::uint32_t grid_vertices = static_cast<std::uint32_t>(mesh.positions.size());
+  const std::uint32_t spike = 5 * 11 + 5;
+  mesh.positions[spike].z = 0.3f;
+  testing::add_grid(mesh, {0.4f, 0.4f, 0.2f}, {0.2f, 0, 0}, {0, 0.2f, 0}, 1);
+  CollisionRegion region;
+  for (std::uint32_t v = 0; v < grid_vertices; ++v)
+    region.vertices.push_back(v), region.sides.push_back(-1);
+  region.triangles = mesh.all_triangles();
+  SelfIntersectionDetector detector;
+  std::vector<TrianglePair> pairs;
+  detector.detect(mesh.positions, mesh.indices, region.triangles, pairs);
+  ASSERT_FALSE(pairs.empty());
+  std::vector<bool> corner(mesh.positions.size());
+  for (const TrianglePair& p : pairs) {
+    for (std::uint32_t t : {p.first, p.second}) {
+      for (int k = 0; k < 3; ++k) corner[mesh.indices[3 * t + k]] = true;
+    }
+  }
+  const std::vector<glm::vec3> before = mesh.positions;
+  SkinFolder folder;
+  folder.relax(region, mesh.indices, pairs, mesh.positions);
+  for (std::uint32_t v = 0; v < mesh.positions.size(); ++v) {
+    // The plate is outside the region and grid vertices away from the spike are no corners.
+    if (v >= grid_vertices || !corner[v]) {
+      EXPECT_EQ(mesh.positions[v], before[v]) << v;
+    }
+  }
+  // Smoothing: the spike sinks below the plate (it ends well under half its height).
+  EXPECT_LT(mesh.positions[spike].z, 0.15f);
+  detector.detect(mesh.positions, mesh.indices, region.triangles, pairs);
+  EXPECT_TRUE(pairs.empty()) << pairs.size() << " pairs left";
 }
 
 }  // namespace

@@ -127,11 +127,12 @@ TEST_F(DaemonErrors, UnknownModelIdIsNamed) {
   expect_error_then_service(protocol::ErrorCode::UnknownModel, "99", 45);
 }
 
-TEST_F(DaemonErrors, FeaturesWithoutAnImplementationAreNotAvailable) {
+TEST_F(DaemonErrors, FeaturesOnASkinningBaselineAreAnInvalidArgument) {
   protocol::PoseFields fields = pose_fields(1, 46, rotations_);
+  fields.method = protocol::DeformMethod::Dqs;
   fields.features = protocol::Features::Folding;
   ASSERT_TRUE(send_pose(*broken_, fields));
-  expect_error_then_service(protocol::ErrorCode::NotAvailable, "features", 46);
+  expect_error_then_service(protocol::ErrorCode::InvalidArgument, "sweep method only", 46);
 }
 
 TEST_F(DaemonErrors, PositionMapsSwitchedOffAreNotAvailable) {

@@ -5,6 +5,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <vector>
 
+#include "deform/anatomical_features.h"
 #include "deform/deformer.h"
 #include "tests/server/daemon_process.h"
 
@@ -45,13 +46,18 @@ inline bool send_pose(FrameClient& client, protocol::PoseFields fields,
 
 struct Deformed {
   std::vector<glm::vec3> positions, normals;
+  deform::FeatureReport features;  // what folding and protrusion did
 };
 
-// What the library itself gives for `rotations` (rest root translation), one thread.
+// What the library itself gives for `rotations` (rest root translation), one thread, with
+// the anatomical features applied as deform::FeatureApplier applies them.
 inline Deformed library_deformation(const deform::BoundModel& bound,
                                     const std::vector<glm::quat>& rotations,
-                                    deform::DeformMethod method) {
+                                    deform::DeformMethod method,
+                                    const deform::AnatomicalFeatures& features = {}) {
   deform::Deformer deformer(bound);
+  deform::FeatureApplier applier(bound);
+  applier.select(features, deformer);
   deform::Pose pose;
   pose.local_rotations = rotations;
   pose.root_translation = bound.model.skeleton.joints[0].rest_translation;
@@ -59,6 +65,7 @@ inline Deformed library_deformation(const deform::BoundModel& bound,
   out.positions.resize(bound.model.vertex_count());
   out.normals.resize(bound.model.vertex_count());
   deformer.deform(pose, method, out.positions, out.normals, 1);
+  out.features = applier.apply(deformer, out.positions, out.normals);
   return out;
 }
 
