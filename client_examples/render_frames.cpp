@@ -239,6 +239,15 @@ int run(const Options& options) {
   }
   const int total = range.last - range.first + 1;
   const int skipped = total - static_cast<int>(todo.size());
+  const Clock::time_point start = Clock::now();
+  auto report = [&](int rendered) {
+    std::printf("rendered %d, skipped %d of %d frames in %.2f s\n", rendered, skipped, total,
+                std::chrono::duration<double>(Clock::now() - start).count());
+  };
+  if (todo.empty()) {  // nothing to ask the server for
+    report(0);
+    return 0;
+  }
 
   sweepd::client::Connection channel(options.server);
   const std::uint32_t window =
@@ -275,26 +284,33 @@ int run(const Options& options) {
     channel.send(pb::finish_message(builder, request));
   };
 
-  // Pipelined: up to `window` requests in flight; each reply is written as it arrives.
-  const Clock::time_point start = Clock::now();
+  // Pipelined: up to `window` requests in flight, answered in order; each reply is written as
+  // it arrives.
+  std::deque<int> in_flight;
   int rendered = 0;
-  std::size_t in_flight = 0;
   show_progress(skipped, total, 0, start);
-  while (!todo.empty() || in_flight > 0) {
-    while (!todo.empty() && in_flight < window) {
+  while (!todo.empty() || !in_flight.empty()) {
+    while (!todo.empty() && in_flight.size() < window) {
       send_frame(todo.front());
+      in_flight.push_back(todo.front());
       todo.pop_front();
-      ++in_flight;
     }
-    const pb::PositionMap& map = channel.expect<pb::PositionMap>();
-    --in_flight;
-    write_file(frame_file(options, static_cast<int>(map.sequence()) - 1), map);
+    const int frame = in_flight.front();
+    in_flight.pop_front();
+    try {
+      const pb::PositionMap& map = channel.expect<pb::PositionMap>();
+      if (map.sequence() != static_cast<std::uint64_t>(frame) + 1) {
+        throw std::runtime_error("the answer is for pose " + std::to_string(map.sequence()));
+      }
+      write_file(frame_file(options, frame), map);
+    } catch (const std::exception& error) {
+      throw std::runtime_error("frame " + std::to_string(frame) + ": " + error.what());
+    }
     ++rendered;
     show_progress(skipped + rendered, total, rendered, start);
   }
   channel.close("frames rendered");
-  std::printf("rendered %d, skipped %d of %d frames in %.2f s\n", rendered, skipped, total,
-              std::chrono::duration<double>(Clock::now() - start).count());
+  report(rendered);
   return 0;
 }
 

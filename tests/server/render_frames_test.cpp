@@ -172,6 +172,29 @@ TEST_F(RenderFrames, RendersEachFrameOnceAndAgainOnlyWhenMissingOrBroken) {
   int files = 0;
   for ([[maybe_unused]] const auto& entry : fs::directory_iterator(directory_ / "frames")) ++files;
   EXPECT_EQ(files, 6);
+
+  // With every frame complete there is nothing to ask: no server needed (port 1: none there).
+  const ClientRun third = run_render_frames(
+      "--server 127.0.0.1:1 --bvh " + clip_.string() + " --frames " + std::to_string(kFirst) + "-" +
+      std::to_string(kLast) + " -o " + (directory_ / "frames").string());
+  EXPECT_EQ(third.exit_code, 0) << third.output;
+  EXPECT_EQ(frame_counts(third.output), (std::array<int, 3>{0, 6, 6})) << third.output;
+}
+
+TEST_F(RenderFrames, AFramesServerErrorNamesTheFrameAndLeavesNoFile) {
+  // A second daemon that answers every PositionMapRequest with NotAvailable.
+  const fs::path other = fresh_directory("render_frames_no_maps");
+  DaemonProcess no_maps(other, {"--position-maps", "0"});
+  ASSERT_TRUE(no_maps.running()) << no_maps.log();
+  const ClientRun run =
+      run_render_frames("--server 127.0.0.1:" + std::to_string(no_maps.port()) + " --bvh " +
+                        clip_.string() + " --frames 7-9 -o " + (directory_ / "frames").string());
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.output.find("frame 7: server error NotAvailable"), std::string::npos) << run.output;
+  int files = 0;
+  for ([[maybe_unused]] const auto& entry : fs::directory_iterator(directory_ / "frames")) ++files;
+  EXPECT_EQ(files, 0) << "neither a frame nor a partial file";
+  fs::remove_all(other);
 }
 
 TEST_F(RenderFrames, BadInputIsNamedWithItsExitCode) {
