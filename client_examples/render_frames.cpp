@@ -6,11 +6,11 @@
 //                 [--compression zip|none|zips|piz] [--normals] [--method sweep|lbs|dqs]
 //
 // 1. Read the clip and check the range A-B (inclusive, 0-based) against its frames.
-// 2. Connect, Hello, choose the model (--model NAME, default "mannequin", or upload
-//    --model-file), retarget the clip onto the skeleton ModelInfo carries.
-// 3. Resume: a frame whose file DIR/<clip stem>.<frame, 5 digits>.exr exists and opens as a
+// 2. Resume: a frame whose file DIR/<clip stem>.<frame, 5 digits>.exr exists and opens as a
 //    complete OpenEXR file is skipped; a truncated or corrupt one is rendered again (said on
 //    stderr). With every frame complete the server is not contacted.
+// 3. Connect, Hello, choose the model (--model NAME, default "mannequin", or upload
+//    --model-file), retarget the clip onto the skeleton ModelInfo carries.
 // 4. Each remaining frame → one PositionMapRequest (positions and coverage, normals with
 //    --normals), up to Welcome.max_poses_in_flight in flight. The reply's EXR bytes are written
 //    to DIR/.<name>.partial and renamed, so a file present under its name is complete.
