@@ -42,3 +42,6 @@ for b in json.load(open(sys.argv[2]))["benchmarks"]:
     print(f"| {b['name']} | {int(b['vertices']):,} | {b['real_time']:.0f} |")
 PY
 rm -rf "$out"
+
+# The daemon over loopback: round trip, throughput and overhead against in-process deformation.
+"$build/bench/server_bench"

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The main job: start the sweepd daemon on its default model (the procedural mannequin), stream
-# a CMU motion clip to it with the stream_poses client, print the latency figures, write one EXR
-# position map and a PNG preview of the daemon's bound model, and stop the daemon.
+# a CMU motion clip to it with the stream_poses client, print the latency figures, have the daemon
+# render one EXR position map (render_frames), write a PNG preview of its bound model, and stop
+# the daemon.
 set -euo pipefail
 build=${1:-build/release}
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -30,9 +31,10 @@ else
   "$build/client_examples/stream_poses" --port "$port" --token "$token" --bvh "$clip" --frames 240
 
   echo
-  echo "== 3. frame 600 of the clip on the daemon's bound model: EXR position map and PNG preview"
+  echo "== 3. frame 600 through the daemon: EXR position map (render_frames), PNG preview (sweepctl)"
+  "$build/client_examples/render_frames" --server "127.0.0.1:$port" --token "$token" --bvh "$clip" \
+    --frames 600-600 --normals -o "$out"
   binding=$(ls "$out"/store/*.sweepbind | head -n 1)
-  "$build/cli/sweepctl" positionmap "$binding" --bvh "$clip" --frame 600 --normals -o "$out/frame600.exr"
   "$build/cli/sweepctl" render "$binding" --bvh "$clip" --frame 600 --png "$out/frame600.png" --size 600
 fi
 

@@ -1,0 +1,372 @@
+// server_bench: what a client sees of sweepd, against what the deformation itself costs.
+//
+//   server_bench [--daemon PATH] [--vertices N] [--poses N] [--seconds S]
+//
+// Starts the real sweepd (the built binary, --port 0, its own store in a temporary folder,
+// --mannequin-vertices N, default 72000) and, over loopback with float32 positions:
+//   1. round trip: one client, InOrder, one pose at a time → p50 / p99 per pose;
+//   2. throughput: 1, 8 and 32 clients, each keeping Welcome.max_poses_in_flight poses in
+//      flight for S seconds → poses answered per second, all clients together;
+//   3. in-process: the same poses on the same binding (the daemon's store/1.sweepbind) with
+//      deform::Deformer, one thread, positions only → p50 / p99, and round trip ÷ in-process.
+// The poses are frames of CMU clip 01_01 retargeted client-side (client::retarget_onto).
+// Prints a Markdown table for the README; the targets are p50 ≤ 2 ms, p99 ≤ 5 ms,
+// ≥ 1000 poses/s, ratio ≤ 2. Exit code 1 when the daemon or the data cannot be had.
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <numeric>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "client/connection.h"
+#include "client/model_skeleton.h"
+#include "deform/deformer.h"
+#include "io/bvh_load.h"
+#include "io/sweepbind.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+namespace pb = sweepd::protocol;
+using Clock = std::chrono::steady_clock;
+
+struct Options {
+  std::string daemon = SWEEPD_DAEMON;
+  int vertices = 72000;
+  int poses = 400;
+  double seconds = 3.0;
+};
+
+// The daemon as a child process, killed when this goes.
+class Daemon {
+ public:
+  Daemon(const Options& options, const fs::path& directory) : directory_(directory) {
+    const fs::path port_file = directory / "port";
+    const std::string vertices = std::to_string(options.vertices);
+    const std::string log = (directory / "sweepd.log").string();
+    const std::string store = (directory / "store").string();
+    const char* argv[] = {
+        options.daemon.c_str(), "--port",          "0",           "--port-file",
+        port_file.c_str(),      "--store-dir",     store.c_str(), "--mannequin-vertices",
+        vertices.c_str(),       "--position-maps", "0",           nullptr};
+    // Its JSON log to a file, its stdout away: the bench prints only the tables.
+    posix_spawn_file_actions_t streams;
+    posix_spawn_file_actions_init(&streams);
+    posix_spawn_file_actions_addopen(&streams, STDERR_FILENO, log.c_str(),
+                                     O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_addopen(&streams, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+    const int spawned =
+        posix_spawn(&pid_, argv[0], &streams, nullptr, const_cast<char* const*>(argv), environ);
+    posix_spawn_file_actions_destroy(&streams);
+    if (spawned != 0) throw std::runtime_error("cannot start " + options.daemon);
+    for (int tries = 0; tries < 1200 && !fs::exists(port_file); ++tries) {
+      if (waitpid(pid_, nullptr, WNOHANG) == pid_) break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    if (!fs::exists(port_file)) {
+      throw std::runtime_error(options.daemon + " did not start; log in " + log);
+    }
+    std::ifstream(port_file) >> port_;
+  }
+  ~Daemon() {
+    kill(pid_, SIGTERM);
+    waitpid(pid_, nullptr, 0);
+  }
+  std::string address() const { return "127.0.0.1:" + std::to_string(port_); }
+  fs::path binding() const { return directory_ / "store" / "1.sweepbind"; }
+  // The daemon's CPU time so far (user + system), in milliseconds; and its resident memory.
+  double cpu_ms() const {
+    std::ifstream stat("/proc/" + std::to_string(pid_) + "/stat");
+    std::string field;
+    double ticks = 0.0;
+    for (int i = 1; i <= 15 && stat >> field; ++i) {
+      if (i >= 14) ticks += std::stod(field);  // utime, stime (fields 14, 15)
+    }
+    return ticks * 1000.0 / static_cast<double>(sysconf(_SC_CLK_TCK));
+  }
+  double resident_mib() const {
+    std::ifstream statm("/proc/" + std::to_string(pid_) + "/statm");
+    double pages = 0.0;
+    statm >> pages >> pages;
+    return pages * static_cast<double>(sysconf(_SC_PAGESIZE)) / (1 << 20);
+  }
+
+ private:
+  fs::path directory_;
+  pid_t pid_ = -1;
+  int port_ = 0;
+};
+
+// One pose as the client sends it, and as the library takes it.
+struct BenchPose {
+  std::vector<pb::Quat> rotations;
+  pb::Vec3 root;
+  sweepd::deform::Pose pose;
+};
+
+std::vector<BenchPose> clip_poses(const pb::ModelInfo& info, int count) {
+  const fs::path clip = fs::path(SWEEPD_SHARED_DATA) / "motion" / "cmu_01_01.bvh";
+  const sweepd::io::Retargeter retargeter =
+      sweepd::client::retarget_onto(info, sweepd::io::load_bvh(clip, {.length_scale = 0.056444f}));
+  std::vector<BenchPose> poses;
+  for (int i = 0; i < count; ++i) {
+    BenchPose p;
+    p.pose = retargeter.pose_at_frame(i * (retargeter.frame_count() - 1) / std::max(1, count - 1));
+    for (const glm::quat& q : p.pose.local_rotations) p.rotations.emplace_back(q.x, q.y, q.z, q.w);
+    const glm::vec3& t = p.pose.root_translation;
+    p.root = pb::Vec3(t.x, t.y, t.z);
+    poses.push_back(std::move(p));
+  }
+  return poses;
+}
+
+void send_pose(sweepd::client::Connection& connection, std::uint32_t model_id,
+               std::uint64_t sequence, const BenchPose& pose) {
+  pb::PoseFields fields;
+  fields.model_id = model_id;
+  fields.sequence = sequence;
+  fields.rotations = pose.rotations;
+  fields.root_translation = pose.root;
+  flatbuffers::FlatBufferBuilder& builder = connection.builder();
+  builder.Clear();
+  connection.send(pb::finish_message(builder, pb::add_pose(builder, fields)));
+}
+
+double percentile(std::vector<double> values, double q) {
+  std::sort(values.begin(), values.end());
+  return values[static_cast<std::size_t>(q * static_cast<double>(values.size() - 1))];
+}
+
+double milliseconds_since(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+// One pose's round trip and the server's share of it (ServerTimings), in milliseconds.
+struct RoundTrip {
+  double total = 0.0, queued = 0.0, deform = 0.0, encode = 0.0;
+  double rest() const { return total - queued - deform - encode; }  // wire and wake-ups
+};
+
+// Round trips, one pose at a time (after a few warm-up poses).
+std::vector<RoundTrip> round_trips(const std::string& address,
+                                   const std::vector<BenchPose>& poses) {
+  sweepd::client::Connection connection(address);
+  connection.hello("", "server_bench latency");
+  const std::uint32_t model_id = connection.load_model("mannequin").model_id();
+  std::vector<RoundTrip> times;
+  constexpr int kWarmUp = 20;
+  for (int i = -kWarmUp; i < static_cast<int>(poses.size()); ++i) {
+    const Clock::time_point start = Clock::now();
+    send_pose(connection, model_id, static_cast<std::uint64_t>(i + kWarmUp + 1),
+              poses[static_cast<std::size_t>(std::max(i, 0))]);
+    const pb::ServerTimings& server = *connection.expect<pb::PosedVertices>().timings();
+    if (i >= 0) {
+      times.push_back({milliseconds_since(start), server.queued_ns() * 1e-6,
+                       server.deform_ns() * 1e-6, server.encode_ns() * 1e-6});
+    }
+  }
+  connection.close();
+  return times;
+}
+
+template <typename Member>
+double percentile_of(const std::vector<RoundTrip>& trips, Member member, double q) {
+  std::vector<double> values;
+  for (const RoundTrip& trip : trips) values.push_back(std::invoke(member, trip));
+  return percentile(std::move(values), q);
+}
+
+double process_cpu_ms() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  auto ms = [](const timeval& t) { return t.tv_sec * 1e3 + t.tv_usec * 1e-3; };
+  return ms(usage.ru_utime) + ms(usage.ru_stime);
+}
+
+struct Throughput {
+  int clients = 0;
+  double poses_per_second = 0.0;
+  double server_cpu_ms = 0.0, client_cpu_ms = 0.0;  // per pose answered
+  double server_mib = 0.0;                          // resident, at the end
+  double first_pose_ms = 0.0;                       // a new connection's first round trip, mean
+};
+
+// `clients` connections, each keeping its window of poses full for `seconds`.
+Throughput throughput(const Daemon& daemon, const std::vector<BenchPose>& poses, int clients,
+                      double seconds) {
+  std::atomic<std::uint64_t> answered{0};
+  std::atomic<int> ready{0};
+  std::vector<double> first_pose_ms(static_cast<std::size_t>(clients));
+  std::atomic<bool> go{false};
+  Clock::time_point end;
+  std::vector<std::thread> threads;
+  for (int c = 0; c < clients; ++c) {
+    threads.emplace_back([&, c]() {
+      sweepd::client::Connection connection(daemon.address());
+      const std::uint32_t window = connection.hello("", "server_bench").max_poses_in_flight();
+      const std::uint32_t model_id = connection.load_model("mannequin").model_id();
+      // One pose answered before the clock starts: the server's per-connection set-up is done.
+      const Clock::time_point first_sent = Clock::now();
+      send_pose(connection, model_id, 1, poses[0]);
+      connection.expect<pb::PosedVertices>();
+      first_pose_ms[static_cast<std::size_t>(c)] = milliseconds_since(first_sent);
+      ++ready;
+      while (!go) std::this_thread::yield();
+      std::uint64_t sent = 1, received = 1;
+      auto send_next = [&]() {
+        send_pose(connection, model_id, sent + 1, poses[(sent + c) % poses.size()]);
+        ++sent;
+      };
+      while (sent < window + 1) send_next();
+      while (Clock::now() < end) {
+        connection.expect<pb::PosedVertices>();
+        ++received;
+        ++answered;
+        send_next();
+      }
+      for (; received < sent; ++received) connection.expect<pb::PosedVertices>();
+      connection.close();
+    });
+  }
+  while (ready < clients) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  const double server_cpu = daemon.cpu_ms(), client_cpu = process_cpu_ms();
+  const Clock::time_point start = Clock::now();
+  end = start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
+  go = true;
+  for (std::thread& thread : threads) thread.join();
+  const double count = static_cast<double>(answered);
+  return {
+      .clients = clients,
+      .poses_per_second = count / std::chrono::duration<double>(end - start).count(),
+      .server_cpu_ms = (daemon.cpu_ms() - server_cpu) / count,
+      .client_cpu_ms = (process_cpu_ms() - client_cpu) / count,
+      .server_mib = daemon.resident_mib(),
+      .first_pose_ms = std::accumulate(first_pose_ms.begin(), first_pose_ms.end(), 0.0) / clients};
+}
+
+// The library's own time for the same poses: one thread, positions only.
+std::vector<double> in_process_ms(const fs::path& binding, std::vector<BenchPose> poses) {
+  const sweepd::deform::BoundModel bound = sweepd::io::load_sweepbind(binding);
+  sweepd::deform::Deformer deformer(bound);
+  std::vector<glm::vec3> positions(bound.model.vertex_count());
+  std::vector<double> times;
+  for (int round = 0; round < 2; ++round) {  // the first round warms the caches
+    times.clear();
+    for (BenchPose& pose : poses) {
+      const Clock::time_point start = Clock::now();
+      deformer.deform(pose.pose, sweepd::deform::DeformMethod::kSweep, positions, {}, 1);
+      times.push_back(milliseconds_since(start));
+    }
+  }
+  return times;
+}
+
+double load_average() {
+  double one_minute = 0.0;
+  std::ifstream("/proc/loadavg") >> one_minute;
+  return one_minute;
+}
+
+Options parse(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i + 1 < argc; i += 2) {
+    const std::string flag = argv[i], value = argv[i + 1];
+    if (flag == "--daemon")
+      o.daemon = value;
+    else if (flag == "--vertices")
+      o.vertices = std::stoi(value);
+    else if (flag == "--poses")
+      o.poses = std::stoi(value);
+    else if (flag == "--seconds")
+      o.seconds = std::stod(value);
+    else
+      throw std::invalid_argument(flag + ": unknown flag");
+  }
+  if (argc % 2 == 0) throw std::invalid_argument(std::string(argv[argc - 1]) + ": missing value");
+  return o;
+}
+
+int run(const Options& options) {
+  const fs::path directory =
+      fs::temp_directory_path() / ("sweepd_server_bench_" + std::to_string(getpid()));
+  fs::create_directories(directory);
+  std::vector<BenchPose> poses;
+  std::vector<RoundTrip> round_trip;
+  std::vector<double> in_process;
+  std::vector<Throughput> rates;
+  std::uint32_t vertex_count = 0;
+  {
+    const Daemon daemon(options, directory);
+    {
+      sweepd::client::Connection connection(daemon.address());
+      connection.hello("", "server_bench");
+      const pb::ModelInfo& info = connection.load_model("mannequin");
+      vertex_count = info.vertex_count();
+      poses = clip_poses(info, options.poses);
+      connection.close();
+    }
+    round_trip = round_trips(daemon.address(), poses);
+    for (int clients : {1, 8, 32}) {
+      rates.push_back(throughput(daemon, poses, clients, options.seconds));
+    }
+    in_process = in_process_ms(daemon.binding(), poses);
+  }
+  fs::remove_all(directory);
+
+  const double round_trip_p50 = percentile_of(round_trip, &RoundTrip::total, 0.5);
+  std::printf(
+      "| mannequin | round trip p50 ms | p99 ms | in-process p50 ms | p99 ms | ratio p50 |\n");
+  std::printf("|---|---|---|---|---|---|\n");
+  std::printf("| %u vertices | %.3f | %.3f | %.3f | %.3f | %.2f |\n\n", vertex_count,
+              round_trip_p50, percentile_of(round_trip, &RoundTrip::total, 0.99),
+              percentile(in_process, 0.5), percentile(in_process, 0.99),
+              round_trip_p50 / percentile(in_process, 0.5));
+  std::printf(
+      "round trip p50 / p99, ms: queued %.3f / %.3f, deform %.3f / %.3f, encode %.3f / "
+      "%.3f, wire and wake-ups %.3f / %.3f\n\n",
+      percentile_of(round_trip, &RoundTrip::queued, 0.5),
+      percentile_of(round_trip, &RoundTrip::queued, 0.99),
+      percentile_of(round_trip, &RoundTrip::deform, 0.5),
+      percentile_of(round_trip, &RoundTrip::deform, 0.99),
+      percentile_of(round_trip, &RoundTrip::encode, 0.5),
+      percentile_of(round_trip, &RoundTrip::encode, 0.99),
+      percentile_of(round_trip, &RoundTrip::rest, 0.5),
+      percentile_of(round_trip, &RoundTrip::rest, 0.99));
+  std::printf(
+      "| clients | poses/s | server CPU ms/pose | client CPU ms/pose | server RSS MiB | "
+      "first pose on a new connection, ms |\n");
+  std::printf("|---|---|---|---|---|---|\n");
+  for (const Throughput& r : rates) {
+    std::printf("| %d | %.0f | %.3f | %.3f | %.0f | %.1f |\n", r.clients, r.poses_per_second,
+                r.server_cpu_ms, r.client_cpu_ms, r.server_mib, r.first_pose_ms);
+  }
+  std::printf(
+      "\n%d poses of cmu_01_01, float32 positions, loopback, %u hardware threads, load "
+      "average %.1f; targets: p50 <= 2 ms, p99 <= 5 ms, >= 1000 poses/s, ratio <= 2\n",
+      options.poses, std::thread::hardware_concurrency(), load_average());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(parse(argc, argv));
+  } catch (const std::exception& error) {
+    std::fprintf(stderr, "server_bench: %s\n", error.what());
+    return 1;
+  }
+}

@@ -1,0 +1,329 @@
+// render_frames: a render-farm client — one OpenEXR position map per frame of a BVH clip,
+// rendered by sweepd.
+//
+//   render_frames --server HOST:PORT [--token T] [--model NAME | --model-file F.glb]
+//                 --bvh CLIP [--bvh-scale S] --frames A-B -o DIR [--width W --height H]
+//                 [--compression zip|none|zips|piz] [--normals] [--method sweep|lbs|dqs]
+//
+// 1. Read the clip and check the range A-B (inclusive, 0-based) against its frames.
+// 2. Resume: a frame whose file DIR/<clip stem>.<frame, 5 digits>.exr exists and opens as a
+//    complete OpenEXR file is skipped; a truncated or corrupt one is rendered again (said on
+//    stderr). With every frame complete the server is not contacted.
+// 3. Connect, Hello, choose the model (--model NAME, default "mannequin", or upload
+//    --model-file), retarget the clip onto the skeleton ModelInfo carries.
+// 4. Each remaining frame → one PositionMapRequest (positions and coverage, normals with
+//    --normals), up to Welcome.max_poses_in_flight in flight. The reply's EXR bytes are written
+//    to DIR/.<name>.partial and renamed, so a file present under its name is complete.
+// 5. A progress bar on stderr (frames done/total, rate, ETA); at the end, on stdout:
+//    "rendered R, skipped S of T frames in X s".
+//
+// Exit codes: 0 every frame present; 1 the server or a file refused (unreachable server,
+// unknown model, a frame's Error, a write failure), named on stderr; 2 a usage error (flags,
+// the range).
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfInputFile.h>
+
+#include <algorithm>
+#include <charconv>
+#include <chrono>
+#include <cstdio>
+#include <deque>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iterator>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "client/connection.h"
+#include "client/model_skeleton.h"
+#include "io/bvh_load.h"
+#include "protocol/messages.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+namespace pb = sweepd::protocol;
+using Clock = std::chrono::steady_clock;
+
+// Problems with the command line (exit code 2); anything else thrown is exit code 1.
+struct UsageError : std::invalid_argument {
+  using std::invalid_argument::invalid_argument;
+};
+
+struct Options {
+  std::string server, token, model = "mannequin", model_file, bvh, frames;
+  fs::path out_dir;
+  float bvh_scale = 0.056444f;  // CMU inches to metres
+  std::uint32_t width = 1024, height = 1024;
+  pb::ExrCompression compression = pb::ExrCompression::Zip;
+  pb::DeformMethod method = pb::DeformMethod::Sweep;
+  bool normals = false;
+};
+
+template <typename Enum>
+Enum choose(const std::string& flag, const std::string& value,
+            const std::map<std::string, Enum>& choices) {
+  if (auto found = choices.find(value); found != choices.end()) return found->second;
+  std::string names;
+  for (const auto& [name, unused] : choices) names += (names.empty() ? "" : "|") + name;
+  throw UsageError(flag + " " + value + ": expected " + names);
+}
+
+template <typename Number>
+Number number(const std::string& flag, const std::string& value) {
+  Number result{};
+  const auto [end, error] = std::from_chars(value.data(), value.data() + value.size(), result);
+  if (error != std::errc() || end != value.data() + value.size()) {
+    throw UsageError(flag + " " + value + ": not a number");
+  }
+  return result;
+}
+
+std::uint32_t side(const std::string& flag, const std::string& value) {
+  const int texels = number<int>(flag, value);
+  if (texels < 1 || texels > 4096) throw UsageError(flag + " " + value + ": expected 1 to 4096");
+  return static_cast<std::uint32_t>(texels);
+}
+
+Options parse(int argc, char** argv) {
+  Options o;
+  using Setter = std::function<void(const std::string& flag, const std::string& value)>;
+  const std::map<std::string, Setter> takes_value = {
+      {"--server", [&](auto&, auto& v) { o.server = v; }},
+      {"--token", [&](auto&, auto& v) { o.token = v; }},
+      {"--model", [&](auto&, auto& v) { o.model = v; }},
+      {"--model-file", [&](auto&, auto& v) { o.model_file = v; }},
+      {"--bvh", [&](auto&, auto& v) { o.bvh = v; }},
+      {"--bvh-scale", [&](auto& f, auto& v) { o.bvh_scale = number<float>(f, v); }},
+      {"--frames", [&](auto&, auto& v) { o.frames = v; }},
+      {"-o", [&](auto&, auto& v) { o.out_dir = v; }},
+      {"--width", [&](auto& f, auto& v) { o.width = side(f, v); }},
+      {"--height", [&](auto& f, auto& v) { o.height = side(f, v); }},
+      {"--compression",
+       [&](auto& f, auto& v) {
+         o.compression = choose<pb::ExrCompression>(f, v,
+                                                    {{"zip", pb::ExrCompression::Zip},
+                                                     {"none", pb::ExrCompression::Uncompressed},
+                                                     {"zips", pb::ExrCompression::Zips},
+                                                     {"piz", pb::ExrCompression::Piz}});
+       }},
+      {"--method",
+       [&](auto& f, auto& v) {
+         o.method = choose<pb::DeformMethod>(f, v,
+                                             {{"sweep", pb::DeformMethod::Sweep},
+                                              {"lbs", pb::DeformMethod::Lbs},
+                                              {"dqs", pb::DeformMethod::Dqs}});
+       }},
+  };
+  for (int i = 1; i < argc; ++i) {
+    const std::string flag = argv[i];
+    if (flag == "--normals") {
+      o.normals = true;
+    } else if (const auto setter = takes_value.find(flag); setter != takes_value.end()) {
+      if (i + 1 >= argc) throw UsageError(flag + ": missing value");
+      setter->second(flag, argv[++i]);
+    } else {
+      throw UsageError(flag + ": unknown flag");
+    }
+  }
+  if (o.server.empty()) throw UsageError("--server HOST:PORT is required");
+  if (o.bvh.empty()) throw UsageError("--bvh CLIP is required");
+  if (o.frames.empty()) throw UsageError("--frames A-B is required");
+  if (o.out_dir.empty()) throw UsageError("-o DIR is required");
+  return o;
+}
+
+// A model file to upload, whole.
+std::vector<std::uint8_t> file_bytes(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot read " + file.string());
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+struct FrameRange {
+  int first = 0, last = 0;  // inclusive
+};
+
+// "A-B" (or "A") within a clip of `frame_count` frames.
+FrameRange parse_range(const std::string& text, int frame_count) {
+  const std::size_t dash = text.find('-');
+  FrameRange range;
+  try {
+    range.first = number<int>("--frames", text.substr(0, dash));
+    range.last =
+        dash == std::string::npos ? range.first : number<int>("--frames", text.substr(dash + 1));
+  } catch (const UsageError&) {
+    throw UsageError("--frames " + text + ": expected A-B, e.g. 0-239");
+  }
+  if (range.last < range.first || range.last >= frame_count) {
+    throw UsageError("--frames " + text + ": the clip has frames 0-" +
+                     std::to_string(frame_count - 1) + " and A must not exceed B");
+  }
+  return range;
+}
+
+fs::path frame_file(const Options& options, int frame) {
+  char number[16];
+  std::snprintf(number, sizeof number, "%05d", frame);
+  return options.out_dir / (fs::path(options.bvh).stem().string() + "." + number + ".exr");
+}
+
+// Why `file` is not a complete OpenEXR file, or "" when it is. isComplete() only checks that
+// every chunk has an offset, so the first channel is also decoded (into one reused row), which
+// finds truncated and corrupt chunks.
+std::string incomplete_reason(const fs::path& file) {
+  try {
+    Imf::InputFile exr(file.c_str());
+    if (!exr.isComplete()) return "chunks missing";
+    const Imath::Box2i window = exr.header().dataWindow();
+    const Imf::Channel& channel = exr.header().channels().begin().channel();
+    std::vector<float> row(static_cast<std::size_t>(window.max.x - window.min.x + 1));
+    Imf::FrameBuffer frame_buffer;
+    frame_buffer.insert(exr.header().channels().begin().name(),
+                        Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(row.data() - window.min.x),
+                                   sizeof(float), 0, channel.xSampling, channel.ySampling));
+    exr.setFrameBuffer(frame_buffer);
+    exr.readPixels(window.min.y, window.max.y);
+    return "";
+  } catch (const std::exception& error) {
+    return error.what();
+  }
+}
+
+void write_file(const fs::path& file, const pb::PositionMap& map) {
+  const fs::path partial = file.parent_path() / ("." + file.filename().string() + ".partial");
+  {
+    std::ofstream out(partial, std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(map.exr()->data()),
+              static_cast<std::streamsize>(map.exr()->size()));
+    if (!out.flush()) throw std::runtime_error("cannot write " + partial.string());
+  }
+  fs::rename(partial, file);
+}
+
+// "[####....] done/total frames  rate frames/s  ETA s"; the rate counts this run's renders.
+void show_progress(int done, int total, int rendered, Clock::time_point start) {
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  const double rate = seconds > 0.0 ? rendered / seconds : 0.0;
+  const double eta = rate > 0.0 ? (total - done) / rate : 0.0;
+  constexpr int kBarWidth = 30;
+  const int filled = total > 0 ? done * kBarWidth / total : kBarWidth;
+  std::fprintf(stderr, "\r[%s%s] %d/%d frames  %.1f frames/s  ETA %.0f s ",
+               std::string(static_cast<std::size_t>(filled), '#').c_str(),
+               std::string(static_cast<std::size_t>(kBarWidth - filled), '.').c_str(), done, total,
+               rate, eta);
+  if (done == total) std::fputc('\n', stderr);
+}
+
+int run(const Options& options) {
+  const sweepd::io::Motion motion =
+      sweepd::io::load_bvh(options.bvh, {.length_scale = options.bvh_scale});
+  const FrameRange range = parse_range(options.frames, motion.frame_count);
+  fs::create_directories(options.out_dir);
+
+  // Resume: only frames without a complete file are rendered.
+  std::deque<int> todo;
+  for (int frame = range.first; frame <= range.last; ++frame) {
+    const fs::path file = frame_file(options, frame);
+    if (!fs::exists(file)) {
+      todo.push_back(frame);
+    } else if (const std::string reason = incomplete_reason(file); !reason.empty()) {
+      std::fprintf(stderr, "%s is not a complete EXR (%s): rendering it again\n", file.c_str(),
+                   reason.c_str());
+      todo.push_back(frame);
+    }
+  }
+  const int total = range.last - range.first + 1;
+  const int skipped = total - static_cast<int>(todo.size());
+  const Clock::time_point start = Clock::now();
+  auto report = [&](int rendered) {
+    std::printf("rendered %d, skipped %d of %d frames in %.2f s\n", rendered, skipped, total,
+                std::chrono::duration<double>(Clock::now() - start).count());
+  };
+  if (todo.empty()) {  // nothing to ask the server for
+    report(0);
+    return 0;
+  }
+
+  sweepd::client::Connection channel(options.server);
+  const std::uint32_t window =
+      std::max(1u, channel.hello(options.token, "render_frames").max_poses_in_flight());
+  const pb::ModelInfo& info =
+      options.model_file.empty()
+          ? channel.load_model(options.model)
+          : channel.load_model(options.model_file, file_bytes(options.model_file));
+  const std::uint32_t model_id = info.model_id();
+  const std::size_t joint_count = info.joint_names()->size();
+  const sweepd::io::Retargeter clip = sweepd::client::retarget_onto(info, motion);
+
+  auto send_frame = [&](int frame) {
+    const sweepd::deform::Pose pose = clip.pose_at_frame(frame);
+    std::vector<pb::Quat> rotations(joint_count);
+    for (std::size_t j = 0; j < joint_count; ++j) {
+      const glm::quat& q = pose.local_rotations[j];
+      rotations[j] = pb::Quat(q.x, q.y, q.z, q.w);
+    }
+    pb::PoseFields fields;
+    fields.model_id = model_id;
+    fields.sequence = static_cast<std::uint64_t>(frame) + 1;  // sequences start at 1
+    fields.rotations = rotations;
+    fields.root_translation =
+        pb::Vec3(pose.root_translation.x, pose.root_translation.y, pose.root_translation.z);
+    fields.method = options.method;
+    flatbuffers::FlatBufferBuilder& builder = channel.builder();
+    builder.Clear();
+    auto layers = pb::MapLayers::Position | pb::MapLayers::Coverage;
+    if (options.normals) layers = layers | pb::MapLayers::Normal;
+    const auto request =
+        pb::CreatePositionMapRequest(builder, pb::add_pose(builder, fields), options.width,
+                                     options.height, options.compression, layers);
+    channel.send(pb::finish_message(builder, request));
+  };
+
+  // Pipelined: up to `window` requests in flight, answered in order; each reply is written as
+  // it arrives.
+  std::deque<int> in_flight;
+  int rendered = 0;
+  show_progress(skipped, total, 0, start);
+  while (!todo.empty() || !in_flight.empty()) {
+    while (!todo.empty() && in_flight.size() < window) {
+      send_frame(todo.front());
+      in_flight.push_back(todo.front());
+      todo.pop_front();
+    }
+    const int frame = in_flight.front();
+    in_flight.pop_front();
+    try {
+      const pb::PositionMap& map = channel.expect<pb::PositionMap>();
+      if (map.sequence() != static_cast<std::uint64_t>(frame) + 1) {
+        throw std::runtime_error("the answer is for pose " + std::to_string(map.sequence()));
+      }
+      write_file(frame_file(options, frame), map);
+    } catch (const std::exception& error) {
+      throw std::runtime_error("frame " + std::to_string(frame) + ": " + error.what());
+    }
+    ++rendered;
+    show_progress(skipped + rendered, total, rendered, start);
+  }
+  channel.close("frames rendered");
+  report(rendered);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(parse(argc, argv));
+  } catch (const UsageError& error) {
+    std::fprintf(stderr, "render_frames: %s\n", error.what());
+    return 2;
+  } catch (const std::exception& error) {
+    std::fprintf(stderr, "\nrender_frames: %s\n", error.what());
+    return 1;
+  }
+}

@@ -1,0 +1,233 @@
+// client_examples/render_frames against the real daemon: every frame of a range becomes one
+// EXR file whose positions are the library's own render of that clip frame; a rerun renders
+// again exactly the files that are missing or broken and leaves the others alone; bad input
+// ends the tool with a message naming it and the documented exit code.
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfInputFile.h>
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <regex>
+
+#include "deform/deformer.h"
+#include "gpu/egl_context.h"
+#include "gpu/position_map_renderer.h"
+#include "io/bvh_load.h"
+#include "io/bvh_retarget.h"
+#include "io/sweepbind.h"
+#include "tests/server/client_run.h"
+#include "tests/server/daemon_process.h"
+
+namespace sweepd::test {
+namespace {
+
+constexpr int kSide = 64;
+constexpr int kFirst = 300, kLast = 305;  // a stretch of the clip where the body moves
+constexpr float kCmuScale = 0.056444f;    // render_frames' default --bvh-scale
+
+ClientRun run_render_frames(const std::string& arguments) {
+  return run_client(std::string(SWEEPD_RENDER_FRAMES) + " " + arguments);
+}
+
+// {rendered, skipped, total} from "rendered R, skipped S of T frames".
+std::array<int, 3> frame_counts(const std::string& output) {
+  std::smatch match;
+  const std::regex line(R"(rendered (\d+), skipped (\d+) of (\d+) frames)");
+  if (!std::regex_search(output, match, line)) return {-1, -1, -1};
+  return {std::stoi(match[1]), std::stoi(match[2]), std::stoi(match[3])};
+}
+
+struct Map {
+  std::vector<float> positions, coverage;  // kSide² × 3, kSide²
+};
+
+Map read_map(const fs::path& file) {
+  Imf::InputFile exr(file.c_str());
+  const Imath::Box2i window = exr.header().dataWindow();
+  EXPECT_EQ(window.max.x - window.min.x + 1, kSide) << file;
+  EXPECT_EQ(window.max.y - window.min.y + 1, kSide) << file;
+  Map map{std::vector<float>(kSide * kSide * 3), std::vector<float>(kSide * kSide)};
+  Imf::FrameBuffer frame_buffer;
+  const char* channels[3] = {"P.X", "P.Y", "P.Z"};
+  for (int c = 0; c < 3; ++c) {
+    frame_buffer.insert(channels[c],
+                        Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(map.positions.data() + c),
+                                   3 * sizeof(float), 3 * sizeof(float) * kSide));
+  }
+  frame_buffer.insert("A", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(map.coverage.data()),
+                                      sizeof(float), sizeof(float) * kSide));
+  exr.setFrameBuffer(frame_buffer);
+  exr.readPixels(window.min.y, window.max.y);
+  return map;
+}
+
+float largest_difference(const std::vector<float>& a, const std::vector<float>& b) {
+  float largest = 0.0f;
+  for (std::size_t i = 0; i < a.size(); ++i) largest = std::max(largest, std::abs(a[i] - b[i]));
+  return largest;
+}
+
+class RenderFrames : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    clip_ = fs::path(SWEEPD_SHARED_DATA) / "motion" / "cmu_01_01.bvh";
+    if (!fs::exists(clip_)) GTEST_SKIP() << "shared data absent: " << clip_;
+    directory_ = fresh_directory("render_frames");
+    daemon_ =
+        std::make_unique<DaemonProcess>(directory_, std::vector<std::string>{"--token", "t0k"});
+    ASSERT_TRUE(daemon_->running()) << daemon_->log();
+  }
+  void TearDown() override {
+    daemon_.reset();
+    if (!directory_.empty()) fs::remove_all(directory_);
+  }
+  std::string server_arguments() const {
+    return "--server 127.0.0.1:" + std::to_string(daemon_->port()) + " --token t0k --bvh " +
+           clip_.string();
+  }
+  fs::path frame_file(int frame) const {
+    char name[32];
+    std::snprintf(name, sizeof name, "cmu_01_01.%05d.exr", frame);
+    return directory_ / "frames" / name;
+  }
+  // The library's own map of clip frame `frame` on the daemon's bound mannequin: retargeted
+  // from the model itself (not from ModelInfo), deformed and rasterised in this process.
+  Map library_map(int frame) {
+    if (!bound_) {
+      bound_ = std::make_unique<deform::BoundModel>(
+          io::load_sweepbind(directory_ / "store" / "1.sweepbind"));
+      clip_on_model_ = std::make_unique<io::Retargeter>(
+          io::load_bvh(clip_, {.length_scale = kCmuScale}), bound_->model);
+    }
+    deform::Deformer deformer(*bound_);
+    std::vector<glm::vec3> positions(bound_->model.vertex_count());
+    std::vector<glm::vec3> normals(positions.size());
+    deform::Pose pose = clip_on_model_->pose_at_frame(frame);
+    deformer.deform(pose, deform::DeformMethod::kSweep, positions, normals, 1);
+    gpu::PositionMapRenderer renderer(context_);
+    Map map{std::vector<float>(kSide * kSide * 3), std::vector<float>(kSide * kSide)};
+    renderer.render({bound_->model.uvs, positions, {}, bound_->model.indices},
+                    {.width = kSide, .height = kSide, .gutter_pixels = 4, .view = std::nullopt},
+                    {map.positions, {}, map.coverage});
+    return map;
+  }
+  void expect_library_map(int frame) {
+    SCOPED_TRACE("frame " + std::to_string(frame));
+    const Map served = read_map(frame_file(frame));
+    const Map expected = library_map(frame);
+    // Same floats on both sides (ModelInfo's rest skeleton is the model's); 10 µm leaves room
+    // for rounding in the two retargeting paths, far below a frame-to-frame change (below).
+    EXPECT_LT(largest_difference(served.positions, expected.positions), 1e-5f);
+    EXPECT_EQ(served.coverage, expected.coverage) << "coverage depends on the UVs alone";
+  }
+
+  fs::path clip_, directory_;
+  std::unique_ptr<DaemonProcess> daemon_;
+  gpu::Context context_;
+  std::unique_ptr<deform::BoundModel> bound_;
+  std::unique_ptr<io::Retargeter> clip_on_model_;
+};
+
+TEST_F(RenderFrames, RendersEachFrameOnceAndAgainOnlyWhenMissingOrBroken) {
+  const std::string arguments = server_arguments() + " --frames " + std::to_string(kFirst) + "-" +
+                                std::to_string(kLast) + " -o " + (directory_ / "frames").string() +
+                                " --width 64 --height 64";
+  const ClientRun first = run_render_frames(arguments);
+  ASSERT_EQ(first.exit_code, 0) << first.output << daemon_->log();
+  EXPECT_EQ(frame_counts(first.output), (std::array<int, 3>{6, 0, 6})) << first.output;
+  std::map<int, fs::file_time_type> written;
+  for (int frame = kFirst; frame <= kLast; ++frame) {
+    ASSERT_TRUE(fs::exists(frame_file(frame))) << frame_file(frame);
+    expect_library_map(frame);
+    written[frame] = fs::last_write_time(frame_file(frame));
+  }
+  // The check can fail: two frames of the range are further apart than its tolerance.
+  EXPECT_GT(largest_difference(read_map(frame_file(kFirst)).positions,
+                               read_map(frame_file(kLast)).positions),
+            1e-3f);
+
+  const int deleted = kFirst + 2, truncated = kFirst + 4;
+  fs::remove(frame_file(deleted));
+  fs::resize_file(frame_file(truncated), fs::file_size(frame_file(truncated)) / 2);
+  const ClientRun second = run_render_frames(arguments);
+  ASSERT_EQ(second.exit_code, 0) << second.output << daemon_->log();
+  EXPECT_EQ(frame_counts(second.output), (std::array<int, 3>{2, 4, 6})) << second.output;
+  EXPECT_NE(
+      second.output.find(frame_file(truncated).filename().string() + " is not a complete EXR"),
+      std::string::npos)
+      << second.output;
+  for (int frame = kFirst; frame <= kLast; ++frame) {
+    if (frame == deleted || frame == truncated) {
+      expect_library_map(frame);
+    } else {
+      EXPECT_EQ(fs::last_write_time(frame_file(frame)), written[frame]) << "frame " << frame;
+    }
+  }
+  // Nothing half-written is left beside the frames.
+  int files = 0;
+  for ([[maybe_unused]] const auto& entry : fs::directory_iterator(directory_ / "frames")) ++files;
+  EXPECT_EQ(files, 6);
+
+  // With every frame complete there is nothing to ask: no server needed (port 1: none there).
+  const ClientRun third = run_render_frames(
+      "--server 127.0.0.1:1 --bvh " + clip_.string() + " --frames " + std::to_string(kFirst) + "-" +
+      std::to_string(kLast) + " -o " + (directory_ / "frames").string());
+  EXPECT_EQ(third.exit_code, 0) << third.output;
+  EXPECT_EQ(frame_counts(third.output), (std::array<int, 3>{0, 6, 6})) << third.output;
+}
+
+TEST_F(RenderFrames, AFramesServerErrorNamesTheFrameAndLeavesNoFile) {
+  // A second daemon that answers every PositionMapRequest with NotAvailable.
+  const fs::path other = fresh_directory("render_frames_no_maps");
+  DaemonProcess no_maps(other, {"--position-maps", "0"});
+  ASSERT_TRUE(no_maps.running()) << no_maps.log();
+  const ClientRun run =
+      run_render_frames("--server 127.0.0.1:" + std::to_string(no_maps.port()) + " --bvh " +
+                        clip_.string() + " --frames 7-9 -o " + (directory_ / "frames").string());
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.output.find("frame 7: server error NotAvailable"), std::string::npos) << run.output;
+  int files = 0;
+  for ([[maybe_unused]] const auto& entry : fs::directory_iterator(directory_ / "frames")) ++files;
+  EXPECT_EQ(files, 0) << "neither a frame nor a partial file";
+  fs::remove_all(other);
+}
+
+TEST_F(RenderFrames, BadInputIsNamedWithItsExitCode) {
+  const std::string out = " -o " + (directory_ / "frames").string();
+  const ClientRun unknown_model =
+      run_render_frames(server_arguments() + " --frames 0-1 --model nobody" + out);
+  EXPECT_EQ(unknown_model.exit_code, 1);
+  EXPECT_NE(unknown_model.output.find("UnknownModel"), std::string::npos) << unknown_model.output;
+
+  const ClientRun bad_range = run_render_frames(server_arguments() + " --frames 9-3" + out);
+  EXPECT_EQ(bad_range.exit_code, 2);
+  EXPECT_NE(bad_range.output.find("--frames 9-3"), std::string::npos) << bad_range.output;
+
+  const ClientRun past_the_clip =
+      run_render_frames(server_arguments() + " --frames 0-1000000" + out);
+  EXPECT_EQ(past_the_clip.exit_code, 2);
+  EXPECT_NE(past_the_clip.output.find("the clip has frames 0-"), std::string::npos)
+      << past_the_clip.output;
+
+  const ClientRun wrong_token =
+      run_render_frames("--server 127.0.0.1:" + std::to_string(daemon_->port()) +
+                        " --token wrong --bvh " + clip_.string() + " --frames 0-1" + out);
+  EXPECT_EQ(wrong_token.exit_code, 1);
+  EXPECT_NE(wrong_token.output.find("AuthFailed"), std::string::npos) << wrong_token.output;
+
+  // Port 1: nothing listens there (a privileged port no test runs a server on).
+  const ClientRun unreachable =
+      run_render_frames("--server 127.0.0.1:1 --bvh " + clip_.string() + " --frames 0-1" + out);
+  EXPECT_EQ(unreachable.exit_code, 1);
+  EXPECT_NE(unreachable.output.find("cannot connect to sweepd at 127.0.0.1:1"), std::string::npos)
+      << unreachable.output;
+  EXPECT_FALSE(fs::exists(frame_file(0)));
+}
+
+}  // namespace
+}  // namespace sweepd::test
