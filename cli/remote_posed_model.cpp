@@ -73,6 +73,10 @@ RemotePosedModel::RemotePosedModel(const PosingArguments& arguments, const Serve
     connection_.hello(server.token, "sweepctl");
     const std::filesystem::path& file = arguments.model;
     const bool local_file = std::filesystem::is_regular_file(file);
+    if (!local_file && file.has_parent_path())
+      throw std::invalid_argument(file.string() +
+                                  ": no such file (a server model is named "
+                                  "without a folder)");
     if (local_file && file.extension() == ".sweepbind")
       throw std::invalid_argument(
           file.string() + ": a .sweepbind is not uploaded; give the .glb it was bound from");
