@@ -56,6 +56,20 @@ std::span<float> as_floats(std::vector<glm::vec3>& vectors) {
   return {reinterpret_cast<float*>(vectors.data()), 3 * vectors.size()};
 }
 
+// The arguments, once MODEL is known to be an uploadable file or a server model name (checked
+// before connecting).
+const PosingArguments& checked_model(const PosingArguments& arguments) {
+  const std::filesystem::path& file = arguments.model;
+  const bool local_file = std::filesystem::is_regular_file(file);
+  if (!local_file && file.has_parent_path())
+    throw std::invalid_argument(file.string() +
+                                ": no such file (a server model is named without a folder)");
+  if (local_file && file.extension() == ".sweepbind")
+    throw std::invalid_argument(file.string() +
+                                ": a .sweepbind is not uploaded; give the .glb it was bound from");
+  return arguments;
+}
+
 }  // namespace
 
 template <typename Reply>
@@ -68,18 +82,11 @@ const Reply& RemotePosedModel::reply_as() {
 }
 
 RemotePosedModel::RemotePosedModel(const PosingArguments& arguments, const ServerAddress& server)
-    : arguments_(arguments), connection_(server.address) {
+    : arguments_(checked_model(arguments)), connection_(server.address) {
   try {
     connection_.hello(server.token, "sweepctl");
     const std::filesystem::path& file = arguments.model;
     const bool local_file = std::filesystem::is_regular_file(file);
-    if (!local_file && file.has_parent_path())
-      throw std::invalid_argument(file.string() +
-                                  ": no such file (a server model is named "
-                                  "without a folder)");
-    if (local_file && file.extension() == ".sweepbind")
-      throw std::invalid_argument(
-          file.string() + ": a .sweepbind is not uploaded; give the .glb it was bound from");
     const std::string name = local_file ? file.filename().string() : file.string();
     std::vector<std::uint8_t> upload;
     if (!local_file) {
