@@ -5,34 +5,19 @@
 
 #include <gtest/gtest.h>
 
-#include <array>
-#include <cstdio>
 #include <fstream>
 #include <iterator>
-#include <memory>
 #include <string>
 #include <vector>
 
+#include "tests/server/client_run.h"
 #include "tests/server/daemon_process.h"
 
 namespace sweepd::test {
 
-struct SweepctlResult {
-  int exit_code = -1;
-  std::string output;  // stdout and stderr together
-};
-
-inline SweepctlResult run_sweepctl(const std::string& arguments) {
-  const std::string command = std::string(SWEEPD_SWEEPCTL) + " " + arguments + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return {-1, "popen failed"};
-  SweepctlResult result;
-  std::array<char, 4096> buffer;
-  while (std::size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe))
-    result.output.append(buffer.data(), n);
-  const int status = pclose(pipe);
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return result;
+// The real sweepctl with `arguments`: its exit code and stdout + stderr.
+inline ClientRun run_sweepctl(const std::string& arguments) {
+  return run_client(std::string(SWEEPD_SWEEPCTL) + " " + arguments);
 }
 
 inline std::vector<char> file_bytes(const fs::path& file) {

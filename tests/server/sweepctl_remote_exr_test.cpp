@@ -40,9 +40,9 @@ TEST_F(SweepctlRemote, RemotePositionMapDecodesToTheLocalPositions) {
   const std::string map = "positionmap " + kSharedMale.string() + " --bvh " + kClip.string() +
                           " --frame " + std::to_string(kClipFrame) + " --size " +
                           std::to_string(kSide) + " -o ";
-  const SweepctlResult local = run_sweepctl(map + path("local.exr").string() + " --gutter 4");
+  const ClientRun local = run_sweepctl(map + path("local.exr").string() + " --gutter 4");
   ASSERT_EQ(local.exit_code, 0) << local.output;
-  const SweepctlResult remote = run_sweepctl(server() + " " + map + path("remote.exr").string());
+  const ClientRun remote = run_sweepctl(server() + " " + map + path("remote.exr").string());
   ASSERT_EQ(remote.exit_code, 0) << remote.output << log();
 
   const std::vector<std::string> channels = {"P.X", "P.Y", "P.Z", "A"};
@@ -62,8 +62,8 @@ TEST_F(SweepctlRemote, RemotePositionMapDecodesToTheLocalPositions) {
 }
 
 TEST_F(SweepctlRemote, RemotePositionMapRefusesAGutterTheServerDoesNotRender) {
-  const SweepctlResult result = run_sweepctl(server() + " positionmap mannequin --size 16 " +
-                                             "--gutter 2 -o " + path("never.exr").string());
+  const ClientRun result = run_sweepctl(server() + " positionmap mannequin --size 16 " +
+                                        "--gutter 2 -o " + path("never.exr").string());
   EXPECT_EQ(result.exit_code, 2) << result.output;
   EXPECT_NE(result.output.find("4-texel gutter"), std::string::npos) << result.output;
 }

@@ -28,9 +28,9 @@ const std::string kClipFrameArgs =
 
 TEST_F(SweepctlRemote, UploadedMalePoseEqualsTheLocalPoseByteForByte) {
   const std::string pose = "pose " + kSharedMale.string() + " " + kClipFrameArgs + " -o ";
-  const SweepctlResult local = run_sweepctl(pose + path("local.glb").string());
+  const ClientRun local = run_sweepctl(pose + path("local.glb").string());
   ASSERT_EQ(local.exit_code, 0) << local.output;
-  const SweepctlResult remote = run_sweepctl(server() + " " + pose + path("remote.glb").string());
+  const ClientRun remote = run_sweepctl(server() + " " + pose + path("remote.glb").string());
   ASSERT_EQ(remote.exit_code, 0) << remote.output << log();
   EXPECT_NE(remote.output.find("(uploaded)"), std::string::npos) << remote.output;
 
@@ -55,12 +55,11 @@ TEST_F(SweepctlRemote, FrameRangeOfAnAlreadyLoadedModelEqualsTheLocalFrames) {
       "pose " + kSharedMale.string() + " --bvh " + kClip.string() + " --frames 100-102 -o ";
   ASSERT_EQ(run_sweepctl(server() + " " + pose + path("remote_first").string()).exit_code, 0);
   // The second run finds the model loaded under its file name and reuses it.
-  const SweepctlResult remote =
-      run_sweepctl(pose + path("remote_frames").string() + " " + server());
+  const ClientRun remote = run_sweepctl(pose + path("remote_frames").string() + " " + server());
   ASSERT_EQ(remote.exit_code, 0) << remote.output << log();
   EXPECT_NE(remote.output.find("(already loaded)"), std::string::npos) << remote.output;
   EXPECT_NE(remote.output.find("wrote 3 frames"), std::string::npos) << remote.output;
-  const SweepctlResult local = run_sweepctl(pose + path("local_frames").string());
+  const ClientRun local = run_sweepctl(pose + path("local_frames").string());
   ASSERT_EQ(local.exit_code, 0) << local.output;
   for (const char* frame : {"frame_00100.glb", "frame_00101.glb", "frame_00102.glb"}) {
     const std::vector<char> bytes = file_bytes(path("local_frames") / frame);
@@ -70,8 +69,8 @@ TEST_F(SweepctlRemote, FrameRangeOfAnAlreadyLoadedModelEqualsTheLocalFrames) {
 }
 
 TEST_F(SweepctlRemote, ServerOnlyMannequinIsWrittenFromTheServedMesh) {
-  const SweepctlResult remote = run_sweepctl(server() + " pose mannequin " + kClipFrameArgs +
-                                             " -o " + path("mannequin.glb").string());
+  const ClientRun remote = run_sweepctl(server() + " pose mannequin " + kClipFrameArgs + " -o " +
+                                        path("mannequin.glb").string());
   ASSERT_EQ(remote.exit_code, 0) << remote.output << log();
   EXPECT_NE(remote.output.find("(server)"), std::string::npos) << remote.output;
 
@@ -146,7 +145,7 @@ TEST_F(SweepctlRemote, MeshRequestAnswersTheRestMeshOrUnknownModel) {
 }
 
 nlohmann::json metrics_json(const std::string& arguments) {
-  const SweepctlResult result = run_sweepctl(arguments);
+  const ClientRun result = run_sweepctl(arguments);
   EXPECT_EQ(result.exit_code, 0) << result.output;
   const std::size_t brace = result.output.find('{');
   if (result.exit_code != 0 || brace == std::string::npos) return {};
@@ -189,7 +188,7 @@ TEST_F(SweepctlRemote, RemoteMetricsEqualTheLocalOnesWithoutTheSweepIntegral) {
 }
 
 TEST_F(SweepctlRemote, WrongTokenExitsNonZeroWithTheReason) {
-  const SweepctlResult result =
+  const ClientRun result =
       run_sweepctl("--server 127.0.0.1:" + std::to_string(port()) +
                    " --token wrong pose mannequin -o " + path("never.glb").string());
   EXPECT_EQ(result.exit_code, 1) << result.output;
@@ -199,7 +198,7 @@ TEST_F(SweepctlRemote, WrongTokenExitsNonZeroWithTheReason) {
 }
 
 TEST_F(SweepctlRemote, UnknownModelExitsNonZeroNamingIt) {
-  const SweepctlResult result =
+  const ClientRun result =
       run_sweepctl(server() + " pose no_such_model -o " + path("never.glb").string());
   EXPECT_EQ(result.exit_code, 1) << result.output;
   EXPECT_NE(result.output.find("UnknownModel"), std::string::npos) << result.output;
@@ -208,14 +207,14 @@ TEST_F(SweepctlRemote, UnknownModelExitsNonZeroNamingIt) {
 
 TEST_F(SweepctlRemote, UnreachableServerExitsNonZeroNamingTheAddress) {
   // Port 1 (tcpmux) is privileged and has no listener here: the connection is refused.
-  const SweepctlResult result = run_sweepctl("--server 127.0.0.1:1 metrics mannequin --method lbs");
+  const ClientRun result = run_sweepctl("--server 127.0.0.1:1 metrics mannequin --method lbs");
   EXPECT_EQ(result.exit_code, 1) << result.output;
   EXPECT_NE(result.output.find("cannot connect to sweepd at 127.0.0.1:1"), std::string::npos)
       << result.output;
 }
 
 TEST_F(SweepctlRemote, LocalOnlyCommandsRefuseServer) {
-  const SweepctlResult result = run_sweepctl(server() + " inspect " + kSharedMale.string());
+  const ClientRun result = run_sweepctl(server() + " inspect " + kSharedMale.string());
   EXPECT_EQ(result.exit_code, 2) << result.output;
   EXPECT_NE(result.output.find("--server applies to pose, positionmap and metrics"),
             std::string::npos)
