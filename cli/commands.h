@@ -6,6 +6,8 @@
 
 namespace sweepd::cli {
 
+struct ServerAddress;  // cli/remote_posed_model.h
+
 int run_inspect(const std::vector<std::string>& args);
 int run_mannequin(const std::vector<std::string>& args);
 int run_bind(const std::vector<std::string>& args);
@@ -14,5 +16,10 @@ int run_render(const std::vector<std::string>& args);
 int run_positionmap(const std::vector<std::string>& args);
 int run_metrics(const std::vector<std::string>& args);
 int run_edit(const std::vector<std::string>& args);
+
+// The same commands deformed by a sweepd daemon (sweepctl --server HOST:PORT [--token T] ...).
+int run_pose_on_server(const std::vector<std::string>& args, const ServerAddress& server);
+int run_positionmap_on_server(const std::vector<std::string>& args, const ServerAddress& server);
+int run_metrics_on_server(const std::vector<std::string>& args, const ServerAddress& server);
 
 }  // namespace sweepd::cli

@@ -2,9 +2,13 @@
 // volume change (closed mesh region and sweep integral), smallest limb section ratio,
 // crossing triangle pairs, largest edge stretch and the rest-pose error — for one pose or over a
 // clip (worst, mean and the frame of the worst), as a table, JSON or CSV.
+// With --server the daemon deforms and the metrics are measured here on its vertices; the
+// part regions and section planes come from binding the served mesh here; the sweep integral
+// (the deformation's own sweep state) is not available remotely.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -12,9 +16,13 @@
 #include "cli/commands.h"
 #include "cli/posed_model.h"
 #include "cli/progress_bar.h"
+#include "cli/remote_posed_model.h"
 #include "cli/text_format.h"
+#include "deform/bind.h"
+#include "deform/forward_kinematics.h"
 #include "deform/quality_metrics.h"
 #include "io/bvh_load.h"
+#include "io/rig_map_json.h"
 
 namespace sweepd::cli {
 
@@ -28,8 +36,15 @@ const std::string kUsage =
         "  --method LIST      comma-separated methods (default: all four); sweep+volume is the\n"
         "                     sweep method with volume preservation (arms, legs, torso)\n"
         "  --step N           with a clip: every Nth frame (default 1: all frames)\n"
-        "  --json, --csv      machine-readable output instead of the table\n") +
+        "  --json, --csv      machine-readable output instead of the table\n"
+        "  with --server      default methods sweep,lbs,dqs; no sweep integral (it needs the\n"
+        "                     server's sweep state)\n") +
     kPosingUsage;
+const char* const kLocalMethods = "sweep,sweep+volume,lbs,dqs";
+const char* const kServerMethods = "sweep,lbs,dqs";
+const char* const kServerNote =
+    "positions from the server; part regions and section planes from binding the served mesh "
+    "here; sweep integral unavailable remotely";
 
 struct Method {
   std::string name;
@@ -56,10 +71,15 @@ struct MethodReport {
   std::vector<Series> series;
 };
 
+// Deforms a pose with one method into positions; returns a SweepPoser posed to that pose (its
+// section planes; its sweep integral when the poser holds the deformation's own sweep state).
+using PoseDeformer =
+    std::function<const deform::SweepPoser&(deform::Pose, std::vector<glm::vec3>&)>;
+
 std::string take_methods(std::vector<std::string>& args, std::vector<Method>& methods,
-                         std::string& format, int& step) {
+                         std::string& format, int& step, const char* default_methods) {
   std::vector<std::string> rest;
-  std::string list = "sweep,sweep+volume,lbs,dqs";
+  std::string list = default_methods;
   for (std::size_t i = 0; i < args.size(); ++i) {
     if (args[i] == "--method" && i + 1 < args.size()) {
       list = args[++i];
@@ -87,21 +107,55 @@ std::string take_methods(std::vector<std::string>& args, std::vector<Method>& me
   return {};
 }
 
-MethodReport measure_method(const Method& m, PosedModel& posed, const deform::QualityMeter& meter,
-                            const std::vector<int>& frames, ProgressBar* bar, int done, int total) {
-  const deform::BoundModel& bound = posed.bound();
-  deform::Deformer deformer(bound);
+// The method deformed in this process (its Deformer's poser holds the sweep state).
+PoseDeformer local_deformer(const Method& m, const deform::BoundModel& bound,
+                            std::unique_ptr<deform::Deformer>& owner) {
+  owner = std::make_unique<deform::Deformer>(bound);
   deform::DeformOptions options;
   options.preserve_volume = m.preserve_volume;
-  deformer.set_options(options);
+  owner->set_options(options);
+  return [&deformer = *owner, m](deform::Pose pose,
+                                 std::vector<glm::vec3>& positions) -> const deform::SweepPoser& {
+    deformer.deform(pose, m.method, positions, {});
+    if (m.method != deform::DeformMethod::kSweep)
+      deformer.sweep_poser().set_pose(deformer.world_pose());  // section planes
+    return deformer.sweep_poser();
+  };
+}
+
+// The method deformed by the server; `poser` (of the local binding) gives the section planes.
+PoseDeformer server_deformer(const Method& m, RemotePosedModel& remote, deform::SweepPoser& poser) {
+  return [&remote, &poser, m](deform::Pose pose,
+                              std::vector<glm::vec3>& positions) -> const deform::SweepPoser& {
+    std::vector<glm::vec3> normals;
+    remote.deform_pose(pose, m.method,
+                       m.preserve_volume ? protocol::Features::Volume : protocol::Features::NONE,
+                       positions, normals);
+    const deform::Skeleton& skeleton = remote.model().skeleton;
+    if (const std::string problem = deform::normalize_and_validate(pose, skeleton);
+        !problem.empty())
+      throw std::invalid_argument(problem);
+    std::vector<glm::mat4> world(skeleton.joints.size());
+    deform::forward_kinematics(skeleton, pose, world);
+    poser.set_pose(world);
+    return poser;
+  };
+}
+
+// `sweep_state`: whether `deform`'s poser holds the deformation's own sweep (then the sweep
+// integral is reported).
+MethodReport measure_method(const Method& m, const deform::BoundModel& bound,
+                            const PoseDeformer& deform, bool sweep_state,
+                            const std::function<deform::Pose(int)>& pose_of,
+                            const deform::QualityMeter& meter, const std::vector<int>& frames,
+                            ProgressBar* bar, int done, int total) {
   MethodReport report;
   report.method = m.name;
   std::vector<glm::vec3> positions(bound.model.vertex_count());
-  deform::Pose rest = deform::rest_pose(bound.model.skeleton);
-  deformer.deform(rest, m.method, positions, {});
+  deform(deform::rest_pose(bound.model.skeleton), positions);
   report.rest_error_m = deform::largest_distance(positions, bound.model.positions);
 
-  const bool sweep = m.method == deform::DeformMethod::kSweep;
+  const bool sweep = sweep_state && m.method == deform::DeformMethod::kSweep;
   for (const deform::BoundSweep& s : bound.sweeps)
     report.series.push_back({std::string(deform::to_string(s.part)) + " mesh volume %"});
   if (sweep)
@@ -110,10 +164,8 @@ MethodReport measure_method(const Method& m, PosedModel& posed, const deform::Qu
   for (const char* name : {"smallest section ratio", "crossing triangle pairs", "edge stretch %"})
     report.series.push_back({name});
   for (std::size_t i = 0; i < frames.size(); ++i) {
-    deform::Pose pose = posed.pose(frames[i]);
-    deformer.deform(pose, m.method, positions, {});
-    if (!sweep) deformer.sweep_poser().set_pose(deformer.world_pose());  // section planes
-    const deform::QualityMetrics q = meter.measure(positions, deformer.sweep_poser(), sweep);
+    const deform::SweepPoser& poser = deform(pose_of(frames[i]), positions);
+    const deform::QualityMetrics q = meter.measure(positions, poser, sweep);
     std::size_t k = 0;
     for (const deform::PartMetrics& part : q.parts) {
       const double percent = 100.0 * part.mesh_volume_change;
@@ -132,8 +184,10 @@ MethodReport measure_method(const Method& m, PosedModel& posed, const deform::Qu
   return report;
 }
 
-void print_table(const std::vector<MethodReport>& reports, std::size_t frames) {
+void print_table(const std::vector<MethodReport>& reports, std::size_t frames,
+                 const std::string& source) {
   const bool clip = frames > 1;
+  if (!source.empty()) std::printf("%s\n", source.c_str());
   for (const MethodReport& r : reports) {
     std::printf("\n%s (rest-pose error %.3g mm)\n", r.method.c_str(), 1e3 * r.rest_error_m);
     if (clip) std::printf("  %-34s %10s %10s %8s\n", "metric", "worst", "mean", "at frame");
@@ -148,9 +202,10 @@ void print_table(const std::vector<MethodReport>& reports, std::size_t frames) {
 }
 
 void print_json(const std::vector<MethodReport>& reports, const PosingArguments& posing,
-                std::size_t frames) {
+                std::size_t frames, const std::string& source) {
   nlohmann::json out;
   out["model"] = posing.model.string();
+  if (!source.empty()) out["source"] = source;
   if (!posing.bvh.empty()) out["clip"] = posing.bvh.string();
   out["frames"] = frames;
   for (const MethodReport& r : reports) {
@@ -178,9 +233,7 @@ void print_csv(const std::vector<MethodReport>& reports) {
   }
 }
 
-}  // namespace
-
-int run_metrics(const std::vector<std::string>& arguments) {
+int metrics(const std::vector<std::string>& arguments, const ServerAddress* server) {
   std::vector<std::string> args = arguments;
   if (!args.empty() && (args[0] == "--help" || args[0] == "-h")) {
     std::fputs(kUsage.c_str(), stdout);
@@ -189,7 +242,8 @@ int run_metrics(const std::vector<std::string>& arguments) {
   std::vector<Method> methods;
   std::string format;
   int step = 1;
-  std::string problem = take_methods(args, methods, format, step);
+  std::string problem =
+      take_methods(args, methods, format, step, server ? kServerMethods : kLocalMethods);
   PosingArguments posing;
   const bool one_frame = std::find(args.begin(), args.end(), "--frame") != args.end();
   if (problem.empty()) problem = take_posing_arguments(args, posing);
@@ -199,7 +253,26 @@ int run_metrics(const std::vector<std::string>& arguments) {
     return 2;
   }
   try {
-    PosedModel posed(posing);
+    // Locally: the model bound here and deformed here. Remotely: deformed by the server, and
+    // the served mesh bound here for the part regions and section planes.
+    std::unique_ptr<PosedModel> local;
+    std::unique_ptr<RemotePosedModel> remote;
+    std::unique_ptr<deform::BoundModel> served_binding;
+    std::unique_ptr<deform::SweepPoser> served_poser;
+    std::function<deform::Pose(int)> pose_of;
+    if (server) {
+      remote = std::make_unique<RemotePosedModel>(posing, *server);
+      const deform::Model& model = remote->model();
+      served_binding = std::make_unique<deform::BoundModel>(deform::bind(
+          model, posing.rig.empty() ? deform::detect_rig_map(model.skeleton)
+                                    : io::load_rig_map_json(posing.rig, model.skeleton)));
+      served_poser = std::make_unique<deform::SweepPoser>(*served_binding);
+      pose_of = [&remote](int frame) { return remote->pose(frame); };
+    } else {
+      local = std::make_unique<PosedModel>(posing);
+      pose_of = [&local](int frame) { return local->pose(frame); };
+    }
+    const deform::BoundModel& bound = server ? *served_binding : local->bound();
     std::vector<int> frames;
     if (posing.bvh.empty()) {
       frames.push_back(0);
@@ -208,27 +281,42 @@ int run_metrics(const std::vector<std::string>& arguments) {
       const int last = whole_clip ? io::load_bvh(posing.bvh).frame_count - 1 : posing.last_frame;
       for (int f = posing.first_frame; f <= last; f += step) frames.push_back(f);
     }
-    const deform::QualityMeter meter(posed.bound());
+    const deform::QualityMeter meter(bound);
     std::vector<MethodReport> reports;
     {
       std::unique_ptr<ProgressBar> bar;
       if (frames.size() > 1) bar = std::make_unique<ProgressBar>("metrics");
       const int total = static_cast<int>(frames.size() * methods.size());
-      for (std::size_t m = 0; m < methods.size(); ++m)
-        reports.push_back(measure_method(methods[m], posed, meter, frames, bar.get(),
-                                         static_cast<int>(m * frames.size()), total));
+      for (std::size_t m = 0; m < methods.size(); ++m) {
+        std::unique_ptr<deform::Deformer> deformer;
+        const PoseDeformer deform = server ? server_deformer(methods[m], *remote, *served_poser)
+                                           : local_deformer(methods[m], bound, deformer);
+        reports.push_back(measure_method(methods[m], bound, deform, !server, pose_of, meter, frames,
+                                         bar.get(), static_cast<int>(m * frames.size()), total));
+      }
     }
-    if (format == "json")
-      print_json(reports, posing, frames.size());
-    else if (format == "csv")
+    const std::string source = server ? "sweepd at " + server->address + ": " + kServerNote : "";
+    if (format == "json") {
+      print_json(reports, posing, frames.size(), source);
+    } else if (format == "csv") {
+      if (!source.empty()) std::fprintf(stderr, "%s\n", source.c_str());
       print_csv(reports);
-    else
-      print_table(reports, frames.size());
+    } else {
+      print_table(reports, frames.size(), source);
+    }
     return 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "sweepctl metrics: %s\n", e.what());
     return 1;
   }
+}
+
+}  // namespace
+
+int run_metrics(const std::vector<std::string>& arguments) { return metrics(arguments, nullptr); }
+
+int run_metrics_on_server(const std::vector<std::string>& arguments, const ServerAddress& server) {
+  return metrics(arguments, &server);
 }
 
 }  // namespace sweepd::cli

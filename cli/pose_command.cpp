@@ -1,11 +1,12 @@
 // sweepctl pose: a model deformed into a pose (a clip frame, a pose file), written as .glb —
-// one frame, or a range of frames into a folder.
+// one frame, or a range of frames into a folder. With --server the daemon deforms.
 #include <cstdio>
 #include <filesystem>
 
 #include "cli/commands.h"
 #include "cli/posed_model.h"
 #include "cli/progress_bar.h"
+#include "cli/remote_posed_model.h"
 #include "cli/subcommand.h"
 #include "io/gltf_save.h"
 
@@ -19,9 +20,39 @@ const std::string kUsage =
         "  -o OUT             posed .glb for one frame; a folder for --frames "
         "(frame_NNNNN.glb)\n") +
     kPosingUsage;
-}  // namespace
 
-int run_pose(const std::vector<std::string>& arguments) {
+// Writes the posed frames of `posed` (a PosedModel or a RemotePosedModel) as the command's
+// output: one .glb, or frame_NNNNN.glb files in a folder for a frame range.
+template <typename Posed>
+void write_frames(Posed& posed, const std::filesystem::path& out) {
+  const PosingArguments& posing = posed.arguments();
+  deform::Model frame_model = posed.model();
+  auto write_frame = [&](int frame, const std::filesystem::path& file) {
+    posed.deform(frame, frame_model.positions, frame_model.normals);
+    io::save_gltf(frame_model, file);
+  };
+  if (!posing.frame_range) {
+    write_frame(posing.first_frame, out);
+    std::printf("wrote %s (%s, frame %d)\n", out.string().c_str(), deform::to_string(posing.method),
+                posing.first_frame);
+    return;
+  }
+  std::filesystem::create_directories(out);
+  {
+    ProgressBar bar("posing " + posing.bvh.filename().string());
+    const int count = posing.last_frame - posing.first_frame + 1;
+    for (int frame = posing.first_frame; frame <= posing.last_frame; ++frame) {
+      char name[32];
+      std::snprintf(name, sizeof name, "frame_%05d.glb", frame);
+      write_frame(frame, out / name);
+      bar.update(static_cast<double>(frame - posing.first_frame + 1) / count, "writing frames");
+    }
+  }
+  std::printf("wrote %d frames to %s (%s)\n", posing.last_frame - posing.first_frame + 1,
+              out.string().c_str(), deform::to_string(posing.method));
+}
+
+int pose(const std::vector<std::string>& arguments, const ServerAddress* server) {
   PosingArguments posing;
   std::filesystem::path out;
   auto parse = [&](std::vector<std::string> args) {
@@ -34,40 +65,32 @@ int run_pose(const std::vector<std::string>& arguments) {
     return args.empty() ? std::string("missing -o OUT") : "unexpected argument '" + args[0] + "'";
   };
   return run_subcommand("pose", kUsage, arguments, parse, [&] {
-    PosedModel posed(posing);
-    deform::Model frame_model = posed.model();
-    auto write_frame = [&](int frame, const std::filesystem::path& file) {
-      posed.deform(frame, frame_model.positions, frame_model.normals);
-      io::save_gltf(frame_model, file);
-    };
-    if (!posing.frame_range) {
-      write_frame(posing.first_frame, out);
-      std::printf("wrote %s (%s, frame %d)\n", out.string().c_str(),
-                  deform::to_string(posing.method), posing.first_frame);
-      if (posing.features.collision()) {
-        const deform::FeatureReport& r = posed.feature_report();
-        std::printf(
-            "features: %d intersecting pairs before folding, %d after; %d vertices folded, "
-            "%d pushed out of bone proxies; volume change %.1f cm3\n",
-            r.pairs_before, r.pairs_after, r.folded, r.protruded, r.volume_change * 1e6);
-      }
+    if (server) {
+      RemotePosedModel posed(posing, *server);
+      std::printf("model %s on sweepd at %s (%s)\n", posed.model().name.c_str(),
+                  server->address.c_str(), posed.origin().c_str());
+      write_frames(posed, out);
       return 0;
     }
-    std::filesystem::create_directories(out);
-    {
-      ProgressBar bar("posing " + posing.bvh.filename().string());
-      const int count = posing.last_frame - posing.first_frame + 1;
-      for (int frame = posing.first_frame; frame <= posing.last_frame; ++frame) {
-        char name[32];
-        std::snprintf(name, sizeof name, "frame_%05d.glb", frame);
-        write_frame(frame, out / name);
-        bar.update(static_cast<double>(frame - posing.first_frame + 1) / count, "writing frames");
-      }
+    PosedModel posed(posing);
+    write_frames(posed, out);
+    if (!posing.frame_range && posing.features.collision()) {
+      const deform::FeatureReport& r = posed.feature_report();
+      std::printf(
+          "features: %d intersecting pairs before folding, %d after; %d vertices folded, "
+          "%d pushed out of bone proxies; volume change %.1f cm3\n",
+          r.pairs_before, r.pairs_after, r.folded, r.protruded, r.volume_change * 1e6);
     }
-    std::printf("wrote %d frames to %s (%s)\n", posing.last_frame - posing.first_frame + 1,
-                out.string().c_str(), deform::to_string(posing.method));
     return 0;
   });
+}
+
+}  // namespace
+
+int run_pose(const std::vector<std::string>& arguments) { return pose(arguments, nullptr); }
+
+int run_pose_on_server(const std::vector<std::string>& arguments, const ServerAddress& server) {
+  return pose(arguments, &server);
 }
 
 }  // namespace sweepd::cli

@@ -623,6 +623,18 @@ class Retargeter:
             self.bvh_of_model[m], self.model_of_bvh[b] = b, m
             return True
 
+        # Fingers and thumbs are not measured by mocap (their channels are noise): left out,
+        # as io/bvh_retarget.cpp does; the hand moves rigidly with the clip's hand joint.
+        if bvh_map:
+            hands = [bvh_map.limbs[arm]["hand"] for arm in ("left_arm", "right_arm")
+                     if arm in bvh_map.limbs]
+            left_out = [b for b in range(len(bvh)) if self.model_of_bvh[b] == -1 and
+                        any(is_strict_ancestor(bvh, hand, b) for hand in hands)]
+            for b in left_out:
+                self.model_of_bvh[b] = -2  # left out: never matched below
+            if left_out:
+                self.warnings.append("the clip's fingers and thumbs are not driven (" +
+                                     ", ".join(bvh[b].name for b in left_out) + ")")
         for m, joint in enumerate(model):  # same name
             match(m, find_joint(bvh, joint.name))
         if model_map and bvh_map:  # same rig role

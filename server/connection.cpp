@@ -29,6 +29,26 @@ std::vector<std::string> capabilities(bool position_maps) {
   return list;
 }
 
+// The answer to MeshRequest: the model's rest mesh in its vertex order (protocol 1.1).
+void build_mesh(flatbuffers::FlatBufferBuilder& builder, const RegisteredModel& registered,
+                std::uint64_t request_id) {
+  const deform::Model& model = registered.bound.model;
+  const std::size_t n = model.vertex_count();
+  static_assert(sizeof(glm::vec2) == 2 * sizeof(float) && sizeof(glm::vec3) == 3 * sizeof(float));
+  const auto indices = builder.CreateVector(model.indices);
+  const auto uvs =
+      builder.CreateVector(reinterpret_cast<const float*>(model.uvs.data()), 2 * model.uvs.size());
+  const auto positions =
+      builder.CreateVector(reinterpret_cast<const float*>(model.positions.data()), 3 * n);
+  const auto joints = builder.CreateVector(
+      reinterpret_cast<const std::uint16_t*>(model.skin_joints.data()), deform::kInfluences * n);
+  const auto weights = builder.CreateVector(
+      reinterpret_cast<const float*>(model.skin_weights.data()), deform::kInfluences * n);
+  pb::finish_message(
+      builder, pb::CreateMesh(builder, registered.id, indices, uvs, positions, joints, weights),
+      request_id);
+}
+
 }  // namespace
 
 Connection::Connection(Socket socket, std::uint64_t id, std::string peer,
@@ -163,6 +183,18 @@ void Connection::handle_frame(const pb::Message& message) {
                    request_id);
       } else {
         handle_pose(*map->pose(), request_id, map);
+      }
+      break;
+    }
+    case pb::Body::MeshRequest: {
+      const std::uint32_t model_id = message.body_as_MeshRequest()->model_id();
+      if (const ModelHandle model = environment_.registry.find(model_id)) {
+        flatbuffers::FlatBufferBuilder builder = take_builder();
+        build_mesh(builder, *model, request_id);
+        send(std::move(builder));
+      } else {
+        send_error(pb::ErrorCode::UnknownModel,
+                   "mesh request: no model with id " + std::to_string(model_id), 0, request_id);
       }
       break;
     }

@@ -262,6 +262,29 @@ std::vector<Sample> one_of_each_body() {
          EXPECT_EQ(error->sequence(), 1001u);
          EXPECT_FALSE(error->fatal());
        }},
+      {Body::MeshRequest,
+       [](FlatBufferBuilder& b) { return finish_message(b, CreateMeshRequest(b, 4), 12); },
+       [](const Message& m) { EXPECT_EQ(m.body_as_MeshRequest()->model_id(), 4u); }},
+      {Body::Mesh,
+       [](FlatBufferBuilder& b) {
+         const std::vector<std::uint32_t> indices = {0, 1, 2};
+         const std::vector<float> uvs = {0, 0, 1, 0, 0, 1};
+         const std::vector<float> positions = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+         const std::vector<std::uint16_t> joints(12, 0);
+         const std::vector<float> weights = {1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0};
+         return finish_message(
+             b, CreateMeshDirect(b, 4, &indices, &uvs, &positions, &joints, &weights), 12);
+       },
+       [](const Message& m) {
+         const Mesh* mesh = m.body_as_Mesh();
+         EXPECT_EQ(mesh->model_id(), 4u);
+         ASSERT_EQ(mesh->indices()->size(), 3u);
+         EXPECT_EQ(mesh->indices()->Get(2), 2u);
+         EXPECT_EQ(mesh->uvs()->Get(3), 0.0f);
+         EXPECT_EQ(mesh->rest_positions()->Get(7), 1.0f);
+         EXPECT_EQ(mesh->skin_joints()->size(), 12u);
+         EXPECT_EQ(mesh->skin_weights()->Get(8), 1.0f);
+       }},
   };
 }
 

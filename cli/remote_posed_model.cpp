@@ -1,0 +1,201 @@
+#include "cli/remote_posed_model.h"
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <stdexcept>
+
+#include "client/mesh_request.h"
+#include "client/model_skeleton.h"
+#include "io/bvh_load.h"
+#include "io/pose_json.h"
+
+namespace sweepd::cli {
+namespace {
+
+namespace pb = sweepd::protocol;
+
+std::vector<std::uint8_t> read_bytes(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot read " + file.string());
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+std::string read_text(const std::filesystem::path& file) {
+  const std::vector<std::uint8_t> bytes = read_bytes(file);
+  return {bytes.begin(), bytes.end()};
+}
+
+pb::DeformMethod wire_method(deform::DeformMethod method) {
+  switch (method) {
+    case deform::DeformMethod::kLbs:
+      return pb::DeformMethod::Lbs;
+    case deform::DeformMethod::kDqs:
+      return pb::DeformMethod::Dqs;
+    default:
+      return pb::DeformMethod::Sweep;
+  }
+}
+
+// Whether the server holds a loaded model called `name`.
+bool loaded_on_server(client::Connection& connection, const std::string& name) {
+  flatbuffers::FlatBufferBuilder& builder = connection.builder();
+  builder.Clear();
+  connection.send(pb::finish_message(builder, pb::CreateListModels(builder)));
+  for (const pb::ModelSummary* model : *connection.expect<pb::ModelList>().models())
+    if (model->model_id() != 0 && model->name()->str() == name) return true;
+  return false;
+}
+
+std::runtime_error server_failure(const std::string& address, const client::ServerError& error) {
+  return std::runtime_error("sweepd at " + address + ": " + error.what());
+}
+
+std::span<float> as_floats(std::vector<glm::vec3>& vectors) {
+  static_assert(sizeof(glm::vec3) == 3 * sizeof(float));
+  return {reinterpret_cast<float*>(vectors.data()), 3 * vectors.size()};
+}
+
+// The arguments, once MODEL is known to be an uploadable file or a server model name (checked
+// before connecting).
+const PosingArguments& checked_model(const PosingArguments& arguments) {
+  const std::filesystem::path& file = arguments.model;
+  const bool local_file = std::filesystem::is_regular_file(file);
+  if (!local_file && file.has_parent_path())
+    throw std::invalid_argument(file.string() +
+                                ": no such file (a server model is named without a folder)");
+  if (local_file && file.extension() == ".sweepbind")
+    throw std::invalid_argument(file.string() +
+                                ": a .sweepbind is not uploaded; give the .glb it was bound from");
+  return arguments;
+}
+
+}  // namespace
+
+template <typename Reply>
+const Reply& RemotePosedModel::reply_as() {
+  try {
+    return connection_.expect<Reply>();
+  } catch (const client::ServerError& error) {
+    throw server_failure(connection_.address(), error);
+  }
+}
+
+RemotePosedModel::RemotePosedModel(const PosingArguments& arguments, const ServerAddress& server)
+    : arguments_(checked_model(arguments)), connection_(server.address) {
+  try {
+    connection_.hello(server.token, "sweepctl");
+    const std::filesystem::path& file = arguments.model;
+    const bool local_file = std::filesystem::is_regular_file(file);
+    const std::string name = local_file ? file.filename().string() : file.string();
+    std::vector<std::uint8_t> upload;
+    if (!local_file) {
+      origin_ = "server";
+    } else if (loaded_on_server(connection_, name)) {
+      origin_ = "already loaded";
+    } else {
+      origin_ = "uploaded";
+      upload = read_bytes(file);
+    }
+    flatbuffers::FlatBufferBuilder& builder = connection_.builder();
+    builder.Clear();
+    const auto rig =
+        arguments.rig.empty()
+            ? 0
+            : pb::CreateBindOptions(builder, builder.CreateString(read_text(arguments.rig)));
+    const auto bytes = upload.empty() ? 0 : builder.CreateVector(upload);
+    connection_.send(pb::finish_message(
+        builder, pb::CreateLoadModel(builder, builder.CreateString(name), bytes, rig)));
+    const pb::ModelInfo& info = connection_.expect<pb::ModelInfo>();
+    model_id_ = info.model_id();
+    if (!arguments.bvh.empty()) {
+      retargeter_.emplace(
+          client::retarget_onto(info, io::load_bvh(arguments.bvh), arguments.bvh_map));
+      if (arguments.last_frame >= retargeter_->frame_count())
+        throw std::invalid_argument(arguments.bvh.string() + " has " +
+                                    std::to_string(retargeter_->frame_count()) + " frames; frame " +
+                                    std::to_string(arguments.last_frame) + " does not exist");
+    }
+    model_ = client::served_model(connection_, info);    // `info` is invalid from here on
+    if (local_file) model_.name = file.stem().string();  // as the local commands name it
+    if (!arguments.pose_file.empty())
+      file_pose_ = io::load_pose_json(arguments.pose_file, model_.skeleton);
+  } catch (const client::ServerError& error) {
+    throw server_failure(server.address, error);
+  }
+}
+
+RemotePosedModel::~RemotePosedModel() {
+  try {
+    connection_.close("sweepctl done");
+  } catch (const std::exception&) {
+    // The server may already have closed the connection (e.g. after a fatal error).
+  }
+}
+
+deform::Pose RemotePosedModel::pose(int frame) const {
+  if (retargeter_) return retargeter_->pose_at_frame(frame);
+  if (file_pose_) return *file_pose_;
+  return deform::rest_pose(model_.skeleton);
+}
+
+pb::Features RemotePosedModel::features(const PosingArguments& arguments) {
+  pb::Features features = pb::Features::NONE;
+  if (arguments.features.folding) features = features | pb::Features::Folding;
+  if (arguments.features.protrusion) features = features | pb::Features::Protrusion;
+  if (arguments.features.bulge) features = features | pb::Features::Bulge;
+  if (arguments.features.volume) features = features | pb::Features::Volume;
+  return features;
+}
+
+pb::PoseFields RemotePosedModel::pose_fields(const deform::Pose& pose, deform::DeformMethod method,
+                                             pb::Features features) {
+  rotations_.clear();
+  for (const glm::quat& q : pose.local_rotations) rotations_.emplace_back(q.x, q.y, q.z, q.w);
+  pb::PoseFields fields;
+  fields.model_id = model_id_;
+  fields.sequence = ++sequence_;
+  fields.rotations = rotations_;
+  fields.root_translation =
+      pb::Vec3(pose.root_translation.x, pose.root_translation.y, pose.root_translation.z);
+  fields.method = wire_method(method);
+  fields.features = features;
+  return fields;
+}
+
+void RemotePosedModel::deform_pose(const deform::Pose& pose, deform::DeformMethod method,
+                                   pb::Features features, std::vector<glm::vec3>& positions,
+                                   std::vector<glm::vec3>& normals) {
+  pb::PoseFields fields = pose_fields(pose, method, features);
+  fields.normals = true;
+  flatbuffers::FlatBufferBuilder& builder = connection_.builder();
+  builder.Clear();
+  connection_.send(pb::finish_message(builder, pb::add_pose(builder, fields)));
+  const pb::PosedVertices& reply = reply_as<pb::PosedVertices>();
+  positions.resize(model_.vertex_count());
+  normals.resize(model_.vertex_count());
+  if (reply.vertex_count() != model_.vertex_count() ||
+      !pb::copy_positions(reply, as_floats(positions)) ||
+      !pb::copy_normals(reply, as_floats(normals)))
+    throw std::runtime_error("sweepd at " + connection_.address() +
+                             ": PosedVertices do not match the model's " +
+                             std::to_string(model_.vertex_count()) + " vertices");
+}
+
+std::vector<std::uint8_t> RemotePosedModel::position_map(int frame,
+                                                         const RemoteMapOptions& options) {
+  pb::PoseFields fields = pose_fields(pose(frame), arguments_.method, features(arguments_));
+  fields.sequence = static_cast<std::uint64_t>(frame);  // the EXR header's "frame"
+  const pb::MapLayers layers = pb::MapLayers::Position | pb::MapLayers::Coverage |
+                               (options.normals ? pb::MapLayers::Normal : pb::MapLayers::NONE);
+  const auto side = static_cast<std::uint32_t>(options.size);
+  flatbuffers::FlatBufferBuilder& builder = connection_.builder();
+  builder.Clear();
+  const auto request = pb::CreatePositionMapRequest(builder, pb::add_pose(builder, fields), side,
+                                                    side, options.compression, layers);
+  connection_.send(pb::finish_message(builder, request));
+  const pb::PositionMap& reply = reply_as<pb::PositionMap>();
+  return {reply.exr()->begin(), reply.exr()->end()};
+}
+
+}  // namespace sweepd::cli

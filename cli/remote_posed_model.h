@@ -1,0 +1,84 @@
+// RemotePosedModel: what `sweepctl --server HOST:PORT pose|positionmap|metrics` share — the
+// posing commands' model and pose source, with the deformation done by a sweepd daemon.
+//
+// MODEL is a local .glb/.gltf (uploaded with LoadModel, named by its file name; a model
+// already loaded under that name is reused) or, when no such file exists, the name of a model
+// on the server (e.g. "mannequin"). The model's mesh comes back with MeshRequest, so results
+// are written as the local commands write them; BVH clips and pose files are turned into
+// joint rotations here (client::retarget_onto), and each pose goes over the wire.
+// Errors (unreachable server, wrong token, unknown model, refused pose) throw with the
+// server's address, the protocol error code and its reason.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "cli/posed_model.h"
+#include "client/connection.h"
+#include "deform/model.h"
+#include "io/bvh_retarget.h"
+
+namespace sweepd::cli {
+
+struct ServerAddress {
+  std::string address;  // HOST:PORT
+  std::string token;    // the daemon's auth token ("" when it has none)
+};
+
+// What a remote position map asks for beyond its pose.
+struct RemoteMapOptions {
+  int size = 1024;
+  bool normals = false;
+  protocol::ExrCompression compression = protocol::ExrCompression::Zip;
+};
+
+class RemotePosedModel {
+ public:
+  // Connects, says Hello, loads or uploads the model and fetches its mesh. Throws.
+  RemotePosedModel(const PosingArguments& arguments, const ServerAddress& server);
+  ~RemotePosedModel();
+
+  // The served model (rest pose); named after the local file's stem for an uploaded file,
+  // as the local commands name it, else after the server's name for it.
+  const deform::Model& model() const { return model_; }
+  const PosingArguments& arguments() const { return arguments_; }
+  // How the model was found, for the command's report: "uploaded", "already loaded", "server".
+  const std::string& origin() const { return origin_; }
+  // The pose of clip frame `frame` (or the pose file / rest pose without a clip).
+  deform::Pose pose(int frame) const;
+  // The server deforms `pose` with `method` and `features` (Sweep only): positions and
+  // normals, vertex_count() each.
+  void deform_pose(const deform::Pose& pose, deform::DeformMethod method,
+                   protocol::Features features, std::vector<glm::vec3>& positions,
+                   std::vector<glm::vec3>& normals);
+  // deform_pose with the arguments' pose of clip frame `frame`, method and features.
+  void deform(int frame, std::vector<glm::vec3>& positions, std::vector<glm::vec3>& normals) {
+    deform_pose(pose(frame), arguments_.method, features(arguments_), positions, normals);
+  }
+  // The server's OpenEXR position map of clip frame `frame` (P, A and N when asked for; the
+  // server's 4-texel gutter); the EXR header's frame is `frame`.
+  std::vector<std::uint8_t> position_map(int frame, const RemoteMapOptions& options);
+
+ private:
+  static protocol::Features features(const PosingArguments& arguments);
+  protocol::PoseFields pose_fields(const deform::Pose& pose, deform::DeformMethod method,
+                                   protocol::Features features);
+  // The next reply as a Reply; a server Error throws with the address, code and reason.
+  template <typename Reply>
+  const Reply& reply_as();
+
+  PosingArguments arguments_;
+  client::Connection connection_;
+  std::uint32_t model_id_ = 0;
+  std::string origin_;
+  deform::Model model_;
+  std::optional<io::Retargeter> retargeter_;
+  std::optional<deform::Pose> file_pose_;
+  std::vector<protocol::Quat> rotations_;  // wire scratch
+  std::uint64_t sequence_ = 0;
+};
+
+}  // namespace sweepd::cli

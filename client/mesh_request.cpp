@@ -1,0 +1,61 @@
+#include "client/mesh_request.h"
+
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
+#include "client/model_skeleton.h"
+
+namespace sweepd::client {
+namespace {
+
+// Copies a Mesh array into `count` elements of `out` (each element: several scalars in a row).
+template <typename Element, typename Scalar>
+void copy_array(const flatbuffers::Vector<Scalar>* values, std::size_t count, const char* name,
+                std::vector<Element>& out) {
+  static_assert(sizeof(Element) % sizeof(Scalar) == 0);
+  const std::size_t expected = count * (sizeof(Element) / sizeof(Scalar));
+  const std::size_t got = values ? values->size() : 0;
+  if (got != expected) {
+    throw std::runtime_error("Mesh." + std::string(name) + " has " + std::to_string(got) +
+                             " values; the model needs " + std::to_string(expected));
+  }
+  out.resize(count);
+  if (expected > 0) std::memcpy(out.data(), values->data(), expected * sizeof(Scalar));
+}
+
+}  // namespace
+
+deform::Model served_model(Connection& connection, const protocol::ModelInfo& info) {
+  deform::Model model;
+  model.name = info.name() ? info.name()->str() : "";
+  model.skeleton = rest_skeleton(info);
+  const std::uint32_t model_id = info.model_id();
+  const std::size_t vertex_count = info.vertex_count();
+  const std::size_t triangle_count = info.triangle_count();
+  const bool has_uvs = info.has_uvs();
+
+  flatbuffers::FlatBufferBuilder& builder = connection.builder();
+  builder.Clear();
+  connection.send(
+      protocol::finish_message(builder, protocol::CreateMeshRequest(builder, model_id)));
+  const protocol::Mesh& mesh = connection.expect<protocol::Mesh>();
+  if (mesh.model_id() != model_id) {
+    throw std::runtime_error(connection.address() + ": Mesh for model " +
+                             std::to_string(mesh.model_id()) + ", asked for " +
+                             std::to_string(model_id));
+  }
+  copy_array(mesh.indices(), 3 * triangle_count, "indices", model.indices);
+  copy_array(mesh.rest_positions(), vertex_count, "rest_positions", model.positions);
+  copy_array(mesh.uvs(), has_uvs ? vertex_count : 0, "uvs", model.uvs);
+  copy_array(mesh.skin_joints(), vertex_count, "skin_joints", model.skin_joints);
+  copy_array(mesh.skin_weights(), vertex_count, "skin_weights", model.skin_weights);
+  model.normals = deform::compute_vertex_normals(model.positions, model.indices);
+  if (const std::string problem = model.validate(); !problem.empty()) {
+    throw std::runtime_error(connection.address() + ": the served model '" + model.name +
+                             "' is unusable: " + problem);
+  }
+  return model;
+}
+
+}  // namespace sweepd::client

@@ -1,0 +1,225 @@
+// sweepctl --server against the real daemon on localhost: a remote pose of the uploaded shared
+// male equals the local `sweepctl pose` output byte for byte; a server-only model (the default
+// mannequin) is written from MeshRequest's mesh; remote metrics equal the local ones; wrong
+// token, unknown model and an unreachable server exit non-zero with the reason.
+#include "tests/server/sweepctl_remote.h"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <nlohmann/json.hpp>
+
+#include "client/connection.h"
+#include "client/model_skeleton.h"
+#include "deform/deformer.h"
+#include "deform/quality_metrics.h"
+#include "io/bvh_load.h"
+#include "io/bvh_retarget.h"
+#include "io/gltf_load.h"
+#include "io/gltf_save.h"
+#include "io/sweepbind.h"
+#include "tests/server/pose_frames.h"
+
+namespace sweepd::test {
+namespace {
+
+const std::string kClipFrameArgs =
+    "--bvh " + kClip.string() + " --frame " + std::to_string(kClipFrame);
+
+TEST_F(SweepctlRemote, UploadedMalePoseEqualsTheLocalPoseByteForByte) {
+  const std::string pose = "pose " + kSharedMale.string() + " " + kClipFrameArgs + " -o ";
+  const ClientRun local = run_sweepctl(pose + path("local.glb").string());
+  ASSERT_EQ(local.exit_code, 0) << local.output;
+  const ClientRun remote = run_sweepctl(server() + " " + pose + path("remote.glb").string());
+  ASSERT_EQ(remote.exit_code, 0) << remote.output << log();
+  EXPECT_NE(remote.output.find("(uploaded)"), std::string::npos) << remote.output;
+
+  // Same binding, same pose, same deformation code: the files are identical.
+  const std::vector<char> local_bytes = file_bytes(path("local.glb"));
+  EXPECT_GT(local_bytes.size(), 100'000u) << "a whole posed model";
+  EXPECT_TRUE(local_bytes == file_bytes(path("remote.glb")));
+  const deform::Model local_model = io::load_gltf(path("local.glb"));
+  const deform::Model remote_model = io::load_gltf(path("remote.glb"));
+  ASSERT_EQ(remote_model.vertex_count(), local_model.vertex_count());
+  EXPECT_EQ(std::memcmp(remote_model.positions.data(), local_model.positions.data(),
+                        local_model.vertex_count() * sizeof(glm::vec3)),
+            0)
+      << "positions bit-exact";
+  const float moved = static_cast<float>(
+      deform::largest_distance(local_model.positions, io::load_gltf(kSharedMale).positions));
+  EXPECT_GT(moved, 0.1f) << "frame " << kClipFrame << " is far from the rest pose";
+}
+
+TEST_F(SweepctlRemote, FrameRangeOfAnAlreadyLoadedModelEqualsTheLocalFrames) {
+  const std::string pose =
+      "pose " + kSharedMale.string() + " --bvh " + kClip.string() + " --frames 100-102 -o ";
+  ASSERT_EQ(run_sweepctl(server() + " " + pose + path("remote_first").string()).exit_code, 0);
+  // The second run finds the model loaded under its file name and reuses it.
+  const ClientRun remote = run_sweepctl(pose + path("remote_frames").string() + " " + server());
+  ASSERT_EQ(remote.exit_code, 0) << remote.output << log();
+  EXPECT_NE(remote.output.find("(already loaded)"), std::string::npos) << remote.output;
+  EXPECT_NE(remote.output.find("wrote 3 frames"), std::string::npos) << remote.output;
+  const ClientRun local = run_sweepctl(pose + path("local_frames").string());
+  ASSERT_EQ(local.exit_code, 0) << local.output;
+  for (const char* frame : {"frame_00100.glb", "frame_00101.glb", "frame_00102.glb"}) {
+    const std::vector<char> bytes = file_bytes(path("local_frames") / frame);
+    ASSERT_FALSE(bytes.empty()) << frame;
+    EXPECT_TRUE(bytes == file_bytes(path("remote_frames") / frame)) << frame;
+  }
+}
+
+TEST_F(SweepctlRemote, ServerOnlyMannequinIsWrittenFromTheServedMesh) {
+  const ClientRun remote = run_sweepctl(server() + " pose mannequin " + kClipFrameArgs + " -o " +
+                                        path("mannequin.glb").string());
+  ASSERT_EQ(remote.exit_code, 0) << remote.output << log();
+  EXPECT_NE(remote.output.find("(server)"), std::string::npos) << remote.output;
+
+  // The same clip frame retargeted as a client does (from ModelInfo) and posed by the daemon
+  // directly; and posed by the library here on the daemon's stored binding.
+  const deform::BoundModel bound = io::load_sweepbind(path("store/1.sweepbind"));
+  client::Connection connection("127.0.0.1:" + std::to_string(port()));
+  connection.hello(kToken, "sweepctl_remote_test");
+  const deform::Pose pose =
+      client::retarget_onto(connection.load_model("mannequin"), io::load_bvh(kClip))
+          .pose_at_frame(kClipFrame);
+  const std::vector<protocol::Quat> rotations = to_wire(pose.local_rotations);
+  protocol::PoseFields fields = pose_fields(1, 1, rotations);
+  const glm::vec3& root = pose.root_translation;
+  fields.root_translation = protocol::Vec3(root.x, root.y, root.z);
+  fields.normals = true;
+  connection.builder().Clear();
+  connection.send(protocol::finish_message(connection.builder(),
+                                           protocol::add_pose(connection.builder(), fields)));
+  std::vector<glm::vec3> served(bound.model.vertex_count()), normals(served.size());
+  const protocol::PosedVertices& reply = connection.expect<protocol::PosedVertices>();
+  ASSERT_TRUE(protocol::copy_positions(reply, {&served[0].x, 3 * served.size()}));
+  ASSERT_TRUE(protocol::copy_normals(reply, {&normals[0].x, 3 * normals.size()}));
+  // The file sweepctl wrote is the one the served positions and normals make of the stored
+  // model (mesh, UVs, skin, skeleton all sent by MeshRequest / ModelInfo), byte for byte.
+  deform::Model expected = bound.model;
+  expected.positions = served;
+  expected.normals = normals;
+  io::save_gltf(expected, path("expected_mannequin.glb"));
+  EXPECT_TRUE(file_bytes(path("expected_mannequin.glb")) == file_bytes(path("mannequin.glb")));
+  deform::Pose library_pose = pose;
+  std::vector<glm::vec3> library(served.size());
+  deform::Deformer(bound).deform(library_pose, deform::DeformMethod::kSweep, library, {});
+
+  EXPECT_EQ(std::memcmp(served.data(), library.data(), served.size() * sizeof(glm::vec3)), 0)
+      << "the daemon's deformation of the client-side retargeted pose, bit-exact";
+  EXPECT_GT(deform::largest_distance(served, bound.model.positions), 0.1)
+      << "frame " << kClipFrame << " is far from the rest pose";
+}
+
+TEST_F(SweepctlRemote, MeshRequestAnswersTheRestMeshOrUnknownModel) {
+  const deform::BoundModel bound = io::load_sweepbind(path("store/1.sweepbind"));
+  FrameClient client(port());
+  ASSERT_NE(client.hello(kToken), nullptr);
+  for (const std::uint32_t model_id : {1u, 99u}) {
+    flatbuffers::FlatBufferBuilder builder;
+    client.send_bytes(protocol::finish_message(
+        builder, protocol::CreateMeshRequest(builder, model_id), 40 + model_id));
+    if (model_id == 99u) {
+      const protocol::Error* error = client.receive_as<protocol::Error>();
+      ASSERT_NE(error, nullptr);
+      EXPECT_EQ(error->code(), protocol::ErrorCode::UnknownModel);
+      EXPECT_NE(error->message()->str().find("99"), std::string::npos) << error->message()->str();
+      continue;
+    }
+    const protocol::Mesh* mesh = client.receive_as<protocol::Mesh>();
+    ASSERT_NE(mesh, nullptr);
+    const std::size_t n = bound.model.vertex_count();
+    EXPECT_EQ(mesh->model_id(), 1u);
+    ASSERT_EQ(mesh->rest_positions()->size(), 3 * n);
+    EXPECT_EQ(std::memcmp(mesh->rest_positions()->data(), bound.model.positions.data(),
+                          3 * n * sizeof(float)),
+              0);
+    EXPECT_EQ(mesh->indices()->size(), bound.model.indices.size());
+    EXPECT_EQ(mesh->uvs()->size(), 2 * bound.model.uvs.size());
+    EXPECT_EQ(mesh->skin_joints()->size(), 4 * n);
+    ASSERT_EQ(mesh->skin_weights()->size(), 4 * n);
+    EXPECT_EQ(std::memcmp(mesh->skin_weights()->data(), bound.model.skin_weights.data(),
+                          4 * n * sizeof(float)),
+              0);
+  }
+}
+
+nlohmann::json metrics_json(const std::string& arguments) {
+  const ClientRun result = run_sweepctl(arguments);
+  EXPECT_EQ(result.exit_code, 0) << result.output;
+  const std::size_t brace = result.output.find('{');
+  if (result.exit_code != 0 || brace == std::string::npos) return {};
+  return nlohmann::json::parse(result.output.substr(brace));
+}
+
+TEST_F(SweepctlRemote, RemoteMetricsEqualTheLocalOnesWithoutTheSweepIntegral) {
+  const std::string metrics =
+      "metrics " + kSharedMale.string() + " " + kClipFrameArgs + " --method sweep,lbs --json";
+  const nlohmann::json local = metrics_json(metrics);
+  const nlohmann::json remote = metrics_json(server() + " " + metrics);
+  ASSERT_EQ(remote["methods"].size(), 2u) << remote.dump();
+  ASSERT_EQ(local["methods"].size(), 2u) << local.dump();
+  EXPECT_NE(remote["source"].get<std::string>().find("sweep integral unavailable remotely"),
+            std::string::npos);
+  for (std::size_t m = 0; m < 2; ++m) {
+    const nlohmann::json& l = local["methods"][m];
+    const nlohmann::json& r = remote["methods"][m];
+    EXPECT_EQ(r["method"], l["method"]);
+    EXPECT_EQ(r["rest_error_m"].get<double>(), l["rest_error_m"].get<double>());
+    int compared = 0;
+    for (const nlohmann::json& metric : l["metrics"]) {
+      const std::string name = metric["name"];
+      const auto it = std::find_if(r["metrics"].begin(), r["metrics"].end(),
+                                   [&](const nlohmann::json& x) { return x["name"] == name; });
+      if (name.find("sweep integral") != std::string::npos) {
+        EXPECT_EQ(it, r["metrics"].end()) << name << " is not available remotely";
+        continue;
+      }
+      ASSERT_NE(it, r["metrics"].end()) << name;
+      // Bit-exact positions; the regions come from binding the served mesh (same vertices,
+      // triangles and skin as the file) — equal up to summation round-off.
+      const double expected = metric["worst"];
+      EXPECT_NEAR((*it)["worst"].get<double>(), expected, 1e-9 * std::max(1.0, std::abs(expected)))
+          << l["method"] << " " << name;
+      ++compared;
+    }
+    EXPECT_EQ(compared, 9) << "6 part volumes, section, crossings, stretch";
+  }
+}
+
+TEST_F(SweepctlRemote, WrongTokenExitsNonZeroWithTheReason) {
+  const ClientRun result =
+      run_sweepctl("--server 127.0.0.1:" + std::to_string(port()) +
+                   " --token wrong pose mannequin -o " + path("never.glb").string());
+  EXPECT_EQ(result.exit_code, 1) << result.output;
+  EXPECT_NE(result.output.find("AuthFailed: the auth token is wrong"), std::string::npos)
+      << result.output;
+  EXPECT_FALSE(fs::exists(path("never.glb")));
+}
+
+TEST_F(SweepctlRemote, UnknownModelExitsNonZeroNamingIt) {
+  const ClientRun result =
+      run_sweepctl(server() + " pose no_such_model -o " + path("never.glb").string());
+  EXPECT_EQ(result.exit_code, 1) << result.output;
+  EXPECT_NE(result.output.find("UnknownModel"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("no_such_model"), std::string::npos) << result.output;
+}
+
+TEST_F(SweepctlRemote, UnreachableServerExitsNonZeroNamingTheAddress) {
+  // Port 1 (tcpmux) is privileged and has no listener here: the connection is refused.
+  const ClientRun result = run_sweepctl("--server 127.0.0.1:1 metrics mannequin --method lbs");
+  EXPECT_EQ(result.exit_code, 1) << result.output;
+  EXPECT_NE(result.output.find("cannot connect to sweepd at 127.0.0.1:1"), std::string::npos)
+      << result.output;
+}
+
+TEST_F(SweepctlRemote, LocalOnlyCommandsRefuseServer) {
+  const ClientRun result = run_sweepctl(server() + " inspect " + kSharedMale.string());
+  EXPECT_EQ(result.exit_code, 2) << result.output;
+  EXPECT_NE(result.output.find("--server applies to pose, positionmap and metrics"),
+            std::string::npos)
+      << result.output;
+}
+
+}  // namespace
+}  // namespace sweepd::test
