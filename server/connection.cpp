@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <nlohmann/json.hpp>
 
+#include "deform/rest_key_edit.h"
 #include "protocol/messages.h"
 #include "server/constant_time_equal.h"
 #include "server/log_event.h"
@@ -199,8 +200,7 @@ void Connection::handle_frame(const pb::Message& message) {
       break;
     }
     case pb::Body::EditKeyEllipse:
-      send_error(pb::ErrorCode::NotAvailable,
-                 "key ellipse editing is not available on this server yet", 0, request_id);
+      handle_edit_key_ellipse(*message.body_as_EditKeyEllipse(), request_id);
       break;
     case pb::Body::Hello:
       send_error(pb::ErrorCode::InvalidArgument, "Hello was already received on this connection", 0,
@@ -301,6 +301,51 @@ void Connection::handle_list_models(std::uint64_t request_id) {
   }
   pb::finish_message(builder, pb::CreateModelListDirect(builder, &summaries), request_id);
   send(std::move(builder));
+}
+
+void Connection::handle_edit_key_ellipse(const pb::EditKeyEllipse& request,
+                                         std::uint64_t request_id) {
+  deform::RestKeyEdit edit;
+  edit.sweep = request.sweep() ? request.sweep()->str() : "";
+  edit.key = static_cast<int>(std::min<std::uint32_t>(request.key_index(), 1u << 30));
+  if (const pb::Vec3* offset = request.centre_offset())
+    edit.centre_offset = {offset->x(), offset->y(), offset->z()};
+  edit.a = request.half_axis_a();
+  edit.b = request.half_axis_b();
+  edit.twist_radians = request.twist_radians();
+  const std::uint32_t model_id = request.model_id();
+  // Storing the edited model durably (fsync) takes milliseconds: on a worker, replies kept in
+  // request order.
+  ++loads_running_;
+  asio::post(environment_.workers, [self = shared_from_this(), edit, model_id, request_id]() {
+    ModelHandle model = self->environment_.registry.find(model_id);
+    pb::ErrorCode code = pb::ErrorCode::UnknownModel;
+    std::string problem = "no model with id " + std::to_string(model_id);
+    if (model) {
+      deform::BoundModel bound = model->bound;
+      problem = deform::apply_rest_key_edit(bound, edit);
+      code = pb::ErrorCode::InvalidArgument;
+      try {
+        if (problem.empty())
+          model = self->environment_.registry.replace(model_id, std::move(bound));
+      } catch (const ModelError& error) {
+        code = error.code();
+        problem = error.what();
+      }
+    }
+    asio::post(self->socket_.get_executor(), [self, model, code, problem, request_id]() {
+      --self->loads_running_;
+      if (problem.empty()) {
+        log_event("key_ellipse_edited", {{"connection", self->id()}, {"model", model->id}});
+        flatbuffers::FlatBufferBuilder builder = self->take_builder();
+        build_model_info(builder, *model, request_id);
+        self->send(std::move(builder));
+      } else {
+        self->send_error(code, "edit key ellipse: " + problem, 0, request_id);
+      }
+      self->process_input();
+    });
+  });
 }
 
 void Connection::handle_load_model(const pb::LoadModel& load, std::uint64_t request_id) {

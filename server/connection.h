@@ -87,6 +87,7 @@ class Connection : public std::enable_shared_from_this<Connection> {
                    const protocol::PositionMapRequest* map = nullptr);
   void handle_list_models(std::uint64_t request_id);
   void handle_load_model(const protocol::LoadModel& load, std::uint64_t request_id);
+  void handle_edit_key_ellipse(const protocol::EditKeyEllipse& request, std::uint64_t request_id);
   void handle_stats(std::uint64_t request_id);
 
   void start_next_pose();

@@ -231,4 +231,22 @@ ModelHandle ModelRegistry::add(const std::string& name, deform::BoundModel bound
   return model;
 }
 
+ModelHandle ModelRegistry::replace(std::uint32_t id, deform::BoundModel bound) {
+  std::lock_guard lock(mutex_);
+  const auto old = std::find_if(models_.begin(), models_.end(),
+                                [id](const ModelHandle& m) { return m->id == id; });
+  if (old == models_.end())
+    throw ModelError(ErrorCode::UnknownModel, "no model with id " + std::to_string(id));
+  auto model = std::make_shared<RegisteredModel>(**old);
+  model->bound = std::move(bound);
+  try {
+    io::save_sweepbind(model->bound, store_dir_ / (std::to_string(id) + ".sweepbind"));
+  } catch (const std::exception& error) {
+    throw ModelError(ErrorCode::Internal, "model '" + model->name + "' could not be stored: " +
+                                              std::string(error.what()));
+  }
+  *old = model;
+  return model;
+}
+
 }  // namespace sweepd::server

@@ -78,6 +78,9 @@ class ModelRegistry {
   ModelHandle load(const ModelLoadRequest& request);
   // Stores an already bound model under `name` (the default mannequin). Throws ModelError.
   ModelHandle add(const std::string& name, deform::BoundModel bound, std::uint64_t bind_time_ns);
+  // Replaces model `id`'s binding (an edit), stored durably before it is swapped in; connections
+  // holding the old handle finish with it. ModelError{UnknownModel / Internal}.
+  ModelHandle replace(std::uint32_t id, deform::BoundModel bound);
 
   const std::filesystem::path& store_dir() const { return store_dir_; }
 
