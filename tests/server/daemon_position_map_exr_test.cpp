@@ -1,9 +1,6 @@
 // PositionMapRequest over localhost: the daemon renders the posed mannequin into UV space on
 // its GPU worker (llvmpipe here) and sends an OpenEXR file whose P and A channels must equal
 // what the library renders in this process for the same bound model and pose.
-#include <ImfChannelList.h>
-#include <ImfFrameBuffer.h>
-#include <ImfHeader.h>
 #include <ImfInputFile.h>
 #include <gtest/gtest.h>
 
@@ -15,37 +12,17 @@
 #include "tests/io/exr_memory_stream.h"
 #include "tests/server/daemon_process.h"
 #include "tests/server/pose_frames.h"
+#include "tests/server/position_map_exr.h"
 
 namespace sweepd::test {
 namespace {
 
 constexpr int kSide = 96;
 
-struct Map {
-  std::vector<float> positions, coverage;
-};
-
-Map decode(const std::vector<std::uint8_t>& bytes, int& width, int& height) {
+DecodedPositionMap decode(const std::vector<std::uint8_t>& bytes) {
   io::test_support::ExrMemoryStream stream(bytes);
   Imf::InputFile file(stream);
-  const Imath::Box2i window = file.header().dataWindow();
-  width = window.max.x - window.min.x + 1;
-  height = window.max.y - window.min.y + 1;
-  Map map;
-  map.positions.resize(static_cast<std::size_t>(width) * height * 3);
-  map.coverage.resize(static_cast<std::size_t>(width) * height);
-  Imf::FrameBuffer frame_buffer;
-  const char* channels[3] = {"P.X", "P.Y", "P.Z"};
-  for (int c = 0; c < 3; ++c) {
-    frame_buffer.insert(channels[c],
-                        Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(map.positions.data() + c),
-                                   3 * sizeof(float), 3 * sizeof(float) * width));
-  }
-  frame_buffer.insert("A", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(map.coverage.data()),
-                                      sizeof(float), sizeof(float) * width));
-  file.setFrameBuffer(frame_buffer);
-  file.readPixels(window.min.y, window.max.y);
-  return map;
+  return decode_position_map(file);
 }
 
 class DaemonPositionMap : public ::testing::Test {
@@ -91,10 +68,9 @@ TEST_F(DaemonPositionMap, ExrDecodesToTheLibrarysOwnRenderOfThePose) {
   EXPECT_EQ(reply->sequence(), 5u);
   EXPECT_EQ(reply->width(), static_cast<std::uint32_t>(kSide));
   const std::vector<std::uint8_t> exr(reply->exr()->begin(), reply->exr()->end());
-  int width = 0, height = 0;
-  const Map served = decode(exr, width, height);
-  ASSERT_EQ(width, kSide);
-  ASSERT_EQ(height, kSide);
+  const DecodedPositionMap served = decode(exr);
+  ASSERT_EQ(served.width, kSide);
+  ASSERT_EQ(served.height, kSide);
 
   // The same pose rendered here with the same renderer (the server uses a 4-texel gutter).
   const Deformed posed = library_deformation(bound, rotations, deform::DeformMethod::kSweep);

@@ -2,9 +2,6 @@
 // EXR file whose positions are the library's own render of that clip frame; a rerun renders
 // again exactly the files that are missing or broken and leaves the others alone; bad input
 // ends the tool with a message naming it and the documented exit code.
-#include <ImfChannelList.h>
-#include <ImfFrameBuffer.h>
-#include <ImfHeader.h>
 #include <ImfInputFile.h>
 #include <gtest/gtest.h>
 
@@ -22,6 +19,7 @@
 #include "io/sweepbind.h"
 #include "tests/server/client_run.h"
 #include "tests/server/daemon_process.h"
+#include "tests/server/position_map_exr.h"
 
 namespace sweepd::test {
 namespace {
@@ -42,27 +40,13 @@ std::array<int, 3> frame_counts(const std::string& output) {
   return {std::stoi(match[1]), std::stoi(match[2]), std::stoi(match[3])};
 }
 
-struct Map {
-  std::vector<float> positions, coverage;  // kSide² × 3, kSide²
-};
+using Map = DecodedPositionMap;
 
 Map read_map(const fs::path& file) {
   Imf::InputFile exr(file.c_str());
-  const Imath::Box2i window = exr.header().dataWindow();
-  EXPECT_EQ(window.max.x - window.min.x + 1, kSide) << file;
-  EXPECT_EQ(window.max.y - window.min.y + 1, kSide) << file;
-  Map map{std::vector<float>(kSide * kSide * 3), std::vector<float>(kSide * kSide)};
-  Imf::FrameBuffer frame_buffer;
-  const char* channels[3] = {"P.X", "P.Y", "P.Z"};
-  for (int c = 0; c < 3; ++c) {
-    frame_buffer.insert(channels[c],
-                        Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(map.positions.data() + c),
-                                   3 * sizeof(float), 3 * sizeof(float) * kSide));
-  }
-  frame_buffer.insert("A", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(map.coverage.data()),
-                                      sizeof(float), sizeof(float) * kSide));
-  exr.setFrameBuffer(frame_buffer);
-  exr.readPixels(window.min.y, window.max.y);
+  Map map = decode_position_map(exr);
+  EXPECT_EQ(map.width, kSide) << file;
+  EXPECT_EQ(map.height, kSide) << file;
   return map;
 }
 
@@ -110,7 +94,7 @@ class RenderFrames : public ::testing::Test {
     deform::Pose pose = clip_on_model_->pose_at_frame(frame);
     deformer.deform(pose, deform::DeformMethod::kSweep, positions, normals, 1);
     gpu::PositionMapRenderer renderer(context_);
-    Map map{std::vector<float>(kSide * kSide * 3), std::vector<float>(kSide * kSide)};
+    Map map{kSide, kSide, std::vector<float>(kSide * kSide * 3), std::vector<float>(kSide * kSide)};
     renderer.render({bound_->model.uvs, positions, {}, bound_->model.indices},
                     {.width = kSide, .height = kSide, .gutter_pixels = 4, .view = std::nullopt},
                     {map.positions, {}, map.coverage});
