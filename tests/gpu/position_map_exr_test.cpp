@@ -1,8 +1,9 @@
 // End to end on the procedural mannequin: GPU position map (llvmpipe in CI) → io::encode_exr →
 // read back with OpenEXR's InputFile → at every vertex's UV texel, the position the vertex's
 // triangles interpolate there; coverage matching the UV charts' area; header attributes.
+#include "tests/io/position_map_exr.h"
+
 #include <ImfChannelList.h>
-#include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
 #include <ImfIO.h>
 #include <ImfInputFile.h>
@@ -23,33 +24,13 @@
 namespace sweepd::gpu {
 namespace {
 
-struct ReadBack {
-  int width = 0, height = 0;
-  std::vector<float> positions, coverage;
-};
+using ReadBack = io::test_support::DecodedPositionMap;
 
 ReadBack read_position_map(const std::vector<std::uint8_t>& bytes, Imf::Header& header_out) {
   io::test_support::ExrMemoryStream stream(bytes);
   Imf::InputFile file(stream);
   header_out = file.header();
-  const Imath::Box2i window = file.header().dataWindow();
-  ReadBack map;
-  map.width = window.max.x - window.min.x + 1;
-  map.height = window.max.y - window.min.y + 1;
-  map.positions.resize(static_cast<std::size_t>(map.width) * map.height * 3);
-  map.coverage.resize(static_cast<std::size_t>(map.width) * map.height);
-  Imf::FrameBuffer frame_buffer;
-  const char* channels[3] = {"P.X", "P.Y", "P.Z"};
-  for (int c = 0; c < 3; ++c) {
-    frame_buffer.insert(channels[c],
-                        Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(map.positions.data() + c),
-                                   3 * sizeof(float), 3 * sizeof(float) * map.width));
-  }
-  frame_buffer.insert("A", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(map.coverage.data()),
-                                      sizeof(float), sizeof(float) * map.width));
-  file.setFrameBuffer(frame_buffer);
-  file.readPixels(window.min.y, window.max.y);
-  return map;
+  return io::test_support::decode_position_map(file);
 }
 
 class MannequinPositionMap : public ::testing::Test {

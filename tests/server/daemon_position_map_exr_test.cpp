@@ -10,19 +10,19 @@
 #include "gpu/position_map_renderer.h"
 #include "io/sweepbind.h"
 #include "tests/io/exr_memory_stream.h"
+#include "tests/io/position_map_exr.h"
 #include "tests/server/daemon_process.h"
 #include "tests/server/pose_frames.h"
-#include "tests/server/position_map_exr.h"
 
 namespace sweepd::test {
 namespace {
 
 constexpr int kSide = 96;
 
-DecodedPositionMap decode(const std::vector<std::uint8_t>& bytes) {
+io::test_support::DecodedPositionMap decode(const std::vector<std::uint8_t>& bytes) {
   io::test_support::ExrMemoryStream stream(bytes);
   Imf::InputFile file(stream);
-  return decode_position_map(file);
+  return io::test_support::decode_position_map(file);
 }
 
 class DaemonPositionMap : public ::testing::Test {
@@ -68,7 +68,7 @@ TEST_F(DaemonPositionMap, ExrDecodesToTheLibrarysOwnRenderOfThePose) {
   EXPECT_EQ(reply->sequence(), 5u);
   EXPECT_EQ(reply->width(), static_cast<std::uint32_t>(kSide));
   const std::vector<std::uint8_t> exr(reply->exr()->begin(), reply->exr()->end());
-  const DecodedPositionMap served = decode(exr);
+  const io::test_support::DecodedPositionMap served = decode(exr);
   ASSERT_EQ(served.width, kSide);
   ASSERT_EQ(served.height, kSide);
 

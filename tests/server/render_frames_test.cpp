@@ -17,9 +17,9 @@
 #include "io/bvh_load.h"
 #include "io/bvh_retarget.h"
 #include "io/sweepbind.h"
+#include "tests/io/position_map_exr.h"
 #include "tests/server/client_run.h"
 #include "tests/server/daemon_process.h"
-#include "tests/server/position_map_exr.h"
 
 namespace sweepd::test {
 namespace {
@@ -40,11 +40,11 @@ std::array<int, 3> frame_counts(const std::string& output) {
   return {std::stoi(match[1]), std::stoi(match[2]), std::stoi(match[3])};
 }
 
-using Map = DecodedPositionMap;
+using Map = io::test_support::DecodedPositionMap;
 
 Map read_map(const fs::path& file) {
   Imf::InputFile exr(file.c_str());
-  Map map = decode_position_map(exr);
+  Map map = io::test_support::decode_position_map(exr);
   EXPECT_EQ(map.width, kSide) << file;
   EXPECT_EQ(map.height, kSide) << file;
   return map;

@@ -10,7 +10,7 @@
 #include <cstddef>
 #include <vector>
 
-namespace sweepd::test {
+namespace sweepd::io::test_support {
 
 struct DecodedPositionMap {
   int width = 0, height = 0;
@@ -39,4 +39,4 @@ inline DecodedPositionMap decode_position_map(Imf::InputFile& file) {
   return map;
 }
 
-}  // namespace sweepd::test
+}  // namespace sweepd::io::test_support
