@@ -3,6 +3,8 @@
 // store directory, stderr (the JSON logs) captured to a file for failure messages.
 // FrameClient: a blocking socket client speaking the sweepd framing, with a receive timeout,
 // so a test fails instead of hanging when the server does not answer.
+// ClipClientTest: a fixture for the client examples' tests — a daemon with token "t0k" in a
+// fresh directory, and CMU clip 01_01 for the client to stream (skipped without shared data).
 #pragma once
 
 #include <gtest/gtest.h>
@@ -18,6 +20,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -228,6 +231,31 @@ class FrameClient {
   bool connected_ = false;
   std::vector<std::uint64_t> storage_;
   std::span<const std::uint8_t> last_frame_;
+};
+
+class ClipClientTest : public ::testing::Test {
+ protected:
+  // directory_name: under the temporary folder, one per test file.
+  explicit ClipClientTest(std::string directory_name)
+      : directory_name_(std::move(directory_name)) {}
+  void SetUp() override {
+    clip_ = fs::path(SWEEPD_SHARED_DATA) / "motion" / "cmu_01_01.bvh";
+    if (!fs::exists(clip_)) GTEST_SKIP() << "shared data absent: " << clip_;
+    directory_ = fresh_directory(directory_name_);
+    daemon_ =
+        std::make_unique<DaemonProcess>(directory_, std::vector<std::string>{"--token", "t0k"});
+    ASSERT_TRUE(daemon_->running()) << daemon_->log();
+  }
+  void TearDown() override {
+    daemon_.reset();
+    if (!directory_.empty()) fs::remove_all(directory_);
+  }
+
+  fs::path clip_, directory_;
+  std::unique_ptr<DaemonProcess> daemon_;
+
+ private:
+  std::string directory_name_;
 };
 
 }  // namespace sweepd::test

@@ -56,20 +56,9 @@ float largest_difference(const std::vector<float>& a, const std::vector<float>& 
   return largest;
 }
 
-class RenderFrames : public ::testing::Test {
+class RenderFrames : public ClipClientTest {
  protected:
-  void SetUp() override {
-    clip_ = fs::path(SWEEPD_SHARED_DATA) / "motion" / "cmu_01_01.bvh";
-    if (!fs::exists(clip_)) GTEST_SKIP() << "shared data absent: " << clip_;
-    directory_ = fresh_directory("render_frames");
-    daemon_ =
-        std::make_unique<DaemonProcess>(directory_, std::vector<std::string>{"--token", "t0k"});
-    ASSERT_TRUE(daemon_->running()) << daemon_->log();
-  }
-  void TearDown() override {
-    daemon_.reset();
-    if (!directory_.empty()) fs::remove_all(directory_);
-  }
+  RenderFrames() : ClipClientTest("render_frames") {}
   std::string server_arguments() const {
     return "--server 127.0.0.1:" + std::to_string(daemon_->port()) + " --token t0k --bvh " +
            clip_.string();
@@ -110,8 +99,6 @@ class RenderFrames : public ::testing::Test {
     EXPECT_EQ(served.coverage, expected.coverage) << "coverage depends on the UVs alone";
   }
 
-  fs::path clip_, directory_;
-  std::unique_ptr<DaemonProcess> daemon_;
   gpu::Context context_;
   std::unique_ptr<deform::BoundModel> bound_;
   std::unique_ptr<io::Retargeter> clip_on_model_;

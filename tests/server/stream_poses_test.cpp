@@ -14,26 +14,12 @@ ClientRun run_stream_poses(const std::string& arguments) {
   return run_client(std::string(SWEEPD_STREAM_POSES) + " " + arguments);
 }
 
-class StreamPoses : public ::testing::Test {
+class StreamPoses : public ClipClientTest {
  protected:
-  void SetUp() override {
-    clip_ = fs::path(SWEEPD_SHARED_DATA) / "motion" / "cmu_01_01.bvh";
-    if (!fs::exists(clip_)) GTEST_SKIP() << "shared data absent: " << clip_;
-    directory_ = fresh_directory("stream_poses");
-    daemon_ =
-        std::make_unique<DaemonProcess>(directory_, std::vector<std::string>{"--token", "t0k"});
-    ASSERT_TRUE(daemon_->running()) << daemon_->log();
-  }
-  void TearDown() override {
-    daemon_.reset();
-    fs::remove_all(directory_);
-  }
+  StreamPoses() : ClipClientTest("stream_poses") {}
   std::string common_arguments() const {
     return "--port " + std::to_string(daemon_->port()) + " --token t0k --bvh " + clip_.string();
   }
-
-  fs::path clip_, directory_;
-  std::unique_ptr<DaemonProcess> daemon_;
 };
 
 TEST_F(StreamPoses, InOrderClipIsAnsweredPoseForPose) {
