@@ -55,8 +55,9 @@ TEST(DaemonEditKeyEllipse, AnEditIsPosedStoredAndKeptOverARestart) {
     ASSERT_TRUE(daemon.running()) << daemon.log();
     client::Connection connection("127.0.0.1", std::to_string(daemon.port()));
     connection.hello("", "edit test");
-    id = connection.load_model("mannequin").model_id();
-    const std::size_t joints = connection.load_model("mannequin").joint_names()->size();
+    const pb::ModelInfo& info = connection.load_model("mannequin");
+    id = info.model_id();
+    const std::size_t joints = info.joint_names()->size();
     bent = bent_rotations(joints);
     rest.assign(joints, glm::quat(1, 0, 0, 0));
     before = posed(connection, id, bent, 1);
