@@ -1,4 +1,5 @@
-// Collision + anatomical features per frame on the shared male, left elbow and knee bent 150°:
+// Collision + anatomical features per frame on the shared male, left elbow and knee flexed 150°
+// (the angle between their links, tests/deform/shared_male.h):
 // the CPU reference (grid broad phase) and gpu::CollisionDetector (llvmpipe here, a real GPU
 // where one is lent), for pair detection over all 8 regions and for the whole feature pass
 // (per region: detect, then fold/relax rounds each followed by a detection; protrusion). The
@@ -16,6 +17,7 @@
 #include "deform/rig_map.h"
 #include "gpu/collision.h"
 #include "io/gltf_load.h"
+#include "tests/deform/shared_male.h"
 
 namespace {
 
@@ -35,15 +37,7 @@ Scene* scene() {
     auto* s = new Scene;
     const deform::Model model = io::load_gltf(file);
     s->bound = deform::bind(model, deform::detect_rig_map(model.skeleton));
-    auto joint = [&](const char* name) {
-      return glm::vec3(model.skeleton.world_rest_matrices()[model.skeleton.find(name)][3]);
-    };
-    s->pose = deform::rest_pose(model.skeleton);
-    s->pose.local_rotations[model.skeleton.find("LeftForeArm")] = glm::angleAxis(
-        glm::radians(150.0f),
-        glm::normalize(glm::cross(joint("LeftForeArm") - joint("LeftArm"), glm::vec3(0, 0, 1))));
-    s->pose.local_rotations[model.skeleton.find("LeftLeg")] =
-        glm::angleAxis(glm::radians(150.0f), glm::vec3(1, 0, 0));
+    s->pose = deform::test::left_elbow_and_knee_flexed(model, 150.0f);
     s->deformer = std::make_unique<deform::Deformer>(s->bound);
     s->posed.resize(model.vertex_count());
     s->deformer->deform(s->pose, deform::DeformMethod::kSweep, s->posed, {});

@@ -11,6 +11,7 @@
 
 #include "deform/bind.h"
 #include "deform/deformer.h"
+#include "deform/joint_flexion.h"
 #include "deform/pose.h"
 #include "deform/rig_map.h"
 #include "io/gltf_load.h"
@@ -50,6 +51,16 @@ inline glm::vec3 left_elbow_flexion_axis(const Model& model) {
   const glm::vec3 upper =
       rest_joint_position(model, "LeftForeArm") - rest_joint_position(model, "LeftArm");
   return glm::normalize(glm::cross(glm::normalize(upper), glm::vec3(0, 0, 1)));
+}
+
+// The left elbow and left knee flexed to `degrees`: the angle between each joint's links, not
+// a turn from rest (the male's rest pose already flexes the elbow 46°; deform/joint_flexion.h).
+inline Pose left_elbow_and_knee_flexed(const Model& model, float degrees) {
+  Pose pose = rest_pose(model.skeleton);
+  flex_joint(model.skeleton, pose, model.skeleton.find("LeftForeArm"),
+             left_elbow_flexion_axis(model), degrees);
+  flex_joint(model.skeleton, pose, model.skeleton.find("LeftLeg"), glm::vec3(1, 0, 0), degrees);
+  return pose;
 }
 
 inline Pose left_elbow_bent(const Model& model, float degrees) {

@@ -1,7 +1,7 @@
 // GPU collision detection (gpu::CollisionDetector on llvmpipe or a real GPU) against the CPU
 // reference: synthetic configurations with known answers, touching and coplanar knife edges,
-// random soups, and the shared male's collision regions bent 150° before and after folding
-// (one fold, and the whole detect -> fold/relax feature pass with either detector).
+// random soups, and the shared male's collision regions, elbow and knee flexed 150°, before and
+// after folding (one fold, and the whole detect -> fold/relax feature pass with either detector).
 #include "gpu/collision.h"
 
 #include <gtest/gtest.h>
@@ -10,6 +10,7 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include "../deform/collision_shapes.h"
+#include "../deform/shared_male.h"
 #include "deform/bind.h"
 #include "deform/collision_features.h"
 #include "deform/collision_regions.h"
@@ -123,15 +124,7 @@ TEST_F(CollisionTest, BentMaleRegionsMatchTheCpuBeforeAndAfterFolding) {
   const deform::BoundModel bound = deform::bind(model, deform::detect_rig_map(model.skeleton));
   const deform::CollisionRegions regions = deform::find_collision_regions(bound);
   deform::Deformer deformer(bound);
-  auto joint = [&](const char* name) {
-    return glm::vec3(model.skeleton.world_rest_matrices()[model.skeleton.find(name)][3]);
-  };
-  deform::Pose pose = deform::rest_pose(model.skeleton);
-  pose.local_rotations[model.skeleton.find("LeftForeArm")] = glm::angleAxis(
-      glm::radians(150.0f),
-      glm::normalize(glm::cross(joint("LeftForeArm") - joint("LeftArm"), glm::vec3(0, 0, 1))));
-  pose.local_rotations[model.skeleton.find("LeftLeg")] =
-      glm::angleAxis(glm::radians(150.0f), glm::vec3(1, 0, 0));
+  deform::Pose pose = deform::test::left_elbow_and_knee_flexed(model, 150.0f);
   std::vector<glm::vec3> positions(model.vertex_count());
   deformer.deform(pose, deform::DeformMethod::kSweep, positions, {});
 
