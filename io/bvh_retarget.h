@@ -27,7 +27,7 @@
 // marker moves with the toes, and the solved channels are noise: in cmu_01_03 the toes step by
 // more than 10° between consecutive 120 Hz frames in 373 (left) and 154 (right) frames, up to
 // 60° in one frame (the feet: 50 and 10), and curl 61° about a hinge tilted 20° from the foot's
-// sideways axis, past the ~40° a toe flexes and through the floor, which stretched the skinned
+// sideways axis, past the 40-45° a toe curls and through the floor, which stretched the skinned
 // crease at the ball of the foot 4.1x.
 //
 // Rotations are retargeted relative to each side's rest pose, in world space. For a model joint
