@@ -651,6 +651,16 @@ class Retargeter:
                 bvh_children = [c for c in children(bvh, b) if self.model_of_bvh[c] == -1]
                 if len(model_children) == 1 and len(bvh_children) == 1:
                     changed |= match(model_children[0], bvh_children[0])
+        # Toes are not measured either: matched, so they aim the foot, but not driven; the
+        # model's toes keep their rest rotation relative to the foot.
+        toes = [bvh_map.limbs[leg]["toe"] for leg in ("left_leg", "right_leg")
+                if bvh_map and leg in bvh_map.limbs and bvh_map.limbs[leg]["toe"] >= 0]
+        self.driven = [b >= 0 and not any(b == toe or is_strict_ancestor(bvh, toe, b)
+                                          for toe in toes) for b in self.bvh_of_model]
+        undriven = [bvh[b].name for m, b in enumerate(self.bvh_of_model)
+                    if b >= 0 and not self.driven[m]]
+        if undriven:
+            self.warnings.append("the clip's toes are not driven (" + ", ".join(undriven) + ")")
 
     def compute_alignments(self, bvh):
         model = self.skeleton
@@ -696,8 +706,8 @@ class Retargeter:
         else:
             self.warnings.append("no hip height on one side: root translation not scaled")
 
-    def matched_joint_count(self):
-        return sum(1 for b in self.bvh_of_model if b >= 0)
+    def driven_joint_count(self):
+        return sum(self.driven)
 
     def pose_at_frame(self, frame):
         """(local rotations in model order, root translation) for frame `frame`."""
@@ -714,7 +724,7 @@ class Retargeter:
         world, local = [], []
         for m, joint in enumerate(self.skeleton):
             b, parent = self.bvh_of_model[m], joint.parent
-            if b < 0:  # unmatched: keeps its rest rotation relative to its parent
+            if not self.driven[m]:  # keeps its rest rotation relative to its parent
                 world.append(joint.rotation if parent < 0 else q_mul(world[parent], joint.rotation))
                 local.append(joint.rotation)
                 continue
@@ -1002,7 +1012,7 @@ def run(options):
     model_id = info.ModelId()
     clip = Retargeter(motion, rest_skeleton(info), info.FloorHeight())
     print(f"model {model_id}: {info.VertexCount()} vertices, {info.JointNamesLength()} joints "
-          f"({clip.matched_joint_count()} driven by the clip)")
+          f"({clip.driven_joint_count()} driven by the clip)")
     for warning in clip.warnings:
         print(f"warning: {warning}", file=sys.stderr)
 

@@ -240,8 +240,24 @@ void Retargeter::match_joints(const deform::Skeleton& bvh, const OptionalRigMap&
     }
   }
 
-  for (int m = 0; m < skeleton_.size(); ++m)
-    if (bvh_of_model_[m] >= 0) matches_.push_back({bvh_of_model_[m], m, reason[m]});
+  // Toes are not measured either (see the header): matched, to aim the foot, but not driven
+  // unless the name map pairs them.
+  driven_.assign(skeleton_.joints.size(), false);
+  std::string undriven;
+  for (int m = 0; m < skeleton_.size(); ++m) {
+    const int b = bvh_of_model_[m];
+    if (b < 0) continue;
+    bool below_toe = false;
+    if (bvh_map && reason[m] != JointMatchReason::kNameMap)
+      for (int toe : {bvh_map->left_leg.toe, bvh_map->right_leg.toe})
+        below_toe |= toe >= 0 && (b == toe || is_strict_descendant(bvh, b, toe));
+    driven_[m] = !below_toe;
+    if (below_toe) undriven += (undriven.empty() ? "" : ", ") + bvh.joints[b].name;
+    matches_.push_back({b, m, reason[m], driven_[m]});
+  }
+  if (!undriven.empty())
+    warnings_.push_back("the clip's toes are not driven (" + undriven +
+                        "): pair them in a name map to drive them");
 }
 
 void Retargeter::compute_alignments(const deform::Skeleton& bvh) {
@@ -325,12 +341,12 @@ deform::Pose Retargeter::retarget(std::span<const glm::quat> bvh_local,
   std::vector<glm::quat> world(skeleton_.joints.size());
   for (int m = 0; m < skeleton_.size(); ++m) {
     const deform::Joint& joint = skeleton_.joints[m];
-    const int b = bvh_of_model_[m];
-    if (b < 0) {
+    if (!driven_[m]) {  // unmatched or undriven: its rest rotation relative to its parent
       world[m] = joint.parent < 0 ? joint.rest_rotation : world[joint.parent] * joint.rest_rotation;
       pose.local_rotations[m] = joint.rest_rotation;
       continue;
     }
+    const int b = bvh_of_model_[m];
     // BVH rest rotations are the identity, so the BVH world rotation is D_b itself.
     world[m] = glm::normalize(bvh_world[b] * alignment_[m] * world_rest_[m]);
     pose.local_rotations[m] =

@@ -20,6 +20,16 @@
 // cmu_01_03 swings through ±180° and flips by up to 180° between frames; a smooth 30-60° thumb
 // turn in the others stretches the model's skinned thumb webbing 3-4x).
 //
+// Toes: the clip's toe joints (the BVH rig map's toe roles and anything below them) stay
+// matched, so they still aim the model's foot (its A below), but are not driven unless the name
+// map pairs them: the model's toes keep their rest rotation relative to the foot. Marker sets
+// in the Plug-in-Gait style put the toe marker over a metatarsal head, at the toe joint, so no
+// marker moves with the toes, and the solved channels are noise: in cmu_01_03 the toes step by
+// more than 10° between consecutive 120 Hz frames in 373 (left) and 154 (right) frames, up to
+// 60° in one frame (the feet: 50 and 10), and curl 61° about a hinge tilted 20° from the foot's
+// sideways axis, past the 40-45° a toe curls and through the floor, which stretched the skinned
+// crease at the ball of the foot 4.1x.
+//
 // Rotations are retargeted relative to each side's rest pose, in world space. For a model joint
 // m driven by BVH joint b:  W_m(frame) = D_b(frame) * A_m * W_m(rest), where
 //   D_b  the world rotation BVH joint b undergoes from its rest pose (all channels zero),
@@ -63,6 +73,9 @@ struct JointMatch {
   int bvh_joint = -1;    // index into Motion::joints
   int model_joint = -1;  // index into Skeleton::joints
   JointMatchReason reason = JointMatchReason::kName;
+  // false: paired only to aim its parent's bone (a toe, see above); the model joint keeps its
+  // rest rotation relative to its parent.
+  bool driven = true;
 };
 
 class Retargeter {
@@ -80,7 +93,7 @@ class Retargeter {
 
   // Matched pairs, ordered by model joint.
   const std::vector<JointMatch>& matches() const { return matches_; }
-  // BVH joint matched to model joint m, or -1.
+  // BVH joint matched to model joint m (driven or not, see JointMatch::driven), or -1.
   int bvh_joint_for(int model_joint) const { return bvh_of_model_[model_joint]; }
   std::vector<std::string> unmapped_bvh_joints() const;
   std::vector<std::string> unmapped_model_joints() const;
@@ -118,6 +131,7 @@ class Retargeter {
   std::vector<JointMatch> matches_;
   std::vector<int> bvh_of_model_;      // per model joint
   std::vector<int> model_of_bvh_;      // per BVH joint
+  std::vector<bool> driven_;           // per model joint: matched and driven
   std::vector<glm::quat> alignment_;   // A_m per model joint
   std::vector<glm::quat> world_rest_;  // W_m(rest) per model joint
   int bvh_pelvis_ = 0, model_pelvis_ = 0;

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <filesystem>
@@ -31,11 +32,10 @@ constexpr float kCmuUnit = 0.056444f;  // metres per CMU BVH unit
 
 // Bones (joint, child) that exist under these names in both the clip and the model.
 const std::pair<const char*, const char*> kLimbBones[] = {
-    {"LeftArm", "LeftForeArm"},   {"LeftForeArm", "LeftHand"},
-    {"RightArm", "RightForeArm"}, {"RightForeArm", "RightHand"},
-    {"LeftUpLeg", "LeftLeg"},     {"LeftLeg", "LeftFoot"},
-    {"RightUpLeg", "RightLeg"},   {"RightLeg", "RightFoot"},
-    {"LowerBack", "Spine"},       {"Spine", "Spine1"}};
+    {"LeftArm", "LeftForeArm"},    {"LeftForeArm", "LeftHand"}, {"RightArm", "RightForeArm"},
+    {"RightForeArm", "RightHand"}, {"LeftUpLeg", "LeftLeg"},    {"LeftLeg", "LeftFoot"},
+    {"RightUpLeg", "RightLeg"},    {"RightLeg", "RightFoot"},   {"LeftFoot", "LeftToeBase"},
+    {"RightFoot", "RightToeBase"}, {"LowerBack", "Spine"},      {"Spine", "Spine1"}};
 
 float angle_degrees(const glm::vec3& a, const glm::vec3& b) {
   return glm::degrees(
@@ -112,7 +112,7 @@ TEST_F(RetargetTest, MapsEveryJointButTheFingersAndThumbs) {
             (std::vector<std::string>{"LThumb", "LeftFingerBase", "LeftHandFinger1", "RThumb",
                                       "RightFingerBase", "RightHandFinger1"}));
   EXPECT_EQ(retargeter.matches().size(), 25u);
-  ASSERT_EQ(retargeter.warnings().size(), 1u);
+  ASSERT_EQ(retargeter.warnings().size(), 2u);  // the fingers, then the toes
   EXPECT_NE(retargeter.warnings()[0].find("LThumb"), std::string::npos);
   // Every frame: the model's thumb and finger base turn exactly as its hand does.
   const deform::Pose pose = retargeter.pose_at_frame(1300);
@@ -120,6 +120,36 @@ TEST_F(RetargetTest, MapsEveryJointButTheFingersAndThumbs) {
     const int m = model_joint(joint);
     EXPECT_EQ(pose.local_rotations[m], model_.skeleton.joints[m].rest_rotation) << joint;
   }
+}
+
+// The model's toe of each side: matched to the clip's (so the foot bone above still points
+// where the clip's foot points, see kLimbBones) and kept at its rest rotation.
+void expect_toes_paired_but_undriven(const Retargeter& retargeter, const deform::Skeleton& model,
+                                     const std::vector<std::string>& driven_toes) {
+  for (const char* toe : {"LeftToeBase", "RightToeBase"}) {
+    const int m = model.find(toe);
+    const auto found =
+        std::find_if(retargeter.matches().begin(), retargeter.matches().end(),
+                     [&](const JointMatch& match) { return match.model_joint == m; });
+    ASSERT_NE(found, retargeter.matches().end()) << toe;
+    const bool driven = std::find(driven_toes.begin(), driven_toes.end(), toe) != driven_toes.end();
+    EXPECT_EQ(found->driven, driven) << toe;
+    // Frames where the clip turns the left toe 32° (1090) and the right toe 36° (598).
+    for (int frame : {598, 1090}) {
+      const deform::Pose pose = retargeter.pose_at_frame(frame);
+      EXPECT_EQ(pose.local_rotations[m] == model.joints[m].rest_rotation, !driven)
+          << toe << " at frame " << frame;
+    }
+  }
+}
+
+TEST_F(RetargetTest, ToesAimTheFootButAreNotDriven) {
+  const Retargeter retargeter(motion_, model_);
+  expect_toes_paired_but_undriven(retargeter, model_.skeleton, {});
+  ASSERT_EQ(retargeter.warnings().size(), 2u);
+  EXPECT_NE(retargeter.warnings()[1].find("toes are not driven (LeftToeBase, RightToeBase)"),
+            std::string::npos)
+      << retargeter.warnings()[1];
 }
 
 TEST_F(RetargetTest, LimbBonesPointWhereTheClipsBonesPoint) { expect_bones_follow_the_clip(); }
@@ -357,6 +387,12 @@ TEST_F(RetargetTest, NameMapDrivesAThumb) {
   // Driven: the clip turns the thumb against the hand in this frame.
   const deform::Pose pose = retargeter.pose_at_frame(1300);
   EXPECT_NE(pose.local_rotations[m], model_.skeleton.joints[m].rest_rotation);
+}
+
+TEST_F(RetargetTest, NameMapDrivesAToe) {
+  const NameMapFile map(R"({"LeftToeBase": "LeftToeBase"})");
+  const Retargeter retargeter(motion_, model_, map.path());
+  expect_toes_paired_but_undriven(retargeter, model_.skeleton, {"LeftToeBase"});
 }
 
 TEST_F(RetargetTest, BadNameMapsNameTheFileAndTheJoint) {
