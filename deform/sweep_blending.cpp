@@ -15,9 +15,14 @@ constexpr int kPartCount = static_cast<int>(BodyPart::kRightFoot) + 1;
 constexpr int kShareSmoothingPasses = 150;
 // The neck's hand-over to the head's skinning starts where the head's skin weight passes
 // kHeadHandoverStartWeight and is complete kHeadHandoverLength neck lengths (the neck chain's
-// joint-to-joint length; 10.2 cm on the shared male) further along the surface.
-constexpr float kHeadHandoverStartWeight = 0.2f;
-constexpr float kHeadHandoverLength = 1.2f;
+// joint-to-joint length; 10.2 cm on the shared male) further along the surface. On the male
+// and cmu_01_01's 88° head turn: starting at 0.2 the throat's skinned share spreads lower and
+// the neck region loses 11.5 % of its volume there (5.8 % from 0.3, 4.2 % from 0.5); lengths
+// of 1.0-1.2 stretch the throat 2.5-2.7x at most (1.3: 2.8x; from 1.4 the ramp reaches the lips,
+// 3.5x on their 1.6 mm edges), and from 1.1 on it reaches the mouth's inside, whose layers 1 mm
+// apart then cross each other (36 more crossing triangle pairs at cmu_01_01 frame 32).
+constexpr float kHeadHandoverStartWeight = 0.5f;
+constexpr float kHeadHandoverLength = 1.0f;
 
 float smoothstep01(float x) {
   x = std::clamp(x, 0.0f, 1.0f);
@@ -117,8 +122,8 @@ void smooth_over_mesh(std::span<const glm::vec3> at, std::span<const std::uint32
 // The neck's hand-over to the head's skinning, per welded vertex: 0 up to where the head's skin
 // weight passes kHeadHandoverStartWeight, then rising linearly with the distance from there
 // along the surface, to 1 at kHeadHandoverLength neck lengths. The shared male's painted head
-// weights reach 6 cm down the throat and drop from 0.9 to 0.4 within 2 cm on its sides; handing
-// over by the weight itself (past 0.5, then smoothed over the mesh) put the whole hand-over on
+// weights reach 6 cm down the throat and rise from 0.4 to 0.9 within 2 cm on its sides; handing
+// over by the weight itself (2w - 1, then smoothed over the mesh) put the whole hand-over on
 // 2.5 cm of skin under the chin, where the head's skinning and the neck sweep part by 8.5 cm
 // when the head turns 88° (cmu_01_01 frame 1046: 3.43x), and a skinned share on the steep sides
 // stretches them as LBS does (3.25x). The ramp spreads it over the throat and the jaw's

@@ -11,7 +11,7 @@
 // way across two planes around the end joint, or with the skin weight of the hand/foot (from
 // 0 at one half to 1), whichever is larger. The head's painted weights reach far down the
 // throat, so the neck's hand-over instead rises linearly with the distance along the surface
-// from where the head's skin weight passes 0.2, reaching 1 at 1.2 neck lengths (the neck
+// from where the head's skin weight passes one half, reaching 1 one neck length further (the neck
 // chain's joint-to-joint length). Beyond the torso's first and last keys (below the pelvis,
 // above the chest: the shoulders) its share hands over to skinning the same way as the limbs',
 // starting at the key.

@@ -53,9 +53,11 @@ TEST(NeckStretch, TheClipsHeadTurnsStretchNoThroatEdgeOverThreeTimes) {
     int first, last;
   };
   // cmu_01_01 turns the head 70-99° from frame 1000 to 1100 (3.43x at frame 1046 when the neck
-  // handed over to the head by skin weight); cmu_01_03's worst head frames are near 690.
+  // handed over to the head by skin weight); cmu_01_03's worst head frames were near 690
+  // (2.76x) and are near 955 now.
   for (const Span& span :
-       {Span{"motion/cmu_01_01.bvh", 1000, 1100}, Span{"motion/cmu_01_03.bvh", 640, 760}}) {
+       {Span{"motion/cmu_01_01.bvh", 1000, 1100}, Span{"motion/cmu_01_03.bvh", 640, 760},
+        Span{"motion/cmu_01_03.bvh", 900, 1000}}) {
     const io::Retargeter retargeter(io::load_bvh(data / span.clip), male.model);
     Worst sweep, lbs;
     for (int frame = span.first; frame <= span.last; ++frame)
@@ -74,7 +76,7 @@ TEST(NeckStretch, TheClipsHeadTurnsStretchNoThroatEdgeOverThreeTimes) {
         span.clip, span.first, span.last, sweep.stretch, sweep.frame, sweep.edge.a, sweep.edge.b,
         1e3f * sweep.edge.rest_length, lbs.stretch, lbs.frame, lbs.edge.a, lbs.edge.b);
     // Issue 4's bound on every edge; the sweeps stay under it with the neck's hand-over to the
-    // head spread along the surface and its twist spread along the neck (2.64x at frame 1046).
+    // head spread along the surface and its twist spread along the neck (2.68x at frame 1046).
     EXPECT_LE(sweep.stretch, 3.0f) << span.clip;
     // And they tear the throat less than the male's painted weights do (LBS: 3.25x at 1046).
     EXPECT_LT(sweep.stretch, lbs.stretch) << span.clip;
