@@ -5,6 +5,7 @@
 #include <cstdint>
 
 #include "deform/mesh_topology.h"
+#include "deform/surface_distance.h"
 
 namespace sweepd::deform {
 
@@ -12,6 +13,16 @@ namespace {
 
 constexpr int kPartCount = static_cast<int>(BodyPart::kRightFoot) + 1;
 constexpr int kShareSmoothingPasses = 150;
+// The neck's hand-over to the head's skinning starts where the head's skin weight passes
+// kHeadHandoverStartWeight and is complete kHeadHandoverLength neck lengths (the neck chain's
+// joint-to-joint length; 10.2 cm on the shared male) further along the surface. On the male
+// and cmu_01_01's 88° head turn: starting at 0.2 the throat's skinned share spreads lower and
+// the neck region loses 11.5 % of its volume there (5.8 % from 0.3, 4.2 % from 0.5); lengths
+// of 1.0-1.2 stretch the throat 2.5-2.7x at most (1.3: 2.8x; from 1.4 the ramp reaches the lips,
+// 3.5x on their 1.6 mm edges), and from 1.1 on it reaches the mouth's inside, whose layers 1 mm
+// apart then cross each other (36 more crossing triangle pairs at cmu_01_01 frame 32).
+constexpr float kHeadHandoverStartWeight = 0.5f;
+constexpr float kHeadHandoverLength = 1.0f;
 
 float smoothstep01(float x) {
   x = std::clamp(x, 0.0f, 1.0f);
@@ -39,6 +50,15 @@ PlanePair planes_at(std::span<const glm::mat4> world_rest, int joint, int link_f
   return pair;
 }
 
+// Joint-to-joint length of a chain in the rest pose.
+float chain_length(std::span<const glm::mat4> world_rest, std::span<const int> chain) {
+  float length = 0.0f;
+  for (std::size_t i = 1; i < chain.size(); ++i)
+    length +=
+        glm::length(glm::vec3(world_rest[chain[i]][3]) - glm::vec3(world_rest[chain[i - 1]][3]));
+  return length;
+}
+
 // Where sweeps meet (a vertex with shares of two sweeps or more), replaces each vertex's row
 // of shares by half its own plus half its mesh neighbours' mean, kShareSmoothingPasses times,
 // each neighbour weighted by 1 / edge length (the other vertices' rows stay as they are).
@@ -50,21 +70,17 @@ PlanePair planes_at(std::span<const glm::mat4> world_rest, int joint, int link_f
 // shares 0.13 apart across 2 mm (6.1x stretch in cmu_01_03). Now no edge where both legs share
 // stretches over 2.2x (cmu_01_01) and 2.8x (cmu_01_03: the lower back, bent 52° forward);
 // more passes spread the leg shares further up the back and stretch it more there.
-// The same smoothing covers the neck's hand-over to the head where the head's skin weights
-// drive it (head_weight_handover: not its planes): on the shared male they reach 6 cm down the
-// throat, 0.75-0.89 between neighbours 8 mm apart, and a turned head stretched that edge 5.3x
-// (cmu_01_01). The wrists' and ankles' hand-overs keep their planes: smoothing them lets twist
-// collapse the forearm, and leaks leg shares into the feet.
-void smooth_over_mesh(const std::vector<std::uint32_t>& welded,
-                      std::span<const std::uint32_t> indices, std::span<const glm::vec3> positions,
-                      std::size_t count, int columns, const std::vector<bool>& head_weight_handover,
-                      std::vector<float>& shares) {
-  std::vector<glm::vec3> at(count);
-  for (std::size_t v = 0; v < welded.size(); ++v) at[welded[v]] = positions[v];
+// The wrists' and ankles' hand-overs keep their planes: smoothing them lets twist collapse the
+// forearm, and leaks leg shares into the feet. The neck's hand-over to the head has its own
+// ramp along the surface (head_handover_by_distance).
+// at, indices: the welded mesh.
+void smooth_over_mesh(std::span<const glm::vec3> at, std::span<const std::uint32_t> indices,
+                      int columns, std::vector<float>& shares) {
+  const std::size_t count = at.size();
   std::vector<std::vector<std::uint32_t>> neighbours(count);
   for (std::size_t t = 0; t + 2 < indices.size(); t += 3)
     for (int k = 0; k < 3; ++k) {
-      const std::uint32_t a = welded[indices[t + k]], b = welded[indices[t + (k + 1) % 3]];
+      const std::uint32_t a = indices[t + k], b = indices[t + (k + 1) % 3];
       neighbours[a].push_back(b);
       neighbours[b].push_back(a);
     }
@@ -81,7 +97,7 @@ void smooth_over_mesh(const std::vector<std::uint32_t>& welded,
     std::vector<std::uint32_t>& list = neighbours[v];
     std::sort(list.begin(), list.end());
     list.erase(std::unique(list.begin(), list.end()), list.end());
-    if ((sweeps < 2 && !head_weight_handover[v]) || list.empty()) continue;
+    if (sweeps < 2 || list.empty()) continue;
     float total = 0.0f;
     for (std::uint32_t u : list) total += 1.0f / std::max(glm::length(at[u] - at[v]), 1e-6f);
     for (std::uint32_t u : list)
@@ -101,6 +117,28 @@ void smooth_over_mesh(const std::vector<std::uint32_t>& welded,
     }
     shares.swap(next);
   }
+}
+
+// The neck's hand-over to the head's skinning, per welded vertex: 0 up to where the head's skin
+// weight passes kHeadHandoverStartWeight, then rising linearly with the distance from there
+// along the surface, to 1 at kHeadHandoverLength neck lengths. The shared male's painted head
+// weights reach 6 cm down the throat and rise from 0.4 to 0.9 within 2 cm on its sides; handing
+// over by the weight itself (2w - 1, then smoothed over the mesh) put the whole hand-over on
+// 2.5 cm of skin under the chin, where the head's skinning and the neck sweep part by 8.5 cm
+// when the head turns 88° (cmu_01_01 frame 1046: 3.43x), and a skinned share on the steep sides
+// stretches them as LBS does (3.25x). The ramp spreads it over the throat and the jaw's
+// underside; the jaw, further on, stays rigid with the head.
+// at, indices: the welded mesh; head_weight: per welded vertex.
+std::vector<float> head_handover_by_distance(std::span<const glm::vec3> at,
+                                             std::span<const std::uint32_t> indices,
+                                             std::span<const float> head_weight,
+                                             float neck_length) {
+  std::vector<bool> before_start(at.size());
+  for (std::size_t v = 0; v < at.size(); ++v)
+    before_start[v] = head_weight[v] <= kHeadHandoverStartWeight;
+  std::vector<float> handover = distance_along_edges(at, indices, before_start);
+  for (float& h : handover) h = std::min(1.0f, h / (kHeadHandoverLength * neck_length));
+  return handover;
 }
 
 }  // namespace
@@ -151,10 +189,28 @@ std::vector<VertexBinding> blend_shares(const Model& model, const RigMap& rig,
   std::size_t welded_count = 0;
   const std::vector<std::uint32_t> welded =
       weld_coincident_positions(model.positions, &welded_count);
+  std::vector<glm::vec3> welded_positions(welded_count);
+  std::vector<float> head_weight(welded_count, 0.0f);
+  for (std::size_t v = 0; v < model.vertex_count(); ++v) {
+    welded_positions[welded[v]] = model.positions[v];
+    float weight = 0.0f;
+    for (int k = 0; k < kInfluences; ++k)
+      if (joint_part[model.skin_joints[v][k]] == BodyPart::kHead)
+        weight += model.skin_weights[v][k];
+    head_weight[welded[v]] = weight;
+  }
+  std::vector<std::uint32_t> welded_indices(model.indices.size());
+  for (std::size_t i = 0; i < welded_indices.size(); ++i)
+    welded_indices[i] = welded[model.indices[i]];
+  std::vector<float> head_handover;
+  for (const BoundSweep& sweep : sweeps)
+    if (sweep.part == BodyPart::kNeck)
+      head_handover = head_handover_by_distance(welded_positions, welded_indices, head_weight,
+                                                chain_length(world_rest, sweep.chain));
+
   const int columns = sweep_count + 1;
   std::vector<float> shares(welded_count * columns, 0.0f);
   std::vector<float> share(sweep_count);
-  std::vector<bool> head_weight_handover(welded_count, false);
   for (std::size_t v = 0; v < model.vertex_count(); ++v) {
     std::array<float, kPartCount> skin{};
     for (int k = 0; k < kInfluences; ++k)
@@ -181,13 +237,13 @@ std::vector<VertexBinding> blend_shares(const Model& model, const RigMap& rig,
     }
     for (int s = 0; s < sweep_count; ++s) {
       if (s == torso || share[s] == 0.0f) continue;
-      // The hand/foot/head's own skin weight takes over once it passes one half.
+      // The hand's or foot's own skin weight takes over once it passes one half; the head's
+      // by its surface ramp.
       const float end_skin = skin[static_cast<int>(end_part(sweeps[s].part))];
-      const float by_skin = std::clamp(2.0f * end_skin - 1.0f, 0.0f, 1.0f);
-      const float end_share = std::max(finish[s].weight(p), by_skin);
-      if (sweeps[s].part == BodyPart::kNeck && by_skin > finish[s].weight(p))
-        head_weight_handover[welded[v]] = true;
-      skinned += share[s] * end_share;
+      const float by_skin = sweeps[s].part == BodyPart::kNeck
+                                ? head_handover[welded[v]]
+                                : std::clamp(2.0f * end_skin - 1.0f, 0.0f, 1.0f);
+      skinned += share[s] * std::max(finish[s].weight(p), by_skin);
     }
     skinned = std::clamp(skinned, 0.0f, 1.0f);
     float total = 0.0f;
@@ -198,8 +254,7 @@ std::vector<VertexBinding> blend_shares(const Model& model, const RigMap& rig,
       row[s] = total > 0.0f ? share[s] * (1.0f - skinned) / total : 0.0f;
     row[sweep_count] = skinned;
   }
-  smooth_over_mesh(welded, model.indices, model.positions, welded_count, columns,
-                   head_weight_handover, shares);
+  smooth_over_mesh(welded_positions, welded_indices, columns, shares);
 
   // Keep the kSweepsPerVertex largest sweep shares, scaled to fill what skinning leaves.
   std::vector<VertexBinding> result(model.vertex_count());

@@ -8,9 +8,13 @@
 // from the model's skin weights on that limb (so the chest beside a shoulder stays torso), and
 // the torso takes the rest. A vertex keeps its three largest sweep shares.
 // At a sweep's far end (wrist, ankle, head) the share of the skinned remainder rises the same
-// way across two planes around the end joint, or with the skin weight of the hand/foot/head,
-// whichever is larger; beyond the torso's first and last keys (below the pelvis, above the
-// chest: the shoulders) its share hands over to skinning the same way, starting at the key.
+// way across two planes around the end joint, or with the skin weight of the hand/foot (from
+// 0 at one half to 1), whichever is larger. The head's painted weights reach far down the
+// throat, so the neck's hand-over instead rises linearly with the distance along the surface
+// from where the head's skin weight passes one half, reaching 1 one neck length further (the neck
+// chain's joint-to-joint length). Beyond the torso's first and last keys (below the pelvis,
+// above the chest: the shoulders) its share hands over to skinning the same way as the limbs',
+// starting at the key.
 // Every share is a continuous function of position and skin weights.
 // Inputs:  model (n vertices), rig, world_rest (one per joint), sweeps (part + chain filled),
 //          options.

@@ -13,7 +13,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <set>
 
 #include "deform/bind.h"
 #include "deform/deformer.h"
@@ -21,6 +20,7 @@
 #include "io/bvh_load.h"
 #include "io/bvh_retarget.h"
 #include "io/gltf_load.h"
+#include "mesh_edges.h"
 
 namespace sweepd::deform {
 namespace {
@@ -58,25 +58,14 @@ bool shares_both_legs(const BoundModel& bound, std::uint32_t v) {
 }
 
 std::vector<Edge> edges_by_region(const BoundModel& bound) {
-  const Model& model = bound.model;
-  const std::vector<BodyPart> joint_part = label_joints(bound.rig, model.skeleton);
-  std::set<std::pair<std::uint32_t, std::uint32_t>> seen;
+  const std::vector<BodyPart> joint_part = label_joints(bound.rig, bound.model.skeleton);
   std::vector<Edge> edges;
-  for (std::size_t t = 0; t < model.indices.size(); t += 3)
-    for (int k = 0; k < 3; ++k) {
-      std::uint32_t a = model.indices[t + k], b = model.indices[t + (k + 1) % 3];
-      if (a > b) std::swap(a, b);
-      if (!seen.insert({a, b}).second) continue;
-      const float length = glm::length(model.positions[a] - model.positions[b]);
-      if (length <= 0.0f) continue;
-      int heaviest = 0;
-      for (int i = 1; i < kInfluences; ++i)
-        if (model.skin_weights[a][i] > model.skin_weights[a][heaviest]) heaviest = i;
-      const int region = shares_both_legs(bound, a) || shares_both_legs(bound, b)
-                             ? kHips
-                             : static_cast<int>(joint_part[model.skin_joints[a][heaviest]]);
-      edges.push_back({a, b, length, region});
-    }
+  for (const test::MeshEdge& e : test::distinct_edges(bound.model)) {
+    const int region = shares_both_legs(bound, e.a) || shares_both_legs(bound, e.b)
+                           ? kHips
+                           : static_cast<int>(test::heaviest_part(bound.model, joint_part, e.a));
+    edges.push_back({e.a, e.b, e.rest_length, region});
+  }
   return edges;
 }
 

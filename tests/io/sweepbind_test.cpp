@@ -62,12 +62,12 @@ TEST(Sweepbind, RoundTripsBitExactlyThroughAFile) {
   fs::remove(file);
 }
 
-TEST(Sweepbind, RefusesAVersion3FileAskingForARebind) {
-  // Version 3 had no key offsets: its joint keys were fitted about their joints.
+TEST(Sweepbind, RefusesAVersion4FileAskingForARebind) {
+  // Version 4 had the same layout, but its neck shares handed over to the head by skin weight.
   std::vector<std::uint8_t> bytes = encode_sweepbind(bound_mannequin());
-  bytes[8] = 3;
+  bytes[8] = 4;
   const std::string error = decode_error(bytes);
-  EXPECT_NE(error.find("unsupported .sweepbind version 3 (this sweepd reads 4; bind the model "
+  EXPECT_NE(error.find("unsupported .sweepbind version 4 (this sweepd reads 5; bind the model "
                        "again to rebuild it)"),
             std::string::npos)
       << error;
