@@ -4,6 +4,7 @@
 
 #include "deform/key_ellipse_fitting.h"
 #include "deform/mesh_topology.h"
+#include "deform/skinned_share_influences.h"
 #include "deform/sweep_blending.h"
 #include "deform/sweep_coordinates.h"
 #include "deform/sweep_volume.h"
@@ -89,6 +90,9 @@ BoundModel bind(const Model& model, const RigMap& rig, const BindOptions& option
 
   report(0.5, "blending regions");
   bound.vertices = blend_shares(model, rig, world_rest, bound.sweeps, options);
+  SkinInfluences skinned_share = skinned_share_influences(model, bound.vertices, bound.sweeps);
+  bound.skinned_share_joints = std::move(skinned_share.joints);
+  bound.skinned_share_weights = std::move(skinned_share.weights);
 
   std::vector<SweepPlanes> planes;
   for (const Sweep& sweep : sweeps)

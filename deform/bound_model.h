@@ -94,6 +94,10 @@ struct BoundModel {
   BindOptions options;
   std::vector<BoundSweep> sweeps;
   std::vector<VertexBinding> vertices;  // one per model vertex
+  // The influences each vertex's skinned share follows, one per vertex (empty: the model's own):
+  // the model's weights, smoothed where an arm sweep meets the torso (skinned_share_influences.h).
+  std::vector<std::array<std::uint16_t, kInfluences>> skinned_share_joints;
+  std::vector<std::array<float, kInfluences>> skinned_share_weights;
   KeyEllipseEdits edits;                // key-ellipse corrections (empty: none)
 };
 

@@ -19,10 +19,23 @@ glm::quat rotation_of(const glm::mat4& m) {
                                glm::normalize(glm::vec3(m[2])))));
 }
 
-// LBS of one vertex: blend the four matrices' columns, then one transform (as LBS does).
-glm::vec3 skinned_position(const Model& model, std::span<const glm::mat4> skinning, std::size_t v) {
-  const auto& w = model.skin_weights[v];
-  const auto& j = model.skin_joints[v];
+// The influences the skinned share follows: the binding's own, else the model's.
+std::span<const std::array<std::uint16_t, kInfluences>> skinned_share_joints(
+    const BoundModel& bound) {
+  return bound.skinned_share_joints.empty() ? bound.model.skin_joints : bound.skinned_share_joints;
+}
+std::span<const std::array<float, kInfluences>> skinned_share_weights(const BoundModel& bound) {
+  return bound.skinned_share_weights.empty() ? bound.model.skin_weights
+                                             : bound.skinned_share_weights;
+}
+
+// LBS of one vertex's skinned share: blend the four matrices' columns, then one transform (as
+// LBS does).
+glm::vec3 skinned_position(const BoundModel& bound, std::span<const glm::mat4> skinning,
+                           std::size_t v) {
+  const Model& model = bound.model;
+  const auto& w = skinned_share_weights(bound)[v];
+  const auto& j = skinned_share_joints(bound)[v];
   const glm::mat4 m =
       skinning[j[0]] * w[0] + skinning[j[1]] * w[1] + skinning[j[2]] * w[2] + skinning[j[3]] * w[3];
   const glm::vec3 p = model.positions[v];
@@ -108,7 +121,8 @@ SweepPoser::SweepPoser(const BoundModel& bound, VertexLoopInstructions instructi
     }
     first_term[v + 1] = static_cast<std::uint32_t>(terms.size());
   }
-  vertex_kinds_.emplace(bound.model, skin_share, first_term, terms, instructions);
+  vertex_kinds_.emplace(bound.model, skinned_share_joints(bound), skinned_share_weights(bound),
+                        skin_share, first_term, terms, instructions);
 
   set_pose(world_rest);
 }
@@ -209,7 +223,7 @@ void SweepPoser::deform(std::span<const glm::mat4> skinning, std::span<glm::vec3
 
 glm::vec3 SweepPoser::reference_position(std::size_t v, std::span<const glm::mat4> skinning) const {
   const VertexBinding& vb = bound_.vertices[v];
-  glm::vec3 p = vb.skin_weight * skinned_position(bound_.model, skinning, v);
+  glm::vec3 p = vb.skin_weight * skinned_position(bound_, skinning, v);
   for (int k = 0; k < kSweepsPerVertex; ++k)
     if (vb.sweep[k] >= 0)
       p += vb.weight[k] * evaluate_point(sweeps_[vb.sweep[k]], vb.coordinate[k]);

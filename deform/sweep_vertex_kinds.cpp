@@ -149,6 +149,14 @@ SweepVertexKinds::SweepVertexKinds(const Model& model, std::span<const float> sk
                                    std::span<const std::uint32_t> first_term,
                                    std::span<const SweepTerm> terms,
                                    VertexLoopInstructions instructions)
+    : SweepVertexKinds(model, model.skin_joints, model.skin_weights, skin_share, first_term, terms,
+                       instructions) {}
+
+SweepVertexKinds::SweepVertexKinds(
+    const Model& model, std::span<const std::array<std::uint16_t, kInfluences>> skin_joints,
+    std::span<const std::array<float, kInfluences>> skin_weights, std::span<const float> skin_share,
+    std::span<const std::uint32_t> first_term, std::span<const SweepTerm> terms,
+    VertexLoopInstructions instructions)
     : instructions_(instructions) {
   if (instructions == VertexLoopInstructions::kAvx2Fma &&
       widest_vertex_loop_instructions() != VertexLoopInstructions::kAvx2Fma)
@@ -158,10 +166,14 @@ SweepVertexKinds::SweepVertexKinds(const Model& model, std::span<const float> sk
     throw std::invalid_argument("sweep vertex kinds: " + std::to_string(skin_share.size()) +
                                 " skin shares and " + std::to_string(first_term.size()) +
                                 " term offsets for " + std::to_string(n) + " vertices");
+  if (skin_joints.size() != n || skin_weights.size() != n)
+    throw std::invalid_argument("sweep vertex kinds: " + std::to_string(skin_joints.size()) +
+                                " skin joint and " + std::to_string(skin_weights.size()) +
+                                " skin weight sets for " + std::to_string(n) + " vertices");
   const auto influences_of = [&](std::size_t v) {
     int count = 0;
     if (skin_share[v] > 0.0f)
-      for (int k = 0; k < kInfluences; ++k) count += model.skin_weights[v][k] > 0.0f;
+      for (int k = 0; k < kInfluences; ++k) count += skin_weights[v][k] > 0.0f;
     return count;
   };
   std::vector<std::vector<std::uint32_t>> by_kind((kInfluences + 1) * kTermKinds);
@@ -181,10 +193,10 @@ SweepVertexKinds::SweepVertexKinds(const Model& model, std::span<const float> sk
       vertex_.push_back(v);
       if (kinds_.back().influences > 0)
         for (int j = 0; j < kInfluences; ++j) {
-          const float w = model.skin_weights[v][j];
+          const float w = skin_weights[v][j];
           if (w <= 0.0f) continue;
           scaled_rest_.push_back(skin_share[v] * w * glm::vec4(model.positions[v], 1.0f));
-          joint_.push_back(static_cast<std::uint32_t>(model.skin_joints[v][j]));
+          joint_.push_back(static_cast<std::uint32_t>(skin_joints[v][j]));
         }
       terms_.insert(terms_.end(), terms.begin() + first_term[v], terms.begin() + first_term[v + 1]);
     }

@@ -18,6 +18,7 @@
 // not depend on how the items are split between threads.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <glm/glm.hpp>
@@ -63,6 +64,14 @@ class SweepVertexKinds {
   // mismatched sizes, or kAvx2Fma on a CPU without them.
   SweepVertexKinds(const Model& model, std::span<const float> skin_share,
                    std::span<const std::uint32_t> first_term, std::span<const SweepTerm> terms,
+                   VertexLoopInstructions instructions = widest_vertex_loop_instructions());
+  // The same with the skinned share following skin_joints / skin_weights (one per vertex)
+  // instead of the model's own weights (BoundModel::skinned_share_weights).
+  SweepVertexKinds(const Model& model,
+                   std::span<const std::array<std::uint16_t, kInfluences>> skin_joints,
+                   std::span<const std::array<float, kInfluences>> skin_weights,
+                   std::span<const float> skin_share, std::span<const std::uint32_t> first_term,
+                   std::span<const SweepTerm> terms,
                    VertexLoopInstructions instructions = widest_vertex_loop_instructions());
 
   std::size_t item_count() const { return vertex_.size(); }

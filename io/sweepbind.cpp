@@ -168,7 +168,8 @@ std::string validate(const BoundModel& bound) {
           !std::isfinite(key.a * key.b) || !finite(key.offset.x) || !finite(key.offset.y))
         return name + ": a key ellipse is not finite or has a non-positive half-axis";
   }
-  if (bound.vertices.size() != bound.model.vertex_count())
+  const std::size_t n = bound.model.vertex_count();
+  if (bound.vertices.size() != n)
     return "binding count " + std::to_string(bound.vertices.size()) + " != vertex count " +
            std::to_string(bound.model.vertex_count());
   const auto sweeps = static_cast<int>(bound.sweeps.size());
@@ -184,6 +185,23 @@ std::string validate(const BoundModel& bound) {
     }
     if (!(std::abs(sum - 1.0f) < 1e-3f))
       return "vertex " + std::to_string(v) + " has binding weights summing to " +
+             std::to_string(sum);
+  }
+  const std::size_t shares = bound.skinned_share_joints.size();
+  if (bound.skinned_share_weights.size() != shares || (shares != 0 && shares != n))
+    return "skinned share influences: " + std::to_string(shares) + " joint and " +
+           std::to_string(bound.skinned_share_weights.size()) + " weight sets for " +
+           std::to_string(n) + " vertices";
+  for (std::size_t v = 0; v < shares; ++v) {
+    float sum = 0.0f;
+    for (int k = 0; k < deform::kInfluences; ++k) {
+      const float w = bound.skinned_share_weights[v][k];
+      if (bound.skinned_share_joints[v][k] >= joints || !(w >= 0.0f) || !finite(w))
+        return "vertex " + std::to_string(v) + " has an invalid skinned share influence";
+      sum += w;
+    }
+    if (!(std::abs(sum - 1.0f) < 1e-3f))
+      return "vertex " + std::to_string(v) + " has skinned share weights summing to " +
              std::to_string(sum);
   }
   return {};
@@ -208,6 +226,10 @@ std::vector<std::uint8_t> encode_sweepbind(const BoundModel& bound) {
   payload.put<std::uint64_t>(bound.sweeps.size());
   for (const deform::BoundSweep& sweep : bound.sweeps) put_sweep(payload, sweep);
   payload.put_array(std::span<const deform::VertexBinding>(bound.vertices));
+  payload.put_array(
+      std::span<const std::array<std::uint16_t, deform::kInfluences>>(bound.skinned_share_joints));
+  payload.put_array(
+      std::span<const std::array<float, deform::kInfluences>>(bound.skinned_share_weights));
   payload.put<std::uint64_t>(bound.edits.edits.size());
   for (const deform::KeyEllipseEdit& edit : bound.edits.edits) {
     for (int value : {edit.sweep, edit.key, edit.joint}) payload.put<std::int32_t>(value);
@@ -260,6 +282,10 @@ BoundModel decode_sweepbind(std::span<const std::uint8_t> bytes,
   if (sweeps > 64) in.fail("sweep count " + std::to_string(sweeps) + " is out of range");
   for (std::uint64_t s = 0; s < sweeps; ++s) bound.sweeps.push_back(get_sweep(in));
   bound.vertices = in.get_array<deform::VertexBinding>("vertex bindings", kMaxVertices);
+  bound.skinned_share_joints = in.get_array<std::array<std::uint16_t, deform::kInfluences>>(
+      "skinned share joints", kMaxVertices);
+  bound.skinned_share_weights =
+      in.get_array<std::array<float, deform::kInfluences>>("skinned share weights", kMaxVertices);
   const auto edits = in.get<std::uint64_t>("edit count");
   if (edits > kMaxEdits) in.fail("edit count " + std::to_string(edits) + " is out of range");
   for (std::uint64_t e = 0; e < edits; ++e) {

@@ -18,7 +18,7 @@
 
 namespace sweepd::io {
 
-inline constexpr std::uint32_t kSweepbindVersion = 5;
+inline constexpr std::uint32_t kSweepbindVersion = 6;
 
 std::vector<std::uint8_t> encode_sweepbind(const deform::BoundModel& bound);
 deform::BoundModel decode_sweepbind(std::span<const std::uint8_t> bytes,

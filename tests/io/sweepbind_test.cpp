@@ -59,18 +59,38 @@ TEST(Sweepbind, RoundTripsBitExactlyThroughAFile) {
     for (const deform::KeyEllipse& key : keys) offset_keys += key.offset != glm::vec2(0.0f);
   }
   EXPECT_GT(offset_keys, 0);
+  // The skinned share's own influences come back too; they differ from the model's at the
+  // shoulders, so a reader that fell back on the model's weights would fail here.
+  EXPECT_EQ(loaded.skinned_share_joints, bound_mannequin().skinned_share_joints);
+  EXPECT_EQ(loaded.skinned_share_weights, bound_mannequin().skinned_share_weights);
+  EXPECT_NE(loaded.skinned_share_weights, loaded.model.skin_weights);
   fs::remove(file);
 }
 
-TEST(Sweepbind, RefusesAVersion4FileAskingForARebind) {
-  // Version 4 had the same layout, but its neck shares handed over to the head by skin weight.
+TEST(Sweepbind, RefusesAVersion5FileAskingForARebind) {
+  // Version 5 had no skinned-share influences: its armpits followed the painted weights.
   std::vector<std::uint8_t> bytes = encode_sweepbind(bound_mannequin());
-  bytes[8] = 4;
+  bytes[8] = 5;
   const std::string error = decode_error(bytes);
-  EXPECT_NE(error.find("unsupported .sweepbind version 4 (this sweepd reads 5; bind the model "
+  EXPECT_NE(error.find("unsupported .sweepbind version 5 (this sweepd reads 6; bind the model "
                        "again to rebuild it)"),
             std::string::npos)
       << error;
+}
+
+TEST(Sweepbind, RefusesSkinnedShareInfluencesThatDoNotFitTheModel) {
+  deform::BoundModel bound = bound_mannequin();
+  bound.skinned_share_joints[7][0] = 60000;  // no such joint
+  EXPECT_NE(decode_error(encode_sweepbind(bound)).find("vertex 7 has an invalid skinned share"),
+            std::string::npos);
+  bound = bound_mannequin();
+  bound.skinned_share_weights[9][0] += 0.5f;
+  EXPECT_NE(decode_error(encode_sweepbind(bound)).find("vertex 9 has skinned share weights"),
+            std::string::npos);
+  bound = bound_mannequin();
+  bound.skinned_share_weights.pop_back();
+  EXPECT_NE(decode_error(encode_sweepbind(bound)).find("skinned share influences:"),
+            std::string::npos);
 }
 
 TEST(Sweepbind, RefusesDamagedFilesWithTheReason) {
