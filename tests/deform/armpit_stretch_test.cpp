@@ -12,10 +12,10 @@
 #include "deform/bind.h"
 #include "deform/deformer.h"
 #include "deform/rig_map.h"
-#include "deform/skinned_share_influences.h"
 #include "io/bvh_load.h"
 #include "io/bvh_retarget.h"
 #include "io/gltf_load.h"
+#include "mesh_edges.h"
 
 namespace sweepd::deform {
 namespace {
@@ -34,31 +34,21 @@ const BoundModel& bound_male() {
 
 bool shared_data_present() { return fs::exists(kData / "models/makehuman_male_cmu.glb"); }
 
-// The mesh edges whose first vertex's heaviest painted joint belongs to an arm (the regions
-// clip_deformation_test reports as "left arm" and "right arm").
-struct ArmEdge {
-  std::uint32_t a, b;
-  float rest_length;
-};
+using test::MeshEdge;
 
-std::vector<ArmEdge> arm_edges(const BoundModel& bound) {
-  const Model& model = bound.model;
-  const std::vector<BodyPart> part = label_joints(bound.rig, model.skeleton);
-  std::vector<ArmEdge> edges;
-  for (std::size_t t = 0; t < model.indices.size(); t += 3)
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t a = model.indices[t + k], b = model.indices[t + (k + 1) % 3];
-      if (a > b) continue;  // each interior edge once (closed mesh: the other side has a < b)
-      const auto& w = model.skin_weights[a];
-      const int heaviest = static_cast<int>(std::max_element(w.begin(), w.end()) - w.begin());
-      const BodyPart p = part[model.skin_joints[a][heaviest]];
-      if (p == BodyPart::kLeftArm || p == BodyPart::kRightArm)
-        edges.push_back({a, b, glm::length(model.positions[a] - model.positions[b])});
-    }
+// The edges clip_deformation_test reports as "left arm" and "right arm": their first vertex's
+// heaviest painted joint belongs to an arm.
+std::vector<MeshEdge> arm_edges(const BoundModel& bound) {
+  const std::vector<BodyPart> joint_part = label_joints(bound.rig, bound.model.skeleton);
+  std::vector<MeshEdge> edges;
+  for (const MeshEdge& e : test::distinct_edges(bound.model)) {
+    const BodyPart part = test::heaviest_part(bound.model, joint_part, e.a);
+    if (part == BodyPart::kLeftArm || part == BodyPart::kRightArm) edges.push_back(e);
+  }
   return edges;
 }
 
-float stretch(const ArmEdge& e, std::span<const glm::vec3> positions) {
+float stretch(const MeshEdge& e, std::span<const glm::vec3> positions) {
   return glm::length(positions[e.a] - positions[e.b]) / e.rest_length;
 }
 
@@ -66,19 +56,19 @@ TEST(ArmpitStretch, RaisedArmsStretchNoArmEdgeOver3xOnEitherClip) {
   if (!shared_data_present()) GTEST_SKIP() << "shared data absent: " << kData;
   const BoundModel& bound = bound_male();
   Deformer deformer(bound);
-  const std::vector<ArmEdge> edges = arm_edges(bound);
+  const std::vector<MeshEdge> edges = arm_edges(bound);
   std::vector<glm::vec3> positions(bound.model.vertex_count());
   for (const char* clip : {"motion/cmu_01_01.bvh", "motion/cmu_01_03.bvh"}) {
     const io::Retargeter retargeter(io::load_bvh(kData / clip), bound.model);
     float worst[2] = {0.0f, 0.0f};  // sweep, lbs
     int worst_frame = -1;
-    const ArmEdge* worst_edge = nullptr;
+    const MeshEdge* worst_edge = nullptr;
     for (int frame = 0; frame < retargeter.frame_count(); ++frame)
       for (DeformMethod method : {DeformMethod::kSweep, DeformMethod::kLbs}) {
         Pose pose = retargeter.pose_at_frame(frame);
         deformer.deform(pose, method, positions, {});
         const int m = method == DeformMethod::kSweep ? 0 : 1;
-        for (const ArmEdge& e : edges) {
+        for (const MeshEdge& e : edges) {
           const float s = stretch(e, positions);
           if (s <= worst[m]) continue;
           worst[m] = s;
@@ -103,7 +93,7 @@ TEST(ArmpitStretch, TheWorstRaisedArmFramesEachSide) {
   std::vector<glm::vec3> positions(bound.model.vertex_count());
   struct Case {
     int frame;
-    ArmEdge edge;
+    MeshEdge edge;
   };
   // The armpit edges that stretched most on main (left and right mirror each other).
   for (Case c : {Case{1089, {8904, 8918, 0.0f}}, Case{3898, {1658, 1674, 0.0f}}}) {
