@@ -3,10 +3,12 @@
 // over rest length) reported with its frame and edge.
 // Regions: the hips (an end shares both leg sweeps: the crotch, the buttocks, the lower back),
 // else the body part of the joint that weighs most on the edge's first vertex.
-// The bound, 3x on every edge, holds at the hips and the hands (asserted); not yet at
-// the armpits with the arms overhead (3.5x, cmu_01_03), the throat with the head turned
-// furthest (3.4x, cmu_01_01) and the feet, which LBS alone moves (4.1x at the toe crease,
-// cmu_01_03: the clip's toe channels, equal with LBS).
+// The bound, 3x on every edge, holds in every region (asserted; measured worst 2.88x
+// on cmu_01_01 and 2.99x on cmu_01_03, behind the left armpit with the arm overhead). What
+// brought it there: length-weighted share smoothing at the crotch (4.3x / 6.1x before), the
+// clip's fingers, thumbs and toes left undriven (CMU noise: thumb webbing 10.7x, toe crease
+// 4.1x), the neck handing over to the head along the surface (throat 3.4x), and smoothed
+// skinned weights around the arm's root (armpit 3.5x).
 #include <gtest/gtest.h>
 
 #include <array>
@@ -113,12 +115,9 @@ TEST(ClipDeformation, EveryCmuFrameOnTheMaleIsFiniteAndEachRegionsStretchIsRepor
       lbs_overall = std::max(lbs_overall, l.stretch);
     }
     std::printf("  overall    %5.2fx | %5.2fx\n", sweep_overall, lbs_overall);
-    // The bound where the torso and both leg sweeps meet (4.3x and 6.1x at the crotch
-    // before length-weighted share smoothing) and at the hands (the clip's thumbs stretched
-    // the skinned thumb webbing up to 10.7x before fingers and thumbs were left undriven).
-    for (int region :
-         {kHips, static_cast<int>(BodyPart::kLeftHand), static_cast<int>(BodyPart::kRightHand)})
-      EXPECT_LE(worst[0][region].stretch, 3.0f) << clip << " " << region_name(region);
+    // The bound on every edge, region by region so a failure names where.
+    for (int r = 0; r < kRegions; ++r)
+      EXPECT_LE(worst[0][r].stretch, 3.0f) << clip << " " << region_name(r);
     // Overall the sweeps tear the skin less than LBS does.
     EXPECT_LT(sweep_overall, lbs_overall) << clip;
   }
