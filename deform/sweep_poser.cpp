@@ -60,6 +60,7 @@ SweepPoser::SweepPoser(const BoundModel& bound, VertexLoopInstructions instructi
   for (const BoundSweep& sweep : bound.sweeps) {
     sweeps_.push_back(rest_sweep(sweep, bound.options));
     posed_keys_.push_back(sweep.rest_keys);
+    mitre_spread_.push_back(mitre_spread(sweep));
     sweep_data_.emplace_back();
     first_sample.push_back(static_cast<std::uint32_t>(sample_q_mix_.size()));
     const Sweep& curve = sweeps_.back();
@@ -203,8 +204,8 @@ void SweepPoser::set_pose(std::span<const glm::mat4> world_pose) {
     pose_joint_[j] = glm::vec3(world_pose[j][3]);
   }
   for (std::size_t s = 0; s < sweeps_.size(); ++s) {
-    pose_key_ellipses(bound_.sweeps[s], bound_.model.skeleton, joint_rotation_, rest_joint_,
-                      pose_joint_, posed_keys_[s]);
+    pose_key_ellipses(bound_.sweeps[s], mitre_spread_[s], bound_.model.skeleton, joint_rotation_,
+                      rest_joint_, pose_joint_, posed_keys_[s]);
     if (key_adjuster_) key_adjuster_(static_cast<int>(s), posed_keys_[s]);
     sweeps_[s].set_key_frames(posed_keys_[s]);
     sweeps_[s].set_key_half_axes(posed_keys_[s]);

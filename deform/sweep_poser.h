@@ -92,6 +92,7 @@ class SweepPoser {
   KeyAdjuster key_adjuster_;
   std::vector<Sweep> sweeps_;
   std::vector<std::vector<KeyEllipse>> posed_keys_;
+  std::vector<std::vector<std::array<float, 3>>> mitre_spread_;  // per sweep (key_posing.h)
   // How each table row follows from its sweep's data, fixed at construction. Per row:
   // C = Σ spline[r] · (P_span, P_span+1, P''_2span, P''_2span+1), Q = nlerp(q_span, q_span+1,
   // q_mix); a, b and the offset o (the ellipse's centre is C + R (o, 0)) from the axis weights.

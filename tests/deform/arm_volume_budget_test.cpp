@@ -117,8 +117,8 @@ ElbowSection elbow_section(const BoundModel& male) {
 TEST(ArmVolumeBudget, AtABentElbowTheRegionFollowsTheIntegral) {
   REQUIRE_SHARED_MALE();
   const Budget b = budget(male, 150.0f, paper_correction());
-  // Measured: integral -0.00, actual +1.41, sweep only +1.64, without c +1.64, on the
-  // ellipses +0.32 (%).
+  // Measured: integral -0.00, actual +1.64, sweep only +1.56, without c +1.60, on the
+  // ellipses -0.46 (%).
   EXPECT_LT(std::abs(b.integral), 0.5);  // the correction holds I (tolerance 0.1 %)
   // Blending with the torso and the skinned hand inside the region: a small share (-0.23
   // measured; the region's vertices follow the arm sweep alone or blend where the caps are).
@@ -126,11 +126,11 @@ TEST(ArmVolumeBudget, AtABentElbowTheRegionFollowsTheIntegral) {
   // The offsets c along N: 0.00 measured.
   EXPECT_LT(std::abs(b.region[1] - b.region[2]), 0.2);
   // Skin on the ellipses is the signed swept volume with the region's caps: it follows I
-  // (+0.32 measured), inner fold and all — the region and the sweep cover the same extent.
+  // (-0.46 measured), inner fold and all — the region and the sweep cover the same extent.
   EXPECT_LT(std::abs(b.region[3] - b.integral), 1.0);
-  // The displacements from the ellipses: +1.32 points measured (-11.30 with the elbow's
-  // ellipse on the joint).
-  EXPECT_LT(std::abs(b.region[2] - b.region[3]), 2.0);
+  // The displacements from the ellipses: +2.06 points measured (-11.30 with the elbow's
+  // ellipse on the joint; +1.32 before the mitred elbow key spread the outer skin).
+  EXPECT_LT(std::abs(b.region[2] - b.region[3]), 2.5);
   EXPECT_LT(std::abs(b.region[0]), 2.0);  // the bound on the closed region
 }
 

@@ -111,7 +111,8 @@ TEST(NeckStretch, ATwistAtNeck1SpreadsEvenlyOverTheNecksKeys) {
     pose_joint[j] = glm::vec3(world[j][3]);
   }
   std::vector<KeyEllipse> keys(sweep.rest_keys.size());
-  pose_key_ellipses(sweep, model.skeleton, joint_rotation, rest_joint, pose_joint, keys);
+  pose_key_ellipses(sweep, mitre_spread(sweep), model.skeleton, joint_rotation, rest_joint,
+                    pose_joint, keys);
 
   for (std::size_t k = 0; k < keys.size(); ++k) {
     const glm::quat turn = keys[k].orientation * glm::inverse(sweep.rest_keys[k].orientation);
