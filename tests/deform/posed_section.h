@@ -2,6 +2,7 @@
 // compare how much of a limb's section each deformation method keeps at a bent or twisted joint.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <glm/glm.hpp>
 #include <span>
@@ -32,6 +33,35 @@ class WeldedMesh {
         cross_section(positions_, indices_, make_plane_frame(point, normal), point);
     if (!section.found || !section.closed || section.points_2d.size() < 3) return 0.0f;
     return fit_ellipse(section.points_2d).area;
+  }
+  // Area of the same loop clipped to the half-space dot(x - side_point, side_normal) >= 0: the
+  // part of a limb's section on its own link's side of a bent joint's bisecting plane (a plane
+  // near a strongly bent joint also cuts the other link, through the crease). Polygon area.
+  float section_area_on_side(std::span<const glm::vec3> positions, glm::vec3 point,
+                             glm::vec3 normal, glm::vec3 side_point, glm::vec3 side_normal) {
+    for (std::size_t v = 0; v < positions.size(); ++v) positions_[id_[v]] = positions[v];
+    const PlaneFrame frame = make_plane_frame(point, normal);
+    const CrossSection section = cross_section(positions_, indices_, frame, point);
+    if (!section.found || !section.closed) return 0.0f;
+    auto side = [&](glm::vec3 x) { return glm::dot(x - side_point, side_normal); };
+    std::vector<glm::vec2> kept;  // Sutherland-Hodgman against one half-space, in plane coordinates
+    auto in_plane = [&](glm::vec3 x) {
+      return glm::vec2(glm::dot(x - frame.origin, frame.x_axis),
+                       glm::dot(x - frame.origin, frame.y_axis));
+    };
+    const std::vector<glm::vec3>& loop = section.points;
+    for (std::size_t i = 0; i < loop.size(); ++i) {
+      const glm::vec3 a = loop[i], b = loop[(i + 1) % loop.size()];
+      const float sa = side(a), sb = side(b);
+      if (sa >= 0.0f) kept.push_back(in_plane(a));
+      if ((sa >= 0.0f) != (sb >= 0.0f)) kept.push_back(in_plane(a + (b - a) * (sa / (sa - sb))));
+    }
+    double twice_area = 0.0;
+    for (std::size_t i = 0; i < kept.size(); ++i) {
+      const glm::vec2 a = kept[i], b = kept[(i + 1) % kept.size()];
+      twice_area += double(a.x) * b.y - double(b.x) * a.y;
+    }
+    return static_cast<float>(std::abs(twice_area) / 2.0);
   }
 
  private:
