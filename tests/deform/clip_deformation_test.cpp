@@ -3,7 +3,7 @@
 // over rest length) reported with its frame and edge.
 // Regions: the hips (an end shares both leg sweeps: the crotch, the buttocks, the lower back),
 // else the body part of the joint that weighs most on the edge's first vertex.
-// The bound, 3x on every edge, holds in every region (asserted; measured worst 2.88x
+// The bound, 3x on every edge, holds in every region (asserted; measured worst 2.87x
 // on cmu_01_01 and 2.99x on cmu_01_03, behind the left armpit with the arm overhead). What
 // brought it there: length-weighted share smoothing at the crotch (4.3x / 6.1x before), the
 // clip's fingers, thumbs and toes left undriven (CMU noise: thumb webbing 10.7x, toe crease
