@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <numeric>
 
+#include "deform/length_weighted_smoothing.h"
 #include "deform/mesh_topology.h"
 
 namespace sweepd::deform {
@@ -72,36 +73,13 @@ SkinInfluences skinned_share_influences(const Model& model, std::span<const Vert
     for (int k = 0; k < kInfluences; ++k)
       weights[row_of[w] * joints + model.skin_joints[v][k]] += model.skin_weights[v][k];
   }
-  // Each ring vertex's neighbours with their weights (half in all; the vertex keeps the rest).
-  struct Neighbour {
-    std::uint32_t row;
-    float weight;
-  };
-  std::vector<Neighbour> weighted;
-  std::vector<std::size_t> first{0};
-  for (std::uint32_t w : ring_vertices) {
-    const glm::vec3 at = model.positions[model_vertex[w]];
-    auto inverse_length = [&](std::uint32_t u) {
-      return 1.0f / std::max(glm::length(model.positions[model_vertex[u]] - at), 1e-6f);
-    };
-    float total = 0.0f;
-    for (std::uint32_t u : neighbours[w]) total += inverse_length(u);
-    for (std::uint32_t u : neighbours[w])
-      weighted.push_back({row_of[u], 0.5f * inverse_length(u) / total});
-    first.push_back(weighted.size());
-  }
-  std::vector<float> next = weights;
-  for (int pass = 0; pass < kShoulderSkinSmoothingPasses; ++pass) {
-    for (std::size_t i = 0; i < ring_vertices.size(); ++i) {
-      const std::size_t row = row_of[ring_vertices[i]];
-      float* out = &next[row * joints];
-      for (int j = 0; j < joints; ++j) out[j] = 0.5f * weights[row * joints + j];
-      for (std::size_t n = first[i]; n < first[i + 1]; ++n)
-        for (int j = 0; j < joints; ++j)
-          out[j] += weighted[n].weight * weights[weighted[n].row * joints + j];
-    }
-    weights.swap(next);
-  }
+  LengthWeightedSmoothing smoothing;
+  for (std::uint32_t w : ring_vertices)
+    smoothing.add(
+        row_of[w], model.positions[model_vertex[w]], neighbours[w],
+        [&](std::uint32_t u) { return row_of[u]; },
+        [&](std::uint32_t u) { return model.positions[model_vertex[u]]; });
+  smoothing.smooth(joints, kShoulderSkinSmoothingPasses, weights);
 
   // The largest kInfluences weights of each ring vertex, scaled to sum to 1.
   std::vector<int> order(joints);

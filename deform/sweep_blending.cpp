@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdint>
 
+#include "deform/length_weighted_smoothing.h"
 #include "deform/mesh_topology.h"
 #include "deform/surface_distance.h"
 
@@ -84,13 +85,7 @@ void smooth_over_mesh(std::span<const glm::vec3> at, std::span<const std::uint32
       neighbours[a].push_back(b);
       neighbours[b].push_back(a);
     }
-  // The junction vertices and, per junction vertex, its neighbours with their weights.
-  struct Neighbour {
-    std::uint32_t vertex;
-    float weight;
-  };
-  std::vector<std::uint32_t> junction, first{0};
-  std::vector<Neighbour> weighted;
+  LengthWeightedSmoothing junctions;  // the vertices with shares of two sweeps or more
   for (std::size_t v = 0; v < count; ++v) {
     int sweeps = 0;
     for (int c = 0; c + 1 < columns; ++c) sweeps += shares[v * columns + c] > 0.0f;
@@ -98,25 +93,11 @@ void smooth_over_mesh(std::span<const glm::vec3> at, std::span<const std::uint32
     std::sort(list.begin(), list.end());
     list.erase(std::unique(list.begin(), list.end()), list.end());
     if (sweeps < 2 || list.empty()) continue;
-    float total = 0.0f;
-    for (std::uint32_t u : list) total += 1.0f / std::max(glm::length(at[u] - at[v]), 1e-6f);
-    for (std::uint32_t u : list)
-      weighted.push_back({u, 0.5f / std::max(glm::length(at[u] - at[v]), 1e-6f) / total});
-    junction.push_back(static_cast<std::uint32_t>(v));
-    first.push_back(static_cast<std::uint32_t>(weighted.size()));
+    junctions.add(
+        static_cast<std::uint32_t>(v), at[v], list, [](std::uint32_t u) { return u; },
+        [&](std::uint32_t u) { return at[u]; });
   }
-  std::vector<float> next = shares;
-  for (int pass = 0; pass < kShareSmoothingPasses; ++pass) {
-    for (std::size_t j = 0; j < junction.size(); ++j) {
-      const std::size_t v = junction[j];
-      float* out = &next[v * columns];
-      for (int c = 0; c < columns; ++c) out[c] = 0.5f * shares[v * columns + c];
-      for (std::uint32_t i = first[j]; i < first[j + 1]; ++i)
-        for (int c = 0; c < columns; ++c)
-          out[c] += weighted[i].weight * shares[weighted[i].vertex * columns + c];
-    }
-    shares.swap(next);
-  }
+  junctions.smooth(columns, kShareSmoothingPasses, shares);
 }
 
 // The neck's hand-over to the head's skinning, per welded vertex: 0 up to where the head's skin
