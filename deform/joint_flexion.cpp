@@ -27,23 +27,27 @@ Links rest_links(const Skeleton& skeleton, int joint) {
           glm::quat_cast(parent)};
 }
 
-}  // namespace
-
-float rest_flexion_degrees(const Skeleton& skeleton, int joint, glm::vec3 world_axis) {
-  const Links links = rest_links(skeleton, joint);
-  const glm::vec3 axis = glm::normalize(world_axis);
-  // Only the links' components orthogonal to the axis bend about it.
+// The links' flexion about `axis` (unit), in degrees: only their components orthogonal to the
+// axis bend about it.
+float flexion_degrees(const Links& links, glm::vec3 axis) {
   const glm::vec3 upper = links.upper - glm::dot(links.upper, axis) * axis;
   const glm::vec3 lower = links.lower - glm::dot(links.lower, axis) * axis;
   return glm::degrees(std::atan2(glm::dot(glm::cross(upper, lower), axis), glm::dot(upper, lower)));
 }
 
+}  // namespace
+
+float rest_flexion_degrees(const Skeleton& skeleton, int joint, glm::vec3 world_axis) {
+  return flexion_degrees(rest_links(skeleton, joint), glm::normalize(world_axis));
+}
+
 void flex_joint(const Skeleton& skeleton, Pose& pose, int joint, glm::vec3 world_axis,
                 float degrees) {
-  const float turn = degrees - rest_flexion_degrees(skeleton, joint, world_axis);
-  const glm::quat parent = glm::normalize(rest_links(skeleton, joint).parent_world_rotation);
+  const Links links = rest_links(skeleton, joint);
+  const glm::vec3 axis = glm::normalize(world_axis);
+  const float turn = degrees - flexion_degrees(links, axis);
   // The world turn expressed in the parent's frame, applied before the rest rotation.
-  const glm::vec3 local_axis = glm::inverse(parent) * glm::normalize(world_axis);
+  const glm::vec3 local_axis = glm::inverse(glm::normalize(links.parent_world_rotation)) * axis;
   pose.local_rotations.at(joint) = glm::normalize(glm::angleAxis(glm::radians(turn), local_axis) *
                                                   skeleton.joints[joint].rest_rotation);
 }

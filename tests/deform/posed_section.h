@@ -28,9 +28,7 @@ class WeldedMesh {
   // Area of the closed loop that the plane (point, normal) cuts around `point` from the mesh
   // with these (unwelded, per model vertex) positions; 0 when there is none.
   float section_area(std::span<const glm::vec3> positions, glm::vec3 point, glm::vec3 normal) {
-    for (std::size_t v = 0; v < positions.size(); ++v) positions_[id_[v]] = positions[v];
-    const CrossSection section =
-        cross_section(positions_, indices_, make_plane_frame(point, normal), point);
+    const CrossSection section = cut(positions, make_plane_frame(point, normal), point);
     if (!section.found || !section.closed || section.points_2d.size() < 3) return 0.0f;
     return fit_ellipse(section.points_2d).area;
   }
@@ -39,9 +37,8 @@ class WeldedMesh {
   // near a strongly bent joint also cuts the other link, through the crease). Polygon area.
   float section_area_on_side(std::span<const glm::vec3> positions, glm::vec3 point,
                              glm::vec3 normal, glm::vec3 side_point, glm::vec3 side_normal) {
-    for (std::size_t v = 0; v < positions.size(); ++v) positions_[id_[v]] = positions[v];
     const PlaneFrame frame = make_plane_frame(point, normal);
-    const CrossSection section = cross_section(positions_, indices_, frame, point);
+    const CrossSection section = cut(positions, frame, point);
     if (!section.found || !section.closed) return 0.0f;
     auto side = [&](glm::vec3 x) { return glm::dot(x - side_point, side_normal); };
     std::vector<glm::vec2> kept;  // Sutherland-Hodgman against one half-space, in plane coordinates
@@ -65,6 +62,12 @@ class WeldedMesh {
   }
 
  private:
+  // The loop around `point` cut from the mesh with these (unwelded) positions.
+  CrossSection cut(std::span<const glm::vec3> positions, const PlaneFrame& frame, glm::vec3 point) {
+    for (std::size_t v = 0; v < positions.size(); ++v) positions_[id_[v]] = positions[v];
+    return cross_section(positions_, indices_, frame, point);
+  }
+
   std::vector<std::uint32_t> id_, indices_;
   std::vector<glm::vec3> positions_;
 };
