@@ -5,10 +5,10 @@
 
 #include <filesystem>
 
-#include "deform/bind.h"
-#include "deform/mannequin.h"
-#include "deform/rig_map.h"
+#include "deform/binding/bind.h"
+#include "deform/rig/rig_map.h"
 #include "io/gltf_load.h"
+#include "mannequin/mannequin.h"
 
 namespace {
 

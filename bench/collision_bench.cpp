@@ -11,10 +11,10 @@
 #include <glm/gtc/quaternion.hpp>
 #include <memory>
 
-#include "deform/bind.h"
-#include "deform/collision_features.h"
-#include "deform/deformer.h"
-#include "deform/rig_map.h"
+#include "deform/binding/bind.h"
+#include "deform/features/collision_features.h"
+#include "deform/job/deformer.h"
+#include "deform/rig/rig_map.h"
 #include "gpu/collision.h"
 #include "io/gltf_load.h"
 #include "tests/deform/shared_male.h"

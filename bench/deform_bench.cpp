@@ -20,14 +20,14 @@
 #include <string>
 #include <vector>
 
-#include "deform/bind.h"
-#include "deform/dual_quaternion_skinning.h"
-#include "deform/forward_kinematics.h"
-#include "deform/linear_blend_skinning.h"
-#include "deform/mannequin.h"
-#include "deform/rig_map.h"
-#include "deform/sweep_poser.h"
+#include "deform/baselines/dual_quaternion_skinning.h"
+#include "deform/baselines/linear_blend_skinning.h"
+#include "deform/binding/bind.h"
+#include "deform/model/forward_kinematics.h"
+#include "deform/posing/sweep_poser.h"
+#include "deform/rig/rig_map.h"
 #include "io/gltf_load.h"
+#include "mannequin/mannequin.h"
 
 namespace {
 

@@ -33,7 +33,7 @@
 
 #include "client/connection.h"
 #include "client/model_skeleton.h"
-#include "deform/deformer.h"
+#include "deform/job/deformer.h"
 #include "io/bvh_load.h"
 #include "io/sweepbind.h"
 

@@ -12,7 +12,7 @@
 #include "cli/segment_colours.h"
 #include "cli/subcommand.h"
 #include "cli/text_format.h"
-#include "deform/bind.h"
+#include "deform/binding/bind.h"
 #include "io/gltf_save.h"
 #include "io/sweepbind.h"
 

@@ -5,7 +5,7 @@
 #include <filesystem>
 
 #include "cli/commands.h"
-#include "deform/rig_map.h"
+#include "deform/rig/rig_map.h"
 #include "io/key_ellipse_edits_json.h"
 #include "io/sweepbind.h"
 

@@ -6,7 +6,7 @@
 
 #include "cli/commands.h"
 #include "cli/text_format.h"
-#include "deform/mesh_topology.h"
+#include "deform/mesh/mesh_topology.h"
 #include "io/bvh_load.h"
 #include "io/gltf_load.h"
 

@@ -8,8 +8,8 @@
 #include "cli/commands.h"
 #include "cli/subcommand.h"
 #include "cli/text_format.h"
-#include "deform/mannequin.h"
 #include "io/gltf_save.h"
+#include "mannequin/mannequin.h"
 
 namespace sweepd::cli {
 

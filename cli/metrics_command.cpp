@@ -18,11 +18,11 @@
 #include "cli/progress_bar.h"
 #include "cli/remote_posed_model.h"
 #include "cli/text_format.h"
-#include "deform/bind.h"
-#include "deform/forward_kinematics.h"
-#include "deform/quality_metrics.h"
+#include "deform/binding/bind.h"
+#include "deform/model/forward_kinematics.h"
 #include "io/bvh_load.h"
 #include "io/rig_map_json.h"
+#include "metrics/quality_metrics.h"
 
 namespace sweepd::cli {
 

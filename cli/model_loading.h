@@ -4,8 +4,8 @@
 
 #include <filesystem>
 
-#include "deform/model.h"
-#include "deform/rig_map.h"
+#include "deform/model/model.h"
+#include "deform/rig/rig_map.h"
 
 namespace sweepd::cli {
 

@@ -5,7 +5,7 @@
 
 #include "cli/model_loading.h"
 #include "cli/text_format.h"
-#include "deform/bind.h"
+#include "deform/binding/bind.h"
 #include "io/bvh_load.h"
 #include "io/pose_json.h"
 #include "io/sweepbind.h"

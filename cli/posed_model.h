@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "deform/anatomical_features.h"
-#include "deform/bound_model.h"
-#include "deform/deformer.h"
+#include "deform/binding/bound_model.h"
+#include "deform/job/anatomical_features.h"
+#include "deform/job/deformer.h"
 #include "io/bvh_retarget.h"
 
 namespace sweepd::cli {

@@ -18,7 +18,7 @@
 
 #include "cli/posed_model.h"
 #include "client/connection.h"
-#include "deform/model.h"
+#include "deform/model/model.h"
 #include "io/bvh_retarget.h"
 
 namespace sweepd::cli {

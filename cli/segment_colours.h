@@ -6,7 +6,7 @@
 #include <glm/glm.hpp>
 #include <vector>
 
-#include "deform/bound_model.h"
+#include "deform/binding/bound_model.h"
 
 namespace sweepd::cli {
 

@@ -13,7 +13,7 @@
 #pragma once
 
 #include "client/connection.h"
-#include "deform/model.h"
+#include "deform/model/model.h"
 
 namespace sweepd::client {
 

@@ -9,7 +9,7 @@
 
 #include <filesystem>
 
-#include "deform/skeleton.h"
+#include "deform/model/skeleton.h"
 #include "io/bvh_retarget.h"
 #include "protocol/messages.h"
 

@@ -25,7 +25,7 @@
 #include <utility>
 #include <vector>
 
-#include "deform/self_intersection.h"
+#include "deform/features/self_intersection.h"
 #include "gpu/egl_context.h"
 #include "gpu/shader_program.h"
 

@@ -6,7 +6,7 @@
 #include <optional>
 #include <stdexcept>
 
-#include "deform/rig_map.h"
+#include "deform/rig/rig_map.h"
 #include "io/json_file.h"
 #include "io/load_error.h"
 

@@ -58,10 +58,10 @@
 #include <string>
 #include <vector>
 
-#include "deform/model.h"
-#include "deform/pose.h"
-#include "deform/rig_map.h"
-#include "deform/skeleton.h"
+#include "deform/model/model.h"
+#include "deform/model/pose.h"
+#include "deform/model/skeleton.h"
+#include "deform/rig/rig_map.h"
 #include "io/motion.h"
 
 namespace sweepd::io {

@@ -21,7 +21,7 @@
 
 #include <filesystem>
 
-#include "deform/model.h"
+#include "deform/model/model.h"
 #include "io/load_error.h"
 #include "io/load_report.h"
 

@@ -17,7 +17,7 @@
 #include <glm/glm.hpp>
 #include <vector>
 
-#include "deform/model.h"
+#include "deform/model/model.h"
 
 namespace sweepd::io {
 

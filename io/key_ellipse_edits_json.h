@@ -23,8 +23,8 @@
 
 #include <filesystem>
 
-#include "deform/bound_model.h"
-#include "deform/key_ellipse_edits.h"
+#include "deform/binding/bound_model.h"
+#include "deform/edits/angle_driven_key_edits.h"
 
 namespace sweepd::io {
 

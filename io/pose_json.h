@@ -15,8 +15,8 @@
 
 #include <filesystem>
 
-#include "deform/pose.h"
-#include "deform/skeleton.h"
+#include "deform/model/pose.h"
+#include "deform/model/skeleton.h"
 
 namespace sweepd::io {
 

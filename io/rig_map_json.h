@@ -20,8 +20,8 @@
 
 #include <filesystem>
 
-#include "deform/rig_map.h"
-#include "deform/skeleton.h"
+#include "deform/model/skeleton.h"
+#include "deform/rig/rig_map.h"
 
 namespace sweepd::io {
 

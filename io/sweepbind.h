@@ -13,7 +13,7 @@
 #include <span>
 #include <vector>
 
-#include "deform/bound_model.h"
+#include "deform/binding/bound_model.h"
 #include "io/load_error.h"
 
 namespace sweepd::io {

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <nlohmann/json.hpp>
 
-#include "deform/rest_key_edit.h"
+#include "deform/edits/rest_key_edit.h"
 #include "protocol/messages.h"
 #include "server/constant_time_equal.h"
 #include "server/log_event.h"

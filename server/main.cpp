@@ -4,9 +4,9 @@
 #include <string>
 #include <vector>
 
-#include "deform/bind.h"
-#include "deform/mannequin.h"
-#include "deform/rig_map.h"
+#include "deform/binding/bind.h"
+#include "deform/rig/rig_map.h"
+#include "mannequin/mannequin.h"
 #include "server/config.h"
 #include "server/durable_file.h"
 #include "server/log_event.h"

@@ -5,8 +5,8 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "deform/bind.h"
-#include "deform/rig_map.h"
+#include "deform/binding/bind.h"
+#include "deform/rig/rig_map.h"
 #include "io/gltf_load.h"
 #include "io/load_error.h"
 #include "io/rig_map_json.h"

@@ -22,7 +22,7 @@
 #include <string_view>
 #include <vector>
 
-#include "deform/bound_model.h"
+#include "deform/binding/bound_model.h"
 #include "protocol/sweepd_generated.h"
 
 namespace sweepd::server {

@@ -25,8 +25,8 @@
 #include <optional>
 #include <vector>
 
-#include "deform/anatomical_features.h"
-#include "deform/deformer.h"
+#include "deform/job/anatomical_features.h"
+#include "deform/job/deformer.h"
 #include "protocol/messages.h"
 #include "server/model_registry.h"
 #include "server/position_map_service.h"

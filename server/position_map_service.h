@@ -23,7 +23,7 @@
 #include <string>
 #include <vector>
 
-#include "deform/model.h"
+#include "deform/model/model.h"
 #include "protocol/sweepd_generated.h"
 
 namespace sweepd::gpu {

@@ -9,7 +9,7 @@
 #include <fstream>
 #include <string>
 
-#include "deform/mesh_topology.h"
+#include "deform/mesh/mesh_topology.h"
 #include "io/gltf_load.h"
 
 namespace {

@@ -7,7 +7,7 @@
 #include <random>
 #include <vector>
 
-#include "deform/self_intersection.h"
+#include "deform/features/self_intersection.h"
 
 namespace sweepd::deform::testing {
 

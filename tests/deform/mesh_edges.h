@@ -10,8 +10,8 @@
 #include <utility>
 #include <vector>
 
-#include "deform/model.h"
-#include "deform/rig_map.h"
+#include "deform/model/model.h"
+#include "deform/rig/rig_map.h"
 
 namespace sweepd::deform::test {
 

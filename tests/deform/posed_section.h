@@ -8,10 +8,10 @@
 #include <span>
 #include <vector>
 
-#include "deform/cross_section.h"
-#include "deform/ellipse_fit.h"
-#include "deform/mesh_topology.h"
-#include "deform/model.h"
+#include "deform/binding/cross_section.h"
+#include "deform/binding/polygon_ellipse.h"
+#include "deform/mesh/mesh_topology.h"
+#include "deform/model/model.h"
 
 namespace sweepd::deform::test {
 
@@ -30,7 +30,7 @@ class WeldedMesh {
   float section_area(std::span<const glm::vec3> positions, glm::vec3 point, glm::vec3 normal) {
     const CrossSection section = cut(positions, make_plane_frame(point, normal), point);
     if (!section.found || !section.closed || section.points_2d.size() < 3) return 0.0f;
-    return fit_ellipse(section.points_2d).area;
+    return fit_polygon_ellipse(section.points_2d).area;
   }
   // Area of the same loop clipped to the half-space dot(x - side_point, side_normal) >= 0: the
   // part of a limb's section on its own link's side of a bent joint's bisecting plane (a plane

@@ -9,11 +9,11 @@
 #include <string>
 #include <vector>
 
-#include "deform/bind.h"
-#include "deform/deformer.h"
-#include "deform/joint_flexion.h"
-#include "deform/pose.h"
-#include "deform/rig_map.h"
+#include "deform/binding/bind.h"
+#include "deform/job/deformer.h"
+#include "deform/model/joint_flexion.h"
+#include "deform/model/pose.h"
+#include "deform/rig/rig_map.h"
 #include "io/gltf_load.h"
 
 namespace sweepd::deform::test {

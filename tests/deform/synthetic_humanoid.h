@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "deform/skeleton.h"
+#include "deform/model/skeleton.h"
 
 namespace sweepd::test {
 

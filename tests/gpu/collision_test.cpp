@@ -11,12 +11,12 @@
 
 #include "../deform/collision_shapes.h"
 #include "../deform/shared_male.h"
-#include "deform/bind.h"
-#include "deform/collision_features.h"
-#include "deform/collision_regions.h"
-#include "deform/deformer.h"
-#include "deform/rig_map.h"
-#include "deform/skin_folding.h"
+#include "deform/binding/bind.h"
+#include "deform/features/collision_features.h"
+#include "deform/features/collision_regions.h"
+#include "deform/features/skin_folding.h"
+#include "deform/job/deformer.h"
+#include "deform/rig/rig_map.h"
 #include "io/gltf_load.h"
 
 namespace sweepd::gpu {

@@ -15,9 +15,9 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <vector>
 
-#include "deform/mannequin.h"
 #include "gpu/position_map_renderer.h"
 #include "io/exr_write.h"
+#include "mannequin/mannequin.h"
 #include "tests/gpu/uv_reference.h"
 #include "tests/io/exr_memory_stream.h"
 

@@ -9,7 +9,7 @@
 #include <memory>
 #include <vector>
 
-#include "deform/model.h"
+#include "deform/model/model.h"
 #include "gpu/gpu_worker.h"
 #include "tests/gpu/uv_reference.h"
 

@@ -10,8 +10,8 @@
 #include <numbers>
 #include <vector>
 
-#include "deform/mannequin.h"
 #include "io/png_write.h"
+#include "mannequin/mannequin.h"
 
 namespace sweepd::gpu {
 namespace {

@@ -13,12 +13,12 @@
 #include <string>
 #include <vector>
 
-#include "deform/forward_kinematics.h"
-#include "deform/linear_blend_skinning.h"
-#include "deform/mannequin.h"
+#include "deform/baselines/linear_blend_skinning.h"
+#include "deform/model/forward_kinematics.h"
 #include "io/bvh_load.h"
 #include "io/gltf_load.h"
 #include "io/load_error.h"
+#include "mannequin/mannequin.h"
 
 namespace sweepd::io {
 namespace {

@@ -12,8 +12,8 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
-#include "deform/mannequin.h"
 #include "io/gltf_load.h"
+#include "mannequin/mannequin.h"
 #include "tests/io/gltf_test_files.h"
 
 namespace sweepd::io {

@@ -7,9 +7,9 @@
 #include <cstring>
 #include <filesystem>
 
-#include "deform/bind.h"
-#include "deform/mannequin.h"
-#include "deform/rig_map.h"
+#include "deform/binding/bind.h"
+#include "deform/rig/rig_map.h"
+#include "mannequin/mannequin.h"
 
 namespace sweepd::io {
 namespace {

@@ -6,9 +6,9 @@
 
 #include <fstream>
 
-#include "deform/bind.h"
-#include "deform/mannequin.h"
-#include "deform/rig_map.h"
+#include "deform/binding/bind.h"
+#include "deform/rig/rig_map.h"
+#include "mannequin/mannequin.h"
 #include "server/constant_time_equal.h"
 #include "server/model_registry.h"
 #include "tests/server/daemon_process.h"

@@ -6,7 +6,7 @@
 
 #include <cstring>
 
-#include "deform/anatomical_features.h"
+#include "deform/job/anatomical_features.h"
 #include "io/sweepbind.h"
 #include "tests/server/daemon_process.h"
 #include "tests/server/pose_frames.h"

@@ -4,9 +4,9 @@
 
 #include <cstring>
 
-#include "deform/mannequin.h"
 #include "io/gltf_save.h"
 #include "io/sweepbind.h"
+#include "mannequin/mannequin.h"
 #include "tests/server/daemon_process.h"
 #include "tests/server/pose_frames.h"
 

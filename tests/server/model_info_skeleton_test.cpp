@@ -5,8 +5,8 @@
 #include <filesystem>
 
 #include "client/model_skeleton.h"
-#include "deform/bind.h"
-#include "deform/rig_map.h"
+#include "deform/binding/bind.h"
+#include "deform/rig/rig_map.h"
 #include "io/bvh_load.h"
 #include "io/gltf_load.h"
 #include "server/model_info.h"

@@ -5,8 +5,8 @@
 #include <glm/gtc/quaternion.hpp>
 #include <vector>
 
-#include "deform/anatomical_features.h"
-#include "deform/deformer.h"
+#include "deform/job/anatomical_features.h"
+#include "deform/job/deformer.h"
 #include "tests/server/daemon_process.h"
 
 namespace sweepd::test {

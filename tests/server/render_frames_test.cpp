@@ -11,7 +11,7 @@
 #include <map>
 #include <regex>
 
-#include "deform/deformer.h"
+#include "deform/job/deformer.h"
 #include "gpu/egl_context.h"
 #include "gpu/position_map_renderer.h"
 #include "io/bvh_load.h"

@@ -1,0 +1,45 @@
+// Dual-quaternion skinning (DQS): the second baseline — each vertex moves by the normalised
+// weighted sum of its joints' unit dual quaternions, which keeps volume at twisted joints
+// where LBS collapses ("candy wrapper"), at the price of bulging at bent ones.
+//
+//   model      rest positions, normals and 4 skin influences per vertex (deform/model.h)
+//   skinning   skeleton.size() rigid matrices from skinning_matrices
+//              (deform/forward_kinematics.h), each converted once per call to a unit dual
+//              quaternion. Scale is not supported: each matrix's 3×3 columns are normalised
+//              first, so joint scale is dropped (rotation + translation only).
+//   positions  vertex_count() posed positions (output, caller-owned)
+//   normals    vertex_count() posed unit normals (output; rotated by the blended rotation), or
+//              empty to skip them.
+// Antipodality: a joint's quaternion whose real part points away from the vertex's first
+// influence (negative 4D dot product) is blended with its sign flipped, so q and -q (the same
+// rotation) never cancel. The per-joint dual quaternions go into a per-thread buffer that grows
+// only when a skeleton with more joints comes along; otherwise nothing is allocated. The
+// parallel variant converts once and splits the vertices into `threads` blocks
+// (deform/vertex_blocks.h) with bit-identical results.
+#pragma once
+
+#include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <span>
+
+#include "deform/model/model.h"
+
+namespace sweepd::deform {
+
+// real: the rotation (unit); dual: 0.5 * (0, translation) * real.
+struct DualQuaternion {
+  glm::quat real{1, 0, 0, 0};
+  glm::quat dual{0, 0, 0, 0};
+};
+
+// The unit dual quaternion of a rigid transform (3×3 columns normalised, see above).
+DualQuaternion to_dual_quaternion(const glm::mat4& rigid);
+
+void dual_quaternion_skinning(const Model& model, std::span<const glm::mat4> skinning,
+                              std::span<glm::vec3> positions, std::span<glm::vec3> normals);
+
+void dual_quaternion_skinning_parallel(const Model& model, std::span<const glm::mat4> skinning,
+                                       std::span<glm::vec3> positions, std::span<glm::vec3> normals,
+                                       int threads);
+
+}  // namespace sweepd::deform

@@ -1,0 +1,20 @@
+// Skinning buffers: the size contract shared by the skinning baselines (LBS, DQS).
+//
+//   transforms  one per skeleton joint
+//   positions   one per model vertex
+//   normals     one per model vertex, or none (normals skipped)
+#pragma once
+
+#include <cstddef>
+
+#include "deform/model/model.h"
+
+namespace sweepd::deform {
+
+inline bool skinning_buffers_fit(const Model& model, std::size_t transforms, std::size_t positions,
+                                 std::size_t normals) {
+  return transforms == model.skeleton.joints.size() && positions == model.vertex_count() &&
+         (normals == 0 || normals == model.vertex_count());
+}
+
+}  // namespace sweepd::deform

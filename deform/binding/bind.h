@@ -1,0 +1,32 @@
+// bind: binds a rigged Model to its control sweep surfaces (paper §3) — the key ellipses of the
+// torso, neck, arm and leg sweeps, the blend shares of every vertex, and each vertex's sweep
+// coordinates. Run once per model (the server keeps the result in .sweepbind files).
+//
+// Inputs:  model (passes Model::validate), rig (detect_rig_map or a JSON override), options,
+//          progress (optional): called with a fraction in [0, 1] and the stage's name.
+// Output:  BoundModel; every vertex has finite coordinates, and rest_positions_from_binding
+//          reconstructs the rest mesh (up to float rounding).
+// Throws std::invalid_argument naming the problem (invalid model or rig, a sweep that cannot
+// be fitted).
+#pragma once
+
+#include <functional>
+#include <glm/glm.hpp>
+#include <string_view>
+#include <vector>
+
+#include "deform/binding/bound_model.h"
+#include "deform/model/model.h"
+#include "deform/rig/rig_map.h"
+
+namespace sweepd::deform {
+
+using BindProgress = std::function<void(double fraction, std::string_view stage)>;
+
+BoundModel bind(const Model& model, const RigMap& rig, const BindOptions& options = {},
+                const BindProgress& progress = {});
+
+// Every vertex evaluated from its binding at the rest pose (skinned share: the rest position).
+std::vector<glm::vec3> rest_positions_from_binding(const BoundModel& bound);
+
+}  // namespace sweepd::deform

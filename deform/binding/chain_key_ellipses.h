@@ -1,0 +1,44 @@
+// fit_chain_key_ellipses: the rest key ellipses of one control sweep along a joint chain (paper
+// §3.2).
+//
+// One joint key per chain joint, fitted to the cross-section cut by a plane through the joint
+// orthogonal to its lower link (the last joint uses the link above it), centred at the joint or
+// at the section's centroid (JointKeyCentre) — a joint-centred key's ellipse is still the
+// section's (fitted about its centroid), placed by the key's in-plane offset from the joint
+// (KeyEllipse::offset); and
+// `intermediate_keys_per_link` link keys evenly along each link, centred at their section's
+// centroid. Each section keeps only the loop around the link (cross_section) and is fitted by
+// its area moments with the area matched (fit_polygon_ellipse).
+// A joint key whose cut is unusable — no closed loop, or a loop that takes in the neighbouring
+// body (a shoulder plane cutting the torso: area over kMaxJointKeyAreaRatio times the nearest
+// link key's) — copies the half-axes of the nearest usable key and is marked as a fallback.
+// The first axis of every key is chosen among the fitted major/minor axes to stay closest to the
+// previous key's (to x_hint for the first key), so Q(t) does not twist by 90° where a limb's
+// section turns from wide to deep; a may therefore be smaller than b.
+// Inputs:  positions, indices: the rest mesh with UV-seam duplicates welded (cut loops are
+//          chained through shared vertices), world_rest (Skeleton::world_rest_matrices, one per
+//          joint), part and chain (>= 2 joints, root first), options, x_hint (world direction).
+// Output:  BoundSweep with chain, anchors, rest_keys, key_fit_errors, key_area_ratios,
+//          key_fallback filled (rest_volume is left to the caller).
+// Throws std::invalid_argument naming the part when no key of the chain can be fitted or two
+// chain joints coincide.
+#pragma once
+
+#include <cstdint>
+#include <glm/glm.hpp>
+#include <span>
+#include <vector>
+
+#include "deform/binding/bound_model.h"
+
+namespace sweepd::deform {
+
+inline constexpr float kMaxJointKeyAreaRatio = 1.8f;
+
+BoundSweep fit_chain_key_ellipses(std::span<const glm::vec3> positions,
+                                  std::span<const std::uint32_t> indices,
+                                  std::span<const glm::mat4> world_rest, BodyPart part,
+                                  std::span<const int> chain, const BindOptions& options,
+                                  glm::vec3 x_hint);
+
+}  // namespace sweepd::deform

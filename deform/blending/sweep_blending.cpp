@@ -1,0 +1,267 @@
+#include "deform/blending/sweep_blending.h"
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+
+#include "deform/mesh/length_weighted_smoothing.h"
+#include "deform/mesh/mesh_topology.h"
+#include "deform/mesh/surface_distance.h"
+
+namespace sweepd::deform {
+
+namespace {
+
+constexpr int kPartCount = static_cast<int>(BodyPart::kRightFoot) + 1;
+constexpr int kShareSmoothingPasses = 150;
+// The neck's hand-over to the head's skinning starts where the head's skin weight passes
+// kHeadHandoverStartWeight and is complete kHeadHandoverLength neck lengths (the neck chain's
+// joint-to-joint length; 10.2 cm on the shared male) further along the surface. On the male
+// and cmu_01_01's 88° head turn: starting at 0.2 the throat's skinned share spreads lower and
+// the neck region loses 11.5 % of its volume there (5.8 % from 0.3, 4.2 % from 0.5); lengths
+// of 1.0-1.2 stretch the throat 2.5-2.7x at most (1.3: 2.8x; from 1.4 the ramp reaches the lips,
+// 3.5x on their 1.6 mm edges), and from 1.1 on it reaches the mouth's inside, whose layers 1 mm
+// apart then cross each other (36 more crossing triangle pairs at cmu_01_01 frame 32).
+constexpr float kHeadHandoverStartWeight = 0.5f;
+constexpr float kHeadHandoverLength = 1.0f;
+
+float smoothstep01(float x) {
+  x = std::clamp(x, 0.0f, 1.0f);
+  return x * x * (3.0f - 2.0f * x);
+}
+
+// A region between two parallel planes: 0 before the first, 1 after the second.
+struct PlanePair {
+  glm::vec3 centre{0.0f};
+  glm::vec3 direction{0.0f};
+  float half_width = 1.0f;
+  float weight(glm::vec3 p) const {
+    return smoothstep01((glm::dot(p - centre, direction) + half_width) / (2.0f * half_width));
+  }
+};
+
+// Planes centred at `joint`, orthogonal to the link from `link_from` to `link_to`.
+PlanePair planes_at(std::span<const glm::mat4> world_rest, int joint, int link_from, int link_to,
+                    float half_width_fraction) {
+  const glm::vec3 from(world_rest[link_from][3]), to(world_rest[link_to][3]);
+  PlanePair pair;
+  pair.centre = glm::vec3(world_rest[joint][3]);
+  pair.direction = glm::normalize(to - from);
+  pair.half_width = half_width_fraction * glm::length(to - from);
+  return pair;
+}
+
+// Joint-to-joint length of a chain in the rest pose.
+float chain_length(std::span<const glm::mat4> world_rest, std::span<const int> chain) {
+  float length = 0.0f;
+  for (std::size_t i = 1; i < chain.size(); ++i)
+    length +=
+        glm::length(glm::vec3(world_rest[chain[i]][3]) - glm::vec3(world_rest[chain[i - 1]][3]));
+  return length;
+}
+
+// Where sweeps meet (a vertex with shares of two sweeps or more), replaces each vertex's row
+// of shares by half its own plus half its mesh neighbours' mean, kShareSmoothingPasses times,
+// each neighbour weighted by 1 / edge length (the other vertices' rows stay as they are).
+// Skin weights may jump between neighbouring vertices (the shared male's gluteal cleft, the
+// crotch midline), and a share jump between two sweeps that disagree in a deep pose tears the
+// skin (14x edge stretch in a CMU crouch). Weighting by inverse length spreads a jump over a
+// distance rather than over a count of edges, which matters where the mesh is dense: the
+// male's crotch midline has 2-4 mm edges, where 48 plain passes left the left and right leg
+// shares 0.13 apart across 2 mm (6.1x stretch in cmu_01_03). Now no edge where both legs share
+// stretches over 2.2x (cmu_01_01) and 2.8x (cmu_01_03: the lower back, bent 52° forward);
+// more passes spread the leg shares further up the back and stretch it more there.
+// The wrists' and ankles' hand-overs keep their planes: smoothing them lets twist collapse the
+// forearm, and leaks leg shares into the feet. The neck's hand-over to the head has its own
+// ramp along the surface (head_handover_by_distance).
+// at, indices: the welded mesh.
+void smooth_over_mesh(std::span<const glm::vec3> at, std::span<const std::uint32_t> indices,
+                      int columns, std::vector<float>& shares) {
+  const std::size_t count = at.size();
+  std::vector<std::vector<std::uint32_t>> neighbours(count);
+  for (std::size_t t = 0; t + 2 < indices.size(); t += 3)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = indices[t + k], b = indices[t + (k + 1) % 3];
+      neighbours[a].push_back(b);
+      neighbours[b].push_back(a);
+    }
+  LengthWeightedSmoothing junctions;  // the vertices with shares of two sweeps or more
+  for (std::size_t v = 0; v < count; ++v) {
+    int sweeps = 0;
+    for (int c = 0; c + 1 < columns; ++c) sweeps += shares[v * columns + c] > 0.0f;
+    std::vector<std::uint32_t>& list = neighbours[v];
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+    if (sweeps < 2 || list.empty()) continue;
+    junctions.add(
+        static_cast<std::uint32_t>(v), at[v], list, [](std::uint32_t u) { return u; },
+        [&](std::uint32_t u) { return at[u]; });
+  }
+  junctions.smooth(columns, kShareSmoothingPasses, shares);
+}
+
+// The neck's hand-over to the head's skinning, per welded vertex: 0 up to where the head's skin
+// weight passes kHeadHandoverStartWeight, then rising linearly with the distance from there
+// along the surface, to 1 at kHeadHandoverLength neck lengths. The shared male's painted head
+// weights reach 6 cm down the throat and rise from 0.4 to 0.9 within 2 cm on its sides; handing
+// over by the weight itself (2w - 1, then smoothed over the mesh) put the whole hand-over on
+// 2.5 cm of skin under the chin, where the head's skinning and the neck sweep part by 8.5 cm
+// when the head turns 88° (cmu_01_01 frame 1046: 3.43x), and a skinned share on the steep sides
+// stretches them as LBS does (3.25x). The ramp spreads it over the throat and the jaw's
+// underside; the jaw, further on, stays rigid with the head.
+// at, indices: the welded mesh; head_weight: per welded vertex.
+std::vector<float> head_handover_by_distance(std::span<const glm::vec3> at,
+                                             std::span<const std::uint32_t> indices,
+                                             std::span<const float> head_weight,
+                                             float neck_length) {
+  std::vector<bool> before_start(at.size());
+  for (std::size_t v = 0; v < at.size(); ++v)
+    before_start[v] = head_weight[v] <= kHeadHandoverStartWeight;
+  std::vector<float> handover = distance_along_edges(at, indices, before_start);
+  for (float& h : handover) h = std::min(1.0f, h / (kHeadHandoverLength * neck_length));
+  return handover;
+}
+
+}  // namespace
+
+BodyPart end_part(BodyPart sweep_part) {
+  switch (sweep_part) {
+    case BodyPart::kNeck:
+      return BodyPart::kHead;
+    case BodyPart::kLeftArm:
+      return BodyPart::kLeftHand;
+    case BodyPart::kRightArm:
+      return BodyPart::kRightHand;
+    case BodyPart::kLeftLeg:
+      return BodyPart::kLeftFoot;
+    case BodyPart::kRightLeg:
+      return BodyPart::kRightFoot;
+    default:
+      return BodyPart::kNone;
+  }
+}
+
+std::vector<VertexBinding> blend_shares(const Model& model, const RigMap& rig,
+                                        std::span<const glm::mat4> world_rest,
+                                        std::span<const BoundSweep> sweeps,
+                                        const BindOptions& options) {
+  const std::vector<BodyPart> joint_part = label_joints(rig, model.skeleton);
+  const int sweep_count = static_cast<int>(sweeps.size());
+  std::vector<PlanePair> start(sweep_count), finish(sweep_count);
+  PlanePair torso_top, torso_bottom;  // beyond the torso's end keys, skinning takes over
+  int torso = -1;
+  for (int s = 0; s < sweep_count; ++s) {
+    const std::vector<int>& chain = sweeps[s].chain;
+    const int n = static_cast<int>(chain.size());
+    if (sweeps[s].part == BodyPart::kTorso) torso = s;
+    start[s] = planes_at(world_rest, chain[0], chain[0], chain[1], options.transition_half_width);
+    finish[s] = planes_at(world_rest, chain[n - 1], chain[n - 2], chain[n - 1],
+                          options.end_blend_half_width);
+    if (s == torso) {
+      torso_top = finish[s];
+      torso_top.centre += torso_top.half_width * torso_top.direction;
+      torso_bottom =
+          planes_at(world_rest, chain[0], chain[1], chain[0], options.end_blend_half_width);
+      torso_bottom.centre += torso_bottom.half_width * torso_bottom.direction;
+    }
+  }
+
+  // Shares per welded vertex: one per sweep, then the skinned share; each row sums to 1.
+  std::size_t welded_count = 0;
+  const std::vector<std::uint32_t> welded =
+      weld_coincident_positions(model.positions, &welded_count);
+  std::vector<glm::vec3> welded_positions(welded_count);
+  std::vector<float> head_weight(welded_count, 0.0f);
+  for (std::size_t v = 0; v < model.vertex_count(); ++v) {
+    welded_positions[welded[v]] = model.positions[v];
+    float weight = 0.0f;
+    for (int k = 0; k < kInfluences; ++k)
+      if (joint_part[model.skin_joints[v][k]] == BodyPart::kHead)
+        weight += model.skin_weights[v][k];
+    head_weight[welded[v]] = weight;
+  }
+  std::vector<std::uint32_t> welded_indices(model.indices.size());
+  for (std::size_t i = 0; i < welded_indices.size(); ++i)
+    welded_indices[i] = welded[model.indices[i]];
+  std::vector<float> head_handover;
+  for (const BoundSweep& sweep : sweeps)
+    if (sweep.part == BodyPart::kNeck)
+      head_handover = head_handover_by_distance(welded_positions, welded_indices, head_weight,
+                                                chain_length(world_rest, sweep.chain));
+
+  const int columns = sweep_count + 1;
+  std::vector<float> shares(welded_count * columns, 0.0f);
+  std::vector<float> share(sweep_count);
+  for (std::size_t v = 0; v < model.vertex_count(); ++v) {
+    std::array<float, kPartCount> skin{};
+    for (int k = 0; k < kInfluences; ++k)
+      skin[static_cast<int>(joint_part[model.skin_joints[v][k]])] += model.skin_weights[v][k];
+    const glm::vec3 p = model.positions[v];
+
+    float limbs = 0.0f, skinned = skin[static_cast<int>(BodyPart::kNone)];
+    for (int s = 0; s < sweep_count; ++s) {
+      share[s] = 0.0f;
+      if (s == torso) continue;
+      const BodyPart part = sweeps[s].part, end = end_part(part);
+      const float mask =
+          std::min(1.0f, 2.0f * (skin[static_cast<int>(part)] + skin[static_cast<int>(end)]));
+      share[s] = start[s].weight(p) * mask;
+      limbs += share[s];
+    }
+    if (limbs > 1.0f)
+      for (float& s : share) s /= limbs;
+    if (torso >= 0) {
+      share[torso] = std::max(0.0f, 1.0f - std::min(limbs, 1.0f));
+      // Above the chest key (shoulders, upper chest) and below the pelvis key the torso sweep
+      // only extrapolates; the model's own skinning (clavicles, hips) knows better.
+      skinned += share[torso] * std::max(torso_top.weight(p), torso_bottom.weight(p));
+    }
+    for (int s = 0; s < sweep_count; ++s) {
+      if (s == torso || share[s] == 0.0f) continue;
+      // The hand's or foot's own skin weight takes over once it passes one half; the head's
+      // by its surface ramp.
+      const float end_skin = skin[static_cast<int>(end_part(sweeps[s].part))];
+      const float by_skin = sweeps[s].part == BodyPart::kNeck
+                                ? head_handover[welded[v]]
+                                : std::clamp(2.0f * end_skin - 1.0f, 0.0f, 1.0f);
+      skinned += share[s] * std::max(finish[s].weight(p), by_skin);
+    }
+    skinned = std::clamp(skinned, 0.0f, 1.0f);
+    float total = 0.0f;
+    for (float s : share) total += s;
+    float* row = &shares[welded[v] * columns];
+    if (total <= 0.0f) skinned = 1.0f;
+    for (int s = 0; s < sweep_count; ++s)
+      row[s] = total > 0.0f ? share[s] * (1.0f - skinned) / total : 0.0f;
+    row[sweep_count] = skinned;
+  }
+  smooth_over_mesh(welded_positions, welded_indices, columns, shares);
+
+  // Keep the kSweepsPerVertex largest sweep shares, scaled to fill what skinning leaves.
+  std::vector<VertexBinding> result(model.vertex_count());
+  std::vector<int> order(sweep_count);
+  for (std::size_t v = 0; v < model.vertex_count(); ++v) {
+    const float* row = &shares[welded[v] * columns];
+    VertexBinding& binding = result[v];
+    float sweeps_total = 0.0f, kept = 0.0f;
+    for (int s = 0; s < sweep_count; ++s) sweeps_total += row[s];
+    for (int s = 0; s < sweep_count; ++s) order[s] = s;
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return row[a] > row[b]; });
+    for (int k = 0; k < std::min(kSweepsPerVertex, sweep_count) && row[order[k]] > 0.0f; ++k) {
+      binding.sweep[k] = static_cast<std::int16_t>(order[k]);
+      binding.weight[k] = row[order[k]];
+      kept += row[order[k]];
+    }
+    if (kept <= 1e-6f) {
+      binding = VertexBinding{};
+      binding.skin_weight = 1.0f;
+      continue;
+    }
+    float sum = 0.0f;
+    for (int k = 0; k < kSweepsPerVertex; ++k) sum += binding.weight[k] *= sweeps_total / kept;
+    binding.skin_weight = std::max(0.0f, 1.0f - sum);
+  }
+  return result;
+}
+
+}  // namespace sweepd::deform

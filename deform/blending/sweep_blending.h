@@ -1,0 +1,42 @@
+// Segmentation and blending (paper §3.5): how much of each vertex follows which sweep, and how
+// much follows the model's own skinning.
+//
+// Every sweep but the torso's hangs off the torso at its first joint (shoulder, hip, neck base).
+// Across that joint a transition region is bounded by two planes orthogonal to the sweep's first
+// link, transition_half_width × the link's length on either side; a vertex's share of the limb
+// sweep rises smoothly (smoothstep) from 0 at the inner plane to 1 at the outer one, times a mask
+// from the model's skin weights on that limb (so the chest beside a shoulder stays torso), and
+// the torso takes the rest. A vertex keeps its three largest sweep shares.
+// At a sweep's far end (wrist, ankle, head) the share of the skinned remainder rises the same
+// way across two planes around the end joint, or with the skin weight of the hand/foot (from
+// 0 at one half to 1), whichever is larger. The head's painted weights reach far down the
+// throat, so the neck's hand-over instead rises linearly with the distance along the surface
+// from where the head's skin weight passes one half, reaching 1 one neck length further (the neck
+// chain's joint-to-joint length). Beyond the torso's first and last keys (below the pelvis,
+// above the chest: the shoulders) its share hands over to skinning the same way as the limbs',
+// starting at the key.
+// Every share is a continuous function of position and skin weights.
+// Inputs:  model (n vertices), rig, world_rest (one per joint), sweeps (part + chain filled),
+//          options.
+// Output:  n VertexBinding with sweep, weight and skin_weight set (coordinates left empty);
+//          the weights and skin_weight sum to 1.
+#pragma once
+
+#include <glm/glm.hpp>
+#include <span>
+#include <vector>
+
+#include "deform/binding/bound_model.h"
+
+namespace sweepd::deform {
+
+std::vector<VertexBinding> blend_shares(const Model& model, const RigMap& rig,
+                                        std::span<const glm::mat4> world_rest,
+                                        std::span<const BoundSweep> sweeps,
+                                        const BindOptions& options);
+
+// The skinned part at the far end of a sweep's part (kLeftHand for kLeftArm, kHead for kNeck,
+// ...), kNone for the torso.
+BodyPart end_part(BodyPart sweep_part);
+
+}  // namespace sweepd::deform

@@ -1,0 +1,90 @@
+#include "deform/features/collision_features.h"
+
+#include <algorithm>
+
+#include "deform/mesh/enclosed_volume.h"
+
+namespace sweepd::deform {
+
+CollisionFeatures::CollisionFeatures(const BoundModel& bound,
+                                     const CollisionFeatureOptions& options)
+    : options_(options),
+      regions_(find_collision_regions(bound, options.regions)),
+      proxies_(make_bone_proxies(bound, regions_, options.proxies)) {}
+
+int CollisionFeatures::find_pairs(const CollisionRegion& region,
+                                  std::span<const glm::vec3> positions, const DetectPairs& detect) {
+  if (detect) {
+    detect(positions, regions_.welded_indices, region.triangles, pairs_);
+  } else {
+    detector_.detect(positions, regions_.welded_indices, region.triangles, pairs_);
+  }
+  return static_cast<int>(pairs_.size());
+}
+
+int CollisionFeatures::fold_region(const CollisionRegion& region, int pairs,
+                                   std::span<glm::vec3> positions, const DetectPairs& detect,
+                                   FeatureReport& report) {
+  for (int round = 0; round < options_.folding_rounds && pairs > 0; ++round) {
+    for (std::size_t i = 0; i < region.vertices.size(); ++i)
+      saved_[i] = positions[region.vertices[i]];
+    saved_pairs_ = pairs_;
+    bool reduced = false;
+    // A fold step; when it does not reduce the pairs, a relax step instead; else stop.
+    for (int step = 0; step < 2 && !reduced; ++step) {
+      FoldingResult folded;
+      if (step == 0) {
+        folded = folder_.fold(region, regions_.welded_indices, saved_pairs_, options_.folding_gap,
+                              positions);
+      } else {
+        folder_.relax(region, regions_.welded_indices, saved_pairs_, positions);
+      }
+      const int now = find_pairs(region, positions, detect);
+      reduced = now < pairs;
+      if (!reduced) {  // never keep a step that does not help
+        for (std::size_t i = 0; i < region.vertices.size(); ++i)
+          positions[region.vertices[i]] = saved_[i];
+        continue;
+      }
+      pairs = now;
+      report.folded += folded.moved;
+      report.deepest_fold = std::max(report.deepest_fold, folded.max_depth);
+    }
+    if (!reduced) break;
+  }
+  return pairs;
+}
+
+FeatureReport CollisionFeatures::apply(std::span<const glm::mat4> skinning,
+                                       std::span<glm::vec3> positions, const DetectPairs& detect) {
+  FeatureReport report;
+  if (options_.folding) {
+    for (const CollisionRegion& region : regions_.regions) {
+      const int before = find_pairs(region, positions, detect);
+      report.pairs_before += before;
+      if (before == 0) continue;
+      saved_.resize(region.vertices.size());
+      const double volume_before =
+          enclosed_volume(positions, regions_.welded_indices, region.triangles);
+      report.pairs_after += fold_region(region, before, positions, detect, report);
+      report.volume_change +=
+          enclosed_volume(positions, regions_.welded_indices, region.triangles) - volume_before;
+    }
+  }
+  if (options_.protrusion) {
+    for (const BoneProxy& proxy : proxies_) {
+      proxy_positions_.resize(proxy.rest_positions.size());
+      const glm::vec3 anchor = pose_bone_proxy(proxy, skinning, proxy_positions_);
+      const ProtrusionResult pushed = push_out_of_bone_proxy(
+          proxy_positions_, proxy.indices, anchor, regions_.regions[proxy.region],
+          regions_.welded_indices, options_.protrusion_gap, positions);
+      report.protruded += pushed.moved;
+      report.deepest_protrusion = std::max(report.deepest_protrusion, pushed.max_depth);
+      report.volume_change += pushed.volume_change;
+    }
+  }
+  copy_to_seam_copies(regions_, positions);
+  return report;
+}
+
+}  // namespace sweepd::deform

@@ -1,0 +1,253 @@
+#include "deform/rig/rig_map.h"
+
+#include <stdexcept>
+
+#include "deform/model/joint_paths.h"
+#include "deform/rig/rig_naming.h"
+#include "deform/rig/rig_topology.h"
+
+namespace sweepd::deform {
+
+namespace {
+
+void append_if_present(std::vector<int>& chain, int joint) {
+  if (joint >= 0) chain.push_back(joint);
+}
+
+std::string joint_name(const Skeleton& skeleton, int j) {
+  if (j < 0 || j >= skeleton.size()) return "#" + std::to_string(j);
+  return "'" + skeleton.joints[j].name + "'";
+}
+
+struct LimbRole {
+  const char* name;
+  int joint;
+  bool required;
+};
+
+// Both limbs list their roles root first with the hand or foot at this index.
+constexpr int kHandOrFootRole = 3;
+
+std::vector<LimbRole> roles_of(const ArmJoints& arm) {
+  return {{"clavicle", arm.clavicle, false},
+          {"upper", arm.upper, true},
+          {"lower", arm.lower, true},
+          {"hand", arm.hand, true}};
+}
+
+std::vector<LimbRole> roles_of(const LegJoints& leg) {
+  return {{"hip", leg.hip, false},
+          {"upper", leg.upper, true},
+          {"lower", leg.lower, true},
+          {"foot", leg.foot, true},
+          {"toe", leg.toe, false}};
+}
+
+std::string out_of_range(const std::string& part, int j, const Skeleton& skeleton) {
+  return part + ": joint id " + std::to_string(j) + " is out of range (skeleton has " +
+         std::to_string(skeleton.size()) + " joints)";
+}
+
+// Checks one limb: required roles present, ids in range, each role strictly below the one
+// before it.
+std::string validate_limb(const std::string& part, const std::vector<LimbRole>& roles,
+                          const Skeleton& skeleton) {
+  int previous = -1;
+  for (const LimbRole& role : roles) {
+    if (role.joint == -1) {
+      if (role.required) return part + ": has no " + role.name + " joint";
+      continue;
+    }
+    if (role.joint < 0 || role.joint >= skeleton.size())
+      return out_of_range(part, role.joint, skeleton);
+    if (previous >= 0 && !is_strict_ancestor(skeleton, previous, role.joint))
+      return part + ": " + joint_name(skeleton, role.joint) + " is not below " +
+             joint_name(skeleton, previous) + " in the hierarchy";
+    previous = role.joint;
+  }
+  return {};
+}
+
+std::string validate_path(const std::string& part, const std::vector<int>& chain, int first_parent,
+                          const Skeleton& skeleton) {
+  for (std::size_t i = 0; i < chain.size(); ++i) {
+    if (chain[i] < 0 || chain[i] >= skeleton.size()) return out_of_range(part, chain[i], skeleton);
+    const int expected_parent = i == 0 ? first_parent : chain[i - 1];
+    if (expected_parent >= 0 && skeleton.joints[chain[i]].parent != expected_parent)
+      return part + ": " + joint_name(skeleton, chain[i]) + " is not a child of " +
+             joint_name(skeleton, expected_parent) + " (the chain must follow the hierarchy)";
+  }
+  return {};
+}
+
+std::string names_of(const std::vector<int>& chain, const Skeleton& skeleton) {
+  std::string text;
+  for (int j : chain) text += (text.empty() ? "" : " > ") + skeleton.joints[j].name;
+  return text;
+}
+
+std::string describe_roles(const std::vector<LimbRole>& roles, const Skeleton& skeleton) {
+  std::string text;
+  for (const LimbRole& role : roles)
+    if (role.joint >= 0)
+      text += (text.empty() ? "" : ", ") + std::string(role.name) + " " +
+              skeleton.joints[role.joint].name;
+  return text;
+}
+
+}  // namespace
+
+std::vector<int> ArmJoints::chain() const {
+  std::vector<int> chain;
+  append_if_present(chain, clavicle);
+  for (int j : {upper, lower, hand}) chain.push_back(j);
+  return chain;
+}
+
+std::vector<int> LegJoints::chain() const {
+  std::vector<int> chain;
+  append_if_present(chain, hip);
+  for (int j : {upper, lower, foot}) chain.push_back(j);
+  append_if_present(chain, toe);
+  return chain;
+}
+
+std::vector<int> RigMap::skinned_part_roots() const {
+  return {neck.head, left_arm.hand, right_arm.hand, left_leg.foot, right_leg.foot};
+}
+
+const char* to_string(BodyPart part) {
+  switch (part) {
+    case BodyPart::kNone:
+      return "none";
+    case BodyPart::kTorso:
+      return "torso";
+    case BodyPart::kNeck:
+      return "neck";
+    case BodyPart::kHead:
+      return "head";
+    case BodyPart::kLeftArm:
+      return "left arm";
+    case BodyPart::kRightArm:
+      return "right arm";
+    case BodyPart::kLeftHand:
+      return "left hand";
+    case BodyPart::kRightHand:
+      return "right hand";
+    case BodyPart::kLeftLeg:
+      return "left leg";
+    case BodyPart::kRightLeg:
+      return "right leg";
+    case BodyPart::kLeftFoot:
+      return "left foot";
+    case BodyPart::kRightFoot:
+      return "right foot";
+  }
+  return "unknown";
+}
+
+RigMap detect_rig_map(const Skeleton& skeleton) {
+  if (std::string why = skeleton.validate(); !why.empty())
+    throw std::invalid_argument("cannot map an invalid skeleton: " + why);
+  NamedRigMatch named = match_rig_naming(skeleton);
+  if (!named.map && named.looks_named) throw std::invalid_argument(named.problem);
+  RigMap map;
+  if (named.map) {
+    map = std::move(*named.map);
+  } else {
+    try {
+      map = detect_rig_map_by_topology(skeleton);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument("cannot map the skeleton's joints: " + named.problem +
+                                  "; and the topological fallback failed: " + e.what());
+    }
+  }
+  if (std::string why = validate_rig_map(map, skeleton); !why.empty())
+    throw std::invalid_argument("rig map (" + map.convention +
+                                ") does not fit the skeleton: " + why);
+  return map;
+}
+
+std::string validate_rig_map(const RigMap& map, const Skeleton& skeleton) {
+  const std::vector<int>& torso = map.torso.chain;
+  if (torso.size() < 2)
+    return "torso: needs at least two joints (pelvis and chest), has " +
+           std::to_string(torso.size());
+  if (std::string why = validate_path("torso", torso, -1, skeleton); !why.empty()) return why;
+  if (map.neck.chain.empty()) return "neck: has no joints (needs at least the head)";
+  if (std::string why = validate_path("neck", map.neck.chain, map.torso.chest(), skeleton);
+      !why.empty())
+    return why;
+  if (map.neck.head != map.neck.chain.back())
+    return "neck: the head " + joint_name(skeleton, map.neck.head) +
+           " is not the last joint of the neck chain";
+  const struct {
+    const char* part;
+    std::vector<LimbRole> roles;
+  } limbs[] = {{"left arm", roles_of(map.left_arm)},
+               {"right arm", roles_of(map.right_arm)},
+               {"left leg", roles_of(map.left_leg)},
+               {"right leg", roles_of(map.right_leg)}};
+  std::vector<std::string> part_of(skeleton.size());
+  auto claim = [&](const std::string& part, int j) -> std::string {
+    if (!part_of[j].empty())
+      return part + ": joint " + joint_name(skeleton, j) + " is already used by the " + part_of[j];
+    part_of[j] = part;
+    return {};
+  };
+  for (int j : torso)
+    if (std::string why = claim("torso", j); !why.empty()) return why;
+  for (int j : map.neck.chain)
+    if (std::string why = claim("neck", j); !why.empty()) return why;
+  for (const auto& [part, roles] : limbs) {
+    if (std::string why = validate_limb(part, roles, skeleton); !why.empty()) return why;
+    const int root = roles[0].joint >= 0 ? roles[0].joint : roles[1].joint;
+    if (!is_strict_ancestor(skeleton, map.torso.pelvis(), root))
+      return std::string(part) + ": " + joint_name(skeleton, root) + " is not below the pelvis " +
+             joint_name(skeleton, map.torso.pelvis());
+    for (const LimbRole& role : roles)
+      if (role.joint >= 0)
+        if (std::string why = claim(part, role.joint); !why.empty()) return why;
+  }
+  return {};
+}
+
+std::vector<BodyPart> label_joints(const RigMap& map, const Skeleton& skeleton) {
+  std::vector<BodyPart> own(skeleton.size(), BodyPart::kNone);
+  auto set = [&](int j, BodyPart part) {
+    if (j >= 0 && j < skeleton.size()) own[j] = part;
+  };
+  for (int j : map.torso.chain) set(j, BodyPart::kTorso);
+  for (int j : map.neck.chain) set(j, BodyPart::kNeck);
+  set(map.neck.head, BodyPart::kHead);
+  const struct {
+    std::vector<LimbRole> roles;
+    BodyPart limb, end;
+  } limbs[] = {{roles_of(map.left_arm), BodyPart::kLeftArm, BodyPart::kLeftHand},
+               {roles_of(map.right_arm), BodyPart::kRightArm, BodyPart::kRightHand},
+               {roles_of(map.left_leg), BodyPart::kLeftLeg, BodyPart::kLeftFoot},
+               {roles_of(map.right_leg), BodyPart::kRightLeg, BodyPart::kRightFoot}};
+  for (const auto& [roles, limb, end] : limbs) {
+    for (int i = 0; i < kHandOrFootRole; ++i) set(roles[i].joint, limb);
+    set(roles[kHandOrFootRole].joint, end);  // a toe after it inherits the foot
+  }
+  std::vector<BodyPart> labels(skeleton.size(), BodyPart::kNone);
+  for (int j = 0; j < skeleton.size(); ++j) {
+    const int parent = skeleton.joints[j].parent;
+    const bool inherits = own[j] == BodyPart::kNone && parent >= 0 && parent < j;
+    labels[j] = inherits ? labels[parent] : own[j];
+  }
+  return labels;
+}
+
+std::string describe(const RigMap& map, const Skeleton& skeleton) {
+  return "convention: " + map.convention + "\n" + "torso: " + names_of(map.torso.chain, skeleton) +
+         "\n" + "neck: " + names_of(map.neck.chain, skeleton) + " (head " +
+         skeleton.joints[map.neck.head].name + ")\n" +
+         "left arm: " + describe_roles(roles_of(map.left_arm), skeleton) + "\n" +
+         "right arm: " + describe_roles(roles_of(map.right_arm), skeleton) + "\n" +
+         "left leg: " + describe_roles(roles_of(map.left_leg), skeleton) + "\n" +
+         "right leg: " + describe_roles(roles_of(map.right_leg), skeleton) + "\n";
+}
+
+}  // namespace sweepd::deform

@@ -1,0 +1,335 @@
+#include "mannequin/mannequin.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+#include <unordered_map>
+
+#include "mannequin/body_shape.h"
+#include "mannequin/mannequin_anatomy.h"
+#include "mannequin/marching_tetrahedra.h"
+#include "mannequin/shortest_edge_decimation.h"
+
+namespace sweepd::deform {
+
+namespace {
+
+constexpr float kHeight = 1.75f;           // metres, feet to the top of the head
+constexpr float kBlendRadius = 0.025f;     // fillet size where body parts meet (metres)
+constexpr float kWeightBlendBand = 0.03f;  // parts this close to the nearest one share its skin
+constexpr float kMinimumHalfAxisPerSpacing = 0.9f;  // thin parts stay visible to the grid
+constexpr int kSmoothingIterations = 2;
+// The grid is sampled for this many times the target's vertices (and at least
+// kMinimumMarchedVertices), then decimated: marching tetrahedra alone needs a coarse grid for a
+// small target, and a coarse grid loses fingers and wrists.
+constexpr float kOversampling = 1.4f;
+constexpr float kMinimumMarchedVertices = 30000.0f;
+// Seam duplicates per welded vertex fall like 1 / sqrt(vertices): about 15 / sqrt(n).
+constexpr float kSeamVerticesPerSqrtVertex = 15.0f;
+// Marching tetrahedra gives about 4.5 vertices per spacing^2 of surface (edge crossings of the
+// 7 Kuhn edge directions, averaged over orientations); the body has about 1.85 m^2 of skin.
+constexpr float kVerticesTimesSpacingSquared = 4.5f * 1.85f;
+
+// The triangle mesh of one polygonisation, before UV splitting.
+struct WeldedSurface {
+  std::vector<glm::vec3> positions;
+  std::vector<std::uint32_t> indices;
+};
+
+// Keeps the connected piece with the most triangles (a coarse grid can cut off a fingertip).
+void keep_largest_component(WeldedSurface& surface) {
+  const std::size_t n = surface.positions.size();
+  std::vector<std::uint32_t> parent(n);
+  std::iota(parent.begin(), parent.end(), 0u);
+  auto find = [&](std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (std::size_t t = 0; t < surface.indices.size(); t += 3)
+    for (int k = 1; k < 3; ++k) {
+      const std::uint32_t a = find(surface.indices[t]), b = find(surface.indices[t + k]);
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+  std::vector<std::size_t> triangles_of_root(n, 0);
+  for (std::size_t t = 0; t < surface.indices.size(); t += 3)
+    ++triangles_of_root[find(surface.indices[t])];
+  const auto largest = static_cast<std::uint32_t>(
+      std::max_element(triangles_of_root.begin(), triangles_of_root.end()) -
+      triangles_of_root.begin());
+
+  std::vector<std::uint32_t> new_index(n, UINT32_MAX);
+  WeldedSurface kept;
+  for (std::size_t t = 0; t < surface.indices.size(); t += 3) {
+    if (find(surface.indices[t]) != largest) continue;
+    for (int k = 0; k < 3; ++k) {
+      std::uint32_t& mapped = new_index[surface.indices[t + k]];
+      if (mapped == UINT32_MAX) {
+        mapped = static_cast<std::uint32_t>(kept.positions.size());
+        kept.positions.push_back(surface.positions[surface.indices[t + k]]);
+      }
+      kept.indices.push_back(mapped);
+    }
+  }
+  surface = std::move(kept);
+}
+
+// Neighbours of every vertex (compressed rows: neighbours[start[v] .. start[v + 1])).
+struct VertexNeighbours {
+  std::vector<std::uint32_t> start, neighbours;
+};
+
+VertexNeighbours vertex_neighbours(const WeldedSurface& surface) {
+  std::vector<std::vector<std::uint32_t>> lists(surface.positions.size());
+  for (std::size_t t = 0; t < surface.indices.size(); t += 3)
+    for (int k = 0; k < 3; ++k)
+      lists[surface.indices[t + k]].push_back(surface.indices[t + (k + 1) % 3]);
+  VertexNeighbours result;
+  result.start.push_back(0);
+  for (std::vector<std::uint32_t>& list : lists) {
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+    result.neighbours.insert(result.neighbours.end(), list.begin(), list.end());
+    result.start.push_back(static_cast<std::uint32_t>(result.neighbours.size()));
+  }
+  return result;
+}
+
+WeldedSurface polygonise(const BodyShape& body, float spacing) {
+  SampleGrid grid;
+  grid.spacing = spacing;
+  // Two spare layers of grid points keep the outer layer outside the body.
+  grid.origin = body.lower_bound() - 2.0f * spacing;
+  const glm::vec3 extent = body.upper_bound() + 2.0f * spacing - grid.origin;
+  grid.cells = glm::ivec3(glm::ceil(extent / spacing));
+  IsoSurface iso;
+  marching_tetrahedra(
+      grid,
+      [&body](const glm::vec3& lo, const glm::vec3& hi, std::span<const glm::vec3> points,
+              std::span<float> values) { return body.evaluate_block(lo, hi, points, values); },
+      iso);
+  WeldedSurface surface{std::move(iso.positions), std::move(iso.indices)};
+  keep_largest_component(surface);
+  return surface;
+}
+
+// One Newton step from p towards the body's surface, at most half a grid spacing long.
+glm::vec3 project_onto_surface(const BodyShape& body, float spacing, const glm::vec3& p) {
+  const glm::vec3 gradient = body.gradient(p, 0.25f * spacing);
+  const float gradient2 = glm::dot(gradient, gradient);
+  if (!(gradient2 > 1e-12f)) return p;
+  glm::vec3 step = -body.value(p) * gradient / gradient2;
+  const float step_length = glm::length(step);
+  if (step_length > 0.5f * spacing) step *= 0.5f * spacing / step_length;
+  return p + step;
+}
+
+// Evens out the marching-tetrahedra triangles: each vertex moves halfway towards the centroid
+// of its neighbours within the tangent plane, then back onto the surface (one Newton step).
+void relax_on_surface(const BodyShape& body, float spacing, WeldedSurface& surface) {
+  const VertexNeighbours ring = vertex_neighbours(surface);
+  std::vector<glm::vec3> moved(surface.positions.size());
+  for (int iteration = 0; iteration < kSmoothingIterations; ++iteration) {
+    for (std::size_t v = 0; v < surface.positions.size(); ++v) {
+      const glm::vec3& p = surface.positions[v];
+      glm::vec3 centroid(0.0f);
+      for (std::uint32_t i = ring.start[v]; i < ring.start[v + 1]; ++i)
+        centroid += surface.positions[ring.neighbours[i]];
+      centroid /= static_cast<float>(ring.start[v + 1] - ring.start[v]);
+      const glm::vec3 gradient = body.gradient(p, 0.25f * spacing);
+      const float gradient2 = glm::dot(gradient, gradient);
+      if (!(gradient2 > 1e-12f)) {
+        moved[v] = p;
+        continue;
+      }
+      const glm::vec3 normal = gradient / std::sqrt(gradient2);
+      const glm::vec3 shift = centroid - p;
+      moved[v] = project_onto_surface(body, spacing,
+                                      p + 0.5f * (shift - glm::dot(shift, normal) * normal));
+    }
+    surface.positions.swap(moved);
+  }
+}
+
+// Per welded vertex: the part it belongs to (the most inside one) and its part values.
+std::vector<int> owning_parts(const BodyShape& body, const std::vector<glm::vec3>& positions) {
+  std::vector<int> owner(positions.size(), 0);
+  for (std::size_t v = 0; v < positions.size(); ++v) {
+    float best = body.part_value(0, positions[v]);
+    for (int p = 1; p < body.part_count(); ++p) {
+      const float value = body.part_value(p, positions[v]);
+      if (value < best) {
+        best = value;
+        owner[v] = p;
+      }
+    }
+  }
+  return owner;
+}
+
+// Skin weights: each part near the vertex contributes its chain's weights, fading out over
+// kWeightBlendBand beyond the nearest part, so weights stay smooth where parts meet.
+void skin_vertex(const MannequinAnatomy& anatomy, const BodyShape& body, const glm::vec3& p,
+                 std::array<std::uint16_t, kInfluences>& joints,
+                 std::array<float, kInfluences>& weights) {
+  std::vector<float> part_values(body.part_count());
+  for (int i = 0; i < body.part_count(); ++i) part_values[i] = body.part_value(i, p);
+  const float nearest = *std::min_element(part_values.begin(), part_values.end());
+  std::vector<float> joint_weight(anatomy.skeleton.size(), 0.0f);
+  for (int i = 0; i < body.part_count(); ++i) {
+    const float share = 1.0f - (part_values[i] - nearest) / kWeightBlendBand;
+    if (share <= 0.0f) continue;
+    std::array<JointWeight, 3> chain_weights;
+    const int count = chain_skin_weights(anatomy.chains[body.part(i).skin_chain], p, chain_weights);
+    for (int k = 0; k < count; ++k)
+      joint_weight[chain_weights[k].joint] += share * chain_weights[k].weight;
+  }
+  std::vector<int> order(joint_weight.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return joint_weight[a] > joint_weight[b]; });
+  float total = 0.0f;
+  for (int k = 0; k < kInfluences; ++k) total += joint_weight[order[k]];
+  for (int k = 0; k < kInfluences; ++k) {
+    joints[k] = static_cast<std::uint16_t>(order[k]);
+    weights[k] = joint_weight[order[k]] / total;
+  }
+}
+
+// Where a welded vertex appears in the model: one copy per (chart, wrapped side) it is used with.
+struct ChartCorner {
+  std::uint32_t welded;
+  int chart;
+  bool wrapped;  // the copy right of the cylinder seam (u + 1 before packing)
+};
+
+// The mannequin's UV layout: chart c fills tile (c % columns, c / columns) of a square atlas.
+glm::vec2 atlas_uv(int chart, int chart_count, const PartCoordinates& coordinates, bool wrapped) {
+  const int columns = static_cast<int>(std::ceil(std::sqrt(static_cast<float>(chart_count))));
+  const float tile = 1.0f / static_cast<float>(columns);
+  constexpr float kMargin = 0.02f;  // of a tile, between charts
+  constexpr float kUSpan = 1.5f;    // room right of u = 1 for seam-crossing triangles
+  const float u = std::min((coordinates.angle + (wrapped ? 1.0f : 0.0f)) / kUSpan, 1.0f);
+  const float v = coordinates.axial;
+  return {tile * (static_cast<float>(chart % columns) + kMargin + (1.0f - 2.0f * kMargin) * u),
+          tile * (static_cast<float>(chart / columns) + kMargin + (1.0f - 2.0f * kMargin) * v)};
+}
+
+// Splits the welded mesh into UV charts: every triangle takes the chart most of its corners
+// belong to; a corner used by triangles of several charts, or on both sides of a chart's
+// cylinder seam, is stored once per use. Returns the model's corners and triangles.
+void split_into_charts(const BodyShape& body, const WeldedSurface& surface,
+                       const std::vector<int>& owner, std::vector<ChartCorner>& corners,
+                       std::vector<glm::vec2>& uvs, std::vector<std::uint32_t>& indices) {
+  std::unordered_map<std::uint64_t, std::uint32_t> corner_of_key;
+  corner_of_key.reserve(surface.positions.size() * 5 / 4);
+  corners.clear();
+  uvs.clear();
+  indices.clear();
+  for (std::size_t t = 0; t < surface.indices.size(); t += 3) {
+    const std::uint32_t* tri = &surface.indices[t];
+    const int a = owner[tri[0]], b = owner[tri[1]], c = owner[tri[2]];
+    const int chart = (a == b || a == c) ? a : (b == c ? b : std::min({a, b, c}));
+    PartCoordinates coordinates[3];
+    float lowest = 1.0f, highest = 0.0f;
+    for (int k = 0; k < 3; ++k) {
+      coordinates[k] = body.part_coordinates(chart, surface.positions[tri[k]]);
+      lowest = std::min(lowest, coordinates[k].angle);
+      highest = std::max(highest, coordinates[k].angle);
+    }
+    const bool crosses_seam = highest - lowest > 0.5f;
+    for (int k = 0; k < 3; ++k) {
+      const bool wrapped = crosses_seam && coordinates[k].angle < 0.5f;
+      const std::uint64_t key = (static_cast<std::uint64_t>(tri[k]) << 8) |
+                                (static_cast<std::uint64_t>(chart) << 1) | (wrapped ? 1u : 0u);
+      const auto [it, inserted] =
+          corner_of_key.try_emplace(key, static_cast<std::uint32_t>(corners.size()));
+      if (inserted) {
+        corners.push_back({tri[k], chart, wrapped});
+        uvs.push_back(atlas_uv(chart, body.part_count(), coordinates[k], wrapped));
+      }
+      indices.push_back(it->second);
+    }
+  }
+}
+
+}  // namespace
+
+Model make_mannequin(const MannequinOptions& options) {
+  if (options.target_vertices < kMannequinMinVertices ||
+      options.target_vertices > kMannequinMaxVertices)
+    throw std::invalid_argument(
+        "mannequin target_vertices " + std::to_string(options.target_vertices) + " is outside " +
+        std::to_string(kMannequinMinVertices) + " .. " + std::to_string(kMannequinMaxVertices));
+  const MannequinAnatomy anatomy = make_mannequin_anatomy();
+  const auto target = static_cast<float>(options.target_vertices);
+
+  // Marching tetrahedra on a grid fine enough for kMinimumMarchedVertices (thin parts keep
+  // their shape), then shortest-edge decimation down to the welded count that, with the UV
+  // seam duplicates, gives the target; the duplicate share is re-measured and corrected.
+  const float marched_target = std::max(kOversampling * target, kMinimumMarchedVertices);
+  const float spacing = std::sqrt(kVerticesTimesSpacingSquared / marched_target);
+  const BodyShape body(anatomy.parts, kBlendRadius, kMinimumHalfAxisPerSpacing * spacing);
+  const WeldedSurface marched = polygonise(body, spacing);
+  auto place = [&body, spacing](const glm::vec3& p) {
+    return project_onto_surface(body, spacing, p);
+  };
+  float welded_target = target / (1.0f + kSeamVerticesPerSqrtVertex / std::sqrt(target));
+  WeldedSurface surface;
+  std::vector<ChartCorner> corners;
+  std::vector<glm::vec2> uvs;
+  std::vector<std::uint32_t> indices;
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    surface = marched;
+    decimate_shortest_edges(surface.positions, surface.indices,
+                            static_cast<std::size_t>(welded_target), place);
+    relax_on_surface(body, spacing, surface);
+    split_into_charts(body, surface, owning_parts(body, surface.positions), corners, uvs, indices);
+    const auto count = static_cast<float>(corners.size());
+    if (std::abs(count / target - 1.0f) < 0.03f) break;
+    welded_target *= target / count;
+  }
+
+  const std::vector<glm::vec3> welded_normals =
+      compute_vertex_normals(surface.positions, surface.indices);
+  Model model;
+  model.name = "mannequin";
+  model.skeleton = anatomy.skeleton;
+  model.indices = std::move(indices);
+  model.uvs = std::move(uvs);
+  const std::size_t n = corners.size();
+  model.positions.resize(n);
+  model.normals.resize(n);
+  model.skin_joints.resize(n);
+  model.skin_weights.resize(n);
+  std::vector<std::array<std::uint16_t, kInfluences>> welded_joints(surface.positions.size());
+  std::vector<std::array<float, kInfluences>> welded_weights(surface.positions.size());
+  for (std::size_t v = 0; v < surface.positions.size(); ++v)
+    skin_vertex(anatomy, body, surface.positions[v], welded_joints[v], welded_weights[v]);
+
+  // Feet on the ground and exactly the designed height: the fillets, the thickening of thin
+  // parts and the grid move the soles and the crown by millimetres, so scale the model about
+  // its lowest point to kHeight and put that point at y = 0 (skeleton included).
+  float lowest = surface.positions.front().y, highest = lowest;
+  for (const glm::vec3& p : surface.positions) {
+    lowest = std::min(lowest, p.y);
+    highest = std::max(highest, p.y);
+  }
+  const float scale = kHeight / (highest - lowest);
+  const glm::vec3 ground(0.0f, lowest, 0.0f);
+  model.skeleton.joints[0].rest_translation =
+      (model.skeleton.joints[0].rest_translation - ground) * scale;
+  for (std::size_t j = 1; j < model.skeleton.joints.size(); ++j)
+    model.skeleton.joints[j].rest_translation *= scale;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint32_t w = corners[i].welded;
+    model.positions[i] = (surface.positions[w] - ground) * scale;
+    model.normals[i] = welded_normals[w];
+    model.skin_joints[i] = welded_joints[w];
+    model.skin_weights[i] = welded_weights[w];
+  }
+  return model;
+}
+
+}  // namespace sweepd::deform

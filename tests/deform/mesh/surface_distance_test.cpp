@@ -1,0 +1,76 @@
+// distance_along_edges on small meshes whose shortest edge paths are known by hand.
+#include "deform/mesh/surface_distance.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+
+namespace sweepd::deform {
+namespace {
+
+// A strip of unit squares along x, two triangles each (diagonals from (i,0) to (i+1,1)), and
+// one separate triangle far away. Vertex 2i is (i,0), 2i+1 is (i,1) for i in [0, columns].
+struct Strip {
+  std::vector<glm::vec3> positions;
+  std::vector<std::uint32_t> indices;
+};
+
+Strip strip(int columns) {
+  Strip s;
+  for (int i = 0; i <= columns; ++i) {
+    s.positions.push_back({float(i), 0.0f, 0.0f});
+    s.positions.push_back({float(i), 1.0f, 0.0f});
+  }
+  for (std::uint32_t i = 0; i < static_cast<std::uint32_t>(columns); ++i) {
+    const std::uint32_t a = 2 * i, b = 2 * i + 1, c = 2 * i + 2, d = 2 * i + 3;
+    s.indices.insert(s.indices.end(), {a, c, d, a, d, b});
+  }
+  const std::uint32_t first = static_cast<std::uint32_t>(s.positions.size());
+  s.positions.insert(s.positions.end(), {{50, 0, 0}, {51, 0, 0}, {50, 1, 0}});
+  s.indices.insert(s.indices.end(), {first, first + 1, first + 2});
+  return s;
+}
+
+TEST(SurfaceDistance, FollowsTheShortestEdgePathFromTheNearestSource) {
+  const Strip s = strip(4);
+  std::vector<bool> source(s.positions.size(), false);
+  source[0] = true;  // (0,0)
+  const std::vector<float> d = distance_along_edges(s.positions, s.indices, source);
+  // Along the bottom row the edges are straight: (i,0) lies i away. (i,1) is reached by the
+  // diagonal from (i-1,0), sqrt(2) + (i-1), or by the edge up from (0,0), 1 + i; the top-left
+  // corner only by the upward edge. 1e-5: float sums of a few unit lengths.
+  for (int i = 0; i <= 4; ++i) {
+    EXPECT_NEAR(d[2 * i], float(i), 1e-5f) << "bottom " << i;
+    const float top = i == 0 ? 1.0f : std::min(std::sqrt(2.0f) + float(i - 1), 1.0f + float(i));
+    EXPECT_NEAR(d[2 * i + 1], top, 1e-5f) << "top " << i;
+  }
+  // The separate triangle is not reachable.
+  for (std::size_t v = s.positions.size() - 3; v < s.positions.size(); ++v)
+    EXPECT_TRUE(std::isinf(d[v])) << v;
+
+  // A second source at the far end: each vertex takes the nearer one.
+  source[2 * 4] = true;  // (4,0)
+  const std::vector<float> both = distance_along_edges(s.positions, s.indices, source);
+  EXPECT_NEAR(both[2 * 3], 1.0f, 1e-5f);
+  EXPECT_NEAR(both[2 * 2], 2.0f, 1e-5f);
+  EXPECT_NEAR(both[2 * 4], 0.0f, 0.0f);
+}
+
+TEST(SurfaceDistance, RefusesMismatchedInput) {
+  const Strip s = strip(2);
+  EXPECT_THROW(distance_along_edges(s.positions, s.indices, std::vector<bool>(3, true)),
+               std::invalid_argument);
+  std::vector<std::uint32_t> partial(s.indices.begin(), s.indices.begin() + 4);
+  EXPECT_THROW(
+      distance_along_edges(s.positions, partial, std::vector<bool>(s.positions.size(), true)),
+      std::invalid_argument);
+  std::vector<std::uint32_t> outside = s.indices;
+  outside[0] = 1000;
+  EXPECT_THROW(
+      distance_along_edges(s.positions, outside, std::vector<bool>(s.positions.size(), true)),
+      std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace sweepd::deform

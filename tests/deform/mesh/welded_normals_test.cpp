@@ -1,0 +1,103 @@
+// WeldedNormals: seam copies share the welded normal, area weighting, the fallback for vertices
+// outside every triangle, bad indices and buffer sizes refused, and agreement with a direct
+// per-triangle sum on the shared male.
+#include "deform/mesh/welded_normals.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include "tests/deform/shared_male.h"
+
+namespace sweepd::deform {
+namespace {
+
+// A regular octahedron (vertices on the axes) whose +x vertex has a seam copy (vertex 6) used by
+// the two triangles on the -z side, and an unused vertex 7.
+struct Octahedron {
+  std::vector<glm::vec3> positions = {{1, 0, 0}, {0, 1, 0},  {-1, 0, 0}, {0, -1, 0},
+                                      {0, 0, 1}, {0, 0, -1}, {1, 0, 0},  {5, 5, 5}};
+  std::vector<std::uint32_t> indices = {0, 1, 4, 1, 2, 4, 2, 3, 4, 3, 0, 4,   // +z side
+                                        6, 5, 1, 1, 5, 2, 2, 5, 3, 3, 5, 6};  // -z side
+};
+
+TEST(WeldedNormals, SeamCopiesShareTheNormalOfAllTheirTriangles) {
+  Octahedron mesh;
+  WeldedNormals normals(mesh.positions, mesh.indices);
+  std::vector<glm::vec3> out(mesh.positions.size());
+  normals.compute(mesh.positions, out);
+  // By symmetry each octahedron vertex's four triangles sum to its own direction; the +x vertex
+  // and its copy each see only two of them unwelded (they would tilt by 45° towards ±z).
+  for (std::size_t v = 0; v < 7; ++v)
+    EXPECT_LE(glm::length(out[v] - glm::normalize(mesh.positions[v])), 1e-6f)  // float rounding
+        << "vertex " << v;
+  EXPECT_EQ(out[7], glm::vec3(0, 1, 0));  // in no triangle: the documented fallback
+}
+
+TEST(WeldedNormals, WeighsTrianglesByArea) {
+  // A fan around vertex 0: a big triangle in the z = 0 plane and a small one in the x = 0 plane.
+  const std::vector<glm::vec3> positions = {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {0, 0, 0.5f}};
+  const std::vector<std::uint32_t> indices = {0, 1, 2, 0, 2, 3};
+  WeldedNormals normals(positions, indices);
+  std::vector<glm::vec3> out(positions.size());
+  normals.compute(positions, out);
+  // Cross products: (0, 0, 4) and (1, 0, 0): the sum's direction, not the mean of unit normals.
+  EXPECT_LE(glm::length(out[0] - glm::normalize(glm::vec3(1, 0, 4))), 1e-6f);  // float rounding
+}
+
+TEST(WeldedNormals, RefusesBadIndicesAndBuffers) {
+  Octahedron mesh;
+  WeldedNormals normals(mesh.positions, mesh.indices);
+  std::vector<glm::vec3> short_buffer(3), out(mesh.positions.size());
+  EXPECT_THROW(normals.compute(short_buffer, out), std::invalid_argument);
+  EXPECT_THROW(normals.compute(mesh.positions, short_buffer), std::invalid_argument);
+  mesh.indices.push_back(0);
+  EXPECT_THROW(WeldedNormals(mesh.positions, mesh.indices), std::invalid_argument);
+  mesh.indices.insert(mesh.indices.end(), {1, 8});
+  EXPECT_THROW(WeldedNormals(mesh.positions, mesh.indices), std::invalid_argument);
+}
+
+TEST(WeldedNormals, MatchesADirectSumOnThePosedMale) {
+  REQUIRE_SHARED_MALE();
+  const Model& model = male.model;
+  Deformer deformer(male);
+  Pose pose = rest_pose(model.skeleton);
+  test::turn(model, pose, "LeftForeArm", {0, 0, 1}, 100.0f);
+  std::vector<glm::vec3> posed(model.vertex_count()), fast(model.vertex_count());
+  deformer.deform(pose, DeformMethod::kLbs, posed, {});
+  WeldedNormals(model.positions, model.indices).compute(posed, fast);
+  // Direct: every triangle's cross product added to its corners, then seam copies (coincident
+  // rest positions) summed by a search over all vertices with the same rest position.
+  std::vector<glm::vec3> sums(model.vertex_count(), glm::vec3(0.0f));
+  for (std::size_t t = 0; t + 2 < model.indices.size(); t += 3) {
+    const glm::vec3 a = posed[model.indices[t]];
+    const glm::vec3 n =
+        glm::cross(posed[model.indices[t + 1]] - a, posed[model.indices[t + 2]] - a);
+    for (int k = 0; k < 3; ++k) sums[model.indices[t + k]] += n;
+  }
+  std::vector<std::size_t> order(model.vertex_count());
+  for (std::size_t v = 0; v < order.size(); ++v) order[v] = v;
+  const auto before = [&](std::size_t i, std::size_t j) {
+    const glm::vec3 &p = model.positions[i], &q = model.positions[j];
+    return p.x != q.x ? p.x < q.x : p.y != q.y ? p.y < q.y : p.z < q.z;
+  };
+  std::sort(order.begin(), order.end(), before);
+  float worst = 0.0f;
+  for (std::size_t first = 0; first < order.size();) {
+    std::size_t last = first;
+    glm::vec3 sum(0.0f);
+    while (last < order.size() && model.positions[order[last]] == model.positions[order[first]])
+      sum += sums[order[last++]];
+    const glm::vec3 expected = glm::length(sum) > 0.0f ? glm::normalize(sum) : glm::vec3(0, 1, 0);
+    for (std::size_t i = first; i < last; ++i)
+      worst = std::max(worst, glm::length(fast[order[i]] - expected));
+    first = last;
+  }
+  // Float sums in another order; unit vectors: rounding stays far below 1e-4.
+  EXPECT_LE(worst, 1e-4f);
+}
+
+}  // namespace
+}  // namespace sweepd::deform

@@ -1,0 +1,114 @@
+// SweepVertexKinds on a hand-made two-row table: a sweep term, a skinned share blended with a
+// term, a vertex with neither, for every instruction set the CPU has, against the formulas
+// written out with glm; and the inputs it refuses.
+#include "deform/posing/sweep_vertex_kinds.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
+#include <stdexcept>
+#include <vector>
+
+#include "deform/binding/bound_model.h"
+
+namespace sweepd::deform {
+namespace {
+
+// Two rows of one sweep: frames turned by 0.1 rad about z from each other, a and b growing.
+std::vector<SweepSample> two_row_table() {
+  std::vector<SweepSample> table(2);
+  for (int r = 0; r < 2; ++r) {
+    const glm::mat3 frame = glm::mat3(glm::rotate(glm::mat4(1.0f), 0.1f * r, glm::vec3(0, 0, 1)));
+    table[r].centre = glm::vec3(0.1f, 1.0f + 0.2f * r, -0.3f);
+    table[r].x_axis = frame[0];
+    table[r].y_axis = frame[1];
+    table[r].normal = frame[2];
+    table[r].a = 0.05f + 0.01f * r;
+    table[r].b = 0.04f + 0.02f * r;
+  }
+  table[0].a_step = table[1].a - table[0].a;
+  table[0].b_step = table[1].b - table[0].b;
+  return table;
+}
+
+SweepTerm make_term(float fraction, float weight, float theta, float da, float db, float c) {
+  SweepTerm term{};
+  term.row = 0;
+  term.fraction = fraction;
+  term.weight_below = weight * (1.0f - fraction);
+  term.weight_above = weight * fraction;
+  term.cos_theta = std::cos(theta);
+  term.sin_theta = std::sin(theta);
+  term.x_shift = da * term.cos_theta;
+  term.y_shift = db * term.sin_theta;
+  term.c = c;
+  return term;
+}
+
+// The term written out: each row's point at the interpolated half-axes, then the rows blended.
+glm::vec3 expected_term(const std::vector<SweepSample>& table, float fraction, float weight,
+                        float theta, float da, float db, float c) {
+  const float a = glm::mix(table[0].a, table[1].a, fraction) + da;
+  const float b = glm::mix(table[0].b, table[1].b, fraction) + db;
+  glm::vec3 at[2];
+  for (int r = 0; r < 2; ++r)
+    at[r] = table[r].centre + a * std::cos(theta) * table[r].x_axis +
+            b * std::sin(theta) * table[r].y_axis + c * table[r].normal;
+  return weight * glm::mix(at[0], at[1], fraction);
+}
+
+Model three_vertices() {
+  Model model;
+  model.positions = {{0.2f, 1.1f, 0.0f}, {0.3f, 0.9f, 0.1f}, {0.0f, 0.0f, 0.0f}};
+  model.skin_joints = {{{0, 1, 0, 0}}, {{0, 1, 0, 0}}, {{0, 0, 0, 0}}};
+  model.skin_weights = {{{1, 0, 0, 0}}, {{0.7f, 0.3f, 0, 0}}, {{1, 0, 0, 0}}};
+  return model;
+}
+
+TEST(SweepVertexKinds, EvaluatesTermsAndSkinnedSharesAsWrittenOut) {
+  const Model model = three_vertices();
+  const std::vector<SweepSample> table = two_row_table();
+  const std::vector<glm::mat4> skinning = {
+      glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.1f, 0.0f)),
+      glm::rotate(glm::mat4(1.0f), 0.4f, glm::vec3(1, 0, 0))};
+  // Vertex 0: one term only; vertex 1: half skinned, half the term; vertex 2: nothing.
+  const std::vector<float> skin_share = {0.0f, 0.5f, 0.0f};
+  const std::vector<std::uint32_t> first_term = {0, 1, 2, 2};
+  const std::vector<SweepTerm> terms = {make_term(0.25f, 1.0f, 0.7f, 0.01f, -0.02f, 0.003f),
+                                        make_term(0.6f, 0.5f, 2.5f, 0.0f, 0.01f, -0.002f)};
+  const glm::vec3 lbs1 =
+      glm::vec3((0.7f * skinning[0] + 0.3f * skinning[1]) * glm::vec4(model.positions[1], 1.0f));
+  const glm::vec3 expected[3] = {
+      expected_term(table, 0.25f, 1.0f, 0.7f, 0.01f, -0.02f, 0.003f),
+      0.5f * lbs1 + expected_term(table, 0.6f, 0.5f, 2.5f, 0.0f, 0.01f, -0.002f), glm::vec3(0.0f)};
+  std::vector<VertexLoopInstructions> sets = {VertexLoopInstructions::kBaseline};
+  if (widest_vertex_loop_instructions() != VertexLoopInstructions::kBaseline)
+    sets.push_back(widest_vertex_loop_instructions());
+  for (const VertexLoopInstructions set : sets) {
+    const SweepVertexKinds kinds(model, skin_share, first_term, terms, set);
+    ASSERT_EQ(kinds.item_count(), 3u);
+    std::vector<glm::vec3> positions(3, glm::vec3(9.0f));
+    kinds.evaluate(table, skinning, positions, 0, 3);
+    for (int v = 0; v < 3; ++v)  // float rounding of values near 1: a few 1e-7
+      EXPECT_LE(glm::length(positions[v] - expected[v]), 1e-6f)
+          << "vertex " << v << ", instruction set " << static_cast<int>(set);
+  }
+}
+
+TEST(SweepVertexKinds, RefusesMismatchedSizesAndTooManyTerms) {
+  const Model model = three_vertices();
+  const std::vector<SweepTerm> terms(4, make_term(0.5f, 0.25f, 0.0f, 0.0f, 0.0f, 0.0f));
+  EXPECT_THROW(SweepVertexKinds(model, std::vector<float>(2), std::vector<std::uint32_t>(4), terms),
+               std::invalid_argument);
+  EXPECT_THROW(SweepVertexKinds(model, std::vector<float>(3), std::vector<std::uint32_t>(3), terms),
+               std::invalid_argument);
+  // Four terms on vertex 0: more sweeps than a vertex can be bound to.
+  static_assert(kSweepsPerVertex == 3);
+  EXPECT_THROW(
+      SweepVertexKinds(model, std::vector<float>(3), std::vector<std::uint32_t>{0, 4, 4, 4}, terms),
+      std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace sweepd::deform

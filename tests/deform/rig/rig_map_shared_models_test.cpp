@@ -1,0 +1,63 @@
+// RigMap detection on the shared real models: the MakeHuman male by its CMU names, the Khronos
+// RiggedFigure (unnamed joints) by the topological fallback. Expected chains were read off the
+// files' node hierarchies and joint positions by hand (see SOURCES.md).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "deform/rig/rig_map.h"
+#include "io/gltf_load.h"
+
+namespace sweepd::deform {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::vector<std::string> names(const Skeleton& skeleton, const std::vector<int>& chain) {
+  std::vector<std::string> result;
+  for (int j : chain) result.push_back(j < 0 ? "-" : skeleton.joints[j].name);
+  return result;
+}
+
+using Names = std::vector<std::string>;
+
+TEST(RigMapSharedModels, MaleIsCmuMotionBuilderWithEveryChain) {
+  const fs::path file = fs::path(SWEEPD_SHARED_DATA) / "models/makehuman_male_cmu.glb";
+  if (!fs::exists(file)) GTEST_SKIP() << "shared data absent: " << file;
+  const Skeleton skeleton = io::load_gltf(file).skeleton;
+  const RigMap rig = detect_rig_map(skeleton);
+  EXPECT_EQ(rig.convention, "cmu_motionbuilder");
+  EXPECT_EQ(names(skeleton, rig.torso.chain), (Names{"Hips", "LowerBack", "Spine", "Spine1"}));
+  EXPECT_EQ(names(skeleton, rig.neck.chain), (Names{"Neck", "Neck1", "Head"}));
+  EXPECT_EQ(names(skeleton, rig.left_arm.chain()),
+            (Names{"LeftShoulder", "LeftArm", "LeftForeArm", "LeftHand"}));
+  EXPECT_EQ(names(skeleton, rig.right_arm.chain()),
+            (Names{"RightShoulder", "RightArm", "RightForeArm", "RightHand"}));
+  EXPECT_EQ(names(skeleton, rig.left_leg.chain()),
+            (Names{"LHipJoint", "LeftUpLeg", "LeftLeg", "LeftFoot", "LeftToeBase"}));
+  EXPECT_EQ(names(skeleton, rig.right_leg.chain()),
+            (Names{"RHipJoint", "RightUpLeg", "RightLeg", "RightFoot", "RightToeBase"}));
+  EXPECT_EQ(validate_rig_map(rig, skeleton), "");
+}
+
+TEST(RigMapSharedModels, RiggedFigureIsFoundByItsShape) {
+  const fs::path file = fs::path(SWEEPD_SHARED_DATA) / "models/RiggedFigure/RiggedFigure.gltf";
+  if (!fs::exists(file)) GTEST_SKIP() << "shared data absent: " << file;
+  const Skeleton skeleton = io::load_gltf(file).skeleton;
+  const RigMap rig = detect_rig_map(skeleton);
+  EXPECT_EQ(rig.convention, "topological");
+  EXPECT_EQ(names(skeleton, rig.torso.chain), (Names{"joint_2", "joint_11", "joint_12"}));
+  EXPECT_EQ(names(skeleton, rig.neck.chain), (Names{"joint_19", "joint_20"}));
+  EXPECT_EQ(names(skeleton, rig.left_arm.chain()), (Names{"joint_16", "joint_17", "joint_18"}));
+  EXPECT_EQ(names(skeleton, rig.right_arm.chain()), (Names{"joint_13", "joint_14", "joint_15"}));
+  EXPECT_EQ(names(skeleton, rig.left_leg.chain()),
+            (Names{"joint_7", "joint_8", "joint_9", "joint_10"}));
+  EXPECT_EQ(names(skeleton, rig.right_leg.chain()),
+            (Names{"joint_3", "joint_4", "joint_5", "joint_6"}));
+  EXPECT_EQ(validate_rig_map(rig, skeleton), "");
+}
+
+}  // namespace
+}  // namespace sweepd::deform
