@@ -24,7 +24,7 @@ void run_bind(benchmark::State& state, const deform::Model* model) {
 
 int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
-  static const deform::Model mannequin = deform::make_mannequin({.target_vertices = 72000});
+  static const deform::Model mannequin = mannequin::make_mannequin({.target_vertices = 72000});
   benchmark::RegisterBenchmark("bind/mannequin_72k", run_bind, &mannequin)
       ->Unit(benchmark::kMillisecond);
   const std::filesystem::path male =

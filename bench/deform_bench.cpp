@@ -97,7 +97,7 @@ int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
   std::vector<std::unique_ptr<BenchModel>> models;
   for (int target : {15000, 72000, 250000}) {
-    deform::Model model = deform::make_mannequin({.target_vertices = target});
+    deform::Model model = mannequin::make_mannequin({.target_vertices = target});
     const std::string name = "mannequin_" + std::to_string(target / 1000) + "k";
     models.push_back(std::make_unique<BenchModel>(BenchModel{name, std::move(model), {}, {}, {}}));
   }

@@ -26,7 +26,7 @@ constexpr int kMaxVertices = 300000;
 }  // namespace
 
 int run_mannequin(const std::vector<std::string>& arguments) {
-  deform::MannequinOptions options;
+  mannequin::MannequinOptions options;
   std::filesystem::path out;
   auto parse = [&](const std::vector<std::string>& args) -> std::string {
     for (std::size_t i = 0; i < args.size(); ++i) {
@@ -49,7 +49,7 @@ int run_mannequin(const std::vector<std::string>& arguments) {
   };
   return run_subcommand("mannequin", kUsage, arguments, parse, [&] {
     const auto start = std::chrono::steady_clock::now();
-    const deform::Model model = deform::make_mannequin(options);
+    const deform::Model model = mannequin::make_mannequin(options);
     io::save_gltf(model, out);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -5,7 +5,7 @@
 #include <limits>
 #include <numbers>
 
-namespace sweepd::deform {
+namespace sweepd::mannequin {
 
 namespace {
 
@@ -156,4 +156,4 @@ bool BodyShape::evaluate_block(const glm::vec3& lo, const glm::vec3& hi,
   return true;
 }
 
-}  // namespace sweepd::deform
+}  // namespace sweepd::mannequin

@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-namespace sweepd::deform {
+namespace sweepd::mannequin {
 
 struct PartSection {
   float t = 0.0f;             // position along the axis, 0 at start, 1 at end
@@ -88,4 +88,4 @@ class BodyShape {
   glm::vec3 lower_{0.0f}, upper_{0.0f};
 };
 
-}  // namespace sweepd::deform
+}  // namespace sweepd::mannequin

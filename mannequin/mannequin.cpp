@@ -12,7 +12,12 @@
 #include "mannequin/marching_tetrahedra.h"
 #include "mannequin/shortest_edge_decimation.h"
 
-namespace sweepd::deform {
+namespace sweepd::mannequin {
+
+using deform::compute_vertex_normals;
+using deform::kInfluences;
+using deform::Model;
+using deform::Skeleton;
 
 namespace {
 
@@ -332,4 +337,4 @@ Model make_mannequin(const MannequinOptions& options) {
   return model;
 }
 
-}  // namespace sweepd::deform
+}  // namespace sweepd::mannequin

@@ -14,7 +14,7 @@
 
 #include "deform/model/model.h"
 
-namespace sweepd::deform {
+namespace sweepd::mannequin {
 
 struct MannequinOptions {
   int target_vertices = 20000;  // kMannequinMinVertices .. kMannequinMaxVertices
@@ -24,6 +24,6 @@ inline constexpr int kMannequinMinVertices = 1000;
 inline constexpr int kMannequinMaxVertices = 500000;
 
 // Throws std::invalid_argument (saying which option and why) for options out of range.
-Model make_mannequin(const MannequinOptions& options);
+deform::Model make_mannequin(const MannequinOptions& options);
 
-}  // namespace sweepd::deform
+}  // namespace sweepd::mannequin

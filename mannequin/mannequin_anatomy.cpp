@@ -4,7 +4,10 @@
 #include <numbers>
 #include <string>
 
-namespace sweepd::deform {
+namespace sweepd::mannequin {
+
+using deform::Joint;
+using deform::Skeleton;
 
 namespace {
 
@@ -226,4 +229,4 @@ MannequinAnatomy make_mannequin_anatomy() {
   return anatomy;
 }
 
-}  // namespace sweepd::deform
+}  // namespace sweepd::mannequin

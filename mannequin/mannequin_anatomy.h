@@ -13,14 +13,14 @@
 #include "mannequin/body_shape.h"
 #include "mannequin/skin_chain.h"
 
-namespace sweepd::deform {
+namespace sweepd::mannequin {
 
 struct MannequinAnatomy {
-  Skeleton skeleton;            // 31 joints, root Hips
+  deform::Skeleton skeleton;    // 31 joints, root Hips
   std::vector<BodyPart> parts;  // BodyPart::skin_chain indexes `chains`
   std::vector<SkinChain> chains;
 };
 
 MannequinAnatomy make_mannequin_anatomy();
 
-}  // namespace sweepd::deform
+}  // namespace sweepd::mannequin

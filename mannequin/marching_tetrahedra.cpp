@@ -4,7 +4,7 @@
 #include <array>
 #include <unordered_map>
 
-namespace sweepd::deform {
+namespace sweepd::mannequin {
 
 namespace {
 
@@ -164,4 +164,4 @@ void marching_tetrahedra(const SampleGrid& grid, const BlockField& field, IsoSur
   }
 }
 
-}  // namespace sweepd::deform
+}  // namespace sweepd::mannequin

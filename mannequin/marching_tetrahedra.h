@@ -21,7 +21,7 @@
 #include <span>
 #include <vector>
 
-namespace sweepd::deform {
+namespace sweepd::mannequin {
 
 struct SampleGrid {
   glm::vec3 origin{0.0f};  // position of grid point (0, 0, 0)
@@ -46,4 +46,4 @@ struct IsoSurface {
 
 void marching_tetrahedra(const SampleGrid& grid, const BlockField& field, IsoSurface& surface);
 
-}  // namespace sweepd::deform
+}  // namespace sweepd::mannequin

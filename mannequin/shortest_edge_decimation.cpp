@@ -4,7 +4,10 @@
 
 #include "deform/mesh/mesh_topology.h"
 
-namespace sweepd::deform {
+namespace sweepd::mannequin {
+
+using deform::to_tri_mesh;
+using deform::TriMesh;
 
 namespace {
 
@@ -92,4 +95,4 @@ void decimate_shortest_edges(std::vector<glm::vec3>& positions, std::vector<std:
       indices.push_back(static_cast<std::uint32_t>(v->idx()));
 }
 
-}  // namespace sweepd::deform
+}  // namespace sweepd::mannequin

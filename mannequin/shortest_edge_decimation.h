@@ -16,10 +16,10 @@
 #include <glm/glm.hpp>
 #include <vector>
 
-namespace sweepd::deform {
+namespace sweepd::mannequin {
 
 void decimate_shortest_edges(std::vector<glm::vec3>& positions, std::vector<std::uint32_t>& indices,
                              std::size_t target_vertices,
                              const std::function<glm::vec3(const glm::vec3&)>& place);
 
-}  // namespace sweepd::deform
+}  // namespace sweepd::mannequin

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <limits>
 
-namespace sweepd::deform {
+namespace sweepd::mannequin {
 
 namespace {
 
@@ -57,4 +57,4 @@ int chain_skin_weights(const SkinChain& chain, const glm::vec3& p,
   return count;
 }
 
-}  // namespace sweepd::deform
+}  // namespace sweepd::mannequin

@@ -13,7 +13,7 @@
 #include <glm/glm.hpp>
 #include <vector>
 
-namespace sweepd::deform {
+namespace sweepd::mannequin {
 
 struct SkinBone {
   int joint = 0;  // skeleton joint the segment's skin follows
@@ -35,4 +35,4 @@ struct JointWeight {
 int chain_skin_weights(const SkinChain& chain, const glm::vec3& p,
                        std::array<JointWeight, 3>& weights);
 
-}  // namespace sweepd::deform
+}  // namespace sweepd::mannequin

@@ -22,7 +22,7 @@ using namespace sweepd;
 void ensure_default_model(const server::ServerConfig& config, server::ModelRegistry& registry) {
   if (!config.model_dir.empty() || registry.find(std::string_view("mannequin"))) return;
   const auto started = std::chrono::steady_clock::now();
-  deform::Model model = deform::make_mannequin({.target_vertices = config.mannequin_vertices});
+  deform::Model model = mannequin::make_mannequin({.target_vertices = config.mannequin_vertices});
   const deform::RigMap rig = deform::detect_rig_map(model.skeleton);
   deform::BoundModel bound = deform::bind(model, rig);
   const auto bind_time = std::chrono::duration_cast<std::chrono::nanoseconds>(

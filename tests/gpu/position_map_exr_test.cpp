@@ -35,7 +35,7 @@ ReadBack read_position_map(const std::vector<std::uint8_t>& bytes, Imf::Header& 
 
 class MannequinPositionMap : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() { model_ = new deform::Model(deform::make_mannequin({20000})); }
+  static void SetUpTestSuite() { model_ = new deform::Model(mannequin::make_mannequin({20000})); }
   static void TearDownTestSuite() { delete model_; }
 
   // Renders at size x size, encodes as EXR (ZIP), reads it back.

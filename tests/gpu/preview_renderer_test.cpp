@@ -177,7 +177,7 @@ TEST_F(PreviewRendererTest, MultisamplingBlendsEdgesOnlyWhenAsked) {
 }
 
 TEST_F(PreviewRendererTest, MannequinFromTheDefaultCameraIsFramedAndCentred) {
-  const deform::Model model = deform::make_mannequin({5000});
+  const deform::Model model = mannequin::make_mannequin({5000});
   constexpr int kSize = 200;
   const PreviewOptions options = options_for(kSize, 4);
   Image image(kSize, kSize);

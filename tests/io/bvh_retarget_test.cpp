@@ -155,7 +155,7 @@ TEST_F(RetargetTest, ToesAimTheFootButAreNotDriven) {
 TEST_F(RetargetTest, LimbBonesPointWhereTheClipsBonesPoint) { expect_bones_follow_the_clip(); }
 
 TEST_F(RetargetTest, MannequinLimbBonesPointWhereTheClipsBonesPoint) {
-  model_ = deform::make_mannequin({.target_vertices = 2000});  // only its skeleton matters
+  model_ = mannequin::make_mannequin({.target_vertices = 2000});  // only its skeleton matters
   expect_bones_follow_the_clip();
 }
 

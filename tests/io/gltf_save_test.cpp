@@ -217,7 +217,7 @@ TEST(GltfSaveValidator, SyntheticTubeWithColoursHasNoErrors) {
 TEST(GltfSaveValidator, MannequinAt72kVerticesWithLineLoopsHasNoErrors) {
   // The acceptance for the mannequin, plus the line loops of `bind --debug-gltf`.
   ScratchDirectory dir;
-  const deform::Model mannequin = deform::make_mannequin({.target_vertices = 72000});
+  const deform::Model mannequin = mannequin::make_mannequin({.target_vertices = 72000});
   SaveOptions options;
   options.line_loops = {{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}}, {{0, 2, 0}, {0, 2, 1}}};
   save_gltf(mannequin, dir / "mannequin.glb", options);

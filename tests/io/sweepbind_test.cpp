@@ -18,9 +18,9 @@ namespace fs = std::filesystem;
 
 const deform::BoundModel& bound_mannequin() {
   static const deform::BoundModel bound = [] {
-    deform::MannequinOptions options;
+    mannequin::MannequinOptions options;
     options.target_vertices = 3000;
-    const deform::Model model = deform::make_mannequin(options);
+    const deform::Model model = mannequin::make_mannequin(options);
     return deform::bind(model, deform::detect_rig_map(model.skeleton));
   }();
   return bound;

@@ -5,7 +5,8 @@
 
 #include <vector>
 
-namespace sweepd::deform {
+namespace sweepd::mannequin {
+
 namespace {
 
 // A 40 cm vertical part, 10 cm wide (side, X) and 6 cm deep (Z), with 5 cm round caps.
@@ -72,4 +73,4 @@ TEST(BodyShape, MinimumHalfAxisThickensThinParts) {
 }
 
 }  // namespace
-}  // namespace sweepd::deform
+}  // namespace sweepd::mannequin

@@ -12,7 +12,9 @@
 
 #include "deform/mesh/mesh_topology.h"
 
-namespace sweepd::deform {
+namespace sweepd::mannequin {
+
+using namespace deform;  // the mannequin is made of the deform library's types
 namespace {
 
 // Generated once per size and shared by the tests below (72k takes about a second).
@@ -339,4 +341,4 @@ TEST(Mannequin, SkinWeightsBlendAcrossTheElbowAndChangeSmoothly) {
 }
 
 }  // namespace
-}  // namespace sweepd::deform
+}  // namespace sweepd::mannequin

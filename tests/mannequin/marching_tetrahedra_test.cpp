@@ -8,7 +8,9 @@
 
 #include "deform/mesh/mesh_topology.h"
 
-namespace sweepd::deform {
+namespace sweepd::mannequin {
+
+using namespace deform;  // the mannequin is made of the deform library's types
 namespace {
 
 BlockField whole_field(float (*f)(const glm::vec3&)) {
@@ -120,4 +122,4 @@ TEST(MarchingTetrahedra, GridEntirelyInsideGivesNoTriangles) {
 }
 
 }  // namespace
-}  // namespace sweepd::deform
+}  // namespace sweepd::mannequin

@@ -9,7 +9,9 @@
 #include "deform/mesh/mesh_topology.h"
 #include "mannequin/marching_tetrahedra.h"
 
-namespace sweepd::deform {
+namespace sweepd::mannequin {
+
+using namespace deform;  // the mannequin is made of the deform library's types
 namespace {
 
 constexpr float kRadius = 0.5f;
@@ -82,4 +84,4 @@ TEST(ShortestEdgeDecimation, LeavesSmallerMeshesAlone) {
 }
 
 }  // namespace
-}  // namespace sweepd::deform
+}  // namespace sweepd::mannequin

@@ -6,7 +6,8 @@
 #include <cmath>
 #include <map>
 
-namespace sweepd::deform {
+namespace sweepd::mannequin {
+
 namespace {
 
 // Three 10 cm bones along +Y (joints 7, 8, 9), blending over +-2 cm at each junction.
@@ -62,4 +63,4 @@ TEST(SkinChain, WeightsSumToOneAndChangeSmoothlyAroundABentJoint) {
 }
 
 }  // namespace
-}  // namespace sweepd::deform
+}  // namespace sweepd::mannequin

@@ -76,7 +76,7 @@ TEST(ConstantTimeEqual, EqualOnlyForTheSameBytes) {
 
 TEST(ModelRegistry, RestoreKeepsGoodEntriesAndReportsADamagedOne) {
   const fs::path directory = fresh_directory("registry");
-  const deform::Model model = deform::make_mannequin({.target_vertices = 2000});
+  const deform::Model model = mannequin::make_mannequin({.target_vertices = 2000});
   const deform::BoundModel bound = deform::bind(model, deform::detect_rig_map(model.skeleton));
   {
     server::ModelRegistry registry(directory, {}, {});

@@ -21,7 +21,7 @@ std::vector<std::uint8_t> read_bytes(const fs::path& file) {
 // A small rigged model as a client would upload it: the mannequin written as .glb.
 std::vector<std::uint8_t> small_glb(const fs::path& directory) {
   const fs::path file = directory / "small.glb";
-  io::save_gltf(deform::make_mannequin({.target_vertices = 3000}), file);
+  io::save_gltf(mannequin::make_mannequin({.target_vertices = 3000}), file);
   return read_bytes(file);
 }
 
@@ -95,7 +95,7 @@ TEST(DaemonRestart, AcknowledgedUploadSurvivesKill9WithoutRebinding) {
 TEST(DaemonModelDirectory, ListsUnloadedFilesAndLoadsThemByName) {
   const fs::path directory = fresh_directory("model_dir");
   fs::create_directories(directory / "models");
-  io::save_gltf(deform::make_mannequin({.target_vertices = 3000}),
+  io::save_gltf(mannequin::make_mannequin({.target_vertices = 3000}),
                 directory / "models" / "small.glb");
   DaemonProcess daemon(directory, {"--model-dir", (directory / "models").string()});
   ASSERT_TRUE(daemon.running()) << daemon.log();

@@ -17,6 +17,8 @@
 #include "tests/deform/tube_mesh.h"
 
 namespace sweepd::deform {
+
+using mannequin::make_mannequin;
 namespace {
 
 constexpr float kPi = std::numbers::pi_v<float>;

@@ -15,6 +15,9 @@
 #include "mannequin/mannequin.h"
 
 namespace sweepd::deform {
+
+using mannequin::make_mannequin;
+using mannequin::MannequinOptions;
 namespace {
 
 namespace fs = std::filesystem;
