@@ -192,7 +192,7 @@ def world_rest_positions(joints):
 
 
 def is_strict_ancestor(joints, ancestor, joint):
-    """deform/joint_paths.h: True when `ancestor` lies strictly above `joint`."""
+    """deform/model/joint_paths.h: True when `ancestor` lies strictly above `joint`."""
     if not (0 <= ancestor < len(joints) and 0 <= joint < len(joints)):
         return False
     j = joints[joint].parent
@@ -228,7 +228,7 @@ def common_ancestor(joints, a, b):
 
 
 # ---------------------------------------------------------------------------------------
-# Rig maps from joint names (deform/rig_naming.cpp): which joints are the pelvis, chest,
+# Rig maps from joint names (deform/rig/rig_naming.cpp): which joints are the pelvis, chest,
 # head and limb roles. Only what retargeting needs: roles, torso chain, validation.
 
 # (name, pelvis prefix, side spellings, pelvis, head, clavicle, upper arm, forearm, hand,

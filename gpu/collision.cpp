@@ -6,7 +6,7 @@
 namespace sweepd::gpu {
 namespace {
 
-// deform/triangle_intersection.cpp in GLSL: keep both in step, operation for operation.
+// deform/features/triangle_intersection.cpp in GLSL: keep both in step, operation for operation.
 const char* const kSource = R"(#version 450 core
 layout(local_size_x = 64) in;
 

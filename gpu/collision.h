@@ -12,7 +12,7 @@
 // Broad phase: sort and sweep along x — the triangles are uploaded sorted by their boxes'
 // lower x; one invocation per triangle tests the boxes of the later ones until one starts past
 // its own upper x (at worst #T²/2 box tests); narrow phase: the Guigue–Devillers test of
-// deform/triangle_intersection.h, transcribed to GLSL with the same double-precision operations in
+// deform/features/triangle_intersection.h, transcribed to GLSL with the same double-precision operations in
 // the same order (`precise`, so no fused multiply-adds), so the pairs are bit-identical to the CPU
 // reference. Construct, call and destroy on the context's thread (gpu::Worker jobs); the Context
 // must outlive the detector. GL buffers are kept and grown between calls.

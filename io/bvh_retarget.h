@@ -5,7 +5,7 @@
 //                 null leaves that BVH joint unmapped. Unknown names are a LoadError.
 //   2. name       the same joint name on both sides (exact, case-sensitive).
 //   3. role       the same RigMap role (deform::detect_rig_map on both skeletons; see
-//                 deform/rig_naming.h): pelvis, chest, head, clavicles, upper/lower limbs,
+//                 deform/rig/rig_naming.h): pelvis, chest, head, clavicles, upper/lower limbs,
 //                 hands, hip links, feet, toes — so CMU names drive Unreal or Mixamo rigs.
 //   4. hierarchy  an unmatched joint that is the only unmatched child of a matched joint on
 //                 both sides (e.g. CMU's LFingers under LeftFingerBase ↔ LeftHandFinger1,

@@ -1,4 +1,4 @@
-// Key-ellipse edits JSON (deform/key_ellipse_edits.h): the file a user writes to correct key
+// Key-ellipse edits JSON (deform/edits/angle_driven_key_edits.h): the file a user writes to correct key
 // ellipses at chosen joint angles (paper §4.2), read for `sweepctl edit` and written back out.
 // Sweeps are named by body part and joints by name; keys are numbered along the sweep, root
 // first (sweepctl inspect MODEL.sweepbind lists them).

@@ -9,7 +9,7 @@
 //     }
 //   }
 // Rotations are LOCAL to the joint's parent and replace the joint's rest rotation (see
-// deform/pose.h); joints not listed keep their rest rotation, a missing root_translation keeps
+// deform/model/pose.h); joints not listed keep their rest rotation, a missing root_translation keeps
 // joint 0's rest translation. Joints are named, never numbered.
 #pragma once
 

@@ -1,4 +1,4 @@
-// RigMap JSON: the file a user writes to override the detected rig map (deform/rig_map.h),
+// RigMap JSON: the file a user writes to override the detected rig map (deform/rig/rig_map.h),
 // and writes out to start from the detected one. Joints are named, never numbered.
 //
 // Format (every part required; limbs list their roles by key, optional roles may be left out):

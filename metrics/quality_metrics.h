@@ -1,7 +1,7 @@
 // Quality metrics of a deformed mesh against the rest pose — the figures that compare sweep
 // deformation (with and without volume preservation) to LBS and DQS:
 // - per body part (one per sweep), the volume change against rest of
-//   · the closed part region (part_regions.h): the triangles bound to the part's sweep
+//   · the closed part region (deform/volume/part_volume_regions.h): the triangles bound to the part's sweep
 //     with a mean weight >= 0.5, every boundary loop capped by a fan to its centroid, signed
 //     volume by the divergence theorem (double precision);
 //   · the sweep integral I of the posed sweep (sweep methods only);

@@ -2,9 +2,9 @@
 // weighted sum of its joints' unit dual quaternions, which keeps volume at twisted joints
 // where LBS collapses ("candy wrapper"), at the price of bulging at bent ones.
 //
-//   model      rest positions, normals and 4 skin influences per vertex (deform/model.h)
+//   model      rest positions, normals and 4 skin influences per vertex (deform/model/model.h)
 //   skinning   skeleton.size() rigid matrices from skinning_matrices
-//              (deform/forward_kinematics.h), each converted once per call to a unit dual
+//              (deform/model/forward_kinematics.h), each converted once per call to a unit dual
 //              quaternion. Scale is not supported: each matrix's 3×3 columns are normalised
 //              first, so joint scale is dropped (rotation + translation only).
 //   positions  vertex_count() posed positions (output, caller-owned)
@@ -15,7 +15,7 @@
 // rotation) never cancel. The per-joint dual quaternions go into a per-thread buffer that grows
 // only when a skeleton with more joints comes along; otherwise nothing is allocated. The
 // parallel variant converts once and splits the vertices into `threads` blocks
-// (deform/vertex_blocks.h) with bit-identical results.
+// (deform/simd/vertex_blocks.h) with bit-identical results.
 #pragma once
 
 #include <glm/glm.hpp>

@@ -29,7 +29,7 @@
 //   Output:  ProtrusionResult (vertices moved, largest depth, volume change over the region).
 // Only vertices are tested (as in the paper): a proxy smaller than the mesh spacing can poke
 // through between vertices unnoticed. Measured on the shared male
-// (tests/deform/collision_features_test.cpp): at rest no skin vertex is inside any default
+// (tests/deform/features/collision_features_test.cpp): at rest no skin vertex is inside any default
 // proxy; with the left elbow and knee bent 150°, 10 skin vertices are inside the olecranon and
 // 4 inside the patella before protrusion, 0 after (the unbent right side: 0).
 #pragma once

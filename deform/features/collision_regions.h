@@ -3,7 +3,7 @@
 // and bone protrusion look at. Built once per BoundModel; fixed afterwards.
 //
 // find_collision_regions
-//   Inputs:  bound    a BoundModel (deform/bind.h)
+//   Inputs:  bound    a BoundModel (deform/binding/bind.h)
 //            options  window sizes (below)
 //   Output:  CollisionRegions:
 //            representative  #V  per model vertex, the lowest-index vertex at exactly the same

@@ -8,7 +8,7 @@
 //                       CollisionRegions::welded_indices, so UV-seam copies count as shared)
 //            triangles  #T ids of the triangles to test against each other (a collision region)
 //   Output:  pairs      every {first < second} (triangle ids) whose closed triangles meet
-//                       (deform/triangle_intersection.h), sorted, unique; cleared first.
+//                       (deform/features/triangle_intersection.h), sorted, unique; cleared first.
 // Broad phase: a uniform grid over the triangles' bounding boxes (cell size: the mean of the
 // boxes' largest extents); each box pair is examined once, in the cell holding the lower
 // corner of the boxes' overlap. Buffers are kept between calls: no allocation once warm.

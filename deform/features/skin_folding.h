@@ -4,7 +4,7 @@
 // and a fold forms.
 //
 // SkinFolder::fold
-//   Inputs:  region     a collision region (deform/collision_regions.h): its vertices and the
+//   Inputs:  region     a collision region (deform/features/collision_regions.h): its vertices and the
 //                       side of the joint each lies on
 //            indices    the welded indices the pairs were found with
 //            pairs      intersecting triangle pairs of the region (SelfIntersectionDetector)
@@ -29,7 +29,7 @@
 // iterations moving each region corner of the intersecting triangles half-way to the mean of
 // its mesh neighbours: it unfolds small in-plane crumples that moving along a normal cannot.
 // Buffers are kept between calls (no allocation once warm).
-// Measured on the shared male (tests/deform/collision_features_test.cpp), one fold call:
+// Measured on the shared male (tests/deform/features/collision_features_test.cpp), one fold call:
 // elbow at 90°: 85 pairs -> 0; elbow at 150°: 167 -> 129; knee at 150°: 95 -> 19; every pair
 // between a triangle wholly before and one wholly past the joint goes. With CollisionFeatures'
 // rounds (fold, else relax, kept only when the pairs drop): knee 95 -> 0, elbow 167 -> 108.

@@ -12,7 +12,7 @@
 // Degenerate (zero-area) triangles intersect nothing.
 //
 // Mesh neighbours that share a vertex or an edge always touch; the callers
-// (deform/self_intersection.h, gpu/collision.h) skip such pairs before calling this.
+// (deform/features/self_intersection.h, gpu/collision.h) skip such pairs before calling this.
 #pragma once
 
 #include <glm/glm.hpp>

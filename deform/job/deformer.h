@@ -56,7 +56,7 @@ class Deformer {
   const DeformOptions& options() const { return options_; }
   // The edits start as the bound model's own (BoundModel::edits; the constructor validates them
   // and throws like set_edits); set_edits replaces them.
-  // Validates (validate in key_ellipse_edits.h) and keeps the edits; throws
+  // Validates (validate in angle_driven_key_edits.h) and keeps the edits; throws
   // std::invalid_argument with the reason when they do not fit the bound model.
   void set_edits(KeyEllipseEdits edits);
   const KeyEllipseEdits& edits() const { return edits_; }

@@ -1,7 +1,7 @@
 // Surface distance: for every vertex of a triangle mesh, the length of the shortest path along
 // the mesh's edges (Dijkstra) to the nearest vertex of a source set. Binding uses it for the
 // neck's hand-over to the head, which grows with the distance from where the head's skin
-// weight starts (deform/sweep_blending.h).
+// weight starts (deform/blending/sweep_blending.h).
 // Inputs:  positions  n vertex positions (weld UV-seam copies first: seams cut paths);
 //          indices    triangle corners, 3 per triangle, each < n;
 //          is_source  n flags.

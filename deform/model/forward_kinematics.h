@@ -2,7 +2,7 @@
 // that move rest-pose vertices with the joints.
 //
 // forward_kinematics
-//   Inputs:  skeleton (parents first), pose (normalize_and_validate'd, see deform/pose.h)
+//   Inputs:  skeleton (parents first), pose (normalize_and_validate'd, see deform/model/pose.h)
 //   Output:  world   skeleton.size() matrices, world[j] = world[parent] * T_j * R_j * S_j with
 //                    R_j the pose's local rotation, T_j the rest translation (the root's from
 //                    the pose) and S_j the rest scale. One pass in joint order.
@@ -10,7 +10,7 @@
 //   Inputs:  world_pose          J world matrices from forward_kinematics
 //            world_rest_inverse  J inverse world rest matrices (world_rest_inverse_matrices)
 //   Output:  skinning            J matrices world_pose[j] * inverse(world_rest[j]); by the Model
-//                                invariant (deform/model.h) the world rest matrices are the bind
+//                                invariant (deform/model/model.h) the world rest matrices are the bind
 //                                matrices, so these move rest vertices to posed ones.
 // Both write into caller-owned buffers and allocate nothing.
 #pragma once

@@ -12,7 +12,7 @@
 // Inputs:  the posed SweepPoser, the joint rotation deltas of the pose (J), I_C per sweep
 //          (sweep_count() values, or empty for zeros).
 // Outputs: the poser's α, β (changed in place), and last_corrections(): one record per sweep.
-// Nothing is allocated per frame. The volume is the signed one of sweep_volume.h. Throws
+// Nothing is allocated per frame. The volume is the signed one of swept_volume.h. Throws
 // std::invalid_argument when added_volume has the wrong size.
 #pragma once
 
@@ -47,7 +47,7 @@ struct VolumePreservationOptions {
   float bend_plane_degrees = 10.0f;
   // Folding feedback (Deformer only): the sweep integral does not see the skin that folds into
   // itself at a bent joint, so after the correction the Deformer deforms the mesh, measures each
-  // corrected part's closed region (part_regions.h), counts the region's loss as I_C (folding's
+  // corrected part's closed region (part_volume_regions.h), counts the region's loss as I_C (folding's
   // net volume change, negative), corrects again, up to this many times, until no region has
   // lost more than mesh_tolerance of its rest volume. Regions that grew are left alone (the
   // growth comes from where parts blend, not from folding). 0: the paper's plain correction.

@@ -54,7 +54,7 @@ inline glm::vec3 left_elbow_flexion_axis(const Model& model) {
 }
 
 // The left elbow and left knee flexed to `degrees`: the angle between each joint's links, not
-// a turn from rest (the male's rest pose already flexes the elbow 46°; deform/joint_flexion.h).
+// a turn from rest (the male's rest pose already flexes the elbow 46°; deform/model/joint_flexion.h).
 inline Pose left_elbow_and_knee_flexed(const Model& model, float degrees) {
   Pose pose = rest_pose(model.skeleton);
   flex_joint(model.skeleton, pose, model.skeleton.find("LeftForeArm"),

@@ -9,8 +9,6 @@
 #include <filesystem>
 #include <glm/gtc/quaternion.hpp>
 
-#include "../deform/collision_shapes.h"
-#include "../deform/shared_male.h"
 #include "deform/binding/bind.h"
 #include "deform/features/collision_features.h"
 #include "deform/features/collision_regions.h"
@@ -18,6 +16,8 @@
 #include "deform/job/deformer.h"
 #include "deform/rig/rig_map.h"
 #include "io/gltf_load.h"
+#include "tests/deform/collision_shapes.h"
+#include "tests/deform/shared_male.h"
 
 namespace sweepd::gpu {
 namespace {

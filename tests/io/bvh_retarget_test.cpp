@@ -277,7 +277,7 @@ TEST_F(RetargetTest, LbsSkinnedFramesOfBothClipsAreFinite) {
         }
     }
     // Reported, not bounded: with LBS the crotch, the neck and the toes stretch short edges
-    // several times over (tests/deform/clip_deformation_test.cpp bounds the sweep method).
+    // several times over (tests/deform/posing/clip_deformation_test.cpp bounds the sweep method).
     std::printf("%s: longest LBS edge / rest length %.2f\n", clip, worst);
   }
 }

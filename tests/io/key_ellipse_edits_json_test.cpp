@@ -9,9 +9,9 @@
 #include <filesystem>
 #include <fstream>
 
-#include "../deform/shared_male.h"
 #include "io/load_error.h"
 #include "io/sweepbind.h"
+#include "tests/deform/shared_male.h"
 
 namespace sweepd::io {
 namespace {

@@ -8,7 +8,7 @@
 namespace sweepd::test {
 namespace {
 
-constexpr std::uint32_t kMannequinJoints = 31;  // deform/mannequin.h: 31 joints
+constexpr std::uint32_t kMannequinJoints = 31;  // mannequin/mannequin.h: 31 joints
 constexpr std::uint32_t kMaxInFlight = 4;
 
 class DaemonDelivery : public ::testing::Test {

@@ -13,7 +13,7 @@ namespace sweepd::test {
 namespace {
 
 constexpr std::uint32_t kMaxFrameBytes = 64 * 1024;
-constexpr std::uint32_t kMannequinJoints = 31;  // deform/mannequin.h: 31 joints
+constexpr std::uint32_t kMannequinJoints = 31;  // mannequin/mannequin.h: 31 joints
 
 class DaemonErrors : public ::testing::Test {
  protected:

@@ -1,5 +1,5 @@
 // Tests for cutting a triangle mesh by a plane and keeping the link's loop
-// (deform/cross_section.h).
+// (deform/binding/cross_section.h).
 #include "deform/binding/cross_section.h"
 
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// Tests for fitting ellipses to closed polygons by their area moments (deform/ellipse_fit.h).
+// Tests for fitting ellipses to closed polygons by their area moments (deform/binding/polygon_ellipse.h).
 #include "deform/binding/polygon_ellipse.h"
 
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// Tests for fitting key ellipses to mesh cross-sections (deform/fit_key_ellipse.h), and that a
+// Tests for fitting key ellipses to mesh cross-sections (deform/binding/section_key_ellipse.h), and that a
 // sweep through such keys recovers the mesh's volume.
 #include "deform/binding/section_key_ellipse.h"
 

@@ -2,7 +2,7 @@
 // the neck and head over the frames where cmu_01_01 turns the head furthest (88° about the neck
 // against the chest at frame 1046, the clip's median being 30° in all) and cmu_01_03's worst
 // head frames, with sweeps against LBS; and the neck's key posing that spreads such a twist
-// along the neck (deform/key_posing.h).
+// along the neck (deform/posing/key_posing.h).
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -276,7 +276,7 @@ TEST(CollisionFeatures, BentElbowAndKneeReachTheirProxiesAndProtrusionPushesTheS
   Deformer deformer(fx.bound);
   const std::vector<BoneProxy> proxies = make_bone_proxies(fx.bound, fx.regions);
   // Protrusion works on any posed skin; LBS's collapsing elbow and knee tips do reach the bone,
-  // while the sweep's mitred joint keys (deform/key_posing.h) keep the tip's skin over it.
+  // while the sweep's mitred joint keys (deform/posing/key_posing.h) keep the tip's skin over it.
   for (DeformMethod method : {DeformMethod::kSweep, DeformMethod::kLbs}) {
     std::vector<glm::vec3> positions(fx.bound.model.vertex_count());
     Pose pose = test::left_elbow_and_knee_flexed(fx.bound.model, 150.0f);

@@ -1,4 +1,4 @@
-// Joint flexion (deform/joint_flexion.h): a limb posed by its anatomical angle lands at that
+// Joint flexion (deform/model/joint_flexion.h): a limb posed by its anatomical angle lands at that
 // angle, whatever its rest pose's bend and its parent's rest rotation.
 #include "deform/model/joint_flexion.h"
 

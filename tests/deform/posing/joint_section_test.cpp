@@ -1,6 +1,6 @@
 // A limb's section near a bent elbow and knee (issue 4): sweeps against LBS and DQS on the
 // shared male, flexed to 90°, 120°, 135° and 150° (the angle between the links; the male's rest
-// pose already flexes its elbows 46°, deform/joint_flexion.h).
+// pose already flexes its elbows 46°, deform/model/joint_flexion.h).
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,4 +1,4 @@
-// Tests for the spline interpolation behind C(t), a(t), b(t) (deform/bspline.h).
+// Tests for the spline interpolation behind C(t), a(t), b(t) (deform/sweep/interpolating_splines.h).
 #include "deform/sweep/interpolating_splines.h"
 
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// Tests for the sweep surface S(θ, t) of deform/sweep.h, its orientation curve Q(t) and its
+// Tests for the sweep surface S(θ, t) of deform/sweep/sweep.h, its orientation curve Q(t) and its
 // ellipses' centre curve C̃(t) = C(t) + R(t) (o(t), 0) with in-plane key offsets o.
 #include "deform/sweep/sweep.h"
 

@@ -1,4 +1,4 @@
-// Tests for the swept volume, its gradient and the volume correction step (deform/sweep_volume.h).
+// Tests for the swept volume, its gradient and the volume correction step (deform/sweep/swept_volume.h).
 #include "deform/sweep/swept_volume.h"
 
 #include <gtest/gtest.h>

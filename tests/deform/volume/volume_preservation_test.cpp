@@ -111,7 +111,7 @@ TEST(VolumePreservation, PaperCorrectionKeepsTheArmIntegralAndItsClosedRegionAtR
   }
   // Uncorrected, the bend changes the volume, so the correction has something to do: the
   // sweep loses up to 3.5 % of the integral at turns up to 100° (a flexion of 146°; LBS loses
-  // 7.6 % of the region), and past that the mitred elbow key (deform/key_posing.h) gains, +13.3 %
+  // 7.6 % of the region), and past that the mitred elbow key (deform/posing/key_posing.h) gains, +13.3 %
   // at the 150° turn, a 196° flexion no arm reaches. The elbow's ellipse sits on its section
   // (KeyEllipse::offset), so the integral follows the closed region within 2 points.
   EXPECT_GT(std::abs(table.plain.back().integral), 0.05);
