@@ -1,8 +1,7 @@
 // The layers' include rules (README "Layout", deform/README.md): deform/ is the paper and
-// includes nothing from the layers built on it; mannequin/, metrics/ and motion/ stand on deform/
-// only;
-// protocol/ never includes deform/; nothing includes server/ but server/ itself. deform/'s top
-// level holds only its stage folders and README.md. Reads the source tree as text.
+// includes nothing from the layers built on it; mannequin/, metrics/ and motion/ stand on
+// deform/ only; protocol/ never includes deform/; nothing includes server/ but server/ itself.
+// deform/'s top level holds only its stage folders and README.md. Reads the source as text.
 #include <gtest/gtest.h>
 
 #include <filesystem>
