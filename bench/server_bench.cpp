@@ -119,7 +119,7 @@ struct BenchPose {
 
 std::vector<BenchPose> clip_poses(const pb::ModelInfo& info, int count) {
   const fs::path clip = fs::path(SWEEPD_SHARED_DATA) / "motion" / "cmu_01_01.bvh";
-  const sweepd::io::Retargeter retargeter =
+  const sweepd::motion::Retargeter retargeter =
       sweepd::client::retarget_onto(info, sweepd::io::load_bvh(clip, {.length_scale = 0.056444f}));
   std::vector<BenchPose> poses;
   for (int i = 0; i < count; ++i) {

@@ -278,8 +278,8 @@ int metrics(const std::vector<std::string>& arguments, const ServerAddress* serv
       frames.push_back(0);
     } else {
       const bool whole_clip = !posing.frame_range && !one_frame;
-      const int last = whole_clip ? io::load_bvh(posing.bvh).frame_count - 1 : posing.last_frame;
-      for (int f = posing.first_frame; f <= last; f += step) frames.push_back(f);
+      const int last = whole_clip ? io::load_bvh(posing.bvh).frame_count - 1 : posing.frames.last;
+      for (int f = posing.frames.first; f <= last; f += step) frames.push_back(f);
     }
     const deform::QualityMeter meter(bound);
     std::vector<MethodReport> reports;

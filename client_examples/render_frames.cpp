@@ -41,6 +41,7 @@
 #include "client/connection.h"
 #include "client/model_skeleton.h"
 #include "io/bvh_load.h"
+#include "motion/frame_range.h"
 #include "protocol/messages.h"
 
 namespace {
@@ -144,26 +145,14 @@ std::vector<std::uint8_t> file_bytes(const fs::path& file) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-struct FrameRange {
-  int first = 0, last = 0;  // inclusive
-};
-
 // "A-B" (or "A") within a clip of `frame_count` frames.
-FrameRange parse_range(const std::string& text, int frame_count) {
-  const std::size_t dash = text.find('-');
-  FrameRange range;
-  try {
-    range.first = number<int>("--frames", text.substr(0, dash));
-    range.last =
-        dash == std::string::npos ? range.first : number<int>("--frames", text.substr(dash + 1));
-  } catch (const UsageError&) {
-    throw UsageError("--frames " + text + ": expected A-B, e.g. 0-239");
-  }
-  if (range.last < range.first || range.last >= frame_count) {
-    throw UsageError("--frames " + text + ": the clip has frames 0-" +
-                     std::to_string(frame_count - 1) + " and A must not exceed B");
-  }
-  return range;
+sweepd::motion::FrameRange parse_range(const std::string& text, int frame_count) {
+  const std::optional<sweepd::motion::FrameRange> range = sweepd::motion::parse_frame_range(text);
+  if (!range) throw UsageError("--frames " + text + ": expected A-B, e.g. 0-239");
+  if (const std::string problem = sweepd::motion::frame_range_problem(*range, frame_count);
+      !problem.empty())
+    throw UsageError("--frames " + text + ": " + problem);
+  return *range;
 }
 
 fs::path frame_file(const Options& options, int frame) {
@@ -220,9 +209,9 @@ void show_progress(int done, int total, int rendered, Clock::time_point start) {
 }
 
 int run(const Options& options) {
-  const sweepd::io::Motion motion =
+  const sweepd::motion::Clip motion =
       sweepd::io::load_bvh(options.bvh, {.length_scale = options.bvh_scale});
-  const FrameRange range = parse_range(options.frames, motion.frame_count);
+  const sweepd::motion::FrameRange range = parse_range(options.frames, motion.frame_count);
   fs::create_directories(options.out_dir);
 
   // Resume: only frames without a complete file are rendered.
@@ -237,7 +226,7 @@ int run(const Options& options) {
       todo.push_back(frame);
     }
   }
-  const int total = range.last - range.first + 1;
+  const int total = range.count();
   const int skipped = total - static_cast<int>(todo.size());
   const Clock::time_point start = Clock::now();
   auto report = [&](int rendered) {
@@ -258,7 +247,7 @@ int run(const Options& options) {
           : channel.load_model(options.model_file, file_bytes(options.model_file));
   const std::uint32_t model_id = info.model_id();
   const std::size_t joint_count = info.joint_names()->size();
-  const sweepd::io::Retargeter clip = sweepd::client::retarget_onto(info, motion);
+  const sweepd::motion::Retargeter clip = sweepd::client::retarget_onto(info, motion);
 
   auto send_frame = [&](int frame) {
     const sweepd::deform::Pose pose = clip.pose_at_frame(frame);

@@ -105,7 +105,7 @@ int run(const Options& options) {
   const pb::ModelInfo& info =
       channel.load_model(options.model_file.empty() ? "mannequin" : options.model_file, glb);
   const std::uint32_t model_id = info.model_id();
-  const sweepd::io::Retargeter clip = sweepd::client::retarget_onto(
+  const sweepd::motion::Retargeter clip = sweepd::client::retarget_onto(
       info, sweepd::io::load_bvh(options.bvh, {.length_scale = options.bvh_scale}));
   const std::size_t joint_count = info.joint_names()->size();
   std::printf("model %u: %u vertices, %zu joints\n", model_id, info.vertex_count(), joint_count);
