@@ -5,11 +5,9 @@
 // with LBS: the feet are skinned); motion::Retargeter no longer drives the clip's toes (see
 // motion/retarget.h). Printed for comparison: LBS, and the toes driven again by a name map.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <span>
 #include <string>
 #include <vector>
