@@ -5,9 +5,9 @@
 
 #include "cli/commands.h"
 #include "cli/posed_model.h"
-#include "cli/progress_bar.h"
 #include "cli/remote_posed_model.h"
 #include "cli/subcommand.h"
+#include "console/progress_bar.h"
 #include "io/gltf_save.h"
 
 namespace sweepd::cli {
@@ -39,7 +39,7 @@ void write_frames(Posed& posed, const std::filesystem::path& out) {
   }
   std::filesystem::create_directories(out);
   {
-    ProgressBar bar("posing " + posing.bvh.filename().string());
+    console::ProgressBar bar("posing " + posing.bvh.filename().string());
     const int count = posing.frames.count();
     for (int frame = posing.frames.first; frame <= posing.frames.last; ++frame) {
       char name[32];

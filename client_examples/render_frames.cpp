@@ -14,7 +14,8 @@
 // 4. Each remaining frame → one PositionMapRequest (positions and coverage, normals with
 //    --normals), up to Welcome.max_poses_in_flight in flight. The reply's EXR bytes are written
 //    to DIR/.<name>.partial and renamed, so a file present under its name is complete.
-// 5. A progress bar on stderr (frames done/total, rate, ETA); at the end, on stdout:
+// 5. A progress bar on stderr (console/progress_bar.h: frames done/total, rate, ETA); at the
+//    end, on stdout:
 //    "rendered R, skipped S of T frames in X s".
 //
 // Exit codes: 0 every frame present; 1 the server or a file refused (unreachable server,
@@ -40,6 +41,7 @@
 
 #include "client/connection.h"
 #include "client/model_skeleton.h"
+#include "console/progress_bar.h"
 #include "io/bvh_load.h"
 #include "motion/frame_range.h"
 #include "protocol/messages.h"
@@ -194,20 +196,6 @@ void write_file(const fs::path& file, const pb::PositionMap& map) {
   fs::rename(partial, file);
 }
 
-// "[####....] done/total frames  rate frames/s  ETA s"; the rate counts this run's renders.
-void show_progress(int done, int total, int rendered, Clock::time_point start) {
-  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  const double rate = seconds > 0.0 ? rendered / seconds : 0.0;
-  const double eta = rate > 0.0 ? (total - done) / rate : 0.0;
-  constexpr int kBarWidth = 30;
-  const int filled = total > 0 ? done * kBarWidth / total : kBarWidth;
-  std::fprintf(stderr, "\r[%s%s] %d/%d frames  %.1f frames/s  ETA %.0f s ",
-               std::string(static_cast<std::size_t>(filled), '#').c_str(),
-               std::string(static_cast<std::size_t>(kBarWidth - filled), '.').c_str(), done, total,
-               rate, eta);
-  if (done == total) std::fputc('\n', stderr);
-}
-
 int run(const Options& options) {
   const sweepd::motion::Clip motion =
       sweepd::io::load_bvh(options.bvh, {.length_scale = options.bvh_scale});
@@ -277,26 +265,36 @@ int run(const Options& options) {
   // it arrives.
   std::deque<int> in_flight;
   int rendered = 0;
-  show_progress(skipped, total, 0, start);
-  while (!todo.empty() || !in_flight.empty()) {
-    while (!todo.empty() && in_flight.size() < window) {
-      send_frame(todo.front());
-      in_flight.push_back(todo.front());
-      todo.pop_front();
-    }
-    const int frame = in_flight.front();
-    in_flight.pop_front();
-    try {
-      const pb::PositionMap& map = channel.expect<pb::PositionMap>();
-      if (map.sequence() != static_cast<std::uint64_t>(frame) + 1) {
-        throw std::runtime_error("the answer is for pose " + std::to_string(map.sequence()));
+  {  // the bar finishes its line before the report
+    sweepd::console::ProgressBar bar("rendering " + fs::path(options.bvh).stem().string());
+    auto show_progress = [&]() {  // the rate counts this run's renders, not the skipped frames
+      const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+      char detail[64];
+      std::snprintf(detail, sizeof detail, "%d/%d, %.1f frames/s", skipped + rendered, total,
+                    seconds > 0.0 ? rendered / seconds : 0.0);
+      bar.update(static_cast<double>(skipped + rendered) / total, "frames", detail);
+    };
+    show_progress();
+    while (!todo.empty() || !in_flight.empty()) {
+      while (!todo.empty() && in_flight.size() < window) {
+        send_frame(todo.front());
+        in_flight.push_back(todo.front());
+        todo.pop_front();
       }
-      write_file(frame_file(options, frame), map);
-    } catch (const std::exception& error) {
-      throw std::runtime_error("frame " + std::to_string(frame) + ": " + error.what());
+      const int frame = in_flight.front();
+      in_flight.pop_front();
+      try {
+        const pb::PositionMap& map = channel.expect<pb::PositionMap>();
+        if (map.sequence() != static_cast<std::uint64_t>(frame) + 1) {
+          throw std::runtime_error("the answer is for pose " + std::to_string(map.sequence()));
+        }
+        write_file(frame_file(options, frame), map);
+      } catch (const std::exception& error) {
+        throw std::runtime_error("frame " + std::to_string(frame) + ": " + error.what());
+      }
+      ++rendered;
+      show_progress();
     }
-    ++rendered;
-    show_progress(skipped + rendered, total, rendered, start);
   }
   channel.close("frames rendered");
   report(rendered);
