@@ -11,7 +11,8 @@
 //      deform::Deformer, one thread, positions only → p50 / p99, and round trip ÷ in-process.
 // The poses are frames of CMU clip 01_01 retargeted client-side (client::retarget_onto).
 // Prints a Markdown table for the README; the targets are p50 ≤ 2 ms, p99 ≤ 5 ms,
-// ≥ 1000 poses/s, ratio ≤ 2. Exit code 1 when the daemon or the data cannot be had.
+// ≥ 1000 poses/s, ratio ≤ 2. Exit code 1 when the daemon or the data cannot be had, 2 for a
+// bad command line (--help lists the flags).
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
@@ -33,6 +34,7 @@
 
 #include "client/connection.h"
 #include "client/model_skeleton.h"
+#include "console/command_line.h"
 #include "deform/job/deformer.h"
 #include "io/bvh_load.h"
 #include "io/sweepbind.h"
@@ -119,7 +121,7 @@ struct BenchPose {
 
 std::vector<BenchPose> clip_poses(const pb::ModelInfo& info, int count) {
   const fs::path clip = fs::path(SWEEPD_SHARED_DATA) / "motion" / "cmu_01_01.bvh";
-  const sweepd::io::Retargeter retargeter =
+  const sweepd::motion::Retargeter retargeter =
       sweepd::client::retarget_onto(info, sweepd::io::load_bvh(clip, {.length_scale = 0.056444f}));
   std::vector<BenchPose> poses;
   for (int i = 0; i < count; ++i) {
@@ -280,23 +282,19 @@ double load_average() {
   return one_minute;
 }
 
-Options parse(int argc, char** argv) {
-  Options o;
-  for (int i = 1; i + 1 < argc; i += 2) {
-    const std::string flag = argv[i], value = argv[i + 1];
-    if (flag == "--daemon")
-      o.daemon = value;
-    else if (flag == "--vertices")
-      o.vertices = std::stoi(value);
-    else if (flag == "--poses")
-      o.poses = std::stoi(value);
-    else if (flag == "--seconds")
-      o.seconds = std::stod(value);
-    else
-      throw std::invalid_argument(flag + ": unknown flag");
-  }
-  if (argc % 2 == 0) throw std::invalid_argument(std::string(argv[argc - 1]) + ": missing value");
-  return o;
+// The command line (console/command_line.h: --help exits 0, a bad flag or value exits 2).
+void describe(CLI::App& app, Options& o) {
+  app.description("What a client sees of sweepd, against what the deformation itself costs.");
+  app.add_option("--daemon", o.daemon, "the sweepd binary")->capture_default_str();
+  app.add_option("--vertices", o.vertices, "the mannequin's vertex count")
+      ->check(sweepd::console::whole_number(1000, 10'000'000))
+      ->capture_default_str();
+  app.add_option("--poses", o.poses, "poses timed one at a time")
+      ->check(sweepd::console::whole_number(1, 1'000'000))
+      ->capture_default_str();
+  app.add_option("--seconds", o.seconds, "seconds per throughput run")
+      ->check(CLI::Range(0.1, 3600.0))
+      ->capture_default_str();
 }
 
 int run(const Options& options) {
@@ -363,8 +361,13 @@ int run(const Options& options) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  Options options;
+  CLI::App app("", "server_bench");
+  describe(app, options);
+  if (const std::optional<int> exit_code = sweepd::console::parse_command_line(app, argc, argv))
+    return *exit_code;
   try {
-    return run(parse(argc, argv));
+    return run(options);
   } catch (const std::exception& error) {
     std::fprintf(stderr, "server_bench: %s\n", error.what());
     return 1;

@@ -8,10 +8,10 @@
 
 #include "cli/commands.h"
 #include "cli/model_loading.h"
-#include "cli/progress_bar.h"
 #include "cli/segment_colours.h"
 #include "cli/subcommand.h"
 #include "cli/text_format.h"
+#include "console/progress_bar.h"
 #include "deform/binding/bind.h"
 #include "io/gltf_save.h"
 #include "io/sweepbind.h"
@@ -118,7 +118,7 @@ int run_bind(const std::vector<std::string>& arguments) {
     const auto start = std::chrono::steady_clock::now();
     deform::BoundModel bound;
     {
-      ProgressBar bar("binding " + model_file.filename().string());
+      console::ProgressBar bar("binding " + model_file.filename().string());
       bound = deform::bind(loaded.model, loaded.rig, options,
                            [&](double f, std::string_view stage) { bar.update(f, stage); });
     }

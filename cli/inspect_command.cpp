@@ -85,31 +85,31 @@ int inspect_model(const std::filesystem::path& file) {
 }
 
 int inspect_motion(const std::filesystem::path& file) {
-  const io::Motion motion = io::load_bvh(file);
+  const motion::Clip clip = io::load_bvh(file);
   std::printf("file:        %s\n", file.string().c_str());
   std::printf("kind:        motion clip (BVH)\n");
-  std::printf("joints:      %zu\n", motion.joints.size());
-  std::printf("channels:    %d per frame\n", motion.channel_count);
-  std::printf("frames:      %s (header says %s)\n", with_thousands(motion.frame_count).c_str(),
-              with_thousands(motion.header_frame_count).c_str());
-  std::printf("frame time:  %.7f s (%.2f fps), duration %.2f s\n", motion.frame_time,
-              motion.frames_per_second(), motion.frame_count * motion.frame_time);
-  print_warnings(motion.warnings);
+  std::printf("joints:      %zu\n", clip.joints.size());
+  std::printf("channels:    %d per frame\n", clip.channel_count);
+  std::printf("frames:      %s (header says %s)\n", with_thousands(clip.frame_count).c_str(),
+              with_thousands(clip.header_frame_count).c_str());
+  std::printf("frame time:  %.7f s (%.2f fps), duration %.2f s\n", clip.frame_time,
+              clip.frames_per_second(), clip.frame_count * clip.frame_time);
+  print_warnings(clip.warnings);
   std::printf("joint tree:\n");
   auto children_of = [&](int j) {
     std::vector<int> children;
-    for (int c = 0; c < static_cast<int>(motion.joints.size()); ++c)
-      if (motion.joints[c].parent == j) children.push_back(c);
+    for (int c = 0; c < static_cast<int>(clip.joints.size()); ++c)
+      if (clip.joints[c].parent == j) children.push_back(c);
     return children;
   };
   auto label = [&](int j) {
-    std::string text = motion.joints[j].name + " [";
-    for (std::size_t k = 0; k < motion.joints[j].channels.size(); ++k)
-      text += (k ? " " : "") + std::string(io::channel_name(motion.joints[j].channels[k]));
+    std::string text = clip.joints[j].name + " [";
+    for (std::size_t k = 0; k < clip.joints[j].channels.size(); ++k)
+      text += (k ? " " : "") + std::string(motion::channel_name(clip.joints[j].channels[k]));
     return text + "]";
   };
-  for (int j = 0; j < static_cast<int>(motion.joints.size()); ++j)
-    if (motion.joints[j].parent < 0) print_tree(children_of, label, j, 0);
+  for (int j = 0; j < static_cast<int>(clip.joints.size()); ++j)
+    if (clip.joints[j].parent < 0) print_tree(children_of, label, j, 0);
   return 0;
 }
 

@@ -15,9 +15,9 @@
 
 #include "cli/commands.h"
 #include "cli/posed_model.h"
-#include "cli/progress_bar.h"
 #include "cli/remote_posed_model.h"
 #include "cli/text_format.h"
+#include "console/progress_bar.h"
 #include "deform/binding/bind.h"
 #include "deform/model/forward_kinematics.h"
 #include "io/bvh_load.h"
@@ -148,7 +148,7 @@ MethodReport measure_method(const Method& m, const deform::BoundModel& bound,
                             const PoseDeformer& deform, bool sweep_state,
                             const std::function<deform::Pose(int)>& pose_of,
                             const deform::QualityMeter& meter, const std::vector<int>& frames,
-                            ProgressBar* bar, int done, int total) {
+                            console::ProgressBar* bar, int done, int total) {
   MethodReport report;
   report.method = m.name;
   std::vector<glm::vec3> positions(bound.model.vertex_count());
@@ -278,14 +278,14 @@ int metrics(const std::vector<std::string>& arguments, const ServerAddress* serv
       frames.push_back(0);
     } else {
       const bool whole_clip = !posing.frame_range && !one_frame;
-      const int last = whole_clip ? io::load_bvh(posing.bvh).frame_count - 1 : posing.last_frame;
-      for (int f = posing.first_frame; f <= last; f += step) frames.push_back(f);
+      const int last = whole_clip ? io::load_bvh(posing.bvh).frame_count - 1 : posing.frames.last;
+      for (int f = posing.frames.first; f <= last; f += step) frames.push_back(f);
     }
     const deform::QualityMeter meter(bound);
     std::vector<MethodReport> reports;
     {
-      std::unique_ptr<ProgressBar> bar;
-      if (frames.size() > 1) bar = std::make_unique<ProgressBar>("metrics");
+      std::unique_ptr<console::ProgressBar> bar;
+      if (frames.size() > 1) bar = std::make_unique<console::ProgressBar>("metrics");
       const int total = static_cast<int>(frames.size() * methods.size());
       for (std::size_t m = 0; m < methods.size(); ++m) {
         std::unique_ptr<deform::Deformer> deformer;

@@ -5,9 +5,9 @@
 
 #include "cli/commands.h"
 #include "cli/posed_model.h"
-#include "cli/progress_bar.h"
 #include "cli/remote_posed_model.h"
 #include "cli/subcommand.h"
+#include "console/progress_bar.h"
 #include "io/gltf_save.h"
 
 namespace sweepd::cli {
@@ -32,24 +32,24 @@ void write_frames(Posed& posed, const std::filesystem::path& out) {
     io::save_gltf(frame_model, file);
   };
   if (!posing.frame_range) {
-    write_frame(posing.first_frame, out);
+    write_frame(posing.frames.first, out);
     std::printf("wrote %s (%s, frame %d)\n", out.string().c_str(), deform::to_string(posing.method),
-                posing.first_frame);
+                posing.frames.first);
     return;
   }
   std::filesystem::create_directories(out);
   {
-    ProgressBar bar("posing " + posing.bvh.filename().string());
-    const int count = posing.last_frame - posing.first_frame + 1;
-    for (int frame = posing.first_frame; frame <= posing.last_frame; ++frame) {
+    console::ProgressBar bar("posing " + posing.bvh.filename().string());
+    const int count = posing.frames.count();
+    for (int frame = posing.frames.first; frame <= posing.frames.last; ++frame) {
       char name[32];
       std::snprintf(name, sizeof name, "frame_%05d.glb", frame);
       write_frame(frame, out / name);
-      bar.update(static_cast<double>(frame - posing.first_frame + 1) / count, "writing frames");
+      bar.update(static_cast<double>(frame - posing.frames.first + 1) / count, "writing frames");
     }
   }
-  std::printf("wrote %d frames to %s (%s)\n", posing.last_frame - posing.first_frame + 1,
-              out.string().c_str(), deform::to_string(posing.method));
+  std::printf("wrote %d frames to %s (%s)\n", posing.frames.count(), out.string().c_str(),
+              deform::to_string(posing.method));
 }
 
 int pose(const std::vector<std::string>& arguments, const ServerAddress* server) {

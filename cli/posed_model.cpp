@@ -7,6 +7,7 @@
 #include "cli/text_format.h"
 #include "deform/binding/bind.h"
 #include "io/bvh_load.h"
+#include "io/joint_name_map_json.h"
 #include "io/pose_json.h"
 #include "io/sweepbind.h"
 
@@ -37,17 +38,13 @@ std::string take_posing_arguments(std::vector<std::string>& args, PosingArgument
     } else if (arg == "--pose" && has_value) {
       out.pose_file = args[++i];
     } else if (arg == "--frame" && has_value) {
-      if (!parse_int(args[++i], 0, 1 << 30, out.first_frame))
+      if (!parse_int(args[++i], 0, 1 << 30, out.frames.first))
         return "--frame expects a frame number >= 0, got '" + args[i] + "'";
-      out.last_frame = out.first_frame;
+      out.frames.last = out.frames.first;
     } else if (arg == "--frames" && has_value) {
-      const std::string& range = args[++i];
-      const auto dash = range.find('-');
-      if (dash == std::string::npos ||
-          !parse_int(range.substr(0, dash), 0, 1 << 30, out.first_frame) ||
-          !parse_int(range.substr(dash + 1), 0, 1 << 30, out.last_frame) ||
-          out.last_frame < out.first_frame)
-        return "--frames expects A-B with 0 <= A <= B, got '" + range + "'";
+      const std::optional<motion::FrameRange> range = motion::parse_frame_range(args[++i]);
+      if (!range) return "--frames expects A-B with 0 <= A <= B, got '" + args[i] + "'";
+      out.frames = *range;
       out.frame_range = true;
     } else if (arg == "--features" && has_value) {
       std::string list = args[++i] + ",";
@@ -79,11 +76,21 @@ std::string take_posing_arguments(std::vector<std::string>& args, PosingArgument
   args = std::move(rest);
   if (out.model.empty()) return "missing MODEL";
   if (!out.bvh.empty() && !out.pose_file.empty()) return "give --bvh or --pose, not both";
-  if (out.bvh.empty() && (out.frame_range || out.first_frame != 0))
+  if (out.bvh.empty() && (out.frame_range || out.frames.first != 0))
     return "--frame/--frames need --bvh";
   if (out.features.any() && out.method != deform::DeformMethod::kSweep)
     return "--features apply to --method sweep";
   return {};
+}
+
+motion::JointNameMap load_joint_name_map(const std::filesystem::path& file) {
+  return file.empty() ? motion::JointNameMap{} : io::load_joint_name_map_json(file);
+}
+
+void require_clip_frames(const PosingArguments& arguments, int frame_count) {
+  if (const std::string problem = motion::frame_range_problem(arguments.frames, frame_count);
+      !problem.empty())
+    throw std::invalid_argument(arguments.bvh.string() + ": " + problem);
 }
 
 PosedModel::PosedModel(const PosingArguments& arguments) : arguments_(arguments) {
@@ -95,11 +102,9 @@ PosedModel::PosedModel(const PosingArguments& arguments) : arguments_(arguments)
   }
   deformer_ = std::make_unique<deform::Deformer>(*bound_);
   if (!arguments.bvh.empty()) {
-    retargeter_.emplace(io::load_bvh(arguments.bvh), bound_->model, arguments.bvh_map);
-    if (arguments.last_frame >= retargeter_->frame_count())
-      throw std::invalid_argument(arguments.bvh.string() + " has " +
-                                  std::to_string(retargeter_->frame_count()) + " frames; frame " +
-                                  std::to_string(arguments.last_frame) + " does not exist");
+    retargeter_.emplace(io::load_bvh(arguments.bvh), bound_->model,
+                        load_joint_name_map(arguments.bvh_map));
+    require_clip_frames(arguments, retargeter_->frame_count());
   }
   if (!arguments.pose_file.empty())
     file_pose_ = io::load_pose_json(arguments.pose_file, bound_->model.skeleton);

@@ -13,18 +13,19 @@
 #include "deform/binding/bound_model.h"
 #include "deform/job/anatomical_features.h"
 #include "deform/job/deformer.h"
-#include "io/bvh_retarget.h"
+#include "motion/frame_range.h"
+#include "motion/retarget.h"
 
 namespace sweepd::cli {
 
 struct PosingArguments {
-  std::filesystem::path model;          // .glb/.gltf/.sweepbind
-  std::filesystem::path rig;            // optional rig map JSON (binding a glTF)
-  std::filesystem::path bvh;            // optional clip
-  std::filesystem::path bvh_map;        // optional BVH→model joint name map JSON
-  std::filesystem::path pose_file;      // optional pose JSON
-  int first_frame = 0, last_frame = 0;  // --frame N or --frames A-B (clip frames)
-  bool frame_range = false;
+  std::filesystem::path model;      // .glb/.gltf/.sweepbind
+  std::filesystem::path rig;        // optional rig map JSON (binding a glTF)
+  std::filesystem::path bvh;        // optional clip
+  std::filesystem::path bvh_map;    // optional BVH→model joint name map JSON
+  std::filesystem::path pose_file;  // optional pose JSON
+  motion::FrameRange frames;        // --frame N or --frames A-B (clip frames)
+  bool frame_range = false;         // --frames given: a folder of frames
   deform::DeformMethod method = deform::DeformMethod::kSweep;
   // --features: anatomical features on top of the sweep method (paper §4.3, §4.4).
   deform::AnatomicalFeatures features;
@@ -34,6 +35,11 @@ struct PosingArguments {
 // reason the arguments are unusable.
 std::string take_posing_arguments(std::vector<std::string>& args, PosingArguments& out);
 extern const char* const kPosingUsage;
+
+// The --bvh-map file's joint name map (io/joint_name_map_json.h); empty when no file is given.
+motion::JointNameMap load_joint_name_map(const std::filesystem::path& file);
+// Throws std::invalid_argument naming the clip when the arguments' frames lie past its end.
+void require_clip_frames(const PosingArguments& arguments, int frame_count);
 
 class PosedModel {
  public:
@@ -53,7 +59,7 @@ class PosedModel {
   PosingArguments arguments_;
   std::unique_ptr<deform::BoundModel> bound_;
   std::unique_ptr<deform::Deformer> deformer_;
-  std::optional<io::Retargeter> retargeter_;
+  std::optional<motion::Retargeter> retargeter_;
   std::optional<deform::Pose> file_pose_;
   std::unique_ptr<deform::FeatureApplier> features_;
   deform::FeatureReport feature_report_;

@@ -89,7 +89,7 @@ int positionmap(const std::vector<std::string>& arguments, const ServerAddress* 
     if (server) {
       RemotePosedModel posed(posing, *server);
       const std::vector<std::uint8_t> file = posed.position_map(
-          posing.first_frame, {size, with_normals, wire_compression(exr.compression)});
+          posing.frames.first, {size, with_normals, wire_compression(exr.compression)});
       std::ofstream stream(out, std::ios::binary);
       stream.write(reinterpret_cast<const char*>(file.data()),
                    static_cast<std::streamsize>(file.size()));
@@ -102,7 +102,7 @@ int positionmap(const std::vector<std::string>& arguments, const ServerAddress* 
     if (!posed.model().has_uvs())
       throw std::invalid_argument(posing.model.string() + " has no UVs: no position map");
     std::vector<glm::vec3> positions, normals;
-    posed.deform(posing.first_frame, positions, normals);
+    posed.deform(posing.frames.first, positions, normals);
     gpu::Context context;
     gpu::PositionMapRenderer renderer(context);
     gpu::PositionMapOptions options;
@@ -114,8 +114,8 @@ int positionmap(const std::vector<std::string>& arguments, const ServerAddress* 
     renderer.render({posed.model().uvs, positions, normals, posed.model().indices}, options,
                     {p, n, a});
     exr.model = posed.model().name;
-    exr.frame = posing.first_frame;
-    exr.pose_hash = pose_hash(posed.pose(posing.first_frame));
+    exr.frame = posing.frames.first;
+    exr.pose_hash = pose_hash(posed.pose(posing.frames.first));
     io::write_exr(out, {size, size, p, n, a}, exr);
     std::printf("wrote %s (%dx%d, %s, %s)\n", out.string().c_str(), size, size,
                 deform::to_string(posing.method), context.renderer().c_str());

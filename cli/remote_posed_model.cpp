@@ -109,12 +109,9 @@ RemotePosedModel::RemotePosedModel(const PosingArguments& arguments, const Serve
     const pb::ModelInfo& info = connection_.expect<pb::ModelInfo>();
     model_id_ = info.model_id();
     if (!arguments.bvh.empty()) {
-      retargeter_.emplace(
-          client::retarget_onto(info, io::load_bvh(arguments.bvh), arguments.bvh_map));
-      if (arguments.last_frame >= retargeter_->frame_count())
-        throw std::invalid_argument(arguments.bvh.string() + " has " +
-                                    std::to_string(retargeter_->frame_count()) + " frames; frame " +
-                                    std::to_string(arguments.last_frame) + " does not exist");
+      retargeter_.emplace(client::retarget_onto(info, io::load_bvh(arguments.bvh),
+                                                load_joint_name_map(arguments.bvh_map)));
+      require_clip_frames(arguments, retargeter_->frame_count());
     }
     model_ = client::served_model(connection_, info);    // `info` is invalid from here on
     if (local_file) model_.name = file.stem().string();  // as the local commands name it

@@ -19,7 +19,7 @@
 #include "cli/posed_model.h"
 #include "client/connection.h"
 #include "deform/model/model.h"
-#include "io/bvh_retarget.h"
+#include "motion/retarget.h"
 
 namespace sweepd::cli {
 
@@ -75,7 +75,7 @@ class RemotePosedModel {
   std::uint32_t model_id_ = 0;
   std::string origin_;
   deform::Model model_;
-  std::optional<io::Retargeter> retargeter_;
+  std::optional<motion::Retargeter> retargeter_;
   std::optional<deform::Pose> file_pose_;
   std::vector<protocol::Quat> rotations_;  // wire scratch
   std::uint64_t sequence_ = 0;

@@ -52,7 +52,7 @@ int run_render(const std::vector<std::string>& arguments) {
   return run_subcommand("render", kUsage, arguments, parse, [&] {
     PosedModel posed(posing);
     std::vector<glm::vec3> positions, normals, colours;
-    posed.deform(posing.first_frame, positions, normals);
+    posed.deform(posing.frames.first, positions, normals);
     if (segments) colours = segment_colours(posed.bound());
     gpu::Context context;
     gpu::PreviewRenderer renderer(context);

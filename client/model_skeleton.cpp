@@ -35,9 +35,9 @@ deform::Skeleton rest_skeleton(const protocol::ModelInfo& info) {
   return skeleton;
 }
 
-io::Retargeter retarget_onto(const protocol::ModelInfo& info, io::Motion motion,
-                             const std::filesystem::path& name_map) {
-  return io::Retargeter(std::move(motion), rest_skeleton(info), name_map, info.floor_height());
+motion::Retargeter retarget_onto(const protocol::ModelInfo& info, motion::Clip clip,
+                                 const motion::JointNameMap& name_map) {
+  return motion::Retargeter(std::move(clip), rest_skeleton(info), name_map, info.floor_height());
 }
 
 }  // namespace sweepd::client

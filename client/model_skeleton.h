@@ -2,22 +2,20 @@
 // motion onto the model exactly as the library would, without the model's file.
 //
 //   rest_skeleton(info):            joints in model order (names, parents, rest T/R/S)
-//   retarget_onto(info, motion):    io::Retargeter with the model's floor (lowest rest vertex)
+//   retarget_onto(info, clip):      motion::Retargeter with the model's floor (lowest rest vertex)
 //
 // Both throw std::runtime_error when the server sent no rest skeleton (a 1.0 server).
 #pragma once
 
-#include <filesystem>
-
 #include "deform/model/skeleton.h"
-#include "io/bvh_retarget.h"
+#include "motion/retarget.h"
 #include "protocol/messages.h"
 
 namespace sweepd::client {
 
 deform::Skeleton rest_skeleton(const protocol::ModelInfo& info);
 
-io::Retargeter retarget_onto(const protocol::ModelInfo& info, io::Motion motion,
-                             const std::filesystem::path& name_map = {});
+motion::Retargeter retarget_onto(const protocol::ModelInfo& info, motion::Clip clip,
+                                 const motion::JointNameMap& name_map = {});
 
 }  // namespace sweepd::client

@@ -14,25 +14,24 @@
 // 4. Each remaining frame → one PositionMapRequest (positions and coverage, normals with
 //    --normals), up to Welcome.max_poses_in_flight in flight. The reply's EXR bytes are written
 //    to DIR/.<name>.partial and renamed, so a file present under its name is complete.
-// 5. A progress bar on stderr (frames done/total, rate, ETA); at the end, on stdout:
+// 5. A progress bar on stderr (console/progress_bar.h: frames done/total, rate, ETA); at the
+//    end, on stdout:
 //    "rendered R, skipped S of T frames in X s".
 //
-// Exit codes: 0 every frame present; 1 the server or a file refused (unreachable server,
-// unknown model, a frame's Error, a write failure), named on stderr; 2 a usage error (flags,
-// the range).
+// Exit codes: 0 every frame present (or --help); 1 the server or a file refused (unreachable
+// server, unknown model, a frame's Error, a write failure), named on stderr; 2 a usage error
+// (flags, "12x" where a number is expected, the range), naming the flag.
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
 
 #include <algorithm>
-#include <charconv>
 #include <chrono>
 #include <cstdio>
 #include <deque>
 #include <filesystem>
 #include <fstream>
-#include <functional>
 #include <iterator>
 #include <map>
 #include <string>
@@ -40,7 +39,10 @@
 
 #include "client/connection.h"
 #include "client/model_skeleton.h"
+#include "console/command_line.h"
+#include "console/progress_bar.h"
 #include "io/bvh_load.h"
+#include "motion/frame_range.h"
 #include "protocol/messages.h"
 
 namespace {
@@ -64,77 +66,36 @@ struct Options {
   bool normals = false;
 };
 
-template <typename Enum>
-Enum choose(const std::string& flag, const std::string& value,
-            const std::map<std::string, Enum>& choices) {
-  if (auto found = choices.find(value); found != choices.end()) return found->second;
-  std::string names;
-  for (const auto& [name, unused] : choices) names += (names.empty() ? "" : "|") + name;
-  throw UsageError(flag + " " + value + ": expected " + names);
-}
-
-template <typename Number>
-Number number(const std::string& flag, const std::string& value) {
-  Number result{};
-  const auto [end, error] = std::from_chars(value.data(), value.data() + value.size(), result);
-  if (error != std::errc() || end != value.data() + value.size()) {
-    throw UsageError(flag + " " + value + ": not a number");
-  }
-  return result;
-}
-
-std::uint32_t side(const std::string& flag, const std::string& value) {
-  const int texels = number<int>(flag, value);
-  if (texels < 1 || texels > 4096) throw UsageError(flag + " " + value + ": expected 1 to 4096");
-  return static_cast<std::uint32_t>(texels);
-}
-
-Options parse(int argc, char** argv) {
-  Options o;
-  using Setter = std::function<void(const std::string& flag, const std::string& value)>;
-  const std::map<std::string, Setter> takes_value = {
-      {"--server", [&](auto&, auto& v) { o.server = v; }},
-      {"--token", [&](auto&, auto& v) { o.token = v; }},
-      {"--model", [&](auto&, auto& v) { o.model = v; }},
-      {"--model-file", [&](auto&, auto& v) { o.model_file = v; }},
-      {"--bvh", [&](auto&, auto& v) { o.bvh = v; }},
-      {"--bvh-scale", [&](auto& f, auto& v) { o.bvh_scale = number<float>(f, v); }},
-      {"--frames", [&](auto&, auto& v) { o.frames = v; }},
-      {"-o", [&](auto&, auto& v) { o.out_dir = v; }},
-      {"--width", [&](auto& f, auto& v) { o.width = side(f, v); }},
-      {"--height", [&](auto& f, auto& v) { o.height = side(f, v); }},
-      {"--compression",
-       [&](auto& f, auto& v) {
-         o.compression = choose<pb::ExrCompression>(f, v,
-                                                    {{"zip", pb::ExrCompression::Zip},
-                                                     {"none", pb::ExrCompression::Uncompressed},
-                                                     {"zips", pb::ExrCompression::Zips},
-                                                     {"piz", pb::ExrCompression::Piz}});
-       }},
-      {"--method",
-       [&](auto& f, auto& v) {
-         o.method = choose<pb::DeformMethod>(f, v,
-                                             {{"sweep", pb::DeformMethod::Sweep},
-                                              {"lbs", pb::DeformMethod::Lbs},
-                                              {"dqs", pb::DeformMethod::Dqs}});
-       }},
-  };
-  for (int i = 1; i < argc; ++i) {
-    const std::string flag = argv[i];
-    if (flag == "--normals") {
-      o.normals = true;
-    } else if (const auto setter = takes_value.find(flag); setter != takes_value.end()) {
-      if (i + 1 >= argc) throw UsageError(flag + ": missing value");
-      setter->second(flag, argv[++i]);
-    } else {
-      throw UsageError(flag + ": unknown flag");
-    }
-  }
-  if (o.server.empty()) throw UsageError("--server HOST:PORT is required");
-  if (o.bvh.empty()) throw UsageError("--bvh CLIP is required");
-  if (o.frames.empty()) throw UsageError("--frames A-B is required");
-  if (o.out_dir.empty()) throw UsageError("-o DIR is required");
-  return o;
+// The command line (console/command_line.h: --help exits 0, a bad flag or value exits 2).
+void describe(CLI::App& app, Options& o) {
+  app.description("One OpenEXR position map per frame of a BVH clip, rendered by sweepd.");
+  app.add_option("--server", o.server, "sweepd's HOST:PORT")->required();
+  app.add_option("--token", o.token, "the daemon's auth token");
+  app.add_option("--model", o.model, "a model the server has, by name")->capture_default_str();
+  app.add_option("--model-file", o.model_file, "a .glb to upload instead of --model");
+  app.add_option("--bvh", o.bvh, "the clip")->required();
+  app.add_option("--bvh-scale", o.bvh_scale, "metres per clip unit (CMU: 0.056444)")
+      ->capture_default_str();
+  app.add_option("--frames", o.frames, "A-B: the clip frames, inclusive, 0-based")->required();
+  app.add_option("-o", o.out_dir, "DIR: where the .exr files go")->required();
+  app.add_option("--width", o.width, "map width in texels")
+      ->check(sweepd::console::whole_number(1, 4096))
+      ->capture_default_str();
+  app.add_option("--height", o.height, "map height in texels")
+      ->check(sweepd::console::whole_number(1, 4096))
+      ->capture_default_str();
+  const std::map<std::string, pb::ExrCompression> compressions = {
+      {"zip", pb::ExrCompression::Zip},
+      {"none", pb::ExrCompression::Uncompressed},
+      {"zips", pb::ExrCompression::Zips},
+      {"piz", pb::ExrCompression::Piz}};
+  sweepd::console::add_choice(app, "--compression", o.compression, compressions,
+                              "zip (default), none, zips or piz");
+  app.add_flag("--normals", o.normals, "also the N layer");
+  const std::map<std::string, pb::DeformMethod> methods = {{"sweep", pb::DeformMethod::Sweep},
+                                                           {"lbs", pb::DeformMethod::Lbs},
+                                                           {"dqs", pb::DeformMethod::Dqs}};
+  sweepd::console::add_choice(app, "--method", o.method, methods, "sweep (default), lbs or dqs");
 }
 
 // A model file to upload, whole.
@@ -144,25 +105,19 @@ std::vector<std::uint8_t> file_bytes(const fs::path& file) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-struct FrameRange {
-  int first = 0, last = 0;  // inclusive
-};
+// "A-B" (or "A"); a usage error for anything else.
+sweepd::motion::FrameRange parse_range(const std::string& text) {
+  const std::optional<sweepd::motion::FrameRange> range = sweepd::motion::parse_frame_range(text);
+  if (!range) throw UsageError("--frames " + text + ": expected A-B, e.g. 0-239");
+  return *range;
+}
 
-// "A-B" (or "A") within a clip of `frame_count` frames.
-FrameRange parse_range(const std::string& text, int frame_count) {
-  const std::size_t dash = text.find('-');
-  FrameRange range;
-  try {
-    range.first = number<int>("--frames", text.substr(0, dash));
-    range.last =
-        dash == std::string::npos ? range.first : number<int>("--frames", text.substr(dash + 1));
-  } catch (const UsageError&) {
-    throw UsageError("--frames " + text + ": expected A-B, e.g. 0-239");
-  }
-  if (range.last < range.first || range.last >= frame_count) {
-    throw UsageError("--frames " + text + ": the clip has frames 0-" +
-                     std::to_string(frame_count - 1) + " and A must not exceed B");
-  }
+// The range within a clip of `frame_count` frames.
+sweepd::motion::FrameRange clip_range(const std::string& text, int frame_count) {
+  const sweepd::motion::FrameRange range = parse_range(text);
+  if (const std::string problem = sweepd::motion::frame_range_problem(range, frame_count);
+      !problem.empty())
+    throw UsageError("--frames " + text + ": " + problem);
   return range;
 }
 
@@ -205,24 +160,10 @@ void write_file(const fs::path& file, const pb::PositionMap& map) {
   fs::rename(partial, file);
 }
 
-// "[####....] done/total frames  rate frames/s  ETA s"; the rate counts this run's renders.
-void show_progress(int done, int total, int rendered, Clock::time_point start) {
-  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  const double rate = seconds > 0.0 ? rendered / seconds : 0.0;
-  const double eta = rate > 0.0 ? (total - done) / rate : 0.0;
-  constexpr int kBarWidth = 30;
-  const int filled = total > 0 ? done * kBarWidth / total : kBarWidth;
-  std::fprintf(stderr, "\r[%s%s] %d/%d frames  %.1f frames/s  ETA %.0f s ",
-               std::string(static_cast<std::size_t>(filled), '#').c_str(),
-               std::string(static_cast<std::size_t>(kBarWidth - filled), '.').c_str(), done, total,
-               rate, eta);
-  if (done == total) std::fputc('\n', stderr);
-}
-
 int run(const Options& options) {
-  const sweepd::io::Motion motion =
+  const sweepd::motion::Clip motion =
       sweepd::io::load_bvh(options.bvh, {.length_scale = options.bvh_scale});
-  const FrameRange range = parse_range(options.frames, motion.frame_count);
+  const sweepd::motion::FrameRange range = clip_range(options.frames, motion.frame_count);
   fs::create_directories(options.out_dir);
 
   // Resume: only frames without a complete file are rendered.
@@ -237,7 +178,7 @@ int run(const Options& options) {
       todo.push_back(frame);
     }
   }
-  const int total = range.last - range.first + 1;
+  const int total = range.count();
   const int skipped = total - static_cast<int>(todo.size());
   const Clock::time_point start = Clock::now();
   auto report = [&](int rendered) {
@@ -258,7 +199,7 @@ int run(const Options& options) {
           : channel.load_model(options.model_file, file_bytes(options.model_file));
   const std::uint32_t model_id = info.model_id();
   const std::size_t joint_count = info.joint_names()->size();
-  const sweepd::io::Retargeter clip = sweepd::client::retarget_onto(info, motion);
+  const sweepd::motion::Retargeter clip = sweepd::client::retarget_onto(info, motion);
 
   auto send_frame = [&](int frame) {
     const sweepd::deform::Pose pose = clip.pose_at_frame(frame);
@@ -288,26 +229,36 @@ int run(const Options& options) {
   // it arrives.
   std::deque<int> in_flight;
   int rendered = 0;
-  show_progress(skipped, total, 0, start);
-  while (!todo.empty() || !in_flight.empty()) {
-    while (!todo.empty() && in_flight.size() < window) {
-      send_frame(todo.front());
-      in_flight.push_back(todo.front());
-      todo.pop_front();
-    }
-    const int frame = in_flight.front();
-    in_flight.pop_front();
-    try {
-      const pb::PositionMap& map = channel.expect<pb::PositionMap>();
-      if (map.sequence() != static_cast<std::uint64_t>(frame) + 1) {
-        throw std::runtime_error("the answer is for pose " + std::to_string(map.sequence()));
+  {  // the bar finishes its line before the report
+    sweepd::console::ProgressBar bar("rendering " + fs::path(options.bvh).stem().string());
+    auto show_progress = [&]() {  // the rate counts this run's renders, not the skipped frames
+      const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+      char detail[64];
+      std::snprintf(detail, sizeof detail, "%d/%d, %.1f frames/s", skipped + rendered, total,
+                    seconds > 0.0 ? rendered / seconds : 0.0);
+      bar.update(static_cast<double>(skipped + rendered) / total, "frames", detail);
+    };
+    show_progress();
+    while (!todo.empty() || !in_flight.empty()) {
+      while (!todo.empty() && in_flight.size() < window) {
+        send_frame(todo.front());
+        in_flight.push_back(todo.front());
+        todo.pop_front();
       }
-      write_file(frame_file(options, frame), map);
-    } catch (const std::exception& error) {
-      throw std::runtime_error("frame " + std::to_string(frame) + ": " + error.what());
+      const int frame = in_flight.front();
+      in_flight.pop_front();
+      try {
+        const pb::PositionMap& map = channel.expect<pb::PositionMap>();
+        if (map.sequence() != static_cast<std::uint64_t>(frame) + 1) {
+          throw std::runtime_error("the answer is for pose " + std::to_string(map.sequence()));
+        }
+        write_file(frame_file(options, frame), map);
+      } catch (const std::exception& error) {
+        throw std::runtime_error("frame " + std::to_string(frame) + ": " + error.what());
+      }
+      ++rendered;
+      show_progress();
     }
-    ++rendered;
-    show_progress(skipped + rendered, total, rendered, start);
   }
   channel.close("frames rendered");
   report(rendered);
@@ -317,8 +268,14 @@ int run(const Options& options) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  Options options;
+  CLI::App app("", "render_frames");
+  describe(app, options);
+  if (const std::optional<int> exit_code = sweepd::console::parse_command_line(app, argc, argv))
+    return *exit_code;
   try {
-    return run(parse(argc, argv));
+    parse_range(options.frames);  // the syntax, before the clip is read
+    return run(options);
   } catch (const UsageError& error) {
     std::fprintf(stderr, "render_frames: %s\n", error.what());
     return 2;

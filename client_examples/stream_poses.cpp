@@ -16,6 +16,8 @@
 // carries it (protocol 1.1), and the project's io library reads and retargets the clip
 // (io::load_bvh, client::retarget_onto). CMU clips are in inches: --bvh-scale defaults to
 // 0.056444 (CMU units to metres).
+// Exit codes: 0 every pose answered (or --help); 1 pose errors; 2 a bad command line (naming
+// the flag: --port 12x) or a failure (unreachable server, refused, unreadable clip).
 #include <algorithm>
 #include <asio.hpp>
 #include <chrono>
@@ -31,6 +33,7 @@
 
 #include "client/connection.h"
 #include "client/model_skeleton.h"
+#include "console/command_line.h"
 #include "io/bvh_load.h"
 #include "protocol/messages.h"
 
@@ -40,45 +43,31 @@ namespace pb = sweepd::protocol;
 using Clock = std::chrono::steady_clock;
 
 struct Options {
-  std::string host = "127.0.0.1", port = "7878", token, bvh, model_file;
+  std::string host = "127.0.0.1", token, bvh, model_file;
+  int port = 7878;
   float bvh_scale = 0.056444f;
   int frames = 0;  // 0: the whole clip
   bool flat_out = false, latest_wins = false, float16 = false;
 };
 
-Options parse(int argc, char** argv) {
-  Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string flag = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::invalid_argument(flag + ": missing value");
-      return argv[++i];
-    };
-    if (flag == "--host")
-      o.host = value();
-    else if (flag == "--port")
-      o.port = value();
-    else if (flag == "--token")
-      o.token = value();
-    else if (flag == "--bvh")
-      o.bvh = value();
-    else if (flag == "--bvh-scale")
-      o.bvh_scale = std::stof(value());
-    else if (flag == "--model-file")
-      o.model_file = value();
-    else if (flag == "--frames")
-      o.frames = std::stoi(value());
-    else if (flag == "--flat-out")
-      o.flat_out = true;
-    else if (flag == "--latest-wins")
-      o.latest_wins = true;
-    else if (flag == "--float16")
-      o.float16 = true;
-    else
-      throw std::invalid_argument(flag + ": unknown flag");
-  }
-  if (o.bvh.empty()) throw std::invalid_argument("--bvh FILE is required");
-  return o;
+// The command line (console/command_line.h: --help exits 0, a bad flag or value exits 2).
+void describe(CLI::App& app, Options& o) {
+  app.description("Streams a BVH clip to sweepd as poses and reports the round-trip latency.");
+  app.add_option("--bvh", o.bvh, "the clip")->required();
+  app.add_option("--host", o.host, "sweepd's host")->capture_default_str();
+  app.add_option("--port", o.port, "sweepd's port")
+      ->check(sweepd::console::whole_number(1, 65535))
+      ->capture_default_str();
+  app.add_option("--token", o.token, "the daemon's auth token");
+  app.add_option("--model-file", o.model_file, "a .glb to upload (default: the mannequin)");
+  app.add_option("--bvh-scale", o.bvh_scale, "metres per clip unit (CMU: 0.056444)")
+      ->capture_default_str();
+  app.add_option("--frames", o.frames, "stream the first N frames (0: the whole clip)")
+      ->check(sweepd::console::whole_number(0, 1 << 30))
+      ->capture_default_str();
+  app.add_flag("--flat-out", o.flat_out, "as fast as the server answers, not at the clip's rate");
+  app.add_flag("--latest-wins", o.latest_wins, "the server may drop poses it has not started");
+  app.add_flag("--float16", o.float16, "positions as float16 on the wire");
 }
 
 double percentile_ms(std::vector<double> values, double q) {
@@ -88,7 +77,7 @@ double percentile_ms(std::vector<double> values, double q) {
 }
 
 int run(const Options& options) {
-  sweepd::client::Connection channel(options.host, options.port);
+  sweepd::client::Connection channel(options.host, std::to_string(options.port));
   const std::uint32_t window =
       channel
           .hello(options.token, "stream_poses",
@@ -105,7 +94,7 @@ int run(const Options& options) {
   const pb::ModelInfo& info =
       channel.load_model(options.model_file.empty() ? "mannequin" : options.model_file, glb);
   const std::uint32_t model_id = info.model_id();
-  const sweepd::io::Retargeter clip = sweepd::client::retarget_onto(
+  const sweepd::motion::Retargeter clip = sweepd::client::retarget_onto(
       info, sweepd::io::load_bvh(options.bvh, {.length_scale = options.bvh_scale}));
   const std::size_t joint_count = info.joint_names()->size();
   std::printf("model %u: %u vertices, %zu joints\n", model_id, info.vertex_count(), joint_count);
@@ -194,8 +183,13 @@ int run(const Options& options) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  Options options;
+  CLI::App app("", "stream_poses");
+  describe(app, options);
+  if (const std::optional<int> exit_code = sweepd::console::parse_command_line(app, argc, argv))
+    return *exit_code;
   try {
-    return run(parse(argc, argv));
+    return run(options);
   } catch (const std::exception& error) {
     std::fprintf(stderr, "stream_poses: %s\n", error.what());
     return 2;

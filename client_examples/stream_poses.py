@@ -17,7 +17,7 @@ python3-flatbuffers only (run it with /usr/bin/python3; Python 3.11, no numpy).
    "mannequin"). ModelInfo gives the joint order and,
    since protocol 1.1, the rest skeleton and floor height.
 3. Read the BVH clip (CMU units: --bvh-scale 0.056444 turns them into metres) and retarget it
-   onto the model's skeleton exactly as io/bvh_retarget.cpp does (joints matched by name, rig
+   onto the model's skeleton exactly as motion/retarget.cpp does (joints matched by name, rig
    role and hierarchy; rotations relative to each side's rest pose; root translation scaled
    by the hip-height ratio).
 4. Stream frames F .. F+N-1 at the clip's frame rate, or --flat-out as fast as the server
@@ -588,7 +588,7 @@ def load_bvh(path, length_scale):
 
 
 # ---------------------------------------------------------------------------------------
-# Retargeting (io/bvh_retarget.cpp): the clip played on the model's skeleton. For a model
+# Retargeting (motion/retarget.cpp): the clip played on the model's skeleton. For a model
 # joint m driven by BVH joint b: W_m(frame) = D_b(frame) * A_m * W_m(rest), with D_b the
 # world rotation b undergoes from its rest pose and A_m the rotation taking m's rest bone
 # onto b's; local rotations W_parent^-1 * W_m. The root goes to hip-height ratio times the
@@ -624,7 +624,7 @@ class Retargeter:
             return True
 
         # Fingers and thumbs are not measured by mocap (their channels are noise): left out,
-        # as io/bvh_retarget.cpp does; the hand moves rigidly with the clip's hand joint.
+        # as motion/retarget.cpp does; the hand moves rigidly with the clip's hand joint.
         if bvh_map:
             hands = [bvh_map.limbs[arm]["hand"] for arm in ("left_arm", "right_arm")
                      if arm in bvh_map.limbs]

@@ -9,7 +9,7 @@ packages=(
   libglm-dev libtinygltf-dev libopenmesh-dev libopenexr-dev libasio-dev
   libegl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri mesa-utils-bin
   nlohmann-json3-dev libstb-dev libgtest-dev libgmock-dev libbenchmark-dev
-  flatbuffers-compiler libflatbuffers-dev python3 python3-flatbuffers
+  flatbuffers-compiler libflatbuffers-dev python3 python3-flatbuffers zlib1g-dev libcli11-dev
 )
 
 missing=()

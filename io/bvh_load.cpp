@@ -102,7 +102,7 @@ class BvhParser {
   BvhParser(std::string_view text, const std::filesystem::path& source, const BvhOptions& options)
       : cursor_(text), source_(source), scale_(options.length_scale) {}
 
-  Motion parse() {
+  motion::Clip parse() {
     if (!(std::isfinite(scale_) && scale_ > 0.0f)) {
       throw LoadError(source_,
                       "length_scale must be finite and > 0, got " + std::to_string(scale_));
@@ -110,7 +110,7 @@ class BvhParser {
     parse_hierarchy();
     parse_motion_header();
     parse_rows();
-    return std::move(motion_);
+    return std::move(clip_);
   }
 
  private:
@@ -119,7 +119,7 @@ class BvhParser {
   }
 
   std::string block_name(const OpenBlock& block) const {
-    const std::string joint = "joint " + in_quotes(motion_.joints[block.joint].name);
+    const std::string joint = "joint " + in_quotes(clip_.joints[block.joint].name);
     return block.end_site ? "the End Site of " + joint : joint;
   }
 
@@ -131,7 +131,7 @@ class BvhParser {
     }
     for (;;) {
       const Token token = cursor_.next();
-      const bool empty = motion_.joints.empty();
+      const bool empty = clip_.joints.empty();
       if (token.text == "ROOT") {
         parse_root(token);
       } else if (token.text == "MOTION") {
@@ -168,7 +168,7 @@ class BvhParser {
       } else if (token.text == "OFFSET") {
         if (block.has_offset) fail(token.line, block_name(block) + " has a second OFFSET");
         const glm::vec3 offset = read_offset(block) * scale_;
-        MotionJoint& joint = motion_.joints[block.joint];
+        motion::ClipJoint& joint = clip_.joints[block.joint];
         if (block.end_site) {
           joint.end_site = offset;
         } else {
@@ -216,17 +216,17 @@ class BvhParser {
     if (name.empty()) fail(keyword.line, std::string(keyword.text) + " has no name");
     expect_open_brace(std::string(keyword.text) + " " + name);
 
-    const int index = static_cast<int>(motion_.joints.size());
+    const int index = static_cast<int>(clip_.joints.size());
     const auto [first, inserted] = joint_by_name_.emplace(name, index);
     if (!inserted) {
-      motion_.warnings.push_back("line " + std::to_string(keyword.line) +
-                                 ": duplicate joint name " + in_quotes(name) + " (also joint " +
-                                 std::to_string(first->second) + ")");
+      clip_.warnings.push_back("line " + std::to_string(keyword.line) + ": duplicate joint name " +
+                               in_quotes(name) + " (also joint " + std::to_string(first->second) +
+                               ")");
     }
-    MotionJoint& joint = motion_.joints.emplace_back();
+    motion::ClipJoint& joint = clip_.joints.emplace_back();
     joint.name = std::move(name);
     joint.parent = parent;
-    joint.channel_offset = motion_.channel_count;
+    joint.channel_offset = clip_.channel_count;
     open.push_back({.joint = index, .end_site = false, .line = keyword.line});
   }
 
@@ -252,11 +252,11 @@ class BvhParser {
       fail(count_token.line, "CHANNELS count of " + block_name(block) +
                                  " is not a non-negative whole number: " + describe(count_token));
     }
-    MotionJoint& joint = motion_.joints[block.joint];
-    joint.channel_offset = motion_.channel_count;
+    motion::ClipJoint& joint = clip_.joints[block.joint];
+    joint.channel_offset = clip_.channel_count;
     for (int c = 0; c < count; ++c) {
       const Token name = cursor_.next();
-      const std::optional<Channel> channel = channel_from_name(name.text);
+      const std::optional<motion::Channel> channel = motion::channel_from_name(name.text);
       if (!channel) {
         fail(name.line, "bad channel name " + describe(name) + " (channel " +
                             std::to_string(c + 1) + " of " + std::to_string(count) + " of " +
@@ -266,7 +266,7 @@ class BvhParser {
       }
       joint.channels.push_back(*channel);
     }
-    motion_.channel_count += count;
+    clip_.channel_count += count;
   }
 
   void parse_motion_header() {
@@ -275,7 +275,7 @@ class BvhParser {
       fail(frames.line, "missing 'Frames:' after MOTION, found " + describe(frames));
     }
     const Token count = cursor_.next();
-    if (!parse_number(count.text, motion_.header_frame_count) || motion_.header_frame_count < 0) {
+    if (!parse_number(count.text, clip_.header_frame_count) || clip_.header_frame_count < 0) {
       fail(count.line, "'Frames:' count is not a non-negative whole number: " + describe(count));
     }
     frames_line_ = frames.line;
@@ -286,10 +286,10 @@ class BvhParser {
       fail(time.line, "missing 'Frame Time:' after 'Frames:', found " + describe(time));
     }
     const Token seconds = cursor_.next();
-    if (!parse_number(seconds.text, motion_.frame_time)) {
+    if (!parse_number(seconds.text, clip_.frame_time)) {
       fail(seconds.line, "'Frame Time:' is not a number: " + describe(seconds));
     }
-    if (!(std::isfinite(motion_.frame_time) && motion_.frame_time > 0.0f)) {
+    if (!(std::isfinite(clip_.frame_time) && clip_.frame_time > 0.0f)) {
       fail(seconds.line,
            "'Frame Time:' must be a positive number of seconds, found " + describe(seconds));
     }
@@ -302,10 +302,10 @@ class BvhParser {
 
   // "Xrotation of joint 'Hips'": what value c of a row belongs to, for messages.
   std::string channel_label(int c) const {
-    for (const MotionJoint& joint : motion_.joints) {
+    for (const motion::ClipJoint& joint : clip_.joints) {
       const int local = c - joint.channel_offset;
       if (local >= 0 && local < static_cast<int>(joint.channels.size())) {
-        return std::string(channel_name(joint.channels[local])) + " of joint " +
+        return std::string(motion::channel_name(joint.channels[local])) + " of joint " +
                in_quotes(joint.name);
       }
     }
@@ -313,28 +313,28 @@ class BvhParser {
   }
 
   void parse_rows() {
-    const int channel_count = motion_.channel_count;
+    const int channel_count = clip_.channel_count;
     // Position channels are scaled like the offsets; rotations stay in degrees.
     std::vector<float> value_scale(channel_count, 1.0f);
-    for (const MotionJoint& joint : motion_.joints) {
+    for (const motion::ClipJoint& joint : clip_.joints) {
       for (std::size_t c = 0; c < joint.channels.size(); ++c) {
-        if (!is_rotation(joint.channels[c])) value_scale[joint.channel_offset + c] = scale_;
+        if (!motion::is_rotation(joint.channels[c])) value_scale[joint.channel_offset + c] = scale_;
       }
     }
     // Trust the header's count only as far as the remaining text could hold (>= 2 bytes a value).
     const std::size_t row_bytes = 2 * static_cast<std::size_t>(std::max(channel_count, 1));
-    const std::size_t rows = std::min(static_cast<std::size_t>(motion_.header_frame_count),
+    const std::size_t rows = std::min(static_cast<std::size_t>(clip_.header_frame_count),
                                       cursor_.remaining() / row_bytes + 1);
-    motion_.values.reserve(rows * channel_count);
+    clip_.values.reserve(rows * channel_count);
 
     std::string_view line;
     int line_number = 0;
     int frame = 0;
     while (cursor_.next_line(line, line_number)) {
       if (is_blank(line)) continue;
-      const std::size_t row_start = motion_.values.size();
-      motion_.values.resize(row_start + channel_count);
-      float* row = motion_.values.data() + row_start;
+      const std::size_t row_start = clip_.values.size();
+      clip_.values.resize(row_start + channel_count);
+      float* row = clip_.values.data() + row_start;
       int count = 0;
       for (std::size_t i = 0;;) {
         while (i < line.size() && is_space(line[i])) ++i;
@@ -361,15 +361,14 @@ class BvhParser {
       }
       ++frame;
     }
-    motion_.frame_count = frame;
+    clip_.frame_count = frame;
     // Without channels every row is blank: the header is the only frame count there is.
-    if (channel_count == 0) motion_.frame_count = motion_.header_frame_count;
-    if (motion_.frame_count != motion_.header_frame_count) {
-      motion_.warnings.push_back("line " + std::to_string(frames_line_) +
-                                 ": 'Frames: " + std::to_string(motion_.header_frame_count) +
-                                 "' disagrees with the " + std::to_string(motion_.frame_count) +
-                                 " data rows present; using " +
-                                 std::to_string(motion_.frame_count));
+    if (channel_count == 0) clip_.frame_count = clip_.header_frame_count;
+    if (clip_.frame_count != clip_.header_frame_count) {
+      clip_.warnings.push_back("line " + std::to_string(frames_line_) +
+                               ": 'Frames: " + std::to_string(clip_.header_frame_count) +
+                               "' disagrees with the " + std::to_string(clip_.frame_count) +
+                               " data rows present; using " + std::to_string(clip_.frame_count));
     }
   }
 
@@ -381,21 +380,21 @@ class BvhParser {
   TextCursor cursor_;
   const std::filesystem::path& source_;
   float scale_;
-  Motion motion_;
+  motion::Clip clip_;
   std::unordered_map<std::string, int> joint_by_name_;
   int frames_line_ = 0;
 };
 
 }  // namespace
 
-Motion parse_bvh(std::string_view text, const std::filesystem::path& source,
-                 const BvhOptions& options) {
+motion::Clip parse_bvh(std::string_view text, const std::filesystem::path& source,
+                       const BvhOptions& options) {
   constexpr std::string_view kUtf8Bom = "\xEF\xBB\xBF";
   if (text.starts_with(kUtf8Bom)) text.remove_prefix(kUtf8Bom.size());
   return BvhParser(text, source, options).parse();
 }
 
-Motion load_bvh(const std::filesystem::path& file, const BvhOptions& options) {
+motion::Clip load_bvh(const std::filesystem::path& file, const BvhOptions& options) {
   std::error_code error;
   if (!std::filesystem::is_regular_file(file, error)) {
     throw LoadError(file,

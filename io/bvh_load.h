@@ -1,17 +1,17 @@
-// BVH reading: a Biovision Hierarchy motion clip (text) into a Motion.
+// BVH reading: a Biovision Hierarchy motion clip (text) into a motion::Clip.
 //
 // Inputs:  a .bvh file (or its text), LF or CRLF line endings, spaces or tabs.
-// Output:  Motion with joints in file order, offsets and position channels multiplied by
+// Output:  motion::Clip with joints in file order, offsets and position channels multiplied by
 //          options.length_scale, rotations kept in degrees, and every data row present.
 // A malformed file throws io::LoadError naming the file, the line and the reason. Problems that
 // leave the data usable (a "Frames:" count that disagrees with the rows present, duplicate joint
-// names) become Motion::warnings instead.
+// names) become motion::Clip::warnings instead.
 #pragma once
 
 #include <filesystem>
 #include <string_view>
 
-#include "io/motion.h"
+#include "motion/clip.h"
 
 namespace sweepd::io {
 
@@ -21,10 +21,10 @@ struct BvhOptions {
   float length_scale = 1.0f;
 };
 
-Motion load_bvh(const std::filesystem::path& file, const BvhOptions& options = {});
+motion::Clip load_bvh(const std::filesystem::path& file, const BvhOptions& options = {});
 
 // The same from text already in memory; source only names the text in error messages.
-Motion parse_bvh(std::string_view text, const std::filesystem::path& source,
-                 const BvhOptions& options = {});
+motion::Clip parse_bvh(std::string_view text, const std::filesystem::path& source,
+                       const BvhOptions& options = {});
 
 }  // namespace sweepd::io

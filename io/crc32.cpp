@@ -1,22 +1,14 @@
-#include <array>
+#include <zlib.h>
 
 #include "io/byte_stream.h"
 
 namespace sweepd::io {
 
+// zlib's crc32_z is the same CRC-32 (reflected polynomial 0xEDB88320, initial and final
+// 0xFFFFFFFF) the .sweepbind header has always stored; z_size_t takes spans past 4 GiB whole.
 std::uint32_t crc32(std::span<const std::uint8_t> bytes) {
-  static const std::array<std::uint32_t, 256> table = [] {
-    std::array<std::uint32_t, 256> t{};
-    for (std::uint32_t i = 0; i < 256; ++i) {
-      std::uint32_t c = i;
-      for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
-      t[i] = c;
-    }
-    return t;
-  }();
-  std::uint32_t crc = 0xFFFFFFFFu;
-  for (std::uint8_t b : bytes) crc = table[(crc ^ b) & 0xFF] ^ (crc >> 8);
-  return crc ^ 0xFFFFFFFFu;
+  return static_cast<std::uint32_t>(
+      ::crc32_z(::crc32_z(0L, Z_NULL, 0), bytes.data(), bytes.size()));
 }
 
 }  // namespace sweepd::io

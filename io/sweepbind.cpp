@@ -1,8 +1,5 @@
 #include "io/sweepbind.h"
 
-#include <fcntl.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -11,6 +8,7 @@
 #include <iterator>
 
 #include "io/byte_stream.h"
+#include "io/durable_file.h"
 
 namespace sweepd::io {
 
@@ -304,24 +302,7 @@ BoundModel decode_sweepbind(std::span<const std::uint8_t> bytes,
 }
 
 void save_sweepbind(const BoundModel& bound, const std::filesystem::path& file) {
-  const std::vector<std::uint8_t> bytes = encode_sweepbind(bound);
-  const std::filesystem::path temporary = file.string() + ".tmp";
-  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0)
-    throw std::runtime_error("cannot write " + temporary.string() + ": " + std::strerror(errno));
-  std::size_t written = 0;
-  while (written < bytes.size()) {
-    const ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
-    if (n < 0) {
-      const int error = errno;
-      ::close(fd);
-      throw std::runtime_error("cannot write " + temporary.string() + ": " + std::strerror(error));
-    }
-    written += static_cast<std::size_t>(n);
-  }
-  if (::fsync(fd) != 0 || ::close(fd) != 0)
-    throw std::runtime_error("cannot flush " + temporary.string() + ": " + std::strerror(errno));
-  std::filesystem::rename(temporary, file);
+  write_file_durably(file, encode_sweepbind(bound));
 }
 
 BoundModel load_sweepbind(const std::filesystem::path& file, const deform::Model* expected_model) {

@@ -1,11 +1,11 @@
 // .sweepbind files: a BoundModel on disk, so a server restarts without rebinding.
 // The layout is specified in io/SWEEPBIND.md (versioned, CRC-checked, little-endian).
 //
-// save_sweepbind writes to FILE.tmp, flushes it to disk and renames it over FILE, so a crash
-// leaves either the old file or the new one. load_sweepbind refuses, with io::LoadError naming
-// the file and the reason: a wrong magic, a newer version, truncation, a checksum mismatch,
-// counts or indices out of range, non-finite values, and — when expected_model is given — a
-// binding made for another model. A file read back equals what was written, bit for bit.
+// save_sweepbind writes through io::write_file_durably (io/durable_file.h: FILE.tmp, fsync,
+// rename, directory fsync), so a crash leaves either the old file or the new one.
+// load_sweepbind refuses, with io::LoadError naming the file and the reason: a wrong magic, a
+// newer version, truncation, a checksum mismatch, counts or indices out of range, non-finite
+// values, and — when expected_model is given — a binding made for another model. A file read back equals what was written, bit for bit.
 #pragma once
 
 #include <cstdint>

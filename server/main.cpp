@@ -6,9 +6,9 @@
 
 #include "deform/binding/bind.h"
 #include "deform/rig/rig_map.h"
+#include "io/durable_file.h"
 #include "mannequin/mannequin.h"
 #include "server/config.h"
-#include "server/durable_file.h"
 #include "server/log_event.h"
 #include "server/model_registry.h"
 #include "server/server.h"
@@ -77,8 +77,8 @@ int main(int argc, char** argv) {
     const int port = server.open();
     if (!config.port_file.empty()) {
       const std::string text = std::to_string(port) + "\n";
-      server::write_file_durably(config.port_file,
-                                 {reinterpret_cast<const std::uint8_t*>(text.data()), text.size()});
+      io::write_file_durably(config.port_file,
+                             {reinterpret_cast<const std::uint8_t*>(text.data()), text.size()});
     }
     std::printf("sweepd listening port=%d\n", port);
     std::fflush(stdout);

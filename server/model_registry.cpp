@@ -7,11 +7,11 @@
 
 #include "deform/binding/bind.h"
 #include "deform/rig/rig_map.h"
+#include "io/durable_file.h"
 #include "io/gltf_load.h"
 #include "io/load_error.h"
 #include "io/rig_map_json.h"
 #include "io/sweepbind.h"
-#include "server/durable_file.h"
 
 namespace sweepd::server {
 namespace {
@@ -27,7 +27,7 @@ bool is_model_file(const fs::path& file) {
 }
 
 void write_bytes(const fs::path& file, std::span<const std::uint8_t> bytes) {
-  write_file_durably(file, bytes);
+  io::write_file_durably(file, bytes);
 }
 
 std::span<const std::uint8_t> as_bytes(const std::string& text) {

@@ -1,4 +1,4 @@
-// Tests for io::load_bvh / io::parse_bvh and the Motion accessors.
+// Tests for io::load_bvh / io::parse_bvh and the motion::Clip accessors.
 #include "io/bvh_load.h"
 
 #include <gtest/gtest.h>
@@ -133,7 +133,7 @@ std::optional<LoadError> load_error_of(Load load) {
 void check_cmu_clip(const fs::path& file, int frames) {
   if (!fs::exists(file)) GTEST_SKIP() << "shared data missing: " << file;
   // Load speed is a benchmark matter (bench/), never a test assertion.
-  const Motion motion = load_bvh(file);
+  const motion::Clip motion = load_bvh(file);
 
   const std::vector<std::string> names = {
       "Hips",         "LHipJoint",      "LeftUpLeg",    "LeftLeg",         "LeftFoot",
@@ -160,10 +160,10 @@ void check_cmu_clip(const fs::path& file, int frames) {
   EXPECT_NEAR(motion.frames_per_second(), 120.0f, 1e-3f);
   EXPECT_TRUE(motion.warnings.empty()) << motion.warnings.front();
 
-  using enum Channel;
-  const std::vector<Channel> root = {kXposition, kYposition, kZposition,
+  using enum motion::Channel;
+  const std::vector<motion::Channel> root = {kXposition, kYposition, kZposition,
                                      kZrotation, kYrotation, kXrotation};
-  const std::vector<Channel> zyx = {kZrotation, kYrotation, kXrotation};
+  const std::vector<motion::Channel> zyx = {kZrotation, kYrotation, kXrotation};
   EXPECT_EQ(motion.joints[0].channels, root);
   for (std::size_t j = 1; j < motion.joints.size(); ++j) {
     EXPECT_EQ(motion.joints[j].channels, zyx) << motion.joints[j].name;
@@ -214,7 +214,7 @@ TEST(BvhLoad, RotationChannelsComposeInFileOrder) {
     text += "\n";
   }
 
-  const Motion motion = parse_bvh(text, "orders.bvh");
+  const motion::Clip motion = parse_bvh(text, "orders.bvh");
   ASSERT_EQ(motion.joints.size(), orders.size());
   for (int frame = 0; frame < 2; ++frame) {
     for (std::size_t j = 0; j < orders.size(); ++j) {
@@ -232,7 +232,7 @@ TEST(BvhLoad, RotationChannelsComposeInFileOrder) {
 TEST(BvhLoad, RotationConventionIsRightHandedColumnVectors) {
   // Checked against geometry, not glm: Rz(90) turns +X into +Y, and "Xrotation Yrotation" with
   // 90 and 90 is Rx * Ry, which turns +X into -Z (by Ry) and then into +Y (by Rx).
-  const Motion motion = parse_bvh(
+  const motion::Clip motion = parse_bvh(
       "HIERARCHY\nROOT A\n{\nOFFSET 0 0 0\nCHANNELS 1 Zrotation\n"
       "JOINT B\n{\nOFFSET 0 0 0\nCHANNELS 2 Xrotation Yrotation\n}\n}\n"
       "MOTION\nFrames: 1\nFrame Time: 0.01\n90 90 90\n",
@@ -244,7 +244,7 @@ TEST(BvhLoad, RotationConventionIsRightHandedColumnVectors) {
 
 TEST(BvhLoad, AnyChannelSubsetAndOrder) {
   // Positions and rotations interleaved, a 2-channel joint and a joint without channels.
-  const Motion motion = parse_bvh(
+  const motion::Clip motion = parse_bvh(
       "HIERARCHY\nROOT A\n{\nOFFSET 1 2 3\n"
       "CHANNELS 6 Yrotation Zposition Xrotation Xposition Zrotation Yposition\n"
       "JOINT B\n{\nOFFSET 0 4 0\nCHANNELS 2 Xposition Zrotation\n"
@@ -276,7 +276,7 @@ TEST(BvhLoad, AnyChannelSubsetAndOrder) {
 }
 
 TEST(BvhLoad, SeveralRootsAndZeroFramesLoad) {
-  const Motion motion = parse_bvh(
+  const motion::Clip motion = parse_bvh(
       "HIERARCHY\nROOT A\n{\nOFFSET 0 0 0\nCHANNELS 1 Xrotation\n}\n"
       "ROOT B\n{\nOFFSET 1 0 0\nCHANNELS 1 Yposition\n}\n"
       "MOTION\nFrames: 0\nFrame Time: 0.5\n",
@@ -292,9 +292,9 @@ TEST(BvhLoad, SeveralRootsAndZeroFramesLoad) {
 
 TEST(BvhLoad, LengthScaleAppliesToOffsetsAndPositionsOnly) {
   const std::string text = join_lines(kSmallClipLines);
-  const Motion plain = parse_bvh(text, "small.bvh");
+  const motion::Clip plain = parse_bvh(text, "small.bvh");
   const float scale = 0.056444f;  // CMU units to metres
-  const Motion scaled = parse_bvh(text, "small.bvh", {.length_scale = scale});
+  const motion::Clip scaled = parse_bvh(text, "small.bvh", {.length_scale = scale});
   ASSERT_EQ(plain.joints.size(), 2u);
   // One float multiplication each: within a relative 1e-6.
   expect_vec3_near(scaled.joints[1].offset, glm::vec3(0, 5, 0) * scale, 1e-6f);
@@ -375,7 +375,7 @@ TEST(BvhLoad, MalformedFilesNameLineAndProblem) {
 
 TEST(BvhLoad, FrameCountMismatchWarnsAndKeepsRows) {
   for (int header : {1, 3}) {
-    const Motion motion =
+    const motion::Clip motion =
         parse_bvh(small_clip_with(17, "Frames: " + std::to_string(header)), "count.bvh");
     EXPECT_EQ(motion.frame_count, 2);
     EXPECT_EQ(motion.header_frame_count, header);
@@ -387,7 +387,7 @@ TEST(BvhLoad, FrameCountMismatchWarnsAndKeepsRows) {
 }
 
 TEST(BvhLoad, DuplicateJointNamesWarn) {
-  const Motion motion = parse_bvh(small_clip_with(6, "\tJOINT Hips"), "duplicate.bvh");
+  const motion::Clip motion = parse_bvh(small_clip_with(6, "\tJOINT Hips"), "duplicate.bvh");
   ASSERT_EQ(motion.warnings.size(), 1u);
   EXPECT_NE(motion.warnings[0].find("line 6: duplicate joint name 'Hips'"), std::string::npos)
       << motion.warnings[0];
@@ -395,8 +395,8 @@ TEST(BvhLoad, DuplicateJointNamesWarn) {
 
 TEST(BvhLoad, CrlfFileLoadsIdentically) {
   ScratchDirectory scratch;
-  const Motion lf = load_bvh(scratch.write("lf.bvh", join_lines(kSmallClipLines)));
-  const Motion crlf = load_bvh(scratch.write("crlf.bvh", join_lines(kSmallClipLines, "\r\n")));
+  const motion::Clip lf = load_bvh(scratch.write("lf.bvh", join_lines(kSmallClipLines)));
+  const motion::Clip crlf = load_bvh(scratch.write("crlf.bvh", join_lines(kSmallClipLines, "\r\n")));
   ASSERT_EQ(crlf.joints.size(), lf.joints.size());
   for (std::size_t j = 0; j < lf.joints.size(); ++j) {
     EXPECT_EQ(crlf.joints[j].name, lf.joints[j].name);

@@ -43,9 +43,9 @@ TEST(ModelInfoSkeleton, RebuildsTheMalesSkeletonAndRetargetsLikeTheLibrary) {
 
   // The same inputs (skeleton, floor, motion) → the same poses, bit for bit.
   const io::BvhOptions cmu{.length_scale = 0.056444f};
-  const io::Motion motion = io::load_bvh(data / "motion/cmu_01_01.bvh", cmu);
-  const io::Retargeter remote = client::retarget_onto(info, motion);
-  const io::Retargeter local(motion, model);
+  const motion::Clip motion = io::load_bvh(data / "motion/cmu_01_01.bvh", cmu);
+  const motion::Retargeter remote = client::retarget_onto(info, motion);
+  const motion::Retargeter local(motion, model);
   for (int frame : {0, 600, 1257}) {
     const deform::Pose a = remote.pose_at_frame(frame), b = local.pose_at_frame(frame);
     EXPECT_EQ(a.root_translation, b.root_translation) << frame;

@@ -15,8 +15,8 @@
 #include "gpu/egl_context.h"
 #include "gpu/position_map_renderer.h"
 #include "io/bvh_load.h"
-#include "io/bvh_retarget.h"
 #include "io/sweepbind.h"
+#include "motion/retarget.h"
 #include "tests/io/position_map_exr.h"
 #include "tests/server/client_run.h"
 #include "tests/server/daemon_process.h"
@@ -74,7 +74,7 @@ class RenderFrames : public ClipClientTest {
     if (!bound_) {
       bound_ = std::make_unique<deform::BoundModel>(
           io::load_sweepbind(directory_ / "store" / "1.sweepbind"));
-      clip_on_model_ = std::make_unique<io::Retargeter>(
+      clip_on_model_ = std::make_unique<motion::Retargeter>(
           io::load_bvh(clip_, {.length_scale = kCmuScale}), bound_->model);
     }
     deform::Deformer deformer(*bound_);
@@ -101,7 +101,7 @@ class RenderFrames : public ClipClientTest {
 
   gpu::Context context_;
   std::unique_ptr<deform::BoundModel> bound_;
-  std::unique_ptr<io::Retargeter> clip_on_model_;
+  std::unique_ptr<motion::Retargeter> clip_on_model_;
 };
 
 TEST_F(RenderFrames, RendersEachFrameOnceAndAgainOnlyWhenMissingOrBroken) {

@@ -186,12 +186,12 @@ TEST_F(StreamPosesPy, RetargetsLikeTheCppLibrary) {
     client::Connection connection("127.0.0.1", std::to_string(daemon_->port()));
     connection.hello(kToken, "stream_poses_py_test");
     const protocol::ModelInfo& info = connection.load_model(c.model);
-    const io::Retargeter expected =
+    const motion::Retargeter expected =
         client::retarget_onto(info, io::load_bvh(clip(c.clip), {.length_scale = 0.056444f}));
     if (c.model == "male_unreal") {
       const auto by_role = std::count_if(
           expected.matches().begin(), expected.matches().end(),
-          [](const io::JointMatch& m) { return m.reason == io::JointMatchReason::kRole; });
+          [](const motion::JointMatch& m) { return m.reason == motion::JointMatchReason::kRole; });
       EXPECT_GE(by_role, 10) << "the Unreal names are matched by role";
     }
 

@@ -13,11 +13,11 @@
 #include "client/model_skeleton.h"
 #include "deform/job/deformer.h"
 #include "io/bvh_load.h"
-#include "io/bvh_retarget.h"
 #include "io/gltf_load.h"
 #include "io/gltf_save.h"
 #include "io/sweepbind.h"
 #include "metrics/quality_metrics.h"
+#include "motion/retarget.h"
 #include "tests/server/pose_frames.h"
 
 namespace sweepd::test {

@@ -13,8 +13,8 @@
 #include "deform/job/deformer.h"
 #include "deform/rig/rig_map.h"
 #include "io/bvh_load.h"
-#include "io/bvh_retarget.h"
 #include "io/gltf_load.h"
+#include "motion/retarget.h"
 #include "tests/deform/mesh_edges.h"
 
 namespace sweepd::deform {
@@ -59,7 +59,7 @@ TEST(ArmpitStretch, RaisedArmsStretchNoArmEdgeOver3xOnEitherClip) {
   const std::vector<MeshEdge> edges = arm_edges(bound);
   std::vector<glm::vec3> positions(bound.model.vertex_count());
   for (const char* clip : {"motion/cmu_01_01.bvh", "motion/cmu_01_03.bvh"}) {
-    const io::Retargeter retargeter(io::load_bvh(kData / clip), bound.model);
+    const motion::Retargeter retargeter(io::load_bvh(kData / clip), bound.model);
     float worst[2] = {0.0f, 0.0f};  // sweep, lbs
     int worst_frame = -1;
     const MeshEdge* worst_edge = nullptr;
@@ -89,7 +89,7 @@ TEST(ArmpitStretch, TheWorstRaisedArmFramesEachSide) {
   if (!shared_data_present()) GTEST_SKIP() << "shared data absent: " << kData;
   const BoundModel& bound = bound_male();
   Deformer deformer(bound);
-  const io::Retargeter retargeter(io::load_bvh(kData / "motion/cmu_01_03.bvh"), bound.model);
+  const motion::Retargeter retargeter(io::load_bvh(kData / "motion/cmu_01_03.bvh"), bound.model);
   std::vector<glm::vec3> positions(bound.model.vertex_count());
   struct Case {
     int frame;

@@ -14,7 +14,7 @@
 #include "deform/model/forward_kinematics.h"
 #include "deform/posing/key_posing.h"
 #include "io/bvh_load.h"
-#include "io/bvh_retarget.h"
+#include "motion/retarget.h"
 #include "tests/deform/mesh_edges.h"
 #include "tests/deform/shared_male.h"
 
@@ -58,7 +58,7 @@ TEST(NeckStretch, TheClipsHeadTurnsStretchNoThroatEdgeOverThreeTimes) {
   for (const Span& span :
        {Span{"motion/cmu_01_01.bvh", 1000, 1100}, Span{"motion/cmu_01_03.bvh", 640, 760},
         Span{"motion/cmu_01_03.bvh", 900, 1000}}) {
-    const io::Retargeter retargeter(io::load_bvh(data / span.clip), male.model);
+    const motion::Retargeter retargeter(io::load_bvh(data / span.clip), male.model);
     Worst sweep, lbs;
     for (int frame = span.first; frame <= span.last; ++frame)
       for (DeformMethod method : {DeformMethod::kSweep, DeformMethod::kLbs}) {

@@ -19,8 +19,8 @@
 #include "deform/mesh/enclosed_volume.h"
 #include "deform/rig/rig_map.h"
 #include "io/bvh_load.h"
-#include "io/bvh_retarget.h"
 #include "io/gltf_load.h"
+#include "motion/retarget.h"
 #include "tests/deform/shared_male.h"
 
 namespace sweepd::deform {
@@ -379,7 +379,7 @@ TEST(CollisionFeatures, FoldingNeverAddsPairsOnClipFrames) {
   for (const auto& [clip, frame] :
        {std::pair{"motion/cmu_01_01.bvh", 1257}, std::pair{"motion/cmu_01_03.bvh", 2000}}) {
     SCOPED_TRACE(std::string(clip) + " frame " + std::to_string(frame));
-    const io::Retargeter retargeter(io::load_bvh(data / clip), fx.bound.model);
+    const motion::Retargeter retargeter(io::load_bvh(data / clip), fx.bound.model);
     Pose pose = retargeter.pose_at_frame(frame);
     std::vector<glm::vec3> positions(fx.bound.model.vertex_count());
     deformer.deform(pose, DeformMethod::kSweep, positions, {});

@@ -20,8 +20,8 @@
 #include "deform/job/deformer.h"
 #include "deform/rig/rig_map.h"
 #include "io/bvh_load.h"
-#include "io/bvh_retarget.h"
 #include "io/gltf_load.h"
+#include "motion/retarget.h"
 #include "tests/deform/mesh_edges.h"
 
 namespace sweepd::deform {
@@ -82,7 +82,7 @@ TEST(ClipDeformation, EveryCmuFrameOnTheMaleIsFiniteAndEachRegionsStretchIsRepor
 
   std::vector<glm::vec3> positions(model.vertex_count());
   for (const char* clip : {"motion/cmu_01_01.bvh", "motion/cmu_01_03.bvh"}) {
-    const io::Retargeter retargeter(io::load_bvh(data / clip), model);
+    const motion::Retargeter retargeter(io::load_bvh(data / clip), model);
     std::array<std::array<Worst, kRegions>, 2> worst{};  // [sweep, lbs][region]
     for (DeformMethod method : {DeformMethod::kSweep, DeformMethod::kLbs}) {
       std::array<Worst, kRegions>& by_region = worst[method == DeformMethod::kSweep ? 0 : 1];

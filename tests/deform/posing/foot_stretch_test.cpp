@@ -2,21 +2,19 @@
 // the skin at the ball of the foot stays within issue 4's bound of 3x its rest edge lengths.
 // The clip's toe channels curled the male's toes up to 61° (through the floor, with one-frame
 // jumps of up to 60°) and stretched the toe crease 4.09x (cmu_01_03 frames 2379 and 3517, equal
-// with LBS: the feet are skinned); io::Retargeter no longer drives the clip's toes (see
-// io/bvh_retarget.h). Printed for comparison: LBS, and the toes driven again by a name map.
+// with LBS: the feet are skinned); motion::Retargeter no longer drives the clip's toes (see
+// motion/retarget.h). Printed for comparison: LBS, and the toes driven again by a name map.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <span>
 #include <string>
 #include <vector>
 
 #include "deform/job/deformer.h"
 #include "io/bvh_load.h"
-#include "io/bvh_retarget.h"
+#include "motion/retarget.h"
 #include "tests/deform/shared_male.h"
 
 namespace sweepd::deform {
@@ -66,9 +64,9 @@ float largest_stretch(std::span<const FootEdge> edges, std::span<const glm::vec3
 TEST(FootStretch, TheToeCreaseStaysWithinThreeTimesItsRestLengthWhereTheClipCurlsTheToes) {
   REQUIRE_SHARED_MALE();
   const fs::path data(SWEEPD_SHARED_DATA);
-  const fs::path toes_driven =
-      fs::temp_directory_path() / ("foot_stretch_toes_" + std::to_string(::getpid()) + ".json");
-  std::ofstream(toes_driven) << R"({"LeftToeBase": "LeftToeBase", "RightToeBase": "RightToeBase"})";
+  const motion::JointNameMap toes_driven{
+      .source = "toes driven",
+      .pairs = {{"LeftToeBase", "LeftToeBase"}, {"RightToeBase", "RightToeBase"}}};
   Deformer deformer(male);
   const std::vector<FootEdge> edges = foot_edges(male);
   std::vector<glm::vec3> positions(male.model.vertex_count());
@@ -80,9 +78,9 @@ TEST(FootStretch, TheToeCreaseStaysWithinThreeTimesItsRestLengthWhereTheClipCurl
   constexpr int kAround = 25;
   for (const Case& c : {Case{"motion/cmu_01_03.bvh", 2379}, Case{"motion/cmu_01_03.bvh", 3517},
                         Case{"motion/cmu_01_01.bvh", 1090}, Case{"motion/cmu_01_01.bvh", 598}}) {
-    const io::Motion motion = io::load_bvh(data / c.clip);
-    const io::Retargeter retargeter(motion, male.model);
-    const io::Retargeter driven(motion, male.model, toes_driven);
+    const motion::Clip motion = io::load_bvh(data / c.clip);
+    const motion::Retargeter retargeter(motion, male.model);
+    const motion::Retargeter driven(motion, male.model, toes_driven);
     float sweep = 0.0f, lbs = 0.0f, lbs_toes_driven = 0.0f;
     for (int frame = c.frame - kAround; frame <= c.frame + kAround; ++frame) {
       Pose pose = retargeter.pose_at_frame(frame);
@@ -103,7 +101,6 @@ TEST(FootStretch, TheToeCreaseStaysWithinThreeTimesItsRestLengthWhereTheClipCurl
     // edges on the toes whose painted weights carry a stray shin or other-foot influence (1-2%).
     EXPECT_LE(sweep, 3.0f) << c.clip << " around frame " << c.frame;
   }
-  fs::remove(toes_driven);
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-#include "io/bvh_retarget.h"
+#include "motion/retarget.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,19 +7,17 @@
 #include <stdexcept>
 
 #include "deform/rig/rig_map.h"
-#include "io/json_file.h"
-#include "io/load_error.h"
 
-namespace sweepd::io {
+namespace sweepd::motion {
 
 namespace {
 
 constexpr int kUnmatched = -1;
 constexpr int kLeftOut = -2;  // the name map says: leave this BVH joint unmapped
 
-deform::Skeleton skeleton_of(const Motion& motion) {
+deform::Skeleton skeleton_of(const Clip& motion) {
   deform::Skeleton skeleton;
-  for (const MotionJoint& joint : motion.joints)
+  for (const ClipJoint& joint : motion.joints)
     skeleton.joints.push_back({.name = joint.name,
                                .parent = joint.parent,
                                .rest_translation = joint.offset,
@@ -112,7 +110,7 @@ float lowest_vertex_height(const deform::Model& model) {
 }
 
 // The clip's rest pose has identity rotations: End Sites sit at their joint plus the offset.
-float lowest_clip_height(const Motion& motion, const std::vector<glm::vec3>& world) {
+float lowest_clip_height(const Clip& motion, const std::vector<glm::vec3>& world) {
   float lowest = std::numeric_limits<float>::infinity();
   for (std::size_t b = 0; b < motion.joints.size(); ++b) {
     lowest = std::min(lowest, world[b].y);
@@ -138,16 +136,14 @@ const char* to_string(JointMatchReason reason) {
   return "?";
 }
 
-Retargeter::Retargeter(Motion motion, const deform::Model& model,
-                       const std::filesystem::path& name_map)
+Retargeter::Retargeter(Clip motion, const deform::Model& model, const JointNameMap& name_map)
     : Retargeter(std::move(motion), model.skeleton, name_map, lowest_vertex_height(model)) {}
 
-Retargeter::Retargeter(Motion motion, deform::Skeleton skeleton,
-                       const std::filesystem::path& name_map)
+Retargeter::Retargeter(Clip motion, deform::Skeleton skeleton, const JointNameMap& name_map)
     : Retargeter(std::move(motion), skeleton, name_map, lowest_joint_height(skeleton)) {}
 
-Retargeter::Retargeter(Motion motion, deform::Skeleton skeleton,
-                       const std::filesystem::path& name_map, float model_floor)
+Retargeter::Retargeter(Clip motion, deform::Skeleton skeleton, const JointNameMap& name_map,
+                       float model_floor)
     : motion_(std::move(motion)), skeleton_(std::move(skeleton)) {
   if (motion_.joints.empty() || motion_.frame_count < 1)
     throw std::invalid_argument("the motion has no joints or no frames to retarget");
@@ -161,8 +157,7 @@ Retargeter::Retargeter(Motion motion, deform::Skeleton skeleton,
 }
 
 void Retargeter::match_joints(const deform::Skeleton& bvh, const OptionalRigMap& model_map,
-                              const OptionalRigMap& bvh_map,
-                              const std::filesystem::path& name_map) {
+                              const OptionalRigMap& bvh_map, const JointNameMap& name_map) {
   bvh_of_model_.assign(skeleton_.joints.size(), kUnmatched);
   model_of_bvh_.assign(bvh.joints.size(), kUnmatched);
   std::vector<JointMatchReason> reason(skeleton_.joints.size());
@@ -176,28 +171,24 @@ void Retargeter::match_joints(const deform::Skeleton& bvh, const OptionalRigMap&
     return true;
   };
 
-  if (!name_map.empty()) {
-    const nlohmann::json document = read_json_file(name_map, "joint name map");
-    if (!document.is_object())
-      throw LoadError(name_map, "expected an object {\"BVH joint\": \"model joint\", ...}");
-    for (const auto& [bvh_name, model_name] : document.items()) {
-      const int b = bvh.find(bvh_name);
-      if (b < 0) throw LoadError(name_map, "the BVH clip has no joint named '" + bvh_name + "'");
-      if (model_name.is_null()) {
-        if (model_of_bvh_[b] == kUnmatched) model_of_bvh_[b] = kLeftOut;
-        continue;
-      }
-      if (!model_name.is_string())
-        throw LoadError(name_map, "'" + bvh_name + "': expected a model joint name or null, got " +
-                                      model_name.dump());
-      const int m = skeleton_.find(model_name.get<std::string>());
-      if (m < 0)
-        throw LoadError(name_map, "'" + bvh_name + "': the model has no joint named '" +
-                                      model_name.get<std::string>() + "'");
-      if (!match(m, b, JointMatchReason::kNameMap))
-        throw LoadError(name_map, "'" + bvh_name + "' -> '" + model_name.get<std::string>() +
-                                      "': one of the two joints is already mapped");
+  const auto bad_map = [&](const std::string& reason) {
+    return std::invalid_argument((name_map.source.empty() ? "joint name map" : name_map.source) +
+                                 ": " + reason);
+  };
+  for (const JointNamePair& pair : name_map.pairs) {
+    const int b = bvh.find(pair.clip_joint);
+    if (b < 0) throw bad_map("the BVH clip has no joint named '" + pair.clip_joint + "'");
+    if (!pair.model_joint) {
+      if (model_of_bvh_[b] == kUnmatched) model_of_bvh_[b] = kLeftOut;
+      continue;
     }
+    const int m = skeleton_.find(*pair.model_joint);
+    if (m < 0)
+      throw bad_map("'" + pair.clip_joint + "': the model has no joint named '" +
+                    *pair.model_joint + "'");
+    if (!match(m, b, JointMatchReason::kNameMap))
+      throw bad_map("'" + pair.clip_joint + "' -> '" + *pair.model_joint +
+                    "': one of the two joints is already mapped");
   }
 
   // Fingers and thumbs are not measured (see the header): left out unless the name map drives
@@ -396,4 +387,4 @@ deform::Pose Retargeter::pose_at_bvh_rest() const {
   return retarget(rotations, translations, true);
 }
 
-}  // namespace sweepd::io
+}  // namespace sweepd::motion

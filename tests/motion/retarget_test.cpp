@@ -1,15 +1,13 @@
-// Tests for io::Retargeter: CMU clip cmu_01_01.bvh (T-pose rest) on the shared MakeHuman male
+// Tests for motion::Retargeter: CMU clip cmu_01_01.bvh (T-pose rest) on the shared MakeHuman male
 // (A-pose rest), both from ../shared/data.
-#include "io/bvh_retarget.h"
+#include "motion/retarget.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <string>
 #include <vector>
 
@@ -17,13 +15,14 @@
 #include "deform/model/forward_kinematics.h"
 #include "io/bvh_load.h"
 #include "io/gltf_load.h"
-#include "io/load_error.h"
 #include "mannequin/mannequin.h"
 
-namespace sweepd::io {
+namespace sweepd::motion {
 namespace {
 
 namespace fs = std::filesystem;
+using io::load_bvh;
+using io::load_gltf;
 
 const fs::path kData = SWEEPD_SHARED_DATA;
 const fs::path kMale = kData / "models" / "makehuman_male_cmu.glb";
@@ -98,7 +97,7 @@ class RetargetTest : public ::testing::Test {
   }
 
   deform::Model model_;
-  Motion motion_;
+  Clip motion_;
 };
 
 TEST_F(RetargetTest, MapsEveryJointButTheFingersAndThumbs) {
@@ -322,8 +321,8 @@ TEST_F(RetargetTest, TimeSamplingInterpolatesBetweenFramesAndClamps) {
 }
 
 TEST_F(RetargetTest, PrefixedClipNamesMatchByRoleAndHierarchy) {
-  Motion prefixed = motion_;
-  for (MotionJoint& joint : prefixed.joints) joint.name = "mocap:" + joint.name;
+  Clip prefixed = motion_;
+  for (ClipJoint& joint : prefixed.joints) joint.name = "mocap:" + joint.name;
   const Retargeter retargeter(prefixed, model_);
   for (const char* name : {"Hips", "LowerBack", "Spine", "Spine1", "Neck", "Neck1", "Head",
                            "LeftArm", "LeftForeArm", "LeftHand", "RightUpLeg", "RightFoot"}) {
@@ -340,25 +339,10 @@ TEST_F(RetargetTest, PrefixedClipNamesMatchByRoleAndHierarchy) {
   }
 }
 
-// A file of its own for a name map, removed afterwards.
-class NameMapFile {
- public:
-  explicit NameMapFile(const std::string& text)
-      : path_(fs::temp_directory_path() /
-              ("sweepd_name_map_" + std::to_string(::getpid()) + "_" +
-               ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".json")) {
-    std::ofstream(path_) << text;
-  }
-  ~NameMapFile() { fs::remove(path_); }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
-
 TEST_F(RetargetTest, NameMapPairsOrLeavesOutJoints) {
-  const NameMapFile map(R"({"LFingers": "LeftHandFinger1", "Head": null})");
-  const Retargeter retargeter(motion_, model_, map.path());
+  const JointNameMap map{.source = "",
+                         .pairs = {{"Head", std::nullopt}, {"LFingers", "LeftHandFinger1"}}};
+  const Retargeter retargeter(motion_, model_, map);
   const int left = retargeter.bvh_joint_for(model_joint("LeftHandFinger1"));
   ASSERT_GE(left, 0);
   EXPECT_EQ(motion_.joints[left].name, "LFingers");
@@ -376,8 +360,8 @@ TEST_F(RetargetTest, NameMapPairsOrLeavesOutJoints) {
 }
 
 TEST_F(RetargetTest, NameMapDrivesAThumb) {
-  const NameMapFile map(R"({"LThumb": "LThumb"})");
-  const Retargeter retargeter(motion_, model_, map.path());
+  const JointNameMap map{.source = "", .pairs = {{"LThumb", "LThumb"}}};
+  const Retargeter retargeter(motion_, model_, map);
   const int m = model_joint("LThumb");
   ASSERT_GE(retargeter.bvh_joint_for(m), 0);
   EXPECT_EQ(motion_.joints[retargeter.bvh_joint_for(m)].name, "LThumb");
@@ -390,29 +374,27 @@ TEST_F(RetargetTest, NameMapDrivesAThumb) {
 }
 
 TEST_F(RetargetTest, NameMapDrivesAToe) {
-  const NameMapFile map(R"({"LeftToeBase": "LeftToeBase"})");
-  const Retargeter retargeter(motion_, model_, map.path());
+  const JointNameMap map{.source = "", .pairs = {{"LeftToeBase", "LeftToeBase"}}};
+  const Retargeter retargeter(motion_, model_, map);
   expect_toes_paired_but_undriven(retargeter, model_.skeleton, {"LeftToeBase"});
 }
 
-TEST_F(RetargetTest, BadNameMapsNameTheFileAndTheJoint) {
-  const std::pair<const char*, const char*> cases[] = {{R"({"Nope": "Hips"})", "Nope"},
-                                                       {R"({"Hips": "Pelvis"})", "Pelvis"},
-                                                       {R"({"Hips": 3})", "Hips"},
-                                                       {R"(["Hips"])", "expected an object"},
-                                                       {R"({"Hips": )", "not valid JSON"}};
-  for (const auto& [text, expected] : cases) {
-    const NameMapFile map(text);
+TEST_F(RetargetTest, BadNameMapsNameTheMapAndTheJoint) {
+  const std::pair<JointNamePair, const char*> cases[] = {
+      {{"Nope", "Hips"}, "Nope"},
+      {{"Hips", "Pelvis"}, "Pelvis"},
+  };
+  for (const auto& [pair, expected] : cases) {
     try {
-      Retargeter(motion_, model_, map.path());
-      ADD_FAILURE() << "no error for " << text;
-    } catch (const LoadError& e) {
+      Retargeter(motion_, model_, JointNameMap{.source = "bad_map.json", .pairs = {pair}});
+      ADD_FAILURE() << "no error for " << pair.clip_joint;
+    } catch (const std::invalid_argument& e) {
       const std::string message = e.what();
-      EXPECT_NE(message.find(map.path().filename().string()), std::string::npos) << message;
+      EXPECT_NE(message.find("bad_map.json"), std::string::npos) << message;
       EXPECT_NE(message.find(expected), std::string::npos) << message;
     }
   }
 }
 
 }  // namespace
-}  // namespace sweepd::io
+}  // namespace sweepd::motion

@@ -1,4 +1,4 @@
-#include "server/durable_file.h"
+#include "io/durable_file.h"
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -8,12 +8,19 @@
 #include <stdexcept>
 #include <string>
 
-namespace sweepd::server {
+namespace sweepd::io {
 namespace {
 
-[[noreturn]] void fail(const std::filesystem::path& file, const char* step) {
+[[noreturn]] void fail(const std::filesystem::path& file, const char* step, int error) {
   throw std::runtime_error("cannot write " + file.string() + " (" + step + ": " +
-                           std::strerror(errno) + ")");
+                           std::strerror(error) + ")");
+}
+
+// Closes fd and throws for `step`, with the errno of the step (close may change errno).
+[[noreturn]] void close_and_fail(int fd, const std::filesystem::path& file, const char* step) {
+  const int error = errno;
+  ::close(fd);
+  fail(file, step, error);
 }
 
 }  // namespace
@@ -21,23 +28,17 @@ namespace {
 void write_file_durably(const std::filesystem::path& file, std::span<const std::uint8_t> bytes) {
   const std::filesystem::path temporary = file.string() + ".tmp";
   const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) fail(temporary, "open");
+  if (fd < 0) fail(temporary, "open", errno);
   std::size_t written = 0;
   while (written < bytes.size()) {
     const ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
     if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      ::close(fd);
-      fail(temporary, "write");
-    }
+    if (n <= 0) close_and_fail(fd, temporary, "write");
     written += static_cast<std::size_t>(n);
   }
-  if (::fsync(fd) != 0) {
-    ::close(fd);
-    fail(temporary, "fsync");
-  }
-  ::close(fd);
-  if (::rename(temporary.c_str(), file.c_str()) != 0) fail(file, "rename");
+  if (::fsync(fd) != 0) close_and_fail(fd, temporary, "fsync");
+  if (::close(fd) != 0) fail(temporary, "close", errno);
+  if (::rename(temporary.c_str(), file.c_str()) != 0) fail(file, "rename", errno);
   const std::filesystem::path directory =
       file.has_parent_path() ? file.parent_path() : std::filesystem::path(".");
   const int directory_fd = ::open(directory.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
@@ -47,4 +48,4 @@ void write_file_durably(const std::filesystem::path& file, std::span<const std::
   }
 }
 
-}  // namespace sweepd::server
+}  // namespace sweepd::io

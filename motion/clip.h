@@ -1,4 +1,4 @@
-// Motion: a joint hierarchy with per-frame channel values, as read from a BVH clip.
+// Clip: a joint hierarchy with per-frame channel values, as read from a BVH clip.
 //
 // Joints are in file order, which is parents first (parent index < own index; roots have -1).
 // Each joint has a rest offset from its parent and the channels it animates, in file order.
@@ -18,7 +18,7 @@
 #include <string_view>
 #include <vector>
 
-namespace sweepd::io {
+namespace sweepd::motion {
 
 enum class Channel : std::uint8_t {
   kXposition,
@@ -37,17 +37,17 @@ bool is_rotation(Channel channel);
 // Unit axis of the channel: +X, +Y or +Z.
 glm::vec3 channel_axis(Channel channel);
 
-struct MotionJoint {
+struct ClipJoint {
   std::string name;
-  int parent = -1;                    // index into Motion::joints, -1 for a root
+  int parent = -1;                    // index into Clip::joints, -1 for a root
   glm::vec3 offset{0.0f};             // rest translation from the parent, scaled
   std::vector<Channel> channels;      // in file order (any subset, any order)
   int channel_offset = 0;             // index of the first channel within a frame's row
   std::optional<glm::vec3> end_site;  // the "End Site" offset, scaled, when the file has one
 };
 
-struct Motion {
-  std::vector<MotionJoint> joints;
+struct Clip {
+  std::vector<ClipJoint> joints;
   int channel_count = 0;              // sum of the joints' channel counts
   int frame_count = 0;                // data rows present in the file
   int header_frame_count = 0;         // what the file's "Frames:" line claims
@@ -74,4 +74,4 @@ struct Motion {
                   std::span<glm::vec3> translations) const;
 };
 
-}  // namespace sweepd::io
+}  // namespace sweepd::motion

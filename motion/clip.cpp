@@ -1,15 +1,15 @@
-#include "io/motion.h"
+#include "motion/clip.h"
 
 #include <array>
 #include <cstddef>
 
-namespace sweepd::io {
+namespace sweepd::motion {
 
 namespace {
 constexpr std::array<std::string_view, 6> kChannelNames = {"Xposition", "Yposition", "Zposition",
                                                            "Xrotation", "Yrotation", "Zrotation"};
 
-const float* joint_row(const Motion& motion, int joint, int frame) {
+const float* joint_row(const Clip& motion, int joint, int frame) {
   return motion.values.data() + static_cast<std::size_t>(frame) * motion.channel_count +
          motion.joints[joint].channel_offset;
 }
@@ -37,19 +37,19 @@ glm::vec3 channel_axis(Channel channel) {
   return axis;
 }
 
-std::span<const float> Motion::frame(int frame) const {
+std::span<const float> Clip::frame(int frame) const {
   return std::span<const float>(values).subspan(static_cast<std::size_t>(frame) * channel_count,
                                                 static_cast<std::size_t>(channel_count));
 }
 
-int Motion::find(std::string_view name) const {
+int Clip::find(std::string_view name) const {
   for (std::size_t j = 0; j < joints.size(); ++j) {
     if (joints[j].name == name) return static_cast<int>(j);
   }
   return -1;
 }
 
-glm::quat Motion::local_rotation(int joint, int frame) const {
+glm::quat Clip::local_rotation(int joint, int frame) const {
   const float* row = joint_row(*this, joint, frame);
   glm::quat rotation = glm::identity<glm::quat>();
   const std::vector<Channel>& channels = joints[joint].channels;
@@ -60,7 +60,7 @@ glm::quat Motion::local_rotation(int joint, int frame) const {
   return rotation;
 }
 
-glm::vec3 Motion::local_translation(int joint, int frame) const {
+glm::vec3 Clip::local_translation(int joint, int frame) const {
   const float* row = joint_row(*this, joint, frame);
   glm::vec3 translation = joints[joint].offset;
   const std::vector<Channel>& channels = joints[joint].channels;
@@ -71,12 +71,12 @@ glm::vec3 Motion::local_translation(int joint, int frame) const {
   return translation;
 }
 
-void Motion::local_pose(int frame, std::span<glm::quat> rotations,
-                        std::span<glm::vec3> translations) const {
+void Clip::local_pose(int frame, std::span<glm::quat> rotations,
+                      std::span<glm::vec3> translations) const {
   for (std::size_t j = 0; j < joints.size(); ++j) {
     rotations[j] = local_rotation(static_cast<int>(j), frame);
     translations[j] = local_translation(static_cast<int>(j), frame);
   }
 }
 
-}  // namespace sweepd::io
+}  // namespace sweepd::motion

@@ -1,8 +1,11 @@
-// BVH retargeting: plays a BVH clip (io/motion.h) on a model's skeleton, as deform::Poses.
+// Retargeting: plays a clip (motion/clip.h, e.g. a BVH file read by io/bvh_load.h) on a
+// model's skeleton, as deform::Poses.
 //
 // Joint matching (each BVH joint drives at most one model joint and vice versa), in order:
-//   1. name_map   an optional JSON file {"BVH joint name": "model joint name", ...}; a value of
-//                 null leaves that BVH joint unmapped. Unknown names are a LoadError.
+//   1. name_map   an optional JointNameMap (motion/joint_name_map.h; from a JSON file
+//                 {"BVH joint name": "model joint name", ...} through io/joint_name_map_json.h);
+//                 a pair without a model joint leaves that BVH joint unmapped. Unknown names
+//                 are std::invalid_argument naming the map's source.
 //   2. name       the same joint name on both sides (exact, case-sensitive).
 //   3. role       the same RigMap role (deform::detect_rig_map on both skeletons; see
 //                 deform/rig/rig_naming.h): pelvis, chest, head, clavicles, upper/lower limbs,
@@ -52,7 +55,6 @@
 // The shift is applied to the model's root (joint 0), which must carry the pelvis rigidly.
 #pragma once
 
-#include <filesystem>
 #include <optional>
 #include <span>
 #include <string>
@@ -62,15 +64,16 @@
 #include "deform/model/pose.h"
 #include "deform/model/skeleton.h"
 #include "deform/rig/rig_map.h"
-#include "io/motion.h"
+#include "motion/clip.h"
+#include "motion/joint_name_map.h"
 
-namespace sweepd::io {
+namespace sweepd::motion {
 
 enum class JointMatchReason { kNameMap, kName, kRole, kHierarchy };
 const char* to_string(JointMatchReason reason);
 
 struct JointMatch {
-  int bvh_joint = -1;    // index into Motion::joints
+  int bvh_joint = -1;    // index into Clip::joints
   int model_joint = -1;  // index into Skeleton::joints
   JointMatchReason reason = JointMatchReason::kName;
   // false: paired only to aim its parent's bone (a toe, see above); the model joint keeps its
@@ -80,15 +83,15 @@ struct JointMatch {
 
 class Retargeter {
  public:
-  // Throws LoadError for a bad name map file, std::invalid_argument when the motion has no
-  // joints or frames, or the skeleton no joints.
+  // Throws std::invalid_argument for a name map naming joints the clip or the model lacks (or
+  // pairing a joint twice), when the clip has no joints or frames, or the skeleton no joints.
   // The model's floor is its lowest vertex.
-  Retargeter(Motion motion, const deform::Model& model, const std::filesystem::path& name_map = {});
+  Retargeter(Clip motion, const deform::Model& model, const JointNameMap& name_map = {});
   // A bare skeleton: its floor is its lowest joint.
-  Retargeter(Motion motion, deform::Skeleton skeleton, const std::filesystem::path& name_map = {});
+  Retargeter(Clip motion, deform::Skeleton skeleton, const JointNameMap& name_map = {});
   // A bare skeleton whose mesh's lowest point is known (e.g. from sweepd's ModelInfo): the same
   // retargeting as from the model itself.
-  Retargeter(Motion motion, deform::Skeleton skeleton, const std::filesystem::path& name_map,
+  Retargeter(Clip motion, deform::Skeleton skeleton, const JointNameMap& name_map,
              float model_floor);
 
   // Matched pairs, ordered by model joint.
@@ -101,7 +104,7 @@ class Retargeter {
   const std::vector<std::string>& warnings() const { return warnings_; }
 
   float root_scale() const { return root_scale_; }
-  const Motion& motion() const { return motion_; }
+  const Clip& motion() const { return motion_; }
   int frame_count() const { return motion_.frame_count; }
   double duration() const { return (motion_.frame_count - 1) * double{motion_.frame_time}; }
 
@@ -118,7 +121,7 @@ class Retargeter {
  private:
   using OptionalRigMap = std::optional<deform::RigMap>;
   void match_joints(const deform::Skeleton& bvh, const OptionalRigMap& model_map,
-                    const OptionalRigMap& bvh_map, const std::filesystem::path& name_map);
+                    const OptionalRigMap& bvh_map, const JointNameMap& name_map);
   void compute_alignments(const deform::Skeleton& bvh);
   void compute_root_scale(const deform::Skeleton& bvh, const OptionalRigMap& model_map,
                           const OptionalRigMap& bvh_map, float model_floor);
@@ -126,7 +129,7 @@ class Retargeter {
   deform::Pose retarget(std::span<const glm::quat> bvh_local,
                         std::span<const glm::vec3> bvh_translation, bool keep_root_rest) const;
 
-  Motion motion_;
+  Clip motion_;
   deform::Skeleton skeleton_;
   std::vector<JointMatch> matches_;
   std::vector<int> bvh_of_model_;      // per model joint
@@ -140,4 +143,4 @@ class Retargeter {
   std::vector<std::string> warnings_;
 };
 
-}  // namespace sweepd::io
+}  // namespace sweepd::motion
