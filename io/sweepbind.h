@@ -5,7 +5,8 @@
 // rename, directory fsync), so a crash leaves either the old file or the new one.
 // load_sweepbind refuses, with io::LoadError naming the file and the reason: a wrong magic, a
 // newer version, truncation, a checksum mismatch, counts or indices out of range, non-finite
-// values, and — when expected_model is given — a binding made for another model. A file read back equals what was written, bit for bit.
+// values, and — when expected_model is given — a binding made for another model. A file read
+// back equals what was written, bit for bit.
 #pragma once
 
 #include <cstdint>

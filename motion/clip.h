@@ -1,4 +1,5 @@
-// Clip: a joint hierarchy with per-frame channel values, as read from a BVH clip.
+// Clip: the animation clip of motion/ — a joint hierarchy with per-frame channel values (a BVH
+// file read by io/bvh_load.h, or a clip built in code).
 //
 // Joints are in file order, which is parents first (parent index < own index; roots have -1).
 // Each joint has a rest offset from its parent and the channels it animates, in file order.

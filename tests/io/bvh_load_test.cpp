@@ -162,7 +162,7 @@ void check_cmu_clip(const fs::path& file, int frames) {
 
   using enum motion::Channel;
   const std::vector<motion::Channel> root = {kXposition, kYposition, kZposition,
-                                     kZrotation, kYrotation, kXrotation};
+                                             kZrotation, kYrotation, kXrotation};
   const std::vector<motion::Channel> zyx = {kZrotation, kYrotation, kXrotation};
   EXPECT_EQ(motion.joints[0].channels, root);
   for (std::size_t j = 1; j < motion.joints.size(); ++j) {
@@ -396,7 +396,8 @@ TEST(BvhLoad, DuplicateJointNamesWarn) {
 TEST(BvhLoad, CrlfFileLoadsIdentically) {
   ScratchDirectory scratch;
   const motion::Clip lf = load_bvh(scratch.write("lf.bvh", join_lines(kSmallClipLines)));
-  const motion::Clip crlf = load_bvh(scratch.write("crlf.bvh", join_lines(kSmallClipLines, "\r\n")));
+  const motion::Clip crlf =
+      load_bvh(scratch.write("crlf.bvh", join_lines(kSmallClipLines, "\r\n")));
   ASSERT_EQ(crlf.joints.size(), lf.joints.size());
   for (std::size_t j = 0; j < lf.joints.size(); ++j) {
     EXPECT_EQ(crlf.joints[j].name, lf.joints[j].name);
