@@ -3,12 +3,9 @@
 // Run a Release build: build/<dir>/bench/bind_bench
 #include <benchmark/benchmark.h>
 
-#include <filesystem>
-
+#include "bench/bench_models.h"
 #include "deform/binding/bind.h"
 #include "deform/rig/rig_map.h"
-#include "io/gltf_load.h"
-#include "mannequin/mannequin.h"
 
 namespace {
 
@@ -24,16 +21,10 @@ void run_bind(benchmark::State& state, const deform::Model* model) {
 
 int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
-  static const deform::Model mannequin = mannequin::make_mannequin({.target_vertices = 72000});
-  benchmark::RegisterBenchmark("bind/mannequin_72k", run_bind, &mannequin)
+  benchmark::RegisterBenchmark("bind/mannequin_72k", run_bind, &bench::mannequin_72k())
       ->Unit(benchmark::kMillisecond);
-  const std::filesystem::path male =
-      std::filesystem::path(SWEEPD_SHARED_DATA) / "models" / "makehuman_male_cmu.glb";
-  static deform::Model male_model;
-  if (std::filesystem::exists(male)) {
-    male_model = io::load_gltf(male);
-    benchmark::RegisterBenchmark("bind/male", run_bind, &male_model)->Unit(benchmark::kMillisecond);
-  }
+  if (const deform::Model* male = bench::shared_male())
+    benchmark::RegisterBenchmark("bind/male", run_bind, male)->Unit(benchmark::kMillisecond);
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;

@@ -7,6 +7,7 @@
 #include <string>
 #include <unordered_map>
 
+#include "deform/mesh/vertex_adjacency.h"
 #include "mannequin/body_shape.h"
 #include "mannequin/mannequin_anatomy.h"
 #include "mannequin/marching_tetrahedra.h"
@@ -15,6 +16,8 @@
 namespace sweepd::mannequin {
 
 using deform::compute_vertex_normals;
+using deform::vertex_adjacency;
+using deform::VertexAdjacency;
 using deform::kInfluences;
 using deform::Model;
 using deform::Skeleton;
@@ -80,27 +83,6 @@ void keep_largest_component(WeldedSurface& surface) {
   surface = std::move(kept);
 }
 
-// Neighbours of every vertex (compressed rows: neighbours[start[v] .. start[v + 1])).
-struct VertexNeighbours {
-  std::vector<std::uint32_t> start, neighbours;
-};
-
-VertexNeighbours vertex_neighbours(const WeldedSurface& surface) {
-  std::vector<std::vector<std::uint32_t>> lists(surface.positions.size());
-  for (std::size_t t = 0; t < surface.indices.size(); t += 3)
-    for (int k = 0; k < 3; ++k)
-      lists[surface.indices[t + k]].push_back(surface.indices[t + (k + 1) % 3]);
-  VertexNeighbours result;
-  result.start.push_back(0);
-  for (std::vector<std::uint32_t>& list : lists) {
-    std::sort(list.begin(), list.end());
-    list.erase(std::unique(list.begin(), list.end()), list.end());
-    result.neighbours.insert(result.neighbours.end(), list.begin(), list.end());
-    result.start.push_back(static_cast<std::uint32_t>(result.neighbours.size()));
-  }
-  return result;
-}
-
 WeldedSurface polygonise(const BodyShape& body, float spacing) {
   SampleGrid grid;
   grid.spacing = spacing;
@@ -133,15 +115,16 @@ glm::vec3 project_onto_surface(const BodyShape& body, float spacing, const glm::
 // Evens out the marching-tetrahedra triangles: each vertex moves halfway towards the centroid
 // of its neighbours within the tangent plane, then back onto the surface (one Newton step).
 void relax_on_surface(const BodyShape& body, float spacing, WeldedSurface& surface) {
-  const VertexNeighbours ring = vertex_neighbours(surface);
+  const VertexAdjacency adjacency = vertex_adjacency(surface.positions, surface.indices);
   std::vector<glm::vec3> moved(surface.positions.size());
   for (int iteration = 0; iteration < kSmoothingIterations; ++iteration) {
     for (std::size_t v = 0; v < surface.positions.size(); ++v) {
       const glm::vec3& p = surface.positions[v];
       glm::vec3 centroid(0.0f);
-      for (std::uint32_t i = ring.start[v]; i < ring.start[v + 1]; ++i)
-        centroid += surface.positions[ring.neighbours[i]];
-      centroid /= static_cast<float>(ring.start[v + 1] - ring.start[v]);
+      const std::span<const std::uint32_t> ring =
+          adjacency.neighbours(static_cast<std::uint32_t>(v));
+      for (std::uint32_t u : ring) centroid += surface.positions[u];
+      centroid /= static_cast<float>(ring.size());
       const glm::vec3 gradient = body.gradient(p, 0.25f * spacing);
       const float gradient2 = glm::dot(gradient, gradient);
       if (!(gradient2 > 1e-12f)) {

@@ -28,7 +28,7 @@
 #include "deform/job/anatomical_features.h"
 #include "deform/job/deformer.h"
 #include "protocol/messages.h"
-#include "server/model_registry.h"
+#include "server/models/model_registry.h"
 #include "server/position_map_service.h"
 
 namespace sweepd::server {

@@ -7,7 +7,7 @@
 #include "deform/binding/sweep_coordinates.h"
 #include "deform/blending/skinned_share_influences.h"
 #include "deform/blending/sweep_blending.h"
-#include "deform/mesh/mesh_topology.h"
+#include "deform/mesh/welded_mesh.h"
 #include "deform/sweep/swept_volume.h"
 
 namespace sweepd::deform {
@@ -63,23 +63,16 @@ BoundModel bind(const Model& model, const RigMap& rig, const BindOptions& option
   bound.options = options;
   const std::vector<glm::mat4> world_rest = model.skeleton.world_rest_matrices();
 
-  // Cross-section loops are chained through shared vertices: weld the UV-seam copies.
-  std::size_t welded_count = 0;
-  const std::vector<std::uint32_t> welded_id =
-      weld_coincident_positions(model.positions, &welded_count);
-  std::vector<glm::vec3> welded_positions(welded_count);
-  for (std::size_t v = 0; v < welded_id.size(); ++v)
-    welded_positions[welded_id[v]] = model.positions[v];
-  std::vector<std::uint32_t> welded_indices(model.indices.size());
-  for (std::size_t i = 0; i < welded_indices.size(); ++i)
-    welded_indices[i] = welded_id[model.indices[i]];
+  // Cross-section loops are chained through shared vertices, and the blending walks the
+  // surface: weld the UV-seam copies once, for every stage.
+  const WeldedMesh mesh = weld_mesh(model.positions, model.indices);
 
   const std::vector<SweepPlan> plans = plan_sweeps(rig, world_rest);
   std::vector<Sweep> sweeps;
   for (std::size_t s = 0; s < plans.size(); ++s) {
     report(0.5 * s / plans.size(), "fitting key ellipses");
     BoundSweep sweep =
-        fit_chain_key_ellipses(welded_positions, welded_indices, world_rest, plans[s].part,
+        fit_chain_key_ellipses(mesh.positions, mesh.indices, world_rest, plans[s].part,
                                plans[s].chain, options, plans[s].x_hint);
     sweeps.push_back(rest_sweep(sweep, options));
     sweep.rest_volume = sweep_volume(sweeps.back());
@@ -87,8 +80,9 @@ BoundModel bind(const Model& model, const RigMap& rig, const BindOptions& option
   }
 
   report(0.5, "blending regions");
-  bound.vertices = blend_shares(model, rig, world_rest, bound.sweeps, options);
-  SkinInfluences skinned_share = skinned_share_influences(model, bound.vertices, bound.sweeps);
+  bound.vertices = blend_shares(model, mesh, rig, world_rest, bound.sweeps, options);
+  SkinInfluences skinned_share =
+      skinned_share_influences(model, mesh, bound.vertices, bound.sweeps);
   bound.skinned_share_joints = std::move(skinned_share.joints);
   bound.skinned_share_weights = std::move(skinned_share.weights);
 

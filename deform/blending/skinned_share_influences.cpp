@@ -4,7 +4,6 @@
 #include <numeric>
 
 #include "deform/mesh/length_weighted_smoothing.h"
-#include "deform/mesh/mesh_topology.h"
 
 namespace sweepd::deform {
 
@@ -25,12 +24,12 @@ bool in_shoulder_ring(const VertexBinding& binding, std::span<const BoundSweep> 
 
 }  // namespace
 
-SkinInfluences skinned_share_influences(const Model& model, std::span<const VertexBinding> bindings,
+SkinInfluences skinned_share_influences(const Model& model, const WeldedMesh& mesh,
+                                        std::span<const VertexBinding> bindings,
                                         std::span<const BoundSweep> sweeps) {
   SkinInfluences result{model.skin_joints, model.skin_weights};
-  std::size_t welded_count = 0;
-  const std::vector<std::uint32_t> welded =
-      weld_coincident_positions(model.positions, &welded_count);
+  const std::size_t welded_count = mesh.vertex_count();
+  const std::vector<std::uint32_t>& welded = mesh.welded_id;
   // Per welded vertex: one model vertex standing for it, and whether it is smoothed.
   constexpr std::uint32_t kNone = ~0u;
   std::vector<std::uint32_t> model_vertex(welded_count, kNone);
@@ -41,14 +40,6 @@ SkinInfluences skinned_share_influences(const Model& model, std::span<const Vert
   }
   if (std::none_of(ring.begin(), ring.end(), [](bool r) { return r; })) return result;
 
-  std::vector<std::vector<std::uint32_t>> neighbours(welded_count);
-  for (std::size_t t = 0; t + 2 < model.indices.size(); t += 3)
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t a = welded[model.indices[t + k]];
-      const std::uint32_t b = welded[model.indices[t + (k + 1) % 3]];
-      if (ring[a]) neighbours[a].push_back(b);
-      if (ring[b]) neighbours[b].push_back(a);
-    }
   // Dense weight rows for the ring and its border (the rows the passes read), by row index.
   const int joints = model.skeleton.size();
   std::vector<std::uint32_t> row_of(welded_count, kNone);
@@ -61,10 +52,7 @@ SkinInfluences skinned_share_influences(const Model& model, std::span<const Vert
     if (!ring[w]) continue;
     ring_vertices.push_back(w);
     add_row(w);
-    std::vector<std::uint32_t>& list = neighbours[w];
-    std::sort(list.begin(), list.end());
-    list.erase(std::unique(list.begin(), list.end()), list.end());
-    for (std::uint32_t u : list) add_row(u);
+    for (std::uint32_t u : mesh.adjacency.neighbours(w)) add_row(u);
   }
   std::vector<float> weights(rows * joints, 0.0f);
   for (std::uint32_t w = 0; w < welded_count; ++w) {
@@ -75,10 +63,8 @@ SkinInfluences skinned_share_influences(const Model& model, std::span<const Vert
   }
   LengthWeightedSmoothing smoothing;
   for (std::uint32_t w : ring_vertices)
-    smoothing.add(
-        row_of[w], model.positions[model_vertex[w]], neighbours[w],
-        [&](std::uint32_t u) { return row_of[u]; },
-        [&](std::uint32_t u) { return model.positions[model_vertex[u]]; });
+    smoothing.add(row_of[w], mesh.adjacency.neighbours(w), mesh.adjacency.lengths(w),
+                  [&](std::uint32_t u) { return row_of[u]; });
   smoothing.smooth(joints, kShoulderSkinSmoothingPasses, weights);
 
   // The largest kInfluences weights of each ring vertex, scaled to sum to 1.

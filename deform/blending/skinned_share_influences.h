@@ -16,7 +16,8 @@
 // the shares' own gradient already stretches an edge 2.96x (3.00x at 10 passes, 2.99x at 8).
 // The largest kInfluences weights are kept and scaled to sum to 1. LBS and DQS keep the model's
 // own weights.
-// Inputs:  model (n vertices), bindings (n, with shares: blend_shares), sweeps (their parts).
+// Inputs:  model (n vertices), mesh (the model welded: weld_mesh; the passes walk its
+//          adjacency), bindings (n, with shares: blend_shares), sweeps (their parts).
 // Output:  joints and weights, n each; equal to the model's outside the ring.
 #pragma once
 
@@ -26,6 +27,7 @@
 #include <vector>
 
 #include "deform/binding/bound_model.h"
+#include "deform/mesh/welded_mesh.h"
 
 namespace sweepd::deform {
 
@@ -36,7 +38,8 @@ struct SkinInfluences {
   std::vector<std::array<float, kInfluences>> weights;
 };
 
-SkinInfluences skinned_share_influences(const Model& model, std::span<const VertexBinding> bindings,
+SkinInfluences skinned_share_influences(const Model& model, const WeldedMesh& mesh,
+                                        std::span<const VertexBinding> bindings,
                                         std::span<const BoundSweep> sweeps);
 
 }  // namespace sweepd::deform

@@ -5,7 +5,6 @@
 #include <cstdint>
 
 #include "deform/mesh/length_weighted_smoothing.h"
-#include "deform/mesh/mesh_topology.h"
 #include "deform/mesh/surface_distance.h"
 
 namespace sweepd::deform {
@@ -74,28 +73,14 @@ float chain_length(std::span<const glm::mat4> world_rest, std::span<const int> c
 // The wrists' and ankles' hand-overs keep their planes: smoothing them lets twist collapse the
 // forearm, and leaks leg shares into the feet. The neck's hand-over to the head has its own
 // ramp along the surface (head_handover_by_distance).
-// at, indices: the welded mesh.
-void smooth_over_mesh(std::span<const glm::vec3> at, std::span<const std::uint32_t> indices,
-                      int columns, std::vector<float>& shares) {
-  const std::size_t count = at.size();
-  std::vector<std::vector<std::uint32_t>> neighbours(count);
-  for (std::size_t t = 0; t + 2 < indices.size(); t += 3)
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t a = indices[t + k], b = indices[t + (k + 1) % 3];
-      neighbours[a].push_back(b);
-      neighbours[b].push_back(a);
-    }
+void smooth_over_mesh(const VertexAdjacency& adjacency, int columns, std::vector<float>& shares) {
   LengthWeightedSmoothing junctions;  // the vertices with shares of two sweeps or more
-  for (std::size_t v = 0; v < count; ++v) {
+  for (std::uint32_t v = 0; v < adjacency.vertex_count(); ++v) {
     int sweeps = 0;
     for (int c = 0; c + 1 < columns; ++c) sweeps += shares[v * columns + c] > 0.0f;
-    std::vector<std::uint32_t>& list = neighbours[v];
-    std::sort(list.begin(), list.end());
-    list.erase(std::unique(list.begin(), list.end()), list.end());
-    if (sweeps < 2 || list.empty()) continue;
-    junctions.add(
-        static_cast<std::uint32_t>(v), at[v], list, [](std::uint32_t u) { return u; },
-        [&](std::uint32_t u) { return at[u]; });
+    if (sweeps < 2 || adjacency.neighbours(v).empty()) continue;
+    junctions.add(v, adjacency.neighbours(v), adjacency.lengths(v),
+                  [](std::uint32_t u) { return u; });
   }
   junctions.smooth(columns, kShareSmoothingPasses, shares);
 }
@@ -109,15 +94,14 @@ void smooth_over_mesh(std::span<const glm::vec3> at, std::span<const std::uint32
 // when the head turns 88° (cmu_01_01 frame 1046: 3.43x), and a skinned share on the steep sides
 // stretches them as LBS does (3.25x). The ramp spreads it over the throat and the jaw's
 // underside; the jaw, further on, stays rigid with the head.
-// at, indices: the welded mesh; head_weight: per welded vertex.
-std::vector<float> head_handover_by_distance(std::span<const glm::vec3> at,
-                                             std::span<const std::uint32_t> indices,
+// adjacency: the welded mesh's; head_weight: per welded vertex.
+std::vector<float> head_handover_by_distance(const VertexAdjacency& adjacency,
                                              std::span<const float> head_weight,
                                              float neck_length) {
-  std::vector<bool> before_start(at.size());
-  for (std::size_t v = 0; v < at.size(); ++v)
+  std::vector<bool> before_start(adjacency.vertex_count());
+  for (std::size_t v = 0; v < before_start.size(); ++v)
     before_start[v] = head_weight[v] <= kHeadHandoverStartWeight;
-  std::vector<float> handover = distance_along_edges(at, indices, before_start);
+  std::vector<float> handover = distance_along_edges(adjacency, before_start);
   for (float& h : handover) h = std::min(1.0f, h / (kHeadHandoverLength * neck_length));
   return handover;
 }
@@ -141,8 +125,8 @@ BodyPart end_part(BodyPart sweep_part) {
   }
 }
 
-std::vector<VertexBinding> blend_shares(const Model& model, const RigMap& rig,
-                                        std::span<const glm::mat4> world_rest,
+std::vector<VertexBinding> blend_shares(const Model& model, const WeldedMesh& mesh,
+                                        const RigMap& rig, std::span<const glm::mat4> world_rest,
                                         std::span<const BoundSweep> sweeps,
                                         const BindOptions& options) {
   const std::vector<BodyPart> joint_part = label_joints(rig, model.skeleton);
@@ -167,26 +151,20 @@ std::vector<VertexBinding> blend_shares(const Model& model, const RigMap& rig,
   }
 
   // Shares per welded vertex: one per sweep, then the skinned share; each row sums to 1.
-  std::size_t welded_count = 0;
-  const std::vector<std::uint32_t> welded =
-      weld_coincident_positions(model.positions, &welded_count);
-  std::vector<glm::vec3> welded_positions(welded_count);
+  const std::size_t welded_count = mesh.vertex_count();
+  const std::vector<std::uint32_t>& welded = mesh.welded_id;
   std::vector<float> head_weight(welded_count, 0.0f);
   for (std::size_t v = 0; v < model.vertex_count(); ++v) {
-    welded_positions[welded[v]] = model.positions[v];
     float weight = 0.0f;
     for (int k = 0; k < kInfluences; ++k)
       if (joint_part[model.skin_joints[v][k]] == BodyPart::kHead)
         weight += model.skin_weights[v][k];
     head_weight[welded[v]] = weight;
   }
-  std::vector<std::uint32_t> welded_indices(model.indices.size());
-  for (std::size_t i = 0; i < welded_indices.size(); ++i)
-    welded_indices[i] = welded[model.indices[i]];
   std::vector<float> head_handover;
   for (const BoundSweep& sweep : sweeps)
     if (sweep.part == BodyPart::kNeck)
-      head_handover = head_handover_by_distance(welded_positions, welded_indices, head_weight,
+      head_handover = head_handover_by_distance(mesh.adjacency, head_weight,
                                                 chain_length(world_rest, sweep.chain));
 
   const int columns = sweep_count + 1;
@@ -235,7 +213,7 @@ std::vector<VertexBinding> blend_shares(const Model& model, const RigMap& rig,
       row[s] = total > 0.0f ? share[s] * (1.0f - skinned) / total : 0.0f;
     row[sweep_count] = skinned;
   }
-  smooth_over_mesh(welded_positions, welded_indices, columns, shares);
+  smooth_over_mesh(mesh.adjacency, columns, shares);
 
   // Keep the kSweepsPerVertex largest sweep shares, scaled to fill what skinning leaves.
   std::vector<VertexBinding> result(model.vertex_count());

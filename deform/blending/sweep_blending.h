@@ -16,8 +16,9 @@
 // above the chest: the shoulders) its share hands over to skinning the same way as the limbs',
 // starting at the key.
 // Every share is a continuous function of position and skin weights.
-// Inputs:  model (n vertices), rig, world_rest (one per joint), sweeps (part + chain filled),
-//          options.
+// Inputs:  model (n vertices), mesh (the model welded: weld_mesh; the smoothing and the neck's
+//          ramp walk its adjacency), rig, world_rest (one per joint), sweeps (part + chain
+//          filled), options.
 // Output:  n VertexBinding with sweep, weight and skin_weight set (coordinates left empty);
 //          the weights and skin_weight sum to 1.
 #pragma once
@@ -27,11 +28,12 @@
 #include <vector>
 
 #include "deform/binding/bound_model.h"
+#include "deform/mesh/welded_mesh.h"
 
 namespace sweepd::deform {
 
-std::vector<VertexBinding> blend_shares(const Model& model, const RigMap& rig,
-                                        std::span<const glm::mat4> world_rest,
+std::vector<VertexBinding> blend_shares(const Model& model, const WeldedMesh& mesh,
+                                        const RigMap& rig, std::span<const glm::mat4> world_rest,
                                         std::span<const BoundSweep> sweeps,
                                         const BindOptions& options);
 

@@ -9,7 +9,6 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <glm/glm.hpp>
 #include <span>
 #include <vector>
 
@@ -17,18 +16,17 @@ namespace sweepd::deform {
 
 class LengthWeightedSmoothing {
  public:
-  // Chooses `row`, at position `at`, with its mesh neighbours (each once, at least one):
-  // row_of(u) is a neighbour's row in the table, position_of(u) its position.
-  template <class RowOf, class PositionOf>
-  void add(std::uint32_t row, glm::vec3 at, std::span<const std::uint32_t> neighbours, RowOf row_of,
-           PositionOf position_of) {
-    auto inverse_length = [&](std::uint32_t u) {
-      return 1.0f / std::max(glm::length(position_of(u) - at), 1e-6f);
-    };
+  // Chooses `row` with its mesh neighbours (each once, at least one) and the lengths of the
+  // edges to them (vertex_adjacency.h): row_of(u) is a neighbour's row in the table.
+  template <class RowOf>
+  void add(std::uint32_t row, std::span<const std::uint32_t> neighbours,
+           std::span<const float> edge_lengths, RowOf row_of) {
+    auto inverse_length = [](float length) { return 1.0f / std::max(length, 1e-6f); };
     float total = 0.0f;
-    for (std::uint32_t u : neighbours) total += inverse_length(u);
-    for (std::uint32_t u : neighbours)
-      neighbours_.push_back({row_of(u), 0.5f * inverse_length(u) / total});
+    for (float length : edge_lengths) total += inverse_length(length);
+    for (std::size_t i = 0; i < neighbours.size(); ++i)
+      neighbours_.push_back(
+          {row_of(neighbours[i]), 0.5f * inverse_length(edge_lengths[i]) / total});
     rows_.push_back(row);
     first_.push_back(static_cast<std::uint32_t>(neighbours_.size()));
   }

@@ -9,8 +9,8 @@
 #include "deform/binding/bind.h"
 #include "deform/rig/rig_map.h"
 #include "mannequin/mannequin.h"
-#include "server/constant_time_equal.h"
-#include "server/model_registry.h"
+#include "server/models/model_registry.h"
+#include "server/transport/constant_time_equal.h"
 #include "tests/server/daemon_process.h"
 
 namespace sweepd::test {

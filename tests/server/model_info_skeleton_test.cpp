@@ -9,7 +9,7 @@
 #include "deform/rig/rig_map.h"
 #include "io/bvh_load.h"
 #include "io/gltf_load.h"
-#include "server/model_info.h"
+#include "server/replies/model_info.h"
 
 namespace sweepd::test {
 namespace {

@@ -1,4 +1,5 @@
-// distance_along_edges on small meshes whose shortest edge paths are known by hand.
+// distance_along_edges (and the vertex_adjacency it walks) on small meshes whose shortest edge
+// paths are known by hand.
 #include "deform/mesh/surface_distance.h"
 
 #include <gtest/gtest.h>
@@ -36,7 +37,8 @@ TEST(SurfaceDistance, FollowsTheShortestEdgePathFromTheNearestSource) {
   const Strip s = strip(4);
   std::vector<bool> source(s.positions.size(), false);
   source[0] = true;  // (0,0)
-  const std::vector<float> d = distance_along_edges(s.positions, s.indices, source);
+  const std::vector<float> d =
+      distance_along_edges(vertex_adjacency(s.positions, s.indices), source);
   // Along the bottom row the edges are straight: (i,0) lies i away. (i,1) is reached by the
   // diagonal from (i-1,0), sqrt(2) + (i-1), or by the edge up from (0,0), 1 + i; the top-left
   // corner only by the upward edge. 1e-5: float sums of a few unit lengths.
@@ -51,7 +53,8 @@ TEST(SurfaceDistance, FollowsTheShortestEdgePathFromTheNearestSource) {
 
   // A second source at the far end: each vertex takes the nearer one.
   source[2 * 4] = true;  // (4,0)
-  const std::vector<float> both = distance_along_edges(s.positions, s.indices, source);
+  const std::vector<float> both =
+      distance_along_edges(vertex_adjacency(s.positions, s.indices), source);
   EXPECT_NEAR(both[2 * 3], 1.0f, 1e-5f);
   EXPECT_NEAR(both[2 * 2], 2.0f, 1e-5f);
   EXPECT_NEAR(both[2 * 4], 0.0f, 0.0f);
@@ -59,17 +62,28 @@ TEST(SurfaceDistance, FollowsTheShortestEdgePathFromTheNearestSource) {
 
 TEST(SurfaceDistance, RefusesMismatchedInput) {
   const Strip s = strip(2);
-  EXPECT_THROW(distance_along_edges(s.positions, s.indices, std::vector<bool>(3, true)),
-               std::invalid_argument);
-  std::vector<std::uint32_t> partial(s.indices.begin(), s.indices.begin() + 4);
   EXPECT_THROW(
-      distance_along_edges(s.positions, partial, std::vector<bool>(s.positions.size(), true)),
+      distance_along_edges(vertex_adjacency(s.positions, s.indices), std::vector<bool>(3, true)),
       std::invalid_argument);
+  std::vector<std::uint32_t> partial(s.indices.begin(), s.indices.begin() + 4);
+  EXPECT_THROW(vertex_adjacency(s.positions, partial), std::invalid_argument);
   std::vector<std::uint32_t> outside = s.indices;
   outside[0] = 1000;
-  EXPECT_THROW(
-      distance_along_edges(s.positions, outside, std::vector<bool>(s.positions.size(), true)),
-      std::invalid_argument);
+  EXPECT_THROW(vertex_adjacency(s.positions, outside), std::invalid_argument);
+}
+
+TEST(VertexAdjacency, ListsEachNeighbourOnceAscendingWithItsEdgeLength) {
+  const Strip s = strip(2);
+  const VertexAdjacency adjacency = vertex_adjacency(s.positions, s.indices);
+  ASSERT_EQ(adjacency.vertex_count(), s.positions.size());
+  // (1,0) = vertex 2 touches (0,0), (1,1), (2,0) and, by the diagonal from (i,0) to (i+1,1),
+  // (2,1); not (0,1). Compared exactly: sqrt of an exact 1 or 2, as glm::length computes it.
+  const std::span<const std::uint32_t> ring = adjacency.neighbours(2);
+  EXPECT_EQ(std::vector<std::uint32_t>(ring.begin(), ring.end()),
+            (std::vector<std::uint32_t>{0, 3, 4, 5}));
+  const std::span<const float> lengths = adjacency.lengths(2);
+  EXPECT_EQ(std::vector<float>(lengths.begin(), lengths.end()),
+            (std::vector<float>{1.0f, 1.0f, 1.0f, std::sqrt(2.0f)}));
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-#include "server/server.h"
+#include "server/transport/server.h"
 
 #include <csignal>
 #include <thread>
@@ -22,13 +22,13 @@ std::size_t worker_count(const ServerConfig& config) {
 
 }  // namespace
 
-Server::Server(const ServerConfig& config, ModelRegistry& registry)
+Server::Server(const ServerConfig& config, ModelService& models)
     : config_(config),
       workers_(worker_count(config)),
       position_maps_(config.position_maps != 0),
       signals_(io_, SIGTERM, SIGINT),
-      environment_{config, registry, workers_, position_maps_, std::chrono::steady_clock::now(),
-                   {},     {},       {}} {
+      environment_{config, models, workers_, position_maps_, std::chrono::steady_clock::now(),
+                   {},     {},     {}} {
   environment_.on_close = [this](std::uint64_t id) {
     // Deferred: the connection may still be on the call stack.
     asio::post(io_, [this, id]() { connections_.erase(id); });

@@ -18,15 +18,15 @@
 #include <optional>
 
 #include "server/config.h"
-#include "server/connection.h"
-#include "server/model_registry.h"
+#include "server/models/model_service.h"
 #include "server/position_map_service.h"
+#include "server/transport/connection.h"
 
 namespace sweepd::server {
 
 class Server {
  public:
-  Server(const ServerConfig& config, ModelRegistry& registry);
+  Server(const ServerConfig& config, ModelService& models);
   ~Server();
 
   int open();

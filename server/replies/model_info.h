@@ -8,7 +8,7 @@
 #include <cstdint>
 
 #include "protocol/sweepd_generated.h"
-#include "server/model_registry.h"
+#include "server/models/model_registry.h"
 
 namespace sweepd::server {
 

@@ -7,6 +7,7 @@
 // acknowledged model and loads it without rebinding. Uploaded .glb bytes are kept as
 // <id>.glb beside it (the source of the binding).
 //
+// The daemon reaches it only through ModelService (model_service.h), the one place models change.
 // Thread-safe: loads bind outside the lock (seconds), lookups never wait for a bind.
 // Errors a client causes throw ModelError with the protocol code to answer and a message
 // naming the model and the reason.

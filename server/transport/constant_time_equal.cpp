@@ -1,4 +1,4 @@
-#include "server/constant_time_equal.h"
+#include "server/transport/constant_time_equal.h"
 
 #include <algorithm>
 #include <cstddef>

@@ -1,4 +1,8 @@
-// Connection: one client session of sweepd, on TCP or a Unix socket.
+// Connection: one client session of sweepd, on TCP or a Unix socket — the transport. It moves
+// frames, enforces authentication, limits, backpressure and reply order, and dispatches each
+// request: handlers (server/handlers/) turn it into work and a reply, encoders
+// (server/replies/) build the reply frames, and every model change goes through ModelService
+// (server/models/). It holds no model state of its own.
 //
 // Runs on the server's single I/O thread; only deformation and model loading go to the
 // worker pool. Frames are read with protocol::FrameReader; the first must be Hello (token
@@ -27,30 +31,17 @@
 
 #include "protocol/framing.h"
 #include "server/config.h"
-#include "server/latency_samples.h"
-#include "server/model_registry.h"
+#include "server/handlers/model_requests.h"
+#include "server/handlers/request_error.h"
+#include "server/models/model_service.h"
 #include "server/pose_request.h"
+#include "server/transport/connection_counters.h"
 
 namespace sweepd::server {
 
-// What a connection sees of its server and of the other connections.
-struct ConnectionCounters {
-  std::uint64_t connection_id = 0;
-  std::string peer, client_name;
-  std::uint64_t poses_received = 0, poses_answered = 0, poses_dropped = 0, errors = 0;
-  std::uint64_t bytes_in = 0, bytes_out = 0;
-  LatencySamples latency;  // frame read → reply queued, recent poses
-};
-
-// Per model, kept by the server (touched on the I/O thread only).
-struct ModelCounters {
-  std::uint64_t poses = 0, errors = 0;
-  LatencySamples deform_latency;
-};
-
 struct ConnectionEnvironment {
   const ServerConfig& config;
-  ModelRegistry& registry;
+  ModelService& models;
   asio::thread_pool& workers;
   PositionMapService& position_maps;
   std::chrono::steady_clock::time_point started;
@@ -80,15 +71,15 @@ class Connection : public std::enable_shared_from_this<Connection> {
   void read_more();
   void process_input();
   bool reading_paused() const;
-  void handle_frame(const protocol::Message& message);
-  void handle_hello(const protocol::Hello& hello, std::uint64_t request_id);
+  void dispatch(const protocol::Message& message);
+  void authenticate(const protocol::Hello& hello, std::uint64_t request_id);
   // A Pose, or the pose of a PositionMapRequest (`map` set), checked and queued.
-  void handle_pose(const protocol::Pose& pose, std::uint64_t request_id,
-                   const protocol::PositionMapRequest* map = nullptr);
-  void handle_list_models(std::uint64_t request_id);
-  void handle_load_model(const protocol::LoadModel& load, std::uint64_t request_id);
-  void handle_edit_key_ellipse(const protocol::EditKeyEllipse& request, std::uint64_t request_id);
-  void handle_stats(std::uint64_t request_id);
+  void queue_pose(const protocol::Pose& pose, std::uint64_t request_id,
+                  const protocol::PositionMapRequest* map = nullptr);
+  // A model load or edit on a worker; reading pauses until its reply (ModelInfo or the
+  // error) is queued, so replies stay in request order. `log_outcome` runs on the I/O thread.
+  void change_model(std::uint64_t request_id, std::function<ModelChange()> change,
+                    LogModelChange log_outcome);
 
   void start_next_pose();
   void finish_pose(flatbuffers::FlatBufferBuilder builder, const PoseRequest& request,
@@ -96,6 +87,7 @@ class Connection : public std::enable_shared_from_this<Connection> {
   void send(flatbuffers::FlatBufferBuilder builder);
   void send_error(protocol::ErrorCode code, const std::string& message, std::uint64_t sequence,
                   std::uint64_t request_id, bool fatal = false);
+  void send_error(const RequestError& error, std::uint64_t request_id);
   void write_next();
   void drain();  // stop taking work; close once in-flight work is answered
   void close_if_done();

@@ -1,13 +1,16 @@
-#include "server/connection.h"
+#include "server/transport/connection.h"
 
 #include <algorithm>
 #include <nlohmann/json.hpp>
+#include <variant>
 
-#include "deform/edits/rest_key_edit.h"
 #include "protocol/messages.h"
-#include "server/constant_time_equal.h"
+#include "server/handlers/pose_intake.h"
 #include "server/log_event.h"
-#include "server/model_info.h"
+#include "server/replies/model_info.h"
+#include "server/replies/stats_reply.h"
+#include "server/replies/welcome_reply.h"
+#include "server/transport/constant_time_equal.h"
 
 namespace sweepd::server {
 namespace {
@@ -20,34 +23,6 @@ std::uint64_t nanoseconds_since(std::chrono::steady_clock::time_point from) {
   return static_cast<std::uint64_t>(
       std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - from)
           .count());
-}
-
-std::vector<std::string> capabilities(bool position_maps) {
-  std::vector<std::string> list = {"sweep",      "lbs",         "dqs",   "folding",
-                                   "protrusion", "volume",      "bulge", "float16",
-                                   "normals",    "latest_wins", "upload"};
-  if (position_maps) list.push_back("position_map");
-  return list;
-}
-
-// The answer to MeshRequest: the model's rest mesh in its vertex order (protocol 1.1).
-void build_mesh(flatbuffers::FlatBufferBuilder& builder, const RegisteredModel& registered,
-                std::uint64_t request_id) {
-  const deform::Model& model = registered.bound.model;
-  const std::size_t n = model.vertex_count();
-  static_assert(sizeof(glm::vec2) == 2 * sizeof(float) && sizeof(glm::vec3) == 3 * sizeof(float));
-  const auto indices = builder.CreateVector(model.indices);
-  const auto uvs =
-      builder.CreateVector(reinterpret_cast<const float*>(model.uvs.data()), 2 * model.uvs.size());
-  const auto positions =
-      builder.CreateVector(reinterpret_cast<const float*>(model.positions.data()), 3 * n);
-  const auto joints = builder.CreateVector(
-      reinterpret_cast<const std::uint16_t*>(model.skin_joints.data()), deform::kInfluences * n);
-  const auto weights = builder.CreateVector(
-      reinterpret_cast<const float*>(model.skin_weights.data()), deform::kInfluences * n);
-  pb::finish_message(
-      builder, pb::CreateMesh(builder, registered.id, indices, uvs, positions, joints, weights),
-      request_id);
 }
 
 }  // namespace
@@ -136,19 +111,19 @@ void Connection::process_input() {
       send_error(pb::error_code_for(event.error), event.reason, 0, 0);
       continue;
     }
-    handle_frame(*event.message);
+    dispatch(*event.message);
   }
   if (input_.empty()) read_more();
 }
 
 // ---------------------------------------------------------------------------------------
-// Requests.
+// Requests: authentication here, the rest dispatched to handlers and encoders.
 
-void Connection::handle_frame(const pb::Message& message) {
+void Connection::dispatch(const pb::Message& message) {
   const std::uint64_t request_id = message.request_id();
   if (!authenticated_) {
     if (const pb::Hello* hello = message.body_as_Hello()) {
-      handle_hello(*hello, request_id);
+      authenticate(*hello, request_id);
     } else {
       send_error(pb::ErrorCode::NotAuthenticated, "the first message must be Hello", 0, request_id,
                  true);
@@ -160,19 +135,35 @@ void Connection::handle_frame(const pb::Message& message) {
                request_id);
     return;
   }
+  ModelService& models = environment_.models;
   switch (message.body_type()) {
     case pb::Body::Pose:
-      handle_pose(*message.body_as_Pose(), request_id);
+      queue_pose(*message.body_as_Pose(), request_id);
       break;
-    case pb::Body::ListModels:
-      handle_list_models(request_id);
+    case pb::Body::ListModels: {
+      flatbuffers::FlatBufferBuilder builder = take_builder();
+      answer_list_models(models, request_id, builder);
+      send(std::move(builder));
       break;
-    case pb::Body::LoadModel:
-      handle_load_model(*message.body_as_LoadModel(), request_id);
+    }
+    case pb::Body::LoadModel: {
+      // The request's bytes live in the reader's storage: read_load_model copies them.
+      auto work =
+          std::make_shared<const LoadModelWork>(read_load_model(*message.body_as_LoadModel()));
+      log_event("model_load_start",
+                {{"connection", id()}, {"name", work->name}, {"upload_bytes", work->gltf.size()}});
+      change_model(
+          request_id, [models = &models, work]() { return run_load_model(*models, *work); },
+          log_load_outcome);
       break;
-    case pb::Body::StatsRequest:
-      handle_stats(request_id);
+    }
+    case pb::Body::StatsRequest: {
+      flatbuffers::FlatBufferBuilder builder = take_builder();
+      build_stats(builder, nanoseconds_since(environment_.started), models.models(),
+                  environment_.model_counters, environment_.all_counters(), request_id);
+      send(std::move(builder));
       break;
+    }
     case pb::Body::Bye:
       log_event("bye_received", {{"connection", id()}});
       drain();
@@ -183,25 +174,28 @@ void Connection::handle_frame(const pb::Message& message) {
         send_error(pb::ErrorCode::InvalidArgument, "a PositionMapRequest needs a pose", 0,
                    request_id);
       } else {
-        handle_pose(*map->pose(), request_id, map);
+        queue_pose(*map->pose(), request_id, map);
       }
       break;
     }
     case pb::Body::MeshRequest: {
-      const std::uint32_t model_id = message.body_as_MeshRequest()->model_id();
-      if (const ModelHandle model = environment_.registry.find(model_id)) {
-        flatbuffers::FlatBufferBuilder builder = take_builder();
-        build_mesh(builder, *model, request_id);
-        send(std::move(builder));
+      flatbuffers::FlatBufferBuilder builder = take_builder();
+      if (const auto error =
+              answer_mesh_request(models, *message.body_as_MeshRequest(), request_id, builder)) {
+        send_error(*error, request_id);
       } else {
-        send_error(pb::ErrorCode::UnknownModel,
-                   "mesh request: no model with id " + std::to_string(model_id), 0, request_id);
+        send(std::move(builder));
       }
       break;
     }
-    case pb::Body::EditKeyEllipse:
-      handle_edit_key_ellipse(*message.body_as_EditKeyEllipse(), request_id);
+    case pb::Body::EditKeyEllipse: {
+      // Storing the edited model durably (fsync) takes milliseconds: on a worker.
+      const KeyEllipseEditWork work = read_key_ellipse_edit(*message.body_as_EditKeyEllipse());
+      change_model(
+          request_id, [models = &models, work]() { return run_key_ellipse_edit(*models, work); },
+          log_edit_outcome);
       break;
+    }
     case pb::Body::Hello:
       send_error(pb::ErrorCode::InvalidArgument, "Hello was already received on this connection", 0,
                  request_id);
@@ -214,7 +208,7 @@ void Connection::handle_frame(const pb::Message& message) {
   }
 }
 
-void Connection::handle_hello(const pb::Hello& hello, std::uint64_t request_id) {
+void Connection::authenticate(const pb::Hello& hello, std::uint64_t request_id) {
   counters_.client_name = hello.client_name() ? hello.client_name()->str() : "";
   if (hello.version_major() != pb::kProtocolVersionMajor) {
     send_error(pb::ErrorCode::VersionMismatch,
@@ -241,40 +235,21 @@ void Connection::handle_hello(const pb::Hello& hello, std::uint64_t request_id) 
                       {"client", counters_.client_name},
                       {"delivery", pb::EnumNamePoseDelivery(delivery_)}});
   flatbuffers::FlatBufferBuilder builder = take_builder();
-  const auto welcome = pb::CreateWelcome(
-      builder, pb::kProtocolVersionMajor, pb::kProtocolVersionMinor, builder.CreateString("sweepd"),
-      builder.CreateVectorOfStrings(capabilities(environment_.position_maps.enabled())),
-      environment_.config.max_frame_bytes, environment_.config.max_poses_in_flight, id());
-  pb::finish_message(builder, welcome, request_id);
+  build_welcome(builder, environment_.config, environment_.position_maps.enabled(), id(),
+                request_id);
   send(std::move(builder));
 }
 
-void Connection::handle_pose(const pb::Pose& pose, std::uint64_t request_id,
-                             const pb::PositionMapRequest* map) {
+void Connection::queue_pose(const pb::Pose& pose, std::uint64_t request_id,
+                            const pb::PositionMapRequest* map) {
   ++counters_.poses_received;
-  const ModelHandle model = environment_.registry.find(pose.model_id());
-  if (!model) {
-    send_error(pb::ErrorCode::UnknownModel,
-               "pose " + std::to_string(pose.sequence()) + ": no model with id " +
-                   std::to_string(pose.model_id()),
-               pose.sequence(), request_id);
+  std::variant<PoseRequest, RequestError> intake =
+      read_pose_message(environment_.models, pose, request_id, map);
+  if (const RequestError* error = std::get_if<RequestError>(&intake)) {
+    send_error(*error, request_id);
     return;
   }
-  PoseRequest request;
-  if (auto problem = read_pose_request(pose, model, request_id, request)) {
-    ++environment_.model_counters[model->id].errors;
-    send_error(problem->code, problem->message, pose.sequence(), request_id);
-    return;
-  }
-  if (map != nullptr) {
-    if (const std::string problem = check_position_map_request(*map, model->bound.model);
-        !problem.empty()) {
-      send_error(pb::ErrorCode::InvalidArgument, problem, pose.sequence(), request_id);
-      return;
-    }
-    request.position_map =
-        PositionMapParams{map->width(), map->height(), map->layers(), map->compression()};
-  }
+  PoseRequest& request = std::get<PoseRequest>(intake);
   request.received = Clock::now();
   if (delivery_ == pb::PoseDelivery::LatestWins) {
     // Only plain poses go stale; a requested position map is always rendered.
@@ -287,134 +262,27 @@ void Connection::handle_pose(const pb::Pose& pose, std::uint64_t request_id,
   start_next_pose();
 }
 
-void Connection::handle_list_models(std::uint64_t request_id) {
-  flatbuffers::FlatBufferBuilder builder = take_builder();
-  std::vector<flatbuffers::Offset<pb::ModelSummary>> summaries;
-  for (const ModelHandle& model : environment_.registry.models()) {
-    summaries.push_back(pb::CreateModelSummaryDirect(
-        builder, model->id, model->name.c_str(),
-        static_cast<std::uint32_t>(model->bound.model.vertex_count()),
-        static_cast<std::uint32_t>(model->bound.model.skeleton.joints.size())));
-  }
-  for (const std::string& name : environment_.registry.directory_entries()) {
-    summaries.push_back(pb::CreateModelSummaryDirect(builder, 0, name.c_str(), 0, 0));
-  }
-  pb::finish_message(builder, pb::CreateModelListDirect(builder, &summaries), request_id);
-  send(std::move(builder));
-}
-
-void Connection::handle_edit_key_ellipse(const pb::EditKeyEllipse& request,
-                                         std::uint64_t request_id) {
-  deform::RestKeyEdit edit;
-  edit.sweep = request.sweep() ? request.sweep()->str() : "";
-  edit.key = static_cast<int>(std::min<std::uint32_t>(request.key_index(), 1u << 30));
-  if (const pb::Vec3* offset = request.centre_offset())
-    edit.centre_offset = {offset->x(), offset->y(), offset->z()};
-  edit.a = request.half_axis_a();
-  edit.b = request.half_axis_b();
-  edit.twist_radians = request.twist_radians();
-  const std::uint32_t model_id = request.model_id();
-  // Storing the edited model durably (fsync) takes milliseconds: on a worker, replies kept in
-  // request order.
+void Connection::change_model(std::uint64_t request_id, std::function<ModelChange()> change,
+                              LogModelChange log_outcome) {
   ++loads_running_;
-  asio::post(environment_.workers, [self = shared_from_this(), edit, model_id, request_id]() {
-    ModelHandle model = self->environment_.registry.find(model_id);
-    pb::ErrorCode code = pb::ErrorCode::UnknownModel;
-    std::string problem = "no model with id " + std::to_string(model_id);
-    if (model) {
-      deform::BoundModel bound = model->bound;
-      problem = deform::apply_rest_key_edit(bound, edit);
-      code = pb::ErrorCode::InvalidArgument;
-      try {
-        if (problem.empty())
-          model = self->environment_.registry.replace(model_id, std::move(bound));
-      } catch (const ModelError& error) {
-        code = error.code();
-        problem = error.what();
-      }
-    }
-    asio::post(self->socket_.get_executor(), [self, model, code, problem, request_id]() {
-      --self->loads_running_;
-      if (problem.empty()) {
-        log_event("key_ellipse_edited", {{"connection", self->id()}, {"model", model->id}});
-        flatbuffers::FlatBufferBuilder builder = self->take_builder();
-        build_model_info(builder, *model, request_id);
-        self->send(std::move(builder));
-      } else {
-        self->send_error(code, "edit key ellipse: " + problem, 0, request_id);
-      }
-      self->process_input();
-    });
-  });
-}
-
-void Connection::handle_load_model(const pb::LoadModel& load, std::uint64_t request_id) {
-  // The request's bytes live in the reader's storage: copy them for the worker.
-  auto request = std::make_shared<ModelLoadRequest>();
-  auto gltf = std::make_shared<std::vector<std::uint8_t>>();
-  request->name = load.name() ? load.name()->str() : "";
-  if (load.gltf()) gltf->assign(load.gltf()->begin(), load.gltf()->end());
-  request->gltf = *gltf;
-  if (load.options() && load.options()->rig_map_json()) {
-    request->rig_map_json = load.options()->rig_map_json()->str();
-  }
-  if (load.options()) request->keys_per_link = load.options()->keys_per_link();
-  ++loads_running_;
-  log_event("model_load_start",
-            {{"connection", id()}, {"name", request->name}, {"upload_bytes", gltf->size()}});
-  asio::post(environment_.workers, [self = shared_from_this(), request, gltf, request_id]() {
-    ModelHandle model;
-    pb::ErrorCode code = pb::ErrorCode::Internal;
-    std::string problem;
-    try {
-      model = self->environment_.registry.load(*request);
-    } catch (const ModelError& error) {
-      code = error.code();
-      problem = error.what();
-    } catch (const std::exception& error) {
-      problem = error.what();
-    }
-    asio::post(self->socket_.get_executor(), [self, model, code, problem, request_id]() {
-      --self->loads_running_;
-      if (model) {
-        log_event("model_loaded", {{"connection", self->id()},
-                                   {"model", model->id},
-                                   {"name", model->name},
-                                   {"vertices", model->bound.model.vertex_count()},
-                                   {"bind_time_ns", model->bind_time_ns}});
-        flatbuffers::FlatBufferBuilder builder = self->take_builder();
-        build_model_info(builder, *model, request_id);
-        self->send(std::move(builder));
-      } else {
-        log_event("model_load_failed", {{"connection", self->id()}, {"reason", problem}});
-        self->send_error(code, problem, 0, request_id);
-      }
-      self->process_input();
-    });
-  });
-}
-
-void Connection::handle_stats(std::uint64_t request_id) {
-  flatbuffers::FlatBufferBuilder builder = take_builder();
-  std::vector<flatbuffers::Offset<pb::ConnectionStats>> connections;
-  for (const ConnectionCounters& c : environment_.all_counters()) {
-    const pb::LatencyPercentiles latency = c.latency.percentiles();
-    connections.push_back(pb::CreateConnectionStatsDirect(
-        builder, c.connection_id, c.peer.c_str(), c.client_name.c_str(), c.poses_received,
-        c.poses_answered, c.poses_dropped, c.errors, c.bytes_in, c.bytes_out, &latency));
-  }
-  std::vector<flatbuffers::Offset<pb::ModelStats>> models;
-  for (const ModelHandle& model : environment_.registry.models()) {
-    const ModelCounters& counters = environment_.model_counters[model->id];
-    const pb::LatencyPercentiles latency = counters.deform_latency.percentiles();
-    models.push_back(pb::CreateModelStatsDirect(builder, model->id, model->name.c_str(),
-                                                counters.poses, counters.errors, &latency));
-  }
-  pb::finish_message(builder,
-                     pb::CreateStatsDirect(builder, nanoseconds_since(environment_.started),
-                                           &models, &connections),
-                     request_id);
-  send(std::move(builder));
+  asio::post(environment_.workers,
+             [self = shared_from_this(), change = std::move(change), log_outcome, request_id]() {
+               ModelChange outcome = change();
+               asio::post(self->socket_.get_executor(),
+                          [self, outcome = std::move(outcome), log_outcome, request_id]() {
+                            --self->loads_running_;
+                            log_outcome(self->id(), outcome);
+                            if (const ModelHandle* model = std::get_if<ModelHandle>(&outcome)) {
+                              flatbuffers::FlatBufferBuilder builder = self->take_builder();
+                              build_model_info(builder, **model, request_id);
+                              self->send(std::move(builder));
+                            } else {
+                              const RequestError& error = std::get<RequestError>(outcome);
+                              self->send_error(error.code, error.message, 0, request_id);
+                            }
+                            self->process_input();
+                          });
+             });
 }
 
 // ---------------------------------------------------------------------------------------
@@ -508,6 +376,11 @@ void Connection::send_error(pb::ErrorCode code, const std::string& message, std:
     draining_ = true;
     input_ = {};
   }
+}
+
+void Connection::send_error(const RequestError& error, std::uint64_t request_id) {
+  if (error.charged_model != 0) ++environment_.model_counters[error.charged_model].errors;
+  send_error(error.code, error.message, error.sequence, request_id);
 }
 
 void Connection::write_next() {

@@ -1,0 +1,72 @@
+// ModelService without a process: the default mannequin, and key-ellipse edits — refused ones
+// change nothing, an accepted one is swapped in as a new handle (the old one stays whole for
+// whoever holds it) and is on disk for the next start.
+#include "server/models/model_service.h"
+
+#include <gtest/gtest.h>
+
+#include <optional>
+
+#include "tests/server/daemon_process.h"
+
+namespace sweepd::test {
+namespace {
+
+server::ServerConfig config_in(const std::filesystem::path& store) {
+  server::ServerConfig config;
+  config.store_dir = store;
+  config.mannequin_vertices = 2000;  // small: binding it is quick
+  return config;
+}
+
+// The code an edit is refused with, or none when it is accepted.
+std::optional<protocol::ErrorCode> refusal(server::ModelService& models, std::uint32_t id,
+                                           const deform::RestKeyEdit& edit) {
+  try {
+    models.edit_key_ellipse(id, edit);
+  } catch (const server::ModelError& error) {
+    return error.code();
+  }
+  return std::nullopt;
+}
+
+TEST(ModelService, KeyEllipseEditsAreCheckedSwappedInAndStored) {
+  const server::ServerConfig config = config_in(fresh_directory("model_service"));
+  server::ModelService models(config);
+  models.restore();
+  models.add_default_model();
+  ASSERT_EQ(models.models().size(), 1u);
+  const server::ModelHandle before = models.models().front();
+  EXPECT_EQ(before->name, "mannequin");
+
+  int arm = -1;
+  for (std::size_t s = 0; s < before->bound.sweeps.size(); ++s)
+    if (before->bound.sweeps[s].part == deform::BodyPart::kLeftArm) arm = static_cast<int>(s);
+  ASSERT_GE(arm, 0);
+  const float old_a = before->bound.sweeps[arm].rest_keys[0].a;
+  deform::RestKeyEdit edit;
+  edit.sweep = "left_arm";
+  edit.key = 0;
+  edit.a = 1.25f * old_a;
+
+  EXPECT_EQ(refusal(models, before->id + 100, edit), protocol::ErrorCode::UnknownModel);
+  deform::RestKeyEdit unknown_sweep = edit;
+  unknown_sweep.sweep = "tail";
+  EXPECT_EQ(refusal(models, before->id, unknown_sweep), protocol::ErrorCode::InvalidArgument);
+  EXPECT_EQ(models.find(before->id), before);  // refused: the same model, untouched
+
+  const server::ModelHandle after = models.edit_key_ellipse(before->id, edit);
+  EXPECT_NE(after, before);
+  EXPECT_EQ(models.find(before->id), after);
+  // Exact: the edit sets the half-axis to the given float, and the old handle is a separate copy.
+  EXPECT_EQ(after->bound.sweeps[arm].rest_keys[0].a, edit.a);
+  EXPECT_EQ(before->bound.sweeps[arm].rest_keys[0].a, old_a);
+
+  server::ModelService restarted(config);
+  restarted.restore();
+  ASSERT_TRUE(restarted.find(before->id));
+  EXPECT_EQ(restarted.find(before->id)->bound.sweeps[arm].rest_keys[0].a, edit.a);
+}
+
+}  // namespace
+}  // namespace sweepd::test
