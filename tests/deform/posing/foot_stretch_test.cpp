@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "deform/job/deformer.h"
+#include "deform/job/deform_job.h"
 #include "io/bvh_load.h"
 #include "io/bvh_retarget.h"
 #include "tests/deform/shared_male.h"
@@ -69,7 +69,7 @@ TEST(FootStretch, TheToeCreaseStaysWithinThreeTimesItsRestLengthWhereTheClipCurl
   const fs::path toes_driven =
       fs::temp_directory_path() / ("foot_stretch_toes_" + std::to_string(::getpid()) + ".json");
   std::ofstream(toes_driven) << R"({"LeftToeBase": "LeftToeBase", "RightToeBase": "RightToeBase"})";
-  Deformer deformer(male);
+  test::Posing deformer(male);
   const std::vector<FootEdge> edges = foot_edges(male);
   std::vector<glm::vec3> positions(male.model.vertex_count());
   struct Case {
