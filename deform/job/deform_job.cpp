@@ -69,7 +69,7 @@ DeformReport DeformJob::run(DeformContext& context) {
       report.rounds = 1;
       break;
   }
-  report.volume_change = context.volume_change_;
+  if (method == DeformMethod::kSweep) report.volume_change = context.volume_change_;
   report.corrections = context.corrections_;
   return report;
 }
@@ -120,8 +120,6 @@ void DeformJob::run_sweep(DeformContext& context, DeformReport& report) {
     const std::span<const double> measured = collision.sweep_volume_change();
     std::copy(measured.begin(), measured.end(), context.measured_.begin());
     context.stream_ = true;
-  } else {
-    std::fill(change.begin(), change.end(), 0.0);
   }
   if (!normals.empty()) runtime.welded_normals().compute(positions, normals, context.normal_sums_);
 }

@@ -64,8 +64,8 @@ struct DeformJobOptions {
 };
 
 struct DeformReport {
-  FeatureReport features{};                 // the last round's folding and protrusion
-  std::span<const double> volume_change{};  // per sweep: the I_C the volume target used (m³)
+  FeatureReport features{};                         // the last round's folding and protrusion
+  std::span<const double> volume_change{};          // per sweep: the I_C targeted (m³); sweep only
   std::span<const VolumeCorrection> corrections{};  // per sweep; empty without volume
   int rounds = 0;                                   // deformations of the mesh this frame
   std::chrono::nanoseconds features_time{0};        // spent in folding and protrusion
