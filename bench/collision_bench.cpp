@@ -3,7 +3,9 @@
 // the CPU reference (grid broad phase) and gpu::CollisionDetector (llvmpipe here, a real GPU
 // where one is lent), for pair detection over all 8 regions and for the whole feature pass
 // (per region: detect, then fold/relax rounds each followed by a detection; protrusion). The
-// sweep deformation itself is timed alongside.
+// sweep deformation itself is timed alongside, and the whole deformation job with folding,
+// protrusion and volume preservation (deform/job/deform_job.h: a standalone frame, I_C from its
+// fixed-point loop, and a stream frame, I_C from the previous frame).
 #include <benchmark/benchmark.h>
 
 #include <cstdio>
@@ -13,7 +15,7 @@
 
 #include "deform/binding/bind.h"
 #include "deform/features/collision_features.h"
-#include "deform/job/deformer.h"
+#include "deform/job/deform_job.h"
 #include "deform/rig/rig_map.h"
 #include "gpu/collision.h"
 #include "io/gltf_load.h"
@@ -26,7 +28,8 @@ using namespace sweepd;
 struct Scene {
   deform::BoundModel bound;
   deform::Pose pose;
-  std::unique_ptr<deform::Deformer> deformer;
+  std::unique_ptr<deform::ModelRuntime> runtime;
+  deform::DeformContext context;
   std::vector<glm::vec3> posed;
 };
 
@@ -38,9 +41,10 @@ Scene* scene() {
     const deform::Model model = io::load_gltf(file);
     s->bound = deform::bind(model, deform::detect_rig_map(model.skeleton));
     s->pose = deform::test::left_elbow_and_knee_flexed(model, 150.0f);
-    s->deformer = std::make_unique<deform::Deformer>(s->bound);
+    s->runtime = std::make_unique<deform::ModelRuntime>(s->bound);
     s->posed.resize(model.vertex_count());
-    s->deformer->deform(s->pose, deform::DeformMethod::kSweep, s->posed, {});
+    deform::DeformJob{.runtime = *s->runtime, .pose = s->pose, .positions = s->posed}.run(
+        s->context);
     return s;
   }();
   return instance;
@@ -78,17 +82,39 @@ void BM_SweepDeform(benchmark::State& state) {
   Scene* s = scene();
   if (s == nullptr) return state.SkipWithError("shared male absent");
   std::vector<glm::vec3> positions(s->posed.size());
+  deform::DeformJob job{.runtime = *s->runtime, .pose = s->pose, .positions = positions};
   for (auto _ : state) {
-    s->deformer->deform(s->pose, deform::DeformMethod::kSweep, positions, {});
+    job.run(s->context);
     benchmark::DoNotOptimize(positions.data());
   }
+}
+
+// The deformation job with folding, protrusion and volume on the CPU: a frame standing alone
+// (0: I_C from up to 3 fixed-point rounds) or a stream's frame (1: I_C from the previous frame).
+void BM_VolumeAndFeatures(benchmark::State& state) {
+  Scene* s = scene();
+  if (s == nullptr) return state.SkipWithError("shared male absent");
+  std::vector<glm::vec3> positions(s->posed.size()), normals(s->posed.size());
+  deform::DeformJob job{
+      .runtime = *s->runtime,
+      .pose = s->pose,
+      .features = {.folding = true, .protrusion = true, .volume = true},
+      .options = {.volume_change = state.range(0) ? deform::VolumeChangeSource::kPreviousFrame
+                                                  : deform::VolumeChangeSource::kFixedPoint},
+      .positions = positions,
+      .normals = normals};
+  deform::DeformContext context;
+  deform::DeformReport report = job.run(context);
+  for (auto _ : state) report = job.run(context);
+  state.counters["rounds"] = report.rounds;
+  state.counters["pairs_after"] = report.features.pairs_after;
 }
 
 // Pairs over all 8 collision regions, CPU (0) or GPU (1).
 void BM_DetectAllRegions(benchmark::State& state) {
   Scene* s = scene();
   if (s == nullptr) return state.SkipWithError("shared male absent");
-  deform::CollisionFeatures features(s->bound);
+  const deform::CollisionModel& features = s->runtime->collision();
   gpu::CollisionDetector* detector = state.range(0) ? gpu_detector() : nullptr;
   if (state.range(0) && detector == nullptr) return state.SkipWithError("no GL context");
   deform::SelfIntersectionDetector cpu;
@@ -96,11 +122,11 @@ void BM_DetectAllRegions(benchmark::State& state) {
   std::size_t found = 0, triangles = 0;
   for (auto _ : state) {
     found = triangles = 0;
-    for (const deform::CollisionRegion& region : features.regions().regions) {
+    for (const deform::CollisionRegion& region : features.regions.regions) {
       if (detector) {
-        detector->detect(s->posed, features.regions().welded_indices, region.triangles, pairs);
+        detector->detect(s->posed, features.regions.welded_indices, region.triangles, pairs);
       } else {
-        cpu.detect(s->posed, features.regions().welded_indices, region.triangles, pairs);
+        cpu.detect(s->posed, features.regions.welded_indices, region.triangles, pairs);
       }
       found += pairs.size();
       triangles += region.triangles.size();
@@ -116,7 +142,7 @@ void BM_CollisionFeatures(benchmark::State& state) {
   if (s == nullptr) return state.SkipWithError("shared male absent");
   gpu::CollisionDetector* detector = state.range(0) ? gpu_detector() : nullptr;
   if (state.range(0) && detector == nullptr) return state.SkipWithError("no GL context");
-  deform::CollisionFeatures features(s->bound);
+  deform::CollisionFeatures features(s->runtime->collision());
   const deform::DetectPairs hook = detector ? gpu_hook(*detector) : deform::DetectPairs{};
   std::vector<glm::vec3> positions = s->posed;
   deform::FeatureReport report;
@@ -124,7 +150,7 @@ void BM_CollisionFeatures(benchmark::State& state) {
     state.PauseTiming();
     positions = s->posed;
     state.ResumeTiming();
-    report = features.apply(s->deformer->skinning(), positions, hook);
+    report = features.apply(s->context.skinning(), positions, hook);
   }
   state.counters["pairs_before"] = report.pairs_before;
   state.counters["pairs_after"] = report.pairs_after;
@@ -132,6 +158,7 @@ void BM_CollisionFeatures(benchmark::State& state) {
 }
 
 BENCHMARK(BM_SweepDeform)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_VolumeAndFeatures)->ArgName("stream")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DetectAllRegions)->ArgName("gpu")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CollisionFeatures)->ArgName("gpu")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 

@@ -6,9 +6,12 @@
 // --mannequin-vertices N, default 72000) and, over loopback with float32 positions:
 //   1. round trip: one client, InOrder, one pose at a time → p50 / p99 per pose;
 //   2. throughput: 1, 8 and 32 clients, each keeping Welcome.max_poses_in_flight poses in
-//      flight for S seconds → poses answered per second, all clients together;
+//      flight for S seconds → poses answered per second, all clients together, the daemon's
+//      resident memory (VmRSS) at the end, each connection's first round trip, and that of one
+//      more connection opened halfway through while the others stream;
 //   3. in-process: the same poses on the same binding (the daemon's store/1.sweepbind) with
-//      deform::Deformer, one thread, positions only → p50 / p99, and round trip ÷ in-process.
+//      one deform::DeformJob per pose (one ModelRuntime, one DeformContext), one thread, positions
+//      only → p50 / p99, and round trip ÷ in-process.
 // The poses are frames of CMU clip 01_01 retargeted client-side (client::retarget_onto).
 // Prints a Markdown table for the README; the targets are p50 ≤ 2 ms, p99 ≤ 5 ms,
 // ≥ 1000 poses/s, ratio ≤ 2. Exit code 1 when the daemon or the data cannot be had, 2 for a
@@ -35,7 +38,7 @@
 #include "client/connection.h"
 #include "client/model_skeleton.h"
 #include "console/command_line.h"
-#include "deform/job/deformer.h"
+#include "deform/job/deform_job.h"
 #include "io/bvh_load.h"
 #include "io/sweepbind.h"
 
@@ -204,6 +207,8 @@ struct Throughput {
   double server_cpu_ms = 0.0, client_cpu_ms = 0.0;  // per pose answered
   double server_mib = 0.0;                          // resident, at the end
   double first_pose_ms = 0.0;                       // a new connection's first round trip, mean
+  // A further connection opened halfway through, while the others stream: its first round trip.
+  double late_first_pose_ms = 0.0;
 };
 
 // `clients` connections, each keeping its window of poses full for `seconds`.
@@ -248,6 +253,18 @@ Throughput throughput(const Daemon& daemon, const std::vector<BenchPose>& poses,
   const Clock::time_point start = Clock::now();
   end = start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
   go = true;
+  std::this_thread::sleep_for(std::chrono::duration<double>(seconds / 2));
+  double late_first_pose_ms = 0.0;
+  {
+    sweepd::client::Connection connection(daemon.address());
+    connection.hello("", "server_bench");
+    const std::uint32_t model_id = connection.load_model("mannequin").model_id();
+    const Clock::time_point first_sent = Clock::now();
+    send_pose(connection, model_id, 1, poses[0]);
+    connection.expect<pb::PosedVertices>();
+    late_first_pose_ms = milliseconds_since(first_sent);
+    connection.close();
+  }
   for (std::thread& thread : threads) thread.join();
   const double count = static_cast<double>(answered);
   return {
@@ -256,20 +273,23 @@ Throughput throughput(const Daemon& daemon, const std::vector<BenchPose>& poses,
       .server_cpu_ms = (daemon.cpu_ms() - server_cpu) / count,
       .client_cpu_ms = (process_cpu_ms() - client_cpu) / count,
       .server_mib = daemon.resident_mib(),
-      .first_pose_ms = std::accumulate(first_pose_ms.begin(), first_pose_ms.end(), 0.0) / clients};
+      .first_pose_ms = std::accumulate(first_pose_ms.begin(), first_pose_ms.end(), 0.0) / clients,
+      .late_first_pose_ms = late_first_pose_ms};
 }
 
 // The library's own time for the same poses: one thread, positions only.
 std::vector<double> in_process_ms(const fs::path& binding, std::vector<BenchPose> poses) {
   const sweepd::deform::BoundModel bound = sweepd::io::load_sweepbind(binding);
-  sweepd::deform::Deformer deformer(bound);
+  const sweepd::deform::ModelRuntime runtime(bound);
+  sweepd::deform::DeformContext context;
   std::vector<glm::vec3> positions(bound.model.vertex_count());
   std::vector<double> times;
   for (int round = 0; round < 2; ++round) {  // the first round warms the caches
     times.clear();
     for (BenchPose& pose : poses) {
       const Clock::time_point start = Clock::now();
-      deformer.deform(pose.pose, sweepd::deform::DeformMethod::kSweep, positions, {}, 1);
+      sweepd::deform::DeformJob{.runtime = runtime, .pose = pose.pose, .positions = positions}.run(
+          context);
       times.push_back(milliseconds_since(start));
     }
   }
@@ -345,12 +365,15 @@ int run(const Options& options) {
       percentile_of(round_trip, &RoundTrip::rest, 0.99));
   std::printf(
       "| clients | poses/s | server CPU ms/pose | client CPU ms/pose | server RSS MiB | "
-      "first pose on a new connection, ms |\n");
-  std::printf("|---|---|---|---|---|---|\n");
+      "first pose on a new connection, ms | ... opened while the others stream, ms |\n");
+  std::printf("|---|---|---|---|---|---|---|\n");
   for (const Throughput& r : rates) {
-    std::printf("| %d | %.0f | %.3f | %.3f | %.0f | %.1f |\n", r.clients, r.poses_per_second,
-                r.server_cpu_ms, r.client_cpu_ms, r.server_mib, r.first_pose_ms);
+    std::printf("| %d | %.0f | %.3f | %.3f | %.0f | %.1f | %.1f |\n", r.clients, r.poses_per_second,
+                r.server_cpu_ms, r.client_cpu_ms, r.server_mib, r.first_pose_ms,
+                r.late_first_pose_ms);
   }
+  std::printf("\nserver RSS, %d clients / 1 client: %.2f\n", rates.back().clients,
+              rates.back().server_mib / rates.front().server_mib);
   std::printf(
       "\n%d poses of cmu_01_01, float32 positions, loopback, %u hardware threads, load "
       "average %.1f; targets: p50 <= 2 ms, p99 <= 5 ms, >= 1000 poses/s, ratio <= 2\n",

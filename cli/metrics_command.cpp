@@ -19,6 +19,7 @@
 #include "cli/text_format.h"
 #include "console/progress_bar.h"
 #include "deform/binding/bind.h"
+#include "deform/job/deform_job.h"
 #include "deform/model/forward_kinematics.h"
 #include "io/bvh_load.h"
 #include "io/rig_map_json.h"
@@ -107,23 +108,23 @@ std::string take_methods(std::vector<std::string>& args, std::vector<Method>& me
   return {};
 }
 
-// The method deformed in this process (its Deformer's poser holds the sweep state).
-PoseDeformer local_deformer(const Method& m, const deform::BoundModel& bound,
-                            std::unique_ptr<deform::Deformer>& owner) {
-  owner = std::make_unique<deform::Deformer>(bound);
-  deform::DeformOptions options;
-  options.preserve_volume = m.preserve_volume;
-  owner->set_options(options);
-  return [&deformer = *owner, m](deform::Pose pose,
+// The method deformed in this process (the context's poser holds the sweep state).
+PoseDeformer local_deformer(const Method& m, const deform::ModelRuntime& runtime,
+                            deform::DeformContext& context) {
+  return [&runtime, &context, m](deform::Pose pose,
                                  std::vector<glm::vec3>& positions) -> const deform::SweepPoser& {
-    deformer.deform(pose, m.method, positions, {});
+    deform::DeformJob{.runtime = runtime,
+                      .pose = pose,
+                      .method = m.method,
+                      .features = {.volume = m.preserve_volume},
+                      .positions = positions}
+        .run(context);
     if (m.method != deform::DeformMethod::kSweep)
-      deformer.sweep_poser().set_pose(deformer.world_pose());  // section planes
-    return deformer.sweep_poser();
+      context.sweep_poser().set_pose(context.world_pose());  // section planes
+    return context.sweep_poser();
   };
 }
 
-// The method deformed by the server; `poser` (of the local binding) gives the section planes.
 PoseDeformer server_deformer(const Method& m, RemotePosedModel& remote, deform::SweepPoser& poser) {
   return [&remote, &poser, m](deform::Pose pose,
                               std::vector<glm::vec3>& positions) -> const deform::SweepPoser& {
@@ -287,10 +288,12 @@ int metrics(const std::vector<std::string>& arguments, const ServerAddress* serv
       std::unique_ptr<console::ProgressBar> bar;
       if (frames.size() > 1) bar = std::make_unique<console::ProgressBar>("metrics");
       const int total = static_cast<int>(frames.size() * methods.size());
+      std::unique_ptr<deform::ModelRuntime> runtime;
+      if (!server) runtime = std::make_unique<deform::ModelRuntime>(bound);
       for (std::size_t m = 0; m < methods.size(); ++m) {
-        std::unique_ptr<deform::Deformer> deformer;
+        deform::DeformContext context;
         const PoseDeformer deform = server ? server_deformer(methods[m], *remote, *served_poser)
-                                           : local_deformer(methods[m], bound, deformer);
+                                           : local_deformer(methods[m], *runtime, context);
         reports.push_back(measure_method(methods[m], bound, deform, !server, pose_of, meter, frames,
                                          bar.get(), static_cast<int>(m * frames.size()), total));
       }

@@ -100,7 +100,7 @@ PosedModel::PosedModel(const PosingArguments& arguments) : arguments_(arguments)
     const LoadedModel loaded = load_model_and_rig(arguments.model, arguments.rig);
     bound_ = std::make_unique<deform::BoundModel>(deform::bind(loaded.model, loaded.rig));
   }
-  deformer_ = std::make_unique<deform::Deformer>(*bound_);
+  runtime_ = std::make_unique<deform::ModelRuntime>(*bound_);
   if (!arguments.bvh.empty()) {
     retargeter_.emplace(io::load_bvh(arguments.bvh), bound_->model,
                         load_joint_name_map(arguments.bvh_map));
@@ -108,10 +108,6 @@ PosedModel::PosedModel(const PosingArguments& arguments) : arguments_(arguments)
   }
   if (!arguments.pose_file.empty())
     file_pose_ = io::load_pose_json(arguments.pose_file, bound_->model.skeleton);
-  if (arguments.features.any()) {
-    features_ = std::make_unique<deform::FeatureApplier>(*bound_);
-    features_->select(arguments.features, *deformer_);
-  }
 }
 
 deform::Pose PosedModel::pose(int frame) const {
@@ -125,8 +121,17 @@ void PosedModel::deform(int frame, std::vector<glm::vec3>& positions,
   positions.resize(model().vertex_count());
   normals.resize(model().vertex_count());
   deform::Pose p = pose(frame);
-  deformer_->deform(p, arguments_.method, positions, normals);
-  if (features_) feature_report_ = features_->apply(*deformer_, positions, normals);
+  deform::DeformJob job{
+      .runtime = *runtime_,
+      .pose = p,
+      .method = arguments_.method,
+      .features = arguments_.features,
+      .options = {.volume_change = arguments_.frame_range
+                                       ? deform::VolumeChangeSource::kPreviousFrame
+                                       : deform::VolumeChangeSource::kFixedPoint},
+      .positions = positions,
+      .normals = normals};
+  feature_report_ = job.run(context_).features;
 }
 
 std::uint64_t pose_hash(const deform::Pose& pose) {

@@ -12,7 +12,7 @@
 
 #include "deform/binding/bound_model.h"
 #include "deform/job/anatomical_features.h"
-#include "deform/job/deformer.h"
+#include "deform/job/deform_job.h"
 #include "motion/frame_range.h"
 #include "motion/retarget.h"
 
@@ -50,7 +50,9 @@ class PosedModel {
   const PosingArguments& arguments() const { return arguments_; }
   // The pose of clip frame `frame` (or the pose file / rest pose without a clip).
   deform::Pose pose(int frame) const;
-  // Deforms into positions and normals (vertex_count() each), features included.
+  // Deforms into positions and normals (vertex_count() each), features included: one
+  // deform::DeformJob. A clip's frame range is a stream (I_C from the previous frame,
+  // VolumeChangeSource::kPreviousFrame); a single frame stands alone (kFixedPoint).
   void deform(int frame, std::vector<glm::vec3>& positions, std::vector<glm::vec3>& normals);
   // What folding and protrusion did in the last deform (zeros without them).
   const deform::FeatureReport& feature_report() const { return feature_report_; }
@@ -58,10 +60,10 @@ class PosedModel {
  private:
   PosingArguments arguments_;
   std::unique_ptr<deform::BoundModel> bound_;
-  std::unique_ptr<deform::Deformer> deformer_;
+  std::unique_ptr<deform::ModelRuntime> runtime_;
+  deform::DeformContext context_;
   std::optional<motion::Retargeter> retargeter_;
   std::optional<deform::Pose> file_pose_;
-  std::unique_ptr<deform::FeatureApplier> features_;
   deform::FeatureReport feature_report_;
 };
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "deform/job/deform_job.h"
 #include "protocol/float16.h"
 
 namespace sweepd::server {
@@ -92,28 +93,25 @@ std::optional<protocol::PoseProblem> read_pose_request(const protocol::Pose& pos
   return std::nullopt;
 }
 
-PosedVerticesWriter::Posing& PosedVerticesWriter::posing_for(const ModelHandle& model) {
-  Posing& slot = posings_[model->id];
-  if (slot.model != model) {
-    slot = {};
-    slot.model = model;
-    slot.deformer = std::make_unique<deform::Deformer>(model->bound);
-    slot.features = std::make_unique<deform::FeatureApplier>(model->bound);
-  }
-  return slot;
-}
-
 std::pair<std::uint64_t, std::uint64_t> PosedVerticesWriter::deform(PoseRequest& request,
                                                                     std::span<glm::vec3> positions,
                                                                     std::span<glm::vec3> normals) {
-  Posing& posing = posing_for(request.model);
+  // One context per worker thread, whichever connection's request it runs: a connection holds
+  // no deformation state.
+  thread_local deform::DeformContext context;
   const Clock::time_point start = Clock::now();
-  posing.features->select(request.features, *posing.deformer);
-  posing.deformer->deform(request.pose, request.method, positions, normals, deform_threads_);
-  const Clock::time_point deformed = Clock::now();
-  if (!request.features.collision()) return {nanoseconds_between(start, deformed), 0};
-  posing.features->apply(*posing.deformer, positions, normals);
-  return {nanoseconds_between(start, deformed), nanoseconds_between(deformed, Clock::now())};
+  deform::DeformJob job{.runtime = *request.model->runtime,
+                        .pose = request.pose,
+                        .method = request.method,
+                        .features = request.features,
+                        .options = {.threads = deform_threads_},
+                        .positions = positions,
+                        .normals = normals};
+  const deform::DeformReport report = job.run(context);
+  const auto total = static_cast<std::uint64_t>(
+      std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - start).count());
+  const auto features = static_cast<std::uint64_t>(report.features_time.count());
+  return {total - std::min(total, features), features};
 }
 
 std::uint64_t PosedVerticesWriter::write(PoseRequest& request, std::uint32_t dropped_before,

@@ -12,21 +12,22 @@
 //   frame in `builder` (protocol::PosedVerticesFrame) — float32 positions/normals are
 //   written by the deformer in place; float16 go through one scratch buffer, kept between
 //   frames. write_position_map: the same pose rendered to an EXR position map instead.
-//   The request's features go through one deform::FeatureApplier per model (volume and bulge
-//   inside the deformation, then folding and protrusion), so the vertices equal the library's
-//   bit for bit; ServerTimings.features_ns times folding and protrusion.
-//   One writer per connection (its Deformers are not shared between threads).
+//   The request runs as one deform::DeformJob on the model's shared ModelRuntime
+//   (RegisteredModel::runtime) with the worker thread's own DeformContext (one per thread,
+//   not per connection), each request standing alone (VolumeChangeSource::kFixedPoint), so
+//   the vertices equal the library's bit for bit; ServerTimings.features_ns times folding and
+//   protrusion (DeformReport::features_time). One writer per connection (its encoding scratch
+//   is not shared between threads).
 #pragma once
 
 #include <chrono>
 #include <cstdint>
-#include <map>
-#include <memory>
 #include <optional>
 #include <vector>
 
 #include "deform/job/anatomical_features.h"
-#include "deform/job/deformer.h"
+#include "deform/job/deform_method.h"
+#include "deform/model/pose.h"
 #include "protocol/messages.h"
 #include "server/models/model_registry.h"
 #include "server/position_map_service.h"
@@ -71,19 +72,12 @@ class PosedVerticesWriter {
                                    flatbuffers::FlatBufferBuilder& builder);
 
  private:
-  struct Posing {       // per model: a deformer and the features applied on top of it
-    ModelHandle model;  // kept alive while the deformer refers to it
-    std::unique_ptr<deform::Deformer> deformer;
-    std::unique_ptr<deform::FeatureApplier> features;
-  };
-  Posing& posing_for(const ModelHandle& model);
   // Deforms the request's pose with its method and features; returns (deform, features) ns.
   std::pair<std::uint64_t, std::uint64_t> deform(PoseRequest& request,
                                                  std::span<glm::vec3> positions,
                                                  std::span<glm::vec3> normals);
 
   int deform_threads_;
-  std::map<std::uint32_t, Posing> posings_;                     // per model id
   std::vector<glm::vec3> positions_scratch_, normals_scratch_;  // float16 and position maps
   std::vector<std::uint8_t> exr_scratch_;
 };

@@ -6,18 +6,16 @@
 
 namespace sweepd::deform {
 
-CollisionFeatures::CollisionFeatures(const BoundModel& bound,
+CollisionFeatures::CollisionFeatures(const CollisionModel& model,
                                      const CollisionFeatureOptions& options)
-    : options_(options),
-      regions_(find_collision_regions(bound, options.regions)),
-      proxies_(make_bone_proxies(bound, regions_, options.proxies)) {}
+    : model_(model), options_(options), sweep_volume_change_(model.sweep_count, 0.0) {}
 
 int CollisionFeatures::find_pairs(const CollisionRegion& region,
                                   std::span<const glm::vec3> positions, const DetectPairs& detect) {
   if (detect) {
-    detect(positions, regions_.welded_indices, region.triangles, pairs_);
+    detect(positions, model_.regions.welded_indices, region.triangles, pairs_);
   } else {
-    detector_.detect(positions, regions_.welded_indices, region.triangles, pairs_);
+    detector_.detect(positions, model_.regions.welded_indices, region.triangles, pairs_);
   }
   return static_cast<int>(pairs_.size());
 }
@@ -34,10 +32,10 @@ int CollisionFeatures::fold_region(const CollisionRegion& region, int pairs,
     for (int step = 0; step < 2 && !reduced; ++step) {
       FoldingResult folded;
       if (step == 0) {
-        folded = folder_.fold(region, regions_.welded_indices, saved_pairs_, options_.folding_gap,
-                              positions);
+        folded = folder_.fold(region, model_.regions.welded_indices, saved_pairs_,
+                              options_.folding_gap, positions);
       } else {
-        folder_.relax(region, regions_.welded_indices, saved_pairs_, positions);
+        folder_.relax(region, model_.regions.welded_indices, saved_pairs_, positions);
       }
       const int now = find_pairs(region, positions, detect);
       reduced = now < pairs;
@@ -58,32 +56,38 @@ int CollisionFeatures::fold_region(const CollisionRegion& region, int pairs,
 FeatureReport CollisionFeatures::apply(std::span<const glm::mat4> skinning,
                                        std::span<glm::vec3> positions, const DetectPairs& detect) {
   FeatureReport report;
+  std::fill(sweep_volume_change_.begin(), sweep_volume_change_.end(), 0.0);
   if (options_.folding) {
-    for (const CollisionRegion& region : regions_.regions) {
+    for (const CollisionRegion& region : model_.regions.regions) {
       const int before = find_pairs(region, positions, detect);
       report.pairs_before += before;
       if (before == 0) continue;
       saved_.resize(region.vertices.size());
       const double volume_before =
-          enclosed_volume(positions, regions_.welded_indices, region.triangles);
+          enclosed_volume(positions, model_.regions.welded_indices, region.triangles);
       report.pairs_after += fold_region(region, before, positions, detect, report);
-      report.volume_change +=
-          enclosed_volume(positions, regions_.welded_indices, region.triangles) - volume_before;
+      const double change =
+          enclosed_volume(positions, model_.regions.welded_indices, region.triangles) -
+          volume_before;
+      report.volume_change += change;
+      if (region.sweep >= 0) sweep_volume_change_[region.sweep] += change;
     }
   }
   if (options_.protrusion) {
-    for (const BoneProxy& proxy : proxies_) {
+    for (const BoneProxy& proxy : model_.proxies) {
       proxy_positions_.resize(proxy.rest_positions.size());
       const glm::vec3 anchor = pose_bone_proxy(proxy, skinning, proxy_positions_);
       const ProtrusionResult pushed = push_out_of_bone_proxy(
-          proxy_positions_, proxy.indices, anchor, regions_.regions[proxy.region],
-          regions_.welded_indices, options_.protrusion_gap, positions);
+          proxy_positions_, proxy.indices, anchor, model_.regions.regions[proxy.region],
+          model_.regions.welded_indices, options_.protrusion_gap, positions);
       report.protruded += pushed.moved;
       report.deepest_protrusion = std::max(report.deepest_protrusion, pushed.max_depth);
       report.volume_change += pushed.volume_change;
+      if (const int s = model_.regions.regions[proxy.region].sweep; s >= 0)
+        sweep_volume_change_[s] += pushed.volume_change;
     }
   }
-  copy_to_seam_copies(regions_, positions);
+  copy_to_seam_copies(model_.regions, positions);
   return report;
 }
 

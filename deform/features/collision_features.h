@@ -4,12 +4,15 @@
 // (gpu::CollisionDetector).
 //
 // apply
-//   Inputs:  skinning   J skinning matrices of the pose (Deformer::skinning())
+//   Inputs:  skinning   J skinning matrices of the pose
 //            detect     optional pair finder with SelfIntersectionDetector::detect's contract;
 //                       empty: the CPU reference
-//   In/out:  positions  #V posed positions (Deformer::deform's output); region vertices move,
+//   In/out:  positions  #V posed positions (the sweep poser's output); region vertices move,
 //                       UV-seam copies follow their representative
-//   Output:  FeatureReport (counts, deepest penetrations, volume change for I_C)
+//   Output:  FeatureReport (counts, deepest penetrations, net volume change), and
+//            sweep_volume_change(): the same change per sweep (CollisionModel::sweep_count
+//            values; each region's and each proxy's change goes to the region's limb sweep) —
+//            the paper's I_C (§4.4), which DeformJob subtracts from the preserved target.
 // Per region with pairs, up to folding_rounds rounds: fold (SkinFolder::fold with the current
 // pairs) and detect again; when that does not reduce the pairs, restore and relax
 // (SkinFolder::relax) instead; when neither does, restore and stop. So pairs_after never
@@ -22,8 +25,7 @@
 #include <span>
 #include <vector>
 
-#include "deform/features/bone_proxy.h"
-#include "deform/features/collision_regions.h"
+#include "deform/features/collision_model.h"
 #include "deform/features/self_intersection.h"
 #include "deform/features/skin_folding.h"
 
@@ -34,8 +36,6 @@ using DetectPairs =
                        std::span<const std::uint32_t> triangles, std::vector<TrianglePair>& pairs)>;
 
 struct CollisionFeatureOptions {
-  CollisionRegionOptions regions;
-  BoneProxyOptions proxies;
   bool folding = true;
   bool protrusion = true;
   int folding_rounds = 16;       // detect -> fold rounds per region at most
@@ -49,24 +49,28 @@ struct FeatureReport {
   int folded = 0;        // vertices pulled back by folding, summed over rounds
   int protruded = 0;     // vertices pushed out by bone proxies
   float deepest_fold = 0.0f, deepest_protrusion = 0.0f;  // m
-  double volume_change = 0.0;                            // m³, both features together
+  double volume_change = 0.0;  // m³, both features together (Σ sweep_volume_change())
 };
 
 class CollisionFeatures {
  public:
-  // The BoundModel must outlive this object.
-  explicit CollisionFeatures(const BoundModel& bound, const CollisionFeatureOptions& options = {});
+  // The CollisionModel must outlive this object; this object holds only per-frame scratch.
+  explicit CollisionFeatures(const CollisionModel& model,
+                             const CollisionFeatureOptions& options = {});
 
   FeatureReport apply(std::span<const glm::mat4> skinning, std::span<glm::vec3> positions,
                       const DetectPairs& detect = {});
+  void set_options(const CollisionFeatureOptions& options) { options_ = options; }
   // Switches folding and protrusion on or off for the next apply calls.
   void select(bool folding, bool protrusion) {
     options_.folding = folding;
     options_.protrusion = protrusion;
   }
 
-  const CollisionRegions& regions() const { return regions_; }
-  const std::vector<BoneProxy>& proxies() const { return proxies_; }
+  const CollisionRegions& regions() const { return model_.regions; }
+  const std::vector<BoneProxy>& proxies() const { return model_.proxies; }
+  // Per sweep, the volume the last apply added (m³; negative where folding took it away).
+  std::span<const double> sweep_volume_change() const { return sweep_volume_change_; }
 
  private:
   int find_pairs(const CollisionRegion& region, std::span<const glm::vec3> positions,
@@ -76,9 +80,9 @@ class CollisionFeatures {
   int fold_region(const CollisionRegion& region, int pairs, std::span<glm::vec3> positions,
                   const DetectPairs& detect, FeatureReport& report);
 
+  const CollisionModel& model_;
   CollisionFeatureOptions options_;
-  CollisionRegions regions_;
-  std::vector<BoneProxy> proxies_;
+  std::vector<double> sweep_volume_change_;
   SelfIntersectionDetector detector_;
   SkinFolder folder_;
   std::vector<TrianglePair> pairs_, saved_pairs_;

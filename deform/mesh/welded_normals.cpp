@@ -48,20 +48,22 @@ WeldedNormals::WeldedNormals(std::span<const glm::vec3> rest_positions,
                                   " past " + std::to_string(rest_positions.size()) + " vertices");
   std::size_t welded_count = 0;
   welded_ = weld_coincident_positions(rest_positions, &welded_count);
-  sums_.resize((welded_count + 3) / 4 * 4);
+  sum_count_ = (welded_count + 3) / 4 * 4;
   corner_welded_.reserve(corner_vertex_.size());
   for (const std::uint32_t v : corner_vertex_) corner_welded_.push_back(welded_[v]);
 }
 
-void WeldedNormals::compute(std::span<const glm::vec3> positions, std::span<glm::vec3> normals) {
+void WeldedNormals::compute(std::span<const glm::vec3> positions, std::span<glm::vec3> normals,
+                            std::vector<FloatLanes>& frame_sums) const {
   if (positions.size() != welded_.size() || normals.size() != positions.size())
     throw std::invalid_argument("welded normals: " + std::to_string(positions.size()) +
                                 " positions and " + std::to_string(normals.size()) +
                                 " normals for " + std::to_string(welded_.size()) + " vertices");
-  std::fill(sums_.begin(), sums_.end(), FloatLanes{0.0f, 0.0f, 0.0f, 0.0f});
+  frame_sums.resize(sum_count());
+  std::fill(frame_sums.begin(), frame_sums.end(), FloatLanes{0.0f, 0.0f, 0.0f, 0.0f});
   const std::uint32_t* vertex = corner_vertex_.data();
   const std::uint32_t* welded = corner_welded_.data();
-  FloatLanes* sums = sums_.data();
+  FloatLanes* sums = frame_sums.data();
   for (std::size_t corner = 0; corner < corner_vertex_.size(); corner += 3) {
     const FloatLanes a = lanes_of(positions[vertex[corner]]);
     const FloatLanes area_normal = cross(lanes_of(positions[vertex[corner + 1]]) - a,
@@ -70,9 +72,9 @@ void WeldedNormals::compute(std::span<const glm::vec3> positions, std::span<glm:
     sums[welded[corner + 1]] += area_normal;
     sums[welded[corner + 2]] += area_normal;
   }
-  // Unit sums, four at a time (one square root and one division for four on x86-64); sums_
+  // Unit sums, four at a time (one square root and one division for four on x86-64); frame_sums
   // holds a multiple of four (the padding stays zero).
-  for (std::size_t w = 0; w < sums_.size(); w += 4) {
+  for (std::size_t w = 0; w < frame_sums.size(); w += 4) {
     FloatLanes* n = sums + w;
     const FloatLanes x0y0x1y1 = __builtin_shufflevector(n[0] * n[0], n[1] * n[1], 0, 4, 1, 5);
     const FloatLanes x2y2x3y3 = __builtin_shufflevector(n[2] * n[2], n[3] * n[3], 0, 4, 1, 5);

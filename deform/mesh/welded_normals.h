@@ -4,7 +4,9 @@
 // Construction (once): the rest positions (to weld coincident vertices) and the triangle
 // indices (3 per triangle). compute(): positions of the deformed mesh (rest vertex count) →
 // normals (as many): the normalised sum of the cross products of the triangles around the
-// welded vertex, (0, 1, 0) where that sum is zero.
+// welded vertex, (0, 1, 0) where that sum is zero. The per-frame sums live in the caller's
+// `sums` (resized to sum_count() on first use), so one WeldedNormals is shared read-only by
+// threads that each own their sums (deform/job/model_runtime.h).
 #pragma once
 
 #include <cstdint>
@@ -20,13 +22,15 @@ class WeldedNormals {
  public:
   WeldedNormals(std::span<const glm::vec3> rest_positions, std::span<const std::uint32_t> indices);
 
-  void compute(std::span<const glm::vec3> positions, std::span<glm::vec3> normals);
+  void compute(std::span<const glm::vec3> positions, std::span<glm::vec3> normals,
+               std::vector<FloatLanes>& sums) const;
+  std::size_t sum_count() const { return sum_count_; }
 
  private:
   std::vector<std::uint32_t> corner_vertex_;  // per triangle corner: its vertex
   std::vector<std::uint32_t> corner_welded_;  // per triangle corner: its welded vertex
   std::vector<std::uint32_t> welded_;         // per vertex: its welded vertex
-  std::vector<FloatLanes> sums_;              // per welded vertex (padded to 4), per frame
+  std::size_t sum_count_ = 0;                 // welded vertices, padded to a multiple of 4
 };
 
 }  // namespace sweepd::deform

@@ -4,7 +4,6 @@
 #include <array>
 #include <cmath>
 
-#include "deform/binding/rest_sweep.h"
 #include "deform/binding/sweep_coordinates.h"
 #include "deform/posing/key_posing.h"
 #include "deform/simd/vertex_blocks.h"
@@ -12,22 +11,6 @@
 namespace sweepd::deform {
 
 namespace {
-
-glm::quat rotation_of(const glm::mat4& m) {
-  return glm::normalize(
-      glm::quat_cast(glm::mat3(glm::normalize(glm::vec3(m[0])), glm::normalize(glm::vec3(m[1])),
-                               glm::normalize(glm::vec3(m[2])))));
-}
-
-// The influences the skinned share follows: the binding's own, else the model's.
-std::span<const std::array<std::uint16_t, kInfluences>> skinned_share_joints(
-    const BoundModel& bound) {
-  return bound.skinned_share_joints.empty() ? bound.model.skin_joints : bound.skinned_share_joints;
-}
-std::span<const std::array<float, kInfluences>> skinned_share_weights(const BoundModel& bound) {
-  return bound.skinned_share_weights.empty() ? bound.model.skin_weights
-                                             : bound.skinned_share_weights;
-}
 
 // LBS of one vertex's skinned share: blend the four matrices' columns, then one transform (as
 // LBS does).
@@ -45,87 +28,18 @@ glm::vec3 skinned_position(const BoundModel& bound, std::span<const glm::mat4> s
 }  // namespace
 
 SweepPoser::SweepPoser(const BoundModel& bound, VertexLoopInstructions instructions)
-    : bound_(bound), normals_(bound.model.positions, bound.model.indices) {
-  const Skeleton& skeleton = bound.model.skeleton;
-  const std::vector<glm::mat4> world_rest = skeleton.world_rest_matrices();
-  for (const glm::mat4& m : world_rest) {
-    rest_rotation_inverse_.push_back(glm::inverse(rotation_of(m)));
-    rest_joint_.emplace_back(m[3]);
-  }
-  joint_rotation_.resize(world_rest.size());
-  pose_joint_ = rest_joint_;
+    : SweepPoser(make_sweep_poser_tables(bound, instructions)) {}
 
-  // Table rows: kSamplesPerSpan per key span, aligned with the keys, plus the last key.
-  std::vector<std::uint32_t> first_sample;  // per sweep: its first row in table_
-  for (const BoundSweep& sweep : bound.sweeps) {
-    sweeps_.push_back(rest_sweep(sweep, bound.options));
-    posed_keys_.push_back(sweep.rest_keys);
-    mitre_spread_.push_back(mitre_spread(sweep));
-    sweep_data_.emplace_back();
-    first_sample.push_back(static_cast<std::uint32_t>(sample_q_mix_.size()));
-    const Sweep& curve = sweeps_.back();
-    const auto t = curve.parameters();
-    for (std::size_t i = 0; i + 1 < t.size(); ++i)
-      for (int k = 0; k <= kSamplesPerSpan; ++k) {
-        if (k == kSamplesPerSpan && i + 2 < t.size()) break;  // the next span's first row
-        const double at = t[i] + (t[i + 1] - t[i]) * k / kSamplesPerSpan;
-        const auto spline = curve.centre_curve().weights(at);
-        const auto row = static_cast<std::uint32_t>(sample_q_mix_.size());
-        const auto sweep_index = static_cast<std::uint16_t>(sweeps_.size() - 1);
-        const auto span = static_cast<std::uint16_t>(spline.span);
-        if (sample_runs_.empty() || sample_runs_.back().sweep != sweep_index ||
-            sample_runs_.back().span != span)
-          sample_runs_.push_back({row, row, sweep_index, span});
-        ++sample_runs_.back().end;
-        for (int r = 0; r < 4; ++r) sample_spline_[r].push_back(static_cast<float>(spline.w[r]));
-        sample_q_mix_.push_back(
-            static_cast<float>((at - t[spline.span]) / (t[spline.span + 1] - t[spline.span])));
-        std::array<double, InterpolatingQuadraticSpline::kMaxDegree + 1> basis{};
-        SampleAxisWeights axis{};
-        axis.first = static_cast<std::uint32_t>(curve.a_function().nonzero_basis(at, basis));
-        for (int r = 0; r < 3; ++r)
-          axis.axis[r] = r <= curve.a_function().degree() ? static_cast<float>(basis[r]) : 0.0f;
-        sample_axis_.push_back(axis);
-      }
-  }
-  table_.resize(sample_q_mix_.size());
-
-  const std::size_t n = bound.model.vertex_count();
-  std::vector<std::uint32_t> first_term(n + 1, 0);
-  std::vector<float> skin_share(n);
-  std::vector<SweepTerm> terms;
-  for (std::size_t v = 0; v < n; ++v) {
-    const VertexBinding& vb = bound.vertices[v];
-    skin_share[v] = vb.skin_weight;
-    for (int k = 0; k < kSweepsPerVertex; ++k) {
-      if (vb.sweep[k] < 0 || vb.weight[k] == 0.0f) continue;
-      const SweepCoordinate& c = vb.coordinate[k];
-      // The row at or below t (the last row's predecessor at t = 1), and the fraction past it.
-      const auto t = sweeps_[vb.sweep[k]].parameters();
-      const std::size_t span = std::min<std::size_t>(
-          std::upper_bound(t.begin() + 1, t.end() - 1, static_cast<double>(c.t)) - t.begin() - 1,
-          t.size() - 2);
-      const double within = (c.t - t[span]) / (t[span + 1] - t[span]) * kSamplesPerSpan;
-      const int step = std::clamp(static_cast<int>(within), 0, kSamplesPerSpan - 1);
-      SweepTerm term{};
-      term.row =
-          first_sample[vb.sweep[k]] + static_cast<std::uint32_t>(span * kSamplesPerSpan + step);
-      term.fraction = static_cast<float>(within - step);
-      term.weight_below = vb.weight[k] * (1.0f - term.fraction);
-      term.weight_above = vb.weight[k] * term.fraction;
-      term.cos_theta = std::cos(c.theta);
-      term.sin_theta = std::sin(c.theta);
-      term.x_shift = c.da * term.cos_theta;
-      term.y_shift = c.db * term.sin_theta;
-      term.c = c.c;
-      terms.push_back(term);
-    }
-    first_term[v + 1] = static_cast<std::uint32_t>(terms.size());
-  }
-  vertex_kinds_.emplace(bound.model, skinned_share_joints(bound), skinned_share_weights(bound),
-                        skin_share, first_term, terms, instructions);
-
-  set_pose(world_rest);
+SweepPoser::SweepPoser(std::shared_ptr<const SweepPoserTables> tables)
+    : tables_(std::move(tables)),
+      bound_(*tables_->bound),
+      sweeps_(tables_->rest_sweeps),
+      sweep_data_(sweeps_.size()),
+      table_(tables_->sample_q_mix.size()),
+      joint_rotation_(tables_->world_rest.size()),
+      pose_joint_(tables_->rest_joint) {
+  for (const BoundSweep& sweep : bound_.sweeps) posed_keys_.push_back(sweep.rest_keys);
+  set_pose(tables_->world_rest);
 }
 
 void SweepPoser::refresh_table() {
@@ -148,12 +62,12 @@ void SweepPoser::refresh_table() {
   // Centre and frame: one loop per run of rows on the same span, over the rows' weights only
   // (the span's points and keys are loop constants), so it vectorises.
   SweepSample* table = table_.data();
-  const float* w0 = sample_spline_[0].data();
-  const float* w1 = sample_spline_[1].data();
-  const float* w2 = sample_spline_[2].data();
-  const float* w3 = sample_spline_[3].data();
-  const float* q_mix = sample_q_mix_.data();
-  for (const SampleRun& run : sample_runs_) {
+  const float* w0 = tables_->sample_spline[0].data();
+  const float* w1 = tables_->sample_spline[1].data();
+  const float* w2 = tables_->sample_spline[2].data();
+  const float* w3 = tables_->sample_spline[3].data();
+  const float* q_mix = tables_->sample_q_mix.data();
+  for (const SweepPoserTables::SampleRun& run : tables_->sample_runs) {
     const SweepData& d = sweep_data_[run.sweep];
     const int i = run.span;
     const glm::vec3 p0 = d.points[i], p1 = d.points[i + 1];
@@ -175,10 +89,10 @@ void SweepPoser::refresh_table() {
       out.normal = glm::vec3(xz + wy, yz - wx, 1.0f - (xx + yy));
     }
   }
-  for (const SampleRun& run : sample_runs_) {
+  for (const SweepPoserTables::SampleRun& run : tables_->sample_runs) {
     const SweepData& d = sweep_data_[run.sweep];
     for (std::uint32_t row = run.begin; row < run.end; ++row) {
-      const SampleAxisWeights& w = sample_axis_[row];
+      const SweepPoserTables::SampleAxisWeights& w = tables_->sample_axis[row];
       const std::uint32_t k = w.first;
       table[row].a =
           w.axis[0] * d.alpha[k] + w.axis[1] * d.alpha[k + 1] + w.axis[2] * d.alpha[k + 2];
@@ -200,12 +114,12 @@ void SweepPoser::refresh_table() {
 
 void SweepPoser::set_pose(std::span<const glm::mat4> world_pose) {
   for (std::size_t j = 0; j < world_pose.size(); ++j) {
-    joint_rotation_[j] = rotation_of(world_pose[j]) * rest_rotation_inverse_[j];
+    joint_rotation_[j] = unit_rotation_of(world_pose[j]) * tables_->rest_rotation_inverse[j];
     pose_joint_[j] = glm::vec3(world_pose[j][3]);
   }
   for (std::size_t s = 0; s < sweeps_.size(); ++s) {
-    pose_key_ellipses(bound_.sweeps[s], mitre_spread_[s], bound_.model.skeleton, joint_rotation_,
-                      rest_joint_, pose_joint_, posed_keys_[s]);
+    pose_key_ellipses(bound_.sweeps[s], tables_->mitre_spread[s], bound_.model.skeleton,
+                      joint_rotation_, tables_->rest_joint, pose_joint_, posed_keys_[s]);
     if (key_adjuster_) key_adjuster_(static_cast<int>(s), posed_keys_[s]);
     sweeps_[s].set_key_frames(posed_keys_[s]);
     sweeps_[s].set_key_half_axes(posed_keys_[s]);
@@ -215,11 +129,11 @@ void SweepPoser::set_pose(std::span<const glm::mat4> world_pose) {
 
 void SweepPoser::deform(std::span<const glm::mat4> skinning, std::span<glm::vec3> positions,
                         std::span<glm::vec3> normals, int threads) {
-  run_in_vertex_blocks(vertex_kinds_->item_count(), threads,
-                       [&](std::size_t begin, std::size_t end) {
-                         vertex_kinds_->evaluate(table_, skinning, positions, begin, end);
-                       });
-  if (!normals.empty()) normals_.compute(positions, normals);
+  const SweepVertexKinds& kinds = *tables_->vertex_kinds;
+  run_in_vertex_blocks(kinds.item_count(), threads, [&](std::size_t begin, std::size_t end) {
+    kinds.evaluate(table_, skinning, positions, begin, end);
+  });
+  if (!normals.empty()) tables_->normals->compute(positions, normals, normal_sums_);
 }
 
 glm::vec3 SweepPoser::reference_position(std::size_t v, std::span<const glm::mat4> skinning) const {

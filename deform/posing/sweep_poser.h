@@ -19,7 +19,10 @@
 //   the ellipses' offsets: R interpolated between samples 1/64 of a span apart).
 // Threads: deform(…, threads) splits the vertices into blocks; results are bit-identical for
 //   any thread count.
-// The BoundModel must outlive the poser.
+// What never changes for a model (rest sweeps, the table's layout, the vertex kinds, the
+// welded-normals topology) is in SweepPoserTables (sweep_poser_tables.h), shared by every poser
+// of the model; a poser holds only one frame's state (the posed keys and sweeps, the sample
+// table, the normal sums). The BoundModel must outlive the poser.
 #pragma once
 
 #include <array>
@@ -27,14 +30,13 @@
 #include <functional>
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
-#include <optional>
+#include <memory>
 #include <span>
 #include <utility>
 #include <vector>
 
 #include "deform/binding/bound_model.h"
-#include "deform/mesh/welded_normals.h"
-#include "deform/posing/sweep_vertex_kinds.h"
+#include "deform/posing/sweep_poser_tables.h"
 #include "deform/sweep/sweep.h"
 
 namespace sweepd::deform {
@@ -45,6 +47,8 @@ class SweepPoser {
   // default.
   explicit SweepPoser(const BoundModel& bound,
                       VertexLoopInstructions instructions = widest_vertex_loop_instructions());
+  // A poser on tables built once for the model (make_sweep_poser_tables).
+  explicit SweepPoser(std::shared_ptr<const SweepPoserTables> tables);
 
   // world_pose: skeleton.size() world joint matrices (forward_kinematics).
   void set_pose(std::span<const glm::mat4> world_pose);
@@ -73,39 +77,22 @@ class SweepPoser {
   std::span<const glm::quat> joint_rotations() const { return joint_rotation_; }
 
  private:
-  static constexpr int kSamplesPerSpan = 64;
-  struct SampleRun {  // consecutive table rows that read the same span of one sweep
-    std::uint32_t begin, end;
-    std::uint16_t sweep, span;
-  };
-  struct SampleAxisWeights {  // a = Σ axis[r] α_{first + r} (b likewise with β)
-    std::uint32_t first;
-    float axis[3];
-  };
   struct SweepData {  // per frame, float copies of a sweep's curve data
     std::vector<glm::vec3> points, second;
     std::vector<glm::quat> keys;
     std::vector<float> alpha, beta, offset_x, offset_y;  // padded with zeros for a degree below 2
   };
 
+  std::shared_ptr<const SweepPoserTables> tables_;
   const BoundModel& bound_;
   KeyAdjuster key_adjuster_;
   std::vector<Sweep> sweeps_;
   std::vector<std::vector<KeyEllipse>> posed_keys_;
-  std::vector<std::vector<std::array<float, 3>>> mitre_spread_;  // per sweep (key_posing.h)
-  // How each table row follows from its sweep's data, fixed at construction. Per row:
-  // C = Σ spline[r] · (P_span, P_span+1, P''_2span, P''_2span+1), Q = nlerp(q_span, q_span+1,
-  // q_mix); a, b and the offset o (the ellipse's centre is C + R (o, 0)) from the axis weights.
-  std::vector<SampleRun> sample_runs_;
-  std::array<std::vector<float>, 4> sample_spline_;
-  std::vector<float> sample_q_mix_;
-  std::vector<SampleAxisWeights> sample_axis_;
   std::vector<SweepData> sweep_data_;  // per sweep
   std::vector<SweepSample> table_;     // per frame: every sweep at its samples
-  std::optional<SweepVertexKinds> vertex_kinds_;
-  std::vector<glm::quat> rest_rotation_inverse_, joint_rotation_;
-  std::vector<glm::vec3> rest_joint_, pose_joint_;
-  WeldedNormals normals_;
+  std::vector<glm::quat> joint_rotation_;
+  std::vector<glm::vec3> pose_joint_;
+  std::vector<FloatLanes> normal_sums_;
 };
 
 }  // namespace sweepd::deform

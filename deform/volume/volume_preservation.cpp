@@ -28,12 +28,22 @@ bool preserves_volume(BodyPart part, const VolumePreservationOptions& options) {
   }
 }
 
-VolumePreserver::VolumePreserver(const BoundModel& bound) : bound_(bound) {
+std::vector<double> rest_sweep_volumes(const BoundModel& bound) {
+  std::vector<double> volumes;
+  for (const BoundSweep& sweep : bound.sweeps)
+    volumes.push_back(sweep_volume(rest_sweep(sweep, bound.options)));
+  return volumes;
+}
+
+VolumePreserver::VolumePreserver(const BoundModel& bound, std::span<const double> rest_volumes)
+    : bound_(bound), rest_volume_(rest_volumes) {
+  if (rest_volumes.size() != bound.sweeps.size())
+    throw std::invalid_argument("volume preservation: " + std::to_string(rest_volumes.size()) +
+                                " rest volumes for " + std::to_string(bound.sweeps.size()) +
+                                " sweeps");
   std::size_t most_keys = 0;
-  for (const BoundSweep& sweep : bound.sweeps) {
-    rest_volume_.push_back(sweep_volume(rest_sweep(sweep, bound.options)));
+  for (const BoundSweep& sweep : bound.sweeps)
     most_keys = std::max(most_keys, sweep.rest_keys.size());
-  }
   corrections_.resize(bound.sweeps.size());
   turn_.reserve(most_keys);
   for (std::vector<int>* list :

@@ -3,12 +3,14 @@
 //
 // Per sweep, I0 is the volume of the rest sweep. After SweepPoser::set_pose has moved the keys,
 // apply() repeats the paper's gradient update on the half-axis controls α, β
-// (volume_correction_step) towards the target I0 − I_C (I_C: the net volume that bulge, folding
-// or protrusion add elsewhere; 0 by default) on the joint key(s) that turned most (every
-// joint key whose turn is at least half the largest one) and, after `joint_key_iterations`
-// steps (none by default), on their neighbouring keys as well, until
+// (volume_correction_step) towards the target I0 − I_C (I_C: the net volume that folding and
+// protrusion add outside the integral — CollisionFeatures::sweep_volume_change, which DeformJob
+// passes here — plus any the caller adds; 0 by default) on the joint key(s) that turned most
+// (every joint key whose turn is at least half the largest one) and, after
+// `joint_key_iterations` steps (none by default), on their neighbouring keys as well, until
 // |I − target| / I0 < tolerance or max_iterations; at a key where the sweep bends, only the
-// half-axis across the bend plane (bend_plane_degrees). Then it refreshes the poser's sample table.
+// half-axis across the bend plane (bend_plane_degrees). Then it refreshes the poser's sample
+// table.
 // Inputs:  the posed SweepPoser, the joint rotation deltas of the pose (J), I_C per sweep
 //          (sweep_count() values, or empty for zeros).
 // Outputs: the poser's α, β (changed in place), and last_corrections(): one record per sweep.
@@ -45,14 +47,6 @@ struct VolumePreservationOptions {
   // sweep folds through itself — the integral counts that fold negatively, so the correction
   // would chase its own loss. A negative value corrects both everywhere (the paper).
   float bend_plane_degrees = 10.0f;
-  // Folding feedback (Deformer only): the sweep integral does not see the skin that folds into
-  // itself at a bent joint, so after the correction the Deformer deforms the mesh, measures each
-  // corrected part's closed region (part_volume_regions.h), counts the region's loss as I_C (folding's
-  // net volume change, negative), corrects again, up to this many times, until no region has
-  // lost more than mesh_tolerance of its rest volume. Regions that grew are left alone (the
-  // growth comes from where parts blend, not from folding). 0: the paper's plain correction.
-  int fold_feedback_iterations = 3;
-  double mesh_tolerance = 0.005;  // on |V − V_rest| / V_rest of the closed part region
 };
 
 // Whether a sweep of this body part is corrected under these options.
@@ -68,10 +62,14 @@ struct VolumeCorrection {
   int most_turned_key = -1;  // the key the correction started on
 };
 
+// I0 of every sweep of the bound model (its rest sweep's volume), bound.sweeps.size() values.
+std::vector<double> rest_sweep_volumes(const BoundModel& bound);
+
 class VolumePreserver {
  public:
-  // I0 of every sweep from its rest sweep. The BoundModel must outlive the preserver.
-  explicit VolumePreserver(const BoundModel& bound);
+  // rest_volumes: rest_sweep_volumes(bound), computed once per model. The BoundModel and the
+  // volumes must outlive the preserver.
+  VolumePreserver(const BoundModel& bound, std::span<const double> rest_volumes);
 
   void apply(SweepPoser& poser, std::span<const glm::quat> joint_rotation,
              const VolumePreservationOptions& options, std::span<const double> added_volume = {});
@@ -89,7 +87,7 @@ class VolumePreserver {
                   std::vector<int>& beta) const;
 
   const BoundModel& bound_;
-  std::vector<double> rest_volume_;
+  std::span<const double> rest_volume_;
   std::vector<VolumeCorrection> corrections_;
   std::vector<float> turn_;                                   // scratch: per key of one sweep
   std::vector<int> first_controls_, controls_;                // scratch: keys

@@ -61,6 +61,7 @@ std::vector<std::string> ModelRegistry::restore() {
       model->id = entry.at("id").get<std::uint32_t>();
       model->name = entry.at("name").get<std::string>();
       model->bound = io::load_sweepbind(store_dir_ / entry.at("file").get<std::string>());
+      model->runtime = std::make_shared<const deform::ModelRuntime>(model->bound);
       next_id_ = std::max(next_id_, model->id + 1);
       models_.push_back(std::move(model));
     } catch (const std::exception& error) {
@@ -215,6 +216,7 @@ ModelHandle ModelRegistry::add(const std::string& name, deform::BoundModel bound
   model->name = name;
   model->bound = std::move(bound);
   model->bind_time_ns = bind_time_ns;
+  model->runtime = std::make_shared<const deform::ModelRuntime>(model->bound);
   std::lock_guard lock(mutex_);
   check_room(name);
   model->id = next_id_;
@@ -239,6 +241,7 @@ ModelHandle ModelRegistry::replace(std::uint32_t id, deform::BoundModel bound) {
     throw ModelError(ErrorCode::UnknownModel, "no model with id " + std::to_string(id));
   auto model = std::make_shared<RegisteredModel>(**old);
   model->bound = std::move(bound);
+  model->runtime = std::make_shared<const deform::ModelRuntime>(model->bound);
   try {
     io::save_sweepbind(model->bound, store_dir_ / (std::to_string(id) + ".sweepbind"));
   } catch (const std::exception& error) {

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "deform/binding/bound_model.h"
+#include "deform/job/model_runtime.h"
 #include "protocol/sweepd_generated.h"
 
 namespace sweepd::server {
@@ -33,6 +34,8 @@ struct RegisteredModel {
   std::string name;
   deform::BoundModel bound;
   std::uint64_t bind_time_ns = 0;  // 0 when restored from the store
+  // Built from `bound` once it is final, shared read-only by every worker's DeformContext.
+  std::shared_ptr<const deform::ModelRuntime> runtime{};
 };
 using ModelHandle = std::shared_ptr<const RegisteredModel>;
 

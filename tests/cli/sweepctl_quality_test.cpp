@@ -69,7 +69,7 @@ TEST(SweepctlMetrics, ElbowPoseAsJsonShowsVolumePreservationAtWork) {
   // sweep loses volume (-3.02 % measured; its mitred elbow key keeps the outside of the bend,
   // LBS loses -5.85 %), preservation holds the sweep integral and with it the closed region
   // within issue 5's 2 % (+0.42 % measured: the elbow's ellipse sits on its section,
-  // KeyEllipse::offset; a gain, which fold feedback leaves alone), and LBS has no sweep integral.
+  // KeyEllipse::offset; a gain), and LBS has no sweep integral.
   EXPECT_LT(metric(0, "left arm mesh volume %"), -2.0);
   EXPECT_LT(std::abs(metric(1, "left arm mesh volume %")), 2.0);
   for (const auto& m : report["methods"][2]["metrics"])

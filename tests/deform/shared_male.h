@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "deform/binding/bind.h"
-#include "deform/job/deformer.h"
+#include "deform/job/deform_job.h"
 #include "deform/model/joint_flexion.h"
 #include "deform/model/pose.h"
 #include "deform/rig/rig_map.h"
@@ -75,9 +75,31 @@ inline int sweep_of(const BoundModel& bound, BodyPart part) {
   return -1;
 }
 
-inline std::vector<glm::vec3> deformed(Deformer& deformer, Pose pose, DeformMethod method) {
-  std::vector<glm::vec3> positions(deformer.bound().model.vertex_count());
-  deformer.deform(pose, method, positions, {});
+// What a test deforms with: one model's runtime and one context (deform/job/), the features and
+// options of the jobs it runs, and the last job's report.
+struct Posing {
+  explicit Posing(const BoundModel& bound) : runtime(bound) { context.prepare(runtime); }
+  ModelRuntime runtime;
+  DeformContext context;
+  AnatomicalFeatures features;
+  DeformJobOptions options;
+  DeformReport report;
+
+  void deform(Pose& pose, DeformMethod method, std::span<glm::vec3> positions,
+              std::span<glm::vec3> normals = {}, int threads = 1) {
+    DeformJob job{runtime, pose, method, features, options, positions, normals};
+    job.options.threads = threads;
+    report = job.run(context);
+  }
+  SweepPoser& sweep_poser() { return context.sweep_poser(); }
+  const BoundModel& bound() const { return runtime.bound(); }
+  std::span<const glm::mat4> skinning() const { return context.skinning(); }
+  std::span<const glm::mat4> world_pose() const { return context.world_pose(); }
+};
+
+inline std::vector<glm::vec3> deformed(Posing& posing, Pose pose, DeformMethod method) {
+  std::vector<glm::vec3> positions(posing.runtime.bound().model.vertex_count());
+  posing.deform(pose, method, positions);
   return positions;
 }
 

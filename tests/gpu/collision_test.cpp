@@ -13,7 +13,7 @@
 #include "deform/features/collision_features.h"
 #include "deform/features/collision_regions.h"
 #include "deform/features/skin_folding.h"
-#include "deform/job/deformer.h"
+#include "deform/job/deform_job.h"
 #include "deform/rig/rig_map.h"
 #include "io/gltf_load.h"
 #include "tests/deform/collision_shapes.h"
@@ -123,7 +123,7 @@ TEST_F(CollisionTest, BentMaleRegionsMatchTheCpuBeforeAndAfterFolding) {
   const deform::Model model = io::load_gltf(file);
   const deform::BoundModel bound = deform::bind(model, deform::detect_rig_map(model.skeleton));
   const deform::CollisionRegions regions = deform::find_collision_regions(bound);
-  deform::Deformer deformer(bound);
+  deform::test::Posing deformer(bound);
   deform::Pose pose = deform::test::left_elbow_and_knee_flexed(model, 150.0f);
   std::vector<glm::vec3> positions(model.vertex_count());
   deformer.deform(pose, deform::DeformMethod::kSweep, positions, {});
@@ -143,14 +143,17 @@ TEST_F(CollisionTest, BentMaleRegionsMatchTheCpuBeforeAndAfterFolding) {
   }
   EXPECT_GT(total, 0u) << "the bent elbow and knee must give pairs to compare";
 
-  // The whole feature pass with GPU pairs moves every vertex exactly as the CPU reference.
-  deformer.deform(pose, deform::DeformMethod::kSweep, positions, {});
-  std::vector<glm::vec3> with_gpu = positions;
-  deform::CollisionFeatures features(bound);
-  const deform::FeatureReport on_cpu = features.apply(deformer.skinning(), positions);
-  const deform::FeatureReport on_gpu = features.apply(
-      deformer.skinning(), with_gpu,
-      [&](auto p, auto i, auto t, std::vector<TrianglePair>& out) { gpu_.detect(p, i, t, out); });
+  // The whole deformation job with folding, protrusion and volume, its pairs found on the GPU
+  // (DeformJobOptions::detect), moves every vertex exactly as with the CPU reference.
+  std::vector<glm::vec3> with_gpu(positions.size());
+  deformer.features = {.folding = true, .protrusion = true, .volume = true, .bulge = false};
+  deformer.deform(pose, deform::DeformMethod::kSweep, positions);
+  const deform::FeatureReport on_cpu = deformer.report.features;
+  deformer.options.detect = [&](auto p, auto i, auto t, std::vector<TrianglePair>& out) {
+    gpu_.detect(p, i, t, out);
+  };
+  deformer.deform(pose, deform::DeformMethod::kSweep, with_gpu);
+  const deform::FeatureReport on_gpu = deformer.report.features;
   EXPECT_GT(on_cpu.pairs_before, 0);
   EXPECT_EQ(on_gpu.pairs_before, on_cpu.pairs_before);
   EXPECT_EQ(on_gpu.pairs_after, on_cpu.pairs_after);

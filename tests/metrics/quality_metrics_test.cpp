@@ -57,7 +57,7 @@ TEST(QualityMetrics, ClosedPartRegionsAreTranslationInvariantCubicInScaleAndSymm
 TEST(QualityMetrics, RestPoseMeasuresAsRestForEveryMethod) {
   REQUIRE_SHARED_MALE();
   const QualityMeter meter(male);
-  Deformer deformer(male);
+  test::Posing deformer(male);
   const QualityMetrics at_rest = meter.measure(male.model.positions, deformer.sweep_poser(), true);
   for (DeformMethod method : {DeformMethod::kSweep, DeformMethod::kLbs, DeformMethod::kDqs}) {
     const auto positions = test::deformed(deformer, rest_pose(male.model.skeleton), method);
@@ -81,7 +81,7 @@ TEST(QualityMetrics, SectionRatioCatchesTheCandyWrapperOfSkinning) {
   REQUIRE_SHARED_MALE();
   const Model& model = male.model;
   const QualityMeter meter(male);
-  Deformer deformer(male);
+  test::Posing deformer(male);
   Pose pose = rest_pose(model.skeleton);
   const glm::vec3 elbow = test::rest_joint_position(model, "LeftForeArm");
   test::turn(model, pose, "LeftHand", test::rest_joint_position(model, "LeftHand") - elbow, 150.0f);

@@ -1,5 +1,5 @@
 // sweepd applying anatomical features (Pose.features): the vertices and normals it returns
-// equal the library's own Deformer + FeatureApplier output for the same selection bit for bit,
+// equal the library's own DeformJob output for the same selection bit for bit,
 // a connection switches features per pose, ServerTimings.features_ns is filled, and features
 // on LBS/DQS are refused with InvalidArgument.
 #include <gtest/gtest.h>
@@ -43,7 +43,7 @@ void expect_bitwise_equal(const flatbuffers::Vector<float>* served,
   ASSERT_NE(served, nullptr) << what;
   ASSERT_EQ(served->size(), 3 * library.size()) << what;
   EXPECT_EQ(std::memcmp(served->data(), library.data(), served->size() * sizeof(float)), 0)
-      << what << " differ from the library's Deformer + FeatureApplier output";
+      << what << " differ from the library's DeformJob output";
 }
 
 TEST(DaemonFeatures, RepliesEqualTheLibrarysFeaturesBitForBitAndSwitchPerPose) {

@@ -1,6 +1,6 @@
 // sweepd as a client meets it: the real daemon on an ephemeral localhost port, real sockets.
 // Hello and the token, ListModels, ModelInfo, and poses whose vertices must equal the
-// library's own Deformer output for the same bound model bit for bit.
+// library's own DeformJob output for the same bound model bit for bit.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -123,14 +123,14 @@ void expect_bitwise_equal(std::span<const float> served, const std::vector<glm::
                           const char* what) {
   ASSERT_EQ(served.size(), 3 * library.size()) << what;
   EXPECT_EQ(std::memcmp(served.data(), library.data(), served.size() * sizeof(float)), 0)
-      << what << " differ from the library's Deformer output";
+      << what << " differ from the library's DeformJob output";
 }
 
 std::span<const float> floats(const flatbuffers::Vector<float>* vector) {
   return vector ? std::span<const float>(vector->data(), vector->size()) : std::span<const float>();
 }
 
-TEST_F(DaemonSession, PosedVerticesEqualTheLibrarysDeformerBitForBitForEveryMethod) {
+TEST_F(DaemonSession, PosedVerticesEqualTheLibrarysDeformJobBitForBitForEveryMethod) {
   const deform::BoundModel& bound = stored_mannequin();
   const std::vector<glm::quat> rotations = bent_rotations(bound.model.skeleton.joints.size());
   const std::vector<protocol::Quat> wire = to_wire(rotations);

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "deform/job/anatomical_features.h"
-#include "deform/job/deformer.h"
+#include "deform/job/deform_job.h"
 #include "tests/server/daemon_process.h"
 
 namespace sweepd::test {
@@ -50,22 +50,24 @@ struct Deformed {
 };
 
 // What the library itself gives for `rotations` (rest root translation), one thread, with
-// the anatomical features applied as deform::FeatureApplier applies them.
+// the anatomical features selected: one deform::DeformJob, each frame standing alone (as the
+// daemon runs them).
 inline Deformed library_deformation(const deform::BoundModel& bound,
                                     const std::vector<glm::quat>& rotations,
                                     deform::DeformMethod method,
                                     const deform::AnatomicalFeatures& features = {}) {
-  deform::Deformer deformer(bound);
-  deform::FeatureApplier applier(bound);
-  applier.select(features, deformer);
+  const deform::ModelRuntime runtime(bound);
+  deform::DeformContext context;
   deform::Pose pose;
   pose.local_rotations = rotations;
   pose.root_translation = bound.model.skeleton.joints[0].rest_translation;
   Deformed out;
   out.positions.resize(bound.model.vertex_count());
   out.normals.resize(bound.model.vertex_count());
-  deformer.deform(pose, method, out.positions, out.normals, 1);
-  out.features = applier.apply(deformer, out.positions, out.normals);
+  deform::DeformJob job{runtime, pose, method, features};
+  job.positions = out.positions;
+  job.normals = out.normals;
+  out.features = job.run(context).features;
   return out;
 }
 

@@ -11,7 +11,7 @@
 #include <map>
 #include <regex>
 
-#include "deform/job/deformer.h"
+#include "deform/job/deform_job.h"
 #include "gpu/egl_context.h"
 #include "gpu/position_map_renderer.h"
 #include "io/bvh_load.h"
@@ -77,11 +77,15 @@ class RenderFrames : public ClipClientTest {
       clip_on_model_ = std::make_unique<motion::Retargeter>(
           io::load_bvh(clip_, {.length_scale = kCmuScale}), bound_->model);
     }
-    deform::Deformer deformer(*bound_);
+    const deform::ModelRuntime runtime(*bound_);
+    deform::DeformContext context;
     std::vector<glm::vec3> positions(bound_->model.vertex_count());
     std::vector<glm::vec3> normals(positions.size());
     deform::Pose pose = clip_on_model_->pose_at_frame(frame);
-    deformer.deform(pose, deform::DeformMethod::kSweep, positions, normals, 1);
+    deform::DeformJob job{runtime, pose};
+    job.positions = positions;
+    job.normals = normals;
+    job.run(context);
     gpu::PositionMapRenderer renderer(context_);
     Map map{kSide, kSide, std::vector<float>(kSide * kSide * 3), std::vector<float>(kSide * kSide)};
     renderer.render({bound_->model.uvs, positions, {}, bound_->model.indices},

@@ -11,7 +11,7 @@
 
 #include "client/connection.h"
 #include "client/model_skeleton.h"
-#include "deform/job/deformer.h"
+#include "deform/job/deform_job.h"
 #include "io/bvh_load.h"
 #include "io/gltf_load.h"
 #include "io/gltf_save.h"
@@ -103,7 +103,11 @@ TEST_F(SweepctlRemote, ServerOnlyMannequinIsWrittenFromTheServedMesh) {
   EXPECT_TRUE(file_bytes(path("expected_mannequin.glb")) == file_bytes(path("mannequin.glb")));
   deform::Pose library_pose = pose;
   std::vector<glm::vec3> library(served.size());
-  deform::Deformer(bound).deform(library_pose, deform::DeformMethod::kSweep, library, {});
+  const deform::ModelRuntime runtime(bound);
+  deform::DeformContext context;
+  deform::DeformJob job{runtime, library_pose};
+  job.positions = library;
+  job.run(context);
 
   EXPECT_EQ(std::memcmp(served.data(), library.data(), served.size() * sizeof(glm::vec3)), 0)
       << "the daemon's deformation of the client-side retargeted pose, bit-exact";

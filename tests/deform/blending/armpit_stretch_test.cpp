@@ -10,12 +10,13 @@
 #include <filesystem>
 
 #include "deform/binding/bind.h"
-#include "deform/job/deformer.h"
+#include "deform/job/deform_job.h"
 #include "deform/rig/rig_map.h"
 #include "io/bvh_load.h"
 #include "io/gltf_load.h"
 #include "motion/retarget.h"
 #include "tests/deform/mesh_edges.h"
+#include "tests/deform/shared_male.h"
 
 namespace sweepd::deform {
 namespace {
@@ -55,7 +56,7 @@ float stretch(const MeshEdge& e, std::span<const glm::vec3> positions) {
 TEST(ArmpitStretch, RaisedArmsStretchNoArmEdgeOver3xOnEitherClip) {
   if (!shared_data_present()) GTEST_SKIP() << "shared data absent: " << kData;
   const BoundModel& bound = bound_male();
-  Deformer deformer(bound);
+  test::Posing deformer(bound);
   const std::vector<MeshEdge> edges = arm_edges(bound);
   std::vector<glm::vec3> positions(bound.model.vertex_count());
   for (const char* clip : {"motion/cmu_01_01.bvh", "motion/cmu_01_03.bvh"}) {
@@ -88,7 +89,7 @@ TEST(ArmpitStretch, RaisedArmsStretchNoArmEdgeOver3xOnEitherClip) {
 TEST(ArmpitStretch, TheWorstRaisedArmFramesEachSide) {
   if (!shared_data_present()) GTEST_SKIP() << "shared data absent: " << kData;
   const BoundModel& bound = bound_male();
-  Deformer deformer(bound);
+  test::Posing deformer(bound);
   const motion::Retargeter retargeter(io::load_bvh(kData / "motion/cmu_01_03.bvh"), bound.model);
   std::vector<glm::vec3> positions(bound.model.vertex_count());
   struct Case {

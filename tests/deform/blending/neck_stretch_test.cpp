@@ -44,7 +44,7 @@ struct Worst {
 TEST(NeckStretch, TheClipsHeadTurnsStretchNoThroatEdgeOverThreeTimes) {
   REQUIRE_SHARED_MALE();
   const fs::path data(SWEEPD_SHARED_DATA);
-  Deformer deformer(male);
+  test::Posing deformer(male);
   const std::vector<test::MeshEdge> edges = throat_and_head_edges(male);
   ASSERT_GT(edges.size(), 1000u);
   std::vector<glm::vec3> positions(male.model.vertex_count());

@@ -68,9 +68,10 @@ TEST(KeyEllipseEdits, ValidateNamesWhatIsWrong) {
   EXPECT_NE(message(bad).find("two samples"), std::string::npos) << message(bad);
   bad = edit_with({{50.0f, -100.0f}});
   EXPECT_NE(message(bad).find("scales must be positive"), std::string::npos) << message(bad);
-  Deformer deformer(male);
   bad = good, bad.sweep = 99;
-  EXPECT_THROW(deformer.set_edits(KeyEllipseEdits{{bad}}), std::invalid_argument);
+  BoundModel with_bad_edits = male;
+  with_bad_edits.edits = KeyEllipseEdits{{bad}};
+  EXPECT_THROW(ModelRuntime{with_bad_edits}, std::invalid_argument);  // checked once, at load
 }
 
 // Angle between two unit quaternions, in degrees.
@@ -92,8 +93,9 @@ TEST(KeyEllipseEdits, OrientationEditAt120DegreesShoulderAbductionFadesInSmoothl
   KeyEllipseEdit edit;
   edit.sweep = arm, edit.key = key, edit.joint = shoulder;
   edit.samples.push_back({120.0f, {{0, 0, 0}, {0, 0, kEdited}, 1.0f, 1.0f}});
-  Deformer plain(male), edited(male);
-  edited.set_edits(KeyEllipseEdits{{edit}});
+  BoundModel with_edit = male;
+  with_edit.edits = KeyEllipseEdits{{edit}};
+  test::Posing plain(male), edited(with_edit);
   // Abduction: the left arm (on +X, 45° down at rest) rises about the model's front axis +Z.
   auto applied_at = [&](float degrees) {
     Pose pose = rest_pose(model.skeleton);

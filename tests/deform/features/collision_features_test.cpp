@@ -15,7 +15,7 @@
 #include "deform/features/collision_regions.h"
 #include "deform/features/self_intersection.h"
 #include "deform/features/skin_folding.h"
-#include "deform/job/deformer.h"
+#include "deform/job/deform_job.h"
 #include "deform/mesh/enclosed_volume.h"
 #include "deform/rig/rig_map.h"
 #include "io/bvh_load.h"
@@ -57,7 +57,7 @@ const CollisionRegion& region_at(const CollisionRegions& regions, CollisionSite 
   throw std::runtime_error(std::string("no region at ") + to_string(site));
 }
 
-std::vector<glm::vec3> posed(Deformer& deformer, float degrees) {
+std::vector<glm::vec3> posed(test::Posing& deformer, float degrees) {
   std::vector<glm::vec3> positions(deformer.bound().model.vertex_count());
   Pose pose = test::left_elbow_and_knee_flexed(deformer.bound().model, degrees);
   deformer.deform(pose, DeformMethod::kSweep, positions, {});
@@ -139,7 +139,7 @@ TEST(CollisionFeatures, RestPoseHasNoSelfIntersections) {
 
 TEST(CollisionFeatures, FoldingRemovesSkinThroughSkinAtBentElbowAndKnee) {
   REQUIRE_MALE();
-  Deformer deformer(fx.bound);
+  test::Posing deformer(fx.bound);
   SelfIntersectionDetector detector;
   SkinFolder folder;
   std::vector<TrianglePair> pairs;
@@ -187,10 +187,10 @@ int pairs_at(const CollisionRegions& regions, const CollisionRegion& region,
 
 TEST(CollisionFeatures, FoldingRoundsClearTheElbowAndKneeAt150) {
   REQUIRE_MALE();
-  Deformer deformer(fx.bound);
+  test::Posing deformer(fx.bound);
   CollisionFeatureOptions options;
   options.protrusion = false;
-  CollisionFeatures features(fx.bound, options);
+  CollisionFeatures features(deformer.runtime.collision(), options);
   for (float degrees : {120.0f, 135.0f, 150.0f, 160.0f}) {
     std::vector<glm::vec3> positions = posed(deformer, degrees);
     const std::vector<glm::vec3> unfolded = positions;
@@ -220,7 +220,7 @@ TEST(CollisionFeatures, BoneProxiesAreClosedAndMoveWithTheirBone) {
   REQUIRE_MALE();
   const std::vector<BoneProxy> proxies = make_bone_proxies(fx.bound, fx.regions);
   ASSERT_EQ(proxies.size(), 4u);  // two olecranons, two patellae
-  Deformer deformer(fx.bound);
+  test::Posing deformer(fx.bound);
   const std::vector<glm::vec3> positions = posed(deformer, 150.0f);
   for (const BoneProxy& proxy : proxies) {
     SCOPED_TRACE(to_string(proxy.site));
@@ -273,7 +273,7 @@ int skin_inside(const BoneProxy& proxy, std::span<const glm::mat4> skinning,
 
 TEST(CollisionFeatures, BentElbowAndKneeReachTheirProxiesAndProtrusionPushesTheSkinOut) {
   REQUIRE_MALE();
-  Deformer deformer(fx.bound);
+  test::Posing deformer(fx.bound);
   const std::vector<BoneProxy> proxies = make_bone_proxies(fx.bound, fx.regions);
   // Protrusion works on any posed skin; LBS's collapsing elbow and knee tips do reach the bone,
   // while the sweep's mitred joint keys (deform/posing/key_posing.h) keep the tip's skin over it.
@@ -314,10 +314,10 @@ TEST(CollisionFeatures, BentElbowAndKneeReachTheirProxiesAndProtrusionPushesTheS
 
 TEST(CollisionFeatures, OneCallFoldsProtrudesAndKeepsSeamCopiesTogether) {
   REQUIRE_MALE();
-  Deformer deformer(fx.bound);
+  test::Posing deformer(fx.bound);
   std::vector<glm::vec3> positions = posed(deformer, 150.0f);
   const std::vector<glm::vec3> unfolded = positions;
-  CollisionFeatures features(fx.bound);
+  CollisionFeatures features(deformer.runtime.collision());
   const FeatureReport report = features.apply(deformer.skinning(), positions);
   std::printf(
       "150°: %d pairs -> %d, %d vertices folded (deepest %.1f mm), %d protruded "
@@ -334,6 +334,12 @@ TEST(CollisionFeatures, OneCallFoldsProtrudesAndKeepsSeamCopiesTogether) {
   }
   EXPECT_EQ(report.pairs_before, expected);
   EXPECT_LT(report.pairs_after, report.pairs_before);
+  // The volume change, per sweep (I_C of volume preservation), sums to the report's: every
+  // region and proxy belongs to its limb's sweep. Summed in another order: 1e-12 of a cm³.
+  double by_sweep = 0.0;
+  for (const double change : features.sweep_volume_change()) by_sweep += change;
+  EXPECT_NEAR(by_sweep, report.volume_change, 1e-18);
+  EXPECT_NE(report.volume_change, 0.0);
   EXPECT_GT(report.folded, 0);
   // Protrusion moves exactly the skin that folding alone leaves inside a proxy (none at 150°:
   // the fold pulls the crease off the olecranon; without folding 7 and 4 vertices are inside,
@@ -341,7 +347,8 @@ TEST(CollisionFeatures, OneCallFoldsProtrudesAndKeepsSeamCopiesTogether) {
   std::vector<glm::vec3> folded_only = unfolded;
   CollisionFeatureOptions fold_options;
   fold_options.protrusion = false;
-  CollisionFeatures(fx.bound, fold_options).apply(deformer.skinning(), folded_only);
+  CollisionFeatures(deformer.runtime.collision(), fold_options)
+      .apply(deformer.skinning(), folded_only);
   int inside_after_folding = 0;
   for (const BoneProxy& proxy : features.proxies())
     inside_after_folding += skin_inside(proxy, deformer.skinning(), fx.regions, folded_only);
@@ -370,10 +377,10 @@ TEST(CollisionFeatures, OneCallFoldsProtrudesAndKeepsSeamCopiesTogether) {
 TEST(CollisionFeatures, FoldingNeverAddsPairsOnClipFrames) {
   REQUIRE_MALE();
   const fs::path data = fs::path(SWEEPD_SHARED_DATA);
-  Deformer deformer(fx.bound);
+  test::Posing deformer(fx.bound);
   CollisionFeatureOptions options;
   options.protrusion = false;
-  CollisionFeatures features(fx.bound, options);
+  CollisionFeatures features(deformer.runtime.collision(), options);
   // Frames where the male's arms fold: 1257 of cmu_01_01, and 2000 of cmu_01_03, where one
   // plane fitted across two separate intersecting groups once tripled the pairs.
   for (const auto& [clip, frame] :

@@ -34,12 +34,6 @@ Extent upper_arm_extent(const Model& model, std::span<const glm::vec3> positions
   return extent;
 }
 
-DeformOptions bulging() {
-  DeformOptions options;
-  options.muscle_bulge = true;
-  return options;
-}
-
 TEST(MuscleBulge, ActivationIsZeroAtRestOneAtFullFlexionAndMonotone) {
   const MuscleBulgeOptions options;
   EXPECT_EQ(bulge_activation(0.0f, options), 0.0f);
@@ -56,8 +50,8 @@ TEST(MuscleBulge, ActivationIsZeroAtRestOneAtFullFlexionAndMonotone) {
 TEST(MuscleBulge, UpperArmFrontGrowsMonotonicallyWithElbowFlexion) {
   REQUIRE_SHARED_MALE();
   const Model& model = male.model;
-  Deformer plain(male), bulged(male);
-  bulged.set_options(bulging());
+  test::Posing plain(male), bulged(male);
+  bulged.features.bulge = true;
   const Extent rest = upper_arm_extent(model, model.positions);
   ASSERT_GT(rest.front - rest.back, 0.05f);  // the section was found: an arm is > 5 cm thick
   float previous = rest.front;
@@ -81,8 +75,8 @@ TEST(MuscleBulge, UpperArmFrontGrowsMonotonicallyWithElbowFlexion) {
 
 TEST(MuscleBulge, RestPoseAndOtherSweepsAreUnchanged) {
   REQUIRE_SHARED_MALE();
-  Deformer plain(male), bulged(male);
-  bulged.set_options(bulging());
+  test::Posing plain(male), bulged(male);
+  bulged.features.bulge = true;
   const Pose rest = rest_pose(male.model.skeleton);
   const auto a = test::deformed(plain, rest, DeformMethod::kSweep);
   const auto b = test::deformed(bulged, rest, DeformMethod::kSweep);

@@ -26,8 +26,9 @@ struct Octahedron {
 TEST(WeldedNormals, SeamCopiesShareTheNormalOfAllTheirTriangles) {
   Octahedron mesh;
   WeldedNormals normals(mesh.positions, mesh.indices);
+  std::vector<FloatLanes> sums;
   std::vector<glm::vec3> out(mesh.positions.size());
-  normals.compute(mesh.positions, out);
+  normals.compute(mesh.positions, out, sums);
   // By symmetry each octahedron vertex's four triangles sum to its own direction; the +x vertex
   // and its copy each see only two of them unwelded (they would tilt by 45° towards ±z).
   for (std::size_t v = 0; v < 7; ++v)
@@ -41,8 +42,9 @@ TEST(WeldedNormals, WeighsTrianglesByArea) {
   const std::vector<glm::vec3> positions = {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {0, 0, 0.5f}};
   const std::vector<std::uint32_t> indices = {0, 1, 2, 0, 2, 3};
   WeldedNormals normals(positions, indices);
+  std::vector<FloatLanes> sums;
   std::vector<glm::vec3> out(positions.size());
-  normals.compute(positions, out);
+  normals.compute(positions, out, sums);
   // Cross products: (0, 0, 4) and (1, 0, 0): the sum's direction, not the mean of unit normals.
   EXPECT_LE(glm::length(out[0] - glm::normalize(glm::vec3(1, 0, 4))), 1e-6f);  // float rounding
 }
@@ -50,9 +52,10 @@ TEST(WeldedNormals, WeighsTrianglesByArea) {
 TEST(WeldedNormals, RefusesBadIndicesAndBuffers) {
   Octahedron mesh;
   WeldedNormals normals(mesh.positions, mesh.indices);
+  std::vector<FloatLanes> sums;
   std::vector<glm::vec3> short_buffer(3), out(mesh.positions.size());
-  EXPECT_THROW(normals.compute(short_buffer, out), std::invalid_argument);
-  EXPECT_THROW(normals.compute(mesh.positions, short_buffer), std::invalid_argument);
+  EXPECT_THROW(normals.compute(short_buffer, out, sums), std::invalid_argument);
+  EXPECT_THROW(normals.compute(mesh.positions, short_buffer, sums), std::invalid_argument);
   mesh.indices.push_back(0);
   EXPECT_THROW(WeldedNormals(mesh.positions, mesh.indices), std::invalid_argument);
   mesh.indices.insert(mesh.indices.end(), {1, 8});
@@ -62,12 +65,13 @@ TEST(WeldedNormals, RefusesBadIndicesAndBuffers) {
 TEST(WeldedNormals, MatchesADirectSumOnThePosedMale) {
   REQUIRE_SHARED_MALE();
   const Model& model = male.model;
-  Deformer deformer(male);
+  test::Posing deformer(male);
   Pose pose = rest_pose(model.skeleton);
   test::turn(model, pose, "LeftForeArm", {0, 0, 1}, 100.0f);
   std::vector<glm::vec3> posed(model.vertex_count()), fast(model.vertex_count());
   deformer.deform(pose, DeformMethod::kLbs, posed, {});
-  WeldedNormals(model.positions, model.indices).compute(posed, fast);
+  std::vector<FloatLanes> scratch;
+  WeldedNormals(model.positions, model.indices).compute(posed, fast, scratch);
   // Direct: every triangle's cross product added to its corners, then seam copies (coincident
   // rest positions) summed by a search over all vertices with the same rest position.
   std::vector<glm::vec3> sums(model.vertex_count(), glm::vec3(0.0f));

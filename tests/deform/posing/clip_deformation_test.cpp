@@ -17,12 +17,13 @@
 #include <filesystem>
 
 #include "deform/binding/bind.h"
-#include "deform/job/deformer.h"
+#include "deform/job/deform_job.h"
 #include "deform/rig/rig_map.h"
 #include "io/bvh_load.h"
 #include "io/gltf_load.h"
 #include "motion/retarget.h"
 #include "tests/deform/mesh_edges.h"
+#include "tests/deform/shared_male.h"
 
 namespace sweepd::deform {
 namespace {
@@ -77,7 +78,7 @@ TEST(ClipDeformation, EveryCmuFrameOnTheMaleIsFiniteAndEachRegionsStretchIsRepor
   if (!fs::exists(male)) GTEST_SKIP() << "shared data absent: " << male;
   const Model model = io::load_gltf(male);
   const BoundModel bound = bind(model, detect_rig_map(model.skeleton));
-  Deformer deformer(bound);
+  test::Posing deformer(bound);
   const std::vector<Edge> edges = edges_by_region(bound);
 
   std::vector<glm::vec3> positions(model.vertex_count());

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "deform/job/deformer.h"
+#include "deform/job/deform_job.h"
 #include "io/bvh_load.h"
 #include "motion/retarget.h"
 #include "tests/deform/shared_male.h"
@@ -67,7 +67,7 @@ TEST(FootStretch, TheToeCreaseStaysWithinThreeTimesItsRestLengthWhereTheClipCurl
   const motion::JointNameMap toes_driven{
       .source = "toes driven",
       .pairs = {{"LeftToeBase", "LeftToeBase"}, {"RightToeBase", "RightToeBase"}}};
-  Deformer deformer(male);
+  test::Posing deformer(male);
   const std::vector<FootEdge> edges = foot_edges(male);
   std::vector<glm::vec3> positions(male.model.vertex_count());
   struct Case {

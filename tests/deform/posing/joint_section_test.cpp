@@ -43,7 +43,7 @@ Sections smallest_sections_near(std::span<const glm::vec3> posed, test::WeldedMe
 TEST(JointSection, SweepKeepsMoreOfTheLimbThanSkinningAtA135DegreeElbowAndKnee) {
   REQUIRE_SHARED_MALE();
   const Model& model = male.model;
-  Deformer deformer(male);
+  test::Posing deformer(male);
   test::WeldedMesh welded(model);
   struct Case {
     const char* upper;

@@ -11,7 +11,7 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include "deform/binding/bind.h"
-#include "deform/job/deformer.h"
+#include "deform/job/deform_job.h"
 #include "deform/model/forward_kinematics.h"
 #include "deform/rig/rig_map.h"
 #include "io/gltf_load.h"
@@ -41,12 +41,6 @@ Pose turned(const Model& model, const std::string& joint, glm::vec3 axis, float 
   return pose;
 }
 
-std::vector<glm::vec3> deformed(Deformer& deformer, Pose pose, DeformMethod method) {
-  std::vector<glm::vec3> positions(deformer.bound().model.vertex_count());
-  deformer.deform(pose, method, positions, {});
-  return positions;
-}
-
 float max_distance(std::span<const glm::vec3> a, std::span<const glm::vec3> b) {
   float worst = 0.0f;
   for (std::size_t v = 0; v < a.size(); ++v) worst = std::max(worst, glm::length(a[v] - b[v]));
@@ -55,7 +49,7 @@ float max_distance(std::span<const glm::vec3> a, std::span<const glm::vec3> b) {
 
 TEST(SweepPoser, RestPoseReproducesTheRestMeshWithEveryMethod) {
   REQUIRE_SHARED_MALE();
-  Deformer deformer(male);
+  test::Posing deformer(male);
   for (DeformMethod method : {DeformMethod::kSweep, DeformMethod::kLbs, DeformMethod::kDqs}) {
     const auto positions = deformed(deformer, rest_pose(male.model.skeleton), method);
     const float error = max_distance(positions, male.model.positions);
@@ -67,7 +61,7 @@ TEST(SweepPoser, RestPoseReproducesTheRestMeshWithEveryMethod) {
 TEST(SweepPoser, FastPathMatchesDirectEvaluationAndThreadsAreBitIdentical) {
   REQUIRE_SHARED_MALE();
   const Model& model = male.model;
-  Deformer deformer(male);
+  test::Posing deformer(male);
   Pose pose = turned(model, "LeftForeArm", {0.7f, 0.7f, 0.0f}, 120.0f);
   pose.local_rotations[model.skeleton.find("RightUpLeg")] =
       glm::angleAxis(glm::radians(-80.0f), glm::vec3(1, 0, 0));
@@ -134,7 +128,7 @@ TEST(SweepPoser, EveryInstructionSetMatchesDirectEvaluationWithAnyThreadCount) {
 TEST(SweepPoser, AgreesWithSkinningFarFromABentElbow) {
   REQUIRE_SHARED_MALE();
   const Model& model = male.model;
-  Deformer deformer(male);
+  test::Posing deformer(male);
   const Pose pose = turned(model, "LeftForeArm", {0.7f, 0.7f, 0.0f}, 90.0f);
   const auto sweep = deformed(deformer, pose, DeformMethod::kSweep);
   const auto lbs = deformed(deformer, pose, DeformMethod::kLbs);
@@ -166,7 +160,7 @@ TEST(SweepPoser, AgreesWithSkinningFarFromABentElbow) {
 TEST(SweepPoser, ForearmTwistedBy150DegreesKeepsItsSections) {
   REQUIRE_SHARED_MALE();
   const Model& model = male.model;
-  Deformer deformer(male);
+  test::Posing deformer(male);
   test::WeldedMesh welded(model);
   const glm::vec3 elbow = joint_position(model, "LeftForeArm"),
                   wrist = joint_position(model, "LeftHand");
@@ -193,9 +187,9 @@ TEST(SweepPoser, ForearmTwistedBy150DegreesKeepsItsSections) {
   EXPECT_GE(ratio[0], 0.8f);  // the bound for sweep
 }
 
-TEST(Deformer, RefusesBadPosesWithTheReason) {
+TEST(DeformJob, RefusesBadPosesWithTheReason) {
   REQUIRE_SHARED_MALE();
-  Deformer deformer(male);
+  test::Posing deformer(male);
   std::vector<glm::vec3> out(male.model.vertex_count());
   Pose pose = rest_pose(male.model.skeleton);
   pose.local_rotations.pop_back();
@@ -211,6 +205,14 @@ TEST(Deformer, RefusesBadPosesWithTheReason) {
   std::vector<glm::vec3> short_buffer(10);
   pose = rest_pose(male.model.skeleton);
   EXPECT_THROW(deformer.deform(pose, DeformMethod::kLbs, short_buffer, {}), std::invalid_argument);
+  // Features on a skinning baseline are named, not ignored.
+  deformer.features.folding = true;
+  try {
+    deformer.deform(pose, DeformMethod::kLbs, out, {});
+    FAIL() << "folding on LBS accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("sweep method only"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
