@@ -27,7 +27,7 @@ const std::string kUsage =
         "  --normals          also write N.X N.Y N.Z\n") +
     kPosingUsage;
 
-constexpr int kServerGutter = 4;  // server/position_map_service.h
+constexpr int kServerGutter = 4;  // server/handlers/position_map_service.h
 
 std::optional<io::ExrCompression> parse_compression(const std::string& name) {
   if (name == "zip") return io::ExrCompression::kZip;

@@ -1,6 +1,7 @@
 // The layers' include rules (README "Layout", deform/README.md): deform/ is the paper and
 // includes nothing from the layers built on it; mannequin/, metrics/ and motion/ stand on
-// deform/ only; protocol/ never includes deform/; nothing includes server/ but server/ itself.
+// deform/ only; console/ stands alone; protocol/ never includes deform/; nothing includes
+// server/ but server/ itself.
 // deform/'s top level holds only its stage folders and README.md. Reads the source as text.
 #include <gtest/gtest.h>
 
@@ -47,6 +48,9 @@ TEST(Layering, EachLayerIncludesOnlyTheLayersBelowIt) {
       {"io", {"gpu", "protocol", "client", "server", "cli"}},
       {"gpu", {"protocol", "client", "server", "cli"}},
       {"cli", {"server"}},
+      {"console",
+       {"deform", "mannequin", "metrics", "motion", "io", "gpu", "protocol", "client", "server",
+        "cli"}},
       {"client", {"server", "cli"}},
   };
   for (const auto& [folder, tops] : forbidden) {

@@ -2,7 +2,7 @@
 
 #include <string>
 
-#include "server/position_map_service.h"
+#include "server/handlers/position_map_service.h"
 
 namespace sweepd::server {
 

@@ -34,7 +34,7 @@
 #include "server/handlers/model_requests.h"
 #include "server/handlers/request_error.h"
 #include "server/models/model_service.h"
-#include "server/pose_request.h"
+#include "server/handlers/pose_request.h"
 #include "server/transport/connection_counters.h"
 
 namespace sweepd::server {

@@ -19,7 +19,7 @@
 
 #include "server/config.h"
 #include "server/models/model_service.h"
-#include "server/position_map_service.h"
+#include "server/handlers/position_map_service.h"
 #include "server/transport/connection.h"
 
 namespace sweepd::server {

@@ -1,4 +1,4 @@
-#include "server/pose_request.h"
+#include "server/handlers/pose_request.h"
 
 #include <algorithm>
 

@@ -30,7 +30,7 @@
 #include "deform/model/pose.h"
 #include "protocol/messages.h"
 #include "server/models/model_registry.h"
-#include "server/position_map_service.h"
+#include "server/handlers/position_map_service.h"
 
 namespace sweepd::server {
 
