@@ -148,13 +148,13 @@ PoseDeformer server_deformer(const Method& m, RemotePosedModel& remote, deform::
 MethodReport measure_method(const Method& m, const deform::BoundModel& bound,
                             const PoseDeformer& deform, bool sweep_state,
                             const std::function<deform::Pose(int)>& pose_of,
-                            const deform::QualityMeter& meter, const std::vector<int>& frames,
+                            const metrics::QualityMeter& meter, const std::vector<int>& frames,
                             console::ProgressBar* bar, int done, int total) {
   MethodReport report;
   report.method = m.name;
   std::vector<glm::vec3> positions(bound.model.vertex_count());
   deform(deform::rest_pose(bound.model.skeleton), positions);
-  report.rest_error_m = deform::largest_distance(positions, bound.model.positions);
+  report.rest_error_m = metrics::largest_distance(positions, bound.model.positions);
 
   const bool sweep = sweep_state && m.method == deform::DeformMethod::kSweep;
   for (const deform::BoundSweep& s : bound.sweeps)
@@ -166,14 +166,14 @@ MethodReport measure_method(const Method& m, const deform::BoundModel& bound,
     report.series.push_back({name});
   for (std::size_t i = 0; i < frames.size(); ++i) {
     const deform::SweepPoser& poser = deform(pose_of(frames[i]), positions);
-    const deform::QualityMetrics q = meter.measure(positions, poser, sweep);
+    const metrics::QualityMetrics q = meter.measure(positions, poser, sweep);
     std::size_t k = 0;
-    for (const deform::PartMetrics& part : q.parts) {
+    for (const metrics::PartMetrics& part : q.parts) {
       const double percent = 100.0 * part.mesh_volume_change;
       report.series[k++].add(percent, std::abs(percent), frames[i]);
     }
     if (sweep)
-      for (const deform::PartMetrics& part : q.parts) {
+      for (const metrics::PartMetrics& part : q.parts) {
         const double percent = 100.0 * part.sweep_volume_change;
         report.series[k++].add(percent, std::abs(percent), frames[i]);
       }
@@ -282,7 +282,7 @@ int metrics(const std::vector<std::string>& arguments, const ServerAddress* serv
       const int last = whole_clip ? io::load_bvh(posing.bvh).frame_count - 1 : posing.frames.last;
       for (int f = posing.frames.first; f <= last; f += step) frames.push_back(f);
     }
-    const deform::QualityMeter meter(bound);
+    const metrics::QualityMeter meter(bound);
     std::vector<MethodReport> reports;
     {
       std::unique_ptr<console::ProgressBar> bar;

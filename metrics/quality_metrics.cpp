@@ -11,7 +11,9 @@
 #include "deform/mesh/mesh_topology.h"
 #include "deform/sweep/swept_volume.h"
 
-namespace sweepd::deform {
+namespace sweepd::metrics {
+
+using namespace deform;  // the metrics measure the deform library's types
 namespace {
 
 bool is_limb(BodyPart part) {
@@ -211,4 +213,4 @@ QualityMetrics QualityMeter::measure(std::span<const glm::vec3> positions, const
   return metrics;
 }
 
-}  // namespace sweepd::deform
+}  // namespace sweepd::metrics

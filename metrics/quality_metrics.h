@@ -1,7 +1,8 @@
 // Quality metrics of a deformed mesh against the rest pose — the figures that compare sweep
 // deformation (with and without volume preservation) to LBS and DQS:
 // - per body part (one per sweep), the volume change against rest of
-//   · the closed part region (deform/volume/part_volume_regions.h): the triangles bound to the part's sweep
+//   · the closed part region (deform/volume/part_volume_regions.h): the triangles bound to the
+//   part's sweep
 //     with a mean weight >= 0.5, every boundary loop capped by a fan to its centroid, signed
 //     volume by the divergence theorem (double precision);
 //   · the sweep integral I of the posed sweep (sweep methods only);
@@ -27,10 +28,10 @@
 #include "deform/posing/sweep_poser.h"
 #include "deform/volume/part_volume_regions.h"
 
-namespace sweepd::deform {
+namespace sweepd::metrics {
 
 struct PartMetrics {
-  BodyPart part = BodyPart::kNone;
+  deform::BodyPart part = deform::BodyPart::kNone;
   double mesh_volume_change = 0.0;   // (V − V_rest) / V_rest of the closed part region
   double sweep_volume_change = 0.0;  // (I − I_0) / I_0; 0 where not measured
 };
@@ -54,20 +55,20 @@ double largest_distance(std::span<const glm::vec3> a, std::span<const glm::vec3>
 class QualityMeter {
  public:
   static constexpr int kSectionsPerLimb = 9;
-  explicit QualityMeter(const BoundModel& bound);
+  explicit QualityMeter(const deform::BoundModel& bound);
 
   // sweep_method: whether posed's α/β are those of the deformation (then the sweep integral is
   // reported); for LBS/DQS pass false (the poser still gives the section planes).
-  QualityMetrics measure(std::span<const glm::vec3> positions, const SweepPoser& posed,
+  QualityMetrics measure(std::span<const glm::vec3> positions, const deform::SweepPoser& posed,
                          bool sweep_method) const;
 
-  const PartVolumeRegions& regions() const { return regions_; }
+  const deform::PartVolumeRegions& regions() const { return regions_; }
 
  private:
   std::vector<glm::vec3> welded_positions(std::span<const glm::vec3> positions) const;
 
-  const BoundModel& bound_;
-  PartVolumeRegions regions_;
+  const deform::BoundModel& bound_;
+  deform::PartVolumeRegions regions_;
   std::vector<double> rest_mesh_volume_, rest_sweep_volume_;
   std::vector<std::uint32_t> welded_;          // per model vertex: its welded id
   std::vector<std::uint32_t> welded_indices_;  // the triangles over welded ids (closed loops)
@@ -81,4 +82,4 @@ class QualityMeter {
 // The parameters where limb sections are measured: evenly inside (0, 1), away from the ends.
 float section_parameter(int section);
 
-}  // namespace sweepd::deform
+}  // namespace sweepd::metrics

@@ -11,7 +11,9 @@
 
 #include "tests/deform/shared_male.h"
 
-namespace sweepd::deform {
+namespace sweepd::metrics {
+
+using namespace deform;
 namespace {
 
 TEST(QualityMetrics, CountsCrossingTrianglesButNotNeighboursOrDisjointOnes) {
@@ -108,4 +110,4 @@ TEST(QualityMetrics, SectionRatioCatchesTheCandyWrapperOfSkinning) {
 }
 
 }  // namespace
-}  // namespace sweepd::deform
+}  // namespace sweepd::metrics

@@ -46,7 +46,7 @@ TEST_F(SweepctlRemote, UploadedMalePoseEqualsTheLocalPoseByteForByte) {
             0)
       << "positions bit-exact";
   const float moved = static_cast<float>(
-      deform::largest_distance(local_model.positions, io::load_gltf(kSharedMale).positions));
+      metrics::largest_distance(local_model.positions, io::load_gltf(kSharedMale).positions));
   EXPECT_GT(moved, 0.1f) << "frame " << kClipFrame << " is far from the rest pose";
 }
 
@@ -111,7 +111,7 @@ TEST_F(SweepctlRemote, ServerOnlyMannequinIsWrittenFromTheServedMesh) {
 
   EXPECT_EQ(std::memcmp(served.data(), library.data(), served.size() * sizeof(glm::vec3)), 0)
       << "the daemon's deformation of the client-side retargeted pose, bit-exact";
-  EXPECT_GT(deform::largest_distance(served, bound.model.positions), 0.1)
+  EXPECT_GT(metrics::largest_distance(served, bound.model.positions), 0.1)
       << "frame " << kClipFrame << " is far from the rest pose";
 }
 
