@@ -234,14 +234,19 @@ ModelHandle ModelRegistry::add(const std::string& name, deform::BoundModel bound
 }
 
 ModelHandle ModelRegistry::replace(std::uint32_t id, deform::BoundModel bound) {
+  // The runtime (poser tables, collision regions, proxies) is built before taking the lock, so
+  // lookups do not wait for it.
+  auto model = std::make_shared<RegisteredModel>();
+  model->bound = std::move(bound);
+  model->runtime = std::make_shared<const deform::ModelRuntime>(model->bound);
   std::lock_guard lock(mutex_);
   const auto old = std::find_if(models_.begin(), models_.end(),
                                 [id](const ModelHandle& m) { return m->id == id; });
   if (old == models_.end())
     throw ModelError(ErrorCode::UnknownModel, "no model with id " + std::to_string(id));
-  auto model = std::make_shared<RegisteredModel>(**old);
-  model->bound = std::move(bound);
-  model->runtime = std::make_shared<const deform::ModelRuntime>(model->bound);
+  model->id = (*old)->id;
+  model->name = (*old)->name;
+  model->bind_time_ns = (*old)->bind_time_ns;
   try {
     io::save_sweepbind(model->bound, store_dir_ / (std::to_string(id) + ".sweepbind"));
   } catch (const std::exception& error) {
