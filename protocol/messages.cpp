@@ -1,6 +1,5 @@
 #include "protocol/messages.h"
 
-#include <cmath>
 #include <cstring>
 #include <initializer_list>
 
@@ -11,13 +10,6 @@ namespace {
 
 static_assert(FLATBUFFERS_LITTLEENDIAN,
               "sweepd writes and reads protocol arrays in place: little-endian hosts only");
-
-bool all_finite(std::initializer_list<float> values) {
-  for (float value : values) {
-    if (!std::isfinite(value)) return false;
-  }
-  return true;
-}
 
 std::string pose_name(const Pose& pose) {
   return "pose " + std::to_string(pose.sequence()) + " for model " +
@@ -77,33 +69,7 @@ flatbuffers::Offset<Pose> add_pose(flatbuffers::FlatBufferBuilder& builder,
                     root, fields.method, fields.features, fields.positions, fields.normals);
 }
 
-std::optional<PoseProblem> check_pose(const Pose& pose, std::size_t joint_count) {
-  const auto* rotations = pose.rotations();
-  const std::size_t count = rotations ? rotations->size() : 0;
-  if (count != joint_count) {
-    return PoseProblem{ErrorCode::WrongJointCount,
-                       pose_name(pose) + " has " + std::to_string(count) +
-                           " rotations; the model has " + std::to_string(joint_count) + " joints"};
-  }
-  for (std::size_t j = 0; j < count; ++j) {
-    const Quat* q = rotations->Get(static_cast<flatbuffers::uoffset_t>(j));
-    if (!all_finite({q->x(), q->y(), q->z(), q->w()})) {
-      return PoseProblem{ErrorCode::InvalidPose, pose_name(pose) + ": rotation of joint " +
-                                                     std::to_string(j) + " is not finite"};
-    }
-    const float norm =
-        std::sqrt(q->x() * q->x() + q->y() * q->y() + q->z() * q->z() + q->w() * q->w());
-    if (std::abs(norm - 1.0f) > kRotationNormTolerance) {
-      return PoseProblem{ErrorCode::InvalidPose, pose_name(pose) + ": rotation of joint " +
-                                                     std::to_string(j) + " has length " +
-                                                     std::to_string(norm) + ", not 1"};
-    }
-  }
-  if (const Vec3* root = pose.root_translation();
-      root != nullptr && !all_finite({root->x(), root->y(), root->z()})) {
-    return PoseProblem{ErrorCode::InvalidPose,
-                       pose_name(pose) + ": root translation is not finite"};
-  }
+std::optional<PoseProblem> check_pose_enums(const Pose& pose) {
   if (pose.method() > DeformMethod::MAX) {
     return PoseProblem{ErrorCode::NotAvailable,
                        pose_name(pose) + ": unknown deformation method " +

@@ -7,7 +7,7 @@
 //   finish_message(builder, body, request_id)  any body → one frame (framing.h layout)
 //   build_hello / build_error                  the session's first and most common replies
 //   add_pose(builder, PoseFields)              a Pose table (in a Pose message or a request)
-//   check_pose(pose, joint_count)              joint count, finite values, unit rotations
+//   check_pose_enums(pose)                     method, features, format a newer client sent
 //   PosedVerticesFrame, PositionMapFrame       replies with their arrays left for the caller
 //                                              to write straight into the builder's buffer
 //   copy_positions / copy_normals              a reply's arrays as float32, either format
@@ -67,15 +67,19 @@ struct PoseFields {
 flatbuffers::Offset<Pose> add_pose(flatbuffers::FlatBufferBuilder& builder,
                                    const PoseFields& fields);
 
-// What is wrong with a pose for a model of `joint_count` joints, in words that name the
-// pose's sequence; nullopt when it can be posed. Rotations may be off unit length by
-// kRotationNormTolerance (the server normalises them); more is an InvalidPose.
+// The wire's contract for rotations: they may be off unit length by kRotationNormTolerance
+// (the server normalises them); more is an InvalidPose. The pose itself is checked against
+// its model by deform::DeformJob::validate, with this tolerance.
 inline constexpr float kRotationNormTolerance = 0.01f;
+
+// What only the wire can get wrong in a pose: a method, feature flag or position format this
+// build does not know (from a newer client): NotAvailable, in words that name the pose's
+// sequence; nullopt otherwise.
 struct PoseProblem {
-  ErrorCode code = ErrorCode::InvalidPose;
+  ErrorCode code = ErrorCode::NotAvailable;
   std::string message;
 };
-std::optional<PoseProblem> check_pose(const Pose& pose, std::size_t joint_count);
+std::optional<PoseProblem> check_pose_enums(const Pose& pose);
 
 struct PosedVerticesHeader {
   std::uint64_t request_id = 0;

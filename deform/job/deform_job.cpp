@@ -26,31 +26,47 @@ bool settled(std::span<const double> measured, std::span<const double> targeted,
 
 }  // namespace
 
-std::string DeformJob::validate() {
+JobProblem DeformJob::validate() {
   const BoundModel& bound = runtime.bound();
-  const Model& model = bound.model;
-  if (std::string why = normalize_and_validate(pose, model.skeleton); !why.empty())
-    return "invalid pose: " + why;
-  if (positions.size() != model.vertex_count() ||
-      (!normals.empty() && normals.size() != model.vertex_count()))
-    return "output buffers must hold " + std::to_string(model.vertex_count()) + " vertices";
+  const Skeleton& skeleton = bound.model.skeleton;
+  if (pose.local_rotations.size() != skeleton.joints.size())
+    return {JobProblem::Input::kJointCount,
+            "invalid pose: the pose has " + std::to_string(pose.local_rotations.size()) +
+                " rotations, the skeleton " + std::to_string(skeleton.joints.size()) + " joints"};
+  if (std::string why = normalize_and_validate(pose, skeleton, options.rotation_length_tolerance);
+      !why.empty())
+    return {JobProblem::Input::kPose, "invalid pose: " + why};
   if (features.any() && method != DeformMethod::kSweep)
-    return "features (" + to_string(features) + ") apply to the sweep method only, not " +
-           to_string(method);
+    return {JobProblem::Input::kSelection, "features (" + to_string(features) +
+                                               ") apply to the sweep method only, not " +
+                                               to_string(method)};
   if (!options.added_volume.empty() && options.added_volume.size() != bound.sweeps.size())
-    return "volume preservation: " + std::to_string(options.added_volume.size()) +
-           " added volumes for " + std::to_string(bound.sweeps.size()) + " sweeps";
+    return {JobProblem::Input::kSelection,
+            "volume preservation: " + std::to_string(options.added_volume.size()) +
+                " added volumes for " + std::to_string(bound.sweeps.size()) + " sweeps"};
   return {};
 }
 
 DeformReport DeformJob::run(DeformContext& context) {
-  if (std::string why = validate(); !why.empty()) throw std::invalid_argument(why);
+  if (JobProblem problem = validate()) throw std::invalid_argument(problem.message);
+  return run_validated(context);
+}
+
+DeformReport DeformJob::run_validated(DeformContext& context) {
+  const Model& model = runtime.bound().model;
+  if (pose.local_rotations.size() != model.skeleton.joints.size())
+    throw std::invalid_argument(
+        "run_validated: the pose has " + std::to_string(pose.local_rotations.size()) +
+        " rotations, the skeleton " + std::to_string(model.skeleton.joints.size()) + " joints");
+  if (positions.size() != model.vertex_count() ||
+      (!normals.empty() && normals.size() != model.vertex_count()))
+    throw std::invalid_argument("output buffers must hold " + std::to_string(model.vertex_count()) +
+                                " vertices");
   context.prepare(runtime);
   context.edits_ = options.edits;
   context.bulge_ = features.bulge;
   context.bulge_options_ = options.bulge;
   context.corrections_ = {};
-  const Model& model = runtime.bound().model;
   forward_kinematics(model.skeleton, pose, context.world_pose_);
   skinning_matrices(context.world_pose_, runtime.world_rest_inverse(), context.skinning_);
   DeformReport report;

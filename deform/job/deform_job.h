@@ -12,10 +12,16 @@
 //          DeformReport: what folding and protrusion did, the I_C the volume target used,
 //          the volume corrections, and how many times the mesh was deformed.
 //
-// validate(): "" or what is wrong — "invalid pose: <joint, NaN/Inf, zero quaternion, joint
-//   count>" (non-unit quaternions are normalised in place), "output buffers must hold N
-//   vertices", features on LBS/DQS, added volumes of the wrong size. run() validates and throws
-//   std::invalid_argument with that text.
+// validate(): once per pose — checks the pose against the skeleton (non-unit quaternions
+//   within options.rotation_length_tolerance are normalised in place) and that method,
+//   features and options go together; returns a JobProblem naming what is wrong, which input
+//   (joint count, pose, selection), or none.
+// run(context): validate(), then run_validated(); a problem is thrown as std::invalid_argument
+//   "invalid pose: <why>" or the selection's reason.
+// run_validated(context): for a caller that already validated the job (the daemon validates a
+//   pose when it arrives, on its I/O thread, and deforms it later on a worker). Checks only the
+//   sizes that guard memory — joint count, output buffers of #V — in O(1), and throws
+//   std::invalid_argument naming them.
 // run(), in one direction: forward kinematics → posed keys (edits, bulge; §4.1–4.3) → volume
 //   (§4.4: towards I0 − I_C) → vertices and blending (§3.3–3.5) → folding, protrusion (§4.3) →
 //   normals (WeldedNormals, after the features, so they see the moved skin).
@@ -31,6 +37,7 @@
 
 #include <chrono>
 #include <glm/glm.hpp>
+#include <limits>
 #include <span>
 #include <string>
 
@@ -39,6 +46,7 @@
 #include "deform/job/anatomical_features.h"
 #include "deform/job/deform_context.h"
 #include "deform/job/deform_method.h"
+#include "deform/job/job_problem.h"
 #include "deform/job/model_runtime.h"
 #include "deform/model/pose.h"
 #include "deform/volume/volume_preservation.h"
@@ -57,6 +65,9 @@ struct DeformJobOptions {
   CollisionFeatureOptions collision{};  // rounds and gaps; `features` selects folding/protrusion
   VolumeChangeSource volume_change = VolumeChangeSource::kFixedPoint;
   int fixed_point_rounds = 3;  // deformations per frame at most, when volume meets folding
+  // A rotation whose length differs from 1 by more is refused, not normalised (default: any
+  // non-zero length is a direction; the daemon refuses what its wire contract does not allow).
+  double rotation_length_tolerance = std::numeric_limits<double>::infinity();
   // Volume added elsewhere, per sweep (bound.sweeps.size() values, or empty): added to I_C.
   std::span<const double> added_volume{};
   DetectPairs detect{};  // folding's pair finder; empty: the CPU reference
@@ -80,8 +91,9 @@ struct DeformJob {
   std::span<glm::vec3> positions{};
   std::span<glm::vec3> normals{};
 
-  std::string validate();
+  JobProblem validate();
   DeformReport run(DeformContext& context);
+  DeformReport run_validated(DeformContext& context);
 
  private:
   // The sweep method with its features, into positions (normals after).

@@ -24,7 +24,7 @@ Pose rest_pose(const Skeleton& skeleton) {
   return pose;
 }
 
-std::string normalize_and_validate(Pose& pose, const Skeleton& skeleton) {
+std::string normalize_and_validate(Pose& pose, const Skeleton& skeleton, double length_tolerance) {
   if (pose.local_rotations.size() != skeleton.joints.size())
     return "the pose has " + std::to_string(pose.local_rotations.size()) +
            " joint rotations, the skeleton " + std::to_string(skeleton.joints.size()) + " joints";
@@ -39,6 +39,9 @@ std::string normalize_and_validate(Pose& pose, const Skeleton& skeleton) {
         std::sqrt(double{q.w} * q.w + double{q.x} * q.x + double{q.y} * q.y + double{q.z} * q.z);
     if (!(length > 1e-30))
       return joint_label(skeleton, j) + " has a zero-length rotation quaternion";
+    if (std::abs(length - 1.0) > length_tolerance)
+      return joint_label(skeleton, j) + " has a rotation of length " + std::to_string(length) +
+             ", not 1";
     if (std::abs(length - 1.0) > 1e-6) {
       q = glm::quat(static_cast<float>(q.w / length), static_cast<float>(q.x / length),
                     static_cast<float>(q.y / length), static_cast<float>(q.z / length));

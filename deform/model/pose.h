@@ -14,6 +14,7 @@
 
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -33,8 +34,11 @@ Pose rest_pose(const Skeleton& skeleton);
 // Checks a pose against the skeleton once, before it is used. Returns "" when it fits;
 // otherwise the first problem in words, naming the joint by index and name: a rotation count
 // that differs from the joint count, a NaN or infinite component, a zero-length (or
-// denormal-length) quaternion, or a non-finite root translation. Fixes what it can in place:
-// non-unit quaternions are normalised.
-std::string normalize_and_validate(Pose& pose, const Skeleton& skeleton);
+// denormal-length) quaternion, a quaternion whose length differs from 1 by more than
+// `length_tolerance` (default: none is too long or short), or a non-finite root translation.
+// Fixes what it can in place: non-unit quaternions within the tolerance are normalised.
+std::string normalize_and_validate(
+    Pose& pose, const Skeleton& skeleton,
+    double length_tolerance = std::numeric_limits<double>::infinity());
 
 }  // namespace sweepd::deform

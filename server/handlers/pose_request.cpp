@@ -2,7 +2,6 @@
 
 #include <algorithm>
 
-#include "deform/job/deform_job.h"
 #include "protocol/float16.h"
 
 namespace sweepd::server {
@@ -50,22 +49,15 @@ deform::AnatomicalFeatures features_of(protocol::Features bits) {
 std::optional<protocol::PoseProblem> read_pose_request(const protocol::Pose& pose,
                                                        const ModelHandle& model,
                                                        std::uint64_t request_id, PoseRequest& out) {
+  if (auto problem = protocol::check_pose_enums(pose)) return problem;
   const deform::Skeleton& skeleton = model->bound.model.skeleton;
-  if (auto problem = protocol::check_pose(pose, skeleton.joints.size())) return problem;
-  out.features = features_of(pose.features());
-  if (out.features.any() && pose.method() != protocol::DeformMethod::Sweep) {
-    return protocol::PoseProblem{protocol::ErrorCode::InvalidArgument,
-                                 "pose " + std::to_string(pose.sequence()) + ": features (" +
-                                     to_string(out.features) +
-                                     ") apply to the sweep method only; send features = 0 with " +
-                                     protocol::EnumNameDeformMethod(pose.method())};
-  }
   out.request_id = request_id;
   out.model = model;
   out.sequence = pose.sequence();
   out.client_time_ns = pose.client_time_ns();
   out.format = pose.positions();
   out.normals = pose.normals();
+  out.features = features_of(pose.features());
   switch (pose.method()) {
     case protocol::DeformMethod::Lbs:
       out.method = deform::DeformMethod::kLbs;
@@ -76,21 +68,40 @@ std::optional<protocol::PoseProblem> read_pose_request(const protocol::Pose& pos
     default:
       out.method = deform::DeformMethod::kSweep;
   }
-  out.pose.local_rotations.resize(skeleton.joints.size());
-  for (std::size_t j = 0; j < skeleton.joints.size(); ++j) {
-    const protocol::Quat* q = pose.rotations()->Get(static_cast<flatbuffers::uoffset_t>(j));
-    out.pose.local_rotations[j] = glm::quat(q->w(), q->x(), q->y(), q->z());
+  // As many rotations as the wire holds (the frame limit bounds them); the job names a count
+  // other than the skeleton's.
+  const auto* rotations = pose.rotations();
+  out.pose.local_rotations.clear();
+  if (rotations != nullptr) {
+    out.pose.local_rotations.reserve(rotations->size());
+    for (const protocol::Quat* q : *rotations)
+      out.pose.local_rotations.emplace_back(q->w(), q->x(), q->y(), q->z());
   }
   const protocol::Vec3* root = pose.root_translation();
   out.pose.root_translation = root != nullptr           ? glm::vec3(root->x(), root->y(), root->z())
                               : skeleton.joints.empty() ? glm::vec3(0.0f)
                                                         : skeleton.joints[0].rest_translation;
-  const std::string problem = deform::normalize_and_validate(out.pose, skeleton);
-  if (!problem.empty()) {
-    return protocol::PoseProblem{protocol::ErrorCode::InvalidPose,
-                                 "pose " + std::to_string(pose.sequence()) + ": " + problem};
-  }
-  return std::nullopt;
+  deform::DeformJob job = out.job(0, {}, {});
+  const deform::JobProblem problem = job.validate();
+  if (!problem) return std::nullopt;
+  const protocol::ErrorCode code =
+      problem.input == deform::JobProblem::Input::kJointCount ? protocol::ErrorCode::WrongJointCount
+      : problem.input == deform::JobProblem::Input::kPose     ? protocol::ErrorCode::InvalidPose
+                                                          : protocol::ErrorCode::InvalidArgument;
+  return protocol::PoseProblem{code, "pose " + std::to_string(pose.sequence()) + " for model " +
+                                         std::to_string(model->id) + ": " + problem.message};
+}
+
+deform::DeformJob PoseRequest::job(int threads, std::span<glm::vec3> positions,
+                                   std::span<glm::vec3> normals) {
+  return {.runtime = *model->runtime,
+          .pose = pose,
+          .method = method,
+          .features = features,
+          .options = {.rotation_length_tolerance = protocol::kRotationNormTolerance,
+                      .threads = threads},
+          .positions = positions,
+          .normals = normals};
 }
 
 std::pair<std::uint64_t, std::uint64_t> PosedVerticesWriter::deform(PoseRequest& request,
@@ -100,14 +111,9 @@ std::pair<std::uint64_t, std::uint64_t> PosedVerticesWriter::deform(PoseRequest&
   // no deformation state.
   thread_local deform::DeformContext context;
   const Clock::time_point start = Clock::now();
-  deform::DeformJob job{.runtime = *request.model->runtime,
-                        .pose = request.pose,
-                        .method = request.method,
-                        .features = request.features,
-                        .options = {.threads = deform_threads_},
-                        .positions = positions,
-                        .normals = normals};
-  const deform::DeformReport report = job.run(context);
+  // Validated once, when the pose arrived (read_pose_request).
+  const deform::DeformReport report =
+      request.job(deform_threads_, positions, normals).run_validated(context);
   const auto total = static_cast<std::uint64_t>(
       std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - start).count());
   const auto features = static_cast<std::uint64_t>(report.features_time.count());

@@ -3,11 +3,15 @@
 // outgoing PosedVertices frame.
 //
 // read_pose_request(pose, model, request_id, out): fills `out` (rotations converted from the
-//   wire's x,y,z,w to glm's w,x,y,z, normalised; an absent root translation becomes the
-//   model's rest root position). Returns the problem (code + message naming the pose's
-//   sequence) instead when the pose cannot be posed: wrong joint count, NaN/inf, far from
-//   unit rotations, a method, feature or format this server does not offer, or features on
-//   a method other than sweep (InvalidArgument).
+//   wire's x,y,z,w to glm's w,x,y,z; an absent root translation becomes the model's rest root
+//   position) and validates it once, as the deformation job it will be
+//   (deform::DeformJob::validate, which normalises the rotations). Returns the problem (code +
+//   message naming the pose's sequence) instead when the pose cannot be posed: a method,
+//   feature or format this server does not know (NotAvailable), a wrong joint count
+//   (WrongJointCount), NaN/inf or rotations further than protocol::kRotationNormTolerance
+//   from unit length (InvalidPose), features on a method other than sweep (InvalidArgument).
+// PoseRequest::job(threads, positions, normals): the request as a deform::DeformJob, writing
+//   into the given buffers; the worker runs it with run_validated.
 // PosedVerticesWriter::write(request, dropped_before, builder): builds the complete reply
 //   frame in `builder` (protocol::PosedVerticesFrame) — float32 positions/normals are
 //   written by the deformer in place; float16 go through one scratch buffer, kept between
@@ -26,11 +30,12 @@
 #include <vector>
 
 #include "deform/job/anatomical_features.h"
+#include "deform/job/deform_job.h"
 #include "deform/job/deform_method.h"
 #include "deform/model/pose.h"
 #include "protocol/messages.h"
-#include "server/models/model_registry.h"
 #include "server/handlers/position_map_service.h"
+#include "server/models/model_registry.h"
 
 namespace sweepd::server {
 
@@ -53,6 +58,8 @@ struct PoseRequest {
   bool normals = false;
   std::optional<PositionMapParams> position_map;  // set: answer with a PositionMap
   std::chrono::steady_clock::time_point received;
+
+  deform::DeformJob job(int threads, std::span<glm::vec3> positions, std::span<glm::vec3> normals);
 };
 
 std::optional<protocol::PoseProblem> read_pose_request(const protocol::Pose& pose,

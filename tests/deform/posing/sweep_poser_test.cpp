@@ -187,33 +187,5 @@ TEST(SweepPoser, ForearmTwistedBy150DegreesKeepsItsSections) {
   EXPECT_GE(ratio[0], 0.8f);  // the bound for sweep
 }
 
-TEST(DeformJob, RefusesBadPosesWithTheReason) {
-  REQUIRE_SHARED_MALE();
-  test::Posing deformer(male);
-  std::vector<glm::vec3> out(male.model.vertex_count());
-  Pose pose = rest_pose(male.model.skeleton);
-  pose.local_rotations.pop_back();
-  EXPECT_THROW(deformer.deform(pose, DeformMethod::kSweep, out, {}), std::invalid_argument);
-  pose = rest_pose(male.model.skeleton);
-  pose.local_rotations[3] = glm::quat(0, 0, 0, 0);
-  try {
-    deformer.deform(pose, DeformMethod::kSweep, out, {});
-    FAIL() << "zero quaternion accepted";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("invalid pose"), std::string::npos) << e.what();
-  }
-  std::vector<glm::vec3> short_buffer(10);
-  pose = rest_pose(male.model.skeleton);
-  EXPECT_THROW(deformer.deform(pose, DeformMethod::kLbs, short_buffer, {}), std::invalid_argument);
-  // Features on a skinning baseline are named, not ignored.
-  deformer.features.folding = true;
-  try {
-    deformer.deform(pose, DeformMethod::kLbs, out, {});
-    FAIL() << "folding on LBS accepted";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("sweep method only"), std::string::npos) << e.what();
-  }
-}
-
 }  // namespace
 }  // namespace sweepd::deform
