@@ -7,8 +7,10 @@
 // acknowledged model and loads it without rebinding. Uploaded .glb bytes are kept as
 // <id>.glb beside it (the source of the binding).
 //
-// The daemon reaches it only through ModelService (model_service.h), the one place models change.
-// Thread-safe: loads bind outside the lock (seconds), lookups never wait for a bind.
+// It knows nothing of glTF, rigs or binding: ModelService (model_service.h), the one place
+// models change, loads and binds a model while it holds a StoreSlot (the next id, and the right
+// to store under it), then adds the bound model. Thread-safe: a bind holds only the slot, never
+// the lock lookups take, so lookups never wait for a bind.
 // Errors a client causes throw ModelError with the protocol code to answer and a message
 // naming the model and the reason.
 #pragma once
@@ -49,23 +51,27 @@ class ModelError : public std::runtime_error {
   protocol::ErrorCode code_;
 };
 
-struct ModelLoadRequest {
-  std::string name;                    // stored name; with no gltf: a model_dir file name
-  std::span<const std::uint8_t> gltf;  // uploaded .glb/.gltf bytes, or empty
-  std::string rig_map_json;            // io/rig_map_json.h override, or empty: detect
-  int keys_per_link = 0;               // 0: the bind default
-};
-
-struct ModelRegistryLimits {
-  std::uint32_t max_models = 16;
-  std::uint32_t max_model_vertices = 2'000'000;
-};
-
 class ModelRegistry {
  public:
-  // Creates store_dir if needed. model_dir may be empty (no directory to load from).
-  ModelRegistry(std::filesystem::path store_dir, std::filesystem::path model_dir,
-                ModelRegistryLimits limits);
+  // The next model's id, claimed for one load: held, it keeps every other load and store out
+  // (one at a time, so ids and files stay in step); file(suffix) is store_dir/<id><suffix>,
+  // where the load keeps what its binding came from (the uploaded .glb, the rig map).
+  class StoreSlot {
+   public:
+    std::uint32_t id() const { return id_; }
+    std::filesystem::path file(std::string_view suffix) const;
+
+   private:
+    friend class ModelRegistry;
+    StoreSlot(std::unique_lock<std::mutex> lock, std::filesystem::path store_dir, std::uint32_t id)
+        : lock_(std::move(lock)), store_dir_(std::move(store_dir)), id_(id) {}
+    std::unique_lock<std::mutex> lock_;
+    std::filesystem::path store_dir_;
+    std::uint32_t id_;
+  };
+
+  // Creates store_dir if needed.
+  ModelRegistry(std::filesystem::path store_dir, std::uint32_t max_models);
 
   // Loads index.json and every model it names. Returns one line per entry that could not be
   // restored (file and reason); those entries are dropped from the index.
@@ -74,14 +80,14 @@ class ModelRegistry {
   ModelHandle find(std::uint32_t id) const;
   ModelHandle find(std::string_view name) const;
   std::vector<ModelHandle> models() const;  // by id
-  // Model files in model_dir (file names) not loaded under that name, sorted.
-  std::vector<std::string> directory_entries() const;
 
-  // Binds and stores a model; returns it once durable. An already loaded name given without
-  // bytes returns that model. Throws ModelError.
-  ModelHandle load(const ModelLoadRequest& request);
-  // Stores an already bound model under `name` (the default mannequin). Throws ModelError.
-  ModelHandle add(const std::string& name, deform::BoundModel bound, std::uint64_t bind_time_ns);
+  // Claims the next id for a model called `name`. ModelError{ModelLimit} when the registry is
+  // full, {ModelLoadFailed} when a model of that name is loaded.
+  StoreSlot claim(const std::string& name);
+  // Stores a bound model under the slot's id and returns it once durable (.sweepbind, then the
+  // index). Throws ModelError (the claim's codes again, or Internal: the store failed).
+  ModelHandle add(StoreSlot slot, const std::string& name, deform::BoundModel bound,
+                  std::uint64_t bind_time_ns);
   // Replaces model `id`'s binding (an edit), stored durably before it is swapped in; connections
   // holding the old handle finish with it. ModelError{UnknownModel / Internal}.
   ModelHandle replace(std::uint32_t id, deform::BoundModel bound);
@@ -89,14 +95,13 @@ class ModelRegistry {
   const std::filesystem::path& store_dir() const { return store_dir_; }
 
  private:
-  std::filesystem::path model_file_in_directory(const std::string& name) const;
   void check_room(const std::string& name) const;  // caller holds mutex_
   void write_index() const;                        // caller holds mutex_
 
-  std::filesystem::path store_dir_, model_dir_;
-  ModelRegistryLimits limits_;
+  std::filesystem::path store_dir_;
+  std::uint32_t max_models_;
   mutable std::mutex mutex_;
-  std::mutex store_mutex_;  // one bind/store at a time: ids and files stay in step
+  std::mutex store_mutex_;  // held by the StoreSlot of the one load in progress
   std::vector<ModelHandle> models_;
   std::uint32_t next_id_ = 1;
 };

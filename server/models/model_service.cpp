@@ -1,19 +1,121 @@
 #include "server/models/model_service.h"
 
+#include <algorithm>
 #include <chrono>
 
 #include "deform/binding/bind.h"
 #include "deform/rig/rig_map.h"
+#include "io/durable_file.h"
+#include "io/gltf_load.h"
+#include "io/rig_map_json.h"
 #include "mannequin/mannequin.h"
 #include "server/log_event.h"
 
 namespace sweepd::server {
 
+namespace {
+
+using protocol::ErrorCode;
+namespace fs = std::filesystem;
+
+constexpr std::size_t kMaxNameBytes = 200;
+
+bool is_model_file(const fs::path& file) {
+  const std::string extension = file.extension().string();
+  return extension == ".glb" || extension == ".gltf";
+}
+
+std::uint64_t nanoseconds_since(std::chrono::steady_clock::time_point start) {
+  return static_cast<std::uint64_t>(
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start)
+          .count());
+}
+
+}  // namespace
+
 ModelService::ModelService(const ServerConfig& config)
-    : config_(config),
-      registry_(
-          config.store_dir, config.model_dir,
-          {.max_models = config.max_models, .max_model_vertices = config.max_model_vertices}) {}
+    : config_(config), registry_(config.store_dir, config.max_models) {}
+
+std::vector<std::string> ModelService::directory_entries() const {
+  std::vector<std::string> names;
+  std::error_code error;
+  if (config_.model_dir.empty() || !fs::is_directory(config_.model_dir, error)) return names;
+  for (const fs::directory_entry& entry : fs::directory_iterator(config_.model_dir, error)) {
+    const std::string name = entry.path().filename().string();
+    if (entry.is_regular_file(error) && is_model_file(entry.path()) && !registry_.find(name)) {
+      names.push_back(name);
+    }
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+fs::path ModelService::model_file_in_directory(const std::string& name) const {
+  if (config_.model_dir.empty()) {
+    throw ModelError(ErrorCode::UnknownModel,
+                     "model '" + name + "': this server has no model directory; upload the glTF");
+  }
+  if (name.empty() || name.find('/') != std::string::npos || name.starts_with(".")) {
+    throw ModelError(ErrorCode::UnknownModel,
+                     "model '" + name + "': not a file name in the model directory");
+  }
+  for (const std::string suffix : {"", ".glb", ".gltf"}) {
+    const fs::path file = config_.model_dir / (name + suffix);
+    std::error_code error;
+    if (is_model_file(file) && fs::is_regular_file(file, error)) return file;
+  }
+  throw ModelError(ErrorCode::UnknownModel,
+                   "model '" + name + "': no such .glb/.gltf in " + config_.model_dir.string());
+}
+
+ModelHandle ModelService::load(const ModelLoadRequest& request) {
+  if (request.name.empty() || request.name.size() > kMaxNameBytes) {
+    throw ModelError(ErrorCode::ModelLoadFailed,
+                     "a model name must have 1 to " + std::to_string(kMaxNameBytes) + " bytes");
+  }
+  if (request.gltf.empty()) {
+    if (ModelHandle loaded = registry_.find(request.name)) return loaded;
+  }
+  ModelRegistry::StoreSlot slot = registry_.claim(request.name);
+  const auto started = std::chrono::steady_clock::now();
+  deform::BoundModel bound;
+  try {
+    fs::path source;
+    if (request.gltf.empty()) {
+      source = model_file_in_directory(request.name);
+    } else {
+      source = slot.file(".glb");
+      io::write_file_durably(source, request.gltf);
+    }
+    deform::Model model = io::load_gltf(source);
+    if (model.vertex_count() > config_.max_model_vertices) {
+      throw ModelError(ErrorCode::MemoryLimit, "model '" + request.name + "' has " +
+                                                   std::to_string(model.vertex_count()) +
+                                                   " vertices; this server takes at most " +
+                                                   std::to_string(config_.max_model_vertices));
+    }
+    deform::RigMap rig;
+    if (request.rig_map_json.empty()) {
+      rig = deform::detect_rig_map(model.skeleton);
+    } else {
+      const fs::path rig_file = slot.file(".rig.json");
+      io::write_file_durably(rig_file,
+                             {reinterpret_cast<const std::uint8_t*>(request.rig_map_json.data()),
+                              request.rig_map_json.size()});
+      rig = io::load_rig_map_json(rig_file, model.skeleton);
+    }
+    deform::BindOptions options;
+    if (request.keys_per_link > 0) options.intermediate_keys_per_link = request.keys_per_link;
+    model.name = request.name;
+    bound = deform::bind(model, rig, options);
+  } catch (const ModelError&) {
+    throw;
+  } catch (const std::exception& error) {
+    throw ModelError(ErrorCode::ModelLoadFailed,
+                     "model '" + request.name + "' could not be loaded: " + error.what());
+  }
+  return registry_.add(std::move(slot), request.name, std::move(bound), nanoseconds_since(started));
+}
 
 void ModelService::restore() {
   for (const std::string& problem : registry_.restore()) {
@@ -28,14 +130,12 @@ void ModelService::restore() {
 
 void ModelService::add_default_model() {
   if (!config_.model_dir.empty() || registry_.find(std::string_view("mannequin"))) return;
+  ModelRegistry::StoreSlot slot = registry_.claim("mannequin");
   const auto started = std::chrono::steady_clock::now();
   deform::Model model = mannequin::make_mannequin({.target_vertices = config_.mannequin_vertices});
-  const deform::RigMap rig = deform::detect_rig_map(model.skeleton);
-  deform::BoundModel bound = deform::bind(model, rig);
-  const auto bind_time = std::chrono::duration_cast<std::chrono::nanoseconds>(
-      std::chrono::steady_clock::now() - started);
+  deform::BoundModel bound = deform::bind(model, deform::detect_rig_map(model.skeleton));
   const ModelHandle added =
-      registry_.add("mannequin", std::move(bound), static_cast<std::uint64_t>(bind_time.count()));
+      registry_.add(std::move(slot), "mannequin", std::move(bound), nanoseconds_since(started));
   log_event("model_loaded", {{"model", added->id},
                              {"name", added->name},
                              {"vertices", added->bound.model.vertex_count()},

@@ -1,14 +1,21 @@
-// ModelService: the one place sweepd's models change. It owns the model registry and its
-// durable store (model_registry.h: loading a glTF, binding it, storing the .sweepbind and the
-// index, restoring them at start), edits of a model's rest key ellipses, and the default
-// procedural mannequin. Connections and request handlers read models through it and ask it for
-// every change; none of them touches the registry or a binding itself.
+// ModelService: the one place sweepd's models change. It owns loading a glTF (uploaded, or by
+// name from the model directory), binding it, edits of a model's rest key ellipses, the default
+// procedural mannequin, and the registry with its durable store (model_registry.h: the
+// .sweepbind files and the index, restored at start). Connections and request handlers read
+// models through it and ask it for every change; none of them touches the registry or a
+// binding itself.
 //
 // restore(): the registry's restore(), each entry that could not be restored logged
 //   (restore_problem, then dropped), each restored model logged (model_restored).
 //   add_default_model(): with no model_dir and no model
 //   named "mannequin", binds config.mannequin_vertices of procedural mannequin and stores it.
-// load(request): binds and stores a model (ModelRegistry::load), once durable.
+// load(request): loads the glTF (the uploaded bytes, kept in the store as <id>.glb, or
+//   `name`[.glb|.gltf] from config.model_dir), refuses more than config.max_model_vertices
+//   (MemoryLimit), maps the rig (detected, or the request's rig map JSON, kept as
+//   <id>.rig.json), binds it and stores it; returns it once durable. A name already loaded,
+//   given without bytes, returns that model. ModelLoadFailed names the model and the reason.
+// directory_entries(): model files in config.model_dir (file names) not loaded under that
+//   name, sorted.
 // edit_key_ellipse(model_id, edit): a copy of the model's binding with one rest key replaced
 //   (deform::apply_rest_key_edit), stored durably, then swapped in; connections holding the
 //   old handle finish with it.
@@ -18,6 +25,8 @@
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -28,6 +37,13 @@
 
 namespace sweepd::server {
 
+struct ModelLoadRequest {
+  std::string name;                    // stored name; with no gltf: a model_dir file name
+  std::span<const std::uint8_t> gltf;  // uploaded .glb/.gltf bytes, or empty
+  std::string rig_map_json;            // io/rig_map_json.h override, or empty: detect
+  int keys_per_link = 0;               // 0: the bind default
+};
+
 class ModelService {
  public:
   explicit ModelService(const ServerConfig& config);
@@ -37,12 +53,15 @@ class ModelService {
 
   ModelHandle find(std::uint32_t id) const { return registry_.find(id); }
   std::vector<ModelHandle> models() const { return registry_.models(); }
-  std::vector<std::string> directory_entries() const { return registry_.directory_entries(); }
+  std::vector<std::string> directory_entries() const;
 
-  ModelHandle load(const ModelLoadRequest& request) { return registry_.load(request); }
+  ModelHandle load(const ModelLoadRequest& request);
   ModelHandle edit_key_ellipse(std::uint32_t model_id, const deform::RestKeyEdit& edit);
 
  private:
+  // The model directory's file for a client's name, or ModelError{UnknownModel}.
+  std::filesystem::path model_file_in_directory(const std::string& name) const;
+
   const ServerConfig& config_;
   ModelRegistry registry_;
 };

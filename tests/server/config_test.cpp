@@ -1,15 +1,11 @@
-// sweepd's setup pieces without a process: flags and the JSON config file, the token
-// comparison, and the model store's restore after a damaged entry.
+// sweepd's setup pieces without a process: flags and the JSON config file, and the token
+// comparison.
 #include "server/config.h"
 
 #include <gtest/gtest.h>
 
 #include <fstream>
 
-#include "deform/binding/bind.h"
-#include "deform/rig/rig_map.h"
-#include "mannequin/mannequin.h"
-#include "server/models/model_registry.h"
 #include "server/transport/constant_time_equal.h"
 #include "tests/server/daemon_process.h"
 
@@ -72,34 +68,6 @@ TEST(ConstantTimeEqual, EqualOnlyForTheSameBytes) {
   EXPECT_FALSE(server::constant_time_equal("s3cret", std::string_view("s3cret\0", 7)));
   EXPECT_FALSE(server::constant_time_equal("s3cret", ""));
   EXPECT_TRUE(server::constant_time_equal("", ""));
-}
-
-TEST(ModelRegistry, RestoreKeepsGoodEntriesAndReportsADamagedOne) {
-  const fs::path directory = fresh_directory("registry");
-  const deform::Model model = mannequin::make_mannequin({.target_vertices = 2000});
-  const deform::BoundModel bound = deform::bind(model, deform::detect_rig_map(model.skeleton));
-  {
-    server::ModelRegistry registry(directory, {}, {});
-    registry.add("first", bound, 1);
-    registry.add("second", bound, 1);
-  }
-  // Damage the first model's file: one flipped payload byte fails its checksum.
-  {
-    std::fstream file(directory / "1.sweepbind", std::ios::in | std::ios::out | std::ios::binary);
-    file.seekp(100);
-    file.put('\x7f');
-  }
-  server::ModelRegistry registry(directory, {}, {});
-  const std::vector<std::string> problems = registry.restore();
-  ASSERT_EQ(problems.size(), 1u);
-  EXPECT_NE(problems[0].find("1.sweepbind"), std::string::npos) << problems[0];
-  ASSERT_EQ(registry.models().size(), 1u);
-  EXPECT_EQ(registry.models()[0]->name, "second");
-  EXPECT_EQ(registry.models()[0]->id, 2u);
-  // New ids never reuse an old one, even a dropped one.
-  EXPECT_EQ(registry.add("third", bound, 1)->id, 3u);
-  EXPECT_EQ(registry.find(std::string_view("third"))->id, 3u);
-  fs::remove_all(directory);
 }
 
 }  // namespace
