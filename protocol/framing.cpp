@@ -52,6 +52,8 @@ const char* frame_error_name(FrameError error) {
       return "wrong_identifier";
     case FrameError::kVerificationFailed:
       return "verification_failed";
+    case FrameError::kOverBudget:
+      return "over_budget";
   }
   return "unknown";
 }
@@ -62,6 +64,8 @@ ErrorCode error_code_for(FrameError error) {
       return ErrorCode::FrameTooLarge;
     case FrameError::kWrongIdentifier:
       return ErrorCode::WrongIdentifier;
+    case FrameError::kOverBudget:
+      return ErrorCode::ResourceExhausted;
     case FrameError::kTooShort:
     case FrameError::kVerificationFailed:
       return ErrorCode::BadFrame;
@@ -71,7 +75,48 @@ ErrorCode error_code_for(FrameError error) {
   return ErrorCode::Internal;
 }
 
-FrameReader::FrameReader(std::uint32_t max_frame_bytes) : max_frame_bytes_(max_frame_bytes) {}
+FrameReader::FrameReader(std::uint32_t max_frame_bytes, BufferBudget* budget)
+    : max_frame_bytes_(max_frame_bytes), budget_(budget) {}
+
+FrameReader::~FrameReader() { release_storage(); }
+
+void FrameReader::release_storage() {
+  if (budget_ != nullptr) budget_->give_back(storage_capacity_bytes());
+  std::vector<Word>().swap(storage_);
+}
+
+bool FrameReader::make_room(std::size_t bytes) {
+  const std::size_t words = (bytes + sizeof(Word) - 1) / sizeof(Word);
+  if (words > storage_.capacity()) {
+    const std::size_t frame_words =
+        (kLengthPrefixBytes + body_bytes_ + sizeof(Word) - 1) / sizeof(Word);
+    const std::size_t target = std::min(
+        frame_words, std::max({words, 2 * storage_.capacity(), kKeptStorageBytes / sizeof(Word)}));
+    if (budget_ != nullptr && !budget_->take((target - storage_.capacity()) * sizeof(Word)))
+      return false;
+    std::vector<Word> grown;
+    grown.reserve(target);
+    grown.assign(storage_.begin(), storage_.end());
+    storage_.swap(grown);
+    // reserve(n) allocates exactly n words in libstdc++; charge any excess all the same.
+    if (budget_ != nullptr && storage_.capacity() > target)
+      budget_->take_anyway((storage_.capacity() - target) * sizeof(Word));
+  }
+  if (storage_.size() < words) storage_.resize(words);
+  return true;
+}
+
+FrameEvent FrameReader::refuse_over_budget() {
+  const std::size_t stored = body_filled_;
+  release_storage();
+  skip_remaining_ = body_bytes_ - body_filled_;
+  state_ = skip_remaining_ > 0 ? State::kSkipping : State::kLength;
+  return error_event(FrameError::kOverBudget, body_bytes_,
+                     "frame of " + std::to_string(body_bytes_) + " bytes refused after " +
+                         std::to_string(stored) +
+                         ": the server's buffer memory for all connections is in use; "
+                         "send it again later");
+}
 
 bool FrameReader::mid_frame() const { return state_ != State::kLength || length_filled_ > 0; }
 
@@ -98,6 +143,7 @@ FrameEvent FrameReader::read(std::span<const std::uint8_t>& input) {
       }
       case State::kBody: {
         const std::size_t taken = std::min(input.size(), body_bytes_ - body_filled_);
+        if (!make_room(kLengthPrefixBytes + body_filled_ + taken)) return refuse_over_budget();
         std::memcpy(storage_bytes() + kLengthPrefixBytes + body_filled_, input.data(), taken);
         input = input.subspan(taken);
         body_filled_ += taken;
@@ -119,10 +165,11 @@ FrameEvent FrameReader::start_body() {
                        "frame of " + std::to_string(body_bytes_) + " bytes exceeds the limit of " +
                            std::to_string(max_frame_bytes_) + " bytes");
   }
-  const std::size_t words = (kLengthPrefixBytes + body_bytes_ + sizeof(Word) - 1) / sizeof(Word);
-  if (storage_.size() < words) storage_.resize(words);
-  std::memcpy(storage_bytes(), length_bytes_, kLengthPrefixBytes);
+  // A large frame's storage is not kept for the small ones that follow.
+  if (storage_capacity_bytes() > kKeptStorageBytes) release_storage();
   body_filled_ = 0;
+  if (!make_room(kLengthPrefixBytes)) return refuse_over_budget();
+  std::memcpy(storage_bytes(), length_bytes_, kLengthPrefixBytes);
   state_ = State::kBody;
   if (body_bytes_ == 0) return check_frame();
   return {};

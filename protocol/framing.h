@@ -14,8 +14,15 @@
 //   kPending: every input byte was consumed and no frame is complete yet.
 // A length over max_frame_bytes is refused as soon as its 4 bytes are in, before any body
 // byte is read or any memory reserved; the reader then discards that many bytes as they
-// arrive (never storing them). The frame storage is reused and holds at most
-// 4 + max_frame_bytes bytes.
+// arrive (never storing them). The frame storage grows as the body arrives (doubling, never
+// past the frame), not when the length is read, so a peer that declares a large frame and
+// trickles it holds only what it has sent; it holds at most 4 + max_frame_bytes bytes, is
+// reused for frames up to kKeptStorageBytes and released before the next frame after a larger
+// one. With a BufferBudget, the reader takes its storage from the budget before it grows and
+// gives it back when it is released; a frame the budget cannot hold is refused (kOverBudget)
+// and the rest of its body discarded.
+// set_max_frame_bytes(n) applies to frames whose length is read after the call (sweepd allows
+// only a small frame before Hello).
 //
 //   FrameReader reader(max_frame_bytes);
 //   std::span<const std::uint8_t> input(received, received_count);
@@ -29,6 +36,7 @@
 #include <string>
 #include <vector>
 
+#include "protocol/buffer_budget.h"
 #include "protocol/sweepd_generated.h"
 
 namespace sweepd::protocol {
@@ -52,6 +60,7 @@ enum class FrameError {
   kOversized,           // L > max_frame_bytes; the body is skipped, never stored
   kWrongIdentifier,     // bytes 4..8 of the body are not "SWPD"
   kVerificationFailed,  // not a valid Message FlatBuffer (garbage, truncated offsets, ...)
+  kOverBudget,          // the reader's BufferBudget could not hold the frame; body discarded
 };
 
 // A short name for logs: "too_short", "oversized", ...
@@ -70,7 +79,16 @@ struct FrameEvent {
 
 class FrameReader {
  public:
-  explicit FrameReader(std::uint32_t max_frame_bytes = kDefaultMaxFrameBytes);
+  // Storage up to this size is kept between frames (a pose is about 1 KiB).
+  static constexpr std::size_t kKeptStorageBytes = 64 * 1024;
+
+  explicit FrameReader(std::uint32_t max_frame_bytes = kDefaultMaxFrameBytes,
+                       BufferBudget* budget = nullptr);
+  ~FrameReader();
+  FrameReader(const FrameReader&) = delete;
+  FrameReader& operator=(const FrameReader&) = delete;
+
+  void set_max_frame_bytes(std::uint32_t max_frame_bytes) { max_frame_bytes_ = max_frame_bytes; }
 
   // Consumes bytes from the front of `input` (shrinking it) up to the end of the next
   // frame or error. kPending means `input` is now empty.
@@ -79,7 +97,7 @@ class FrameReader {
   // True while part of a frame (or of a skipped oversized body) has been read: at the end
   // of the stream this means the last frame was truncated.
   bool mid_frame() const;
-  // Bytes of memory the reader holds for frame storage.
+  // Bytes of memory the reader holds for frame storage (what it has taken from its budget).
   std::size_t storage_capacity_bytes() const { return storage_.capacity() * sizeof(Word); }
   std::uint32_t max_frame_bytes() const { return max_frame_bytes_; }
 
@@ -89,9 +107,15 @@ class FrameReader {
 
   FrameEvent start_body();
   FrameEvent check_frame();
+  // Makes room for `bytes` of prefix and body (growing by doubling, capped at the frame);
+  // false when the budget cannot hold it.
+  bool make_room(std::size_t bytes);
+  void release_storage();
+  FrameEvent refuse_over_budget();
   std::uint8_t* storage_bytes() { return reinterpret_cast<std::uint8_t*>(storage_.data()); }
 
   std::uint32_t max_frame_bytes_;
+  BufferBudget* budget_;
   State state_ = State::kLength;
   std::uint8_t length_bytes_[kLengthPrefixBytes] = {};
   std::size_t length_filled_ = 0;

@@ -59,6 +59,14 @@ const std::vector<Setting>& settings() {
       integer_setting("max_connections", &ServerConfig::max_connections, 1, 100000),
       integer_setting("max_poses_in_flight", &ServerConfig::max_poses_in_flight, 1, 4096),
       integer_setting("hello_timeout_ms", &ServerConfig::hello_timeout_ms, 1, 3'600'000),
+      integer_setting("max_hello_frame_bytes", &ServerConfig::max_hello_frame_bytes, 256, 1u << 30),
+      integer_setting("frame_timeout_ms", &ServerConfig::frame_timeout_ms, 1, 3'600'000),
+      integer_setting("idle_timeout_ms", &ServerConfig::idle_timeout_ms, 0, 86'400'000),
+      integer_setting("send_timeout_ms", &ServerConfig::send_timeout_ms, 1, 3'600'000),
+      integer_setting("max_send_queue_bytes", &ServerConfig::max_send_queue_bytes, 1 << 20,
+                      1ll << 40),
+      integer_setting("max_buffered_bytes", &ServerConfig::max_buffered_bytes, 1 << 20, 1ll << 40),
+      integer_setting("max_frame_errors", &ServerConfig::max_frame_errors, 1, 1'000'000),
       integer_setting("max_model_vertices", &ServerConfig::max_model_vertices, 1, 100'000'000),
       integer_setting("worker_threads", &ServerConfig::worker_threads, 0, 1024),
       integer_setting("deform_threads", &ServerConfig::deform_threads, 1, 1024),
@@ -168,6 +176,18 @@ Flags (each also a key of the JSON config file, with '_' for '-'):
   --max-connections N       most simultaneous connections (default 64)
   --max-poses-in-flight N   queued poses per connection before backpressure (default 8)
   --hello-timeout-ms N      close connections that send no Hello in time (default 10000)
+  --max-hello-frame-bytes N largest frame before Hello; larger is fatal (default 65536)
+  --frame-timeout-ms N      a frame begun must be whole within N ms, else the connection is
+                            closed (default 60000)
+  --idle-timeout-ms N       close a connection with no request and no work for N ms;
+                            0 = never (default 300000)
+  --send-timeout-ms N       cut a connection whose client takes no reply bytes for N ms
+                            (default 30000)
+  --max-send-queue-bytes N  cut a connection whose unread replies pass N bytes
+                            (default 268435456)
+  --max-buffered-bytes N    frames and replies all connections may buffer together; a frame
+                            past it is refused with ResourceExhausted (default 1073741824)
+  --max-frame-errors N      close a connection after N bad frames (default 16)
   --max-model-vertices N    largest model accepted for loading (default 2000000)
   --worker-threads N        deformation workers; 0 = one per core (default 0)
   --deform-threads N        threads one pose is split over (default 1)

@@ -29,6 +29,19 @@ struct ServerConfig {
   std::uint32_t max_connections = 64;
   std::uint32_t max_poses_in_flight = 8;
   std::uint32_t hello_timeout_ms = 10000;  // a connection silent this long before Hello: closed
+  // Hostile clients (protocol/README.md, "Limits"): the largest frame before Hello; a frame
+  // begun must be whole within frame_timeout_ms; a connection with no request and no work for
+  // idle_timeout_ms (0: never) is closed; a reply not taken by the client within
+  // send_timeout_ms, or replies queued past max_send_queue_bytes, cut the connection; after
+  // max_frame_errors bad frames it is closed. max_buffered_bytes bounds the frames and replies
+  // all connections buffer together (ResourceExhausted past it).
+  std::uint32_t max_hello_frame_bytes = 64u << 10;
+  std::uint32_t frame_timeout_ms = 60000;
+  std::uint32_t idle_timeout_ms = 300000;
+  std::uint32_t send_timeout_ms = 30000;
+  std::uint64_t max_send_queue_bytes = 256ull << 20;
+  std::uint64_t max_buffered_bytes = 1ull << 30;
+  std::uint32_t max_frame_errors = 16;
   std::uint32_t max_model_vertices = 2'000'000;  // uploads above it: MemoryLimit
   int worker_threads = 0;                        // 0: one per core
   int deform_threads = 1;                        // threads one pose is split over

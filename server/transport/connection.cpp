@@ -32,7 +32,13 @@ Connection::Connection(Socket socket, std::uint64_t id, std::string peer,
     : socket_(std::move(socket)),
       environment_(environment),
       hello_deadline_(socket_.get_executor()),
-      reader_(environment.config.max_frame_bytes),
+      frame_deadline_(socket_.get_executor()),
+      idle_deadline_(socket_.get_executor()),
+      send_deadline_(socket_.get_executor()),
+      // Before Hello only a small frame: an unauthenticated peer cannot make the server buffer.
+      reader_(
+          std::min(environment.config.max_hello_frame_bytes, environment.config.max_frame_bytes),
+          &environment.buffer_budget),
       read_buffer_(kReadChunkBytes),
       writer_(environment.config.deform_threads) {
   counters_.connection_id = id;
@@ -49,6 +55,7 @@ void Connection::start() {
         "no Hello within " + std::to_string(self->environment_.config.hello_timeout_ms) + " ms", 0,
         0, true);
   });
+  arm_idle_deadline();
   read_more();
 }
 
@@ -61,6 +68,69 @@ void Connection::refuse(pb::ErrorCode code, const std::string& message) {
 void Connection::shut_down() {
   shutting_down_ = true;
   drain();
+}
+
+void Connection::cut(pb::ErrorCode code, const std::string& reason) {
+  log_event("connection_cut", {{"connection", id()}, {"peer", counters_.peer}, {"reason", reason}});
+  send_error(code, reason, 0, 0, true);
+}
+
+// ---------------------------------------------------------------------------------------
+// Deadlines: a timer that fires after its connection closed, or was re-armed, does nothing.
+
+void Connection::watch_frame() {
+  if (!reader_.mid_frame()) {
+    if (frame_deadline_armed_) frame_deadline_.cancel();
+    frame_deadline_armed_ = false;
+    return;
+  }
+  if (frame_deadline_armed_) return;
+  frame_deadline_armed_ = true;
+  const std::uint32_t timeout_ms = environment_.config.frame_timeout_ms;
+  frame_deadline_.expires_after(std::chrono::milliseconds(timeout_ms));
+  frame_deadline_.async_wait([self = shared_from_this(), timeout_ms](std::error_code error) {
+    if (error || self->closed_ || self->draining_ || !self->reader_.mid_frame()) return;
+    self->cut(pb::ErrorCode::BadFrame,
+              "a frame was not whole within " + std::to_string(timeout_ms) + " ms");
+  });
+}
+
+bool Connection::has_work() const {
+  return pose_running_ || !waiting_poses_.empty() || loads_running_ > 0 || !outgoing_.empty() ||
+         reader_.mid_frame();
+}
+
+void Connection::arm_idle_deadline() {
+  const std::uint32_t timeout_ms = environment_.config.idle_timeout_ms;
+  if (timeout_ms == 0) return;
+  idle_deadline_.expires_after(std::chrono::milliseconds(timeout_ms));
+  idle_deadline_.async_wait([self = shared_from_this(), timeout_ms](std::error_code error) {
+    if (error || self->closed_ || self->draining_) return;
+    if (self->has_work()) {
+      self->arm_idle_deadline();  // busy, not idle: look again later
+      return;
+    }
+    self->cut(pb::ErrorCode::Internal,
+              "idle: no request for " + std::to_string(timeout_ms) + " ms; closing");
+  });
+}
+
+void Connection::arm_send_deadline() {
+  const auto timeout = std::chrono::milliseconds(environment_.config.send_timeout_ms);
+  send_deadline_.expires_at(last_send_progress_ + timeout);
+  send_deadline_.async_wait([self = shared_from_this(), timeout](std::error_code error) {
+    if (error || self->closed_ || !self->writing_) return;
+    if (Clock::now() - self->last_send_progress_ < timeout) {
+      self->arm_send_deadline();  // the client took bytes meanwhile
+      return;
+    }
+    // It reads nothing, so no Error would reach it: closed at once.
+    log_event("connection_cut", {{"connection", self->id()},
+                                 {"peer", self->counters_.peer},
+                                 {"reason", "the client took no reply bytes for " +
+                                                std::to_string(timeout.count()) + " ms"}});
+    self->close_now();
+  });
 }
 
 // ---------------------------------------------------------------------------------------
@@ -83,7 +153,9 @@ void Connection::read_more() {
     }
     self->counters_.bytes_in += n;
     self->input_ = std::span<const std::uint8_t>(self->read_buffer_.data(), n);
+    self->arm_idle_deadline();
     self->process_input();
+    self->watch_frame();
   });
 }
 
@@ -108,7 +180,19 @@ void Connection::process_input() {
       log_event("frame_error", {{"connection", id()},
                                 {"error", pb::frame_error_name(event.error)},
                                 {"reason", event.reason}});
+      if (!authenticated_ && event.error == pb::FrameError::kOversized) {
+        cut(pb::ErrorCode::FrameTooLarge,
+            "before Hello a frame may have at most " + std::to_string(reader_.max_frame_bytes()) +
+                " bytes; this one declares " + std::to_string(event.declared_bytes));
+        continue;
+      }
       send_error(pb::error_code_for(event.error), event.reason, 0, 0);
+      // Running out of the shared budget is not this client's fault; garbage is.
+      if (event.error != pb::FrameError::kOverBudget &&
+          ++frame_errors_ >= environment_.config.max_frame_errors) {
+        cut(pb::ErrorCode::BadFrame,
+            std::to_string(frame_errors_) + " bad frames on this connection; closing");
+      }
       continue;
     }
     dispatch(*event.message);
@@ -229,6 +313,7 @@ void Connection::authenticate(const pb::Hello& hello, std::uint64_t request_id) 
   }
   authenticated_ = true;
   hello_deadline_.cancel();
+  reader_.set_max_frame_bytes(environment_.config.max_frame_bytes);
   delivery_ = hello.delivery() == pb::PoseDelivery::LatestWins ? pb::PoseDelivery::LatestWins
                                                                : pb::PoseDelivery::InOrder;
   log_event("hello", {{"connection", id()},
@@ -359,7 +444,20 @@ flatbuffers::FlatBufferBuilder Connection::take_builder() {
 
 void Connection::send(flatbuffers::FlatBufferBuilder builder) {
   if (closed_) return;
+  // The reply is built: its bytes are in use whatever the budget says.
+  environment_.buffer_budget.take_anyway(builder.GetSize());
+  queued_reply_bytes_ += builder.GetSize();
   outgoing_.push_back(std::move(builder));
+  if (queued_reply_bytes_ > environment_.config.max_send_queue_bytes) {
+    log_event(
+        "connection_cut",
+        {{"connection", id()},
+         {"peer", counters_.peer},
+         {"reason", "unread replies passed " +
+                        std::to_string(environment_.config.max_send_queue_bytes) + " bytes"}});
+    close_now();
+    return;
+  }
   write_next();
 }
 
@@ -390,17 +488,25 @@ void Connection::write_next() {
     return;
   }
   writing_ = true;
+  last_send_progress_ = Clock::now();
+  arm_send_deadline();
   const flatbuffers::FlatBufferBuilder& front = outgoing_.front();
   // The whole rest of the frame in each send: asio's default completion condition would cut
-  // a 0.85 MB reply into 64 KiB sends (13 system calls instead of one or two).
+  // a 0.85 MB reply into 64 KiB sends (13 system calls instead of one or two). Each partial
+  // send is progress for the send deadline.
   const std::size_t size = front.GetSize();
-  auto whole_rest = [size](std::error_code error, std::size_t sent) -> std::size_t {
+  auto whole_rest = [this, size](std::error_code error, std::size_t sent) -> std::size_t {
+    if (sent > 0) last_send_progress_ = Clock::now();
     return error ? 0 : size - sent;
   };
   asio::async_write(socket_, asio::buffer(front.GetBufferPointer(), size), whole_rest,
-                    [self = shared_from_this()](std::error_code error, std::size_t n) {
+                    [self = shared_from_this(), size](std::error_code error, std::size_t n) {
                       self->writing_ = false;
+                      self->send_deadline_.cancel();
                       self->counters_.bytes_out += n;
+                      if (self->closed_) return;  // close_now gave the queue's bytes back
+                      self->environment_.buffer_budget.give_back(size);
+                      self->queued_reply_bytes_ -= size;
                       if (self->spare_builders_.size() < kSpareBuilders) {
                         self->spare_builders_.push_back(std::move(self->outgoing_.front()));
                       }
@@ -439,6 +545,11 @@ void Connection::close_now() {
   if (closed_) return;
   closed_ = true;
   hello_deadline_.cancel();
+  frame_deadline_.cancel();
+  idle_deadline_.cancel();
+  send_deadline_.cancel();
+  environment_.buffer_budget.give_back(queued_reply_bytes_);
+  queued_reply_bytes_ = 0;
   std::error_code ignored;
   socket_.shutdown(asio::socket_base::shutdown_both, ignored);
   socket_.close(ignored);

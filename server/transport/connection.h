@@ -7,9 +7,18 @@
 // Runs on the server's single I/O thread; only deformation and model loading go to the
 // worker pool. Frames are read with protocol::FrameReader; the first must be Hello (token
 // compared in constant time), anything else before it — or no Hello within
-// config.hello_timeout_ms — is a fatal NotAuthenticated. Frame
-// errors (BadFrame, WrongIdentifier, FrameTooLarge) and request errors (UnknownModel,
-// WrongJointCount, InvalidPose, ...) are answered with an Error and the session goes on.
+// config.hello_timeout_ms — is a fatal NotAuthenticated, and before it a frame may have at most
+// config.max_hello_frame_bytes (a fatal FrameTooLarge). Frame errors (BadFrame,
+// WrongIdentifier, FrameTooLarge, ResourceExhausted) and request errors (UnknownModel,
+// WrongJointCount, InvalidPose, ...) are answered with an Error and the session goes on, until
+// config.max_frame_errors bad frames close it.
+//
+// Hostile peers are cut off, each with a `connection_cut` log line naming the reason: a frame
+// not whole within frame_timeout_ms (trickled bytes), no request and no work for
+// idle_timeout_ms, a client that takes no reply bytes for send_timeout_ms or lets its unread
+// replies pass max_send_queue_bytes. Frames being read and replies waiting to be written take
+// their bytes from the server's protocol::BufferBudget (max_buffered_bytes, shared by all
+// connections).
 //
 // Poses run one at a time per connection, in order. InOrder delivery: at most
 // max_poses_in_flight poses are queued (or replies waiting to be written); beyond that the
@@ -32,9 +41,9 @@
 #include "protocol/framing.h"
 #include "server/config.h"
 #include "server/handlers/model_requests.h"
+#include "server/handlers/pose_request.h"
 #include "server/handlers/request_error.h"
 #include "server/models/model_service.h"
-#include "server/handlers/pose_request.h"
 #include "server/transport/connection_counters.h"
 
 namespace sweepd::server {
@@ -48,6 +57,7 @@ struct ConnectionEnvironment {
   std::function<void(std::uint64_t connection_id)> on_close;
   std::function<std::vector<ConnectionCounters>()> all_counters;
   std::map<std::uint32_t, ModelCounters> model_counters;
+  protocol::BufferBudget& buffer_budget;  // frames being read and replies waiting, all clients
 };
 
 class Connection : public std::enable_shared_from_this<Connection> {
@@ -92,11 +102,25 @@ class Connection : public std::enable_shared_from_this<Connection> {
   void drain();  // stop taking work; close once in-flight work is answered
   void close_if_done();
   void close_now();
+  // Logs `connection_cut` with the reason and answers a fatal error (closed once it is sent).
+  void cut(protocol::ErrorCode code, const std::string& reason);
+  // The frame, idle and send deadlines, re-armed as bytes move.
+  void watch_frame();
+  void arm_idle_deadline();
+  void arm_send_deadline();
+  bool has_work() const;
   flatbuffers::FlatBufferBuilder take_builder();
 
   Socket socket_;
   ConnectionEnvironment& environment_;
   asio::steady_timer hello_deadline_;
+  asio::steady_timer frame_deadline_;  // armed while a frame is part-read
+  asio::steady_timer idle_deadline_;
+  asio::steady_timer send_deadline_;  // armed while a reply is being written
+  bool frame_deadline_armed_ = false;
+  Clock::time_point last_send_progress_{};
+  std::uint32_t frame_errors_ = 0;
+  std::size_t queued_reply_bytes_ = 0;  // outgoing_, taken from the buffer budget
   protocol::FrameReader reader_;
   std::vector<std::uint8_t> read_buffer_;
   std::span<const std::uint8_t> input_;

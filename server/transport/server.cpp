@@ -26,9 +26,10 @@ Server::Server(const ServerConfig& config, ModelService& models)
     : config_(config),
       workers_(worker_count(config)),
       position_maps_(config.position_maps != 0),
+      buffer_budget_(config.max_buffered_bytes),
       signals_(io_, SIGTERM, SIGINT),
       environment_{config, models, workers_, position_maps_, std::chrono::steady_clock::now(),
-                   {},     {},     {}} {
+                   {},     {},     {},       buffer_budget_} {
   environment_.on_close = [this](std::uint64_t id) {
     // Deferred: the connection may still be on the call stack.
     asio::post(io_, [this, id]() { connections_.erase(id); });

@@ -18,8 +18,8 @@
 #include <optional>
 
 #include "server/config.h"
-#include "server/models/model_service.h"
 #include "server/handlers/position_map_service.h"
+#include "server/models/model_service.h"
 #include "server/transport/connection.h"
 
 namespace sweepd::server {
@@ -44,6 +44,7 @@ class Server {
   asio::io_context io_;
   asio::thread_pool workers_;
   PositionMapService position_maps_;
+  protocol::BufferBudget buffer_budget_;
   asio::signal_set signals_;
   std::optional<asio::ip::tcp::acceptor> tcp_acceptor_;
   std::optional<asio::local::stream_protocol::acceptor> unix_acceptor_;

@@ -107,6 +107,96 @@ TEST(Framing, OversizedBodyIsSkippedThenTheNextFrameIsRead) {
   EXPECT_LT(reader.storage_capacity_bytes(), next.size() + 8);
 }
 
+// A frame of `body_bytes` whose body is garbage (it fails verification once whole).
+Bytes garbage_frame(std::uint32_t body_bytes) {
+  Bytes frame(kLengthPrefixBytes + body_bytes, 0x5a);
+  const Bytes prefix = length_prefix(body_bytes);
+  std::copy(prefix.begin(), prefix.end(), frame.begin());
+  return frame;
+}
+
+TEST(Framing, StorageGrowsWithTheBytesThatArriveNotWithTheDeclaredLength) {
+  FrameReader reader(64u << 20);
+  // A peer declares 32 MiB and sends 1,000 bytes: the reader holds its first 64 KiB block, not
+  // 32 MiB (the old reader reserved the whole frame from the prefix).
+  Bytes start(kLengthPrefixBytes + 1000, 0x11);
+  const Bytes prefix = length_prefix(32u << 20);
+  std::copy(prefix.begin(), prefix.end(), start.begin());
+  EXPECT_TRUE(read_all(reader, start).empty());
+  EXPECT_TRUE(reader.mid_frame());
+  EXPECT_EQ(reader.storage_capacity_bytes(), FrameReader::kKeptStorageBytes);
+  // 1 MiB more: doubling, so at most twice what is stored.
+  const Bytes more(1u << 20, 0x22);
+  EXPECT_TRUE(read_all(reader, more).empty());
+  EXPECT_GE(reader.storage_capacity_bytes(), (1u << 20) + 1004);
+  EXPECT_LE(reader.storage_capacity_bytes(), 2 * ((1u << 20) + 1004));
+}
+
+TEST(Framing, AFrameTheBudgetCannotHoldIsRefusedSkippedAndItsBytesGivenBack) {
+  BufferBudget budget(256 * 1024);
+  Bytes stream = garbage_frame(1u << 20);
+  const Bytes next = hello_frame("after the refusal");
+  stream.insert(stream.end(), next.begin(), next.end());
+  {
+    FrameReader reader(64u << 20, &budget);
+    std::vector<Seen> events;
+    for (std::size_t at = 0; at < stream.size(); at += 4096) {
+      Bytes piece(stream.begin() + at, stream.begin() + std::min(stream.size(), at + 4096));
+      for (auto& event : read_all(reader, piece)) events.push_back(std::move(event));
+      // Never more than the budget, whatever the frame declares.
+      EXPECT_LE(budget.used(), budget.limit());
+    }
+    ASSERT_EQ(events.size(), 2u);
+    EXPECT_EQ(events[0].event.error, FrameError::kOverBudget);
+    EXPECT_EQ(error_code_for(events[0].event.error), ErrorCode::ResourceExhausted);
+    EXPECT_NE(events[0].event.reason.find("1048576"), std::string::npos) << events[0].event.reason;
+    expect_hello(events[1], "after the refusal");
+    // What the reader holds now is what it has taken: one kept block.
+    EXPECT_EQ(budget.used(), reader.storage_capacity_bytes());
+    EXPECT_LE(budget.used(), FrameReader::kKeptStorageBytes);
+  }
+  EXPECT_EQ(budget.used(), 0u) << "a destroyed reader gives its storage back";
+}
+
+TEST(Framing, ALargeFramesStorageIsReleasedBeforeTheNextFrame) {
+  BufferBudget budget(64u << 20);
+  FrameReader reader(64u << 20, &budget);
+  read_all(reader, garbage_frame(4u << 20));
+  EXPECT_GE(budget.used(), 4u << 20);
+  const auto events = read_all(reader, hello_frame("small"));
+  ASSERT_EQ(events.size(), 1u);
+  expect_hello(events[0], "small");
+  EXPECT_LE(budget.used(), FrameReader::kKeptStorageBytes);
+}
+
+TEST(Framing, ANewLimitAppliesToTheFramesThatFollow) {
+  FrameReader reader(256);  // sweepd's limit before Hello is small
+  const Bytes hello = hello_frame("a name long enough to pass two hundred and fifty six bytes: " +
+                                  std::string(220, 'x'));
+  ASSERT_GT(hello.size(), 260u);
+  auto events = read_all(reader, hello);
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_EQ(events[0].event.error, FrameError::kOversized);
+  reader.set_max_frame_bytes(1u << 20);
+  events = read_all(reader, hello);
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_EQ(events[0].event.status, FrameStatus::kFrame) << events[0].event.reason;
+}
+
+TEST(BufferBudget, TakesWithinTheLimitTakesAnywayWhenTold) {
+  BufferBudget budget(1000);
+  EXPECT_TRUE(budget.take(600));
+  EXPECT_FALSE(budget.take(401));
+  EXPECT_EQ(budget.used(), 600u) << "a refused take takes nothing";
+  EXPECT_TRUE(budget.take(400));
+  budget.take_anyway(500);  // a reply already built
+  EXPECT_EQ(budget.used(), 1500u);
+  EXPECT_FALSE(budget.take(1));
+  budget.give_back(1500);
+  EXPECT_EQ(budget.used(), 0u);
+  EXPECT_FALSE(budget.take(1001));
+}
+
 TEST(Framing, WrongIdentifierIsATypedErrorNamingTheIdentifier) {
   flatbuffers::FlatBufferBuilder builder;
   builder.FinishSizePrefixed(

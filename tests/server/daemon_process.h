@@ -97,6 +97,7 @@ class DaemonProcess {
   DaemonProcess& operator=(const DaemonProcess&) = delete;
 
   int port() const { return port_; }
+  pid_t pid() const { return pid_; }
   bool running() const { return pid_ > 0 && port_ > 0; }
   std::string log() const { return read_text(log_file_); }
 
@@ -125,8 +126,11 @@ class FrameClient {
  public:
   static constexpr int kTimeoutSeconds = 30;
 
-  explicit FrameClient(int port) {
+  // receive_buffer_bytes > 0: SO_RCVBUF set before connecting (a client that reads slowly).
+  explicit FrameClient(int port, int receive_buffer_bytes = 0) {
     fd_ = socket(AF_INET, SOCK_STREAM, 0);
+    if (receive_buffer_bytes > 0)
+      setsockopt(fd_, SOL_SOCKET, SO_RCVBUF, &receive_buffer_bytes, sizeof(receive_buffer_bytes));
     sockaddr_in address{};
     address.sin_family = AF_INET;
     address.sin_port = htons(static_cast<std::uint16_t>(port));

@@ -1,0 +1,230 @@
+// sweepd against hostile clients (issue 16, item 4): 64 of them — 16 oversized length prefixes
+// before Hello, 16 that trickle a large frame, 16 that never read their replies, 16 that send
+// garbage after Hello — next to 4 honest clients streaming poses. Every honest pose is answered
+// with the library's own vertices, the daemon's peak memory stays within a stated bound, and
+// every hostile connection is closed with its reason logged. Then: an idle connection is
+// closed, and a frame past the shared buffer budget gets ResourceExhausted while the session
+// goes on.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include "io/sweepbind.h"
+#include "tests/server/daemon_process.h"
+#include "tests/server/pose_frames.h"
+
+namespace sweepd::test {
+namespace {
+
+constexpr std::uint32_t kMannequinJoints = 31;  // mannequin/mannequin.h
+constexpr int kHostileEach = 16;
+constexpr int kHonestClients = 4;
+constexpr int kHonestPoses = 60;
+constexpr int kTimeoutMs = 1500;  // frame, send and Hello timeouts of the daemon under test
+
+std::vector<std::uint8_t> length_prefix(std::uint32_t length) {
+  return {static_cast<std::uint8_t>(length), static_cast<std::uint8_t>(length >> 8),
+          static_cast<std::uint8_t>(length >> 16), static_cast<std::uint8_t>(length >> 24)};
+}
+
+// A number from /proc/<pid>/status ("VmHWM:", "VmRSS:"), in KiB.
+std::size_t status_kib(pid_t pid, const std::string& field) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/status");
+  std::string line;
+  while (std::getline(in, line))
+    if (line.starts_with(field)) return std::stoul(line.substr(field.size()));
+  return 0;
+}
+
+// Log lines of `event` (the daemon logs one JSON object per line) that contain `part`.
+std::size_t log_lines(const std::string& log, const std::string& event, const std::string& part) {
+  std::istringstream lines(log);
+  std::size_t n = 0;
+  for (std::string line; std::getline(lines, line);)
+    if (line.find("\"" + event + "\"") != std::string::npos && line.find(part) != std::string::npos)
+      ++n;
+  return n;
+}
+
+// Reads until the server closes the connection; the last Error seen, if any.
+std::optional<protocol::ErrorCode> last_error_before_close(FrameClient& client) {
+  std::optional<protocol::ErrorCode> last;
+  while (const protocol::Message* message = client.receive()) {
+    if (const protocol::Error* error = message->body_as_Error()) {
+      last = error->code();
+      if (error->fatal()) {
+        EXPECT_TRUE(client.closed_by_server());
+        return last;
+      }
+    }
+  }
+  return last;
+}
+
+TEST(DaemonHostileClients, HonestClientsAreServedWhileSixtyFourHostileOnesAreCutOff) {
+  const fs::path directory = fresh_directory("hostile");
+  DaemonProcess daemon(
+      directory, {"--position-maps", "0", "--max-connections", "80", "--hello-timeout-ms",
+                  std::to_string(kTimeoutMs), "--frame-timeout-ms", std::to_string(kTimeoutMs),
+                  "--send-timeout-ms", std::to_string(kTimeoutMs), "--idle-timeout-ms", "0",
+                  "--max-buffered-bytes", std::to_string(64 << 20)});
+  ASSERT_TRUE(daemon.running()) << daemon.log();
+  const deform::BoundModel mannequin = io::load_sweepbind(directory / "store" / "1.sweepbind");
+  const std::vector<glm::quat> rotations = bent_rotations(kMannequinJoints);
+  const std::vector<protocol::Quat> wire = to_wire(rotations);
+  const Deformed expected = library_deformation(mannequin, rotations, deform::DeformMethod::kSweep);
+  {
+    FrameClient warm(daemon.port());
+    ASSERT_NE(warm.hello(""), nullptr);
+    ASSERT_TRUE(send_pose(warm, pose_fields(1, 1, wire)));
+    ASSERT_NE(warm.receive_as<protocol::PosedVertices>(), nullptr);
+  }
+  const std::size_t rss_before_kib = status_kib(daemon.pid(), "VmRSS:");
+
+  // Hostile 1: a 1 MiB length prefix before Hello (the limit there is 64 KiB).
+  std::vector<std::unique_ptr<FrameClient>> oversized, tricklers, non_readers, garbage;
+  for (int i = 0; i < kHostileEach; ++i) {
+    oversized.push_back(std::make_unique<FrameClient>(daemon.port()));
+    ASSERT_TRUE(oversized.back()->send_bytes(length_prefix(1u << 20)));
+  }
+  // Hostile 2: Hello, then a 16 MiB frame trickled a byte at a time (the old reader reserved
+  // the whole declared frame at its prefix: 16 × 16 MiB).
+  for (int i = 0; i < kHostileEach; ++i) {
+    tricklers.push_back(std::make_unique<FrameClient>(daemon.port()));
+    ASSERT_NE(tricklers.back()->hello(""), nullptr);
+    ASSERT_TRUE(tricklers.back()->send_bytes(length_prefix(16u << 20)));
+  }
+  std::atomic<bool> trickling = true;
+  std::thread trickle([&] {
+    const std::uint8_t byte = 0x42;
+    while (trickling) {
+      for (auto& client : tricklers) client->send_bytes({&byte, 1});
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+  });
+  // Hostile 3: Hello, 40 poses (about 10 MB of replies), and never a byte read (a 4 KiB receive
+  // buffer): the server's writes stall.
+  for (int i = 0; i < kHostileEach; ++i) {
+    non_readers.push_back(std::make_unique<FrameClient>(daemon.port(), 4096));
+    ASSERT_NE(non_readers.back()->hello(""), nullptr);
+    for (int p = 0; p < 40; ++p)
+      ASSERT_TRUE(send_pose(*non_readers.back(), pose_fields(1, p, wire)));
+  }
+  // Hostile 4: Hello, then 20 frames of garbage (16 bad frames close a connection).
+  std::vector<std::uint8_t> junk = length_prefix(24);
+  junk.resize(28, 0xee);
+  for (int i = 0; i < kHostileEach; ++i) {
+    garbage.push_back(std::make_unique<FrameClient>(daemon.port()));
+    ASSERT_NE(garbage.back()->hello(""), nullptr);
+    for (int f = 0; f < 20; ++f) garbage.back()->send_bytes(junk);
+  }
+
+  // The honest clients, meanwhile: every pose answered with the library's vertices.
+  std::atomic<int> answered = 0, wrong = 0;
+  std::vector<std::thread> honest;
+  for (int c = 0; c < kHonestClients; ++c) {
+    honest.emplace_back([&, c] {
+      FrameClient client(daemon.port());
+      if (client.hello("") == nullptr) return;
+      for (int p = 0; p < kHonestPoses; ++p) {
+        if (!send_pose(client, pose_fields(1, 100 * c + p, wire))) return;
+        const protocol::PosedVertices* reply = client.receive_as<protocol::PosedVertices>();
+        if (reply == nullptr) return;
+        std::vector<glm::vec3> positions(expected.positions.size());
+        const bool copied = protocol::copy_positions(
+            *reply, {reinterpret_cast<float*>(positions.data()), 3 * positions.size()});
+        if (!copied || reply->sequence() != static_cast<std::uint64_t>(100 * c + p) ||
+            positions != expected.positions)
+          ++wrong;
+        ++answered;
+      }
+    });
+  }
+  for (std::thread& thread : honest) thread.join();
+  EXPECT_EQ(answered, kHonestClients * kHonestPoses);
+  EXPECT_EQ(wrong, 0);
+
+  // Every hostile connection is closed, the ones that read with the fatal Error they earned.
+  for (auto& client : oversized)
+    EXPECT_EQ(last_error_before_close(*client), protocol::ErrorCode::FrameTooLarge);
+  for (auto& client : garbage)
+    EXPECT_EQ(last_error_before_close(*client), protocol::ErrorCode::BadFrame);
+  for (auto& client : tricklers)
+    EXPECT_EQ(last_error_before_close(*client), protocol::ErrorCode::BadFrame);
+  trickling = false;
+  trickle.join();
+  // The non-readers get no Error (they would not read it): the send deadline closes them.
+  std::this_thread::sleep_for(std::chrono::milliseconds(2 * kTimeoutMs));
+  const std::string log = daemon.log();
+  const auto each = static_cast<std::size_t>(kHostileEach);
+  EXPECT_EQ(log_lines(log, "connection_cut", ""), 4 * each) << log.substr(0, 4000);
+  EXPECT_EQ(log_lines(log, "connection_cut", "before Hello a frame may have at most 65536 bytes"),
+            each);
+  EXPECT_EQ(log_lines(log, "connection_cut", "was not whole within 1500 ms"), each);
+  EXPECT_EQ(log_lines(log, "connection_cut", "took no reply bytes for 1500 ms"), each);
+  EXPECT_EQ(log_lines(log, "connection_cut", "16 bad frames"), each);
+
+  // Peak memory: what was resident before, plus the non-readers' stalled replies (16 × 8
+  // poses in flight × 0.24 MB = 31 MB) and each connection's read buffer and kept frame
+  // storage (80 × 128 KiB = 10 MiB): 96 MiB leaves room for allocator slack. The old reader
+  // alone would have held 16 × 16 MiB for the tricklers.
+  const std::size_t peak_kib = status_kib(daemon.pid(), "VmHWM:");
+  EXPECT_LT(peak_kib, rss_before_kib + 96 * 1024)
+      << "before " << rss_before_kib << " KiB, peak " << peak_kib << " KiB";
+  std::printf("daemon RSS before the hostile clients %zu KiB, peak %zu KiB\n", rss_before_kib,
+              peak_kib);
+  fs::remove_all(directory);
+}
+
+TEST(DaemonHostileClients, AnIdleConnectionIsClosedAndABusyOneIsNot) {
+  const fs::path directory = fresh_directory("idle");
+  DaemonProcess daemon(directory, {"--position-maps", "0", "--idle-timeout-ms", "400"});
+  ASSERT_TRUE(daemon.running()) << daemon.log();
+  const std::vector<protocol::Quat> wire = to_wire(bent_rotations(kMannequinJoints));
+  FrameClient idle(daemon.port()), busy(daemon.port());
+  ASSERT_NE(idle.hello(""), nullptr);
+  ASSERT_NE(busy.hello(""), nullptr);
+  // The busy client sends a pose every 100 ms for 1.2 s: three idle timeouts, never idle.
+  for (int p = 0; p < 12; ++p) {
+    ASSERT_TRUE(send_pose(busy, pose_fields(1, p, wire)));
+    ASSERT_NE(busy.receive_as<protocol::PosedVertices>(), nullptr) << "pose " << p;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  const protocol::Error* error = idle.receive_as<protocol::Error>();
+  ASSERT_NE(error, nullptr);
+  EXPECT_TRUE(error->fatal());
+  EXPECT_NE(error->message()->str().find("no request for 400 ms"), std::string::npos)
+      << error->message()->str();
+  EXPECT_TRUE(idle.closed_by_server());
+  fs::remove_all(directory);
+}
+
+TEST(DaemonHostileClients, AFramePastTheSharedBudgetIsRefusedAndTheSessionGoesOn) {
+  const fs::path directory = fresh_directory("budget");
+  DaemonProcess daemon(directory,
+                       {"--position-maps", "0", "--max-buffered-bytes", std::to_string(1 << 20)});
+  ASSERT_TRUE(daemon.running()) << daemon.log();
+  FrameClient client(daemon.port());
+  ASSERT_NE(client.hello(""), nullptr);
+  // 2 MiB of body: within max_frame_bytes (64 MiB), past the 1 MiB all connections share.
+  std::vector<std::uint8_t> frame = length_prefix(2u << 20);
+  frame.resize(4 + (2u << 20), 0x33);
+  ASSERT_TRUE(client.send_bytes(frame));
+  const protocol::Error* error = client.receive_as<protocol::Error>();
+  ASSERT_NE(error, nullptr);
+  EXPECT_EQ(error->code(), protocol::ErrorCode::ResourceExhausted);
+  EXPECT_FALSE(error->fatal());
+  EXPECT_NE(error->message()->str().find("2097152"), std::string::npos) << error->message()->str();
+  const std::vector<protocol::Quat> wire = to_wire(bent_rotations(kMannequinJoints));
+  ASSERT_TRUE(send_pose(client, pose_fields(1, 7, wire)));
+  const protocol::PosedVertices* reply = client.receive_as<protocol::PosedVertices>();
+  ASSERT_NE(reply, nullptr);
+  EXPECT_EQ(reply->sequence(), 7u);
+  fs::remove_all(directory);
+}
+
+}  // namespace
+}  // namespace sweepd::test
