@@ -11,7 +11,11 @@
 //      more connection opened halfway through while the others stream;
 //   3. in-process: the same poses on the same binding (the daemon's store/1.sweepbind) with
 //      one deform::DeformJob per pose (one ModelRuntime, one DeformContext), one thread, positions
-//      only → p50 / p99, and round trip ÷ in-process.
+//      only → p50 / p99, and round trip ÷ in-process;
+//   4. under attack: 4 honest clients, one pose at a time for S seconds, alone and then beside
+//      64 hostile connections (bench/hostile_peers.h: oversized prefixes before Hello, trickled
+//      frames, clients that never read, garbage) → the honest round trip p50 / p99 and the
+//      ratio with / without (issue 16's target: p99 ≤ 2×).
 // The poses are frames of CMU clip 01_01 retargeted client-side (client::retarget_onto).
 // Prints a Markdown table for the README; the issue's targets are p50 ≤ 2 ms, p99 ≤ 5 ms,
 // ≥ 1000 poses/s, ratio ≤ 2. Exit code 1 when the daemon or the data cannot be had, 2 for a
@@ -35,6 +39,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench/hostile_peers.h"
 #include "client/connection.h"
 #include "client/model_skeleton.h"
 #include "console/command_line.h"
@@ -91,6 +96,7 @@ class Daemon {
     waitpid(pid_, nullptr, 0);
   }
   std::string address() const { return "127.0.0.1:" + std::to_string(port_); }
+  int port() const { return port_; }
   fs::path binding() const { return directory_ / "store" / "1.sweepbind"; }
   // The daemon's CPU time so far (user + system), in milliseconds; and its resident memory.
   double cpu_ms() const {
@@ -277,6 +283,51 @@ Throughput throughput(const Daemon& daemon, const std::vector<BenchPose>& poses,
       .late_first_pose_ms = late_first_pose_ms};
 }
 
+// `clients` honest connections, each one pose at a time for `seconds`: every round trip, in ms.
+std::vector<double> honest_round_trips(const Daemon& daemon, const std::vector<BenchPose>& poses,
+                                       int clients, double seconds) {
+  std::vector<std::vector<double>> times(static_cast<std::size_t>(clients));
+  const Clock::time_point end = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                                   std::chrono::duration<double>(seconds));
+  std::vector<std::thread> threads;
+  for (int c = 0; c < clients; ++c) {
+    threads.emplace_back([&, c]() {
+      sweepd::client::Connection connection(daemon.address());
+      connection.hello("", "server_bench honest");
+      const std::uint32_t model_id = connection.load_model("mannequin").model_id();
+      for (std::uint64_t sequence = 1; Clock::now() < end; ++sequence) {
+        const Clock::time_point start = Clock::now();
+        send_pose(connection, model_id, sequence, poses[(sequence + c) % poses.size()]);
+        connection.expect<pb::PosedVertices>();
+        times[static_cast<std::size_t>(c)].push_back(milliseconds_since(start));
+      }
+      connection.close();
+    });
+  }
+  for (std::thread& thread : threads) thread.join();
+  std::vector<double> all;
+  for (const std::vector<double>& client : times)
+    all.insert(all.end(), client.begin(), client.end());
+  return all;
+}
+
+// The same, alone and then beside 16 hostile connections of each kind.
+std::pair<std::vector<double>, std::vector<double>> under_attack(
+    const Daemon& daemon, const std::vector<BenchPose>& poses, std::uint32_t model_id,
+    double seconds) {
+  constexpr int kHonest = 4, kHostileEach = 16;
+  std::vector<double> alone = honest_round_trips(daemon, poses, kHonest, seconds);
+  pb::PoseFields fields;
+  fields.model_id = model_id;
+  fields.rotations = poses[0].rotations;
+  fields.root_translation = poses[0].root;
+  flatbuffers::FlatBufferBuilder builder;
+  const std::span<const std::uint8_t> frame =
+      pb::finish_message(builder, pb::add_pose(builder, fields));
+  const sweepd::bench::HostilePeers attackers(daemon.port(), frame, kHostileEach);
+  return {std::move(alone), honest_round_trips(daemon, poses, kHonest, seconds)};
+}
+
 // The library's own time for the same poses: one thread, positions only.
 std::vector<double> in_process_ms(const fs::path& binding, std::vector<BenchPose> poses) {
   const sweepd::deform::BoundModel bound = sweepd::io::load_sweepbind(binding);
@@ -325,7 +376,8 @@ int run(const Options& options) {
   std::vector<RoundTrip> round_trip;
   std::vector<double> in_process;
   std::vector<Throughput> rates;
-  std::uint32_t vertex_count = 0;
+  std::uint32_t vertex_count = 0, model_id = 0;
+  std::pair<std::vector<double>, std::vector<double>> attack;
   {
     const Daemon daemon(options, directory);
     {
@@ -333,6 +385,7 @@ int run(const Options& options) {
       connection.hello("", "server_bench");
       const pb::ModelInfo& info = connection.load_model("mannequin");
       vertex_count = info.vertex_count();
+      model_id = info.model_id();
       poses = clip_poses(info, options.poses);
       connection.close();
     }
@@ -341,6 +394,7 @@ int run(const Options& options) {
       rates.push_back(throughput(daemon, poses, clients, options.seconds));
     }
     in_process = in_process_ms(daemon.binding(), poses);
+    attack = under_attack(daemon, poses, model_id, options.seconds);
   }
   fs::remove_all(directory);
 
@@ -374,6 +428,14 @@ int run(const Options& options) {
   }
   std::printf("\nserver RSS, %d clients / 1 client: %.2f\n", rates.back().clients,
               rates.back().server_mib / rates.front().server_mib);
+  const auto& [alone, attacked] = attack;
+  std::printf(
+      "\n| 4 honest clients, one pose at a time | round trip p50 ms | p99 ms |\n|---|---|---|\n");
+  std::printf("| alone | %.3f | %.3f |\n", percentile(alone, 0.5), percentile(alone, 0.99));
+  std::printf("| beside 64 hostile connections | %.3f | %.3f |\n", percentile(attacked, 0.5),
+              percentile(attacked, 0.99));
+  std::printf("\nhonest p99 beside the hostile ones / alone: %.2f (target <= 2)\n",
+              percentile(attacked, 0.99) / percentile(alone, 0.99));
   std::printf(
       "\n%d poses of cmu_01_01, float32 positions, loopback, %u hardware threads, load "
       "average %.1f; targets: p50 <= 2 ms, p99 <= 5 ms, >= 1000 poses/s, ratio <= 2\n",

@@ -1,0 +1,80 @@
+#include "bench/hostile_peers.h"
+
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <chrono>
+
+#include "protocol/messages.h"
+
+namespace sweepd::bench {
+namespace {
+
+void send_all(int socket, std::span<const std::uint8_t> bytes) {
+  // MSG_DONTWAIT: an attacker whose buffers are full just stops; the bench never blocks on one.
+  std::size_t sent = 0;
+  while (sent < bytes.size()) {
+    const ssize_t n =
+        ::send(socket, bytes.data() + sent, bytes.size() - sent, MSG_NOSIGNAL | MSG_DONTWAIT);
+    if (n <= 0) return;
+    sent += static_cast<std::size_t>(n);
+  }
+}
+
+std::vector<std::uint8_t> length_prefix(std::uint32_t length) {
+  return {static_cast<std::uint8_t>(length), static_cast<std::uint8_t>(length >> 8),
+          static_cast<std::uint8_t>(length >> 16), static_cast<std::uint8_t>(length >> 24)};
+}
+
+}  // namespace
+
+int HostilePeers::open(int receive_buffer_bytes) {
+  const int fd = socket(AF_INET, SOCK_STREAM, 0);
+  if (receive_buffer_bytes > 0)
+    setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &receive_buffer_bytes, sizeof(receive_buffer_bytes));
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_port = htons(static_cast<std::uint16_t>(port_));
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof(address));
+  sockets_.push_back(fd);
+  return fd;
+}
+
+HostilePeers::HostilePeers(int port, std::span<const std::uint8_t> pose_frame, int per_kind)
+    : port_(port) {
+  flatbuffers::FlatBufferBuilder builder;
+  const std::span<const std::uint8_t> hello_frame = protocol::build_hello(builder, "", "hostile");
+  const std::vector<std::uint8_t> hello(hello_frame.begin(), hello_frame.end());
+  std::vector<std::uint8_t> junk = length_prefix(24);
+  junk.resize(28, 0xee);
+  for (int i = 0; i < per_kind; ++i) {
+    send_all(open(), length_prefix(1u << 20));
+    const int trickler = open();
+    send_all(trickler, hello);
+    send_all(trickler, length_prefix(16u << 20));
+    tricklers_.push_back(trickler);
+    const int non_reader = open(4096);
+    send_all(non_reader, hello);
+    for (int p = 0; p < 40; ++p) send_all(non_reader, pose_frame);
+    const int garbage = open();
+    send_all(garbage, hello);
+    for (int f = 0; f < 20; ++f) send_all(garbage, junk);
+  }
+  trickle_ = std::thread([this] {
+    const std::uint8_t byte = 0x42;
+    while (trickling_) {
+      for (int socket : tricklers_) send_all(socket, {&byte, 1});
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+  });
+}
+
+HostilePeers::~HostilePeers() {
+  trickling_ = false;
+  trickle_.join();
+  for (int socket : sockets_) close(socket);
+}
+
+}  // namespace sweepd::bench
