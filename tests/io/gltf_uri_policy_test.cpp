@@ -241,6 +241,19 @@ TEST(GltfExternalUris, ARefusalSaysNothingAboutTheFileItNames) {
   }
 }
 
+TEST(GltfExternalUris, ARefusedUriIsQuotedOnOneBoundedLine) {
+  // A stranger's URI: at most 200 of its bytes are shown, control characters and quotes escaped.
+  UriScratch scratch;
+  const std::string long_uri = "../" + std::string(10000, 'a');
+  const std::string message = load_error_of(
+      [&] { load_gltf(write_quad(scratch, long_uri), GltfUriPolicy::self_contained()); });
+  EXPECT_LT(message.size(), 200u + 300u) << message;  // 300: the file name and the reason
+  EXPECT_TRUE(contains(message, "aaa...\" refused")) << message;
+  const std::string odd = load_error_of(
+      [&] { load_gltf(write_quad(scratch, "a\nb\"c"), GltfUriPolicy::self_contained()); });
+  EXPECT_TRUE(contains(odd, R"("a\x0ab\"c" refused)")) << odd;
+}
+
 TEST(GltfExternalUris, ImageUrisAreRefusedLikeBufferUris) {
   UriScratch scratch;
   FifoCanary canary(scratch.outside("canary.png"));
