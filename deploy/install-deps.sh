@@ -10,6 +10,7 @@ packages=(
   libegl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri mesa-utils-bin
   nlohmann-json3-dev libstb-dev libgtest-dev libgmock-dev libbenchmark-dev
   flatbuffers-compiler libflatbuffers-dev python3 python3-flatbuffers zlib1g-dev libcli11-dev
+  strace  # tests/server/daemon_upload_confinement_test.cpp traces the daemon's file calls
 )
 
 missing=()

@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include "io/gltf_guarded_files.h"
+
 namespace sweepd::io {
 
 namespace {
@@ -237,7 +239,7 @@ bool skip_image(tinygltf::Image*, const int, std::string*, std::string*, int, in
   return true;  // textures play no part in deformation; do not decode them
 }
 
-tinygltf::Model parse_file(const fs::path& file, LoadReport* report) {
+tinygltf::Model parse_file(const fs::path& file, const GltfUriPolicy& uris, LoadReport* report) {
   std::ifstream stream(file, std::ios::binary);
   if (!stream) throw LoadError(file, "cannot open the file (missing or unreadable)");
   const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(stream)),
@@ -256,15 +258,20 @@ tinygltf::Model parse_file(const fs::path& file, LoadReport* report) {
   }
   tinygltf::TinyGLTF parser;
   parser.SetImageLoader(skip_image, nullptr);
+  GltfGuardedFiles files(uris);
+  parser.SetFsCallbacks(files.callbacks());
   tinygltf::Model gltf;
   std::string error, warning;
-  const std::string base_dir = file.parent_path().string();
+  const std::string& base_dir = files.base_dir();
   const bool ok =
       binary ? parser.LoadBinaryFromMemory(&gltf, &error, &warning, bytes.data(),
                                            static_cast<unsigned int>(bytes.size()), base_dir)
              : parser.LoadASCIIFromString(&gltf, &error, &warning,
                                           reinterpret_cast<const char*>(bytes.data()),
                                           static_cast<unsigned int>(bytes.size()), base_dir);
+  // Before tinygltf's own message, which may just say "File not found", and also when only an
+  // image was refused (tinygltf merely warns about images).
+  if (std::string refusal = files.refusal(); !refusal.empty()) throw LoadError(file, refusal);
   if (!ok) {
     std::string reason = trimmed(error.empty() ? warning : error);
     if (reason.empty()) reason = "malformed glTF (e.g. a non-integer where an index belongs)";
@@ -716,10 +723,14 @@ int fallback_joint(const NodeGraph& graph, const tinygltf::Skin& skin, const Ski
 }  // namespace
 
 deform::Model load_gltf(const fs::path& file, LoadReport* report) {
+  return load_gltf(file, GltfUriPolicy::within(fs::absolute(file).parent_path()), report);
+}
+
+deform::Model load_gltf(const fs::path& file, const GltfUriPolicy& uris, LoadReport* report) {
   LoadReport local_report;
   LoadReport& out = report ? *report : local_report;
   out = LoadReport{};
-  const tinygltf::Model gltf = parse_file(file, &out);
+  const tinygltf::Model gltf = parse_file(file, uris, &out);
   out.generator = gltf.asset.generator;
   const AccessorReader reader(file, gltf);
   const NodeGraph graph = build_node_graph(reader, gltf);

@@ -2,6 +2,12 @@
 // embedded base64 data URIs) into a deform::Model in world-space rest pose.
 //
 // Input:  file    path to a .glb or .gltf (the format is sniffed from the bytes, not the name)
+//         uris    which files its external buffer/image URIs may name (io/gltf_uri_policy.h);
+//                 without it: files inside the glTF's own directory only (relative paths that
+//                 stay there after `..` and symlinks; no absolute path, no file:, and unlike
+//                 tinygltf alone, no second look in the working directory). sweepd gives
+//                 uploads GltfUriPolicy::self_contained() and --model-dir files
+//                 GltfUriPolicy::within(model dir).
 //         report  optional; receives warnings and source counts (see io/load_report.h)
 // Output: a Model that satisfies Model::validate():
 //         - the skinned mesh is the node with both mesh and skin (the one with most vertices
@@ -15,18 +21,23 @@
 //           kept; weights are renormalised to sum 1 (both counted in the report); vertices
 //           with no weight are bound to the mesh node's nearest ancestor joint, else joint 0.
 // Throws io::LoadError (naming the file and the reason) for any unusable input: unreadable or
-// truncated file, invalid JSON, missing buffers, no skinned mesh, non-triangle primitives,
-// out-of-range indices or joint indices, non-finite attributes, malformed accessors.
+// truncated file, a URI the policy refuses (checked before any file is opened; the message
+// names the URI and nothing about the file it would have named), invalid JSON, missing buffers, no
+// skinned mesh, non-triangle primitives, out-of-range indices or joint indices, non-finite
+// attributes, malformed accessors.
 #pragma once
 
 #include <filesystem>
 
 #include "deform/model/model.h"
+#include "io/gltf_uri_policy.h"
 #include "io/load_error.h"
 #include "io/load_report.h"
 
 namespace sweepd::io {
 
 deform::Model load_gltf(const std::filesystem::path& file, LoadReport* report = nullptr);
+deform::Model load_gltf(const std::filesystem::path& file, const GltfUriPolicy& uris,
+                        LoadReport* report = nullptr);
 
 }  // namespace sweepd::io

@@ -11,6 +11,6 @@ std::string format(const std::filesystem::path& file, const std::string& reason,
 }  // namespace
 
 LoadError::LoadError(const std::filesystem::path& file, const std::string& reason, int line)
-    : std::runtime_error(format(file, reason, line)), file_(file), line_(line) {}
+    : std::runtime_error(format(file, reason, line)), file_(file), reason_(reason), line_(line) {}
 
 }  // namespace sweepd::io

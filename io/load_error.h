@@ -13,10 +13,12 @@ class LoadError : public std::runtime_error {
   // line <= 0 means "no line number" (binary formats).
   LoadError(const std::filesystem::path& file, const std::string& reason, int line = 0);
   const std::filesystem::path& file() const { return file_; }
+  const std::string& reason() const { return reason_; }  // what() without the file and line
   int line() const { return line_; }
 
  private:
   std::filesystem::path file_;
+  std::string reason_;
   int line_;
 };
 

@@ -81,13 +81,16 @@ ModelHandle ModelService::load(const ModelLoadRequest& request) {
   deform::BoundModel bound;
   try {
     fs::path source;
+    io::GltfUriPolicy uris;
     if (request.gltf.empty()) {
       source = model_file_in_directory(request.name);
+      uris = io::GltfUriPolicy::within(config_.model_dir);
     } else {
       source = slot.file(".glb");
       io::write_file_durably(source, request.gltf);
+      uris = io::GltfUriPolicy::self_contained();  // an upload reads nothing but itself
     }
-    deform::Model model = io::load_gltf(source);
+    deform::Model model = io::load_gltf(source, uris);
     if (model.vertex_count() > config_.max_model_vertices) {
       throw ModelError(ErrorCode::MemoryLimit, "model '" + request.name + "' has " +
                                                    std::to_string(model.vertex_count()) +
@@ -110,6 +113,12 @@ ModelHandle ModelService::load(const ModelLoadRequest& request) {
     bound = deform::bind(model, rig, options);
   } catch (const ModelError&) {
     throw;
+  } catch (const io::LoadError& error) {
+    // An uploaded file's place in the store is the server's business: the reason alone.
+    const bool uploaded = error.file().parent_path() == registry_.store_dir();
+    throw ModelError(ErrorCode::ModelLoadFailed,
+                     "model '" + request.name + "' could not be loaded: " +
+                         (uploaded ? "the uploaded file: " + error.reason() : error.what()));
   } catch (const std::exception& error) {
     throw ModelError(ErrorCode::ModelLoadFailed,
                      "model '" + request.name + "' could not be loaded: " + error.what());

@@ -51,14 +51,18 @@ inline std::string read_text(const fs::path& file) {
 
 class DaemonProcess {
  public:
-  // `directory` holds the store (directory/store), the port file and the log.
-  DaemonProcess(const fs::path& directory, std::vector<std::string> extra_args)
+  // `directory` holds the store (directory/store), the port file and the log. `wrapper`, when
+  // given, is a command (absolute path first) that runs the daemon, e.g. strace -D ... --; it
+  // must exec the daemon in this process for signal() and wait() to reach the daemon.
+  DaemonProcess(const fs::path& directory, std::vector<std::string> extra_args,
+                std::vector<std::string> wrapper = {})
       : directory_(directory) {
     const fs::path port_file = directory / "port";
     fs::remove(port_file);
     std::vector<std::string> args = {
         SWEEPD_DAEMON, "--port", "0", "--port-file", port_file, "--store-dir", directory / "store"};
     args.insert(args.end(), extra_args.begin(), extra_args.end());
+    args.insert(args.begin(), wrapper.begin(), wrapper.end());
     log_file_ = directory / "sweepd.log";
     pid_ = fork();
     if (pid_ == 0) {
@@ -97,7 +101,7 @@ class DaemonProcess {
   DaemonProcess& operator=(const DaemonProcess&) = delete;
 
   int port() const { return port_; }
-  pid_t pid() const { return pid_; }
+  pid_t pid() const { return pid_; }  // -1 once it has ended
   bool running() const { return pid_ > 0 && port_ > 0; }
   std::string log() const { return read_text(log_file_); }
 
