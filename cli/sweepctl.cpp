@@ -19,6 +19,8 @@ int main(int argc, char** argv) {
   app.get_formatter()->column_width(36);  // shared with the commands
   app.fallthrough();                      // --server and --token also after the command
   app.require_subcommand(0, 1);           // one command; a second command name is an argument
+  // A flag given twice takes its last value (every command inherits the default).
+  app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   CLI::Option* server_flag =
       app.add_option("--server", server.address,
                      "run pose, positionmap or metrics on a sweepd daemon: MODEL is a local "

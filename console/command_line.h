@@ -65,9 +65,14 @@ CLI::Option* add_choice_list(CLI::App& app, const std::string& flag,
         return "";
       },
       "");
-  return app.add_option(flag, help)->check(known)->each([choices, take](const std::string& list) {
-    for (const std::string& name : split_list(list)) take(choices.at(name));
-  });
+  return app
+      .add_option_function<std::string>(
+          flag,
+          [choices, take](const std::string& list) {
+            for (const std::string& name : split_list(list)) take(choices.at(name));
+          },
+          help)
+      ->check(known);
 }
 
 }  // namespace sweepd::console
