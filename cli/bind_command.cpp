@@ -4,13 +4,14 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <string>
 
 #include "cli/commands.h"
 #include "cli/model_loading.h"
 #include "cli/segment_colours.h"
-#include "cli/subcommand.h"
 #include "cli/text_format.h"
+#include "console/command_line.h"
 #include "console/progress_bar.h"
 #include "deform/binding/bind.h"
 #include "io/gltf_save.h"
@@ -19,19 +20,6 @@
 namespace sweepd::cli {
 
 namespace {
-
-constexpr const char* kUsage =
-    "usage: sweepctl bind MODEL -o OUT.sweepbind [--rig RIG.json] [--keys-per-link N]\n"
-    "                     [--debug-gltf OUT.glb]\n"
-    "  MODEL            a rigged .glb/.gltf model\n"
-    "  -o OUT           the binding file to write (read back by the server and by pose)\n"
-    "  --rig RIG.json   which joints form torso, neck, arms and legs (default: detected)\n"
-    "  --keys-per-link  intermediate key ellipses per link (default 2)\n"
-    "  --debug-gltf OUT.glb  the mesh coloured by sweep and blend share, with every key\n"
-    "                   ellipse as a line loop, for a glTF viewer\n"
-    "Prints per sweep the key ellipses (centre, half-axes, fit error, area ratio, the ellipse's\n"
-    "in-plane offset from the centre where it has one), the bound vertices, and the rest-pose\n"
-    "reconstruction error.\n";
 
 void print_sweep(const deform::BoundModel& bound, int s) {
   const deform::BoundSweep& sweep = bound.sweeps[s];
@@ -87,70 +75,83 @@ void write_debug_gltf(const deform::BoundModel& bound, const std::filesystem::pa
   io::save_gltf(bound.model, file, options);
 }
 
+struct Options {
+  std::filesystem::path model, out, rig, debug_gltf;
+  deform::BindOptions bind;
+};
+
+int bind_model(const Options& options) {
+  const LoadedModel loaded = load_model_and_rig(options.model, options.rig);
+  const auto start = std::chrono::steady_clock::now();
+  deform::BoundModel bound;
+  {
+    console::ProgressBar bar("binding " + options.model.filename().string());
+    bound = deform::bind(loaded.model, loaded.rig, options.bind,
+                         [&](double f, std::string_view stage) { bar.update(f, stage); });
+  }
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  io::save_sweepbind(bound, options.out);
+
+  const std::vector<glm::vec3> rebuilt = deform::rest_positions_from_binding(bound);
+  float worst = 0.0f, lo = 1e30f, hi = -1e30f;
+  std::size_t skinned = 0;
+  for (std::size_t v = 0; v < rebuilt.size(); ++v) {
+    worst = std::max(worst, glm::length(rebuilt[v] - loaded.model.positions[v]));
+    lo = std::min(lo, loaded.model.positions[v].y);
+    hi = std::max(hi, loaded.model.positions[v].y);
+    skinned += bound.vertices[v].skin_weight >= 1.0f;
+  }
+  std::printf("bound %s: %s vertices, %zu sweeps, rig '%s' (%.2f s)\n",
+              options.model.filename().string().c_str(),
+              with_thousands(loaded.model.vertex_count()).c_str(), bound.sweeps.size(),
+              bound.rig.convention.c_str(), seconds);
+  for (int s = 0; s < static_cast<int>(bound.sweeps.size()); ++s) print_sweep(bound, s);
+  std::printf("\nskinned only (hands, feet, head): %s vertices\n", with_thousands(skinned).c_str());
+  std::printf("rest-pose error: max %.3g m (%.3g x height)\n", worst, worst / (hi - lo));
+  std::printf("wrote %s\n", options.out.string().c_str());
+  if (!options.debug_gltf.empty()) {
+    write_debug_gltf(bound, options.debug_gltf);
+    std::printf("wrote %s (segments as vertex colours, key ellipses as line loops)\n",
+                options.debug_gltf.string().c_str());
+  }
+  return 0;
+}
+
 }  // namespace
 
-int run_bind(const std::vector<std::string>& arguments) {
-  std::filesystem::path model_file, out, rig_file, debug_gltf;
-  deform::BindOptions options;
-  auto parse = [&](const std::vector<std::string>& args) -> std::string {
-    for (std::size_t i = 0; i < args.size(); ++i) {
-      const std::string& arg = args[i];
-      const bool has_value = i + 1 < args.size();
-      if (arg == "-o" && has_value) {
-        out = args[++i];
-      } else if (arg == "--debug-gltf" && has_value) {
-        debug_gltf = args[++i];
-      } else if (arg == "--rig" && has_value) {
-        rig_file = args[++i];
-      } else if (arg == "--keys-per-link" && has_value) {
-        if (!parse_int(args[++i], 0, 8, options.intermediate_keys_per_link))
-          return "--keys-per-link expects a whole number 0..8";
-      } else if (arg.starts_with("-") || !model_file.empty()) {
-        return "unexpected argument '" + arg + "'";
-      } else {
-        model_file = arg;
-      }
-    }
-    return model_file.empty() || out.empty() ? "need MODEL and -o OUT.sweepbind" : "";
-  };
-  return run_subcommand("bind", kUsage, arguments, parse, [&] {
-    const LoadedModel loaded = load_model_and_rig(model_file, rig_file);
-    const auto start = std::chrono::steady_clock::now();
-    deform::BoundModel bound;
-    {
-      console::ProgressBar bar("binding " + model_file.filename().string());
-      bound = deform::bind(loaded.model, loaded.rig, options,
-                           [&](double f, std::string_view stage) { bar.update(f, stage); });
-    }
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    io::save_sweepbind(bound, out);
-
-    const std::vector<glm::vec3> rebuilt = deform::rest_positions_from_binding(bound);
-    float worst = 0.0f, lo = 1e30f, hi = -1e30f;
-    std::size_t skinned = 0;
-    for (std::size_t v = 0; v < rebuilt.size(); ++v) {
-      worst = std::max(worst, glm::length(rebuilt[v] - loaded.model.positions[v]));
-      lo = std::min(lo, loaded.model.positions[v].y);
-      hi = std::max(hi, loaded.model.positions[v].y);
-      skinned += bound.vertices[v].skin_weight >= 1.0f;
-    }
-    std::printf("bound %s: %s vertices, %zu sweeps, rig '%s' (%.2f s)\n",
-                model_file.filename().string().c_str(),
-                with_thousands(loaded.model.vertex_count()).c_str(), bound.sweeps.size(),
-                bound.rig.convention.c_str(), seconds);
-    for (int s = 0; s < static_cast<int>(bound.sweeps.size()); ++s) print_sweep(bound, s);
-    std::printf("\nskinned only (hands, feet, head): %s vertices\n",
-                with_thousands(skinned).c_str());
-    std::printf("rest-pose error: max %.3g m (%.3g x height)\n", worst, worst / (hi - lo));
-    std::printf("wrote %s\n", out.string().c_str());
-    if (!debug_gltf.empty()) {
-      write_debug_gltf(bound, debug_gltf);
-      std::printf("wrote %s (segments as vertex colours, key ellipses as line loops)\n",
-                  debug_gltf.string().c_str());
-    }
-    return 0;
-  });
+Command add_bind_command(CLI::App& sweepctl) {
+  CLI::App* command = sweepctl.add_subcommand(
+      "bind", "bind a rigged model to its control sweeps, write .sweepbind");
+  command->footer(
+      "Prints per sweep the key ellipses (centre, half-axes, fit error, area ratio, the\n"
+      "ellipse's in-plane offset from the centre where it has one), the bound vertices, and the\n"
+      "rest-pose reconstruction error.");
+  auto options = std::make_shared<Options>();
+  command->add_option("MODEL", options->model, "a rigged .glb/.gltf model")
+      ->type_name("")
+      ->required();
+  command
+      ->add_option("-o", options->out,
+                   "the binding file to write (read back by the server and by pose)")
+      ->type_name("OUT.sweepbind")
+      ->required();
+  command
+      ->add_option("--rig", options->rig,
+                   "which joints form torso, neck, arms and legs (default: detected)")
+      ->type_name("RIG.json");
+  command
+      ->add_option("--keys-per-link", options->bind.intermediate_keys_per_link,
+                   "intermediate key ellipses per link")
+      ->type_name("N")
+      ->check(console::whole_number(0, 8))
+      ->capture_default_str();
+  command
+      ->add_option("--debug-gltf", options->debug_gltf,
+                   "the mesh coloured by sweep and blend share, with every key ellipse as a "
+                   "line loop, for a glTF viewer")
+      ->type_name("OUT.glb");
+  return {command, [options] { return bind_model(*options); }};
 }
 
 }  // namespace sweepd::cli

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <string>
 
 #include "cli/commands.h"
@@ -14,11 +15,12 @@ namespace sweepd::cli {
 
 namespace {
 
-constexpr const char* kUsage =
-    "usage: sweepctl inspect FILE\n"
-    "  FILE  a .glb/.gltf model or a .bvh motion clip\n"
-    "Prints counts, the joint tree, UV presence, bounding box and height, skin weight\n"
-    "statistics (models) or channels, frames and frame rate (clips), and warnings.\n";
+// ".glb", ".gltf" or ".bvh" (lower case), or the file's extension when it is none of them.
+std::string file_type(const std::filesystem::path& file) {
+  std::string extension = file.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(), ::tolower);
+  return extension;
+}
 
 template <typename Children, typename Label>
 void print_tree(const Children& children_of, const Label& label, int node, int depth) {
@@ -115,29 +117,27 @@ int inspect_motion(const std::filesystem::path& file) {
 
 }  // namespace
 
-int run_inspect(const std::vector<std::string>& args) {
-  if (args.size() == 1 && (args[0] == "--help" || args[0] == "-h")) {
-    std::fputs(kUsage, stdout);
-    return 0;
-  }
-  if (args.size() != 1) {
-    std::fputs(kUsage, stderr);
-    return 2;
-  }
-  const std::filesystem::path file = args[0];
-  std::string extension = file.extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(), ::tolower);
-  try {
-    if (extension == ".bvh") return inspect_motion(file);
-    if (extension == ".glb" || extension == ".gltf") return inspect_model(file);
-    std::fprintf(stderr,
-                 "sweepctl inspect: %s: unknown file type '%s' (expected .glb, .gltf or .bvh)\n",
-                 file.string().c_str(), extension.c_str());
-    return 2;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "sweepctl inspect: %s\n", e.what());
-    return 1;
-  }
+Command add_inspect_command(CLI::App& sweepctl) {
+  CLI::App* command = sweepctl.add_subcommand(
+      "inspect", "counts, joint tree, UVs, bounds and weights of a .glb/.gltf/.bvh file");
+  command->footer(
+      "Prints counts, the joint tree, UV presence, bounding box and height, skin weight\n"
+      "statistics (models) or channels, frames and frame rate (clips), and warnings.");
+  auto file = std::make_shared<std::filesystem::path>();
+  const CLI::Validator known_type(
+      [](std::string& name) -> std::string {
+        const std::string type = file_type(name);
+        if (type == ".bvh" || type == ".glb" || type == ".gltf") return "";
+        return name + ": unknown file type '" + type + "' (expected .glb, .gltf or .bvh)";
+      },
+      "");
+  command->add_option("FILE", *file, "a .glb/.gltf model or a .bvh motion clip")
+      ->type_name("")
+      ->required()
+      ->check(known_type);
+  return {command, [file] {
+            return file_type(*file) == ".bvh" ? inspect_motion(*file) : inspect_model(*file);
+          }};
 }
 
 }  // namespace sweepd::cli

@@ -5,18 +5,17 @@
 // With --server the daemon deforms and the metrics are measured here on its vertices; the
 // part regions and section planes come from binding the served mesh here; the sweep integral
 // (the deformation's own sweep state) is not available remotely.
-#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
-#include <sstream>
 
 #include "cli/commands.h"
 #include "cli/posed_model.h"
 #include "cli/remote_posed_model.h"
-#include "cli/text_format.h"
+#include "console/command_line.h"
 #include "console/progress_bar.h"
 #include "deform/binding/bind.h"
 #include "deform/job/deform_job.h"
@@ -29,18 +28,6 @@ namespace sweepd::cli {
 
 namespace {
 
-const std::string kUsage =
-    std::string(
-        "usage: sweepctl metrics MODEL [--bvh CLIP [--frame N | --frames A-B] [--step N]\n"
-        "                               | --pose POSE.json]\n"
-        "                        [--method sweep,sweep+volume,lbs,dqs] [--json | --csv]\n"
-        "  --method LIST      comma-separated methods (default: all four); sweep+volume is the\n"
-        "                     sweep method with volume preservation (arms, legs, torso)\n"
-        "  --step N           with a clip: every Nth frame (default 1: all frames)\n"
-        "  --json, --csv      machine-readable output instead of the table\n"
-        "  with --server      default methods sweep,lbs,dqs; no sweep integral (it needs the\n"
-        "                     server's sweep state)\n") +
-    kPosingUsage;
 const char* const kLocalMethods = "sweep,sweep+volume,lbs,dqs";
 const char* const kServerMethods = "sweep,lbs,dqs";
 const char* const kServerNote =
@@ -51,6 +38,23 @@ struct Method {
   std::string name;
   deform::DeformMethod method;
   bool preserve_volume;
+};
+
+const std::map<std::string, Method>& methods_by_name() {
+  static const std::map<std::string, Method> methods = {
+      {"sweep", {"sweep", deform::DeformMethod::kSweep, false}},
+      {"sweep+volume", {"sweep+volume", deform::DeformMethod::kSweep, true}},
+      {"lbs", {"lbs", deform::DeformMethod::kLbs, false}},
+      {"dqs", {"dqs", deform::DeformMethod::kDqs, false}}};
+  return methods;
+}
+
+struct Options {
+  PosingArguments posing;
+  std::vector<Method> methods;  // --method, else kLocalMethods or kServerMethods
+  int step = 1;
+  bool json = false, csv = false;
+  bool one_frame = false;  // --frame given (else a clip is measured whole or by --frames)
 };
 
 // One metric over the measured frames: the worst value (by `badness`), its frame, the mean.
@@ -76,37 +80,6 @@ struct MethodReport {
 // section planes; its sweep integral when the poser holds the deformation's own sweep state).
 using PoseDeformer =
     std::function<const deform::SweepPoser&(deform::Pose, std::vector<glm::vec3>&)>;
-
-std::string take_methods(std::vector<std::string>& args, std::vector<Method>& methods,
-                         std::string& format, int& step, const char* default_methods) {
-  std::vector<std::string> rest;
-  std::string list = default_methods;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    if (args[i] == "--method" && i + 1 < args.size()) {
-      list = args[++i];
-    } else if (args[i] == "--json" || args[i] == "--csv") {
-      if (!format.empty()) return "give --json or --csv, not both";
-      format = args[i].substr(2);
-    } else if (args[i] == "--step" && i + 1 < args.size()) {
-      if (!parse_int(args[++i], 1, 1 << 20, step))
-        return "--step expects a number >= 1, got '" + args[i] + "'";
-    } else {
-      rest.push_back(args[i]);
-    }
-  }
-  args = std::move(rest);
-  std::stringstream names(list);
-  for (std::string name; std::getline(names, name, ',');) {
-    const bool preserve = name == "sweep+volume";
-    const auto method = deform::parse_deform_method(preserve ? "sweep" : name);
-    if (!method)
-      return "--method expects a comma-separated list of sweep, sweep+volume, lbs, dqs; got '" +
-             name + "'";
-    methods.push_back({name, *method, preserve});
-  }
-  if (methods.empty()) return "--method names no method";
-  return {};
-}
 
 // The method deformed in this process (the context's poser holds the sweep state).
 PoseDeformer local_deformer(const Method& m, const deform::ModelRuntime& runtime,
@@ -234,92 +207,104 @@ void print_csv(const std::vector<MethodReport>& reports) {
   }
 }
 
-int metrics(const std::vector<std::string>& arguments, const ServerAddress* server) {
-  std::vector<std::string> args = arguments;
-  if (!args.empty() && (args[0] == "--help" || args[0] == "-h")) {
-    std::fputs(kUsage.c_str(), stdout);
-    return 0;
+int metrics(const Options& options, const ServerAddress* server) {
+  const PosingArguments& posing = options.posing;
+  const std::vector<Method>& methods = options.methods;
+  const std::string format = options.json ? "json" : options.csv ? "csv" : "";
+  // Locally: the model bound here and deformed here. Remotely: deformed by the server, and
+  // the served mesh bound here for the part regions and section planes.
+  std::unique_ptr<PosedModel> local;
+  std::unique_ptr<RemotePosedModel> remote;
+  std::unique_ptr<deform::BoundModel> served_binding;
+  std::unique_ptr<deform::SweepPoser> served_poser;
+  std::function<deform::Pose(int)> pose_of;
+  if (server) {
+    remote = std::make_unique<RemotePosedModel>(posing, *server);
+    const deform::Model& model = remote->model();
+    served_binding = std::make_unique<deform::BoundModel>(deform::bind(
+        model, posing.rig.empty() ? deform::detect_rig_map(model.skeleton)
+                                  : io::load_rig_map_json(posing.rig, model.skeleton)));
+    served_poser = std::make_unique<deform::SweepPoser>(*served_binding);
+    pose_of = [&remote](int frame) { return remote->pose(frame); };
+  } else {
+    local = std::make_unique<PosedModel>(posing);
+    pose_of = [&local](int frame) { return local->pose(frame); };
   }
-  std::vector<Method> methods;
-  std::string format;
-  int step = 1;
-  std::string problem =
-      take_methods(args, methods, format, step, server ? kServerMethods : kLocalMethods);
-  PosingArguments posing;
-  const bool one_frame = std::find(args.begin(), args.end(), "--frame") != args.end();
-  if (problem.empty()) problem = take_posing_arguments(args, posing);
-  if (problem.empty() && !args.empty()) problem = "unexpected argument '" + args[0] + "'";
-  if (!problem.empty()) {
-    std::fprintf(stderr, "sweepctl metrics: %s\n\n%s", problem.c_str(), kUsage.c_str());
-    return 2;
+  const deform::BoundModel& bound = server ? *served_binding : local->bound();
+  std::vector<int> frames;
+  if (posing.bvh.empty()) {
+    frames.push_back(0);
+  } else {
+    const bool whole_clip = !posing.frame_range && !options.one_frame;
+    const int last = whole_clip ? io::load_bvh(posing.bvh).frame_count - 1 : posing.frames.last;
+    for (int f = posing.frames.first; f <= last; f += options.step) frames.push_back(f);
   }
-  try {
-    // Locally: the model bound here and deformed here. Remotely: deformed by the server, and
-    // the served mesh bound here for the part regions and section planes.
-    std::unique_ptr<PosedModel> local;
-    std::unique_ptr<RemotePosedModel> remote;
-    std::unique_ptr<deform::BoundModel> served_binding;
-    std::unique_ptr<deform::SweepPoser> served_poser;
-    std::function<deform::Pose(int)> pose_of;
-    if (server) {
-      remote = std::make_unique<RemotePosedModel>(posing, *server);
-      const deform::Model& model = remote->model();
-      served_binding = std::make_unique<deform::BoundModel>(deform::bind(
-          model, posing.rig.empty() ? deform::detect_rig_map(model.skeleton)
-                                    : io::load_rig_map_json(posing.rig, model.skeleton)));
-      served_poser = std::make_unique<deform::SweepPoser>(*served_binding);
-      pose_of = [&remote](int frame) { return remote->pose(frame); };
-    } else {
-      local = std::make_unique<PosedModel>(posing);
-      pose_of = [&local](int frame) { return local->pose(frame); };
+  const metrics::QualityMeter meter(bound);
+  std::vector<MethodReport> reports;
+  {
+    std::unique_ptr<console::ProgressBar> bar;
+    if (frames.size() > 1) bar = std::make_unique<console::ProgressBar>("metrics");
+    const int total = static_cast<int>(frames.size() * methods.size());
+    std::unique_ptr<deform::ModelRuntime> runtime;
+    if (!server) runtime = std::make_unique<deform::ModelRuntime>(bound);
+    for (std::size_t m = 0; m < methods.size(); ++m) {
+      deform::DeformContext context;
+      const PoseDeformer deform = server ? server_deformer(methods[m], *remote, *served_poser)
+                                         : local_deformer(methods[m], *runtime, context);
+      reports.push_back(measure_method(methods[m], bound, deform, !server, pose_of, meter, frames,
+                                       bar.get(), static_cast<int>(m * frames.size()), total));
     }
-    const deform::BoundModel& bound = server ? *served_binding : local->bound();
-    std::vector<int> frames;
-    if (posing.bvh.empty()) {
-      frames.push_back(0);
-    } else {
-      const bool whole_clip = !posing.frame_range && !one_frame;
-      const int last = whole_clip ? io::load_bvh(posing.bvh).frame_count - 1 : posing.frames.last;
-      for (int f = posing.frames.first; f <= last; f += step) frames.push_back(f);
-    }
-    const metrics::QualityMeter meter(bound);
-    std::vector<MethodReport> reports;
-    {
-      std::unique_ptr<console::ProgressBar> bar;
-      if (frames.size() > 1) bar = std::make_unique<console::ProgressBar>("metrics");
-      const int total = static_cast<int>(frames.size() * methods.size());
-      std::unique_ptr<deform::ModelRuntime> runtime;
-      if (!server) runtime = std::make_unique<deform::ModelRuntime>(bound);
-      for (std::size_t m = 0; m < methods.size(); ++m) {
-        deform::DeformContext context;
-        const PoseDeformer deform = server ? server_deformer(methods[m], *remote, *served_poser)
-                                           : local_deformer(methods[m], *runtime, context);
-        reports.push_back(measure_method(methods[m], bound, deform, !server, pose_of, meter, frames,
-                                         bar.get(), static_cast<int>(m * frames.size()), total));
-      }
-    }
-    const std::string source = server ? "sweepd at " + server->address + ": " + kServerNote : "";
-    if (format == "json") {
-      print_json(reports, posing, frames.size(), source);
-    } else if (format == "csv") {
-      if (!source.empty()) std::fprintf(stderr, "%s\n", source.c_str());
-      print_csv(reports);
-    } else {
-      print_table(reports, frames.size(), source);
-    }
-    return 0;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "sweepctl metrics: %s\n", e.what());
-    return 1;
   }
+  const std::string source = server ? "sweepd at " + server->address + ": " + kServerNote : "";
+  if (format == "json") {
+    print_json(reports, posing, frames.size(), source);
+  } else if (format == "csv") {
+    if (!source.empty()) std::fprintf(stderr, "%s\n", source.c_str());
+    print_csv(reports);
+  } else {
+    print_table(reports, frames.size(), source);
+  }
+  return 0;
 }
 
 }  // namespace
 
-int run_metrics(const std::vector<std::string>& arguments) { return metrics(arguments, nullptr); }
-
-int run_metrics_on_server(const std::vector<std::string>& arguments, const ServerAddress& server) {
-  return metrics(arguments, &server);
+Command add_metrics_command(CLI::App& sweepctl, const ServerAddress& server) {
+  CLI::App* command = sweepctl.add_subcommand(
+      "metrics", "volume, section, crossing and stretch metrics per method");
+  command->footer(
+      "Per body part the volume change (closed mesh region and sweep integral), the smallest\n"
+      "limb section ratio, crossing triangle pairs, the largest edge stretch and the rest-pose\n"
+      "error, for one pose or over a clip (worst, mean and the frame of the worst; without\n"
+      "--frame or --frames the whole clip).\n"
+      "With --server the daemon deforms and the metrics are measured here on its vertices:\n"
+      "default methods sweep,lbs,dqs; no sweep integral (it needs the server's sweep state).");
+  auto options = std::make_shared<Options>();
+  add_posing_flags(*command, options->posing, ClipFrames::kOneOrRange);
+  console::add_choice_list(
+      *command, "--method", methods_by_name(),
+      [options](const Method& method) { options->methods.push_back(method); },
+      "comma-separated methods (default: sweep,sweep+volume,lbs,dqs); sweep+volume is the "
+      "sweep method with volume preservation (arms, legs, torso)")
+      ->type_name("LIST");
+  command->add_option("--step", options->step, "with a clip: every Nth frame")
+      ->type_name("N")
+      ->check(console::whole_number(1, 1 << 20))
+      ->capture_default_str();
+  command->add_flag("--json", options->json, "machine-readable JSON instead of the table");
+  command->add_flag("--csv", options->csv, "machine-readable CSV instead of the table");
+  command->callback([options, command, &server] {
+    if (options->json && options->csv) throw CLI::ValidationError("give --json or --csv, not both");
+    options->one_frame = command->count("--frame") > 0;
+    if (options->methods.empty())
+      for (const std::string& name :
+           console::split_list(server.address.empty() ? kLocalMethods : kServerMethods))
+        options->methods.push_back(methods_by_name().at(name));
+  });
+  return {
+      command,
+      [options, &server] { return metrics(*options, server.address.empty() ? nullptr : &server); },
+      true};
 }
 
 }  // namespace sweepd::cli

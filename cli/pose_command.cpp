@@ -2,25 +2,17 @@
 // one frame, or a range of frames into a folder. With --server the daemon deforms.
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 
 #include "cli/commands.h"
 #include "cli/posed_model.h"
 #include "cli/remote_posed_model.h"
-#include "cli/subcommand.h"
 #include "console/progress_bar.h"
 #include "io/gltf_save.h"
 
 namespace sweepd::cli {
 
 namespace {
-const std::string kUsage =
-    std::string(
-        "usage: sweepctl pose MODEL [--bvh CLIP [--frame N | --frames A-B]] [--pose POSE.json]\n"
-        "                     [--method sweep|lbs|dqs] -o OUT\n"
-        "  -o OUT             posed .glb for one frame; a folder for --frames "
-        "(frame_NNNNN.glb)\n") +
-    kPosingUsage;
-
 // Writes the posed frames of `posed` (a PosedModel or a RemotePosedModel) as the command's
 // output: one .glb, or frame_NNNNN.glb files in a folder for a frame range.
 template <typename Posed>
@@ -52,45 +44,51 @@ void write_frames(Posed& posed, const std::filesystem::path& out) {
               deform::to_string(posing.method));
 }
 
-int pose(const std::vector<std::string>& arguments, const ServerAddress* server) {
+struct Options {
   PosingArguments posing;
   std::filesystem::path out;
-  auto parse = [&](std::vector<std::string> args) {
-    std::string problem = take_posing_arguments(args, posing);
-    if (!problem.empty()) return problem;
-    if (args.size() == 2 && args[0] == "-o") {
-      out = args[1];
-      return std::string();
-    }
-    return args.empty() ? std::string("missing -o OUT") : "unexpected argument '" + args[0] + "'";
-  };
-  return run_subcommand("pose", kUsage, arguments, parse, [&] {
-    if (server) {
-      RemotePosedModel posed(posing, *server);
-      std::printf("model %s on sweepd at %s (%s)\n", posed.model().name.c_str(),
-                  server->address.c_str(), posed.origin().c_str());
-      write_frames(posed, out);
-      return 0;
-    }
-    PosedModel posed(posing);
+};
+
+int pose(const Options& options, const ServerAddress& server) {
+  const PosingArguments& posing = options.posing;
+  const std::filesystem::path& out = options.out;
+  if (!server.address.empty()) {
+    RemotePosedModel posed(posing, server);
+    std::printf("model %s on sweepd at %s (%s)\n", posed.model().name.c_str(),
+                server.address.c_str(), posed.origin().c_str());
     write_frames(posed, out);
-    if (!posing.frame_range && posing.features.collision()) {
-      const deform::FeatureReport& r = posed.feature_report();
-      std::printf(
-          "features: %d intersecting pairs before folding, %d after; %d vertices folded, "
-          "%d pushed out of bone proxies; volume change %.1f cm3\n",
-          r.pairs_before, r.pairs_after, r.folded, r.protruded, r.volume_change * 1e6);
-    }
     return 0;
-  });
+  }
+  PosedModel posed(posing);
+  write_frames(posed, out);
+  if (!posing.frame_range && posing.features.collision()) {
+    const deform::FeatureReport& r = posed.feature_report();
+    std::printf(
+        "features: %d intersecting pairs before folding, %d after; %d vertices folded, "
+        "%d pushed out of bone proxies; volume change %.1f cm3\n",
+        r.pairs_before, r.pairs_after, r.folded, r.protruded, r.volume_change * 1e6);
+  }
+  return 0;
 }
 
 }  // namespace
 
-int run_pose(const std::vector<std::string>& arguments) { return pose(arguments, nullptr); }
-
-int run_pose_on_server(const std::vector<std::string>& arguments, const ServerAddress& server) {
-  return pose(arguments, &server);
+Command add_pose_command(CLI::App& sweepctl, const ServerAddress& server) {
+  CLI::App* command =
+      sweepctl.add_subcommand("pose", "deform a model into a pose or clip frames, write .glb");
+  command->footer(
+      "With --server the daemon deforms: MODEL is then a local .glb/.gltf (uploaded) or a\n"
+      "model name on the server.");
+  auto options = std::make_shared<Options>();
+  add_posing_flags(*command, options->posing, ClipFrames::kOneOrRange);
+  add_method_flags(*command, options->posing);
+  command
+      ->add_option("-o", options->out,
+                   "posed .glb for one frame; a folder for --frames (frame_NNNNN.glb)")
+      ->type_name("OUT")
+      ->required();
+  command->callback([options] { check_method_flags(options->posing); });
+  return {command, [options, &server] { return pose(*options, server); }, true};
 }
 
 }  // namespace sweepd::cli

@@ -1,6 +1,6 @@
-// What sweepctl's posing commands (pose, render, positionmap) share: a bound model from a
-// .glb/.gltf (bound on the spot) or a .sweepbind file, the pose source (a BVH clip retargeted
-// onto it, a pose JSON file, or the rest pose), and the deformation method.
+// PosedModel: what sweepctl's posing commands (pose, render, positionmap, metrics) deform here —
+// a bound model from a .glb/.gltf (bound on the spot) or a .sweepbind file, posed from their
+// PosingArguments (cli/posing_arguments.h) with its deformation method.
 #pragma once
 
 #include <cstdint>
@@ -10,31 +10,12 @@
 #include <string>
 #include <vector>
 
+#include "cli/posing_arguments.h"
 #include "deform/binding/bound_model.h"
-#include "deform/job/anatomical_features.h"
 #include "deform/job/deform_job.h"
-#include "motion/frame_range.h"
 #include "motion/retarget.h"
 
 namespace sweepd::cli {
-
-struct PosingArguments {
-  std::filesystem::path model;      // .glb/.gltf/.sweepbind
-  std::filesystem::path rig;        // optional rig map JSON (binding a glTF)
-  std::filesystem::path bvh;        // optional clip
-  std::filesystem::path bvh_map;    // optional BVH→model joint name map JSON
-  std::filesystem::path pose_file;  // optional pose JSON
-  motion::FrameRange frames;        // --frame N or --frames A-B (clip frames)
-  bool frame_range = false;         // --frames given: a folder of frames
-  deform::DeformMethod method = deform::DeformMethod::kSweep;
-  // --features: anatomical features on top of the sweep method (paper §4.3, §4.4).
-  deform::AnatomicalFeatures features;
-};
-
-// Takes the options it knows out of args (leaving the rest in order). Returns "" or the
-// reason the arguments are unusable.
-std::string take_posing_arguments(std::vector<std::string>& args, PosingArguments& out);
-extern const char* const kPosingUsage;
 
 // The --bvh-map file's joint name map (io/joint_name_map_json.h); empty when no file is given.
 motion::JointNameMap load_joint_name_map(const std::filesystem::path& file);

@@ -9,18 +9,3 @@ std::string with_thousands(std::int64_t n) {
 }
 
 }  // namespace sweepd::cli
-
-#include <charconv>
-
-namespace sweepd::cli {
-
-bool parse_int(const std::string& text, int min, int max, int& value) {
-  int parsed = 0;
-  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), parsed);
-  if (error != std::errc() || end != text.data() + text.size() || parsed < min || parsed > max)
-    return false;
-  value = parsed;
-  return true;
-}
-
-}  // namespace sweepd::cli

@@ -10,10 +10,3 @@ namespace sweepd::cli {
 std::string with_thousands(std::int64_t n);
 
 }  // namespace sweepd::cli
-
-namespace sweepd::cli {
-
-// Parses a whole decimal integer in [min, max] into value; false (value untouched) otherwise.
-bool parse_int(const std::string& text, int min, int max, int& value);
-
-}  // namespace sweepd::cli

@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "deform/mesh/mesh_topology.h"
 #include "io/gltf_load.h"
@@ -18,11 +20,11 @@ namespace fs = std::filesystem;
 
 struct Result {
   int exit_code;
-  std::string output;  // stdout and stderr together
+  std::string output;  // stdout and stderr together, or what `streams` leaves
 };
 
-Result run_sweepctl(const std::string& arguments) {
-  const std::string command = std::string(SWEEPD_SWEEPCTL) + " " + arguments + " 2>&1";
+Result run_sweepctl(const std::string& arguments, const std::string& streams = "2>&1") {
+  const std::string command = std::string(SWEEPD_SWEEPCTL) + " " + arguments + " " + streams;
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe) return {-1, "popen failed"};
   std::string output;
@@ -201,6 +203,54 @@ TEST(SweepctlErrors, NameTheFileAndTheProblemWithoutCrashing) {
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("unknown command"), std::string::npos) << r.output;
   fs::remove_all(dir);
+}
+
+TEST(SweepctlCommandLine, UsageGoesToStdoutForHelpAndToStderrWithoutACommand) {
+  // Only stdout is kept: --help's usage is there (exit 0), a bare sweepctl's is not (exit 2).
+  Result r = run_sweepctl("--help", "2>/dev/null");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  for (const char* command :
+       {"inspect", "mannequin", "bind", "pose", "render", "positionmap", "metrics", "edit"})
+    EXPECT_NE(r.output.find(command), std::string::npos) << command << "\n" << r.output;
+  r = run_sweepctl("", "2>/dev/null");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_EQ(r.output, "");
+  r = run_sweepctl("");
+  EXPECT_NE(r.output.find("positionmap"), std::string::npos) << r.output;
+
+  r = run_sweepctl("inspect --help", "2>/dev/null");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("FILE"), std::string::npos) << r.output;
+  r = run_sweepctl("edit --help", "2>/dev/null");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  for (const char* word : {"MODEL", "EDITS", "-o"})
+    EXPECT_NE(r.output.find(word), std::string::npos) << word << "\n" << r.output;
+}
+
+TEST(SweepctlCommandLine, RefusalsNameTheCommandTheFlagAndTheValue) {
+  // No file is read: every one of these is refused while the command line is parsed (exit 2).
+  const std::vector<std::pair<std::string, std::vector<std::string>>> refusals = {
+      {"mannequin --vertices 10 -o x.glb", {"sweepctl mannequin: --vertices", "10 is outside"}},
+      {"render m.glb --size 12x --png x.png", {"sweepctl render: --size", "12x"}},
+      {"render m.glb --size 8193 --png x.png", {"--size", "8193 is outside 16..8192"}},
+      {"render m.glb --bvh c.bvh --frames 1-3 --png x.png", {"--frames"}},
+      {"positionmap m.glb --gutter 65 -o x.exr", {"--gutter", "65"}},
+      {"positionmap m.glb --compression lzw -o x.exr", {"--compression", "lzw"}},
+      {"bind m.glb -o x.sweepbind --keys-per-link 9", {"--keys-per-link", "9"}},
+      {"metrics m.glb --bvh c.bvh --step 0", {"--step", "0"}},
+      {"pose m.glb --bvh c.bvh --pose p.json -o x.glb", {"--bvh", "--pose"}},
+      {"pose m.glb -o x.glb render", {"sweepctl pose", "render"}},
+      {"pose m.glb -o x.glb --token t", {"--token requires --server"}},
+      {"edit m.glb edits.json", {"m.glb is not a .sweepbind file"}},
+      // --server after the command is the top-level flag: inspect refuses it by name.
+      {"inspect m.glb --server 127.0.0.1:1", {"sweepctl inspect: runs locally only"}},
+  };
+  for (const auto& [arguments, words] : refusals) {
+    const Result r = run_sweepctl(arguments);
+    EXPECT_EQ(r.exit_code, 2) << arguments << "\n" << r.output;
+    for (const std::string& word : words)
+      EXPECT_NE(r.output.find(word), std::string::npos) << arguments << "\n" << r.output;
+  }
 }
 
 }  // namespace

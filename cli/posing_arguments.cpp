@@ -1,0 +1,83 @@
+#include "cli/posing_arguments.h"
+
+#include <map>
+#include <string>
+
+#include "console/command_line.h"
+
+namespace sweepd::cli {
+
+void add_posing_flags(CLI::App& command, PosingArguments& out, ClipFrames frames) {
+  command
+      .add_option("MODEL", out.model,
+                  "a rigged .glb/.gltf (bound on the spot) or a .sweepbind file")
+      ->type_name("")
+      ->required();
+  command.add_option("--rig", out.rig, "rig map override when binding a glTF")
+      ->type_name("RIG.json");
+  CLI::Option* bvh = command
+                         .add_option("--bvh", out.bvh,
+                                     "a BVH clip, retargeted onto the model by joint names "
+                                     "and roles")
+                         ->type_name("CLIP");
+  command
+      .add_option("--bvh-map", out.bvh_map,
+                  "BVH joint name -> model joint name, for rigs the names do not match")
+      ->type_name("MAP.json");
+  command.add_option("--frame", "the clip frame (default 0)")
+      ->type_name("N")
+      ->check(console::whole_number(0, 1 << 30))
+      ->each([&out](const std::string& n) { out.frames.first = out.frames.last = std::stoi(n); })
+      ->needs(bvh);
+  if (frames == ClipFrames::kOneOrRange) {
+    const CLI::Validator range(
+        [](std::string& text) -> std::string {
+          return motion::parse_frame_range(text)
+                     ? ""
+                     : "expected A-B with 0 <= A <= B, got '" + text + "'";
+        },
+        "");
+    command.add_option("--frames", "clip frames A to B, inclusive, 0-based (over --frame)")
+        ->type_name("A-B")
+        ->check(range)
+        ->each([&out](const std::string& text) {
+          out.frames = *motion::parse_frame_range(text);
+          out.frame_range = true;
+        })
+        ->needs(bvh);
+  }
+  command
+      .add_option("--pose", out.pose_file,
+                  "a hand-written pose (format in io/pose_json.h) instead of a clip")
+      ->type_name("POSE.json")
+      ->excludes(bvh);
+}
+
+void add_method_flags(CLI::App& command, PosingArguments& out) {
+  console::add_choice(
+      command, "--method", out.method,
+      std::map<std::string, deform::DeformMethod>{{"sweep", deform::DeformMethod::kSweep},
+                                                  {"lbs", deform::DeformMethod::kLbs},
+                                                  {"dqs", deform::DeformMethod::kDqs}},
+      "sweep (default), lbs or dqs")
+      ->type_name("M");
+  using Feature = bool deform::AnatomicalFeatures::*;
+  console::add_choice_list(
+      command, "--features",
+      std::map<std::string, Feature>{{"folding", &deform::AnatomicalFeatures::folding},
+                                     {"protrusion", &deform::AnatomicalFeatures::protrusion},
+                                     {"volume", &deform::AnatomicalFeatures::volume},
+                                     {"bulge", &deform::AnatomicalFeatures::bulge}},
+      [&out](const Feature& feature) { out.features.*feature = true; },
+      "with sweep: any of folding,protrusion (collision, paper 4.3), volume (preservation, "
+      "4.4), bulge (biceps, 4.3)")
+      ->type_name("LIST");
+}
+
+void check_method_flags(const PosingArguments& arguments) {
+  if (arguments.features.any() && arguments.method != deform::DeformMethod::kSweep)
+    throw CLI::ValidationError("--features apply to --method sweep, not " +
+                               std::string(deform::to_string(arguments.method)));
+}
+
+}  // namespace sweepd::cli

@@ -1,0 +1,44 @@
+// PosingArguments: what sweepctl's posing commands (pose, render, positionmap, metrics) read
+// from their command line — the model, the pose source (a BVH clip retargeted onto it, a pose
+// JSON file, or the rest pose) and the deformation method — and the flags that fill it,
+// declared here once for all of them:
+//   add_posing_flags    MODEL, --rig, --bvh, --bvh-map, --frame, --pose, and --frames where
+//                       the command takes a frame range (pose, metrics; --frames wins over
+//                       --frame); --bvh and --pose exclude each other, --frame and --frames
+//                       need --bvh
+//   add_method_flags    --method sweep|lbs|dqs, --features LIST (pose, render, positionmap;
+//                       metrics has its own --method list)
+//   check_method_flags  the rule CLI11 cannot state: --features need --method sweep; throws
+//                       CLI::ValidationError (call it from the command's callback)
+// Bad values ("12x", "5-3", an unknown method or feature) are usage errors naming the flag.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <filesystem>
+
+#include "deform/job/anatomical_features.h"
+#include "deform/job/deform_method.h"
+#include "motion/frame_range.h"
+
+namespace sweepd::cli {
+
+struct PosingArguments {
+  std::filesystem::path model;      // .glb/.gltf/.sweepbind
+  std::filesystem::path rig;        // optional rig map JSON (binding a glTF)
+  std::filesystem::path bvh;        // optional clip
+  std::filesystem::path bvh_map;    // optional BVH→model joint name map JSON
+  std::filesystem::path pose_file;  // optional pose JSON
+  motion::FrameRange frames;        // --frame N or --frames A-B (clip frames)
+  bool frame_range = false;         // --frames given: a folder of frames
+  deform::DeformMethod method = deform::DeformMethod::kSweep;
+  // --features: anatomical features on top of the sweep method (paper §4.3, §4.4).
+  deform::AnatomicalFeatures features;
+};
+
+enum class ClipFrames { kOne, kOneOrRange };  // whether the command takes --frames A-B
+
+void add_posing_flags(CLI::App& command, PosingArguments& out, ClipFrames frames);
+void add_method_flags(CLI::App& command, PosingArguments& out);
+void check_method_flags(const PosingArguments& arguments);
+
+}  // namespace sweepd::cli
