@@ -1,7 +1,7 @@
 // Key-ellipse edits JSON (deform/edits/angle_driven_key_edits.h): the file a user writes to correct key
 // ellipses at chosen joint angles (paper §4.2), read for `sweepctl edit` and written back out.
 // Sweeps are named by body part and joints by name; keys are numbered along the sweep, root
-// first (sweepctl inspect MODEL.sweepbind lists them).
+// first (`sweepctl bind MODEL` lists each sweep's keys as it binds).
 //
 // Format (offset, rotation and scale are optional: 0, 0 and 1 when left out):
 //   {
