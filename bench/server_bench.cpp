@@ -15,7 +15,8 @@
 //   4. under attack: 4 honest clients, one pose at a time for S seconds, alone and then beside
 //      64 hostile connections (bench/hostile_peers.h: oversized prefixes before Hello, trickled
 //      frames, clients that never read, garbage) → the honest round trip p50 / p99 and the
-//      ratio with / without (issue 16's target: p99 ≤ 2×).
+//      ratio with / without (issue 16's target: p99 ≤ 2×). The daemon runs with
+//      --max-connections 96 so that this scene measures service, not admission.
 // The poses are frames of CMU clip 01_01 retargeted client-side (client::retarget_onto).
 // Prints a Markdown table for the README; the issue's targets are p50 ≤ 2 ms, p99 ≤ 5 ms,
 // ≥ 1000 poses/s, ratio ≤ 2. Exit code 1 when the daemon or the data cannot be had, 2 for a
@@ -34,6 +35,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <numeric>
 #include <string>
 #include <thread>
@@ -68,10 +70,20 @@ class Daemon {
     const std::string vertices = std::to_string(options.vertices);
     const std::string log = (directory / "sweepd.log").string();
     const std::string store = (directory / "store").string();
-    const char* argv[] = {
-        options.daemon.c_str(), "--port",          "0",           "--port-file",
-        port_file.c_str(),      "--store-dir",     store.c_str(), "--mannequin-vertices",
-        vertices.c_str(),       "--position-maps", "0",           nullptr};
+    const char* argv[] = {options.daemon.c_str(),
+                          "--port",
+                          "0",
+                          "--port-file",
+                          port_file.c_str(),
+                          "--store-dir",
+                          store.c_str(),
+                          "--mannequin-vertices",
+                          vertices.c_str(),
+                          "--position-maps",
+                          "0",
+                          "--max-connections",
+                          "96",
+                          nullptr};
     // Its JSON log to a file, its stdout away: the bench prints only the tables.
     posix_spawn_file_actions_t streams;
     posix_spawn_file_actions_init(&streams);
@@ -157,6 +169,7 @@ void send_pose(sweepd::client::Connection& connection, std::uint32_t model_id,
 }
 
 double percentile(std::vector<double> values, double q) {
+  if (values.empty()) return std::numeric_limits<double>::quiet_NaN();
   std::sort(values.begin(), values.end());
   return values[static_cast<std::size_t>(q * static_cast<double>(values.size() - 1))];
 }
@@ -284,24 +297,30 @@ Throughput throughput(const Daemon& daemon, const std::vector<BenchPose>& poses,
 }
 
 // `clients` honest connections, each one pose at a time for `seconds`: every round trip, in ms.
+// A client the server refuses or drops stops and is counted in `failed`.
 std::vector<double> honest_round_trips(const Daemon& daemon, const std::vector<BenchPose>& poses,
-                                       int clients, double seconds) {
+                                       int clients, double seconds, std::atomic<int>& failed) {
   std::vector<std::vector<double>> times(static_cast<std::size_t>(clients));
   const Clock::time_point end = Clock::now() + std::chrono::duration_cast<Clock::duration>(
                                                    std::chrono::duration<double>(seconds));
   std::vector<std::thread> threads;
   for (int c = 0; c < clients; ++c) {
     threads.emplace_back([&, c]() {
-      sweepd::client::Connection connection(daemon.address());
-      connection.hello("", "server_bench honest");
-      const std::uint32_t model_id = connection.load_model("mannequin").model_id();
-      for (std::uint64_t sequence = 1; Clock::now() < end; ++sequence) {
-        const Clock::time_point start = Clock::now();
-        send_pose(connection, model_id, sequence, poses[(sequence + c) % poses.size()]);
-        connection.expect<pb::PosedVertices>();
-        times[static_cast<std::size_t>(c)].push_back(milliseconds_since(start));
+      try {
+        sweepd::client::Connection connection(daemon.address());
+        connection.hello("", "server_bench honest");
+        const std::uint32_t model_id = connection.load_model("mannequin").model_id();
+        for (std::uint64_t sequence = 1; Clock::now() < end; ++sequence) {
+          const Clock::time_point start = Clock::now();
+          send_pose(connection, model_id, sequence, poses[(sequence + c) % poses.size()]);
+          connection.expect<pb::PosedVertices>();
+          times[static_cast<std::size_t>(c)].push_back(milliseconds_since(start));
+        }
+        connection.close();
+      } catch (const std::exception& error) {
+        std::fprintf(stderr, "server_bench: an honest client stopped: %s\n", error.what());
+        ++failed;
       }
-      connection.close();
     });
   }
   for (std::thread& thread : threads) thread.join();
@@ -311,12 +330,19 @@ std::vector<double> honest_round_trips(const Daemon& daemon, const std::vector<B
   return all;
 }
 
+struct AttackScene {
+  std::vector<double> alone, attacked;  // honest round trips, ms
+  int failed_alone = 0, failed_attacked = 0;
+  double mib_alone = 0.0, mib_attacked = 0.0;  // the daemon's RSS at the end of each
+};
+
 // The same, alone and then beside 16 hostile connections of each kind.
-std::pair<std::vector<double>, std::vector<double>> under_attack(
-    const Daemon& daemon, const std::vector<BenchPose>& poses, std::uint32_t model_id,
-    double seconds) {
+AttackScene under_attack(const Daemon& daemon, const std::vector<BenchPose>& poses,
+                         std::uint32_t model_id, double seconds) {
   constexpr int kHonest = 4, kHostileEach = 16;
-  std::vector<double> alone = honest_round_trips(daemon, poses, kHonest, seconds);
+  std::atomic<int> failed_alone = 0, failed_attacked = 0;
+  std::vector<double> alone = honest_round_trips(daemon, poses, kHonest, seconds, failed_alone);
+  const double mib_alone = daemon.resident_mib();
   pb::PoseFields fields;
   fields.model_id = model_id;
   fields.rotations = poses[0].rotations;
@@ -325,7 +351,10 @@ std::pair<std::vector<double>, std::vector<double>> under_attack(
   const std::span<const std::uint8_t> frame =
       pb::finish_message(builder, pb::add_pose(builder, fields));
   const sweepd::bench::HostilePeers attackers(daemon.port(), frame, kHostileEach);
-  return {std::move(alone), honest_round_trips(daemon, poses, kHonest, seconds)};
+  std::vector<double> attacked =
+      honest_round_trips(daemon, poses, kHonest, seconds, failed_attacked);
+  return {std::move(alone), std::move(attacked), failed_alone,
+          failed_attacked,  mib_alone,           daemon.resident_mib()};
 }
 
 // The library's own time for the same poses: one thread, positions only.
@@ -377,7 +406,7 @@ int run(const Options& options) {
   std::vector<double> in_process;
   std::vector<Throughput> rates;
   std::uint32_t vertex_count = 0, model_id = 0;
-  std::pair<std::vector<double>, std::vector<double>> attack;
+  AttackScene attack;
   {
     const Daemon daemon(options, directory);
     {
@@ -428,14 +457,18 @@ int run(const Options& options) {
   }
   std::printf("\nserver RSS, %d clients / 1 client: %.2f\n", rates.back().clients,
               rates.back().server_mib / rates.front().server_mib);
-  const auto& [alone, attacked] = attack;
+  const auto& [alone, attacked, failed_alone, failed_attacked, mib_alone, mib_attacked] = attack;
   std::printf(
-      "\n| 4 honest clients, one pose at a time | round trip p50 ms | p99 ms |\n|---|---|---|\n");
-  std::printf("| alone | %.3f | %.3f |\n", percentile(alone, 0.5), percentile(alone, 0.99));
-  std::printf("| beside 64 hostile connections | %.3f | %.3f |\n", percentile(attacked, 0.5),
-              percentile(attacked, 0.99));
-  std::printf("\nhonest p99 beside the hostile ones / alone: %.2f (target <= 2)\n",
-              percentile(attacked, 0.99) / percentile(alone, 0.99));
+      "\n| 4 honest clients, one pose at a time | round trip p50 ms | p99 ms | server RSS MiB "
+      "|\n|---|---|---|---|\n");
+  std::printf("| alone | %.3f | %.3f | %.0f |\n", percentile(alone, 0.5), percentile(alone, 0.99),
+              mib_alone);
+  std::printf("| beside 64 hostile connections | %.3f | %.3f | %.0f |\n", percentile(attacked, 0.5),
+              percentile(attacked, 0.99), mib_attacked);
+  std::printf(
+      "\nhonest p99 beside the hostile ones / alone: %.2f (target <= 2); honest clients that "
+      "failed: %d alone, %d beside them\n",
+      percentile(attacked, 0.99) / percentile(alone, 0.99), failed_alone, failed_attacked);
   std::printf(
       "\n%d poses of cmu_01_01, float32 positions, loopback, %u hardware threads, load "
       "average %.1f; targets: p50 <= 2 ms, p99 <= 5 ms, >= 1000 poses/s, ratio <= 2\n",
