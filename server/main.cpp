@@ -1,10 +1,12 @@
 // sweepd: the deformation daemon. Usage: sweepd --help (server/config.h lists the flags).
+#include <malloc.h>
+
 #include <cstdio>
 #include <string>
 #include <vector>
 
-#include "server/config.h"
 #include "io/durable_file.h"
+#include "server/config.h"
 #include "server/log_event.h"
 #include "server/models/model_service.h"
 #include "server/transport/server.h"
@@ -12,6 +14,10 @@
 using namespace sweepd;
 
 int main(int argc, char** argv) {
+  // A fixed mmap threshold: buffers of 256 KiB and more (pose replies, frames being read) go
+  // back to the system when freed. glibc's default raises the threshold after the first such
+  // free, so later ones stayed in its arenas and the daemon's memory grew with its clients.
+  mallopt(M_MMAP_THRESHOLD, 256 * 1024);
   server::ServerConfig config;
   try {
     const std::vector<std::string_view> args(argv + 1, argv + argc);
@@ -45,7 +51,7 @@ int main(int argc, char** argv) {
     if (!config.port_file.empty()) {
       const std::string text = std::to_string(port) + "\n";
       io::write_file_durably(config.port_file,
-                                 {reinterpret_cast<const std::uint8_t*>(text.data()), text.size()});
+                             {reinterpret_cast<const std::uint8_t*>(text.data()), text.size()});
     }
     std::printf("sweepd listening port=%d\n", port);
     std::fflush(stdout);

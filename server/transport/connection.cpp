@@ -17,7 +17,6 @@ namespace {
 
 namespace pb = sweepd::protocol;
 constexpr std::size_t kReadChunkBytes = 64 * 1024;
-constexpr std::size_t kSpareBuilders = 4;
 
 std::uint64_t nanoseconds_since(std::chrono::steady_clock::time_point from) {
   return static_cast<std::uint64_t>(
@@ -434,13 +433,7 @@ void Connection::finish_pose(flatbuffers::FlatBufferBuilder builder, const PoseR
 // ---------------------------------------------------------------------------------------
 // Writing and closing.
 
-flatbuffers::FlatBufferBuilder Connection::take_builder() {
-  if (spare_builders_.empty()) return flatbuffers::FlatBufferBuilder(1024);
-  flatbuffers::FlatBufferBuilder builder = std::move(spare_builders_.back());
-  spare_builders_.pop_back();
-  builder.Clear();
-  return builder;
-}
+flatbuffers::FlatBufferBuilder Connection::take_builder() { return environment_.builders.take(); }
 
 void Connection::send(flatbuffers::FlatBufferBuilder builder) {
   if (closed_) return;
@@ -507,9 +500,7 @@ void Connection::write_next() {
                       if (self->closed_) return;  // close_now gave the queue's bytes back
                       self->environment_.buffer_budget.give_back(size);
                       self->queued_reply_bytes_ -= size;
-                      if (self->spare_builders_.size() < kSpareBuilders) {
-                        self->spare_builders_.push_back(std::move(self->outgoing_.front()));
-                      }
+                      self->environment_.builders.give_back(std::move(self->outgoing_.front()));
                       self->outgoing_.pop_front();
                       if (error) {
                         self->close_now();

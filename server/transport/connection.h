@@ -45,6 +45,7 @@
 #include "server/handlers/request_error.h"
 #include "server/models/model_service.h"
 #include "server/transport/connection_counters.h"
+#include "server/transport/reply_builder_pool.h"
 
 namespace sweepd::server {
 
@@ -58,6 +59,7 @@ struct ConnectionEnvironment {
   std::function<std::vector<ConnectionCounters>()> all_counters;
   std::map<std::uint32_t, ModelCounters> model_counters;
   protocol::BufferBudget& buffer_budget;  // frames being read and replies waiting, all clients
+  ReplyBuilderPool& builders;             // idle reply builders, all clients
 };
 
 class Connection : public std::enable_shared_from_this<Connection> {
@@ -137,7 +139,6 @@ class Connection : public std::enable_shared_from_this<Connection> {
   std::uint32_t dropped_since_reply_ = 0;
   std::deque<flatbuffers::FlatBufferBuilder> outgoing_;
   bool writing_ = false;
-  std::vector<flatbuffers::FlatBufferBuilder> spare_builders_;
   PosedVerticesWriter writer_;  // used by one worker job at a time
   ConnectionCounters counters_;
 };

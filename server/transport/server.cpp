@@ -27,9 +27,11 @@ Server::Server(const ServerConfig& config, ModelService& models)
       workers_(worker_count(config)),
       position_maps_(config.position_maps != 0),
       buffer_budget_(config.max_buffered_bytes),
+      // Enough idle builders for every worker's reply and the I/O thread's.
+      builders_(2 * static_cast<std::size_t>(worker_count(config)) + 4),
       signals_(io_, SIGTERM, SIGINT),
       environment_{config, models, workers_, position_maps_, std::chrono::steady_clock::now(),
-                   {},     {},     {},       buffer_budget_} {
+                   {},     {},     {},       buffer_budget_, builders_} {
   environment_.on_close = [this](std::uint64_t id) {
     // Deferred: the connection may still be on the call stack.
     asio::post(io_, [this, id]() { connections_.erase(id); });

@@ -45,6 +45,7 @@ class Server {
   asio::thread_pool workers_;
   PositionMapService position_maps_;
   protocol::BufferBudget buffer_budget_;
+  ReplyBuilderPool builders_;
   asio::signal_set signals_;
   std::optional<asio::ip::tcp::acceptor> tcp_acceptor_;
   std::optional<asio::local::stream_protocol::acceptor> unix_acceptor_;
