@@ -3,7 +3,7 @@
 BUILD := build/release
 JOBS ?= $(shell nproc)
 
-.PHONY: deps build test demo bench clean
+.PHONY: deps build test demo bench fuzz clean
 
 deps:
 	bash deploy/install-deps.sh
@@ -20,6 +20,11 @@ demo: build
 
 bench: build
 	bash bench/run_benchmarks.sh $(BUILD)
+
+# libFuzzer over every untrusted input (fuzz/run_fuzzers.sh): FUZZ_SECONDS per target.
+FUZZ_SECONDS ?= 60
+fuzz: deps
+	bash fuzz/run_fuzzers.sh $(FUZZ_SECONDS)
 
 clean:
 	rm -rf build

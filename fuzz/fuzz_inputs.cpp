@@ -1,0 +1,167 @@
+#include "fuzz/fuzz_inputs.h"
+
+#include <unistd.h>
+
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include "deform/binding/bind.h"
+#include "deform/edits/rest_key_edit.h"
+#include "deform/job/deform_job.h"
+#include "deform/rig/rig_map.h"
+#include "io/bvh_load.h"
+#include "io/gltf_load.h"
+#include "io/joint_name_map_json.h"
+#include "io/key_ellipse_edits_json.h"
+#include "io/pose_json.h"
+#include "io/rig_map_json.h"
+#include "io/sweepbind.h"
+#include "mannequin/mannequin.h"
+#include "protocol/framing.h"
+#include "server/config.h"
+#include "server/handlers/model_requests.h"
+#include "server/handlers/pose_request.h"
+#include "server/handlers/position_map_service.h"
+
+namespace sweepd::fuzz {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The small mannequin, bound once: the model poses, edits and JSON inputs are read against.
+const server::ModelHandle& model() {
+  static const server::ModelHandle handle = [] {
+    auto registered = std::make_shared<server::RegisteredModel>();
+    const deform::Model mannequin = mannequin::make_mannequin({.target_vertices = 2000});
+    registered->id = 1;
+    registered->name = "mannequin";
+    registered->bound = deform::bind(mannequin, deform::detect_rig_map(mannequin.skeleton));
+    registered->runtime = std::make_shared<const deform::ModelRuntime>(registered->bound);
+    return server::ModelHandle(registered);
+  }();
+  return handle;
+}
+
+// The loaders that read files get the bytes through one scratch file per process.
+fs::path scratch_file(std::span<const std::uint8_t> bytes, const std::string& extension) {
+  const fs::path file =
+      fs::temp_directory_path() / ("sweepd_fuzz_" + std::to_string(getpid()) + extension);
+  std::ofstream(file, std::ios::binary | std::ios::trunc)
+      .write(reinterpret_cast<const char*>(bytes.data()),
+             static_cast<std::streamsize>(bytes.size()));
+  return file;
+}
+
+// Runs `parse`: true when it went through, false for a clean refusal (a std::exception).
+template <typename Parse>
+bool accepted(Parse&& parse) {
+  try {
+    parse();
+    return true;
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+void decode_message(const protocol::Message& message) {
+  switch (message.body_type()) {
+    case protocol::Body::Pose: {
+      server::PoseRequest request;
+      if (auto problem = server::read_pose_request(*message.body_as_Pose(), model(), 1, request))
+        throw std::invalid_argument(problem->message);
+      std::vector<glm::vec3> positions(model()->bound.model.vertex_count());
+      thread_local deform::DeformContext context;
+      request.job(1, positions, {}).run_validated(context);
+      break;
+    }
+    case protocol::Body::LoadModel:
+      server::read_load_model(*message.body_as_LoadModel());
+      break;
+    case protocol::Body::EditKeyEllipse: {
+      const server::KeyEllipseEditWork work =
+          server::read_key_ellipse_edit(*message.body_as_EditKeyEllipse());
+      deform::BoundModel copy = model()->bound;
+      if (std::string problem = deform::apply_rest_key_edit(copy, work.edit); !problem.empty())
+        throw std::invalid_argument(problem);
+      break;
+    }
+    case protocol::Body::PositionMapRequest:
+      if (std::string problem = server::check_position_map_request(
+              *message.body_as_PositionMapRequest(), model()->bound.model);
+          !problem.empty())
+        throw std::invalid_argument(problem);
+      break;
+    default:
+      break;
+  }
+}
+
+}  // namespace
+
+bool fuzz_frames(std::span<const std::uint8_t> bytes) {
+  if (bytes.empty()) return false;
+  // The first byte sets how the stream is cut into reads: 1 to 256 bytes at a time.
+  const std::size_t piece = static_cast<std::size_t>(bytes[0]) + 1;
+  bytes = bytes.subspan(1);
+  protocol::BufferBudget budget(1 << 20);
+  protocol::FrameReader reader(256 * 1024, &budget);
+  bool whole = true;  // every frame whole and decoded
+  for (std::size_t at = 0; at < bytes.size(); at += piece) {
+    std::span<const std::uint8_t> input = bytes.subspan(at, std::min(piece, bytes.size() - at));
+    for (protocol::FrameEvent event = reader.read(input);
+         event.status != protocol::FrameStatus::kPending; event = reader.read(input)) {
+      // Every frame is decoded, whatever happened to the ones before.
+      const bool decoded = event.status == protocol::FrameStatus::kFrame &&
+                           accepted([&] { decode_message(*event.message); });
+      whole = whole && decoded;
+    }
+  }
+  return whole && !reader.mid_frame();
+}
+
+bool fuzz_gltf(std::span<const std::uint8_t> bytes) {
+  const fs::path file = scratch_file(bytes, ".glb");
+  return accepted([&] { io::load_gltf(file, io::GltfUriPolicy::self_contained()); });
+}
+
+bool fuzz_bvh(std::span<const std::uint8_t> bytes) {
+  const std::string_view text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+  return accepted([&] { io::parse_bvh(text, "fuzz.bvh"); });
+}
+
+bool fuzz_sweepbind(std::span<const std::uint8_t> bytes) {
+  return accepted([&] { io::decode_sweepbind(bytes, "fuzz.sweepbind"); });
+}
+
+bool fuzz_json(std::span<const std::uint8_t> bytes) {
+  if (bytes.empty()) return false;
+  const std::uint8_t kind = bytes[0] % 5;
+  const fs::path file = scratch_file(bytes.subspan(1), ".json");
+  const deform::Skeleton& skeleton = model()->bound.model.skeleton;
+  return accepted([&] {
+    switch (kind) {
+      case 0:
+        io::load_rig_map_json(file, skeleton);
+        break;
+      case 1:
+        io::load_pose_json(file, skeleton);
+        break;
+      case 2:
+        io::load_key_ellipse_edits_json(file, model()->bound);
+        break;
+      case 3:
+        io::load_joint_name_map_json(file);
+        break;
+      default: {
+        server::ServerConfig config;
+        server::apply_config_file(file, config);
+      }
+    }
+  });
+}
+
+}  // namespace sweepd::fuzz

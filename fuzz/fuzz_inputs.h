@@ -1,0 +1,29 @@
+// The fuzzed entry points of sweepd's parsers, one per untrusted input, each taking raw bytes:
+//   fuzz_frames          protocol::FrameReader over the bytes (split where the first byte
+//                        says), every whole frame decoded as the daemon would: a Pose validated
+//                        and deformed, LoadModel and EditKeyEllipse read (the edit applied to a
+//                        copy of the model), PositionMapRequest checked
+//   fuzz_gltf            io::load_gltf, as an upload (self-contained: no file but itself)
+//   fuzz_bvh             io::parse_bvh
+//   fuzz_sweepbind       io::decode_sweepbind
+//   fuzz_json            the first byte picks the JSON input: rig map, pose, key-ellipse edits,
+//                        joint-name map, sweepd's config file
+// Each returns true when the input was accepted whole, false when it was refused cleanly (a
+// std::exception naming the problem: the expected outcome for bad input); anything else — a
+// crash, a sanitizer report, an exception the callers would not catch — is a finding.
+// fuzz/<name>_fuzzer.cpp wraps each for libFuzzer; tests/fuzz/fuzz_inputs_test.cpp replays
+// fuzz/seeds/ and fuzz/regressions/ through them in every test run.
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+namespace sweepd::fuzz {
+
+bool fuzz_frames(std::span<const std::uint8_t> bytes);
+bool fuzz_gltf(std::span<const std::uint8_t> bytes);
+bool fuzz_bvh(std::span<const std::uint8_t> bytes);
+bool fuzz_sweepbind(std::span<const std::uint8_t> bytes);
+bool fuzz_json(std::span<const std::uint8_t> bytes);
+
+}  // namespace sweepd::fuzz

@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# Fuzzes each of sweepd's untrusted inputs with libFuzzer (fuzz/fuzz_inputs.h) for a given time.
+# Usage: fuzz/run_fuzzers.sh [seconds per target, default 60] [target ...]
+#   Builds the `fuzz` preset (clang, ASan + UBSan) into build/fuzz, seeds each corpus from
+#   sweepd's own writers (make_seeds) the first time, keeps the corpora in build/fuzz/corpus so
+#   time adds up over runs, and appends each run's seconds to build/fuzz/fuzzed_seconds.tsv
+#   (target, seconds, executions, corpus size, crashes). A crash leaves its input in
+#   build/fuzz/crashes/<target>/; fix it and copy the input to fuzz/regressions/<target>/,
+#   which every test run replays (tests/fuzz/fuzz_inputs_test.cpp). Exit 1 when a target crashed.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds=${1:-60}
+shift || true
+targets=("$@")
+[ ${#targets[@]} -gt 0 ] || targets=(frames gltf bvh sweepbind json)
+build=build/fuzz
+cmake --preset fuzz >/dev/null
+cmake --build "$build" -j "$(nproc)" --target make_seeds "${targets[@]/%/_fuzzer}" >/dev/null
+[ -d "$build/corpus" ] || "$build/fuzz/make_seeds" "$build/corpus" >/dev/null
+failed=0
+for target in "${targets[@]}"; do
+  corpus="$build/corpus/$target" crashes="$build/crashes/$target"
+  mkdir -p "$corpus" "$crashes"
+  log="$build/$target.log"
+  # ASan's leak check stays on; -rss_limit_mb keeps a runaway allocation a finding, not a hang.
+  if "$build/fuzz/${target}_fuzzer" "$corpus" -max_total_time="$seconds" -timeout=10 \
+      -rss_limit_mb=2048 -max_len=1048576 -artifact_prefix="$crashes/" -print_final_stats=1 \
+      >"$log" 2>&1; then status=ok; else status=CRASH; failed=1; fi
+  runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo 0)
+  size=$(find "$corpus" -type f | wc -l)
+  found=$(find "$crashes" -type f | wc -l)
+  printf '%s\t%s\t%s\t%s\t%s\n' "$target" "$seconds" "$runs" "$size" "$found" \
+    >>"$build/fuzzed_seconds.tsv"
+  printf '%-10s %s  %ss  %s executions  corpus %s  crash inputs %s\n' "$target" "$status" \
+    "$seconds" "$runs" "$size" "$found"
+  [ "$status" = ok ] || tail -30 "$log"
+done
+awk -F'\t' '{s[$1]+=$2} END {for (t in s) printf "fuzzed so far: %-10s %.2f h\n", t, s[t]/3600}' \
+  "$build/fuzzed_seconds.tsv"
+exit $failed

@@ -1,0 +1,140 @@
+#include "fuzz/seed_inputs.h"
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+
+#include "deform/binding/bind.h"
+#include "deform/model/pose.h"
+#include "deform/rig/rig_map.h"
+#include "io/gltf_save.h"
+#include "io/pose_json.h"
+#include "io/rig_map_json.h"
+#include "io/sweepbind.h"
+#include "mannequin/mannequin.h"
+#include "protocol/messages.h"
+
+namespace sweepd::fuzz {
+namespace {
+
+namespace fs = std::filesystem;
+namespace pb = protocol;
+
+Input read_bytes(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return Input(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+Input as_input(const std::string& text) { return Input(text.begin(), text.end()); }
+
+// A JSON input for fuzz_json: its kind byte, then the text.
+Input json_input(std::uint8_t kind, const std::string& text) {
+  Input input(1 + text.size(), kind);
+  std::copy(text.begin(), text.end(), input.begin() + 1);
+  return input;
+}
+
+void append(Input& stream, std::span<const std::uint8_t> frame) {
+  stream.insert(stream.end(), frame.begin(), frame.end());
+}
+
+// A session as a client sends it, cut into reads of `piece` bytes (fuzz_frames' first byte).
+Input session(const deform::BoundModel& bound, const Input& glb, std::uint8_t piece) {
+  Input stream(1, piece);
+  flatbuffers::FlatBufferBuilder builder;
+  append(stream, pb::build_hello(builder, "token", "fuzz seed"));
+  const deform::Pose rest = deform::rest_pose(bound.model.skeleton);
+  std::vector<pb::Quat> rotations;
+  for (const glm::quat& q : rest.local_rotations) rotations.emplace_back(q.x, q.y, q.z, q.w);
+  pb::PoseFields fields;
+  fields.model_id = 1;
+  fields.sequence = 7;
+  fields.rotations = rotations;
+  fields.features = pb::Features::Folding | pb::Features::Volume;
+  builder.Clear();
+  append(stream, pb::finish_message(builder, pb::add_pose(builder, fields), 1));
+  builder.Clear();
+  append(stream, pb::finish_message(builder, pb::CreateLoadModelDirect(builder, "seed", &glb), 2));
+  const pb::Vec3 offset(0.001f, 0.0f, 0.0f);
+  builder.Clear();
+  append(stream, pb::finish_message(builder,
+                                    pb::CreateEditKeyEllipseDirect(builder, 1, "left_arm", 1,
+                                                                   &offset, 0.05f, 0.0f, 0.1f),
+                                    3));
+  builder.Clear();
+  const auto map_pose = pb::add_pose(builder, fields);
+  append(stream,
+         pb::finish_message(builder, pb::CreatePositionMapRequest(builder, map_pose, 64, 64), 4));
+  return stream;
+}
+
+// The mannequin's skeleton as a BVH clip of two frames (rest, then every joint turned a little).
+std::string bvh_of(const deform::Skeleton& skeleton) {
+  std::ostringstream text;
+  text << "HIERARCHY\n";
+  std::vector<int> depth(skeleton.joints.size(), 0);
+  // Depth-first order is the skeleton's order when each joint's children follow it; the
+  // mannequin is built that way. Close each joint's braces when the next one is shallower.
+  for (std::size_t j = 0; j < skeleton.joints.size(); ++j) {
+    const deform::Joint& joint = skeleton.joints[j];
+    depth[j] = joint.parent < 0 ? 0 : depth[static_cast<std::size_t>(joint.parent)] + 1;
+    const glm::vec3 t = joint.rest_translation * 100.0f;
+    text << (joint.parent < 0 ? "ROOT " : "JOINT ") << joint.name << "\n{\n  OFFSET " << t.x << " "
+         << t.y << " " << t.z << "\n  CHANNELS "
+         << (joint.parent < 0 ? "6 Xposition Yposition Zposition " : "3 ")
+         << "Zrotation Xrotation Yrotation\n";
+    const int next_depth =
+        j + 1 < skeleton.joints.size()
+            ? (skeleton.joints[j + 1].parent < 0
+                   ? 0
+                   : depth[static_cast<std::size_t>(skeleton.joints[j + 1].parent)] + 1)
+            : 0;
+    if (next_depth <= depth[j]) text << "  End Site\n  {\n    OFFSET 0 5 0\n  }\n";
+    for (int close = depth[j]; close >= next_depth; --close) text << "}\n";
+  }
+  text << "MOTION\nFrames: 2\nFrame Time: 0.0083333\n";
+  for (int frame = 0; frame < 2; ++frame) {
+    text << "0 90 0";
+    for (std::size_t j = 0; j < skeleton.joints.size(); ++j) text << (frame ? " 5 -3 2" : " 0 0 0");
+    text << "\n";
+  }
+  return text.str();
+}
+
+}  // namespace
+
+std::map<std::string, std::vector<Input>> seed_inputs() {
+  const deform::Model model = mannequin::make_mannequin({.target_vertices = 2000});
+  const deform::RigMap rig = deform::detect_rig_map(model.skeleton);
+  const deform::BoundModel bound = deform::bind(model, rig);
+  const fs::path directory =
+      fs::temp_directory_path() / ("sweepd_fuzz_seeds_" + std::to_string(getpid()));
+  fs::create_directories(directory);
+  io::save_gltf(model, directory / "m.glb");
+  const Input glb = read_bytes(directory / "m.glb");
+  io::save_rig_map_json(rig, model.skeleton, directory / "rig.json");
+  deform::Pose pose = deform::rest_pose(model.skeleton);
+  io::save_pose_json(pose, model.skeleton, directory / "pose.json");
+  std::map<std::string, std::vector<Input>> seeds;
+  seeds["frames"] = {session(bound, glb, 255), session(bound, glb, 0)};
+  seeds["gltf"] = {glb};
+  seeds["bvh"] = {as_input(bvh_of(model.skeleton))};
+  seeds["sweepbind"] = {io::encode_sweepbind(bound)};
+  const Input rig_bytes = read_bytes(directory / "rig.json");
+  const Input pose_bytes = read_bytes(directory / "pose.json");
+  seeds["json"] = {
+      json_input(0, std::string(rig_bytes.begin(), rig_bytes.end())),
+      json_input(1, std::string(pose_bytes.begin(), pose_bytes.end())),
+      json_input(2, R"({"edits": [{"part": "left arm", "key": 1, "joint": "LeftForeArm",
+        "samples": [{"angle": 90, "offset": [0, 0.01, 0], "rotation": [0, 0, 30],
+                     "scale": [1.0, 1.1]}]}]})"),
+      json_input(3, R"({"LFingers": "LeftHand", "Head": null})"),
+      json_input(4, R"({"port": 7000, "max_models": 4, "token": "t"})")};
+  fs::remove_all(directory);
+  return seeds;
+}
+
+}  // namespace sweepd::fuzz

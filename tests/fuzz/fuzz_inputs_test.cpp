@@ -1,0 +1,84 @@
+// The fuzzed entry points (fuzz/fuzz_inputs.h) in every test run: each target's seeds (valid
+// inputs from sweepd's own writers) and every input a fuzzer once crashed on
+// (fuzz/regressions/<target>/, kept for good) go through them without a crash or an escaping
+// exception; and the seeds are valid, so the fuzzers start from inputs the parsers accept.
+#include "fuzz/fuzz_inputs.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iterator>
+
+#include "fuzz/seed_inputs.h"
+#include "protocol/framing.h"
+
+namespace sweepd::fuzz {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::map<std::string, std::function<bool(std::span<const std::uint8_t>)>> kTargets = {
+    {"frames", fuzz_frames},
+    {"gltf", fuzz_gltf},
+    {"bvh", fuzz_bvh},
+    {"sweepbind", fuzz_sweepbind},
+    {"json", fuzz_json}};
+
+const std::map<std::string, std::vector<Input>>& seeds() {
+  static const auto all = seed_inputs();
+  return all;
+}
+
+TEST(FuzzInputs, EverySeedIsAnInputItsParserAccepts) {
+  // Not refusals: a fuzzer mutating a valid input reaches the code past the first check.
+  for (const auto& [target, run] : kTargets) {
+    ASSERT_TRUE(seeds().contains(target)) << target;
+    EXPECT_FALSE(seeds().at(target).empty()) << target;
+    for (std::size_t i = 0; i < seeds().at(target).size(); ++i)
+      EXPECT_TRUE(run(seeds().at(target)[i])) << target << " seed " << i;
+  }
+}
+
+TEST(FuzzInputs, DamagedInputsAreRefusedNotAccepted) {
+  // The same entry points say no: a truncated .glb, .sweepbind and frame stream.
+  for (const std::string target : {"frames", "gltf", "sweepbind"}) {
+    Input cut = seeds().at(target).front();
+    cut.resize(cut.size() / 2);
+    EXPECT_FALSE(kTargets.at(target)(cut)) << target;
+  }
+}
+
+TEST(FuzzInputs, TheFramesSeedIsAWholeSession) {
+  // Every frame whole and verified (the first byte is the read size).
+  const Input& frames = seeds().at("frames").front();
+  std::span<const std::uint8_t> input(frames.data() + 1, frames.size() - 1);
+  protocol::FrameReader reader;
+  int whole = 0;
+  for (protocol::FrameEvent event = reader.read(input);
+       event.status != protocol::FrameStatus::kPending; event = reader.read(input)) {
+    EXPECT_EQ(event.status, protocol::FrameStatus::kFrame) << event.reason;
+    ++whole;
+  }
+  EXPECT_EQ(whole, 5) << "Hello, Pose, LoadModel, EditKeyEllipse, PositionMapRequest";
+}
+
+TEST(FuzzInputs, EveryRegressionStillPasses) {
+  const fs::path root = fs::path(SWEEPD_SOURCE_DIR) / "fuzz" / "regressions";
+  int replayed = 0;
+  for (const auto& [target, run] : kTargets) {
+    const fs::path folder = root / target;
+    if (!fs::is_directory(folder)) continue;
+    for (const fs::directory_entry& entry : fs::directory_iterator(folder)) {
+      std::ifstream in(entry.path(), std::ios::binary);
+      const Input bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+      EXPECT_NO_THROW(run(bytes)) << entry.path();  // accepted or refused, never a crash
+      ++replayed;
+    }
+  }
+  std::printf("%d fuzzer regressions replayed\n", replayed);
+}
+
+}  // namespace
+}  // namespace sweepd::fuzz
