@@ -5,6 +5,11 @@
 
 #include "fuzz/fuzz_inputs.h"
 
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+  sweepd::fuzz::prepare();
+  return 0;
+}
+
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   sweepd::fuzz::fuzz_frames({data, size});  // accepted or refused: both are fine
   return 0;

@@ -102,6 +102,8 @@ void decode_message(const protocol::Message& message) {
 
 }  // namespace
 
+void prepare() { model(); }
+
 bool fuzz_frames(std::span<const std::uint8_t> bytes) {
   if (bytes.empty()) return false;
   // The first byte sets how the stream is cut into reads: 1 to 256 bytes at a time.

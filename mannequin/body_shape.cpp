@@ -27,7 +27,7 @@ bool box_contains(const glm::vec3& lo, const glm::vec3& hi, const glm::vec3& p) 
 }  // namespace
 
 BodyShape::BodyShape(std::vector<BodyPart> parts, float blend_radius, float minimum_half_axis)
-    : blend_radius_(blend_radius), minimum_half_axis_(minimum_half_axis) {
+    : blend_radius_(blend_radius) {
   // Beyond this distance from its box a part cannot change the union's sign or fillets, even
   // for the flattest part (half-axis ratio about 1:3) whose value underestimates the distance.
   outside_value_ = std::max(0.08f, 4.0f * blend_radius);

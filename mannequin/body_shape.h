@@ -83,7 +83,6 @@ class BodyShape {
   std::vector<PreparedPart> parts_;
   std::vector<int> all_parts_;  // 0 .. part_count() - 1
   float blend_radius_;
-  float minimum_half_axis_;
   float outside_value_;  // value where no part reaches
   glm::vec3 lower_{0.0f}, upper_{0.0f};
 };
