@@ -33,11 +33,6 @@ server::ModelHandle add(server::ModelRegistry& registry, const std::string& name
   return registry.add(registry.claim(name), name, small_bound_mannequin(), 1);
 }
 
-std::vector<std::uint8_t> read_bytes(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
 void write_bytes(const fs::path& file, std::span<const std::uint8_t> bytes) {
   std::ofstream out(file, std::ios::binary | std::ios::trunc);
   out.write(reinterpret_cast<const char*>(bytes.data()),
