@@ -20,6 +20,20 @@ std::span<const std::uint8_t> as_bytes(const std::string& text) {
 
 std::string sweepbind_name(std::uint32_t id) { return std::to_string(id) + ".sweepbind"; }
 
+// Rewrites index.json durably: `models` by id, and the next id to give.
+void write_index(const fs::path& store_dir, std::span<const ModelHandle> models,
+                 std::uint32_t next_id) {
+  nlohmann::json entries = nlohmann::json::array();
+  for (const ModelHandle& model : models) {
+    entries.push_back({{"id", model->id},
+                       {"name", model->name},
+                       {"file", sweepbind_name(model->id)},
+                       {"bind_time_ns", model->bind_time_ns}});
+  }
+  const nlohmann::json index = {{"version", 1}, {"next_id", next_id}, {"models", entries}};
+  io::write_file_durably(store_dir / "index.json", as_bytes(index.dump(2) + "\n"));
+}
+
 // A model the store holds: from index.json, or from its file when the index is rebuilt.
 struct IndexEntry {
   std::uint32_t id = 0;
@@ -127,7 +141,7 @@ RestoreReport ModelRegistry::restore() {
   }
   std::sort(models_.begin(), models_.end(),
             [](const ModelHandle& a, const ModelHandle& b) { return a.get()->id < b.get()->id; });
-  if (!report.problems.empty() || report.index_rebuilt) write_index();
+  if (!report.problems.empty() || report.index_rebuilt) write_index(store_dir_, models_, next_id_);
   return report;
 }
 
@@ -167,18 +181,6 @@ void ModelRegistry::check_room(const std::string& name) const {
   }
 }
 
-void ModelRegistry::write_index() const {
-  nlohmann::json entries = nlohmann::json::array();
-  for (const ModelHandle& model : models_) {
-    entries.push_back({{"id", model->id},
-                       {"name", model->name},
-                       {"file", sweepbind_name(model->id)},
-                       {"bind_time_ns", model->bind_time_ns}});
-  }
-  const nlohmann::json index = {{"version", 1}, {"next_id", next_id_}, {"models", entries}};
-  io::write_file_durably(store_dir_ / "index.json", as_bytes(index.dump(2) + "\n"));
-}
-
 ModelRegistry::StoreSlot ModelRegistry::claim(const std::string& name) {
   std::unique_lock store_lock(store_mutex_);
   std::lock_guard lock(mutex_);
@@ -196,8 +198,15 @@ ModelHandle ModelRegistry::add(StoreSlot slot, const std::string& name, deform::
   // The runtime (poser tables, collision regions, proxies) is built before taking the lock, so
   // lookups do not wait for it.
   model->runtime = std::make_shared<const deform::ModelRuntime>(model->bound);
+  // Both files are durable before the model is visible, and written outside the lookups'
+  // lock: no client sees a model that a crash could take back, and lookups do not wait for an
+  // fsync. The slot keeps every other add out, so models() is the index's list (an edit
+  // changes no entry).
+  std::vector<ModelHandle> listed = models();
+  listed.push_back(model);
   try {
     io::save_sweepbind(model->bound, slot.file(".sweepbind"));
+    write_index(store_dir_, listed, model->id + 1);
   } catch (const std::exception& error) {
     throw ModelError(ErrorCode::Internal,
                      "model '" + name + "' could not be stored: " + std::string(error.what()));
@@ -206,13 +215,6 @@ ModelHandle ModelRegistry::add(StoreSlot slot, const std::string& name, deform::
   // The slot kept every other add out, so the claim's room and name still hold.
   next_id_ = model->id + 1;
   models_.push_back(model);
-  try {
-    write_index();
-  } catch (const std::exception& error) {
-    models_.pop_back();
-    throw ModelError(ErrorCode::Internal,
-                     "model '" + name + "' could not be stored: " + std::string(error.what()));
-  }
   return model;
 }
 

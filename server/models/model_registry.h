@@ -3,10 +3,10 @@
 // Store layout (store_dir): <id>.sweepbind per model (io::save_sweepbind: tmp + fsync +
 // rename, CRC-checked) and index.json {"version":1,"next_id":N,"models":[{"id","name",
 // "file","bind_time_ns"}]}, rewritten the same durable way after each .sweepbind. A model is
-// acknowledged only once both are on disk, so a restart — even after kill -9 — finds every
-// acknowledged model and loads it without rebinding. Uploaded .glb bytes are kept as
-// <id>.glb beside it (the source of the binding), a client's rig map as <id>.rig.json.
-// An edit rewrites <id>.sweepbind the same way before it is acknowledged.
+// acknowledged, and visible to any client, only once both are on disk, so a restart — even
+// after kill -9 — finds every acknowledged model and loads it without rebinding. Uploaded .glb
+// bytes are kept as <id>.glb beside it (the source of the binding), a client's rig map as
+// <id>.rig.json. An edit rewrites <id>.sweepbind the same way before it is acknowledged.
 //
 // restore() is where a damaged store is mended, never by deleting what it cannot read:
 // FILE.tmp files (a crash before a rename: never a committed state) are removed; a .sweepbind
@@ -123,7 +123,6 @@ class ModelRegistry {
 
  private:
   void check_room(const std::string& name) const;  // caller holds mutex_
-  void write_index() const;                        // caller holds mutex_
 
   std::filesystem::path store_dir_;
   std::uint32_t max_models_;

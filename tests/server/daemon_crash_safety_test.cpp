@@ -1,11 +1,12 @@
 // sweepd's crash safety, measured: the daemon is killed with SIGKILL at 20 random moments while
-// two clients upload small models and edit key ellipses of the same models. After each restart
-// on the same store: every acknowledged model is there with its id, name and vertex count; its
-// .sweepbind passes its checksum; every acknowledged edit is in effect; a model that was never
-// acknowledged either is absent or loads whole; nothing is quarantined (a kill never leaves a
-// damaged committed file); and the daemon poses every model exactly as the library poses its
-// stored binding. The seed is printed; SWEEPD_KILL_SEED=<seed> runs the same random choices again
-// (the kill moments fall where the scheduler puts them, so a run is never replayed exactly).
+// two clients upload small models, list them and edit key ellipses of the same models. After
+// each restart on the same store: every acknowledged model (its upload answered, or listed to
+// a client) is there with its id, name and vertex count; its .sweepbind passes its checksum;
+// every acknowledged edit is in effect; a model that was never acknowledged either is absent or
+// loads whole; nothing is quarantined (a kill never leaves a damaged committed file); and the
+// daemon poses every model exactly as the library poses its stored binding. The seed is
+// printed; SWEEPD_KILL_SEED=<seed> runs the same random choices again (the kill moments fall
+// where the scheduler puts them, so a run is never replayed exactly).
 #include <gtest/gtest.h>
 
 #include <array>
@@ -59,7 +60,9 @@ using KeySlot = std::tuple<std::uint32_t, std::string, std::uint32_t>;  // model
 
 // What one client saw before the kill: what was acknowledged, and what was sent unanswered.
 struct ClientRecord {
-  std::vector<StoredModel> models;
+  std::vector<StoredModel> models;  // acknowledged uploads (ModelInfo)
+  std::vector<StoredModel> listed;  // in a ModelList: a model a client sees must last too
+  int lists = 0;
   std::vector<KeyEdit> edits;  // in the order acknowledged
   std::optional<std::string> pending_upload;
   std::optional<KeyEdit> pending_edit;
@@ -79,8 +82,9 @@ const T* reply(FrameClient& client, ClientRecord& record) {
   return nullptr;
 }
 
-// One client until the kill: uploads (a third of its requests) and edits, one at a time;
-// `acknowledged` counts the replies of all clients.
+// One client until the kill, one request at a time: uploads (a third), model lists (a sixth;
+// the other client's models join those this one edits) and edits; `acknowledged` counts the
+// replies of all clients.
 void run_client(int port, int client, std::uint64_t seed, int round,
                 std::vector<std::uint32_t> models,
                 const std::vector<std::vector<std::uint8_t>>& glbs, ClientRecord& record,
@@ -92,7 +96,8 @@ void run_client(int port, int client, std::uint64_t seed, int round,
   if (!reply<pb::Welcome>(connection, record)) return;
   for (int n = 0;; ++n) {
     builder.Clear();
-    if (models.empty() || random() % 3 == 0) {
+    const std::uint64_t choice = random() % 6;
+    if (models.empty() || choice < 2) {
       const std::string name =
           "c" + std::to_string(client) + "_r" + std::to_string(round) + "_" + std::to_string(n);
       const std::vector<std::uint8_t>& glb = glbs[random() % glbs.size()];
@@ -105,6 +110,17 @@ void run_client(int port, int client, std::uint64_t seed, int round,
       record.models.push_back({info->model_id(), info->name()->str(), info->vertex_count()});
       ++acknowledged;
       models.push_back(info->model_id());
+    } else if (choice == 2) {
+      connection.send_bytes(pb::finish_message(builder, pb::CreateListModels(builder), 4));
+      const pb::ModelList* list = reply<pb::ModelList>(connection, record);
+      if (!list) return;
+      for (const pb::ModelSummary* m : *list->models()) {
+        record.listed.push_back({m->model_id(), m->name()->str(), m->vertex_count()});
+        if (std::find(models.begin(), models.end(), m->model_id()) == models.end())
+          models.push_back(m->model_id());
+      }
+      ++record.lists;
+      ++acknowledged;
     } else {
       std::uniform_real_distribution<float> half_axis(0.03f, 0.09f);
       KeyEdit edit{models[random() % models.size()], kSweepsOf[client][random() % 2],
@@ -143,11 +159,10 @@ class StoreExpectations {
  public:
   // After a kill: the acknowledgements become promises; what was pending may or may not be kept.
   void add(const ClientRecord& record) {
-    for (const StoredModel& model : record.models) {
-      EXPECT_FALSE(models_.contains(model.id)) << "id " << model.id << " acknowledged twice";
-      models_[model.id] = model;
-      ++acknowledged_models_;
-    }
+    for (const StoredModel& model : record.models) promise(model);
+    for (const StoredModel& model : record.listed) promise(model);
+    acknowledged_models_ += static_cast<int>(record.models.size());
+    lists_ += record.lists;
     for (const KeyEdit& edit : record.edits) {
       keys_[{edit.model, edit.sweep, edit.key}] = {{edit.a, edit.b}};
       ++acknowledged_edits_;
@@ -225,6 +240,7 @@ class StoreExpectations {
   }
 
   int acknowledged_models() const { return acknowledged_models_; }
+  int lists() const { return lists_; }
   int acknowledged_edits() const { return acknowledged_edits_; }
   int unacknowledged_kept() const { return unacknowledged_kept_; }
   int edits_checked() const { return edits_checked_; }
@@ -234,6 +250,15 @@ class StoreExpectations {
   std::size_t models() const { return models_.size(); }
 
  private:
+  // A model a client was told of (its upload's ModelInfo, or a ModelList): it must be there
+  // after every restart from now on, as it was told.
+  void promise(const StoredModel& model) {
+    const auto [known, added] = models_.emplace(model.id, model);
+    EXPECT_TRUE(known->second.name == model.name && known->second.vertices == model.vertices)
+        << "id " << model.id << " was told as '" << known->second.name << "' and as '" << model.name
+        << "'";
+  }
+
   // The stored file passes its checksum and is the model listed, and the daemon poses it as
   // the library poses that file: the daemon serves what is stored, edits included.
   void check_model(FrameClient& client, const fs::path& store, const StoredModel& model) {
@@ -263,7 +288,7 @@ class StoreExpectations {
   std::vector<std::string> maybe_models_;
   std::uint64_t sequence_ = 0;
   int acknowledged_models_ = 0, acknowledged_edits_ = 0, unacknowledged_kept_ = 0;
-  int edits_checked_ = 0, temporaries_removed_ = 0, cut_uploads_ = 0, cut_edits_ = 0;
+  int edits_checked_ = 0, temporaries_removed_ = 0, cut_uploads_ = 0, cut_edits_ = 0, lists_ = 0;
 };
 
 TEST(DaemonCrashSafety, EveryAcknowledgedModelAndEditSurvives20Kills) {
@@ -324,15 +349,17 @@ TEST(DaemonCrashSafety, EveryAcknowledgedModelAndEditSurvives20Kills) {
     }
   }
   std::cout << "kills " << kills << ", acknowledged models " << expected.acknowledged_models()
-            << ", acknowledged edits " << expected.acknowledged_edits()
-            << ", requests cut off by a kill: uploads " << expected.cut_uploads() << " (kept whole "
-            << expected.unacknowledged_kept() << "), edits " << expected.cut_edits()
+            << ", acknowledged edits " << expected.acknowledged_edits() << ", model lists "
+            << expected.lists() << ", requests cut off by a kill: uploads "
+            << expected.cut_uploads() << " (kept whole " << expected.unacknowledged_kept()
+            << "), edits " << expected.cut_edits()
             << ", edited keys checked (summed over restarts) " << expected.edits_checked()
             << ", models at the end " << expected.models() << ", temporaries removed at start "
             << expected.temporaries_removed() << ", one request ~" << request_ms << " ms"
             << std::endl;
   EXPECT_EQ(kills, kKills);
-  EXPECT_GE(expected.acknowledged_models() + expected.acknowledged_edits(), wanted_total);
+  EXPECT_GE(expected.acknowledged_models() + expected.acknowledged_edits() + expected.lists(),
+            wanted_total);
   EXPECT_GT(expected.acknowledged_models(), 0);
   EXPECT_GT(expected.acknowledged_edits(), 0);
   if (!::testing::Test::HasFailure()) fs::remove_all(directory);
