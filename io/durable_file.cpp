@@ -26,7 +26,7 @@ namespace {
 }  // namespace
 
 void write_file_durably(const std::filesystem::path& file, std::span<const std::uint8_t> bytes) {
-  const std::filesystem::path temporary = file.string() + ".tmp";
+  const std::filesystem::path temporary = file.string() + std::string(kTemporarySuffix);
   const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) fail(temporary, "open", errno);
   std::size_t written = 0;
@@ -39,8 +39,10 @@ void write_file_durably(const std::filesystem::path& file, std::span<const std::
   if (::fsync(fd) != 0) close_and_fail(fd, temporary, "fsync");
   if (::close(fd) != 0) fail(temporary, "close", errno);
   if (::rename(temporary.c_str(), file.c_str()) != 0) fail(file, "rename", errno);
-  const std::filesystem::path directory =
-      file.has_parent_path() ? file.parent_path() : std::filesystem::path(".");
+  sync_directory(file.has_parent_path() ? file.parent_path() : std::filesystem::path("."));
+}
+
+void sync_directory(const std::filesystem::path& directory) {
   const int directory_fd = ::open(directory.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (directory_fd >= 0) {
     ::fsync(directory_fd);

@@ -6,14 +6,23 @@
 // server's model store and its port file.
 // Throws std::runtime_error "cannot write FILE (step: system reason)"; the descriptor is closed
 // on every path.
+//
+// sync_directory: fsyncs a directory, so that the renames and removals made in it so far
+// survive a crash; a directory that cannot be opened is left alone (best effort, as above).
+// kTemporarySuffix: the suffix of write_file_durably's FILE.tmp; one found at start was left by
+// a crash before its rename and never holds a committed state.
 #pragma once
 
 #include <cstdint>
 #include <filesystem>
 #include <span>
+#include <string_view>
 
 namespace sweepd::io {
 
+inline constexpr std::string_view kTemporarySuffix = ".tmp";
+
 void write_file_durably(const std::filesystem::path& file, std::span<const std::uint8_t> bytes);
+void sync_directory(const std::filesystem::path& directory);
 
 }  // namespace sweepd::io

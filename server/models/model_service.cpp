@@ -127,8 +127,17 @@ ModelHandle ModelService::load(const ModelLoadRequest& request) {
 }
 
 void ModelService::restore() {
-  for (const std::string& problem : registry_.restore()) {
-    log_event("restore_problem", {{"reason", problem}});
+  const RestoreReport report = registry_.restore();
+  for (const fs::path& file : report.removed_temporaries) {
+    log_event("store_temporary_removed", {{"file", file.string()}});
+  }
+  for (const StoreProblem& problem : report.problems) {
+    nlohmann::json fields = {{"file", problem.file.string()}, {"reason", problem.reason}};
+    if (!problem.quarantined_to.empty()) fields["quarantined_to"] = problem.quarantined_to.string();
+    log_event("restore_problem", std::move(fields));
+  }
+  if (report.index_rebuilt) {
+    log_event("store_index_rebuilt", {{"models", registry_.models().size()}});
   }
   for (const ModelHandle& model : registry_.models()) {
     log_event("model_restored", {{"model", model->id},
@@ -153,14 +162,10 @@ void ModelService::add_default_model() {
 
 ModelHandle ModelService::edit_key_ellipse(std::uint32_t model_id,
                                            const deform::RestKeyEdit& edit) {
-  const ModelHandle model = registry_.find(model_id);
-  if (!model)
-    throw ModelError(protocol::ErrorCode::UnknownModel,
-                     "no model with id " + std::to_string(model_id));
-  deform::BoundModel bound = model->bound;
-  if (const std::string problem = deform::apply_rest_key_edit(bound, edit); !problem.empty())
-    throw ModelError(protocol::ErrorCode::InvalidArgument, problem);
-  return registry_.replace(model_id, std::move(bound));
+  return registry_.replace(model_id, [&edit](deform::BoundModel& bound) {
+    if (const std::string problem = deform::apply_rest_key_edit(bound, edit); !problem.empty())
+      throw ModelError(protocol::ErrorCode::InvalidArgument, problem);
+  });
 }
 
 }  // namespace sweepd::server

@@ -5,8 +5,10 @@
 // models through it and ask it for every change; none of them touches the registry or a
 // binding itself.
 //
-// restore(): the registry's restore(), each entry that could not be restored logged
-//   (restore_problem, then dropped), each restored model logged (model_restored).
+// restore(): the registry's restore() (model_registry.h: what it mends), logged: each removed
+//   temporary file (store_temporary_removed), each entry not restored (restore_problem: file,
+//   reason, quarantined_to when it was moved aside), a rebuilt index (store_index_rebuilt),
+//   each restored model (model_restored).
 //   add_default_model(): with no model_dir and no model
 //   named "mannequin", binds config.mannequin_vertices of procedural mannequin and stores it.
 // load(request): loads the glTF (the uploaded bytes, kept in the store as <id>.glb, or
@@ -17,8 +19,9 @@
 // directory_entries(): model files in config.model_dir (file names) not loaded under that
 //   name, sorted.
 // edit_key_ellipse(model_id, edit): a copy of the model's binding with one rest key replaced
-//   (deform::apply_rest_key_edit), stored durably, then swapped in; connections holding the
-//   old handle finish with it.
+//   (deform::apply_rest_key_edit), stored durably, then swapped in (ModelRegistry::replace:
+//   concurrent edits of a model are all kept); connections holding the old handle finish
+//   with it.
 // Both throw ModelError: UnknownModel (no such id), InvalidArgument (an edit the binding
 // refuses, with its reason), or the registry's codes. Thread-safe (the registry's lock);
 // load and edit take milliseconds to seconds: call them on a worker.

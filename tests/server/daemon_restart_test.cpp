@@ -1,5 +1,7 @@
 // sweepd's durability and shutdown: an acknowledged upload survives kill -9 and a restart
-// without rebinding; SIGTERM finishes in-flight poses, says Bye and exits 0.
+// without rebinding; a corrupt store file is quarantined and logged while the other models
+// serve; SIGTERM finishes in-flight poses, says Bye and exits 0.
+// (Kills at random moments: daemon_crash_safety_test.cpp.)
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -12,11 +14,6 @@
 
 namespace sweepd::test {
 namespace {
-
-std::vector<std::uint8_t> read_bytes(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
 
 // A small rigged model as a client would upload it: the mannequin written as .glb.
 std::vector<std::uint8_t> small_glb(const fs::path& directory) {
@@ -89,6 +86,62 @@ TEST(DaemonRestart, AcknowledgedUploadSurvivesKill9WithoutRebinding) {
   EXPECT_EQ(std::memcmp(reply->positions_f32()->data(), library.positions.data(),
                         library.positions.size() * sizeof(glm::vec3)),
             0);
+  fs::remove_all(directory);
+}
+
+TEST(DaemonRestart, ACorruptStoreFileIsQuarantinedLoggedAndTheOtherModelsServe) {
+  const fs::path directory = fresh_directory("quarantine");
+  const std::vector<std::string> args = {"--mannequin-vertices", "2000"};
+  const std::vector<std::uint8_t> glb = small_glb(directory);
+  {
+    DaemonProcess daemon(directory, args);
+    ASSERT_TRUE(daemon.running()) << daemon.log();
+    FrameClient client(daemon.port());
+    ASSERT_NE(client.hello(""), nullptr);
+    const protocol::ModelInfo* info = upload(client, "small", glb);
+    ASSERT_NE(info, nullptr);
+    ASSERT_EQ(info->model_id(), 2u);
+    daemon.signal(SIGKILL);
+    daemon.wait();
+  }
+  const fs::path store = directory / "store";
+  std::vector<std::uint8_t> damaged = read_bytes(store / "2.sweepbind");
+  damaged[damaged.size() / 2] ^= 0x01;  // one bit: the checksum fails
+  std::ofstream(store / "2.sweepbind", std::ios::binary | std::ios::trunc)
+      .write(reinterpret_cast<const char*>(damaged.data()),
+             static_cast<std::streamsize>(damaged.size()));
+  std::ofstream(store / "index.json.tmp") << "{\"torn";  // what a kill mid-write leaves
+
+  DaemonProcess restarted(directory, args);
+  ASSERT_TRUE(restarted.running()) << restarted.log();
+  const std::string log = restarted.log();
+  EXPECT_NE(log.find("\"event\":\"restore_problem\""), std::string::npos) << log;
+  EXPECT_NE(log.find("checksum mismatch"), std::string::npos) << log;
+  EXPECT_NE(log.find("\"quarantined_to\":\"" + (store / "quarantine" / "2.sweepbind.").string()),
+            std::string::npos)
+      << log;
+  EXPECT_NE(log.find("\"event\":\"store_temporary_removed\""), std::string::npos) << log;
+  EXPECT_FALSE(fs::exists(store / "index.json.tmp"));
+  // Kept whole beside the store, never deleted.
+  std::vector<fs::path> quarantined;
+  for (const fs::directory_entry& entry : fs::directory_iterator(store / "quarantine"))
+    quarantined.push_back(entry.path().filename());
+  std::sort(quarantined.begin(), quarantined.end());
+  ASSERT_EQ(quarantined.size(), 2u);  // the binding and its uploaded source
+  EXPECT_TRUE(quarantined[0].string().starts_with("2.glb."));
+  EXPECT_TRUE(quarantined[1].string().starts_with("2.sweepbind."));
+  EXPECT_EQ(read_bytes(store / "quarantine" / quarantined[1]), damaged);
+
+  // The other model serves; the name is free again and the id is not reused.
+  FrameClient client(restarted.port());
+  ASSERT_NE(client.hello(""), nullptr);
+  ASSERT_EQ(list_models(client).size(), 1u);
+  const std::vector<protocol::Quat> wire = to_wire(bent_rotations(31));
+  ASSERT_TRUE(send_pose(client, pose_fields(1, 1, wire)));
+  EXPECT_NE(client.receive_as<protocol::PosedVertices>(), nullptr);
+  const protocol::ModelInfo* again = upload(client, "small", glb);
+  ASSERT_NE(again, nullptr);
+  EXPECT_EQ(again->model_id(), 3u);
   fs::remove_all(directory);
 }
 
