@@ -45,6 +45,7 @@
 #include "server/handlers/request_error.h"
 #include "server/models/model_service.h"
 #include "server/transport/connection_counters.h"
+#include "server/transport/traffic_counters.h"
 
 namespace sweepd::server {
 
@@ -58,6 +59,7 @@ struct ConnectionEnvironment {
   std::function<std::vector<ConnectionCounters>()> all_counters;
   std::map<std::uint32_t, ModelCounters> model_counters;
   protocol::BufferBudget& buffer_budget;  // frames being read and replies waiting, all clients
+  TrafficCounters traffic;                // requests, errors and latencies of every connection
 };
 
 class Connection : public std::enable_shared_from_this<Connection> {
@@ -74,6 +76,8 @@ class Connection : public std::enable_shared_from_this<Connection> {
 
   std::uint64_t id() const { return counters_.connection_id; }
   const ConnectionCounters& counters() const { return counters_; }
+  std::size_t poses_waiting() const { return waiting_poses_.size(); }
+  bool pose_running() const { return pose_running_; }
 
  private:
   using Clock = std::chrono::steady_clock;
