@@ -7,49 +7,15 @@
 // binary is absent (deploy/install-deps.sh installs all three).
 #include <gtest/gtest.h>
 
-#include <cstdio>
 #include <cstdlib>
 #include <nlohmann/json.hpp>
 
 #include "tests/server/daemon_process.h"
+#include "tests/server/http_probe.h"
 #include "tests/server/pose_frames.h"
 
 namespace sweepd::test {
 namespace {
-
-bool have_program(const std::string& name) {
-  return std::system(("command -v " + name + " >/dev/null 2>&1").c_str()) == 0;
-}
-
-struct HttpReply {
-  int status = 0;  // 0: no answer (nothing listening)
-  std::string body;
-};
-
-// GET http://127.0.0.1:port{path} with curl; the status is the last line curl prints.
-HttpReply curl_get(int port, const std::string& path) {
-  const std::string command =
-      "curl -s --max-time 10 -w '\\n%{http_code}' 'http://127.0.0.1:" + std::to_string(port) +
-      path + "'";
-  FILE* pipe = popen(command.c_str(), "r");
-  std::string output;
-  char chunk[4096];
-  while (const std::size_t n = std::fread(chunk, 1, sizeof(chunk), pipe)) output.append(chunk, n);
-  pclose(pipe);
-  const std::size_t last_line = output.rfind('\n');
-  if (last_line == std::string::npos) return {};
-  return {std::atoi(output.c_str() + last_line + 1), output.substr(0, last_line)};
-}
-
-// The value of the sample `series` (a name with its labels, as printed) in a /metrics page;
-// -1 when absent.
-double metric(const std::string& page, const std::string& series) {
-  std::istringstream lines(page);
-  for (std::string line; std::getline(lines, line);) {
-    if (line.starts_with(series + " ")) return std::stod(line.substr(series.size() + 1));
-  }
-  return -1.0;
-}
 
 // A daemon with the side port on a free loopback port.
 class HttpSidePortTest : public ::testing::Test {
