@@ -11,6 +11,8 @@ packages=(
   nlohmann-json3-dev libstb-dev libgtest-dev libgmock-dev libbenchmark-dev
   flatbuffers-compiler libflatbuffers-dev python3 python3-flatbuffers zlib1g-dev libcli11-dev
   strace  # tests/server/daemon_upload_confinement_test.cpp traces the daemon's file calls
+  libcpp-httplib-dev  # sweepd's HTTP side port (server/http/): /healthz, /readyz, /metrics
+  curl prometheus  # tests/server/daemon_http_side_port_test.cpp: curl, promtool, a real scrape
 )
 
 missing=()

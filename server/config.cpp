@@ -45,12 +45,31 @@ Setting text_setting(const char* key, Field ServerConfig::*field) {
           }};
 }
 
+// "ADDR:PORT" or "[V6ADDR]:PORT" into http_address and http_port.
+Setting address_and_port_setting(const char* key) {
+  return {key, [](ServerConfig& config, const std::string& value, const std::string& where) {
+            const std::size_t colon = value.rfind(':');
+            if (colon == std::string::npos || colon == 0) {
+              throw ConfigError(where + ": '" + value + "' is not ADDR:PORT");
+            }
+            std::string address = value.substr(0, colon);
+            if (address.front() == '[' && address.back() == ']') {
+              address = address.substr(1, address.size() - 2);
+            }
+            config.http_port =
+                static_cast<int>(parse_integer(value.substr(colon + 1), where, 0, 65535));
+            config.http_address = address;
+          }};
+}
+
 const std::vector<Setting>& settings() {
   static const std::vector<Setting> all = {
       text_setting("listen", &ServerConfig::listen_address),
       integer_setting("port", &ServerConfig::port, -1, 65535),
       text_setting("unix_socket", &ServerConfig::unix_socket),
       text_setting("port_file", &ServerConfig::port_file),
+      address_and_port_setting("http_listen"),
+      text_setting("http_port_file", &ServerConfig::http_port_file),
       text_setting("model_dir", &ServerConfig::model_dir),
       text_setting("store_dir", &ServerConfig::store_dir),
       text_setting("token", &ServerConfig::token),
@@ -156,6 +175,10 @@ ServerConfig parse_server_config(std::span<const std::string_view> args) {
     if (setting == nullptr) throw ConfigError(std::string(flag) + ": unknown flag (see --help)");
     setting->apply(config, value, std::string(flag));
   }
+  if (config.http_port > 0 && config.http_port == config.port) {
+    throw ConfigError("--http-listen: port " + std::to_string(config.http_port) +
+                      " is the protocol port (--port); the HTTP side port needs its own");
+  }
   return config;
 }
 
@@ -167,6 +190,10 @@ Flags (each also a key of the JSON config file, with '_' for '-'):
   --port N                  TCP port; 0 picks a free one, -1 disables TCP (default 7878)
   --unix-socket PATH        also listen on a Unix socket at PATH
   --port-file FILE          write the bound TCP port to FILE once listening
+  --http-listen ADDR:PORT   HTTP side port for /healthz, /readyz and /metrics (Prometheus);
+                            [V6ADDR]:PORT for IPv6, PORT 0 picks a free one; never the
+                            protocol port (default: off)
+  --http-port-file FILE     write the bound HTTP side port to FILE once listening
   --model-dir DIR           .glb/.gltf files clients may load by name
   --store-dir DIR           where bound models are kept (default ./sweepd-store)
   --token TOKEN             shared token clients must send in Hello (default: none)

@@ -3,7 +3,8 @@
 //
 // parse_server_config(args): args are argv[1..] (program name excluded). Throws ConfigError
 // naming the flag, key or file and the reason (unknown flag, missing value, bad number,
-// unreadable or invalid JSON). `--help` sets `show_help`.
+// unreadable or invalid JSON, an --http-listen on the protocol port). `--help` sets
+// `show_help`.
 // config_usage(): the text `sweepd --help` prints, listing every flag and config key.
 #pragma once
 
@@ -21,7 +22,12 @@ struct ServerConfig {
   int port = 7878;                           // 0: ephemeral (see port_file); -1: no TCP
   std::filesystem::path unix_socket;         // empty: no Unix-socket listener
   std::filesystem::path port_file;           // written (tmp + rename) with the bound TCP port
-  std::filesystem::path model_dir;           // .glb/.gltf files clients may load by name
+  // The HTTP side port (/healthz, /readyz, /metrics), from --http-listen ADDR:PORT ([v6]:PORT
+  // for IPv6); http_port -1: off, 0: a free port (see http_port_file).
+  std::string http_address;
+  int http_port = -1;
+  std::filesystem::path http_port_file;  // written (tmp + rename) with the bound HTTP port
+  std::filesystem::path model_dir;       // .glb/.gltf files clients may load by name
   std::filesystem::path store_dir = "sweepd-store";  // bound models (.sweepbind) + index
   std::string token;                                 // shared auth token; empty: none asked
   std::uint32_t max_frame_bytes = 64u << 20;

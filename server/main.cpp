@@ -1,17 +1,33 @@
 // sweepd: the deformation daemon. Usage: sweepd --help (server/config.h lists the flags).
 #include <malloc.h>
 
+#include <atomic>
+#include <chrono>
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "io/durable_file.h"
 #include "server/config.h"
+#include "server/http/http_side_port.h"
 #include "server/log_event.h"
 #include "server/models/model_service.h"
 #include "server/transport/server.h"
 
 using namespace sweepd;
+
+namespace {
+
+// How long a /metrics scrape waits for the I/O thread to copy its counters.
+constexpr std::chrono::milliseconds kSnapshotTimeout{1000};
+
+void write_port_file(const std::filesystem::path& file, int port) {
+  const std::string text = std::to_string(port) + "\n";
+  io::write_file_durably(file, {reinterpret_cast<const std::uint8_t*>(text.data()), text.size()});
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   // A fixed mmap threshold: buffers of 256 KiB and more (pose replies, frames being read) go
@@ -31,11 +47,28 @@ int main(int argc, char** argv) {
     return 0;
   }
   try {
+    server::Readiness readiness;
     server::ModelService models(config);
+    // Declared before the side port, which reads it from its own thread: it outlives it.
+    std::optional<server::Server> server;
+    std::atomic<server::Server*> serving{nullptr};
+    std::optional<server::HttpSidePort> http;
+    if (config.http_port >= 0) {
+      // Up before the store is restored: /healthz answers and /readyz says what it waits for.
+      http.emplace(config.http_address, config.http_port, readiness,
+                   [&serving]() -> std::optional<server::ServerSnapshot> {
+                     server::Server* running = serving.load();
+                     if (running == nullptr) return std::nullopt;
+                     return running->snapshot(kSnapshotTimeout);
+                   });
+      if (!config.http_port_file.empty()) write_port_file(config.http_port_file, http->port());
+    }
     models.restore();
     // With no model directory the procedural mannequin is the default model "mannequin"; it
     // is bound once and kept in the store like any other model.
+    readiness.set(server::Readiness::Stage::kBindingDefaultModel);
     models.add_default_model();
+    readiness.set(server::Readiness::Stage::kOpeningListeners);
     server::log_event("starting",
                       {{"store_dir", config.store_dir.string()},
                        {"model_dir", config.model_dir.string()},
@@ -46,16 +79,13 @@ int main(int argc, char** argv) {
                        {"max_poses_in_flight", config.max_poses_in_flight},
                        {"worker_threads", config.worker_threads},
                        {"position_maps", config.position_maps != 0}});
-    server::Server server(config, models);
-    const int port = server.open();
-    if (!config.port_file.empty()) {
-      const std::string text = std::to_string(port) + "\n";
-      io::write_file_durably(config.port_file,
-                             {reinterpret_cast<const std::uint8_t*>(text.data()), text.size()});
-    }
+    server.emplace(config, models, readiness);
+    serving = &*server;
+    const int port = server->open();
+    if (!config.port_file.empty()) write_port_file(config.port_file, port);
     std::printf("sweepd listening port=%d\n", port);
     std::fflush(stdout);
-    server.run();
+    server->run();
   } catch (const std::exception& error) {
     server::log_event("fatal", {{"reason", error.what()}});
     std::fprintf(stderr, "sweepd: %s\n", error.what());

@@ -204,6 +204,7 @@ void Connection::process_input() {
 
 void Connection::dispatch(const pb::Message& message) {
   const std::uint64_t request_id = message.request_id();
+  environment_.traffic.count_request(message.body_type());
   if (!authenticated_) {
     if (const pb::Hello* hello = message.body_as_Hello()) {
       authenticate(*hello, request_id);
@@ -423,7 +424,11 @@ void Connection::start_next_pose() {
 void Connection::finish_pose(flatbuffers::FlatBufferBuilder builder, const PoseRequest& request,
                              std::uint64_t deform_ns) {
   ++counters_.poses_answered;
-  counters_.latency.add(nanoseconds_since(request.received));
+  const std::uint64_t latency_ns = nanoseconds_since(request.received);
+  counters_.latency.add(latency_ns);
+  (request.position_map ? environment_.traffic.position_map_latency
+                        : environment_.traffic.pose_latency)
+      .add(latency_ns);
   ModelCounters& model = environment_.model_counters[request.model->id];
   ++model.poses;
   model.deform_latency.add(deform_ns);
@@ -457,6 +462,7 @@ void Connection::send(flatbuffers::FlatBufferBuilder builder) {
 void Connection::send_error(pb::ErrorCode code, const std::string& message, std::uint64_t sequence,
                             std::uint64_t request_id, bool fatal) {
   ++counters_.errors;
+  environment_.traffic.count_error(code);
   flatbuffers::FlatBufferBuilder builder = take_builder();
   pb::build_error(builder, code, message, sequence, request_id, fatal);
   send(std::move(builder));

@@ -46,6 +46,7 @@
 #include "server/models/model_service.h"
 #include "server/transport/connection_counters.h"
 #include "server/transport/reply_builder_pool.h"
+#include "server/transport/traffic_counters.h"
 
 namespace sweepd::server {
 
@@ -60,6 +61,7 @@ struct ConnectionEnvironment {
   std::map<std::uint32_t, ModelCounters> model_counters;
   protocol::BufferBudget& buffer_budget;  // frames being read and replies waiting, all clients
   ReplyBuilderPool& builders;             // idle reply builders, all clients
+  TrafficCounters traffic;                // requests, errors and latencies of every connection
 };
 
 class Connection : public std::enable_shared_from_this<Connection> {
@@ -76,6 +78,8 @@ class Connection : public std::enable_shared_from_this<Connection> {
 
   std::uint64_t id() const { return counters_.connection_id; }
   const ConnectionCounters& counters() const { return counters_; }
+  std::size_t poses_waiting() const { return waiting_poses_.size(); }
+  bool pose_running() const { return pose_running_; }
 
  private:
   using Clock = std::chrono::steady_clock;

@@ -1,6 +1,7 @@
 #include "server/transport/server.h"
 
 #include <csignal>
+#include <future>
 #include <thread>
 
 #include "server/log_event.h"
@@ -22,8 +23,9 @@ std::size_t worker_count(const ServerConfig& config) {
 
 }  // namespace
 
-Server::Server(const ServerConfig& config, ModelService& models)
+Server::Server(const ServerConfig& config, ModelService& models, Readiness& readiness)
     : config_(config),
+      readiness_(readiness),
       workers_(worker_count(config)),
       position_maps_(config.position_maps != 0),
       buffer_budget_(config.max_buffered_bytes),
@@ -31,10 +33,16 @@ Server::Server(const ServerConfig& config, ModelService& models)
       builders_(2 * static_cast<std::size_t>(worker_count(config)) + 4),
       signals_(io_, SIGTERM, SIGINT),
       environment_{config, models, workers_, position_maps_, std::chrono::steady_clock::now(),
-                   {},     {},     {},       buffer_budget_, builders_} {
+                   {},     {},     {},       buffer_budget_, builders_,
+                   {}} {
   environment_.on_close = [this](std::uint64_t id) {
     // Deferred: the connection may still be on the call stack.
-    asio::post(io_, [this, id]() { connections_.erase(id); });
+    asio::post(io_, [this, id]() {
+      const auto found = connections_.find(id);
+      if (found == connections_.end()) return;
+      environment_.traffic.closed_connections.add(found->second->counters());
+      connections_.erase(found);
+    });
   };
   environment_.all_counters = [this]() {
     std::vector<ConnectionCounters> all;
@@ -116,7 +124,13 @@ void Server::run() {
   signals_.async_wait([this](std::error_code error, int signal) {
     if (!error) begin_shutdown(signal == SIGTERM ? "SIGTERM" : "SIGINT");
   });
+  // Ready once the I/O thread runs its handlers (a SIGTERM already pending wins).
+  asio::post(io_, [this]() {
+    if (!shutting_down_) readiness_.set(Readiness::Stage::kAccepting);
+  });
+  serving_ = true;
   io_.run();
+  serving_ = false;
   workers_.join();
   if (!config_.unix_socket.empty()) {
     std::error_code ignored;
@@ -132,6 +146,7 @@ void Server::request_shutdown() {
 void Server::begin_shutdown(const char* reason) {
   if (shutting_down_) return;
   shutting_down_ = true;
+  readiness_.set(Readiness::Stage::kDraining);
   log_event("shutdown", {{"reason", reason}, {"connections", connections_.size()}});
   std::error_code ignored;
   signals_.cancel(ignored);
@@ -140,6 +155,40 @@ void Server::begin_shutdown(const char* reason) {
   // Copy: a connection that closes at once removes itself from the map (deferred anyway).
   const auto connections = connections_;
   for (const auto& [id, connection] : connections) connection->shut_down();
+}
+
+std::optional<ServerSnapshot> Server::snapshot(std::chrono::milliseconds timeout) {
+  if (!serving_) return std::nullopt;
+  auto promise = std::make_shared<std::promise<ServerSnapshot>>();
+  std::future<ServerSnapshot> future = promise->get_future();
+  asio::post(io_, [this, promise]() { promise->set_value(gather_snapshot()); });
+  if (future.wait_for(timeout) != std::future_status::ready) return std::nullopt;
+  return future.get();
+}
+
+ServerSnapshot Server::gather_snapshot() const {
+  ServerSnapshot snapshot;
+  snapshot.traffic = environment_.traffic;
+  snapshot.all_connections = environment_.traffic.closed_connections;
+  for (const auto& [id, connection] : connections_) {
+    snapshot.all_connections.add(connection->counters());
+    snapshot.poses_waiting += connection->poses_waiting();
+    snapshot.poses_running += connection->pose_running() ? 1 : 0;
+  }
+  snapshot.connections_open = connections_.size();
+  snapshot.connections_accepted = next_connection_id_ - 1;
+  snapshot.buffered_bytes = buffer_budget_.used();
+  for (const ModelHandle& model : environment_.models.models()) {
+    ModelSnapshot& entry = snapshot.models.emplace_back();
+    entry.id = model->id;
+    entry.name = model->name;
+    const auto counters = environment_.model_counters.find(model->id);
+    if (counters != environment_.model_counters.end()) {
+      entry.poses = counters->second.poses;
+      entry.errors = counters->second.errors;
+    }
+  }
+  return snapshot;
 }
 
 }  // namespace sweepd::server

@@ -6,12 +6,17 @@
 //   no TCP listener).
 // run(): serves until SIGTERM/SIGINT or request_shutdown(), then stops accepting, lets every
 //   connection finish its in-flight work and say Bye, joins the workers and returns.
+// snapshot(timeout): thread-safe; a copy of the counters and gauges (ServerSnapshot) taken on
+//   the I/O thread, or nullopt when run() is not serving or the I/O thread did not answer
+//   within `timeout`. Costs the I/O thread one pass over the open connections and models.
+// `readiness` is set to accepting once run() serves and to draining on shutdown.
 // Connections beyond config.max_connections get a fatal Error{ConnectionLimit}.
 // All socket work runs on the thread that calls run(); deformation and model loading run on
 // a pool of config.worker_threads (0: one per core).
 #pragma once
 
 #include <asio.hpp>
+#include <atomic>
 #include <chrono>
 #include <map>
 #include <memory>
@@ -20,27 +25,33 @@
 #include "server/config.h"
 #include "server/handlers/position_map_service.h"
 #include "server/models/model_service.h"
+#include "server/readiness.h"
 #include "server/transport/connection.h"
+#include "server/transport/server_snapshot.h"
 
 namespace sweepd::server {
 
 class Server {
  public:
-  Server(const ServerConfig& config, ModelService& models);
+  Server(const ServerConfig& config, ModelService& models, Readiness& readiness);
   ~Server();
 
   int open();
   void run();
   // Thread-safe: asks run() to shut down as on SIGTERM.
   void request_shutdown();
+  std::optional<ServerSnapshot> snapshot(std::chrono::milliseconds timeout);
 
  private:
   template <typename Acceptor>
   void accept_next(Acceptor& acceptor);
   void admit(Connection::Socket socket, std::string peer);
   void begin_shutdown(const char* reason);
+  ServerSnapshot gather_snapshot() const;  // on the I/O thread
 
   const ServerConfig& config_;
+  Readiness& readiness_;
+  std::atomic<bool> serving_{false};  // io_.run() is (about to be) running
   asio::io_context io_;
   asio::thread_pool workers_;
   PositionMapService position_maps_;

@@ -61,6 +61,20 @@ TEST(ServerConfig, MistakesAreNamed) {
   fs::remove_all(directory);
 }
 
+TEST(ServerConfig, HttpSidePortIsOffByDefaultAndNeverTheProtocolPort) {
+  EXPECT_EQ(parse({}).http_port, -1);
+  const server::ServerConfig v4 = parse({"--http-listen", "0.0.0.0:9464"});
+  EXPECT_EQ(v4.http_address, "0.0.0.0");
+  EXPECT_EQ(v4.http_port, 9464);
+  const server::ServerConfig v6 = parse({"--http-listen", "[::1]:0", "--port", "0"});
+  EXPECT_EQ(v6.http_address, "::1");
+  EXPECT_EQ(v6.http_port, 0);
+  EXPECT_NE(error_of({"--http-listen", "127.0.0.1:7878"}).find("is the protocol port"),
+            std::string::npos);  // 7878: the default protocol port
+  EXPECT_NE(error_of({"--http-listen", "9464"}).find("is not ADDR:PORT"), std::string::npos);
+  EXPECT_NE(error_of({"--http-listen", "h:99999"}).find("out of range"), std::string::npos);
+}
+
 TEST(ConstantTimeEqual, EqualOnlyForTheSameBytes) {
   EXPECT_TRUE(server::constant_time_equal("s3cret", "s3cret"));
   EXPECT_FALSE(server::constant_time_equal("s3cret", "s3creT"));

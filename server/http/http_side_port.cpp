@@ -1,0 +1,66 @@
+#include "server/http/http_side_port.h"
+
+#include <httplib.h>
+
+#include <chrono>
+#include <csignal>
+#include <stdexcept>
+
+#include "server/http/metrics_text.h"
+#include "server/http/process_stats.h"
+#include "server/log_event.h"
+
+namespace sweepd::server {
+namespace {
+
+// Two request threads: a scrape and a probe at once; more clients wait their turn.
+constexpr std::size_t kRequestThreads = 2;
+// A client that sends nothing for this long is dropped: it holds one of the two threads.
+constexpr int kClientTimeoutSeconds = 5;
+
+}  // namespace
+
+HttpSidePort::HttpSidePort(const std::string& address, int port, const Readiness& readiness,
+                           SnapshotSource snapshot)
+    : readiness_(readiness),
+      snapshot_(std::move(snapshot)),
+      http_(std::make_unique<httplib::Server>()) {
+  std::signal(SIGPIPE, SIG_IGN);
+  http_->new_task_queue = [] { return new httplib::ThreadPool(kRequestThreads); };
+  http_->set_read_timeout(kClientTimeoutSeconds);
+  http_->set_write_timeout(kClientTimeoutSeconds);
+  http_->set_keep_alive_timeout(kClientTimeoutSeconds);
+  http_->Get("/healthz", [](const httplib::Request&, httplib::Response& response) {
+    response.set_content("ok\n", "text/plain; charset=utf-8");
+  });
+  http_->Get("/readyz", [this](const httplib::Request&, httplib::Response& response) {
+    const Readiness::Stage stage = readiness_.stage();
+    response.status = stage == Readiness::Stage::kAccepting ? 200 : 503;
+    response.set_content(std::string(Readiness::describe(stage)) + "\n",
+                         "text/plain; charset=utf-8");
+  });
+  http_->Get("/metrics", [this](const httplib::Request&, httplib::Response& response) {
+    const std::optional<ServerSnapshot> server = snapshot_();
+    response.set_content(
+        format_metrics(server ? &*server : nullptr, read_process_stats(), readiness_.stage()),
+        kMetricsContentType);
+  });
+  const bool bound = port == 0 ? (port_ = http_->bind_to_any_port(address)) > 0
+                               : http_->bind_to_port(address, port);
+  if (!bound) {
+    throw std::runtime_error("cannot listen on HTTP side port " + address + ":" +
+                             std::to_string(port));
+  }
+  if (port != 0) port_ = port;
+  thread_ = std::thread([this]() { http_->listen_after_bind(); });
+  // stop() before the loop runs would be lost: wait until it does.
+  while (!http_->is_running()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  log_event("listening", {{"http_address", address}, {"http_port", port_}});
+}
+
+HttpSidePort::~HttpSidePort() {
+  http_->stop();
+  thread_.join();
+}
+
+}  // namespace sweepd::server

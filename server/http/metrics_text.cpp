@@ -1,0 +1,153 @@
+#include "server/http/metrics_text.h"
+
+#include <cstdio>
+#include <string_view>
+
+namespace sweepd::server {
+namespace {
+
+namespace pb = sweepd::protocol;
+
+// A label value with \, " and newline escaped as the exposition format asks.
+std::string escaped(std::string_view value) {
+  std::string out;
+  for (const char c : value) {
+    if (c == '\\') {
+      out += "\\\\";
+    } else if (c == '"') {
+      out += "\\\"";
+    } else if (c == '\n') {
+      out += "\\n";
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
+std::string number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.17g", value);
+  return text;
+}
+
+class Page {
+ public:
+  void header(const char* name, const char* type, const char* help) {
+    text_ += std::string("# HELP ") + name + " " + help + "\n# TYPE " + name + " " + type + "\n";
+  }
+  void sample(const std::string& name, const std::string& labels, const std::string& value) {
+    text_ += name;
+    if (!labels.empty()) text_ += "{" + labels + "}";
+    text_ += " " + value + "\n";
+  }
+  void single(const char* name, const char* type, const char* help, std::uint64_t value) {
+    header(name, type, help);
+    sample(name, "", std::to_string(value));
+  }
+  void single(const char* name, const char* type, const char* help, double value) {
+    header(name, type, help);
+    sample(name, "", number(value));
+  }
+  void histogram(const char* name, const char* help, const LatencyHistogram& histogram) {
+    header(name, "histogram", help);
+    std::uint64_t cumulative = 0;
+    for (std::size_t b = 0; b < kLatencyBuckets; ++b) {
+      cumulative += histogram.bucket_counts()[b];
+      char bound[32];
+      std::snprintf(bound, sizeof(bound), "%g", kLatencyBucketSeconds[b]);
+      sample(std::string(name) + "_bucket", std::string("le=\"") + bound + "\"",
+             std::to_string(cumulative));
+    }
+    sample(std::string(name) + "_bucket", "le=\"+Inf\"", std::to_string(histogram.count()));
+    sample(std::string(name) + "_sum", "", number(histogram.sum_seconds()));
+    sample(std::string(name) + "_count", "", std::to_string(histogram.count()));
+  }
+  // A counter with one sample per model, labelled by its name and id.
+  void per_model(const char* name, const char* help, const std::vector<ModelSnapshot>& models,
+                 std::uint64_t ModelSnapshot::*field) {
+    header(name, "counter", help);
+    for (const ModelSnapshot& model : models) {
+      sample(name, "model=\"" + escaped(model.name) + "\",id=\"" + std::to_string(model.id) + "\"",
+             std::to_string(model.*field));
+    }
+  }
+  std::string take() { return std::move(text_); }
+
+ private:
+  std::string text_;
+};
+
+void add_server(Page& page, const ServerSnapshot& server) {
+  const TrafficCounters& traffic = server.traffic;
+  page.header("sweepd_requests_total", "counter",
+              "Messages received from clients, by message type (unknown: a type newer than "
+              "this server).");
+  for (std::size_t t = 0; t < kBodyTypes; ++t) {
+    const char* type = t == 0 ? "unknown" : pb::EnumNameBody(static_cast<pb::Body>(t));
+    page.sample("sweepd_requests_total", std::string("type=\"") + type + "\"",
+                std::to_string(traffic.requests[t]));
+  }
+  page.header("sweepd_errors_total", "counter", "Error replies sent, by error code.");
+  for (std::size_t c = 0; c < kErrorCodes; ++c) {
+    page.sample(
+        "sweepd_errors_total",
+        std::string("code=\"") + pb::EnumNameErrorCode(static_cast<pb::ErrorCode>(c)) + "\"",
+        std::to_string(traffic.errors[c]));
+  }
+  page.histogram("sweepd_pose_latency_seconds",
+                 "Pose latency, frame read to reply queued (deformation included).",
+                 traffic.pose_latency);
+  page.histogram("sweepd_position_map_latency_seconds",
+                 "PositionMapRequest latency, frame read to reply queued (render included).",
+                 traffic.position_map_latency);
+  const ConnectionTotals& all = server.all_connections;
+  page.single("sweepd_poses_received_total", "counter", "Poses and position-map requests received.",
+              all.poses_received);
+  page.single("sweepd_poses_answered_total", "counter",
+              "Poses and position maps answered with their reply.", all.poses_answered);
+  page.single("sweepd_poses_dropped_total", "counter",
+              "Poses replaced by a newer one before they ran (LatestWins delivery).",
+              all.poses_dropped);
+  page.single("sweepd_received_bytes_total", "counter", "Bytes read from client sockets.",
+              all.bytes_in);
+  page.single("sweepd_sent_bytes_total", "counter", "Bytes written to client sockets.",
+              all.bytes_out);
+  page.single("sweepd_connections_accepted_total", "counter",
+              "Connections accepted since start (including those refused at the limit).",
+              server.connections_accepted);
+  page.single("sweepd_connections_open", "gauge", "Client connections open now.",
+              server.connections_open);
+  page.single("sweepd_poses_waiting", "gauge",
+              "Poses queued behind a running one, all connections (the queue depth).",
+              server.poses_waiting);
+  page.single("sweepd_poses_running", "gauge", "Poses being deformed or rendered now.",
+              server.poses_running);
+  page.single("sweepd_buffered_bytes", "gauge",
+              "Bytes of frames being read and replies waiting, all connections.",
+              server.buffered_bytes);
+  page.single("sweepd_models_held", "gauge", "Models held (bound and servable).",
+              static_cast<std::uint64_t>(server.models.size()));
+  page.per_model("sweepd_model_poses_total", "Poses deformed, by model.", server.models,
+                 &ModelSnapshot::poses);
+  page.per_model("sweepd_model_errors_total", "Requests failed, by model.", server.models,
+                 &ModelSnapshot::errors);
+}
+
+}  // namespace
+
+std::string format_metrics(const ServerSnapshot* server, const ProcessStats& process,
+                           Readiness::Stage stage) {
+  Page page;
+  page.single("sweepd_ready", "gauge", "1 while /readyz answers 200 (accepting work), else 0.",
+              static_cast<std::uint64_t>(stage == Readiness::Stage::kAccepting ? 1 : 0));
+  page.single("sweepd_process_start_time_seconds", "gauge",
+              "When the process started, in seconds since the Unix epoch.",
+              process.start_time_seconds);
+  page.single("sweepd_process_resident_memory_bytes", "gauge",
+              "Resident memory of the process (/proc/self/statm).", process.resident_bytes);
+  if (server != nullptr) add_server(page, *server);
+  return page.take();
+}
+
+}  // namespace sweepd::server

@@ -1,0 +1,31 @@
+// ServerSnapshot: a copy of the Server's counters and gauges taken on its I/O thread
+// (Server::snapshot), so the HTTP side port's thread can format /metrics without touching
+// state the I/O thread owns.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "server/transport/traffic_counters.h"
+
+namespace sweepd::server {
+
+struct ModelSnapshot {
+  std::uint32_t id = 0;
+  std::string name;
+  std::uint64_t poses = 0, errors = 0;
+};
+
+struct ServerSnapshot {
+  TrafficCounters traffic;
+  ConnectionTotals all_connections;        // closed and open together
+  std::uint64_t connections_accepted = 0;  // admitted or refused, since start
+  std::uint64_t connections_open = 0;
+  std::uint64_t poses_waiting = 0;  // queued behind a running pose, all connections
+  std::uint64_t poses_running = 0;
+  std::uint64_t buffered_bytes = 0;  // frames being read and replies waiting (BufferBudget)
+  std::vector<ModelSnapshot> models;
+};
+
+}  // namespace sweepd::server

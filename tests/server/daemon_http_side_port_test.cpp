@@ -1,0 +1,250 @@
+// sweepd's HTTP side port (--http-listen) seen from outside, as an operator's tools see it:
+// curl finds /readyz 200 once the daemon serves and 503 while it drains after SIGTERM (before
+// it exits), /healthz 200 throughout; /metrics passes `promtool check metrics` and its
+// counters move with the traffic sent; a real Prometheus on loopback scrapes it and answers a
+// query with the pose count. The daemon writes its HTTP port to --http-port-file (port 0
+// picks a free one). Tests that need curl, promtool or prometheus skip, saying so, where the
+// binary is absent (deploy/install-deps.sh installs all three).
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <nlohmann/json.hpp>
+
+#include "tests/server/daemon_process.h"
+#include "tests/server/http_probe.h"
+#include "tests/server/pose_frames.h"
+
+namespace sweepd::test {
+namespace {
+
+// A daemon with the side port on a free loopback port.
+class HttpSidePortTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!have_program("curl")) GTEST_SKIP() << "curl is not installed (deploy/install-deps.sh)";
+    directory_ = fresh_directory(::testing::UnitTest::GetInstance()->current_test_info()->name());
+    const fs::path http_port_file = directory_ / "http_port";
+    daemon_ = std::make_unique<DaemonProcess>(
+        directory_, std::vector<std::string>{"--http-listen", "127.0.0.1:0", "--http-port-file",
+                                             http_port_file.string()});
+    ASSERT_TRUE(daemon_->running()) << daemon_->log();
+    // Written before the protocol port file, which DaemonProcess waited for.
+    http_port_ = std::stoi(read_text(http_port_file));
+    ASSERT_TRUE(wait_for_ready()) << daemon_->log();
+  }
+  void TearDown() override {
+    daemon_.reset();
+    if (!directory_.empty()) fs::remove_all(directory_);
+  }
+
+  // /readyz turns 200 once the I/O thread runs, a moment after the port file is written.
+  bool wait_for_ready() {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    while (std::chrono::steady_clock::now() < deadline) {
+      if (curl_get(http_port_, "/readyz").status == 200) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return false;
+  }
+
+  std::string metrics_page() {
+    const HttpReply reply = curl_get(http_port_, "/metrics");
+    EXPECT_EQ(reply.status, 200);
+    return reply.body;
+  }
+
+  // The default mannequin's joint count, from ListModels.
+  static std::size_t mannequin_joints(FrameClient& client) {
+    flatbuffers::FlatBufferBuilder builder;
+    client.send_bytes(protocol::finish_message(builder, protocol::CreateListModels(builder)));
+    const protocol::ModelList* list = client.receive_as<protocol::ModelList>();
+    return list == nullptr ? 0 : list->models()->Get(0)->joint_count();
+  }
+
+  // Sends `count` poses of the mannequin (id 1) and reads their replies.
+  static void pose_round_trips(FrameClient& client, std::size_t joints, int count) {
+    const std::vector<protocol::Quat> wire = to_wire(bent_rotations(joints));
+    for (int s = 0; s < count; ++s) {
+      ASSERT_TRUE(send_pose(client, pose_fields(1, static_cast<std::uint64_t>(s), wire)));
+      ASSERT_NE(client.receive_as<protocol::PosedVertices>(), nullptr);
+    }
+  }
+
+  fs::path directory_;
+  std::unique_ptr<DaemonProcess> daemon_;
+  int http_port_ = 0;
+};
+
+TEST_F(HttpSidePortTest, ReadyzIsReadyWhileServingAndNotWhileDrainingAfterSigterm) {
+  EXPECT_EQ(curl_get(http_port_, "/healthz").status, 200);
+  EXPECT_EQ(curl_get(http_port_, "/readyz").body, "accepting\n");
+  EXPECT_EQ(curl_get(http_port_, "/nothing").status, 404);
+
+  // To observe draining, keep it going: a client that reads nothing holds replies the server
+  // cannot write (its socket buffers full), and a draining connection closes only once every
+  // reply is taken. 100 poses of the 19k-vertex mannequin are 23 MB of replies, more than the
+  // kernel buffers both ways (net.core.wmem_max, 4 MiB here, doubled) and 8 queued replies.
+  FrameClient client(daemon_->port(), /*receive_buffer_bytes=*/4096);
+  ASSERT_NE(client.hello(""), nullptr);
+  const std::size_t joints = mannequin_joints(client);
+  ASSERT_GT(joints, 0u);
+  const std::vector<protocol::Quat> wire = to_wire(bent_rotations(joints));
+  constexpr int kPoses = 100;
+  for (int s = 0; s < kPoses; ++s) {
+    ASSERT_TRUE(send_pose(client, pose_fields(1, static_cast<std::uint64_t>(s), wire)));
+  }
+  // Stuck: more than 1 MB of replies waiting in the server for this client (about 4 replies).
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (metric(metrics_page(), "sweepd_buffered_bytes") < 1e6) {
+    ASSERT_LT(std::chrono::steady_clock::now(), deadline) << "the replies never backed up";
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+
+  daemon_->signal(SIGTERM);
+  HttpReply ready;
+  const auto drain_deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  do {
+    ready = curl_get(http_port_, "/readyz");
+  } while (ready.status == 200 && std::chrono::steady_clock::now() < drain_deadline);
+  EXPECT_EQ(ready.status, 503);
+  EXPECT_EQ(ready.body, "draining (shutting down)\n");
+  EXPECT_EQ(curl_get(http_port_, "/healthz").status, 200);  // alive while it drains
+  const std::string draining = metrics_page();
+  EXPECT_EQ(metric(draining, "sweepd_ready"), 0.0);
+  EXPECT_EQ(metric(draining, "sweepd_connections_open"), 1.0);
+  int status = 0;
+  EXPECT_EQ(waitpid(daemon_->pid(), &status, WNOHANG), 0) << "sweepd exited before draining";
+
+  // Now take every reply: the connection finishes, says Bye, and the daemon exits 0.
+  int replies = 0;
+  bool bye = false;
+  while (const protocol::Message* message = client.receive()) {
+    if (message->body_type() == protocol::Body::Bye) {
+      bye = true;
+      break;
+    }
+    ++replies;
+  }
+  EXPECT_TRUE(bye);
+  // Poses the server had read are answered (PosedVertices, or ShuttingDown once it drains);
+  // those still in the socket when the last one is answered are not work received.
+  EXPECT_GE(replies, 8);
+  EXPECT_LE(replies, kPoses);
+  EXPECT_EQ(daemon_->wait(), 0) << daemon_->log();
+  EXPECT_EQ(curl_get(http_port_, "/healthz").status, 0);  // gone with the process
+}
+
+TEST_F(HttpSidePortTest, MetricsPassPromtoolAndCountTheTrafficSent) {
+  if (!have_program("promtool")) {
+    GTEST_SKIP() << "promtool is not installed (Debian package prometheus; deploy/install-deps.sh)";
+  }
+  const auto promtool_accepts = [&](const std::string& page) {
+    const fs::path file = directory_ / "metrics.txt";
+    std::ofstream(file) << page;
+    return std::system(("promtool check metrics < " + file.string() + " >&2").c_str()) == 0;
+  };
+  const std::string before = metrics_page();
+  EXPECT_TRUE(promtool_accepts(before)) << before;
+
+  FrameClient client(daemon_->port());
+  ASSERT_NE(client.hello(""), nullptr);
+  const std::size_t joints = mannequin_joints(client);
+  constexpr int kPoses = 12;
+  pose_round_trips(client, joints, kPoses);
+  // And one pose for a model that does not exist.
+  const std::vector<protocol::Quat> wire = to_wire(bent_rotations(joints));
+  ASSERT_TRUE(send_pose(client, pose_fields(77, 0, wire)));
+  const protocol::Message* error = client.receive();
+  ASSERT_NE(error, nullptr);
+  ASSERT_EQ(error->body_type(), protocol::Body::Error);
+
+  const std::string after = metrics_page();
+  EXPECT_TRUE(promtool_accepts(after)) << after;
+  // Counters are exact integers: compared with ==.
+  const auto grew = [&](const std::string& series) {
+    return metric(after, series) - metric(before, series);
+  };
+  EXPECT_EQ(grew("sweepd_poses_answered_total"), kPoses);
+  EXPECT_EQ(grew("sweepd_poses_received_total"), kPoses + 1);
+  EXPECT_EQ(grew("sweepd_requests_total{type=\"Pose\"}"), kPoses + 1);
+  EXPECT_EQ(grew("sweepd_requests_total{type=\"Hello\"}"), 1);
+  EXPECT_EQ(grew("sweepd_requests_total{type=\"ListModels\"}"), 1);
+  EXPECT_EQ(grew("sweepd_errors_total{code=\"UnknownModel\"}"), 1);
+  EXPECT_EQ(grew("sweepd_pose_latency_seconds_count"), kPoses);
+  EXPECT_EQ(grew("sweepd_pose_latency_seconds_bucket{le=\"+Inf\"}"), kPoses);
+  EXPECT_EQ(grew("sweepd_model_poses_total{model=\"mannequin\",id=\"1\"}"), kPoses);
+  EXPECT_GT(grew("sweepd_pose_latency_seconds_sum"), 0.0);
+  // Each reply carries the 19k vertices' positions, 12 bytes each: at least 12 × 19k × 12 B.
+  EXPECT_GT(grew("sweepd_sent_bytes_total"), kPoses * 19000.0 * 12.0);
+  EXPECT_GT(grew("sweepd_received_bytes_total"), kPoses * joints * 16.0);  // 4 floats a joint
+  EXPECT_EQ(metric(after, "sweepd_connections_open"), 1.0);
+  EXPECT_EQ(metric(after, "sweepd_models_held"), 1.0);
+  EXPECT_EQ(metric(after, "sweepd_poses_waiting"), 0.0);
+  EXPECT_EQ(metric(after, "sweepd_ready"), 1.0);
+  EXPECT_GT(metric(after, "sweepd_process_resident_memory_bytes"), 1e6);
+  // Started within the last hour (a sanity bound on the /proc arithmetic).
+  const double now =
+      std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+  EXPECT_NEAR(metric(after, "sweepd_process_start_time_seconds"), now, 3600.0);
+}
+
+// A port free now on loopback (bound to 0, read, closed); another process could take it
+// before Prometheus does, which this test accepts.
+int free_loopback_port() {
+  const int fd = socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof(address));
+  socklen_t length = sizeof(address);
+  getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length);
+  close(fd);
+  return ntohs(address.sin_port);
+}
+
+TEST_F(HttpSidePortTest, RealPrometheusScrapesThePoseCount) {
+  if (!have_program("prometheus")) {
+    GTEST_SKIP() << "prometheus is not installed (Debian package prometheus; "
+                    "deploy/install-deps.sh)";
+  }
+  FrameClient client(daemon_->port());
+  ASSERT_NE(client.hello(""), nullptr);
+  constexpr int kPoses = 7;
+  pose_round_trips(client, mannequin_joints(client), kPoses);
+
+  const fs::path config = directory_ / "prometheus.yml";
+  std::ofstream(config) << "global:\n  scrape_interval: 1s\n"
+                        << "scrape_configs:\n  - job_name: sweepd\n    static_configs:\n"
+                        << "      - targets: ['127.0.0.1:" << http_port_ << "']\n";
+  const int web_port = free_loopback_port();
+  const std::string storage = (directory_ / "tsdb").string();
+  const std::string log = (directory_ / "prometheus.log").string();
+  const pid_t prometheus = fork();
+  if (prometheus == 0) {
+    std::freopen(log.c_str(), "w", stderr);
+    std::freopen("/dev/null", "w", stdout);
+    const std::string config_flag = "--config.file=" + config.string();
+    const std::string storage_flag = "--storage.tsdb.path=" + storage;
+    const std::string listen_flag = "--web.listen-address=127.0.0.1:" + std::to_string(web_port);
+    execlp("prometheus", "prometheus", config_flag.c_str(), storage_flag.c_str(),
+           listen_flag.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  // Started, a first scrape a second later, then queryable: allow a minute on a busy machine.
+  double scraped = -1.0;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (scraped != kPoses && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(250));
+    const HttpReply reply = curl_get(web_port, "/api/v1/query?query=sweepd_poses_answered_total");
+    if (reply.status != 200) continue;
+    const nlohmann::json answer = nlohmann::json::parse(reply.body, nullptr, false);
+    if (answer.is_discarded() || answer["data"]["result"].empty()) continue;
+    scraped = std::stod(answer["data"]["result"][0]["value"][1].get<std::string>());
+  }
+  kill(prometheus, SIGTERM);
+  waitpid(prometheus, nullptr, 0);
+  EXPECT_EQ(scraped, kPoses) << read_text(log);
+}
+
+}  // namespace
+}  // namespace sweepd::test
