@@ -1,6 +1,7 @@
 #include "client/connection.h"
 
 #include <cstring>
+#include <optional>
 
 namespace sweepd::client {
 
@@ -67,9 +68,9 @@ void Connection::send(std::span<const std::uint8_t> frame) {
 const pb::Message& Connection::receive() {
   std::uint32_t length = 0;
   try {
-    asio::read(socket_, asio::buffer(&length, 4));
+    read_exactly(&length, 4);
     storage_.resize((4 + std::size_t{length} + 7) / 8);
-    asio::read(socket_, asio::buffer(reinterpret_cast<std::uint8_t*>(storage_.data()) + 4, length));
+    read_exactly(reinterpret_cast<std::uint8_t*>(storage_.data()) + 4, length);
   } catch (const std::system_error& error) {
     throw std::runtime_error("reading from sweepd at " + address_ + ": " + error.what());
   }
@@ -80,6 +81,29 @@ const pb::Message& Connection::receive() {
     throw std::runtime_error("sweepd at " + address_ + " sent a frame that does not verify");
   }
   return *pb::GetSizePrefixedMessage(bytes);
+}
+
+// A blocking read, or with a timeout an asynchronous one run for at most that long (Asio's
+// way to bound a read; it works the same for any stream type).
+void Connection::read_exactly(void* data, std::size_t size) {
+  if (receive_timeout_.count() == 0) {
+    asio::read(socket_, asio::buffer(data, size));
+    return;
+  }
+  std::optional<std::error_code> result;
+  asio::async_read(socket_, asio::buffer(data, size),
+                   [&result](const std::error_code& error, std::size_t) { result = error; });
+  io_.restart();
+  io_.run_for(receive_timeout_);
+  if (!result) {
+    std::error_code ignored;
+    socket_.close(ignored);  // cancels the read; its handler runs with operation_aborted
+    io_.restart();
+    io_.run();
+    throw ReceiveTimeout("sweepd at " + address_ + " sent nothing for " +
+                         std::to_string(receive_timeout_.count()) + " ms");
+  }
+  if (*result) throw std::system_error(*result);
 }
 
 void Connection::close(std::string_view reason) {

@@ -8,10 +8,13 @@
 //   const PosedVertices& reply = connection.expect<PosedVertices>();
 //
 // A reply is valid until the next receive. Server errors become ServerError exceptions
-// (with the code); socket and framing problems std::runtime_error naming the address.
+// (with the code); socket and framing problems std::runtime_error naming the address; a
+// receive that waits longer than set_receive_timeout() allows ReceiveTimeout (the connection
+// is closed then: a late reply must not be taken for the next request's).
 #pragma once
 
 #include <asio.hpp>
+#include <chrono>
 #include <cstdint>
 #include <span>
 #include <stdexcept>
@@ -32,6 +35,11 @@ class ServerError : public std::runtime_error {
   protocol::ErrorCode code_;
 };
 
+class ReceiveTimeout : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 class Connection {
  public:
   // address: "HOST:PORT" ("[::1]:7878" for IPv6 literals).
@@ -44,6 +52,10 @@ class Connection {
   // LoadModel: upload .glb bytes under `name`, or (empty bytes) load `name` on the server.
   const protocol::ModelInfo& load_model(const std::string& name,
                                         std::span<const std::uint8_t> glb = {});
+
+  // How long one receive may wait for the next bytes of a frame; zero (the default) waits
+  // for ever.
+  void set_receive_timeout(std::chrono::milliseconds timeout) { receive_timeout_ = timeout; }
 
   void send(std::span<const std::uint8_t> frame);
   // The next frame, verified. Throws std::runtime_error on a closed socket or a bad frame.
@@ -66,10 +78,12 @@ class Connection {
 
  private:
   static void throw_if_error(const protocol::Message& message);
+  void read_exactly(void* data, std::size_t size);
 
   std::string address_;
   asio::io_context io_;
   asio::ip::tcp::socket socket_;
+  std::chrono::milliseconds receive_timeout_{0};
   std::vector<std::uint64_t> storage_;  // 8-byte aligned for FlatBuffers
   flatbuffers::FlatBufferBuilder builder_;
 };

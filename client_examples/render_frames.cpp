@@ -1,43 +1,65 @@
 // render_frames: a render-farm client — one OpenEXR position map per frame of a BVH clip,
-// rendered by sweepd.
+// rendered by one or more sweepd servers.
 //
-//   render_frames --server HOST:PORT [--token T] [--model NAME | --model-file F.glb]
-//                 --bvh CLIP [--bvh-scale S] --frames A-B -o DIR [--width W --height H]
+//   render_frames --server HOST:PORT[,HOST:PORT...] [--token T]
+//                 [--model NAME | --model-file F.glb] --bvh CLIP [--bvh-scale S]
+//                 --frames A-B [--shard I/N] -o DIR [--width W --height H]
 //                 [--compression zip|none|zips|piz] [--normals] [--method sweep|lbs|dqs]
+//                 [--timeout SECONDS] [--attempts N]
 //
-// 1. Read the clip and check the range A-B (inclusive, 0-based) against its frames.
+// 1. Read the clip and check the range A-B (inclusive, 0-based) against its frames. With
+//    --shard I/N (or, without it, JOB_COMPLETION_INDEX and JOB_COMPLETIONS from a Kubernetes
+//    Indexed Job) only the I-th of N contiguous slices of the range is this process's
+//    (client/frame_shard.h).
 // 2. Resume: a frame whose file DIR/<clip stem>.<frame, 5 digits>.exr exists and opens as a
-//    complete OpenEXR file is skipped; a truncated or corrupt one is rendered again (said on
-//    stderr). With every frame complete the server is not contacted.
-// 3. Connect, Hello, choose the model (--model NAME, default "mannequin", or upload
-//    --model-file), retarget the clip onto the skeleton ModelInfo carries.
-// 4. Each remaining frame → one PositionMapRequest (positions and coverage, normals with
-//    --normals), up to Welcome.max_poses_in_flight in flight. The reply's EXR bytes are written
-//    to DIR/.<name>.partial and renamed, so a file present under its name is complete.
-// 5. A progress bar on stderr (console/progress_bar.h: frames done/total, rate, ETA); at the
-//    end, on stdout:
-//    "rendered R, skipped S of T frames in X s".
+//    complete OpenEXR file is skipped; a truncated or corrupt one is removed and rendered again
+//    (said on stderr). With every frame complete no server is contacted.
+// 3. One thread per server (a list, or one address behind HAProxy): connect, Hello, choose the
+//    model (--model NAME, default "mannequin", or upload --model-file), retarget the clip onto
+//    the skeleton ModelInfo carries, then take frames from one shared queue
+//    (client/frame_queue.h), up to the server's Welcome.max_poses_in_flight in flight.
+// 4. Failures: a server that dies, closes, or sends nothing for --timeout seconds (default 60)
+//    loses its frames in flight back to the queue, where the next server to ask takes them
+//    (elsewhere, when there is an elsewhere); its thread connects again after 0.2, 0.4, 0.8,
+//    1.6 s and gives up after 5 failed tries in a row. A frame is tried at most --attempts
+//    times (default 3). A server that refuses the job (token, model, no position maps) is not
+//    used again. A frame the server finds invalid fails at once.
+// 5. Each reply's EXR bytes are written to DIR/.<name>.<pid>.partial and renamed without
+//    replacing (renameat2 RENAME_NOREPLACE): a file under its name is complete and written
+//    once, even with two processes on one range.
+// 6. A progress bar on stderr (console/progress_bar.h); at the end, on stdout:
+//    "rendered R, skipped S of T frames in X s (F frames/s), retried Q, failed P", each failed
+//    frame's reason on stderr, and with several servers the frames each one rendered.
 //
-// Exit codes: 0 every frame present (or --help); 1 the server or a file refused (unreachable
-// server, unknown model, a frame's Error, a write failure), named on stderr; 2 a usage error
-// (flags, "12x" where a number is expected, the range), naming the flag.
+// Exit codes: 0 every frame present (or --help); 1 a frame failed (unreachable servers, unknown
+// model, a frame's Error, a write failure), named on stderr; 2 a usage error (flags, "12x"
+// where a number is expected, the range, the shard), naming the flag.
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
+#include <fcntl.h>  // AT_FDCWD
+#include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
-#include <cstdio>
+#include <cstdio>  // renameat2
+#include <cstring>
 #include <deque>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <map>
+#include <mutex>
+#include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "client/connection.h"
+#include "client/frame_queue.h"
+#include "client/frame_shard.h"
 #include "client/model_skeleton.h"
 #include "console/command_line.h"
 #include "console/progress_bar.h"
@@ -57,19 +79,22 @@ struct UsageError : std::invalid_argument {
 };
 
 struct Options {
-  std::string server, token, model = "mannequin", model_file, bvh, frames;
+  std::string server, token, model = "mannequin", model_file, bvh, frames, shard;
   fs::path out_dir;
   float bvh_scale = 0.056444f;  // CMU inches to metres
   std::uint32_t width = 1024, height = 1024;
   pb::ExrCompression compression = pb::ExrCompression::Zip;
   pb::DeformMethod method = pb::DeformMethod::Sweep;
   bool normals = false;
+  int timeout_ms = 60000, attempts = 3;
 };
 
 // The command line (console/command_line.h: --help exits 0, a bad flag or value exits 2).
 void describe(CLI::App& app, Options& o) {
   app.description("One OpenEXR position map per frame of a BVH clip, rendered by sweepd.");
-  app.add_option("--server", o.server, "sweepd's HOST:PORT")->required();
+  app.add_option("--server", o.server,
+                 "sweepd's HOST:PORT, or several, comma-separated: HOST:PORT,HOST:PORT")
+      ->required();
   app.add_option("--token", o.token, "the daemon's auth token");
   app.add_option("--model", o.model, "a model the server has, by name")->capture_default_str();
   app.add_option("--model-file", o.model_file, "a .glb to upload instead of --model");
@@ -77,6 +102,9 @@ void describe(CLI::App& app, Options& o) {
   app.add_option("--bvh-scale", o.bvh_scale, "metres per clip unit (CMU: 0.056444)")
       ->capture_default_str();
   app.add_option("--frames", o.frames, "A-B: the clip frames, inclusive, 0-based")->required();
+  app.add_option("--shard", o.shard,
+                 "I/N: render only the I-th (0-based) of N slices of the range (default: "
+                 "JOB_COMPLETION_INDEX/JOB_COMPLETIONS when set)");
   app.add_option("-o", o.out_dir, "DIR: where the .exr files go")->required();
   app.add_option("--width", o.width, "map width in texels")
       ->check(sweepd::console::whole_number(1, 4096))
@@ -96,6 +124,13 @@ void describe(CLI::App& app, Options& o) {
                                                            {"lbs", pb::DeformMethod::Lbs},
                                                            {"dqs", pb::DeformMethod::Dqs}};
   sweepd::console::add_choice(app, "--method", o.method, methods, "sweep (default), lbs or dqs");
+  app.add_option_function<int>(
+         "--timeout", [&o](int seconds) { o.timeout_ms = seconds * 1000; },
+         "SECONDS a server may take to answer before its frames go elsewhere (default 60)")
+      ->check(sweepd::console::whole_number(1, 86400));
+  app.add_option("--attempts", o.attempts, "tries per frame before it fails")
+      ->check(sweepd::console::whole_number(1, 100))
+      ->capture_default_str();
 }
 
 // A model file to upload, whole.
@@ -149,120 +184,324 @@ std::string incomplete_reason(const fs::path& file) {
   }
 }
 
-void write_file(const fs::path& file, const pb::PositionMap& map) {
-  const fs::path partial = file.parent_path() / ("." + file.filename().string() + ".partial");
+// The progress bar, shared by the server threads.
+class Progress {
+ public:
+  Progress(const std::string& title, int skipped, int total)
+      : bar_(title), skipped_(skipped), total_(total) {
+    show();
+  }
+  void frame_rendered() {
+    const std::lock_guard lock(mutex_);
+    ++rendered_;
+    show();
+  }
+
+ private:
+  void show() {  // the rate counts this run's renders, not the skipped frames
+    const double seconds = std::chrono::duration<double>(Clock::now() - start_).count();
+    char detail[64];
+    std::snprintf(detail, sizeof detail, "%d/%d, %.1f frames/s", skipped_ + rendered_, total_,
+                  seconds > 0.0 ? rendered_ / seconds : 0.0);
+    bar_.update(static_cast<double>(skipped_ + rendered_) / total_, "frames", detail);
+  }
+  std::mutex mutex_;
+  sweepd::console::ProgressBar bar_;
+  const Clock::time_point start_ = Clock::now();
+  int skipped_, total_, rendered_ = 0;
+};
+
+// What every server thread reads.
+struct Job {
+  const Options& options;
+  const sweepd::motion::Clip& motion;
+  const std::vector<std::uint8_t>& model_bytes;  // --model-file, read once
+  sweepd::client::FrameQueue& queue;
+  Progress& progress;
+};
+
+// What an Error reply means for the frame and the server.
+enum class ErrorMeaning {
+  kFrameInvalid,  // the frame would get it anywhere: it fails
+  kServerBusy,    // at a limit for now: the frame goes back to the queue
+  kServerUnfit,   // this server cannot do this job (token, model, no maps): not used again
+};
+
+ErrorMeaning meaning_of(pb::ErrorCode code) {
+  switch (code) {
+    case pb::ErrorCode::InvalidPose:
+    case pb::ErrorCode::WrongJointCount:
+    case pb::ErrorCode::InvalidArgument:
+      return ErrorMeaning::kFrameInvalid;
+    case pb::ErrorCode::Internal:
+    case pb::ErrorCode::MemoryLimit:
+    case pb::ErrorCode::ResourceExhausted:
+    case pb::ErrorCode::ConnectionLimit:
+    case pb::ErrorCode::ShuttingDown:
+      return ErrorMeaning::kServerBusy;
+    default:
+      return ErrorMeaning::kServerUnfit;
+  }
+}
+
+// A server that cannot do this job; its thread stops.
+struct ServerUnfit : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// Writes a reply's EXR bytes under a name no other process uses, then renames it into place
+// without replacing: false when another process wrote the frame first (its file is kept).
+bool write_file(const fs::path& file, const pb::PositionMap& map) {
+  const fs::path partial = file.parent_path() / ("." + file.filename().string() + "." +
+                                                 std::to_string(getpid()) + ".partial");
   {
     std::ofstream out(partial, std::ios::binary | std::ios::trunc);
     out.write(reinterpret_cast<const char*>(map.exr()->data()),
               static_cast<std::streamsize>(map.exr()->size()));
     if (!out.flush()) throw std::runtime_error("cannot write " + partial.string());
   }
-  fs::rename(partial, file);
+  if (renameat2(AT_FDCWD, partial.c_str(), AT_FDCWD, file.c_str(), RENAME_NOREPLACE) == 0)
+    return true;
+  const int error = errno;
+  fs::remove(partial);
+  if (error == EEXIST) return false;
+  throw std::runtime_error("cannot rename " + partial.string() + ": " + std::strerror(error));
+}
+
+// One connection to one server: set up for the job, then frames until the queue has ended.
+// Frames it holds are in `in_flight`, so that the caller can give them back when it throws.
+class ServerSession {
+ public:
+  ServerSession(const std::string& address, const Job& job) : job_(job), channel_(address) {
+    channel_.set_receive_timeout(std::chrono::milliseconds(job.options.timeout_ms));
+    try {
+      window_ =
+          std::max(1u, channel_.hello(job.options.token, "render_frames").max_poses_in_flight());
+      const pb::ModelInfo& info =
+          job.model_bytes.empty() ? channel_.load_model(job.options.model)
+                                  : channel_.load_model(job.options.model_file, job.model_bytes);
+      model_id_ = info.model_id();
+      joint_count_ = info.joint_names()->size();
+      clip_.emplace(sweepd::client::retarget_onto(info, job.motion));
+    } catch (const sweepd::client::ServerError& error) {
+      if (meaning_of(error.code()) == ErrorMeaning::kServerBusy) throw;
+      throw ServerUnfit(error.what());
+    }
+  }
+
+  // Renders until the queue has ended, counting the frames it writes into `rendered`.
+  void render(std::deque<int>& in_flight, int& rendered) {
+    sweepd::client::FrameQueue& queue = job_.queue;
+    for (;;) {
+      while (in_flight.size() < window_) {
+        const std::optional<int> frame = queue.take(/*wait=*/in_flight.empty());
+        if (!frame) break;
+        send_frame(*frame);
+        in_flight.push_back(*frame);
+      }
+      if (in_flight.empty()) {
+        channel_.close("frames rendered");
+        return;
+      }
+      const int frame = in_flight.front();
+      const std::string name = "frame " + std::to_string(frame);
+      const pb::Message& message = channel_.receive();
+      if (const pb::Error* error = message.body_as_Error()) {
+        const std::string why = name + ": server error " + pb::EnumNameErrorCode(error->code()) +
+                                ": " + (error->message() ? error->message()->str() : "");
+        const ErrorMeaning meaning = meaning_of(error->code());
+        if (error->fatal() || meaning == ErrorMeaning::kServerUnfit) {
+          if (meaning == ErrorMeaning::kServerUnfit) throw ServerUnfit(why);
+          throw std::runtime_error(why);  // the server closes: connect again
+        }
+        in_flight.pop_front();
+        if (meaning == ErrorMeaning::kFrameInvalid) {
+          queue.fail(frame, why);
+        } else {
+          queue.retry(frame, why);
+          std::this_thread::sleep_for(std::chrono::milliseconds(200));  // let it catch up
+        }
+        continue;
+      }
+      const pb::PositionMap* map = message.body_as_PositionMap();
+      if (!map || !map->exr()) throw std::runtime_error(name + ": the reply is not a position map");
+      if (map->sequence() != static_cast<std::uint64_t>(frame) + 1) {
+        throw std::runtime_error(name + ": the answer is for pose " +
+                                 std::to_string(map->sequence()));
+      }
+      const fs::path file = frame_file(job_.options, frame);
+      if (!write_file(file, *map)) {
+        std::fprintf(stderr, "\n%s: another process wrote it first; kept that file\n",
+                     file.c_str());
+      }
+      in_flight.pop_front();
+      queue.rendered(frame);
+      job_.progress.frame_rendered();
+      ++rendered;
+    }
+  }
+
+ private:
+  void send_frame(int frame) {
+    const sweepd::deform::Pose pose = clip_->pose_at_frame(frame);
+    std::vector<pb::Quat> rotations(joint_count_);
+    for (std::size_t j = 0; j < joint_count_; ++j) {
+      const glm::quat& q = pose.local_rotations[j];
+      rotations[j] = pb::Quat(q.x, q.y, q.z, q.w);
+    }
+    pb::PoseFields fields;
+    fields.model_id = model_id_;
+    fields.sequence = static_cast<std::uint64_t>(frame) + 1;  // sequences start at 1
+    fields.rotations = rotations;
+    fields.root_translation =
+        pb::Vec3(pose.root_translation.x, pose.root_translation.y, pose.root_translation.z);
+    fields.method = job_.options.method;
+    flatbuffers::FlatBufferBuilder& builder = channel_.builder();
+    builder.Clear();
+    auto layers = pb::MapLayers::Position | pb::MapLayers::Coverage;
+    if (job_.options.normals) layers = layers | pb::MapLayers::Normal;
+    const auto request =
+        pb::CreatePositionMapRequest(builder, pb::add_pose(builder, fields), job_.options.width,
+                                     job_.options.height, job_.options.compression, layers);
+    channel_.send(pb::finish_message(builder, request));
+  }
+
+  const Job& job_;
+  sweepd::client::Connection channel_;
+  std::uint32_t window_ = 1, model_id_ = 0;
+  std::size_t joint_count_ = 0;
+  std::optional<sweepd::motion::Retargeter> clip_;
+};
+
+// One server's thread: sessions until the queue has ended, connecting again after a failure
+// and giving up after kTries failures in a row or when the server is unfit. Returns the frames
+// it rendered.
+int serve(const std::string& address, const Job& job) {
+  constexpr int kTries = 5;
+  int rendered = 0, failures = 0;
+  std::chrono::milliseconds pause(200);
+  for (;;) {
+    std::deque<int> in_flight;
+    auto give_back = [&](const std::string& why) {  // in reverse, so they go out in order again
+      for (auto frame = in_flight.rbegin(); frame != in_flight.rend(); ++frame)
+        job.queue.retry(*frame, why);
+    };
+    try {
+      ServerSession session(address, job);
+      failures = 0;
+      pause = std::chrono::milliseconds(200);
+      session.render(in_flight, rendered);
+      job.queue.retire("");  // the queue has ended: nothing is waiting
+      return rendered;
+    } catch (const ServerUnfit& error) {
+      const std::string why = address + ": " + error.what();
+      std::fprintf(stderr, "\nrender_frames: %s; not using it again\n", why.c_str());
+      give_back(why);
+      job.queue.retire(why);
+      return rendered;
+    } catch (const std::exception& error) {
+      const std::string why = address + ": " + error.what();
+      give_back(why);
+      if (++failures == kTries) {
+        std::fprintf(stderr, "\nrender_frames: %s; gave up after %d tries\n", why.c_str(), kTries);
+        job.queue.retire(why + " (" + std::to_string(kTries) + " tries)");
+        return rendered;
+      }
+      std::fprintf(stderr, "\nrender_frames: %s; %s again in %.1f s\n", why.c_str(),
+                   in_flight.empty() ? "connecting" : "its frames go back, connecting",
+                   pause.count() / 1000.0);
+      std::this_thread::sleep_for(pause);
+      pause *= 2;
+    }
+    if (job.queue.ended()) {
+      job.queue.retire("");
+      return rendered;
+    }
+  }
+}
+
+// This process's frames: the range, or its shard's slice of it.
+std::optional<sweepd::motion::FrameRange> own_frames(const Options& options,
+                                                     const sweepd::motion::FrameRange& range) {
+  std::optional<sweepd::client::FrameShard> shard;
+  if (!options.shard.empty()) {
+    shard = sweepd::client::parse_frame_shard(options.shard);
+    if (!shard) throw UsageError("--shard " + options.shard + ": expected I/N with 0 <= I < N");
+  } else {
+    try {
+      shard = sweepd::client::frame_shard_from_environment(
+          [](const char* name) -> std::optional<std::string> {
+            const char* value = std::getenv(name);
+            if (!value) return std::nullopt;
+            return value;
+          });
+    } catch (const std::invalid_argument& error) {
+      throw UsageError(error.what());
+    }
+  }
+  if (!shard) return range;
+  const std::optional<sweepd::motion::FrameRange> mine =
+      sweepd::client::shard_frames(range, *shard);
+  std::printf("shard %d/%d: ", shard->index, shard->count);
+  if (mine) {
+    std::printf("frames %d-%d of %d-%d\n", mine->first, mine->last, range.first, range.last);
+  } else {
+    std::printf("no frame of %d-%d (more shards than frames)\n", range.first, range.last);
+  }
+  return mine;
 }
 
 int run(const Options& options) {
   const sweepd::motion::Clip motion =
       sweepd::io::load_bvh(options.bvh, {.length_scale = options.bvh_scale});
   const sweepd::motion::FrameRange range = clip_range(options.frames, motion.frame_count);
+  const std::vector<std::string> servers = sweepd::console::split_list(options.server);
+  if (servers.empty()) throw UsageError("--server: expected HOST:PORT[,HOST:PORT...]");
+  const std::optional<sweepd::motion::FrameRange> mine = own_frames(options, range);
   fs::create_directories(options.out_dir);
 
   // Resume: only frames without a complete file are rendered.
-  std::deque<int> todo;
-  for (int frame = range.first; frame <= range.last; ++frame) {
+  std::vector<int> todo;
+  for (int frame = mine ? mine->first : 0; mine && frame <= mine->last; ++frame) {
     const fs::path file = frame_file(options, frame);
     if (!fs::exists(file)) {
       todo.push_back(frame);
     } else if (const std::string reason = incomplete_reason(file); !reason.empty()) {
       std::fprintf(stderr, "%s is not a complete EXR (%s): rendering it again\n", file.c_str(),
                    reason.c_str());
+      fs::remove(file);  // the new one is renamed into place without replacing
       todo.push_back(frame);
     }
   }
-  const int total = range.count();
+  const int total = mine ? mine->count() : 0;
   const int skipped = total - static_cast<int>(todo.size());
   const Clock::time_point start = Clock::now();
-  auto report = [&](int rendered) {
-    std::printf("rendered %d, skipped %d of %d frames in %.2f s\n", rendered, skipped, total,
-                std::chrono::duration<double>(Clock::now() - start).count());
-  };
-  if (todo.empty()) {  // nothing to ask the server for
-    report(0);
-    return 0;
+  sweepd::client::FrameQueue queue(todo, options.attempts, static_cast<int>(servers.size()));
+  std::vector<int> rendered_by(servers.size(), 0);
+  if (!todo.empty()) {  // else nothing to ask a server for
+    const std::vector<std::uint8_t> model_bytes =
+        options.model_file.empty() ? std::vector<std::uint8_t>{} : file_bytes(options.model_file);
+    Progress progress("rendering " + fs::path(options.bvh).stem().string(), skipped, total);
+    const Job job{options, motion, model_bytes, queue, progress};
+    std::vector<std::thread> threads;
+    for (std::size_t s = 0; s < servers.size(); ++s)
+      threads.emplace_back([&, s] { rendered_by[s] = serve(servers[s], job); });
+    for (std::thread& thread : threads) thread.join();
   }
-
-  sweepd::client::Connection channel(options.server);
-  const std::uint32_t window =
-      std::max(1u, channel.hello(options.token, "render_frames").max_poses_in_flight());
-  const pb::ModelInfo& info =
-      options.model_file.empty()
-          ? channel.load_model(options.model)
-          : channel.load_model(options.model_file, file_bytes(options.model_file));
-  const std::uint32_t model_id = info.model_id();
-  const std::size_t joint_count = info.joint_names()->size();
-  const sweepd::motion::Retargeter clip = sweepd::client::retarget_onto(info, motion);
-
-  auto send_frame = [&](int frame) {
-    const sweepd::deform::Pose pose = clip.pose_at_frame(frame);
-    std::vector<pb::Quat> rotations(joint_count);
-    for (std::size_t j = 0; j < joint_count; ++j) {
-      const glm::quat& q = pose.local_rotations[j];
-      rotations[j] = pb::Quat(q.x, q.y, q.z, q.w);
-    }
-    pb::PoseFields fields;
-    fields.model_id = model_id;
-    fields.sequence = static_cast<std::uint64_t>(frame) + 1;  // sequences start at 1
-    fields.rotations = rotations;
-    fields.root_translation =
-        pb::Vec3(pose.root_translation.x, pose.root_translation.y, pose.root_translation.z);
-    fields.method = options.method;
-    flatbuffers::FlatBufferBuilder& builder = channel.builder();
-    builder.Clear();
-    auto layers = pb::MapLayers::Position | pb::MapLayers::Coverage;
-    if (options.normals) layers = layers | pb::MapLayers::Normal;
-    const auto request =
-        pb::CreatePositionMapRequest(builder, pb::add_pose(builder, fields), options.width,
-                                     options.height, options.compression, layers);
-    channel.send(pb::finish_message(builder, request));
-  };
-
-  // Pipelined: up to `window` requests in flight, answered in order; each reply is written as
-  // it arrives.
-  std::deque<int> in_flight;
-  int rendered = 0;
-  {  // the bar finishes its line before the report
-    sweepd::console::ProgressBar bar("rendering " + fs::path(options.bvh).stem().string());
-    auto show_progress = [&]() {  // the rate counts this run's renders, not the skipped frames
-      const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-      char detail[64];
-      std::snprintf(detail, sizeof detail, "%d/%d, %.1f frames/s", skipped + rendered, total,
-                    seconds > 0.0 ? rendered / seconds : 0.0);
-      bar.update(static_cast<double>(skipped + rendered) / total, "frames", detail);
-    };
-    show_progress();
-    while (!todo.empty() || !in_flight.empty()) {
-      while (!todo.empty() && in_flight.size() < window) {
-        send_frame(todo.front());
-        in_flight.push_back(todo.front());
-        todo.pop_front();
-      }
-      const int frame = in_flight.front();
-      in_flight.pop_front();
-      try {
-        const pb::PositionMap& map = channel.expect<pb::PositionMap>();
-        if (map.sequence() != static_cast<std::uint64_t>(frame) + 1) {
-          throw std::runtime_error("the answer is for pose " + std::to_string(map.sequence()));
-        }
-        write_file(frame_file(options, frame), map);
-      } catch (const std::exception& error) {
-        throw std::runtime_error("frame " + std::to_string(frame) + ": " + error.what());
-      }
-      ++rendered;
-      show_progress();
-    }
+  const sweepd::client::FrameQueue::Tally tally = queue.tally();
+  for (const auto& [frame, why] : tally.failures)
+    std::fprintf(stderr, "render_frames: frame %d failed: %s\n", frame, why.c_str());
+  if (servers.size() > 1 && !todo.empty()) {
+    for (std::size_t s = 0; s < servers.size(); ++s)
+      std::fprintf(stderr, "%s rendered %d frames\n", servers[s].c_str(), rendered_by[s]);
   }
-  channel.close("frames rendered");
-  report(rendered);
-  return 0;
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  std::printf(
+      "rendered %d, skipped %d of %d frames in %.2f s (%.2f frames/s), retried %d, "
+      "failed %d\n",
+      tally.rendered, skipped, total, seconds, seconds > 0 ? tally.rendered / seconds : 0.0,
+      tally.retried, tally.failed);
+  return tally.failed == 0 ? 0 : 1;
 }
 
 }  // namespace

@@ -3,8 +3,9 @@
 # Usage: fuzz/run_fuzzers.sh [seconds per target, default 60] [target ...]
 #   Builds the `fuzz` preset (clang, ASan + UBSan) into build/fuzz, seeds each corpus from
 #   sweepd's own writers (make_seeds) the first time, keeps the corpora in build/fuzz/corpus so
-#   time adds up over runs, and appends each run's seconds to build/fuzz/fuzzed_seconds.tsv
-#   (target, seconds, executions, corpus size, crashes). A crash leaves its input in
+#   time adds up over runs, and appends each run to build/fuzz/fuzzed_seconds.tsv (target, wall
+#   seconds, executions, corpus size, crashes, CPU seconds). CPU seconds are what counts: a run
+#   under `nice` on a busy machine gets less CPU than its wall time. A crash leaves its input in
 #   build/fuzz/crashes/<target>/; fix it and copy the input to fuzz/regressions/<target>/,
 #   which every test run replays (tests/fuzz/fuzz_inputs_test.cpp). Exit 1 when a target crashed.
 set -euo pipefail
@@ -23,18 +24,22 @@ for target in "${targets[@]}"; do
   mkdir -p "$corpus" "$crashes"
   log="$build/$target.log"
   # ASan's leak check stays on; -rss_limit_mb keeps a runaway allocation a finding, not a hang.
-  if "$build/fuzz/${target}_fuzzer" "$corpus" -max_total_time="$seconds" -timeout=10 \
+  TIMEFORMAT='%U %S'
+  if { time "$build/fuzz/${target}_fuzzer" "$corpus" -max_total_time="$seconds" -timeout=10 \
       -rss_limit_mb=2048 -max_len=1048576 -artifact_prefix="$crashes/" -print_final_stats=1 \
-      >"$log" 2>&1; then status=ok; else status=CRASH; failed=1; fi
+      >"$log" 2>&1; } 2>"$build/$target.cpu"; then status=ok; else status=CRASH; failed=1; fi
+  cpu=$(awk '{printf "%.0f", $1 + $2}' "$build/$target.cpu")
   runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo 0)
   size=$(find "$corpus" -type f | wc -l)
   found=$(find "$crashes" -type f | wc -l)
-  printf '%s\t%s\t%s\t%s\t%s\n' "$target" "$seconds" "$runs" "$size" "$found" \
+  printf '%s\t%s\t%s\t%s\t%s\t%s\n' "$target" "$seconds" "$runs" "$size" "$found" "$cpu" \
     >>"$build/fuzzed_seconds.tsv"
-  printf '%-10s %s  %ss  %s executions  corpus %s  crash inputs %s\n' "$target" "$status" \
-    "$seconds" "$runs" "$size" "$found"
+  printf '%-10s %s  %ss (CPU %ss)  %s executions  corpus %s  crash inputs %s\n' "$target" "$status" \
+    "$seconds" "$cpu" "$runs" "$size" "$found"
   [ "$status" = ok ] || tail -30 "$log"
 done
-awk -F'\t' '{s[$1]+=$2} END {for (t in s) printf "fuzzed so far: %-10s %.2f h\n", t, s[t]/3600}' \
+# Runs before CPU seconds were kept (5 columns) count their wall seconds.
+awk -F'\t' '{w[$1]+=$2; c[$1]+=(NF>=6?$6:$2); n[$1]+=$3}
+  END {for (t in w) printf "fuzzed so far: %-10s %.2f CPU h (%.2f h wall), %d executions\n", t, c[t]/3600, w[t]/3600, n[t]}' \
   "$build/fuzzed_seconds.tsv"
 exit $failed

@@ -4,10 +4,7 @@
 
 namespace sweepd::motion {
 
-namespace {
-
-// A whole non-negative decimal number and nothing else.
-std::optional<int> frame_number(std::string_view text) {
+std::optional<int> parse_frame_number(std::string_view text) {
   int value = 0;
   const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (text.empty() || error != std::errc() || end != text.data() + text.size() || value < 0)
@@ -15,13 +12,11 @@ std::optional<int> frame_number(std::string_view text) {
   return value;
 }
 
-}  // namespace
-
 std::optional<FrameRange> parse_frame_range(std::string_view text) {
   const std::size_t dash = text.find('-');
-  const std::optional<int> first = frame_number(text.substr(0, dash));
+  const std::optional<int> first = parse_frame_number(text.substr(0, dash));
   const std::optional<int> last =
-      dash == std::string_view::npos ? first : frame_number(text.substr(dash + 1));
+      dash == std::string_view::npos ? first : parse_frame_number(text.substr(dash + 1));
   if (!first || !last || *last < *first) return std::nullopt;
   return FrameRange{*first, *last};
 }

@@ -2,6 +2,8 @@
 // "A" (one frame) on command lines (sweepctl --frames, render_frames --frames).
 //
 //   parse_frame_range   text -> range; nothing for anything else ("12x", "5-3", "-1")
+//   parse_frame_number  text -> a whole non-negative decimal number; nothing for anything else
+//                       ("+1", " 1", "1x")
 //   frame_range_problem range, the clip's frame count -> "" or why the range does not fit
 #pragma once
 
@@ -17,6 +19,7 @@ struct FrameRange {
 };
 
 std::optional<FrameRange> parse_frame_range(std::string_view text);
+std::optional<int> parse_frame_number(std::string_view text);
 
 // "the clip has frames 0-N; frame L does not exist" when last >= frame_count, else "".
 std::string frame_range_problem(const FrameRange& range, int frame_count);

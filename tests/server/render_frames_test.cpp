@@ -8,6 +8,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <future>
 #include <map>
 #include <regex>
 
@@ -40,13 +41,21 @@ std::array<int, 3> frame_counts(const std::string& output) {
   return {std::stoi(match[1]), std::stoi(match[2]), std::stoi(match[3])};
 }
 
+// {retried, failed} from the summary's ", retried Q, failed P".
+std::array<int, 2> retry_counts(const std::string& output) {
+  std::smatch match;
+  if (!std::regex_search(output, match, std::regex(R"(retried (\d+), failed (\d+))")))
+    return {-1, -1};
+  return {std::stoi(match[1]), std::stoi(match[2])};
+}
+
 using Map = io::test_support::DecodedPositionMap;
 
-Map read_map(const fs::path& file) {
+Map read_map(const fs::path& file, int side = kSide) {
   Imf::InputFile exr(file.c_str());
   Map map = io::test_support::decode_position_map(exr);
-  EXPECT_EQ(map.width, kSide) << file;
-  EXPECT_EQ(map.height, kSide) << file;
+  EXPECT_EQ(map.width, side) << file;
+  EXPECT_EQ(map.height, side) << file;
   return map;
 }
 
@@ -70,7 +79,7 @@ class RenderFrames : public ClipClientTest {
   }
   // The library's own map of clip frame `frame` on the daemon's bound mannequin: retargeted
   // from the model itself (not from ModelInfo), deformed and rasterised in this process.
-  Map library_map(int frame) {
+  Map library_map(int frame, int side) {
     if (!bound_) {
       bound_ = std::make_unique<deform::BoundModel>(
           io::load_sweepbind(directory_ / "store" / "1.sweepbind"));
@@ -87,20 +96,57 @@ class RenderFrames : public ClipClientTest {
     job.normals = normals;
     job.run(context);
     gpu::PositionMapRenderer renderer(context_);
-    Map map{kSide, kSide, std::vector<float>(kSide * kSide * 3), std::vector<float>(kSide * kSide)};
+    Map map{side, side, std::vector<float>(side * side * 3), std::vector<float>(side * side)};
     renderer.render({bound_->model.uvs, positions, {}, bound_->model.indices},
-                    {.width = kSide, .height = kSide, .gutter_pixels = 4, .view = std::nullopt},
+                    {.width = side, .height = side, .gutter_pixels = 4, .view = std::nullopt},
                     {map.positions, {}, map.coverage});
     return map;
   }
-  void expect_library_map(int frame) {
+  void expect_library_map(int frame, int side = kSide) {
     SCOPED_TRACE("frame " + std::to_string(frame));
-    const Map served = read_map(frame_file(frame));
-    const Map expected = library_map(frame);
+    const Map served = read_map(frame_file(frame), side);
+    const Map expected = library_map(frame, side);
     // Same floats on both sides (ModelInfo's rest skeleton is the model's); 10 µm leaves room
     // for rounding in the two retargeting paths, far below a frame-to-frame change (below).
     EXPECT_LT(largest_difference(served.positions, expected.positions), 1e-5f);
     EXPECT_EQ(served.coverage, expected.coverage) << "coverage depends on the UVs alone";
+  }
+
+  // Two servers render one range; once frames arrive, `signal` hits the first server
+  // (SIGKILL: it dies; SIGSTOP: it hangs, and only --timeout notices). Its frames in flight go to
+  // the other server, and every frame ends up present and right.
+  void render_while_one_server_fails(DaemonProcess& failing, DaemonProcess& other, int signal) {
+    const fs::path frames = directory_ / "frames";
+    constexpr int kLastFrame = kFirst + 99;  // long enough that the signal lands mid-run
+    const std::string command = std::string(SWEEPD_RENDER_FRAMES) +
+                                " --server 127.0.0.1:" + std::to_string(failing.port()) +
+                                ",127.0.0.1:" + std::to_string(other.port()) +
+                                " --token t0k --bvh " + clip_.string() + " --frames " +
+                                std::to_string(kFirst) + "-" + std::to_string(kLastFrame) + " -o " +
+                                frames.string() + " --width 128 --height 128 --timeout 1";
+    std::future<ClientRun> run =
+        std::async(std::launch::async, [&] { return run_client(command); });
+    auto files = [&] {
+      int count = 0;
+      if (fs::exists(frames))
+        for (const auto& entry : fs::directory_iterator(frames))
+          count += entry.path().extension() == ".exr";
+      return count;
+    };
+    while (files() < 3 && run.wait_for(std::chrono::milliseconds(5)) != std::future_status::ready) {
+    }
+    const int before = files();
+    failing.signal(signal);
+    const ClientRun result = run.get();
+    ASSERT_LT(before, 100) << "the signal came after the run: nothing was tested";
+    ASSERT_EQ(result.exit_code, 0) << result.output << other.log();
+    EXPECT_EQ(frame_counts(result.output), (std::array<int, 3>{100, 0, 100})) << result.output;
+    const std::array<int, 2> retries = retry_counts(result.output);
+    EXPECT_GE(retries[0], 1) << "the failing server held frames in flight\n" << result.output;
+    EXPECT_EQ(retries[1], 0) << result.output;
+    EXPECT_NE(result.output.find("its frames go back"), std::string::npos) << result.output;
+    EXPECT_EQ(files(), 100) << "one file per frame, no partial file left";
+    for (int frame = kFirst; frame <= kLastFrame; frame += 9) expect_library_map(frame, 128);
   }
 
   gpu::Context context_;
@@ -154,6 +200,54 @@ TEST_F(RenderFrames, RendersEachFrameOnceAndAgainOnlyWhenMissingOrBroken) {
       std::to_string(kLast) + " -o " + (directory_ / "frames").string());
   EXPECT_EQ(third.exit_code, 0) << third.output;
   EXPECT_EQ(frame_counts(third.output), (std::array<int, 3>{0, 6, 6})) << third.output;
+}
+
+TEST_F(RenderFrames, ShardsRenderTheirSlicesAndTogetherTheRangeOnce) {
+  const std::string arguments = server_arguments() + " --frames " + std::to_string(kFirst) + "-" +
+                                std::to_string(kLast) + " -o " + (directory_ / "frames").string() +
+                                " --width 64 --height 64";
+  const ClientRun first = run_render_frames(arguments + " --shard 0/2");
+  ASSERT_EQ(first.exit_code, 0) << first.output << daemon_->log();
+  EXPECT_NE(first.output.find("shard 0/2: frames 300-302 of 300-305"), std::string::npos)
+      << first.output;
+  EXPECT_EQ(frame_counts(first.output), (std::array<int, 3>{3, 0, 3})) << first.output;
+  for (int frame = kFirst; frame <= kLast; ++frame)
+    EXPECT_EQ(fs::exists(frame_file(frame)), frame <= 302) << "frame " << frame;
+
+  // A Kubernetes Indexed Job's pod: the index from Kubernetes, the count from the Job's env.
+  const ClientRun second = run_client("JOB_COMPLETION_INDEX=1 JOB_COMPLETIONS=2 " +
+                                      std::string(SWEEPD_RENDER_FRAMES) + " " + arguments);
+  ASSERT_EQ(second.exit_code, 0) << second.output << daemon_->log();
+  EXPECT_NE(second.output.find("shard 1/2: frames 303-305 of 300-305"), std::string::npos)
+      << second.output;
+  EXPECT_EQ(frame_counts(second.output), (std::array<int, 3>{3, 0, 3})) << second.output;
+  for (int frame = kFirst; frame <= kLast; ++frame) expect_library_map(frame);
+
+  const ClientRun past = run_render_frames(arguments + " --shard 2/2");
+  EXPECT_EQ(past.exit_code, 2);
+  EXPECT_NE(past.output.find("--shard 2/2: expected I/N with 0 <= I < N"), std::string::npos)
+      << past.output;
+  const ClientRun half =
+      run_client("JOB_COMPLETION_INDEX=1 " + std::string(SWEEPD_RENDER_FRAMES) + " " + arguments);
+  EXPECT_EQ(half.exit_code, 2);
+  EXPECT_NE(half.output.find("JOB_COMPLETIONS is not"), std::string::npos) << half.output;
+}
+
+TEST_F(RenderFrames, AKilledServersFramesAreRenderedByTheOther) {
+  const fs::path other_directory = fresh_directory("render_frames_other");
+  DaemonProcess other(other_directory, {"--token", "t0k"});
+  ASSERT_TRUE(other.running()) << other.log();
+  render_while_one_server_fails(*daemon_, other, SIGKILL);
+  fs::remove_all(other_directory);
+}
+
+TEST_F(RenderFrames, AHungServersFramesTimeOutAndAreRenderedByTheOther) {
+  const fs::path other_directory = fresh_directory("render_frames_other");
+  DaemonProcess other(other_directory, {"--token", "t0k"});
+  ASSERT_TRUE(other.running()) << other.log();
+  render_while_one_server_fails(*daemon_, other, SIGSTOP);
+  daemon_->signal(SIGCONT);
+  fs::remove_all(other_directory);
 }
 
 TEST_F(RenderFrames, AFramesServerErrorNamesTheFrameAndLeavesNoFile) {
