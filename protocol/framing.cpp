@@ -200,11 +200,19 @@ FrameEvent FrameReader::check_frame() {
                            " bytes is not a valid sweepd Message (FlatBuffers verification "
                            "failed)");
   }
+  const Message* message = GetSizePrefixedMessage(frame);
+  // The verifier accepts a union whose type is set and whose value is absent; no reader of a
+  // body should have to check for that.
+  if (message->body_type() != Body::NONE && message->body() == nullptr) {
+    return error_event(FrameError::kVerificationFailed, body_bytes_,
+                       std::string("frame says its body is a ") +
+                           EnumNameBody(message->body_type()) + " but carries none");
+  }
   FrameEvent event;
   event.status = FrameStatus::kFrame;
   event.declared_bytes = body_bytes_;
   event.frame = {frame, frame_bytes};
-  event.message = GetSizePrefixedMessage(frame);
+  event.message = message;
   return event;
 }
 

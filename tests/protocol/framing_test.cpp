@@ -288,6 +288,23 @@ TEST(Framing, GarbageWithTheRightIdentifierFailsVerificationAndTheStreamGoesOn) 
   expect_hello(events[500], "after");
 }
 
+TEST(Framing, ABodyTypeWithoutItsBodyFailsVerification) {
+  // FlatBuffers' own verifier lets this through; the reader must not (a fuzzer found a daemon
+  // that dereferenced the absent body).
+  flatbuffers::FlatBufferBuilder builder;
+  const std::span<const std::uint8_t> empty_pose =
+      finish_frame(builder, CreateMessage(builder, 7, Body::Pose, 0));
+  Bytes stream(empty_pose.begin(), empty_pose.end());
+  const Bytes next = hello_frame("after");
+  stream.insert(stream.end(), next.begin(), next.end());
+  FrameReader reader;
+  const auto events = read_all(reader, stream);
+  ASSERT_EQ(events.size(), 2u);
+  EXPECT_EQ(events[0].event.error, FrameError::kVerificationFailed);
+  EXPECT_EQ(events[0].event.reason, "frame says its body is a Pose but carries none");
+  expect_hello(events[1], "after");
+}
+
 TEST(Framing, ErrorNamesAreDistinct) {
   EXPECT_STREQ(frame_error_name(FrameError::kOversized), "oversized");
   EXPECT_STREQ(frame_error_name(FrameError::kWrongIdentifier), "wrong_identifier");
