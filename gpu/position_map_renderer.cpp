@@ -1,7 +1,10 @@
 #include "gpu/position_map_renderer.h"
 
+#include <chrono>
 #include <glm/gtc/type_ptr.hpp>
 #include <stdexcept>
+
+#include "gpu/texel_gutter.h"
 
 namespace sweepd::gpu {
 namespace {
@@ -35,89 +38,46 @@ void main() {
 }
 )";
 
-constexpr const char* kFullScreenVertex = R"(#version 450 core
-void main() {  // one triangle covering the viewport
-  vec2 corner = vec2(float((gl_VertexID & 1) << 2), float((gl_VertexID & 2) << 1)) - 1.0;
-  gl_Position = vec4(corner, 0.0, 1.0);
-}
-)";
-
-constexpr const char* kDilateFragment = R"(#version 450 core
-layout(binding = 0) uniform sampler2D source_position;
-layout(binding = 1) uniform sampler2D source_normal;
-layout(location = 0) out vec4 out_position;
-layout(location = 1) out vec4 out_normal;
-const ivec2 kNeighbours[8] = ivec2[8](ivec2(-1, 0), ivec2(1, 0), ivec2(0, -1), ivec2(0, 1),
-                                      ivec2(-1, -1), ivec2(1, -1), ivec2(-1, 1), ivec2(1, 1));
-void main() {
-  ivec2 texel = ivec2(gl_FragCoord.xy);
-  ivec2 size = textureSize(source_position, 0);
-  ivec2 from = texel;
-  for (int i = 0; i < 8 && texelFetch(source_position, from, 0).w < 0.5; ++i) {
-    ivec2 neighbour = texel + kNeighbours[i];
-    if (all(greaterThanEqual(neighbour, ivec2(0))) && all(lessThan(neighbour, size)) &&
-        texelFetch(source_position, neighbour, 0).w >= 0.5) {
-      from = neighbour;
-    }
-  }
-  out_position = texelFetch(source_position, from, 0);
-  out_normal = texelFetch(source_normal, from, 0);
-}
-)";
-
-enum Texture { kPosition0, kNormal0, kCoverage, kPosition1, kNormal1 };
-enum Framebuffer { kRasterise, kSide0, kSide1 };
+enum Texture { kPosition, kNormal, kCoverage };
 
 }  // namespace
 
 PositionMapRenderer::PositionMapRenderer(const Context& context)
     : gl_(context.gl()),
       rasterise_(gl_, "position map", kRasteriseVertex, kRasteriseFragment),
-      dilate_(gl_, "position map gutter", kFullScreenVertex, kDilateFragment),
       mesh_(gl_) {
   gl_.GetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size_);
-  gl_.GenVertexArrays(1, &empty_vertex_array_);
 }
 
-PositionMapRenderer::~PositionMapRenderer() {
-  delete_targets();
-  gl_.DeleteVertexArrays(1, &empty_vertex_array_);
-}
+PositionMapRenderer::~PositionMapRenderer() { delete_targets(); }
 
 void PositionMapRenderer::delete_targets() {
-  gl_.DeleteFramebuffers(3, framebuffers_);
-  gl_.DeleteTextures(5, textures_);
+  gl_.DeleteFramebuffers(1, &framebuffer_);
+  gl_.DeleteTextures(3, textures_);
+  framebuffer_ = 0;
   width_ = height_ = 0;
 }
 
 void PositionMapRenderer::resize_targets(int width, int height) {
   if (width == width_ && height == height_) return;
   delete_targets();
-  gl_.GenTextures(5, textures_);
-  for (int t = 0; t < 5; ++t) {
+  gl_.GenTextures(3, textures_);
+  for (int t = 0; t < 3; ++t) {
     gl_.BindTexture(GL_TEXTURE_2D, textures_[t]);
     gl_.TexStorage2D(GL_TEXTURE_2D, 1, t == kCoverage ? GL_R32F : GL_RGBA32F, width, height);
     gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   }
-  gl_.GenFramebuffers(3, framebuffers_);
+  gl_.GenFramebuffers(1, &framebuffer_);
+  gl_.BindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
   const GLenum attachments[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
-  const int targets[3][3] = {
-      {kPosition0, kNormal0, kCoverage}, {kPosition0, kNormal0, -1}, {kPosition1, kNormal1, -1}};
-  for (int f = 0; f < 3; ++f) {
-    gl_.BindFramebuffer(GL_FRAMEBUFFER, framebuffers_[f]);
-    const int count = f == kRasterise ? 3 : 2;
-    for (int a = 0; a < count; ++a) {
-      gl_.FramebufferTexture2D(GL_FRAMEBUFFER, attachments[a], GL_TEXTURE_2D,
-                               textures_[targets[f][a]], 0);
-    }
-    gl_.DrawBuffers(count, attachments);
-    if (gl_.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
-      delete_targets();
-      throw std::runtime_error("position map: float32 render targets of " + std::to_string(width) +
-                               "x" + std::to_string(height) +
-                               " are not supported by this GL driver");
-    }
+  for (int a = 0; a < 3; ++a)
+    gl_.FramebufferTexture2D(GL_FRAMEBUFFER, attachments[a], GL_TEXTURE_2D, textures_[a], 0);
+  gl_.DrawBuffers(3, attachments);
+  if (gl_.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+    delete_targets();
+    throw std::runtime_error("position map: float32 render targets of " + std::to_string(width) +
+                             "x" + std::to_string(height) + " are not supported by this GL driver");
   }
   width_ = width;
   height_ = height;
@@ -155,10 +115,19 @@ std::string PositionMapRenderer::validate(const PositionMapMesh& mesh,
 }
 
 void PositionMapRenderer::render(const PositionMapMesh& mesh, const PositionMapOptions& options,
-                                 const PositionMapBuffers& buffers) {
+                                 const PositionMapBuffers& buffers, PositionMapTimings* timings) {
   if (const std::string problem = validate(mesh, options, buffers); !problem.empty()) {
     throw std::invalid_argument("position map: " + problem);
   }
+  using Clock = std::chrono::steady_clock;
+  Clock::time_point stage_start = Clock::now();
+  auto end_stage = [&](double PositionMapTimings::*stage) {
+    if (!timings) return;
+    gl_.Finish();
+    const Clock::time_point now = Clock::now();
+    timings->*stage = std::chrono::duration<double, std::milli>(now - stage_start).count();
+    stage_start = now;
+  };
   resize_targets(options.width, options.height);
   gl_.Disable(GL_DEPTH_TEST);
   gl_.Disable(GL_CULL_FACE);
@@ -166,8 +135,8 @@ void PositionMapRenderer::render(const PositionMapMesh& mesh, const PositionMapO
   gl_.Disable(GL_MULTISAMPLE);
   gl_.Viewport(0, 0, width_, height_);
 
-  // 1. Rasterise in UV space into (P0, N0, A).
-  gl_.BindFramebuffer(GL_FRAMEBUFFER, framebuffers_[kRasterise]);
+  // 1. Rasterise in UV space into (P, N, A).
+  gl_.BindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
   const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
   for (int a = 0; a < 3; ++a) gl_.ClearBufferfv(GL_COLOR, a, zero);
   mesh_.set_attribute(0, as_floats(mesh.uvs), 2);
@@ -178,6 +147,7 @@ void PositionMapRenderer::render(const PositionMapMesh& mesh, const PositionMapO
     mesh_.set_attribute(2, as_floats(mesh.normals), 3);
   }
   mesh_.set_indices(mesh.indices);
+  end_stage(&PositionMapTimings::upload);
   const glm::mat4 view = options.view.value_or(glm::mat4(1.0f));
   const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(view)));
   rasterise_.use();
@@ -185,40 +155,34 @@ void PositionMapRenderer::render(const PositionMapMesh& mesh, const PositionMapO
   gl_.UniformMatrix3fv(rasterise_.uniform("normal_matrix"), 1, GL_FALSE,
                        glm::value_ptr(normal_matrix));
   mesh_.draw();
+  end_stage(&PositionMapTimings::raster);
 
-  // 2. Gutter: ping-pong dilation passes between side 0 (P0, N0) and side 1 (P1, N1).
-  int side = 0;
-  if (options.gutter_pixels > 0) {
-    dilate_.use();
-    gl_.BindVertexArray(empty_vertex_array_);
-    for (int pass = 0; pass < options.gutter_pixels; ++pass) {
-      gl_.BindFramebuffer(GL_FRAMEBUFFER, framebuffers_[side == 0 ? kSide1 : kSide0]);
-      gl_.ActiveTexture(GL_TEXTURE0);
-      gl_.BindTexture(GL_TEXTURE_2D, textures_[side == 0 ? kPosition0 : kPosition1]);
-      gl_.ActiveTexture(GL_TEXTURE1);
-      gl_.BindTexture(GL_TEXTURE_2D, textures_[side == 0 ? kNormal0 : kNormal1]);
-      gl_.DrawArrays(GL_TRIANGLES, 0, 3);
-      side = 1 - side;
-    }
-    gl_.ActiveTexture(GL_TEXTURE0);
+  // 2. Read back: rows come bottom-up, i.e. row 0 = v ≈ 0, as documented. Coverage always:
+  // the gutter needs it.
+  const std::size_t texels = static_cast<std::size_t>(width_) * height_;
+  std::span<float> coverage = buffers.coverage;
+  if (coverage.empty()) {
+    coverage_scratch_.resize(texels);
+    coverage = coverage_scratch_;
   }
-
-  // 3. Read back: rows come bottom-up, i.e. row 0 = v ≈ 0, as documented.
   gl_.PixelStorei(GL_PACK_ALIGNMENT, 4);
-  gl_.BindFramebuffer(GL_READ_FRAMEBUFFER, framebuffers_[side == 0 ? kSide0 : kSide1]);
+  gl_.BindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer_);
   gl_.ReadBuffer(GL_COLOR_ATTACHMENT0);
   gl_.ReadPixels(0, 0, width_, height_, GL_RGB, GL_FLOAT, buffers.positions.data());
   if (!buffers.normals.empty()) {
     gl_.ReadBuffer(GL_COLOR_ATTACHMENT1);
     gl_.ReadPixels(0, 0, width_, height_, GL_RGB, GL_FLOAT, buffers.normals.data());
   }
-  if (!buffers.coverage.empty()) {
-    gl_.BindFramebuffer(GL_READ_FRAMEBUFFER, framebuffers_[kRasterise]);
-    gl_.ReadBuffer(GL_COLOR_ATTACHMENT2);
-    gl_.ReadPixels(0, 0, width_, height_, GL_RED, GL_FLOAT, buffers.coverage.data());
-  }
+  gl_.ReadBuffer(GL_COLOR_ATTACHMENT2);
+  gl_.ReadPixels(0, 0, width_, height_, GL_RED, GL_FLOAT, coverage.data());
   gl_.BindFramebuffer(GL_FRAMEBUFFER, 0);
+  end_stage(&PositionMapTimings::readback);
   throw_on_gl_error(gl_, "position map");
+
+  // 3. Gutter, on the CPU (gpu/texel_gutter.h says why).
+  fill_texel_gutter(width_, height_, coverage, options.gutter_pixels, buffers.positions,
+                    buffers.normals);
+  end_stage(&PositionMapTimings::gutter);
 }
 
 }  // namespace sweepd::gpu

@@ -11,10 +11,11 @@
 // uv (0, 0) at the top-left — glTF's texture convention, so it lines up with the model's
 // textures. Sampling is at texel centres (no multisampling): a covered texel holds the
 // barycentric interpolation at its centre (float32). Where UV triangles overlap, the later
-// triangle wins. The gutter costs one full-target pass per pixel of width.
-// Gutter: with gutter_pixels = n, n dilation passes copy, into every uncovered texel next to a
+// triangle wins.
+// Gutter: with gutter_pixels = n, n dilation rounds copy, into every uncovered texel next to a
 // filled one, that neighbour's P and N (4-neighbours before diagonals), so texture filtering at
-// island borders does not pull in zeros. A stays 0 there: A marks real coverage only.
+// island borders does not pull in zeros. A stays 0 there: A marks real coverage only. The rounds
+// run on the CPU after readback (gpu/texel_gutter.h says why).
 // Texels neither covered nor reached by the gutter hold P = N = 0.
 // Construct and use on the thread where the Context is current; it must not outlive the Context.
 #pragma once
@@ -24,6 +25,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "gpu/egl_context.h"
 #include "gpu/mesh_buffers.h"
@@ -52,6 +54,12 @@ struct PositionMapBuffers {
   std::span<float> coverage;   // W·H or empty
 };
 
+// Where a render's time went, in milliseconds (each GL stage ends with glFinish when asked
+// for, so that asynchronous GL work is charged to the stage that queued it).
+struct PositionMapTimings {
+  double upload = 0, raster = 0, readback = 0, gutter = 0;
+};
+
 class PositionMapRenderer {
  public:
   explicit PositionMapRenderer(const Context& context);
@@ -63,8 +71,9 @@ class PositionMapRenderer {
   std::string validate(const PositionMapMesh& mesh, const PositionMapOptions& options,
                        const PositionMapBuffers& buffers) const;
   // Renders and reads back into buffers; throws std::invalid_argument with validate()'s reason.
+  // With `timings`, each stage is finished and timed (benchmarks; it costs the overlap).
   void render(const PositionMapMesh& mesh, const PositionMapOptions& options,
-              const PositionMapBuffers& buffers);
+              const PositionMapBuffers& buffers, PositionMapTimings* timings = nullptr);
 
  private:
   void resize_targets(int width, int height);
@@ -73,14 +82,11 @@ class PositionMapRenderer {
   const GlFunctions& gl_;
   GLint max_size_ = 0;
   ShaderProgram rasterise_;
-  ShaderProgram dilate_;
   MeshBuffers mesh_;
-  GLuint empty_vertex_array_ = 0;  // the full-screen dilation pass has no attributes
   int width_ = 0, height_ = 0;
-  // Textures: P and N twice (ping-pong for the gutter), A once. Framebuffers: the rasterising
-  // one (P0, N0, A) and one per ping-pong side ((P0, N0) and (P1, N1)).
-  GLuint textures_[5] = {};
-  GLuint framebuffers_[3] = {};
+  GLuint textures_[3] = {};              // P, N, A
+  GLuint framebuffer_ = 0;               // rasterises into all three
+  std::vector<float> coverage_scratch_;  // A when the caller does not want it (the gutter does)
 };
 
 }  // namespace sweepd::gpu
