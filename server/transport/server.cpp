@@ -4,6 +4,7 @@
 #include <future>
 #include <thread>
 
+#include "io/exr_write.h"
 #include "server/log_event.h"
 
 namespace sweepd::server {
@@ -35,6 +36,9 @@ Server::Server(const ServerConfig& config, ModelService& models, Readiness& read
       environment_{config, models, workers_, position_maps_, std::chrono::steady_clock::now(),
                    {},     {},     {},       buffer_budget_, builders_,
                    {}} {
+  // Position maps' EXR compression runs on OpenEXR's process-wide pool: one thread per worker,
+  // so that a ZIP frame is compressed in parallel scan-line blocks instead of on one core.
+  io::set_exr_threads(static_cast<int>(worker_count(config)));
   environment_.on_close = [this](std::uint64_t id) {
     // Deferred: the connection may still be on the call stack.
     asio::post(io_, [this, id]() {
