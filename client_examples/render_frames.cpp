@@ -37,6 +37,7 @@
 #include <string>
 #include <vector>
 
+#include "client/client_tls_flags.h"
 #include "client/connection.h"
 #include "client/model_skeleton.h"
 #include "console/command_line.h"
@@ -64,6 +65,7 @@ struct Options {
   pb::ExrCompression compression = pb::ExrCompression::Zip;
   pb::DeformMethod method = pb::DeformMethod::Sweep;
   bool normals = false;
+  sweepd::client::ClientTls tls;
 };
 
 // The command line (console/command_line.h: --help exits 0, a bad flag or value exits 2).
@@ -71,6 +73,7 @@ void describe(CLI::App& app, Options& o) {
   app.description("One OpenEXR position map per frame of a BVH clip, rendered by sweepd.");
   app.add_option("--server", o.server, "sweepd's HOST:PORT")->required();
   app.add_option("--token", o.token, "the daemon's auth token");
+  sweepd::client::add_client_tls_flags(app, o.tls);
   app.add_option("--model", o.model, "a model the server has, by name")->capture_default_str();
   app.add_option("--model-file", o.model_file, "a .glb to upload instead of --model");
   app.add_option("--bvh", o.bvh, "the clip")->required();
@@ -190,7 +193,7 @@ int run(const Options& options) {
     return 0;
   }
 
-  sweepd::client::Connection channel(options.server);
+  sweepd::client::Connection channel(options.server, options.tls);
   const std::uint32_t window =
       std::max(1u, channel.hello(options.token, "render_frames").max_poses_in_flight());
   const pb::ModelInfo& info =

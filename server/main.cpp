@@ -73,6 +73,8 @@ int main(int argc, char** argv) {
                       {{"store_dir", config.store_dir.string()},
                        {"model_dir", config.model_dir.string()},
                        {"auth", config.token.empty() ? "none (any token accepted)" : "token"},
+                       {"tls", config.tls_cert.empty() ? "off" : "on"},
+                       {"allow_plaintext", config.allow_plaintext},
                        {"max_connections", config.max_connections},
                        {"max_models", config.max_models},
                        {"max_frame_bytes", config.max_frame_bytes},
