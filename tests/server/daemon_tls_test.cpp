@@ -222,6 +222,28 @@ TEST_F(DaemonTls, TheCppAndPythonStreamPosesStreamOverTls) {
   EXPECT_NE(refused.output.find("certificate required"), std::string::npos) << refused.output;
 }
 
+TEST_F(DaemonTls, SweepctlAndRenderFramesConnectOverTls) {
+  const fs::path clip = fs::path(SWEEPD_SHARED_DATA) / "motion" / "cmu_01_01.bvh";
+  if (!fs::exists(clip)) GTEST_SKIP() << "shared data absent: " << clip;
+  const TestCertificates& c = **certificates_;
+  const std::string server = " --server " + address() + " --token " + kToken + " --tls-ca " +
+                             c.ca.string() + " --tls-cert " + c.client_cert.string() +
+                             " --tls-key " + c.client_key.string();
+  const fs::path out = *directory_ / "out";
+  fs::create_directories(out);
+  const ClientRun pose =
+      run_client(std::string(SWEEPD_SWEEPCTL) + server + " pose mannequin --bvh " + clip.string() +
+                 " --frame 10 -o " + (out / "posed.glb").string());
+  EXPECT_EQ(pose.exit_code, 0) << pose.output;
+  EXPECT_TRUE(fs::exists(out / "posed.glb")) << pose.output;
+  const ClientRun render =
+      run_client(std::string(SWEEPD_RENDER_FRAMES) + server + " --bvh " + clip.string() +
+                 " --frames 0-1 --width 32 --height 32 -o " + (out / "frames").string());
+  EXPECT_EQ(render.exit_code, 0) << render.output;
+  EXPECT_NE(render.output.find("rendered 2, skipped 0 of 2 frames"), std::string::npos)
+      << render.output;
+}
+
 TEST(DaemonPlainPort, ATlsClientIsToldItReachedAPlainPortAndTheDaemonStaysUp) {
   const fs::path directory = fresh_directory("tls_to_plain");
   const std::optional<TestCertificates> certificates = TestCertificates::make(directory);
