@@ -5,7 +5,6 @@
 #include <thread>
 
 #include "server/log_event.h"
-#include "server/transport/tls_context.h"
 
 namespace sweepd::server {
 namespace {
@@ -24,7 +23,8 @@ std::size_t worker_count(const ServerConfig& config) {
 
 }  // namespace
 
-Server::Server(const ServerConfig& config, ModelService& models, Readiness& readiness)
+Server::Server(const ServerConfig& config, ModelService& models, Readiness& readiness,
+               std::optional<asio::ssl::context> tls)
     : config_(config),
       readiness_(readiness),
       workers_(worker_count(config)),
@@ -33,6 +33,7 @@ Server::Server(const ServerConfig& config, ModelService& models, Readiness& read
       // Enough idle builders for every worker's reply and the I/O thread's.
       builders_(2 * static_cast<std::size_t>(worker_count(config)) + 4),
       signals_(io_, SIGTERM, SIGINT),
+      tls_(std::move(tls)),
       environment_{config, models, workers_, position_maps_, std::chrono::steady_clock::now(),
                    {},     {},     {},       buffer_budget_, builders_,
                    {}} {
@@ -57,7 +58,6 @@ Server::~Server() { workers_.join(); }
 int Server::open() {
   int port = 0;
   if (config_.port >= 0) {
-    if (!config_.tls_cert.empty()) tls_.emplace(server_tls_context(config_));
     try {
       const asio::ip::tcp::endpoint endpoint(asio::ip::make_address(config_.listen_address),
                                              static_cast<unsigned short>(config_.port));

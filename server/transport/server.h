@@ -1,10 +1,11 @@
 // Server: sweepd's listeners, connections and worker pool.
 //
-// open(): binds the TCP listener (config.listen_address:port; port 0 picks a free one), with
-//   TLS when config.tls_cert is set (server/transport/tls_context.h), and the Unix-socket
-//   listener (config.unix_socket, a stale socket file is replaced; always plain). Throws
-//   std::runtime_error naming the address, or the TLS flag and file, and the reason. Returns
-//   the bound TCP port (0 with no TCP listener).
+// Server(config, models, readiness, tls): `tls`, when given, is the TCP listener's TLS
+//   (server/transport/tls_context.h); none: plain TCP.
+// open(): binds the TCP listener (config.listen_address:port; port 0 picks a free one) and
+//   the Unix-socket listener (config.unix_socket, a stale socket file is replaced; always
+//   plain). Throws std::runtime_error naming the address and the reason. Returns the bound TCP
+//   port (0 with no TCP listener).
 // run(): serves until SIGTERM/SIGINT or request_shutdown(), then stops accepting, lets every
 //   connection finish its in-flight work and say Bye, joins the workers and returns.
 // snapshot(timeout): thread-safe; a copy of the counters and gauges (ServerSnapshot) taken on
@@ -17,6 +18,7 @@
 #pragma once
 
 #include <asio.hpp>
+#include <asio/ssl/context.hpp>
 #include <atomic>
 #include <chrono>
 #include <map>
@@ -34,7 +36,8 @@ namespace sweepd::server {
 
 class Server {
  public:
-  Server(const ServerConfig& config, ModelService& models, Readiness& readiness);
+  Server(const ServerConfig& config, ModelService& models, Readiness& readiness,
+         std::optional<asio::ssl::context> tls);
   ~Server();
 
   int open();

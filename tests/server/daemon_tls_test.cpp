@@ -11,6 +11,7 @@
 #include <netinet/in.h>
 
 #include <cstring>
+#include <fstream>
 
 #include "client/connection.h"
 #include "tests/server/client_run.h"
@@ -263,6 +264,20 @@ TEST(DaemonPlainPort, ATlsClientIsToldItReachedAPlainPortAndTheDaemonStaysUp) {
   client::Connection plain(address);
   EXPECT_GT(plain.hello(kToken, "plain").connection_id(), 0u);
   plain.close();
+  fs::remove_all(directory);
+}
+
+TEST(DaemonTlsFiles, ACertificateThatWillNotLoadStopsTheStartNamingTheFlagAndFile) {
+  const fs::path directory = fresh_directory("tls_files");
+  std::ofstream(directory / "not.pem") << "not a certificate\n";
+  const std::string files = " --tls-cert " + (directory / "not.pem").string() + " --tls-key " +
+                            (directory / "not.pem").string();
+  const ClientRun run = run_client(std::string(SWEEPD_DAEMON) + " --port 0 --store-dir " +
+                                   (directory / "store").string() + files);
+  EXPECT_EQ(run.exit_code, 1) << run.output;  // a start-up failure
+  EXPECT_NE(run.output.find("--tls-cert " + (directory / "not.pem").string()), std::string::npos)
+      << run.output;
+  EXPECT_FALSE(fs::exists(directory / "store" / "1.sweepbind")) << "stopped before any binding";
   fs::remove_all(directory);
 }
 
