@@ -82,7 +82,7 @@ const Reply& RemotePosedModel::reply_as() {
 }
 
 RemotePosedModel::RemotePosedModel(const PosingArguments& arguments, const ServerAddress& server)
-    : arguments_(checked_model(arguments)), connection_(server.address) {
+    : arguments_(checked_model(arguments)), connection_(server.address, server.tls) {
   try {
     connection_.hello(server.token, "sweepctl");
     const std::filesystem::path& file = arguments.model;

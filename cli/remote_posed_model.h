@@ -24,8 +24,9 @@
 namespace sweepd::cli {
 
 struct ServerAddress {
-  std::string address;  // HOST:PORT
-  std::string token;    // the daemon's auth token ("" when it has none)
+  std::string address;    // HOST:PORT
+  std::string token;      // the daemon's auth token ("" when it has none)
+  client::ClientTls tls;  // --tls, --tls-ca, ... (client/client_tls_flags.h)
 };
 
 // What a remote position map asks for beyond its pose.

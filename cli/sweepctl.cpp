@@ -1,7 +1,7 @@
 // sweepctl: the user's command line — one CLI::App (console/command_line.h) with a subcommand
 // per command, each declared in its own *_command.cpp (cli/commands.h).
-// `--server HOST:PORT [--token T]`, before or after the command, runs pose, positionmap and
-// metrics on a sweepd daemon instead of in this process.
+// `--server HOST:PORT [--token T] [--tls ...]`, before or after the command, runs pose,
+// positionmap and metrics on a sweepd daemon instead of in this process.
 #include <cstdio>
 #include <exception>
 #include <optional>
@@ -9,6 +9,7 @@
 
 #include "cli/commands.h"
 #include "cli/remote_posed_model.h"
+#include "client/client_tls_flags.h"
 #include "console/command_line.h"
 
 int main(int argc, char** argv) {
@@ -29,6 +30,7 @@ int main(int argc, char** argv) {
   app.add_option("--token", server.token, "the daemon's auth token")
       ->type_name("T")
       ->needs(server_flag);
+  client::add_client_tls_flags(app, server.tls, server_flag);
   const std::vector<cli::Command> commands = {cli::add_inspect_command(app),
                                               cli::add_mannequin_command(app),
                                               cli::add_bind_command(app),

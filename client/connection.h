@@ -1,27 +1,35 @@
-// Connection: a blocking client connection to sweepd over TCP — what the C++ clients
-// (client_examples/, `sweepctl --server`, bench/server_bench) share.
+// Connection: a blocking client connection to sweepd over TCP, plain or TLS — what the C++
+// clients (client_examples/, `sweepctl --server`, bench/server_bench) share.
 //
 //   Connection connection("127.0.0.1:7878");          // or Connection(host, port)
+//   Connection secure("sweepd.example:7878", tls);     // ClientTls (client/client_tls.h)
 //   const Welcome& welcome = connection.hello(token, "my client");
 //   const ModelInfo& info = connection.load_model("mannequin");
 //   connection.send(frame);                              // any frame (protocol/messages.h)
 //   const PosedVertices& reply = connection.expect<PosedVertices>();
 //
 // A reply is valid until the next receive. Server errors become ServerError exceptions
-// (with the code); socket and framing problems std::runtime_error naming the address; a
+// (with the code); socket, TLS and framing problems std::runtime_error naming the address; a
 // receive that waits longer than set_receive_timeout() allows ReceiveTimeout (the connection
-// is closed then: a late reply must not be taken for the next request's).
+// is unusable then: a late reply must not be taken for the next request's).
+// One thread may receive while another sends. hello() with a token over plain TCP to a peer
+// that is not loopback throws (the token would cross the network in clear) unless
+// tls.allow_plaintext.
 #pragma once
 
 #include <asio.hpp>
 #include <chrono>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "client/client_tls.h"
+#include "client/receive_timeout.h"
+#include "client/tls_channel.h"
 #include "protocol/messages.h"
 
 namespace sweepd::client {
@@ -35,16 +43,11 @@ class ServerError : public std::runtime_error {
   protocol::ErrorCode code_;
 };
 
-class ReceiveTimeout : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
-
 class Connection {
  public:
   // address: "HOST:PORT" ("[::1]:7878" for IPv6 literals).
-  explicit Connection(const std::string& address);
-  Connection(const std::string& host, const std::string& port);
+  explicit Connection(const std::string& address, const ClientTls& tls = {});
+  Connection(const std::string& host, const std::string& port, const ClientTls& tls = {});
 
   // Hello with the token → Welcome (protocol version checked by the server).
   const protocol::Welcome& hello(std::string_view token, std::string_view client_name,
@@ -78,12 +81,14 @@ class Connection {
 
  private:
   static void throw_if_error(const protocol::Message& message);
-  void read_exactly(void* data, std::size_t size);
+  void read_exactly(std::span<std::uint8_t> bytes);
 
   std::string address_;
+  bool allow_plaintext_;
   asio::io_context io_;
   asio::ip::tcp::socket socket_;
   std::chrono::milliseconds receive_timeout_{0};
+  std::unique_ptr<TlsChannel> tls_;     // null: plain TCP
   std::vector<std::uint64_t> storage_;  // 8-byte aligned for FlatBuffers
   flatbuffers::FlatBufferBuilder builder_;
 };

@@ -57,6 +57,7 @@
 #include <thread>
 #include <vector>
 
+#include "client/client_tls_flags.h"
 #include "client/connection.h"
 #include "client/frame_queue.h"
 #include "client/frame_shard.h"
@@ -87,6 +88,7 @@ struct Options {
   pb::DeformMethod method = pb::DeformMethod::Sweep;
   bool normals = false;
   int timeout_ms = 60000, attempts = 3;
+  sweepd::client::ClientTls tls;
 };
 
 // The command line (console/command_line.h: --help exits 0, a bad flag or value exits 2).
@@ -96,6 +98,7 @@ void describe(CLI::App& app, Options& o) {
                  "sweepd's HOST:PORT, or several, comma-separated: HOST:PORT,HOST:PORT")
       ->required();
   app.add_option("--token", o.token, "the daemon's auth token");
+  sweepd::client::add_client_tls_flags(app, o.tls);
   app.add_option("--model", o.model, "a model the server has, by name")->capture_default_str();
   app.add_option("--model-file", o.model_file, "a .glb to upload instead of --model");
   app.add_option("--bvh", o.bvh, "the clip")->required();
@@ -272,7 +275,8 @@ bool write_file(const fs::path& file, const pb::PositionMap& map) {
 // Frames it holds are in `in_flight`, so that the caller can give them back when it throws.
 class ServerSession {
  public:
-  ServerSession(const std::string& address, const Job& job) : job_(job), channel_(address) {
+  ServerSession(const std::string& address, const Job& job)
+      : job_(job), channel_(address, job.options.tls) {
     channel_.set_receive_timeout(std::chrono::milliseconds(job.options.timeout_ms));
     try {
       window_ =

@@ -1,6 +1,7 @@
 // stream_poses: a sweepd client that streams a BVH clip as poses and reports latency.
 //
 //   stream_poses --bvh clip.bvh [--host 127.0.0.1] [--port 7878] [--token T]
+//                [--tls [--tls-ca CA.pem] [--tls-cert C.pem --tls-key K.pem]]
 //                [--model-file body.glb] [--frames N] [--flat-out] [--latest-wins] [--float16]
 //
 // 1. Connect, Hello (with the token; LatestWins if asked), read Welcome.
@@ -31,6 +32,7 @@
 #include <thread>
 #include <vector>
 
+#include "client/client_tls_flags.h"
 #include "client/connection.h"
 #include "client/model_skeleton.h"
 #include "console/command_line.h"
@@ -48,6 +50,7 @@ struct Options {
   float bvh_scale = 0.056444f;
   int frames = 0;  // 0: the whole clip
   bool flat_out = false, latest_wins = false, float16 = false;
+  sweepd::client::ClientTls tls;
 };
 
 // The command line (console/command_line.h: --help exits 0, a bad flag or value exits 2).
@@ -59,6 +62,7 @@ void describe(CLI::App& app, Options& o) {
       ->check(sweepd::console::whole_number(1, 65535))
       ->capture_default_str();
   app.add_option("--token", o.token, "the daemon's auth token");
+  sweepd::client::add_client_tls_flags(app, o.tls);
   app.add_option("--model-file", o.model_file, "a .glb to upload (default: the mannequin)");
   app.add_option("--bvh-scale", o.bvh_scale, "metres per clip unit (CMU: 0.056444)")
       ->capture_default_str();
@@ -77,7 +81,7 @@ double percentile_ms(std::vector<double> values, double q) {
 }
 
 int run(const Options& options) {
-  sweepd::client::Connection channel(options.host, std::to_string(options.port));
+  sweepd::client::Connection channel(options.host, std::to_string(options.port), options.tls);
   const std::uint32_t window =
       channel
           .hello(options.token, "stream_poses",

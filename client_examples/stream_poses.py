@@ -6,12 +6,17 @@ python3-flatbuffers only (run it with /usr/bin/python3; Python 3.11, no numpy).
 
   /usr/bin/python3 client_examples/stream_poses.py --bvh clip.bvh
       [--host 127.0.0.1] [--port 7878] [--unix SOCKET] [--token T]
+      [--tls [--tls-ca CA.pem] [--tls-cert C.pem --tls-key K.pem]] [--allow-plaintext]
       [--model NAME | --model-file body.glb] [--bvh-scale 0.056444]
       [--frames N] [--first-frame F] [--flat-out] [--latest-wins] [--float16]
       [--dump-poses poses.jsonl] [--protocol-dir DIR]
 
 1. Connect (TCP HOST:PORT, or --unix SOCKET), Hello with the token (InOrder, or LatestWins
-   with --latest-wins), read Welcome.
+   with --latest-wins), read Welcome. With --tls (implied by --tls-ca and --tls-cert) the TCP
+   connection is TLS (Python's ssl module): TLS 1.2 at least, the server's certificate checked
+   against --tls-ca (default: the system's CAs) and the host name or address; --tls-cert and
+   --tls-key offer a client certificate (sweepd's --tls-client-ca). A token is not sent over
+   plain TCP to a host that is not loopback unless --allow-plaintext.
 2. The model: --model-file uploads a .glb (LoadModel with bytes, stored under --model or
    the file's name); otherwise LoadModel by name (--model, default the server's
    "mannequin"). ModelInfo gives the joint order and,
@@ -48,8 +53,11 @@ import argparse
 import importlib
 import json
 import math
+import ipaddress
 import os
+import select
 import socket
+import ssl
 import struct
 import sys
 import threading
@@ -787,20 +795,80 @@ def error_code_name(pb, code):
     return f"code {code}"
 
 
-class Connection:
-    """A blocking sweepd connection: send frames, receive Messages."""
+def tls_context(options):
+    """The client's TLS settings from --tls-ca, --tls-cert and --tls-key."""
+    try:
+        context = ssl.create_default_context(cafile=options.tls_ca)
+        context.minimum_version = ssl.TLSVersion.TLSv1_2
+        if options.tls_cert:
+            context.load_cert_chain(options.tls_cert, options.tls_key)
+    except (OSError, ssl.SSLError) as error:
+        raise BadInput(f"TLS files (--tls-ca, --tls-cert, --tls-key): "
+                       f"{error.strerror or error}") from error
+    return context
 
-    def __init__(self, pb, host, port, unix_path):
+
+class TlsSocket:
+    """An SSLSocket that one thread reads while another writes (the ReplyReader and the sender):
+    each OpenSSL call runs under a lock on a non-blocking socket, and the wait for the socket
+    happens outside the lock (OpenSSL does not let two threads use one connection at once)."""
+
+    def __init__(self, raw, context, host, address):
+        self.socket = context.wrap_socket(raw, server_hostname=host,
+                                          do_handshake_on_connect=False)
+        self.socket.setblocking(False)
+        self.lock = threading.Lock()
+        try:
+            self.call(self.socket.do_handshake)
+        except ssl.SSLCertVerificationError as error:
+            raise ConnectionLost(f"TLS handshake with {address}: its certificate is not accepted "
+                                 f"({error.verify_message}; --tls-ca names the CA that signed "
+                                 f"it, and it must be issued to {host})") from error
+
+    def call(self, operation, *args):
+        while True:
+            with self.lock:
+                try:
+                    return operation(*args)
+                except ssl.SSLWantReadError:
+                    readable, writable = [self.socket], []
+                except ssl.SSLWantWriteError:
+                    readable, writable = [], [self.socket]
+            select.select(readable, writable, [])
+
+    def sendall(self, data):
+        view = memoryview(data)
+        while view:
+            view = view[self.call(self.socket.send, view):]
+
+    def recv_into(self, view):
+        return self.call(self.socket.recv_into, view)
+
+    def close(self):
+        self.socket.close()
+
+
+class Connection:
+    """A blocking sweepd connection, plain or TLS: send frames, receive Messages."""
+
+    def __init__(self, pb, host, port, unix_path, tls=None):
         self.pb, self.flatbuffers = pb, pb.flatbuffers
         self.address = unix_path or f"{host}:{port}"
+        self.tls = tls is not None and not unix_path
         try:
             if unix_path:
                 self.socket = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
                 self.socket.connect(unix_path)
+                self.loopback = True
             else:
-                self.socket = socket.create_connection((host, int(port)), timeout=10)
-                self.socket.settimeout(None)
-                self.socket.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+                raw = socket.create_connection((host, int(port)), timeout=10)
+                raw.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+                self.loopback = ipaddress.ip_address(raw.getpeername()[0]).is_loopback
+                if self.tls:
+                    self.socket = TlsSocket(raw, tls, host, self.address)
+                else:
+                    raw.settimeout(None)
+                    self.socket = raw
         except OSError as error:
             raise ConnectionLost(f"cannot connect to {self.address}: "
                                  f"{error.strerror or error}") from error
@@ -861,7 +929,11 @@ class Connection:
                                  f"{message.BodyType()}")
         return self.body(message, getattr(getattr(pb, name), name))
 
-    def hello(self, token, latest_wins):
+    def hello(self, token, latest_wins, allow_plaintext=False):
+        if token and not self.tls and not self.loopback and not allow_plaintext:
+            raise BadInput(f"{self.address}: refusing to send the token over plain TCP to a host "
+                           f"that is not loopback; connect with --tls (sweepd's --tls-cert/"
+                           f"--tls-key), or pass --allow-plaintext on a private network")
         pb, builder = self.pb, self.flatbuffers.Builder(256)
         token_offset = builder.CreateString(token)
         name = builder.CreateString("stream_poses.py")
@@ -873,7 +945,14 @@ class Connection:
         pb.Hello.AddDelivery(builder, pb.PoseDelivery.PoseDelivery.LatestWins if latest_wins
                              else pb.PoseDelivery.PoseDelivery.InOrder)
         self.send(builder, pb.Body.Body.Hello, pb.Hello.End(builder), request_id=1)
-        return self.expect("Welcome")
+        try:
+            return self.expect("Welcome")
+        except ConnectionLost as error:
+            if self.tls:
+                raise
+            # A TLS listener drops a plaintext Hello without a reply.
+            raise ConnectionLost(f"{error} (closed before Welcome: if sweepd has --tls-cert, "
+                                 f"connect with --tls)") from error
 
     def load_model(self, name, glb):
         pb, builder = self.pb, self.flatbuffers.Builder(1024 + len(glb))
@@ -1004,8 +1083,10 @@ def run(options):
                        f"{len(motion.rows)} frames")
     pb = import_protocol(options.protocol_dir)
 
-    connection = Connection(pb, options.host, options.port, options.unix)
-    window = connection.hello(options.token, options.latest_wins).MaxPosesInFlight()
+    tls = tls_context(options) if options.tls else None
+    connection = Connection(pb, options.host, options.port, options.unix, tls)
+    window = connection.hello(options.token, options.latest_wins,
+                              options.allow_plaintext).MaxPosesInFlight()
     name = options.model or (os.path.basename(options.model_file) if options.model_file
                              else "mannequin")
     info = connection.load_model(name, glb)
@@ -1086,6 +1167,14 @@ def parse_arguments(argv):
     parser.add_argument("--port", default="7878")
     parser.add_argument("--unix", help="a Unix socket path instead of TCP")
     parser.add_argument("--token", default="")
+    parser.add_argument("--tls", action="store_true", help="connect with TLS")
+    parser.add_argument("--tls-ca", help="PEM CA certificates to trust instead of the system's "
+                        "(implies --tls)")
+    parser.add_argument("--tls-cert", help="client certificate, PEM (implies --tls; needs "
+                        "--tls-key)")
+    parser.add_argument("--tls-key", help="the client certificate's private key, PEM")
+    parser.add_argument("--allow-plaintext", action="store_true",
+                        help="send the token over plain TCP to a host that is not loopback")
     parser.add_argument("--model", help="the model's name on the server (default: "
                         "\"mannequin\", or the uploaded file's name)")
     parser.add_argument("--model-file", help="a .glb to upload (stored under --model)")
@@ -1096,7 +1185,11 @@ def parse_arguments(argv):
     parser.add_argument("--float16", action="store_true")
     parser.add_argument("--dump-poses", help="JSON lines of the poses sent")
     parser.add_argument("--protocol-dir", help="<build>/protocol/python")
-    return parser.parse_args(argv)
+    options = parser.parse_args(argv)
+    if bool(options.tls_cert) != bool(options.tls_key):
+        parser.error("--tls-cert and --tls-key go together")
+    options.tls = options.tls or bool(options.tls_ca) or bool(options.tls_cert)
+    return options
 
 
 def main(argv):

@@ -12,6 +12,7 @@ packages=(
   flatbuffers-compiler libflatbuffers-dev python3 python3-flatbuffers zlib1g-dev libcli11-dev
   strace  # tests/server/daemon_upload_confinement_test.cpp traces the daemon's file calls
   libcpp-httplib-dev  # sweepd's HTTP side port (server/http/): /healthz, /readyz, /metrics
+  libssl-dev openssl  # TLS in sweepd and its clients (Asio's ssl over OpenSSL); the TLS tests make certificates with openssl
   curl prometheus  # tests/server/daemon_http_side_port_test.cpp: curl, promtool, a real scrape
 )
 

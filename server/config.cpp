@@ -1,5 +1,6 @@
 #include "server/config.h"
 
+#include <asio/ip/address.hpp>
 #include <charconv>
 #include <fstream>
 #include <functional>
@@ -73,6 +74,10 @@ const std::vector<Setting>& settings() {
       text_setting("model_dir", &ServerConfig::model_dir),
       text_setting("store_dir", &ServerConfig::store_dir),
       text_setting("token", &ServerConfig::token),
+      text_setting("tls_cert", &ServerConfig::tls_cert),
+      text_setting("tls_key", &ServerConfig::tls_key),
+      text_setting("tls_client_ca", &ServerConfig::tls_client_ca),
+      integer_setting("allow_plaintext", &ServerConfig::allow_plaintext, 0, 1),
       integer_setting("max_frame_bytes", &ServerConfig::max_frame_bytes, 1024, 1u << 30),
       integer_setting("max_models", &ServerConfig::max_models, 1, 100000),
       integer_setting("max_connections", &ServerConfig::max_connections, 1, 100000),
@@ -110,6 +115,34 @@ std::string flag_to_key(std::string_view flag) {
   return key;
 }
 
+bool is_loopback(const std::string& address) {
+  std::error_code error;
+  const asio::ip::address parsed = asio::ip::make_address(address, error);
+  return !error && parsed.is_loopback();
+}
+
+// The flags that only make sense together, and the token that must not cross a network in
+// clear.
+void check_transport_security(const ServerConfig& config) {
+  if (config.tls_cert.empty() != config.tls_key.empty()) {
+    throw ConfigError(config.tls_cert.empty() ? "--tls-key: needs --tls-cert (the certificate)"
+                                              : "--tls-cert: needs --tls-key (its private key)");
+  }
+  const bool tls = !config.tls_cert.empty();
+  if (!config.tls_client_ca.empty() && !tls) {
+    throw ConfigError(
+        "--tls-client-ca: needs --tls-cert and --tls-key (client certificates are "
+        "checked in the TLS handshake)");
+  }
+  if (!config.token.empty() && config.port >= 0 && !tls && !config.allow_plaintext &&
+      !is_loopback(config.listen_address)) {
+    throw ConfigError("--token: plain TCP on " + config.listen_address +
+                      " would send the token across the network in clear; give --tls-cert FILE "
+                      "--tls-key FILE, or --listen 127.0.0.1, or --allow-plaintext where the "
+                      "network is private (e.g. behind a proxy that terminates TLS)");
+  }
+}
+
 std::string read_token_file(const std::filesystem::path& file) {
   std::ifstream in(file);
   if (!in) throw ConfigError("--token-file " + file.string() + ": cannot read the file");
@@ -140,8 +173,10 @@ void apply_config_file(const std::filesystem::path& file, ServerConfig& config) 
       setting->apply(config, value.get<std::string>(), where);
     } else if (value.is_number_integer()) {
       setting->apply(config, std::to_string(value.get<std::int64_t>()), where);
+    } else if (value.is_boolean()) {
+      setting->apply(config, value.get<bool>() ? "1" : "0", where);
     } else {
-      throw ConfigError(where + ": expected a string or an integer");
+      throw ConfigError(where + ": expected a string, an integer or a boolean");
     }
   }
 }
@@ -159,6 +194,10 @@ ServerConfig parse_server_config(std::span<const std::string_view> args) {
     const std::string_view flag = args[i];
     if (flag == "--help" || flag == "-h") {
       config.show_help = true;
+      continue;
+    }
+    if (flag == "--allow-plaintext") {  // a switch: no value
+      config.allow_plaintext = true;
       continue;
     }
     if (!flag.starts_with("--")) {
@@ -179,6 +218,7 @@ ServerConfig parse_server_config(std::span<const std::string_view> args) {
     throw ConfigError("--http-listen: port " + std::to_string(config.http_port) +
                       " is the protocol port (--port); the HTTP side port needs its own");
   }
+  check_transport_security(config);
   return config;
 }
 
@@ -198,11 +238,19 @@ Flags (each also a key of the JSON config file, with '_' for '-'):
   --store-dir DIR           where bound models are kept (default ./sweepd-store)
   --token TOKEN             shared token clients must send in Hello (default: none)
   --token-file FILE         read the token from the first line of FILE (not a config key)
+  --tls-cert FILE           TLS on the TCP listener: certificate chain (PEM; needs --tls-key);
+                            TLS 1.2 at least, 1.3 preferred; the Unix socket stays plain
+  --tls-key FILE            the certificate's private key (PEM)
+  --tls-client-ca FILE      require a client certificate signed by this CA (PEM)
+  --allow-plaintext         allow --token on plain TCP off loopback (a private network, e.g.
+                            behind a proxy that terminates TLS); without it that is refused
+                            at start-up (config key: allow_plaintext true)
   --max-frame-bytes N       largest accepted frame (default 67108864)
   --max-models N            most models held (default 16)
   --max-connections N       most simultaneous connections (default 64)
   --max-poses-in-flight N   queued poses per connection before backpressure (default 8)
-  --hello-timeout-ms N      close connections that send no Hello in time (default 10000)
+  --hello-timeout-ms N      close connections that send no Hello in time, the TLS handshake
+                            included (default 10000)
   --max-hello-frame-bytes N largest frame before Hello; larger is fatal (default 65536)
   --frame-timeout-ms N      a frame begun must be whole within N ms, else the connection is
                             closed (default 60000)

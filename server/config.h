@@ -3,8 +3,9 @@
 //
 // parse_server_config(args): args are argv[1..] (program name excluded). Throws ConfigError
 // naming the flag, key or file and the reason (unknown flag, missing value, bad number,
-// unreadable or invalid JSON, an --http-listen on the protocol port). `--help` sets
-// `show_help`.
+// unreadable or invalid JSON, an --http-listen on the protocol port, --tls-cert without
+// --tls-key or the reverse, --tls-client-ca without them, a token on a plain TCP listener that
+// is not loopback without --allow-plaintext). `--help` sets `show_help`.
 // config_usage(): the text `sweepd --help` prints, listing every flag and config key.
 #pragma once
 
@@ -30,6 +31,14 @@ struct ServerConfig {
   std::filesystem::path model_dir;       // .glb/.gltf files clients may load by name
   std::filesystem::path store_dir = "sweepd-store";  // bound models (.sweepbind) + index
   std::string token;                                 // shared auth token; empty: none asked
+  // TLS on the TCP listener (the Unix socket stays plain): certificate chain and private key
+  // (PEM); with tls_client_ca, clients must present a certificate signed by that CA (PEM).
+  std::filesystem::path tls_cert;
+  std::filesystem::path tls_key;
+  std::filesystem::path tls_client_ca;
+  // A token on plain TCP off loopback crosses the network in clear: refused at start-up unless
+  // this says the network is private (e.g. behind a proxy that terminates TLS).
+  bool allow_plaintext = false;
   std::uint32_t max_frame_bytes = 64u << 20;
   std::uint32_t max_models = 16;
   std::uint32_t max_connections = 64;

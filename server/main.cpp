@@ -14,6 +14,7 @@
 #include "server/log_event.h"
 #include "server/models/model_service.h"
 #include "server/transport/server.h"
+#include "server/transport/tls_context.h"
 
 using namespace sweepd;
 
@@ -47,6 +48,9 @@ int main(int argc, char** argv) {
     return 0;
   }
   try {
+    // Certificates that will not load stop the start before any work.
+    std::optional<asio::ssl::context> tls;
+    if (!config.tls_cert.empty()) tls.emplace(server::server_tls_context(config));
     server::Readiness readiness;
     server::ModelService models(config);
     // Declared before the side port, which reads it from its own thread: it outlives it.
@@ -73,13 +77,15 @@ int main(int argc, char** argv) {
                       {{"store_dir", config.store_dir.string()},
                        {"model_dir", config.model_dir.string()},
                        {"auth", config.token.empty() ? "none (any token accepted)" : "token"},
+                       {"tls", config.tls_cert.empty() ? "off" : "on"},
+                       {"allow_plaintext", config.allow_plaintext},
                        {"max_connections", config.max_connections},
                        {"max_models", config.max_models},
                        {"max_frame_bytes", config.max_frame_bytes},
                        {"max_poses_in_flight", config.max_poses_in_flight},
                        {"worker_threads", config.worker_threads},
                        {"position_maps", config.position_maps != 0}});
-    server.emplace(config, models, readiness);
+    server.emplace(config, models, readiness, std::move(tls));
     serving = &*server;
     const int port = server->open();
     if (!config.port_file.empty()) write_port_file(config.port_file, port);

@@ -24,16 +24,23 @@ std::uint64_t nanoseconds_since(std::chrono::steady_clock::time_point from) {
           .count());
 }
 
+// A TLS client's first bytes read as a length prefix: a handshake record's type 0x16 and
+// version 0x03 0x0N (N = 1 to 4) make the prefix's low bytes 0x0316 and its value > 64 KiB.
+bool starts_like_tls_handshake(std::uint64_t declared_bytes) {
+  const std::uint64_t minor = (declared_bytes >> 16) & 0xff;
+  return (declared_bytes & 0xffff) == 0x0316 && minor >= 1 && minor <= 4;
+}
+
 }  // namespace
 
-Connection::Connection(Socket socket, std::uint64_t id, std::string peer,
+Connection::Connection(ConnectionStream stream, std::uint64_t id, std::string peer,
                        ConnectionEnvironment& environment)
-    : socket_(std::move(socket)),
+    : stream_(std::move(stream)),
       environment_(environment),
-      hello_deadline_(socket_.get_executor()),
-      frame_deadline_(socket_.get_executor()),
-      idle_deadline_(socket_.get_executor()),
-      send_deadline_(socket_.get_executor()),
+      hello_deadline_(stream_.get_executor()),
+      frame_deadline_(stream_.get_executor()),
+      idle_deadline_(stream_.get_executor()),
+      send_deadline_(stream_.get_executor()),
       // Before Hello only a small frame: an unauthenticated peer cannot make the server buffer.
       reader_(
           std::min(environment.config.max_hello_frame_bytes, environment.config.max_frame_bytes),
@@ -42,26 +49,59 @@ Connection::Connection(Socket socket, std::uint64_t id, std::string peer,
       writer_(environment.config.deform_threads) {
   counters_.connection_id = id;
   counters_.peer = std::move(peer);
+  secured_ = !stream_.tls();
 }
 
 void Connection::start() {
-  log_event("connection_open", {{"connection", id()}, {"peer", counters_.peer}});
-  hello_deadline_.expires_after(std::chrono::milliseconds(environment_.config.hello_timeout_ms));
-  hello_deadline_.async_wait([self = shared_from_this()](std::error_code error) {
-    if (error || self->authenticated_ || self->draining_) return;
-    self->send_error(
-        pb::ErrorCode::NotAuthenticated,
-        "no Hello within " + std::to_string(self->environment_.config.hello_timeout_ms) + " ms", 0,
-        0, true);
-  });
+  log_event("connection_open",
+            {{"connection", id()}, {"peer", counters_.peer}, {"tls", stream_.tls()}});
+  arm_hello_deadline();
   arm_idle_deadline();
-  read_more();
+  secure_then([self = shared_from_this()]() { self->read_more(); });
 }
 
 void Connection::refuse(pb::ErrorCode code, const std::string& message) {
   log_event("connection_refused",
             {{"connection", id()}, {"peer", counters_.peer}, {"reason", message}});
-  send_error(code, message, 0, 0, true);
+  arm_hello_deadline();  // bounds the TLS handshake the refusal waits for
+  secure_then([self = shared_from_this(), code, message]() {
+    self->send_error(code, message, 0, 0, true);
+  });
+}
+
+void Connection::arm_hello_deadline() {
+  hello_deadline_.expires_after(std::chrono::milliseconds(environment_.config.hello_timeout_ms));
+  hello_deadline_.async_wait([self = shared_from_this()](std::error_code error) {
+    if (error || self->authenticated_ || self->draining_ || self->closed_) return;
+    const std::string timeout = std::to_string(self->environment_.config.hello_timeout_ms);
+    if (!self->secured_) {
+      self->cut(pb::ErrorCode::NotAuthenticated, "no TLS handshake within " + timeout + " ms");
+      return;
+    }
+    self->send_error(pb::ErrorCode::NotAuthenticated, "no Hello within " + timeout + " ms", 0, 0,
+                     true);
+  });
+}
+
+void Connection::secure_then(std::function<void()> next) {
+  if (secured_) {
+    next();
+    return;
+  }
+  stream_.handshake([self = shared_from_this(), next = std::move(next)](std::error_code error) {
+    if (self->closed_) return;
+    if (error) {
+      self->cut(pb::ErrorCode::NotAuthenticated, "TLS handshake failed: " + error.message());
+      return;
+    }
+    self->secured_ = true;
+    const TlsSession session = self->stream_.tls_session();
+    log_event("tls_established", {{"connection", self->id()},
+                                  {"version", session.version},
+                                  {"cipher", session.cipher},
+                                  {"client_certificate", session.client_subject}});
+    next();
+  });
 }
 
 void Connection::shut_down() {
@@ -71,6 +111,10 @@ void Connection::shut_down() {
 
 void Connection::cut(pb::ErrorCode code, const std::string& reason) {
   log_event("connection_cut", {{"connection", id()}, {"peer", counters_.peer}, {"reason", reason}});
+  if (!secured_) {  // before the TLS handshake there is no channel to send an Error on
+    close_now();
+    return;
+  }
   send_error(code, reason, 0, 0, true);
 }
 
@@ -138,7 +182,7 @@ void Connection::arm_send_deadline() {
 void Connection::read_more() {
   if (reading_ || closed_ || (draining_ && !shutting_down_)) return;
   reading_ = true;
-  socket_.async_read_some(asio::buffer(read_buffer_), [self = shared_from_this()](
+  stream_.async_read_some(asio::buffer(read_buffer_), [self = shared_from_this()](
                                                           std::error_code error, std::size_t n) {
     self->reading_ = false;
     if (self->closed_) return;
@@ -181,8 +225,11 @@ void Connection::process_input() {
                                 {"reason", event.reason}});
       if (!authenticated_ && event.error == pb::FrameError::kOversized) {
         cut(pb::ErrorCode::FrameTooLarge,
-            "before Hello a frame may have at most " + std::to_string(reader_.max_frame_bytes()) +
-                " bytes; this one declares " + std::to_string(event.declared_bytes));
+            starts_like_tls_handshake(event.declared_bytes)
+                ? "a TLS handshake on a plain port (this listener has no --tls-cert)"
+                : "before Hello a frame may have at most " +
+                      std::to_string(reader_.max_frame_bytes()) + " bytes; this one declares " +
+                      std::to_string(event.declared_bytes));
         continue;
       }
       send_error(pb::error_code_for(event.error), event.reason, 0, 0);
@@ -353,7 +400,7 @@ void Connection::change_model(std::uint64_t request_id, std::function<ModelChang
   asio::post(environment_.workers,
              [self = shared_from_this(), change = std::move(change), log_outcome, request_id]() {
                ModelChange outcome = change();
-               asio::post(self->socket_.get_executor(),
+               asio::post(self->stream_.get_executor(),
                           [self, outcome = std::move(outcome), log_outcome, request_id]() {
                             --self->loads_running_;
                             log_outcome(self->id(), outcome);
@@ -403,7 +450,7 @@ void Connection::start_next_pose() {
     } catch (const std::exception& error) {
       failure = error.what();
     }
-    asio::post(self->socket_.get_executor(), [self, request, builder, failure, code, dropped,
+    asio::post(self->stream_.get_executor(), [self, request, builder, failure, code, dropped,
                                               deform_ns]() {
       self->pose_running_ = false;
       if (failure.empty()) {
@@ -498,24 +545,24 @@ void Connection::write_next() {
     if (sent > 0) last_send_progress_ = Clock::now();
     return error ? 0 : size - sent;
   };
-  asio::async_write(socket_, asio::buffer(front.GetBufferPointer(), size), whole_rest,
-                    [self = shared_from_this(), size](std::error_code error, std::size_t n) {
-                      self->writing_ = false;
-                      self->send_deadline_.cancel();
-                      self->counters_.bytes_out += n;
-                      if (self->closed_) return;  // close_now gave the queue's bytes back
-                      self->environment_.buffer_budget.give_back(size);
-                      self->queued_reply_bytes_ -= size;
-                      self->environment_.builders.give_back(std::move(self->outgoing_.front()));
-                      self->outgoing_.pop_front();
-                      if (error) {
-                        self->close_now();
-                        return;
-                      }
-                      self->write_next();
-                      self->start_next_pose();
-                      self->process_input();
-                    });
+  stream_.async_write(asio::buffer(front.GetBufferPointer(), size), whole_rest,
+                      [self = shared_from_this(), size](std::error_code error, std::size_t n) {
+                        self->writing_ = false;
+                        self->send_deadline_.cancel();
+                        self->counters_.bytes_out += n;
+                        if (self->closed_) return;  // close_now gave the queue's bytes back
+                        self->environment_.buffer_budget.give_back(size);
+                        self->queued_reply_bytes_ -= size;
+                        self->environment_.builders.give_back(std::move(self->outgoing_.front()));
+                        self->outgoing_.pop_front();
+                        if (error) {
+                          self->close_now();
+                          return;
+                        }
+                        self->write_next();
+                        self->start_next_pose();
+                        self->process_input();
+                      });
 }
 
 void Connection::drain() {
@@ -547,9 +594,7 @@ void Connection::close_now() {
   send_deadline_.cancel();
   environment_.buffer_budget.give_back(queued_reply_bytes_);
   queued_reply_bytes_ = 0;
-  std::error_code ignored;
-  socket_.shutdown(asio::socket_base::shutdown_both, ignored);
-  socket_.close(ignored);
+  stream_.close();
   log_event("connection_closed", {{"connection", id()},
                                   {"poses_received", counters_.poses_received},
                                   {"poses_answered", counters_.poses_answered},

@@ -5,13 +5,16 @@
 // (server/models/). It holds no model state of its own.
 //
 // Runs on the server's single I/O thread; only deformation and model loading go to the
-// worker pool. Frames are read with protocol::FrameReader; the first must be Hello (token
-// compared in constant time), anything else before it — or no Hello within
-// config.hello_timeout_ms — is a fatal NotAuthenticated, and before it a frame may have at most
-// config.max_hello_frame_bytes (a fatal FrameTooLarge). Frame errors (BadFrame,
-// WrongIdentifier, FrameTooLarge, ResourceExhausted) and request errors (UnknownModel,
-// WrongJointCount, InvalidPose, ...) are answered with an Error and the session goes on, until
-// config.max_frame_errors bad frames close it.
+// worker pool. On a TLS stream (ConnectionStream) the handshake comes first: it must be done,
+// like Hello, within config.hello_timeout_ms, or the connection is cut (`connection_cut`, no
+// reply: there is no channel to send it on); a failed handshake (a plaintext client on the TLS
+// port, a missing or untrusted client certificate) is cut with OpenSSL's reason. Frames are read
+// with protocol::FrameReader; the first must be Hello (token compared in constant time), anything
+// else before it — or no Hello within config.hello_timeout_ms — is a fatal NotAuthenticated, and
+// before it a frame may have at most config.max_hello_frame_bytes (a fatal FrameTooLarge). Frame
+// errors (BadFrame, WrongIdentifier, FrameTooLarge, ResourceExhausted) and request errors
+// (UnknownModel, WrongJointCount, InvalidPose, ...) are answered with an Error and the session goes
+// on, until config.max_frame_errors bad frames close it.
 //
 // Hostile peers are cut off, each with a `connection_cut` log line naming the reason: a frame
 // not whole within frame_timeout_ms (trickled bytes), no request and no work for
@@ -45,6 +48,7 @@
 #include "server/handlers/request_error.h"
 #include "server/models/model_service.h"
 #include "server/transport/connection_counters.h"
+#include "server/transport/connection_stream.h"
 #include "server/transport/reply_builder_pool.h"
 #include "server/transport/traffic_counters.h"
 
@@ -66,9 +70,8 @@ struct ConnectionEnvironment {
 
 class Connection : public std::enable_shared_from_this<Connection> {
  public:
-  using Socket = asio::generic::stream_protocol::socket;
-
-  Connection(Socket socket, std::uint64_t id, std::string peer, ConnectionEnvironment& environment);
+  Connection(ConnectionStream stream, std::uint64_t id, std::string peer,
+             ConnectionEnvironment& environment);
 
   void start();
   // Answers with a fatal error (e.g. ConnectionLimit) and closes, reading nothing.
@@ -84,6 +87,8 @@ class Connection : public std::enable_shared_from_this<Connection> {
  private:
   using Clock = std::chrono::steady_clock;
 
+  // TLS: the handshake, then `next`; a failure cuts the connection. Plain: `next` at once.
+  void secure_then(std::function<void()> next);
   void read_more();
   void process_input();
   bool reading_paused() const;
@@ -108,16 +113,19 @@ class Connection : public std::enable_shared_from_this<Connection> {
   void drain();  // stop taking work; close once in-flight work is answered
   void close_if_done();
   void close_now();
-  // Logs `connection_cut` with the reason and answers a fatal error (closed once it is sent).
+  // Logs `connection_cut` with the reason and answers a fatal error (closed once it is sent;
+  // before a TLS handshake is done, closed at once).
   void cut(protocol::ErrorCode code, const std::string& reason);
-  // The frame, idle and send deadlines, re-armed as bytes move.
+  // The Hello (and TLS handshake) deadline; the frame, idle and send deadlines, re-armed as
+  // bytes move.
+  void arm_hello_deadline();
   void watch_frame();
   void arm_idle_deadline();
   void arm_send_deadline();
   bool has_work() const;
   flatbuffers::FlatBufferBuilder take_builder();
 
-  Socket socket_;
+  ConnectionStream stream_;
   ConnectionEnvironment& environment_;
   asio::steady_timer hello_deadline_;
   asio::steady_timer frame_deadline_;  // armed while a frame is part-read
@@ -131,6 +139,7 @@ class Connection : public std::enable_shared_from_this<Connection> {
   std::vector<std::uint8_t> read_buffer_;
   std::span<const std::uint8_t> input_;
   bool reading_ = false;
+  bool secured_ = false;  // TLS handshake done, or a plain stream
   bool authenticated_ = false;
   bool draining_ = false;       // Bye, end of stream, a fatal error or shutdown
   bool shutting_down_ = false;  // shutdown: send Bye when drained

@@ -24,7 +24,8 @@ std::size_t worker_count(const ServerConfig& config) {
 
 }  // namespace
 
-Server::Server(const ServerConfig& config, ModelService& models, Readiness& readiness)
+Server::Server(const ServerConfig& config, ModelService& models, Readiness& readiness,
+               std::optional<asio::ssl::context> tls)
     : config_(config),
       readiness_(readiness),
       workers_(worker_count(config)),
@@ -33,6 +34,7 @@ Server::Server(const ServerConfig& config, ModelService& models, Readiness& read
       // Enough idle builders for every worker's reply and the I/O thread's.
       builders_(2 * static_cast<std::size_t>(worker_count(config)) + 4),
       signals_(io_, SIGTERM, SIGINT),
+      tls_(std::move(tls)),
       environment_{config, models, workers_, position_maps_, std::chrono::steady_clock::now(),
                    {},     {},     {},       buffer_budget_, builders_,
                    {}} {
@@ -69,7 +71,10 @@ int Server::open() {
       throw std::runtime_error("cannot listen on " + config_.listen_address + ":" +
                                std::to_string(config_.port) + " (" + error.what() + ")");
     }
-    log_event("listening", {{"address", config_.listen_address}, {"port", port}});
+    log_event("listening", {{"address", config_.listen_address},
+                            {"port", port},
+                            {"tls", tls_.has_value()},
+                            {"client_certificates", !config_.tls_client_ca.empty()}});
     accept_next(*tcp_acceptor_);
   }
   if (!config_.unix_socket.empty()) {
@@ -89,31 +94,34 @@ int Server::open() {
 
 template <typename Acceptor>
 void Server::accept_next(Acceptor& acceptor) {
-  acceptor.async_accept(
-      [this, &acceptor](std::error_code error, typename Acceptor::protocol_type::socket socket) {
-        if (shutting_down_ || error == asio::error::operation_aborted) return;
-        if (!error) {
-          std::error_code ignored;
-          socket.set_option(asio::socket_base::send_buffer_size(kSendBufferBytes), ignored);
-          std::string peer;
-          if constexpr (std::is_same_v<Acceptor, asio::ip::tcp::acceptor>) {
-            socket.set_option(asio::ip::tcp::no_delay(true), ignored);
-            const auto endpoint = socket.remote_endpoint(ignored);
-            peer = endpoint.address().to_string() + ":" + std::to_string(endpoint.port());
-          } else {
-            peer = "unix:" + config_.unix_socket.string();
-          }
-          admit(Connection::Socket(std::move(socket)), std::move(peer));
-        } else {
-          log_event("accept_failed", {{"reason", error.message()}});
-        }
-        accept_next(acceptor);
-      });
+  acceptor.async_accept([this, &acceptor](std::error_code error,
+                                          typename Acceptor::protocol_type::socket socket) {
+    if (shutting_down_ || error == asio::error::operation_aborted) return;
+    if (!error) {
+      std::error_code ignored;
+      socket.set_option(asio::socket_base::send_buffer_size(kSendBufferBytes), ignored);
+      if constexpr (std::is_same_v<Acceptor, asio::ip::tcp::acceptor>) {
+        socket.set_option(asio::ip::tcp::no_delay(true), ignored);
+        const auto endpoint = socket.remote_endpoint(ignored);
+        std::string peer = endpoint.address().to_string() + ":" + std::to_string(endpoint.port());
+        ConnectionStream::Socket generic(std::move(socket));
+        admit(tls_ ? ConnectionStream(std::move(generic), *tls_)
+                   : ConnectionStream(std::move(generic)),
+              std::move(peer));
+      } else {
+        admit(ConnectionStream(ConnectionStream::Socket(std::move(socket))),
+              "unix:" + config_.unix_socket.string());
+      }
+    } else {
+      log_event("accept_failed", {{"reason", error.message()}});
+    }
+    accept_next(acceptor);
+  });
 }
 
-void Server::admit(Connection::Socket socket, std::string peer) {
+void Server::admit(ConnectionStream stream, std::string peer) {
   const std::uint64_t id = next_connection_id_++;
-  auto connection = std::make_shared<Connection>(std::move(socket), id, peer, environment_);
+  auto connection = std::make_shared<Connection>(std::move(stream), id, peer, environment_);
   if (connections_.size() >= config_.max_connections) {
     connection->refuse(protocol::ErrorCode::ConnectionLimit,
                        "the server already holds its limit of " +

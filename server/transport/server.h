@@ -1,9 +1,11 @@
 // Server: sweepd's listeners, connections and worker pool.
 //
+// Server(config, models, readiness, tls): `tls`, when given, is the TCP listener's TLS
+//   (server/transport/tls_context.h); none: plain TCP.
 // open(): binds the TCP listener (config.listen_address:port; port 0 picks a free one) and
-//   the Unix-socket listener (config.unix_socket, a stale socket file is replaced). Throws
-//   std::runtime_error naming the address and the reason. Returns the bound TCP port (0 with
-//   no TCP listener).
+//   the Unix-socket listener (config.unix_socket, a stale socket file is replaced; always
+//   plain). Throws std::runtime_error naming the address and the reason. Returns the bound TCP
+//   port (0 with no TCP listener).
 // run(): serves until SIGTERM/SIGINT or request_shutdown(), then stops accepting, lets every
 //   connection finish its in-flight work and say Bye, joins the workers and returns.
 // snapshot(timeout): thread-safe; a copy of the counters and gauges (ServerSnapshot) taken on
@@ -16,6 +18,7 @@
 #pragma once
 
 #include <asio.hpp>
+#include <asio/ssl/context.hpp>
 #include <atomic>
 #include <chrono>
 #include <map>
@@ -33,7 +36,8 @@ namespace sweepd::server {
 
 class Server {
  public:
-  Server(const ServerConfig& config, ModelService& models, Readiness& readiness);
+  Server(const ServerConfig& config, ModelService& models, Readiness& readiness,
+         std::optional<asio::ssl::context> tls);
   ~Server();
 
   int open();
@@ -45,7 +49,7 @@ class Server {
  private:
   template <typename Acceptor>
   void accept_next(Acceptor& acceptor);
-  void admit(Connection::Socket socket, std::string peer);
+  void admit(ConnectionStream stream, std::string peer);
   void begin_shutdown(const char* reason);
   ServerSnapshot gather_snapshot() const;  // on the I/O thread
 
@@ -58,6 +62,7 @@ class Server {
   protocol::BufferBudget buffer_budget_;
   ReplyBuilderPool builders_;
   asio::signal_set signals_;
+  std::optional<asio::ssl::context> tls_;  // the TCP listener's TLS; none: plain
   std::optional<asio::ip::tcp::acceptor> tcp_acceptor_;
   std::optional<asio::local::stream_protocol::acceptor> unix_acceptor_;
   ConnectionEnvironment environment_;

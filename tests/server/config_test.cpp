@@ -75,6 +75,43 @@ TEST(ServerConfig, HttpSidePortIsOffByDefaultAndNeverTheProtocolPort) {
   EXPECT_NE(error_of({"--http-listen", "h:99999"}).find("out of range"), std::string::npos);
 }
 
+TEST(ServerConfig, TlsFlagsGoTogetherAndAreConfigKeys) {
+  EXPECT_NE(error_of({"--tls-cert", "c.pem"}).find("--tls-cert: needs --tls-key"),
+            std::string::npos);
+  EXPECT_NE(error_of({"--tls-key", "k.pem"}).find("--tls-key: needs --tls-cert"),
+            std::string::npos);
+  EXPECT_NE(error_of({"--tls-client-ca", "ca.pem"}).find("--tls-client-ca: needs --tls-cert"),
+            std::string::npos);
+  const fs::path directory = fresh_directory("tls_config");
+  const fs::path file = directory / "sweepd.json";
+  std::ofstream(file) << R"({"tls_cert": "c.pem", "tls_key": "k.pem", "tls_client_ca": "ca.pem",
+                            "allow_plaintext": true})";
+  const server::ServerConfig config = parse({"--config", file.c_str()});
+  EXPECT_EQ(config.tls_cert, "c.pem");
+  EXPECT_EQ(config.tls_key, "k.pem");
+  EXPECT_EQ(config.tls_client_ca, "ca.pem");
+  EXPECT_TRUE(config.allow_plaintext);
+  fs::remove_all(directory);
+}
+
+TEST(ServerConfig, ATokenOnPlainTcpBeyondLoopbackNeedsTlsOrAllowPlaintext) {
+  const std::string error = error_of({"--listen", "0.0.0.0", "--token", "t"});
+  for (const char* named :
+       {"--token", "0.0.0.0", "--tls-cert", "--listen 127.0.0.1", "--allow-plaintext"}) {
+    EXPECT_NE(error.find(named), std::string::npos) << named << " in: " << error;
+  }
+  EXPECT_NE(error_of({"--listen", "10.1.2.3", "--token", "t"}), "");
+  // Loopback, TLS, no token, no TCP listener, or the operator's word: all accepted.
+  EXPECT_EQ(error_of({"--token", "t"}), "");  // 127.0.0.1 by default
+  EXPECT_EQ(error_of({"--listen", "::1", "--token", "t"}), "");
+  EXPECT_EQ(error_of({"--listen", "127.0.0.5", "--token", "t"}), "");
+  EXPECT_EQ(error_of({"--listen", "0.0.0.0", "--token", "t", "--tls-cert", "c", "--tls-key", "k"}),
+            "");
+  EXPECT_EQ(error_of({"--listen", "0.0.0.0"}), "");
+  EXPECT_EQ(error_of({"--listen", "0.0.0.0", "--token", "t", "--port", "-1"}), "");
+  EXPECT_TRUE(parse({"--listen", "0.0.0.0", "--token", "t", "--allow-plaintext"}).allow_plaintext);
+}
+
 TEST(ConstantTimeEqual, EqualOnlyForTheSameBytes) {
   EXPECT_TRUE(server::constant_time_equal("s3cret", "s3cret"));
   EXPECT_FALSE(server::constant_time_equal("s3cret", "s3creT"));
