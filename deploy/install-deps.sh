@@ -13,6 +13,7 @@ packages=(
   strace  # tests/server/daemon_upload_confinement_test.cpp traces the daemon's file calls
   libcpp-httplib-dev  # sweepd's HTTP side port (server/http/): /healthz, /readyz, /metrics
   curl prometheus  # tests/server/daemon_http_side_port_test.cpp: curl, promtool, a real scrape
+  libsystemd-dev  # sd_notify for the Type=notify unit (server/systemd_notifier.h)
 )
 
 missing=()
