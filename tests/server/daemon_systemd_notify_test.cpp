@@ -26,8 +26,6 @@ class DaemonSystemdNotifyTest : public ::testing::Test {
     directory_ = fresh_directory(::testing::UnitTest::GetInstance()->current_test_info()->name());
   }
   void TearDown() override {
-    unsetenv("NOTIFY_SOCKET");
-    unsetenv("WATCHDOG_USEC");
     daemon_.reset();
     fs::remove_all(directory_);
   }
@@ -50,8 +48,8 @@ TEST_F(DaemonSystemdNotifyTest, ReadyOnlyOnceAcceptingThenWatchdogPingsThenStopp
   if (!have_program("curl")) GTEST_SKIP() << "curl is not installed (deploy/install-deps.sh)";
   NotifySocket notify(directory_ / "notify");
   ASSERT_TRUE(notify.bound());
-  setenv("NOTIFY_SOCKET", notify.path().c_str(), 1);
-  setenv("WATCHDOG_USEC", std::to_string(kWatchdog.count() * 1000).c_str(), 1);
+  const std::string watchdog_usec = std::to_string(kWatchdog.count() * 1000);
+  NotifyEnvironment environment(notify.path(), watchdog_usec.c_str());
   std::thread starter = start_daemon();
 
   // The start-up stages in order, then READY=1; nothing else (no ping before READY).
@@ -115,6 +113,7 @@ TEST_F(DaemonSystemdNotifyTest, WithoutNotifySocketTheDaemonServesAndStopsAsBefo
   unsetenv("NOTIFY_SOCKET");
   setenv("WATCHDOG_USEC", "1000000", 1);  // ignored without NOTIFY_SOCKET
   start_daemon().join();
+  unsetenv("WATCHDOG_USEC");
   ASSERT_TRUE(daemon_ && daemon_->running());
   FrameClient client(daemon_->port());
   EXPECT_NE(client.hello(""), nullptr);
@@ -127,8 +126,7 @@ TEST_F(DaemonSystemdNotifyTest, WithoutNotifySocketTheDaemonServesAndStopsAsBefo
 }
 
 TEST_F(DaemonSystemdNotifyTest, ANotifySocketNobodyListensOnIsLoggedOnceAndServingGoesOn) {
-  setenv("NOTIFY_SOCKET", (directory_ / "nobody").c_str(), 1);
-  setenv("WATCHDOG_USEC", "200000", 1);
+  NotifyEnvironment environment(directory_ / "nobody", "200000");
   start_daemon().join();
   ASSERT_TRUE(daemon_ && daemon_->running());
   FrameClient client(daemon_->port());

@@ -2,6 +2,9 @@
 // that receives what sd_notify(3) sends (NOTIFY_SOCKET=path). receive(timeout): the next
 // datagram's text ("READY=1\nSTATUS=accepting"), nullopt when none came in time. Each message
 // also carries the time it was taken off the socket (steady clock).
+// NotifyEnvironment(socket, watchdog_usec, watchdog_pid): sets NOTIFY_SOCKET (and WATCHDOG_USEC,
+// WATCHDOG_PID when given) in this process — and so in the daemons it starts — as systemd
+// would, and clears them when it goes.
 #pragma once
 
 #include <poll.h>
@@ -10,6 +13,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <optional>
@@ -56,6 +60,21 @@ class NotifySocket {
   std::filesystem::path path_;
   int fd_ = -1;
   bool bound_ = false;
+};
+
+class NotifyEnvironment {
+ public:
+  NotifyEnvironment(const std::filesystem::path& socket, const char* watchdog_usec = nullptr,
+                    const char* watchdog_pid = nullptr) {
+    setenv("NOTIFY_SOCKET", socket.c_str(), 1);
+    if (watchdog_usec) setenv("WATCHDOG_USEC", watchdog_usec, 1);
+    if (watchdog_pid) setenv("WATCHDOG_PID", watchdog_pid, 1);
+  }
+  ~NotifyEnvironment() {
+    unsetenv("NOTIFY_SOCKET");
+    unsetenv("WATCHDOG_USEC");
+    unsetenv("WATCHDOG_PID");
+  }
 };
 
 }  // namespace sweepd::test

@@ -24,22 +24,6 @@ using namespace std::chrono_literals;
 using server::Readiness;
 using server::SystemdNotifier;
 
-// Sets NOTIFY_SOCKET (and WATCHDOG_USEC, WATCHDOG_PID when given) for one test; clears them after.
-class NotifyEnvironment {
- public:
-  NotifyEnvironment(const fs::path& socket, const char* watchdog_usec = nullptr,
-                    const char* watchdog_pid = nullptr) {
-    setenv("NOTIFY_SOCKET", socket.c_str(), 1);
-    if (watchdog_usec) setenv("WATCHDOG_USEC", watchdog_usec, 1);
-    if (watchdog_pid) setenv("WATCHDOG_PID", watchdog_pid, 1);
-  }
-  ~NotifyEnvironment() {
-    unsetenv("NOTIFY_SOCKET");
-    unsetenv("WATCHDOG_USEC");
-    unsetenv("WATCHDOG_PID");
-  }
-};
-
 class SystemdNotifierTest : public ::testing::Test {
  protected:
   void SetUp() override {
