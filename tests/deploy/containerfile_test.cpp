@@ -211,7 +211,7 @@ std::string podman_cannot_run(const fs::path& directory) {
       "' localhost/sweepd-podman-probe >/dev/null; "
       "status=0; timeout 120 podman run --rm localhost/sweepd-podman-probe /bin/true || status=$?; "
       "podman rmi -f localhost/sweepd-podman-probe >/dev/null 2>&1 || true; exit $status");
-  return run.exit_code == 0 ? "" : run.output;
+  return run.exit_code == 0 ? "" : run.output + " (exit " + std::to_string(run.exit_code) + ")";
 }
 
 TEST_F(ContainerfileTest, PodmanCanRunTheImageHereOrSaysWhyNot) {

@@ -18,7 +18,7 @@ struct CommandResult {
 
 inline CommandResult run_command(const std::string& command) {
   CommandResult result;
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  FILE* pipe = popen(("(" + command + ") 2>&1").c_str(), "r");
   if (pipe == nullptr) return result;
   char chunk[4096];
   while (const std::size_t n = std::fread(chunk, 1, sizeof(chunk), pipe)) {
