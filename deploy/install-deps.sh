@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs every Debian 12 package sweepd needs to build, test and run; idempotent.
 # Runs `apt-get update` once, and only when something is missing. Works as root or via sudo.
-# Where npm is present, also installs the Khronos glTF validator into .tools/ (used by tests).
+# Where npm is present, also installs into .tools/ (used by tests): the Khronos glTF validator,
+# and kubernetes-models + yaml (the offline schema check of deploy/k8s/).
 set -euo pipefail
 
 packages=(
@@ -14,6 +15,8 @@ packages=(
   libcpp-httplib-dev  # sweepd's HTTP side port (server/http/): /healthz, /readyz, /metrics
   libssl-dev openssl  # TLS in sweepd and its clients (Asio's ssl over OpenSSL); the TLS tests make certificates with openssl
   curl prometheus  # tests/server/daemon_http_side_port_test.cpp: curl, promtool, a real scrape
+  libsystemd-dev  # sd_notify for the Type=notify unit (server/systemd_notifier.h)
+  haproxy  # deploy/haproxy.cfg: checked with haproxy -c and run in front of two daemons (tests/deploy/)
 )
 
 missing=()
@@ -35,13 +38,22 @@ else
 fi
 
 root=$(cd "$(dirname "$0")/.." && pwd)
-validator="$root/.tools/node_modules/gltf-validator"
+modules="$root/.tools/node_modules"
+# npm packages the tests use: "directory under node_modules|package@version ...|what skips without".
+npm_tools=(
+  "gltf-validator|gltf-validator@2.0.0-dev.3.10|the glTF validator tests"
+  "kubernetes-models|kubernetes-models@4.5.1 yaml@2.9.1|the Kubernetes schema check of deploy/k8s/"
+)
 if command -v npm >/dev/null; then
-  if [ ! -d "$validator" ]; then
-    echo "install-deps: installing gltf-validator (npm) into .tools/"
-    npm install --silent --no-audit --no-fund --prefix "$root/.tools" gltf-validator@2.0.0-dev.3.10 >/dev/null \
-      || echo "install-deps: warning: gltf-validator could not be installed; its tests will skip" >&2
-  fi
+  for tool in "${npm_tools[@]}"; do
+    IFS='|' read -r directory specs skips <<<"$tool"
+    if [ ! -d "$modules/$directory" ]; then
+      echo "install-deps: installing $specs (npm) into .tools/"
+      # shellcheck disable=SC2086  # specs is a list of package@version
+      npm install --silent --no-audit --no-fund --prefix "$root/.tools" $specs >/dev/null \
+        || echo "install-deps: warning: $specs could not be installed; $skips will skip" >&2
+    fi
+  done
 else
-  echo "install-deps: npm not found; the glTF validator tests will skip"
+  echo "install-deps: npm not found; the glTF validator tests and the Kubernetes schema check will skip"
 fi

@@ -158,7 +158,9 @@ void apply_config_file(const std::filesystem::path& file, ServerConfig& config) 
   if (!in) throw ConfigError("config file " + file.string() + ": cannot read the file");
   nlohmann::json json;
   try {
-    json = nlohmann::json::parse(in);
+    // Comments (// and /* */) are allowed: deploy/sweepd.conf explains its keys.
+    json = nlohmann::json::parse(in, /*cb=*/nullptr, /*allow_exceptions=*/true,
+                                 /*ignore_comments=*/true);
   } catch (const nlohmann::json::exception& error) {
     throw ConfigError("config file " + file.string() + ": not valid JSON (" + error.what() + ")");
   }
@@ -225,7 +227,8 @@ ServerConfig parse_server_config(std::span<const std::string_view> args) {
 const char* config_usage() {
   return R"(usage: sweepd [flags]
 Flags (each also a key of the JSON config file, with '_' for '-'):
-  --config FILE             JSON object of the keys below; flags override it
+  --config FILE             JSON object of the keys below (// and /* */ comments allowed);
+                            flags override it
   --listen ADDR             TCP listen address (default 127.0.0.1)
   --port N                  TCP port; 0 picks a free one, -1 disables TCP (default 7878)
   --unix-socket PATH        also listen on a Unix socket at PATH

@@ -72,7 +72,8 @@ class ConfigError : public std::runtime_error {
 
 ServerConfig parse_server_config(std::span<const std::string_view> args);
 
-// Reads `file` (JSON object, keys as in config_usage) into `config`.
+// Reads `file` (JSON object, keys as in config_usage; // and /* */ comments allowed) into
+// `config`.
 void apply_config_file(const std::filesystem::path& file, ServerConfig& config);
 
 const char* config_usage();

@@ -13,8 +13,10 @@
 #include "server/http/http_side_port.h"
 #include "server/log_event.h"
 #include "server/models/model_service.h"
+#include "server/systemd_notifier.h"
 #include "server/transport/server.h"
 #include "server/transport/tls_context.h"
+#include "server/watchdog_pinger.h"
 
 using namespace sweepd;
 
@@ -47,11 +49,16 @@ int main(int argc, char** argv) {
     std::fputs(server::config_usage(), stdout);
     return 0;
   }
+  // Under systemd (Type=notify, deploy/sweepd.service) each stage is a STATUS= line, READY=1
+  // comes when /readyz turns 200 and STOPPING=1 on SIGTERM; without NOTIFY_SOCKET, nothing.
+  server::SystemdNotifier systemd;
   try {
     // Certificates that will not load stop the start before any work.
     std::optional<asio::ssl::context> tls;
     if (!config.tls_cert.empty()) tls.emplace(server::server_tls_context(config));
-    server::Readiness readiness;
+    server::Readiness readiness(
+        [&systemd](server::Readiness::Stage stage) { systemd.stage(stage); });
+    systemd.stage(readiness.stage());
     server::ModelService models(config);
     // Declared before the side port, which reads it from its own thread: it outlives it.
     std::optional<server::Server> server;
@@ -73,6 +80,7 @@ int main(int argc, char** argv) {
     readiness.set(server::Readiness::Stage::kBindingDefaultModel);
     models.add_default_model();
     readiness.set(server::Readiness::Stage::kOpeningListeners);
+    const auto watchdog_timeout = systemd.watchdog_timeout();
     server::log_event("starting",
                       {{"store_dir", config.store_dir.string()},
                        {"model_dir", config.model_dir.string()},
@@ -84,9 +92,19 @@ int main(int argc, char** argv) {
                        {"max_frame_bytes", config.max_frame_bytes},
                        {"max_poses_in_flight", config.max_poses_in_flight},
                        {"worker_threads", config.worker_threads},
-                       {"position_maps", config.position_maps != 0}});
+                       {"position_maps", config.position_maps != 0},
+                       {"systemd_notify", systemd.enabled()},
+                       {"watchdog_ms", watchdog_timeout ? watchdog_timeout->count() / 1000 : 0}});
     server.emplace(config, models, readiness, std::move(tls));
     serving = &*server;
+    // WATCHDOG=1 only while the I/O thread answers (a snapshot is a job it runs); declared
+    // after `server`, so it stops before the server goes.
+    std::optional<server::WatchdogPinger> watchdog;
+    if (watchdog_timeout) {
+      watchdog.emplace(systemd, *watchdog_timeout, [&server](std::chrono::milliseconds wait) {
+        return server->snapshot(wait).has_value();
+      });
+    }
     const int port = server->open();
     if (!config.port_file.empty()) write_port_file(config.port_file, port);
     std::printf("sweepd listening port=%d\n", port);
@@ -94,6 +112,7 @@ int main(int argc, char** argv) {
     server->run();
   } catch (const std::exception& error) {
     server::log_event("fatal", {{"reason", error.what()}});
+    systemd.status(std::string("failed: ") + error.what());
     std::fprintf(stderr, "sweepd: %s\n", error.what());
     return 1;
   }

@@ -47,6 +47,28 @@ TEST(ServerConfig, ConfigFileIsReadAndFlagsOverrideIt) {
   fs::remove_all(directory);
 }
 
+TEST(ServerConfig, ConfigFileMayCarryComments) {
+  const fs::path directory = fresh_directory("commented_config");
+  const fs::path file = directory / "sweepd.conf";
+  std::ofstream(file) << "// the port\n{\n  \"port\": 9001, /* inline */ \"max_models\": 4\n}\n";
+  const server::ServerConfig config = parse({"--config", file.c_str()});
+  EXPECT_EQ(config.port, 9001);
+  EXPECT_EQ(config.max_models, 4u);
+  fs::remove_all(directory);
+}
+
+// deploy/sweepd.conf, the systemd unit's config file, as the unit passes it (flags after it).
+TEST(ServerConfig, TheSystemdUnitsConfigFileIsValid) {
+  const std::string file = std::string(SWEEPD_SOURCE_DIR) + "/deploy/sweepd.conf";
+  const server::ServerConfig config = parse({"--config", file, "--store-dir", "/var/lib/sweepd"});
+  EXPECT_EQ(config.listen_address, "0.0.0.0");
+  EXPECT_EQ(config.port, 7878);
+  EXPECT_EQ(config.http_address, "0.0.0.0");
+  EXPECT_EQ(config.http_port, 9464);
+  EXPECT_EQ(config.store_dir, "/var/lib/sweepd");
+  EXPECT_TRUE(config.token.empty());  // the token comes from the credential, not the file
+}
+
 TEST(ServerConfig, MistakesAreNamed) {
   EXPECT_NE(error_of({"--prot", "1"}).find("--prot: unknown flag"), std::string::npos);
   EXPECT_NE(error_of({"--port"}).find("--port: missing value"), std::string::npos);

@@ -12,6 +12,7 @@
 
 #include "tests/server/daemon_process.h"
 #include "tests/server/http_probe.h"
+#include "tests/server/loopback_port.h"
 #include "tests/server/pose_frames.h"
 
 namespace sweepd::test {
@@ -186,20 +187,6 @@ TEST_F(HttpSidePortTest, MetricsPassPromtoolAndCountTheTrafficSent) {
   const double now =
       std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
   EXPECT_NEAR(metric(after, "sweepd_process_start_time_seconds"), now, 3600.0);
-}
-
-// A port free now on loopback (bound to 0, read, closed); another process could take it
-// before Prometheus does, which this test accepts.
-int free_loopback_port() {
-  const int fd = socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof(address));
-  socklen_t length = sizeof(address);
-  getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length);
-  close(fd);
-  return ntohs(address.sin_port);
 }
 
 TEST_F(HttpSidePortTest, RealPrometheusScrapesThePoseCount) {
