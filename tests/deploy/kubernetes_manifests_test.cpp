@@ -191,19 +191,27 @@ TEST_F(KubernetesManifestsAgree, ProbesAskTheSidePortThatSweepdListensOn) {
 }
 
 TEST_F(KubernetesManifestsAgree, SweepdAcceptsTheArgs) {
+  const fs::path token_file = fresh_directory("k8s_args") / "token";
+  std::ofstream(token_file) << "stand-in";
   std::vector<std::string> args;
   const json& declared = container_["args"];
   for (std::size_t i = 0; i < declared.size(); ++i) {
     std::string arg = declared[i];
-    if (arg == "--token-file") {
-      ++i;  // the Secret's file exists only in the pod
+    if (arg == "--token-file") {  // the Secret's file exists only in the pod: a stand-in
+      args.push_back(arg);
+      args.push_back(token_file.string());
+      ++i;
       continue;
     }
     if (arg == "$(SWEEPD_WORKERS)") arg = "4";  // Kubernetes expands it from the CPU limit
     args.push_back(arg);
   }
   const std::vector<std::string_view> views(args.begin(), args.end());
+  // With the token read, sweepd's start-up rules apply (a token over plain TCP off loopback
+  // needs --allow-plaintext or TLS).
   const server::ServerConfig config = server::parse_server_config(views);
+  fs::remove_all(token_file.parent_path());
+  EXPECT_FALSE(config.token.empty());
   EXPECT_EQ(config.worker_threads, 4);
   EXPECT_EQ(config.port, 7878);
   EXPECT_EQ(config.http_port, 9464);
