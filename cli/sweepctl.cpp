@@ -10,6 +10,7 @@
 #include "cli/commands.h"
 #include "cli/remote_posed_model.h"
 #include "client/client_tls_flags.h"
+#include "client/token_flags.h"
 #include "console/command_line.h"
 
 int main(int argc, char** argv) {
@@ -27,9 +28,7 @@ int main(int argc, char** argv) {
                      "run pose, positionmap or metrics on a sweepd daemon: MODEL is a local "
                      ".glb/.gltf (uploaded) or a model name there")
           ->type_name("HOST:PORT");
-  app.add_option("--token", server.token, "the daemon's auth token")
-      ->type_name("T")
-      ->needs(server_flag);
+  client::add_token_flags(app, server.token, server_flag);
   client::add_client_tls_flags(app, server.tls, server_flag);
   const std::vector<cli::Command> commands = {cli::add_inspect_command(app),
                                               cli::add_mannequin_command(app),

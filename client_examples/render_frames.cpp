@@ -1,7 +1,7 @@
 // render_frames: a render-farm client — one OpenEXR position map per frame of a BVH clip,
 // rendered by one or more sweepd servers.
 //
-//   render_frames --server HOST:PORT[,HOST:PORT...] [--token T]
+//   render_frames --server HOST:PORT[,HOST:PORT...] [--token T | --token-file FILE]
 //                 [--model NAME | --model-file F.glb] --bvh CLIP [--bvh-scale S]
 //                 --frames A-B [--shard I/N] -o DIR [--width W --height H]
 //                 [--compression zip|none|zips|piz] [--normals] [--method sweep|lbs|dqs]
@@ -62,6 +62,7 @@
 #include "client/frame_queue.h"
 #include "client/frame_shard.h"
 #include "client/model_skeleton.h"
+#include "client/token_flags.h"
 #include "console/command_line.h"
 #include "console/progress_bar.h"
 #include "io/bvh_load.h"
@@ -97,7 +98,7 @@ void describe(CLI::App& app, Options& o) {
   app.add_option("--server", o.server,
                  "sweepd's HOST:PORT, or several, comma-separated: HOST:PORT,HOST:PORT")
       ->required();
-  app.add_option("--token", o.token, "the daemon's auth token");
+  sweepd::client::add_token_flags(app, o.token);
   sweepd::client::add_client_tls_flags(app, o.tls);
   app.add_option("--model", o.model, "a model the server has, by name")->capture_default_str();
   app.add_option("--model-file", o.model_file, "a .glb to upload instead of --model");

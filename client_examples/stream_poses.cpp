@@ -1,6 +1,6 @@
 // stream_poses: a sweepd client that streams a BVH clip as poses and reports latency.
 //
-//   stream_poses --bvh clip.bvh [--host 127.0.0.1] [--port 7878] [--token T]
+//   stream_poses --bvh clip.bvh [--host 127.0.0.1] [--port 7878] [--token T | --token-file FILE]
 //                [--tls [--tls-ca CA.pem] [--tls-cert C.pem --tls-key K.pem]]
 //                [--model-file body.glb] [--frames N] [--flat-out] [--latest-wins] [--float16]
 //
@@ -35,6 +35,7 @@
 #include "client/client_tls_flags.h"
 #include "client/connection.h"
 #include "client/model_skeleton.h"
+#include "client/token_flags.h"
 #include "console/command_line.h"
 #include "io/bvh_load.h"
 #include "protocol/messages.h"
@@ -61,7 +62,7 @@ void describe(CLI::App& app, Options& o) {
   app.add_option("--port", o.port, "sweepd's port")
       ->check(sweepd::console::whole_number(1, 65535))
       ->capture_default_str();
-  app.add_option("--token", o.token, "the daemon's auth token");
+  sweepd::client::add_token_flags(app, o.token);
   sweepd::client::add_client_tls_flags(app, o.tls);
   app.add_option("--model-file", o.model_file, "a .glb to upload (default: the mannequin)");
   app.add_option("--bvh-scale", o.bvh_scale, "metres per clip unit (CMU: 0.056444)")

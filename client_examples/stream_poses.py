@@ -5,7 +5,7 @@ The Python twin of client_examples/stream_poses.cpp, with the standard library a
 python3-flatbuffers only (run it with /usr/bin/python3; Python 3.11, no numpy).
 
   /usr/bin/python3 client_examples/stream_poses.py --bvh clip.bvh
-      [--host 127.0.0.1] [--port 7878] [--unix SOCKET] [--token T]
+      [--host 127.0.0.1] [--port 7878] [--unix SOCKET] [--token T | --token-file FILE]
       [--tls [--tls-ca CA.pem] [--tls-cert C.pem --tls-key K.pem]] [--allow-plaintext]
       [--model NAME | --model-file body.glb] [--bvh-scale 0.056444]
       [--frames N] [--first-frame F] [--flat-out] [--latest-wins] [--float16]
@@ -1166,7 +1166,10 @@ def parse_arguments(argv):
     parser.add_argument("--host", default="127.0.0.1")
     parser.add_argument("--port", default="7878")
     parser.add_argument("--unix", help="a Unix socket path instead of TCP")
-    parser.add_argument("--token", default="")
+    token = parser.add_mutually_exclusive_group()
+    token.add_argument("--token", default="", help="the daemon's auth token")
+    token.add_argument("--token-file", help="read the token from the first line of FILE "
+                       "(e.g. a mounted Secret)")
     parser.add_argument("--tls", action="store_true", help="connect with TLS")
     parser.add_argument("--tls-ca", help="PEM CA certificates to trust instead of the system's "
                         "(implies --tls)")
@@ -1189,6 +1192,13 @@ def parse_arguments(argv):
     if bool(options.tls_cert) != bool(options.tls_key):
         parser.error("--tls-cert and --tls-key go together")
     options.tls = options.tls or bool(options.tls_ca) or bool(options.tls_cert)
+    if options.token_file:
+        try:
+            with open(options.token_file, encoding="utf-8") as file:
+                options.token = file.readline().rstrip("\n")
+        except OSError as error:
+            parser.error(f"--token-file {options.token_file}: cannot read the file "
+                         f"({error.strerror})")
     return options
 
 

@@ -283,6 +283,14 @@ TEST_F(KubernetesManifestsAgree, RenderJobShardsByCompletionIndexOverTheService)
       (*service)["metadata"]["name"].get<std::string>() + ":" +
       std::to_string((*service)["spec"]["ports"][0]["port"].get<int>());
   EXPECT_EQ(flag_value(render["args"], "--server"), service_address);
+  // The token from the same Secret as the daemon's, as a file (args show in the process list).
+  EXPECT_EQ(flag_value(render["args"], "--token"), "");
+  const std::string secret_mount =
+      mount_of((*job)["spec"]["template"]["spec"], render, [](const json& volume) {
+        return volume.contains("secret") && volume["secret"]["secretName"] == "sweepd-token";
+      });
+  ASSERT_FALSE(secret_mount.empty());
+  EXPECT_EQ(flag_value(render["args"], "--token-file"), secret_mount + "/token");
   std::string work_claim;
   mount_of((*job)["spec"]["template"]["spec"], render, [&](const json& volume) {
     if (!volume.contains("persistentVolumeClaim")) return false;

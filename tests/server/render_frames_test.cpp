@@ -289,6 +289,26 @@ TEST_F(RenderFrames, BadInputIsNamedWithItsExitCode) {
   EXPECT_EQ(wrong_token.exit_code, 1);
   EXPECT_NE(wrong_token.output.find("AuthFailed"), std::string::npos) << wrong_token.output;
 
+  // The token from a file's first line (a mounted Secret), or a usage error naming the file.
+  const fs::path token_file = directory_ / "token";
+  std::ofstream(token_file) << "t0k\n";
+  const ClientRun from_file =
+      run_render_frames("--server 127.0.0.1:" + std::to_string(daemon_->port()) + " --token-file " +
+                        token_file.string() + " --bvh " + clip_.string() +
+                        " --frames 0-0 --width 16 --height 16" + out);
+  EXPECT_EQ(from_file.exit_code, 0) << from_file.output;
+  const ClientRun no_file =
+      run_render_frames("--server 127.0.0.1:1 --token-file " + (directory_ / "absent").string() +
+                        " --bvh " + clip_.string() + " --frames 0-1" + out);
+  EXPECT_EQ(no_file.exit_code, 2) << no_file.output;
+  EXPECT_NE(no_file.output.find("absent: cannot read the file"), std::string::npos)
+      << no_file.output;
+  const ClientRun both = run_render_frames(server_arguments() + " --token-file " +
+                                           token_file.string() + " --frames 0-1" + out);
+  EXPECT_EQ(both.exit_code, 2) << both.output;
+  EXPECT_NE(both.output.find("excludes"), std::string::npos) << both.output;
+  fs::remove(frame_file(0));
+
   // Port 1: nothing listens there (a privileged port no test runs a server on).
   const ClientRun unreachable =
       run_render_frames("--server 127.0.0.1:1 --bvh " + clip_.string() + " --frames 0-1" + out);

@@ -78,10 +78,13 @@ TEST_F(StreamPosesPy, InOrderClipIsAnsweredPoseForPose) {
 }
 
 TEST_F(StreamPosesPy, LatestWinsOverAUnixSocketAnswersOrCountsEveryPose) {
-  // The package found through the environment variable instead of --protocol-dir.
+  // The package found through the environment variable instead of --protocol-dir; the token
+  // from a file (its first line), as a mounted Secret gives it.
+  const fs::path token_file = directory_ / "token";
+  std::ofstream(token_file) << kToken << "\n";
   const ClientRun run = run_script(
-      "--unix " + (directory_ / "sweepd.sock").string() + " --token " + kToken + " --bvh " +
-          clip("cmu_01_03") + " --frames 120 --flat-out --latest-wins --float16",
+      "--unix " + (directory_ / "sweepd.sock").string() + " --token-file " + token_file.string() +
+          " --bvh " + clip("cmu_01_03") + " --frames 120 --flat-out --latest-wins --float16",
       std::string("SWEEPD_PROTOCOL_PYTHON=") + SWEEPD_PROTOCOL_PYTHON_DIR + " ");
   ASSERT_EQ(run.exit_code, 0) << run.output << daemon_->log();
   const std::array<int, 4> counts = pose_counts(run.output);
