@@ -67,10 +67,14 @@ int main(int argc, char** argv) {
     if (config.http_port >= 0) {
       // Up before the store is restored: /healthz answers and /readyz says what it waits for.
       http.emplace(config.http_address, config.http_port, readiness,
-                   [&serving]() -> std::optional<server::ServerSnapshot> {
+                   [&serving, &models]() -> std::optional<server::ServerSnapshot> {
                      server::Server* running = serving.load();
                      if (running == nullptr) return std::nullopt;
-                     return running->snapshot(kSnapshotTimeout);
+                     std::optional<server::ServerSnapshot> snapshot =
+                         running->snapshot(kSnapshotTimeout);
+                     // The store's listing on the side port's thread, not the I/O thread's.
+                     if (snapshot) snapshot->store_bytes = models.store_bytes();
+                     return snapshot;
                    });
       if (!config.http_port_file.empty()) write_port_file(config.http_port_file, http->port());
     }

@@ -126,6 +126,8 @@ void add_server(Page& page, const ServerSnapshot& server) {
   page.single("sweepd_buffered_bytes", "gauge",
               "Bytes of frames being read and replies waiting, all connections.",
               server.buffered_bytes);
+  page.single("sweepd_store_bytes", "gauge", "Bytes of the model store's files on disk.",
+              server.store_bytes);
   page.single("sweepd_models_held", "gauge", "Models held (bound and servable).",
               static_cast<std::uint64_t>(server.models.size()));
   page.per_model("sweepd_model_poses_total", "Poses deformed, by model.", server.models,

@@ -168,4 +168,14 @@ ModelHandle ModelService::edit_key_ellipse(std::uint32_t model_id,
   });
 }
 
+std::uint64_t ModelService::store_bytes() const {
+  std::uint64_t bytes = 0;
+  std::error_code error;
+  for (const auto& entry : std::filesystem::directory_iterator(registry_.store_dir(), error)) {
+    std::error_code ignored;  // a file renamed away during the listing is simply not counted
+    if (entry.is_regular_file(ignored)) bytes += entry.file_size(ignored);
+  }
+  return bytes;
+}
+
 }  // namespace sweepd::server

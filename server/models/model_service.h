@@ -57,6 +57,9 @@ class ModelService {
   ModelHandle find(std::uint32_t id) const { return registry_.find(id); }
   std::vector<ModelHandle> models() const { return registry_.models(); }
   std::vector<std::string> directory_entries() const;
+  // Bytes of the regular files in the store directory (models, sources, index; not the
+  // quarantine): a listing, safe from any thread.
+  std::uint64_t store_bytes() const;
 
   ModelHandle load(const ModelLoadRequest& request);
   ModelHandle edit_key_ellipse(std::uint32_t model_id, const deform::RestKeyEdit& edit);

@@ -25,6 +25,7 @@ struct ServerSnapshot {
   std::uint64_t poses_waiting = 0;  // queued behind a running pose, all connections
   std::uint64_t poses_running = 0;
   std::uint64_t buffered_bytes = 0;  // frames being read and replies waiting (BufferBudget)
+  std::uint64_t store_bytes = 0;     // the store directory's files (ModelService::store_bytes)
   std::vector<ModelSnapshot> models;
 };
 

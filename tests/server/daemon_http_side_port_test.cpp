@@ -180,6 +180,13 @@ TEST_F(HttpSidePortTest, MetricsPassPromtoolAndCountTheTrafficSent) {
   EXPECT_GT(grew("sweepd_received_bytes_total"), kPoses * joints * 16.0);  // 4 floats a joint
   EXPECT_EQ(metric(after, "sweepd_connections_open"), 1.0);
   EXPECT_EQ(metric(after, "sweepd_models_held"), 1.0);
+  // The store holds the default mannequin's binding (and its index): the gauge is the
+  // directory's regular files, byte for byte.
+  double store_bytes = 0;
+  for (const auto& entry : fs::directory_iterator(directory_ / "store"))
+    if (entry.is_regular_file()) store_bytes += static_cast<double>(entry.file_size());
+  EXPECT_GT(store_bytes, 1e5);
+  EXPECT_EQ(metric(after, "sweepd_store_bytes"), store_bytes);
   EXPECT_EQ(metric(after, "sweepd_poses_waiting"), 0.0);
   EXPECT_EQ(metric(after, "sweepd_ready"), 1.0);
   EXPECT_GT(metric(after, "sweepd_process_resident_memory_bytes"), 1e6);
