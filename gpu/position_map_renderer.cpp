@@ -4,8 +4,6 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <stdexcept>
 
-#include "gpu/texel_gutter.h"
-
 namespace sweepd::gpu {
 namespace {
 
@@ -180,8 +178,8 @@ void PositionMapRenderer::render(const PositionMapMesh& mesh, const PositionMapO
   throw_on_gl_error(gl_, "position map");
 
   // 3. Gutter, on the CPU (gpu/texel_gutter.h says why).
-  fill_texel_gutter(width_, height_, coverage, options.gutter_pixels, buffers.positions,
-                    buffers.normals);
+  gutter_.fill(width_, height_, coverage, options.gutter_pixels, buffers.positions,
+               buffers.normals);
   end_stage(&PositionMapTimings::gutter);
 }
 

@@ -30,6 +30,7 @@
 #include "gpu/egl_context.h"
 #include "gpu/mesh_buffers.h"
 #include "gpu/shader_program.h"
+#include "gpu/texel_gutter.h"
 
 namespace sweepd::gpu {
 
@@ -84,9 +85,10 @@ class PositionMapRenderer {
   ShaderProgram rasterise_;
   MeshBuffers mesh_;
   int width_ = 0, height_ = 0;
-  GLuint textures_[3] = {};              // P, N, A
-  GLuint framebuffer_ = 0;               // rasterises into all three
-  std::vector<float> coverage_scratch_;  // A when the caller does not want it (the gutter does)
+  GLuint textures_[3] = {};  // P, N, A
+  GLuint framebuffer_ = 0;   // rasterises into all three
+  std::vector<float> coverage_scratch_;
+  TexelGutter gutter_;  // A when the caller does not want it (the gutter does)
 };
 
 }  // namespace sweepd::gpu

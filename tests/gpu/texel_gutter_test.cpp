@@ -1,4 +1,4 @@
-// fill_texel_gutter against the rule it documents, written the plainest way (every round a full
+// TexelGutter against the rule it documents, written the plainest way (every round a full
 // pass over the map, sources from a copy of the previous round): bit-for-bit equal on the
 // mannequin's real UV atlas (islands, seams, thin strips, the map's edges) and on random
 // coverage, and on the renderer's own output.
@@ -61,11 +61,12 @@ TEST(TexelGutter, EqualsTheRuleOnTheMannequinsAtlas) {
   renderer.render({model.uvs, model.positions, model.normals, model.indices},
                   {.width = kWidth, .height = kHeight, .gutter_pixels = 0, .view = std::nullopt},
                   {plain.p, plain.n, plain.a});
+  TexelGutter gutter;  // one for every round count: its kept scratch must not leak between calls
   for (const int passes : {1, 4, 9}) {
     SCOPED_TRACE(std::to_string(passes) + " passes");
     const Map expected = reference_gutter(kWidth, kHeight, plain, passes);
     Map filled = plain;
-    fill_texel_gutter(kWidth, kHeight, filled.a, passes, filled.p, filled.n);
+    gutter.fill(kWidth, kHeight, filled.a, passes, filled.p, filled.n);
     EXPECT_EQ(filled.p, expected.p);
     EXPECT_EQ(filled.n, expected.n);
     // The renderer's own gutter is this one.
@@ -96,11 +97,12 @@ TEST(TexelGutter, EqualsTheRuleOnRandomCoverageAndWithoutNormals) {
   }
   const Map expected = reference_gutter(kWidth, kHeight, map, 3);
   Map filled = map;
-  fill_texel_gutter(kWidth, kHeight, filled.a, 3, filled.p, filled.n);
+  TexelGutter gutter;
+  gutter.fill(kWidth, kHeight, filled.a, 3, filled.p, filled.n);
   EXPECT_EQ(filled.p, expected.p);
   EXPECT_EQ(filled.n, expected.n);
   Map positions_only = map;
-  fill_texel_gutter(kWidth, kHeight, positions_only.a, 3, positions_only.p, {});
+  gutter.fill(kWidth, kHeight, positions_only.a, 3, positions_only.p, {});
   EXPECT_EQ(positions_only.p, expected.p);
   EXPECT_EQ(positions_only.n, map.n) << "no normals given: none touched";
 }
