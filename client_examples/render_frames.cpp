@@ -315,10 +315,8 @@ class ServerSession {
         const std::string why = name + ": server error " + pb::EnumNameErrorCode(error->code()) +
                                 ": " + (error->message() ? error->message()->str() : "");
         const ErrorMeaning meaning = meaning_of(error->code());
-        if (error->fatal() || meaning == ErrorMeaning::kServerUnfit) {
-          if (meaning == ErrorMeaning::kServerUnfit) throw ServerUnfit(why);
-          throw std::runtime_error(why);  // the server closes: connect again
-        }
+        if (meaning == ErrorMeaning::kServerUnfit) throw ServerUnfit(why);
+        if (error->fatal()) throw std::runtime_error(why);  // the server closes: connect again
         in_flight.pop_front();
         if (meaning == ErrorMeaning::kFrameInvalid) {
           queue.fail(frame, why);
