@@ -11,7 +11,6 @@
 
 #include <array>
 #include <future>
-#include <regex>
 
 #include "tests/io/position_map_exr.h"
 #include "tests/server/client_run.h"
@@ -26,23 +25,6 @@ using namespace std::chrono_literals;
 
 constexpr int kFirst = 300, kLast = 389;  // 90 frames: long enough to kill a replica mid-run
 constexpr int kSide = 96;
-
-// {rendered, skipped, total, retried, failed} from render_frames' summary line.
-std::array<int, 5> summary(const std::string& output) {
-  std::smatch m;
-  const std::regex line(
-      R"(rendered (\d+), skipped (\d+) of (\d+) frames in [0-9.]+ s \([0-9.]+ frames/s\), retried (\d+), failed (\d+))");
-  if (!std::regex_search(output, m, line)) return {-1, -1, -1, -1, -1};
-  return {std::stoi(m[1]), std::stoi(m[2]), std::stoi(m[3]), std::stoi(m[4]), std::stoi(m[5])};
-}
-
-int exr_files(const fs::path& directory) {
-  int count = 0;
-  if (fs::exists(directory))
-    for (const auto& entry : fs::directory_iterator(directory))
-      count += entry.path().extension() == ".exr";
-  return count;
-}
 
 io::test_support::DecodedPositionMap read_map(const fs::path& file) {
   Imf::InputFile exr(file.c_str());
@@ -95,7 +77,7 @@ TEST(HaproxyRenderFrames, TwoShardsSurviveAKilledReplicaAndMatchOneServer) {
   int rendered = 0, retried = 0;
   for (const ClientRun& run : runs) {
     ASSERT_EQ(run.exit_code, 0) << run.output << haproxy.log();
-    const std::array<int, 5> counts = summary(run.output);
+    const std::array<int, 5> counts = render_counts(run.output);
     EXPECT_EQ(counts[1], 0) << run.output;
     EXPECT_EQ(counts[0], counts[2]) << "every frame of the shard rendered\n" << run.output;
     EXPECT_EQ(counts[4], 0) << run.output;

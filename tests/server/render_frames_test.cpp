@@ -10,7 +10,6 @@
 #include <cstdio>
 #include <future>
 #include <map>
-#include <regex>
 
 #include "deform/job/deform_job.h"
 #include "gpu/egl_context.h"
@@ -31,22 +30,6 @@ constexpr float kCmuScale = 0.056444f;    // render_frames' default --bvh-scale
 
 ClientRun run_render_frames(const std::string& arguments) {
   return run_client(std::string(SWEEPD_RENDER_FRAMES) + " " + arguments);
-}
-
-// {rendered, skipped, total} from "rendered R, skipped S of T frames".
-std::array<int, 3> frame_counts(const std::string& output) {
-  std::smatch match;
-  const std::regex line(R"(rendered (\d+), skipped (\d+) of (\d+) frames)");
-  if (!std::regex_search(output, match, line)) return {-1, -1, -1};
-  return {std::stoi(match[1]), std::stoi(match[2]), std::stoi(match[3])};
-}
-
-// {retried, failed} from the summary's ", retried Q, failed P".
-std::array<int, 2> retry_counts(const std::string& output) {
-  std::smatch match;
-  if (!std::regex_search(output, match, std::regex(R"(retried (\d+), failed (\d+))")))
-    return {-1, -1};
-  return {std::stoi(match[1]), std::stoi(match[2])};
 }
 
 using Map = io::test_support::DecodedPositionMap;
@@ -126,26 +109,22 @@ class RenderFrames : public ClipClientTest {
                                 frames.string() + " --width 128 --height 128 --timeout 1";
     std::future<ClientRun> run =
         std::async(std::launch::async, [&] { return run_client(command); });
-    auto files = [&] {
-      int count = 0;
-      if (fs::exists(frames))
-        for (const auto& entry : fs::directory_iterator(frames))
-          count += entry.path().extension() == ".exr";
-      return count;
-    };
-    while (files() < 3 && run.wait_for(std::chrono::milliseconds(5)) != std::future_status::ready) {
+    while (exr_files(frames) < 3 &&
+           run.wait_for(std::chrono::milliseconds(5)) != std::future_status::ready) {
     }
-    const int before = files();
+    const int before = exr_files(frames);
     failing.signal(signal);
     const ClientRun result = run.get();
     ASSERT_LT(before, 100) << "the signal came after the run: nothing was tested";
     ASSERT_EQ(result.exit_code, 0) << result.output << other.log();
-    EXPECT_EQ(frame_counts(result.output), (std::array<int, 3>{100, 0, 100})) << result.output;
-    const std::array<int, 2> retries = retry_counts(result.output);
-    EXPECT_GE(retries[0], 1) << "the failing server held frames in flight\n" << result.output;
-    EXPECT_EQ(retries[1], 0) << result.output;
+    const std::array<int, 5> counts = render_counts(result.output);
+    EXPECT_EQ(counts[0], 100) << result.output;  // rendered
+    EXPECT_EQ(counts[1], 0) << result.output;    // skipped
+    EXPECT_EQ(counts[2], 100) << result.output;  // total
+    EXPECT_GE(counts[3], 1) << "the failing server held frames in flight\n" << result.output;
+    EXPECT_EQ(counts[4], 0) << result.output;  // failed
     EXPECT_NE(result.output.find("its frames go back"), std::string::npos) << result.output;
-    EXPECT_EQ(files(), 100) << "one file per frame, no partial file left";
+    EXPECT_EQ(exr_files(frames), 100) << "one file per frame, no partial file left";
     for (int frame = kFirst; frame <= kLastFrame; frame += 9) expect_library_map(frame, 128);
   }
 
@@ -160,7 +139,7 @@ TEST_F(RenderFrames, RendersEachFrameOnceAndAgainOnlyWhenMissingOrBroken) {
                                 " --width 64 --height 64";
   const ClientRun first = run_render_frames(arguments);
   ASSERT_EQ(first.exit_code, 0) << first.output << daemon_->log();
-  EXPECT_EQ(frame_counts(first.output), (std::array<int, 3>{6, 0, 6})) << first.output;
+  EXPECT_EQ(render_counts(first.output), (std::array<int, 5>{6, 0, 6, 0, 0})) << first.output;
   std::map<int, fs::file_time_type> written;
   for (int frame = kFirst; frame <= kLast; ++frame) {
     ASSERT_TRUE(fs::exists(frame_file(frame))) << frame_file(frame);
@@ -177,7 +156,7 @@ TEST_F(RenderFrames, RendersEachFrameOnceAndAgainOnlyWhenMissingOrBroken) {
   fs::resize_file(frame_file(truncated), fs::file_size(frame_file(truncated)) / 2);
   const ClientRun second = run_render_frames(arguments);
   ASSERT_EQ(second.exit_code, 0) << second.output << daemon_->log();
-  EXPECT_EQ(frame_counts(second.output), (std::array<int, 3>{2, 4, 6})) << second.output;
+  EXPECT_EQ(render_counts(second.output), (std::array<int, 5>{2, 4, 6, 0, 0})) << second.output;
   EXPECT_NE(
       second.output.find(frame_file(truncated).filename().string() + " is not a complete EXR"),
       std::string::npos)
@@ -199,7 +178,7 @@ TEST_F(RenderFrames, RendersEachFrameOnceAndAgainOnlyWhenMissingOrBroken) {
       "--server 127.0.0.1:1 --bvh " + clip_.string() + " --frames " + std::to_string(kFirst) + "-" +
       std::to_string(kLast) + " -o " + (directory_ / "frames").string());
   EXPECT_EQ(third.exit_code, 0) << third.output;
-  EXPECT_EQ(frame_counts(third.output), (std::array<int, 3>{0, 6, 6})) << third.output;
+  EXPECT_EQ(render_counts(third.output), (std::array<int, 5>{0, 6, 6, 0, 0})) << third.output;
 }
 
 TEST_F(RenderFrames, ShardsRenderTheirSlicesAndTogetherTheRangeOnce) {
@@ -210,7 +189,7 @@ TEST_F(RenderFrames, ShardsRenderTheirSlicesAndTogetherTheRangeOnce) {
   ASSERT_EQ(first.exit_code, 0) << first.output << daemon_->log();
   EXPECT_NE(first.output.find("shard 0/2: frames 300-302 of 300-305"), std::string::npos)
       << first.output;
-  EXPECT_EQ(frame_counts(first.output), (std::array<int, 3>{3, 0, 3})) << first.output;
+  EXPECT_EQ(render_counts(first.output), (std::array<int, 5>{3, 0, 3, 0, 0})) << first.output;
   for (int frame = kFirst; frame <= kLast; ++frame)
     EXPECT_EQ(fs::exists(frame_file(frame)), frame <= 302) << "frame " << frame;
 
@@ -220,7 +199,7 @@ TEST_F(RenderFrames, ShardsRenderTheirSlicesAndTogetherTheRangeOnce) {
   ASSERT_EQ(second.exit_code, 0) << second.output << daemon_->log();
   EXPECT_NE(second.output.find("shard 1/2: frames 303-305 of 300-305"), std::string::npos)
       << second.output;
-  EXPECT_EQ(frame_counts(second.output), (std::array<int, 3>{3, 0, 3})) << second.output;
+  EXPECT_EQ(render_counts(second.output), (std::array<int, 5>{3, 0, 3, 0, 0})) << second.output;
   for (int frame = kFirst; frame <= kLast; ++frame) expect_library_map(frame);
 
   const ClientRun past = run_render_frames(arguments + " --shard 2/2");
