@@ -11,6 +11,7 @@
 
 #include <array>
 #include <future>
+#include <thread>
 
 #include "tests/io/position_map_exr.h"
 #include "tests/server/client_run.h"
@@ -63,12 +64,29 @@ TEST(HaproxyRenderFrames, TwoShardsSurviveAKilledReplicaAndMatchOneServer) {
                         std::to_string(index) + "/2 -o " + frames.string());
     });
   };
-  std::future<ClientRun> first = shard(0), second = shard(1);
+  auto connections_open = [&](std::size_t replica) {
+    return metric(curl_get(ports[replica].http_port, "/metrics").body, "sweepd_connections_open");
+  };
+  auto wait_for_connections = [&](double count) {
+    const auto deadline = std::chrono::steady_clock::now() + 15s;
+    while (connections_open(0) + connections_open(1) < count &&
+           std::chrono::steady_clock::now() < deadline) {
+      std::this_thread::sleep_for(5ms);
+    }
+  };
+  // The second shard starts once the first holds its connection: two connections arriving at
+  // once may be placed by HAProxy's two threads on the same replica (leastconn reads the counts
+  // before either connection is counted), which is HAProxy's business, not this test's.
+  std::future<ClientRun> first = shard(0);
+  wait_for_connections(1.0);
+  std::future<ClientRun> second = shard(1);
+  wait_for_connections(2.0);
+  // leastconn put one shard on each replica.
+  EXPECT_EQ(connections_open(0), 1.0);
+  EXPECT_EQ(connections_open(1), 1.0);
   while (exr_files(frames) < 10 && first.wait_for(5ms) != std::future_status::ready) {
   }
   const int before_kill = exr_files(frames);
-  // Both shards hold a connection: leastconn put one on each replica.
-  EXPECT_EQ(metric(curl_get(ports[0].http_port, "/metrics").body, "sweepd_connections_open"), 1.0);
   replicas[0]->signal(SIGKILL);
   const ClientRun runs[2] = {first.get(), second.get()};
   ASSERT_LT(before_kill, kLast - kFirst + 1) << "the kill came after the render: nothing tested";

@@ -48,25 +48,15 @@ class HaproxyProcess {
       : config_(directory / "haproxy.cfg"),
         stats_socket_(directory / "haproxy.sock"),
         log_file_(directory / "haproxy.log") {
-    port_ = free_loopback_port();
-    write_config(source, replicas);
-    pid_ = fork();
-    if (pid_ == 0) {
-      std::freopen(log_file_.c_str(), "w", stderr);
-      std::freopen(log_file_.c_str(), "a", stdout);
-      execlp("haproxy", "haproxy", "-db", "-f", config_.c_str(), nullptr);
-      _exit(127);
+    // The free port may be taken by another test's server before haproxy binds it; then
+    // haproxy exits saying so, and it is started again on another.
+    for (int attempt = 0; attempt < 3 && !running(); ++attempt) {
+      port_ = free_loopback_port();
+      write_config(source, replicas);
+      start();
+      if (!running() && log().find("cannot bind") == std::string::npos) break;
     }
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
-    while (std::chrono::steady_clock::now() < deadline) {
-      if (loopback_accepts(port_) && std::filesystem::exists(stats_socket_)) return;
-      if (waitpid(pid_, nullptr, WNOHANG) == pid_) {
-        pid_ = -1;
-        break;
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-    ADD_FAILURE() << "haproxy did not start; log:\n" << log();
+    if (!running()) ADD_FAILURE() << "haproxy did not start; log:\n" << log();
   }
   ~HaproxyProcess() {
     if (pid_ > 0) {
@@ -141,6 +131,29 @@ class HaproxyProcess {
   }
 
  private:
+  // Runs haproxy on config_; pid_ stays -1 when it exits or never accepts within 20 s.
+  void start() {
+    std::filesystem::remove(stats_socket_);
+    const pid_t pid = fork();
+    if (pid == 0) {
+      std::freopen(log_file_.c_str(), "w", stderr);
+      std::freopen(log_file_.c_str(), "a", stdout);
+      execlp("haproxy", "haproxy", "-db", "-f", config_.c_str(), nullptr);
+      _exit(127);
+    }
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+    while (std::chrono::steady_clock::now() < deadline) {
+      if (loopback_accepts(port_) && std::filesystem::exists(stats_socket_)) {
+        pid_ = pid;
+        return;
+      }
+      if (waitpid(pid, nullptr, WNOHANG) == pid) return;
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    kill(pid, SIGKILL);
+    waitpid(pid, nullptr, 0);
+  }
+
   // The source file with its addresses replaced (see the header comment).
   void write_config(const std::filesystem::path& source,
                     const std::vector<Replica>& replicas) const {

@@ -1,6 +1,6 @@
 // Loopback ports for tests that start servers of others (Prometheus, HAProxy):
 // free_loopback_port() — a TCP port free now on 127.0.0.1 (bound to 0, read, closed; another
-// process could take it before the server does, which the tests accept);
+// process could take it before the server does: HaproxyProcess then starts again on another);
 // loopback_accepts(port) — whether something accepts a TCP connection on 127.0.0.1:port.
 #pragma once
 
