@@ -31,6 +31,7 @@ std::optional<RequestError> answer_mesh_request(const ModelService& models,
 
 LoadModelWork read_load_model(const pb::LoadModel& load) {
   LoadModelWork work;
+  work.content_id = load.content_id() ? load.content_id()->str() : "";
   work.name = load.name() ? load.name()->str() : "";
   if (load.gltf()) work.gltf.assign(load.gltf()->begin(), load.gltf()->end());
   if (load.options() && load.options()->rig_map_json()) {
@@ -42,6 +43,7 @@ LoadModelWork read_load_model(const pb::LoadModel& load) {
 
 ModelChange run_load_model(ModelService& models, const LoadModelWork& work) {
   ModelLoadRequest request;
+  request.content_id = work.content_id;
   request.name = work.name;
   request.gltf = work.gltf;
   request.rig_map_json = work.rig_map_json;
@@ -81,6 +83,7 @@ void log_load_outcome(std::uint64_t connection_id, const ModelChange& outcome) {
   if (const ModelHandle* model = std::get_if<ModelHandle>(&outcome)) {
     log_event("model_loaded", {{"connection", connection_id},
                                {"model", (*model)->id},
+                               {"content_id", (*model)->content_id},
                                {"name", (*model)->name},
                                {"vertices", (*model)->bound.model.vertex_count()},
                                {"bind_time_ns", (*model)->bind_time_ns}});

@@ -33,6 +33,7 @@ std::optional<RequestError> answer_mesh_request(const ModelService& models,
 
 // A LoadModel's fields (ModelLoadRequest's), its upload copied.
 struct LoadModelWork {
+  std::string content_id;
   std::string name;
   std::vector<std::uint8_t> gltf;
   std::string rig_map_json;

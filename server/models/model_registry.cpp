@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "io/durable_file.h"
@@ -14,68 +15,69 @@ namespace {
 using protocol::ErrorCode;
 namespace fs = std::filesystem;
 
+constexpr const char* kSourceSuffixes[] = {".glb", ".rig.json", ".json"};
+
 std::span<const std::uint8_t> as_bytes(const std::string& text) {
   return {reinterpret_cast<const std::uint8_t*>(text.data()), text.size()};
 }
 
-std::string sweepbind_name(std::uint32_t id) { return std::to_string(id) + ".sweepbind"; }
-
-// Rewrites index.json durably: `models` by id, and the next id to give.
-void write_index(const fs::path& store_dir, std::span<const ModelHandle> models,
-                 std::uint32_t next_id) {
-  nlohmann::json entries = nlohmann::json::array();
-  for (const ModelHandle& model : models) {
-    entries.push_back({{"id", model->id},
-                       {"name", model->name},
-                       {"file", sweepbind_name(model->id)},
-                       {"bind_time_ns", model->bind_time_ns}});
-  }
-  const nlohmann::json index = {{"version", 1}, {"next_id", next_id}, {"models", entries}};
-  io::write_file_durably(store_dir / "index.json", as_bytes(index.dump(2) + "\n"));
+std::string read_text(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-// A model the store holds: from index.json, or from its file when the index is rebuilt.
-struct IndexEntry {
-  std::uint32_t id = 0;
-  std::string name;  // empty: the name the .sweepbind holds
+// A model's label: <cid>.json.
+void write_label(const fs::path& file, const RegisteredModel& model) {
+  const nlohmann::json label = {{"version", 2},
+                                {"content_id", model.content_id},
+                                {"name", model.name},
+                                {"bind_time_ns", model.bind_time_ns}};
+  io::write_file_durably(file, as_bytes(label.dump(2) + "\n"));
+}
+
+// The name and bind time <cid>.json gives; an absent or unreadable label gives none (the
+// binding's own model name stands in).
+struct Label {
+  std::string name;
   std::uint64_t bind_time_ns = 0;
 };
-
-// index.json's entries, and its next_id raised into next_id; throws when anything in it is
-// malformed (it is written whole, so damage anywhere means it cannot be trusted).
-std::vector<IndexEntry> read_index(const fs::path& index_file, std::uint32_t& next_id) {
-  std::ifstream in(index_file);
-  const nlohmann::json index = nlohmann::json::parse(in);
-  next_id = std::max(next_id, index.at("next_id").get<std::uint32_t>());
-  std::vector<IndexEntry> entries;
-  for (const nlohmann::json& entry : index.at("models")) {
-    entries.push_back({entry.at("id").get<std::uint32_t>(), entry.at("name").get<std::string>(),
-                       entry.value("bind_time_ns", std::uint64_t{0})});
+Label read_label(const fs::path& file) {
+  try {
+    const nlohmann::json label = nlohmann::json::parse(read_text(file));
+    return {label.at("name").get<std::string>(), label.value("bind_time_ns", std::uint64_t{0})};
+  } catch (const std::exception&) {
+    return {};
   }
-  return entries;
 }
 
-// Every <id>.sweepbind in the store, by id.
-std::vector<IndexEntry> entries_from_files(const fs::path& store_dir) {
-  std::vector<IndexEntry> entries;
+// The content ids of the store's bindings, sorted.
+std::vector<std::string> stored_content_ids(const fs::path& store_dir) {
+  std::vector<std::string> ids;
   for (const fs::directory_entry& file : fs::directory_iterator(store_dir)) {
     const std::string stem = file.path().stem().string();
-    const bool numbered =
-        !stem.empty() && stem.size() <= 9 &&
-        std::all_of(stem.begin(), stem.end(), [](char c) { return c >= '0' && c <= '9'; });
-    if (file.is_regular_file() && file.path().extension() == ".sweepbind" && numbered) {
-      entries.push_back({static_cast<std::uint32_t>(std::stoul(stem)), "", 0});
-    }
+    if (file.path().extension() == ".sweepbind" && is_content_id(stem) && file.is_regular_file())
+      ids.push_back(stem);
   }
-  std::sort(entries.begin(), entries.end(),
-            [](const IndexEntry& a, const IndexEntry& b) { return a.id < b.id; });
-  return entries;
+  std::sort(ids.begin(), ids.end());
+  return ids;
+}
+
+// Moves what a damaged model leaves to the quarantine: its binding and its sources, which no
+// binding of this content id will read again.
+fs::path quarantine_model(const fs::path& store_dir, const std::string& stem) {
+  const fs::path moved = quarantine(store_dir / (stem + ".sweepbind"), store_dir);
+  for (const char* suffix : kSourceSuffixes) {
+    const fs::path source = store_dir / (stem + suffix);
+    std::error_code error;
+    if (fs::exists(source, error)) quarantine(source, store_dir);
+  }
+  return moved;
 }
 
 }  // namespace
 
 fs::path ModelRegistry::StoreSlot::file(std::string_view suffix) const {
-  return store_dir_ / (std::to_string(id_) + std::string(suffix));
+  return store_dir_ / (content_id_ + std::string(suffix));
 }
 
 ModelRegistry::ModelRegistry(fs::path store_dir, std::uint32_t max_models)
@@ -83,65 +85,81 @@ ModelRegistry::ModelRegistry(fs::path store_dir, std::uint32_t max_models)
   fs::create_directories(store_dir_);
 }
 
+std::shared_ptr<RegisteredModel> ModelRegistry::read_stored(const std::string& content_id) const {
+  auto model = std::make_shared<RegisteredModel>();
+  model->content_id = content_id;
+  model->id = handle_of(content_id);
+  model->bound = io::load_sweepbind(store_dir_ / (content_id + ".sweepbind"));
+  const Label label = read_label(store_dir_ / (content_id + ".json"));
+  model->name = label.name.empty() ? model->bound.model.name : label.name;
+  if (model->name.empty()) model->name = "model-" + content_id.substr(0, 8);
+  model->bind_time_ns = label.bind_time_ns;
+  model->runtime = std::make_shared<const deform::ModelRuntime>(model->bound);
+  return model;
+}
+
+// A store of the first layout: index.json naming <n>.sweepbind (n a per-server number). Each
+// model moves to its content id — the SHA-256 of its .sweepbind's bytes, since what it was
+// bound from is not always kept — with its sources and name; index.json goes last.
+void ModelRegistry::migrate_numbered_store(RestoreReport& report) {
+  const fs::path index_file = store_dir_ / "index.json";
+  std::map<std::string, std::string> names;  // "<n>" -> name, from the index when it reads
+  try {
+    const nlohmann::json index = nlohmann::json::parse(read_text(index_file));
+    for (const nlohmann::json& entry : index.at("models"))
+      names[std::to_string(entry.at("id").get<std::uint32_t>())] = entry.at("name");
+  } catch (const std::exception& error) {
+    report.problems.push_back({index_file, std::string("unreadable index: ") + error.what(),
+                               quarantine(index_file, store_dir_)});
+  }
+  for (const fs::directory_entry& file : fs::directory_iterator(store_dir_)) {
+    const std::string stem = file.path().stem().string();
+    const bool numbered =
+        !stem.empty() && stem.size() <= 9 &&
+        std::all_of(stem.begin(), stem.end(), [](char c) { return c >= '0' && c <= '9'; });
+    if (!numbered || file.path().extension() != ".sweepbind") continue;
+    const std::string bytes = read_text(file.path());
+    const std::string content_id = described_content_id("sweepbind " + bytes);
+    for (const char* suffix : {".glb", ".rig.json"}) {
+      const fs::path source = store_dir_ / (stem + suffix);
+      if (fs::exists(source)) fs::rename(source, store_dir_ / (content_id + suffix));
+    }
+    if (names.contains(stem)) {
+      RegisteredModel label;
+      label.content_id = content_id;
+      label.name = names[stem];
+      write_label(store_dir_ / (content_id + ".json"), label);
+    }
+    fs::rename(file.path(), store_dir_ / (content_id + ".sweepbind"));
+    ++report.migrated;
+  }
+  if (fs::exists(index_file)) fs::remove(index_file);
+  io::sync_directory(store_dir_);
+}
+
 RestoreReport ModelRegistry::restore() {
   RestoreReport report;
   report.removed_temporaries = remove_temporary_files(store_dir_);
-  const fs::path index_file = store_dir_ / "index.json";
-  std::vector<IndexEntry> entries;
-  if (fs::exists(index_file)) {
+  if (fs::exists(store_dir_ / "index.json")) migrate_numbered_store(report);
+  for (const std::string& content_id : stored_content_ids(store_dir_)) {
+    const fs::path file = store_dir_ / (content_id + ".sweepbind");
+    std::shared_ptr<RegisteredModel> model;
     try {
-      entries = read_index(index_file, next_id_);
+      model = read_stored(content_id);
     } catch (const std::exception& error) {
-      report.problems.push_back({index_file, std::string("unreadable index: ") + error.what(),
-                                 quarantine(index_file, store_dir_)});
-      report.index_rebuilt = true;
+      report.problems.push_back({file, error.what(), quarantine_model(store_dir_, content_id)});
+      continue;
     }
-  } else {
-    report.index_rebuilt = true;  // a store holding .sweepbind files but never an index
-  }
-  if (report.index_rebuilt) {
-    entries = entries_from_files(store_dir_);
-    report.index_rebuilt = !entries.empty() || !report.problems.empty();
+    std::lock_guard lock(mutex_);
+    if (const std::string why = conflict(model->name, content_id); !why.empty()) {
+      report.problems.push_back({file, "not loaded: " + why, {}});
+      continue;
+    }
+    models_.push_back(std::move(model));
   }
   std::lock_guard lock(mutex_);
-  for (const IndexEntry& entry : entries) {
-    const fs::path file = store_dir_ / sweepbind_name(entry.id);
-    next_id_ = std::max(next_id_, entry.id + 1);  // ids are never reused, a dropped one included
-    if (std::any_of(models_.begin(), models_.end(),
-                    [&](const ModelHandle& m) { return m->id == entry.id; })) {
-      report.problems.push_back({file, "listed twice in index.json", {}});
-      continue;
-    }
-    if (!fs::exists(file)) {
-      report.problems.push_back({file, "missing (listed in index.json)", {}});
-      continue;
-    }
-    try {
-      auto model = std::make_shared<RegisteredModel>();
-      model->id = entry.id;
-      model->bound = io::load_sweepbind(file);
-      model->name = entry.name.empty() ? model->bound.model.name : entry.name;
-      if (model->name.empty()) model->name = "model-" + std::to_string(entry.id);
-      for (const ModelHandle& other : models_) {
-        if (other->name == model->name) {
-          throw std::runtime_error("a model named '" + model->name + "' is restored (id " +
-                                   std::to_string(other->id) + ")");
-        }
-      }
-      model->runtime = std::make_shared<const deform::ModelRuntime>(model->bound);
-      models_.push_back(std::move(model));
-    } catch (const std::exception& error) {
-      report.problems.push_back({file, error.what(), quarantine(file, store_dir_)});
-      // Its sources go with it: the id is not used again, so nothing else would read them.
-      for (const char* suffix : {".glb", ".rig.json"}) {
-        const fs::path source = store_dir_ / (std::to_string(entry.id) + suffix);
-        if (fs::exists(source)) quarantine(source, store_dir_);
-      }
-    }
-  }
   std::sort(models_.begin(), models_.end(),
-            [](const ModelHandle& a, const ModelHandle& b) { return a.get()->id < b.get()->id; });
-  if (!report.problems.empty() || report.index_rebuilt) write_index(store_dir_, models_, next_id_);
+            [](const ModelHandle& a, const ModelHandle& b) { return a->id < b->id; });
   return report;
 }
 
@@ -161,36 +179,89 @@ ModelHandle ModelRegistry::find(std::string_view name) const {
   return nullptr;
 }
 
+ModelHandle ModelRegistry::find_content(std::string_view content_id) const {
+  std::lock_guard lock(mutex_);
+  for (const ModelHandle& model : models_) {
+    if (model->content_id == content_id) return model;
+  }
+  return nullptr;
+}
+
 std::vector<ModelHandle> ModelRegistry::models() const {
   std::lock_guard lock(mutex_);
   return models_;
 }
 
-void ModelRegistry::check_room(const std::string& name) const {
+std::string ModelRegistry::conflict(const std::string& name, const std::string& content_id) const {
+  const std::uint32_t handle = handle_of(content_id);
+  for (const ModelHandle& model : models_) {
+    if (model->content_id == content_id) continue;  // the same model: held, not a conflict
+    if (model->name == name) {
+      return "a model named '" + name + "' is loaded (content id " + model->content_id + ")";
+    }
+    if (model->id == handle) {
+      return "its handle " + std::to_string(handle) + " is held by model '" + model->name +
+             "' (content id " + model->content_id + "; two content ids whose first 8 hex " +
+             "digits agree)";
+    }
+  }
+  return {};
+}
+
+std::string ModelRegistry::stored_content_named(std::string_view name) const {
+  for (const std::string& content_id : stored_content_ids(store_dir_)) {
+    if (read_label(store_dir_ / (content_id + ".json")).name == name) return content_id;
+  }
+  return {};
+}
+
+ModelHandle ModelRegistry::adopt(const std::string& content_id) {
+  if (ModelHandle held = find_content(content_id)) return held;
+  std::lock_guard store_lock(store_mutex_);
+  if (ModelHandle held = find_content(content_id)) return held;  // adopted while we waited
+  if (!is_content_id(content_id) || !fs::exists(store_dir_ / (content_id + ".sweepbind")))
+    return nullptr;
+  std::shared_ptr<RegisteredModel> model;
+  try {
+    model = read_stored(content_id);
+  } catch (const std::exception& error) {
+    quarantine_model(store_dir_, content_id);
+    throw ModelError(ErrorCode::ModelLoadFailed,
+                     "stored model " + content_id +
+                         " is damaged and was quarantined: " + std::string(error.what()));
+  }
+  std::lock_guard lock(mutex_);
+  if (models_.size() >= max_models_) {
+    throw ModelError(ErrorCode::ModelLimit, "model '" + model->name +
+                                                "': the server already holds its limit of " +
+                                                std::to_string(max_models_) + " models");
+  }
+  if (const std::string why = conflict(model->name, content_id); !why.empty())
+    throw ModelError(ErrorCode::ModelLoadFailed, "stored model " + content_id + ": " + why);
+  models_.push_back(model);
+  std::sort(models_.begin(), models_.end(),
+            [](const ModelHandle& a, const ModelHandle& b) { return a->id < b->id; });
+  return model;
+}
+
+ModelRegistry::StoreSlot ModelRegistry::claim(const std::string& name,
+                                              const std::string& content_id) {
+  std::unique_lock store_lock(store_mutex_);
+  std::lock_guard lock(mutex_);
   if (models_.size() >= max_models_) {
     throw ModelError(ErrorCode::ModelLimit, "model '" + name +
                                                 "': the server already holds its limit of " +
                                                 std::to_string(max_models_) + " models");
   }
-  for (const ModelHandle& model : models_) {
-    if (model->name == name) {
-      throw ModelError(ErrorCode::ModelLoadFailed, "model '" + name +
-                                                       "': a model of that name is loaded (id " +
-                                                       std::to_string(model->id) + ")");
-    }
-  }
-}
-
-ModelRegistry::StoreSlot ModelRegistry::claim(const std::string& name) {
-  std::unique_lock store_lock(store_mutex_);
-  std::lock_guard lock(mutex_);
-  check_room(name);
-  return StoreSlot(std::move(store_lock), store_dir_, next_id_);
+  if (const std::string why = conflict(name, content_id); !why.empty())
+    throw ModelError(ErrorCode::ModelLoadFailed, "model '" + name + "': " + why);
+  return StoreSlot(std::move(store_lock), store_dir_, content_id);
 }
 
 ModelHandle ModelRegistry::add(StoreSlot slot, const std::string& name, deform::BoundModel bound,
                                std::uint64_t bind_time_ns) {
   auto model = std::make_shared<RegisteredModel>();
+  model->content_id = slot.content_id();
   model->id = slot.id();
   model->name = name;
   model->bound = std::move(bound);
@@ -200,21 +271,20 @@ ModelHandle ModelRegistry::add(StoreSlot slot, const std::string& name, deform::
   model->runtime = std::make_shared<const deform::ModelRuntime>(model->bound);
   // Both files are durable before the model is visible, and written outside the lookups'
   // lock: no client sees a model that a crash could take back, and lookups do not wait for an
-  // fsync. The slot keeps every other add out, so models() is the index's list (an edit
-  // changes no entry).
-  std::vector<ModelHandle> listed = models();
-  listed.push_back(model);
+  // fsync. The label goes first: the .sweepbind is what puts the model in the store.
   try {
+    write_label(slot.file(".json"), *model);
     io::save_sweepbind(model->bound, slot.file(".sweepbind"));
-    write_index(store_dir_, listed, model->id + 1);
   } catch (const std::exception& error) {
     throw ModelError(ErrorCode::Internal,
                      "model '" + name + "' could not be stored: " + std::string(error.what()));
   }
   std::lock_guard lock(mutex_);
-  // The slot kept every other add out, so the claim's room and name still hold.
-  next_id_ = model->id + 1;
+  // The slot kept every other add out, so the claim's room, name and handle still hold.
+  std::erase_if(models_, [&](const ModelHandle& held) { return held->id == model->id; });
   models_.push_back(model);
+  std::sort(models_.begin(), models_.end(),
+            [](const ModelHandle& a, const ModelHandle& b) { return a->id < b->id; });
   return model;
 }
 
@@ -225,16 +295,12 @@ ModelHandle ModelRegistry::replace(std::uint32_t id,
   std::lock_guard edit_lock(edit_mutex_);
   const ModelHandle old = find(id);
   if (!old) throw ModelError(ErrorCode::UnknownModel, "no model with id " + std::to_string(id));
-  auto model = std::make_shared<RegisteredModel>();
-  model->id = old->id;
-  model->name = old->name;
-  model->bind_time_ns = old->bind_time_ns;
-  model->bound = old->bound;
+  auto model = std::make_shared<RegisteredModel>(*old);
   change(model->bound);
   model->runtime = std::make_shared<const deform::ModelRuntime>(model->bound);
   // Stored before it is swapped in, and outside the lookups' lock: poses do not wait for fsync.
   try {
-    io::save_sweepbind(model->bound, store_dir_ / sweepbind_name(id));
+    io::save_sweepbind(model->bound, store_dir_ / (model->content_id + ".sweepbind"));
   } catch (const std::exception& error) {
     throw ModelError(ErrorCode::Internal, "model '" + model->name + "' could not be stored: " +
                                               std::string(error.what()));

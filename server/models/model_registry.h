@@ -1,26 +1,36 @@
-// ModelRegistry: the models a sweepd holds, by id and by name, and their on-disk store.
+// ModelRegistry: the models a sweepd holds, by handle, content id and name, and their on-disk
+// store, which several replicas may share (a ReadWriteMany volume, NFS).
 //
-// Store layout (store_dir): <id>.sweepbind per model (io::save_sweepbind: tmp + fsync +
-// rename, CRC-checked) and index.json {"version":1,"next_id":N,"models":[{"id","name",
-// "file","bind_time_ns"}]}, rewritten the same durable way after each .sweepbind. A model is
-// acknowledged, and visible to any client, only once both are on disk, so a restart — even
-// after kill -9 — finds every acknowledged model and loads it without rebinding. Uploaded .glb
-// bytes are kept as <id>.glb beside it (the source of the binding), a client's rig map as
-// <id>.rig.json. An edit rewrites <id>.sweepbind the same way before it is acknowledged.
+// Store layout (store_dir), one set of files per model, named by its content id
+// (content_id.h; 64 hex digits, "<cid>" below) — there is no shared index to race on:
+//   <cid>.json       {"version":2,"content_id","name","bind_time_ns"}: its label and history;
+//   <cid>.sweepbind  the binding (io::save_sweepbind, CRC-checked) — written last: a model is
+//                    in the store once this file is;
+//   <cid>.glb        the uploaded bytes it was bound from; <cid>.rig.json a client's rig map.
+// Every file is written by io::write_file_durably (a temporary named by its writer, fsync,
+// rename, directory fsync), so two replicas storing the same model at once each rename a whole
+// file over the other's identical one, and no reader sees a torn file. A model is acknowledged,
+// and visible to any client, only once its files are durable, so a restart — even after kill
+// -9 — finds every acknowledged model and loads it without rebinding.
+//
+// A model's handle (the protocol's model_id) is handle_of(content id): the same on every
+// replica and across restarts. A model another replica stored is found without a restart:
+// adopt(cid) loads it from the store (LoadModel by content id, or an upload of the same bytes).
 //
 // restore() is where a damaged store is mended, never by deleting what it cannot read:
-// FILE.tmp files (a crash before a rename: never a committed state) are removed; a .sweepbind
-// that does not load (checksum, truncation, any reason io::load_sweepbind gives) is moved to
-// store_dir/quarantine/ with its .glb and .rig.json (store_quarantine.h) and its entry
-// dropped; an entry whose file is missing is dropped; an unreadable index.json is quarantined
-// and the index rebuilt from the <id>.sweepbind files (names from the files, bind times 0).
-// Every other model loads; ids are never reused, a dropped one included.
+// temporaries whose writer is gone are removed (store_quarantine.h); a .sweepbind that does not
+// load (checksum, truncation, any reason io::load_sweepbind gives) is moved to
+// store_dir/quarantine/ with its other files; a model whose name or handle another restored
+// model already has is left in the store, not loaded, and reported. A store written before
+// content ids (index.json, <n>.sweepbind) is migrated: each model gets the content id of its
+// .sweepbind's bytes and keeps its name.
 //
 // It knows nothing of glTF, rigs or binding: ModelService (model_service.h), the one place
-// models change, loads and binds a model while it holds a StoreSlot (the next id, and the right
-// to store under it), then adds the bound model. Thread-safe: a bind holds only the slot, never
-// the lock lookups take, so lookups never wait for a bind; edits of a model apply one after
-// the other, each to the binding the last one stored.
+// models change, loads and binds a model while it holds a StoreSlot (the right to store one
+// content id), then adds the bound model. Thread-safe: a bind holds only the slot, never the
+// lock lookups take, so lookups never wait for a bind; edits of a model apply one after the
+// other, each to the binding the last one stored (an edit rewrites <cid>.sweepbind in place:
+// replicas sharing the store see it from their next restart or adopt).
 // Errors a client causes throw ModelError with the protocol code to answer and a message
 // naming the model and the reason.
 #pragma once
@@ -39,14 +49,16 @@
 #include "deform/binding/bound_model.h"
 #include "deform/job/model_runtime.h"
 #include "protocol/sweepd_generated.h"
+#include "server/models/content_id.h"
 
 namespace sweepd::server {
 
 struct RegisteredModel {
-  std::uint32_t id = 0;
+  std::uint32_t id = 0;    // handle_of(content_id)
+  std::string content_id;  // content_id.h
   std::string name;
   deform::BoundModel bound;
-  std::uint64_t bind_time_ns = 0;  // 0 when restored from the store
+  std::uint64_t bind_time_ns = 0;  // as stored; 0 for a store migrated from the first layout
   // Built from `bound` once it is final, shared read-only by every worker's DeformContext.
   std::shared_ptr<const deform::ModelRuntime> runtime{};
 };
@@ -61,8 +73,8 @@ struct StoreProblem {
 
 struct RestoreReport {
   std::vector<StoreProblem> problems;
-  std::vector<std::filesystem::path> removed_temporaries;  // FILE.tmp left by a crash
-  bool index_rebuilt = false;  // index.json was unreadable, or absent beside .sweepbind files
+  std::vector<std::filesystem::path> removed_temporaries;  // left by a crashed writer
+  std::size_t migrated = 0;  // models moved from a store written before content ids
 };
 
 class ModelError : public std::runtime_error {
@@ -77,40 +89,51 @@ class ModelError : public std::runtime_error {
 
 class ModelRegistry {
  public:
-  // The next model's id, claimed for one load: held, it keeps every other load and store out
-  // (one at a time, so ids and files stay in step); file(suffix) is store_dir/<id><suffix>,
-  // where the load keeps what its binding came from (the uploaded .glb, the rig map).
+  // The right to store one model, held for one load: it keeps every other load, adopt and store
+  // of this registry out (one at a time, so a content id is bound once); file(suffix) is
+  // store_dir/<content id><suffix>, where the load keeps what its binding came from (the
+  // uploaded .glb, the rig map).
   class StoreSlot {
    public:
-    std::uint32_t id() const { return id_; }
+    std::uint32_t id() const { return handle_of(content_id_); }
+    const std::string& content_id() const { return content_id_; }
     std::filesystem::path file(std::string_view suffix) const;
 
    private:
     friend class ModelRegistry;
-    StoreSlot(std::unique_lock<std::mutex> lock, std::filesystem::path store_dir, std::uint32_t id)
-        : lock_(std::move(lock)), store_dir_(std::move(store_dir)), id_(id) {}
+    StoreSlot(std::unique_lock<std::mutex> lock, std::filesystem::path store_dir,
+              std::string content_id)
+        : lock_(std::move(lock)), store_dir_(std::move(store_dir)), content_id_(content_id) {}
     std::unique_lock<std::mutex> lock_;
     std::filesystem::path store_dir_;
-    std::uint32_t id_;
+    std::string content_id_;
   };
 
   // Creates store_dir if needed.
   ModelRegistry(std::filesystem::path store_dir, std::uint32_t max_models);
 
-  // Loads index.json and every model it names, mending the store as the header says; the
-  // index is rewritten when anything was dropped or it was rebuilt. Throws only when the store
-  // directory itself cannot be read or written.
+  // Loads every model of the store, mending and migrating it as the header says. Throws only
+  // when the store directory itself cannot be read or written.
   RestoreReport restore();
 
   ModelHandle find(std::uint32_t id) const;
   ModelHandle find(std::string_view name) const;
-  std::vector<ModelHandle> models() const;  // by id
+  ModelHandle find_content(std::string_view content_id) const;
+  std::vector<ModelHandle> models() const;  // by handle
 
-  // Claims the next id for a model called `name`. ModelError{ModelLimit} when the registry is
-  // full, {ModelLoadFailed} when a model of that name is loaded.
-  StoreSlot claim(const std::string& name);
-  // Stores a bound model under the slot's id and returns it once durable (.sweepbind, then the
-  // index). Throws ModelError (the claim's codes again, or Internal: the store failed).
+  // The model `content_id`: held, or loaded from the store (another replica stored it, or this
+  // one before it was full); nullptr when the store has no such model. ModelError{ModelLimit,
+  // ModelLoadFailed (name or handle taken; a damaged file, which is quarantined)}.
+  ModelHandle adopt(const std::string& content_id);
+  // The content id of a model named `name` in the store (stored by any replica); empty: none.
+  std::string stored_content_named(std::string_view name) const;
+
+  // Claims the right to store `content_id` as a model called `name`. ModelError{ModelLimit}
+  // when the registry is full, {ModelLoadFailed} when another model of that name or handle is
+  // held. A model of this content id stored while the claim waited is held: find_content.
+  StoreSlot claim(const std::string& name, const std::string& content_id);
+  // Stores a bound model under the slot's content id and returns it once durable (.json, then
+  // .sweepbind). Throws ModelError (the claim's codes again, or Internal: the store failed).
   ModelHandle add(StoreSlot slot, const std::string& name, deform::BoundModel bound,
                   std::uint64_t bind_time_ns);
   // Edits model `id`'s binding: `change` gets a copy of the current one (it may throw
@@ -122,15 +145,19 @@ class ModelRegistry {
   const std::filesystem::path& store_dir() const { return store_dir_; }
 
  private:
-  void check_room(const std::string& name) const;  // caller holds mutex_
+  // Why `name`/`content_id` cannot be held beside the held models; empty: it can. Caller
+  // holds mutex_.
+  std::string conflict(const std::string& name, const std::string& content_id) const;
+  // Reads <cid>.sweepbind and its label into a model (not yet held); throws what load throws.
+  std::shared_ptr<RegisteredModel> read_stored(const std::string& content_id) const;
+  void migrate_numbered_store(RestoreReport& report);
 
   std::filesystem::path store_dir_;
   std::uint32_t max_models_;
   mutable std::mutex mutex_;
-  std::mutex store_mutex_;  // held by the StoreSlot of the one load in progress
+  std::mutex store_mutex_;  // held by the StoreSlot of the one load in progress, and by adopt
   std::mutex edit_mutex_;   // held by the one replace() in progress
   std::vector<ModelHandle> models_;
-  std::uint32_t next_id_ = 1;
 };
 
 }  // namespace sweepd::server

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <fstream>
 
 #include "deform/binding/bind.h"
 #include "deform/rig/rig_map.h"
@@ -68,24 +69,63 @@ fs::path ModelService::model_file_in_directory(const std::string& name) const {
                    "model '" + name + "': no such .glb/.gltf in " + config_.model_dir.string());
 }
 
+ModelHandle ModelService::held_or_stored(const std::string& content_id) {
+  if (ModelHandle held = registry_.find_content(content_id)) return held;
+  ModelHandle adopted = registry_.adopt(content_id);
+  if (adopted) {
+    log_event("model_adopted", {{"model", adopted->id},
+                                {"content_id", adopted->content_id},
+                                {"name", adopted->name},
+                                {"vertices", adopted->bound.model.vertex_count()}});
+  }
+  return adopted;
+}
+
 ModelHandle ModelService::load(const ModelLoadRequest& request) {
+  if (!request.content_id.empty()) {
+    if (!is_content_id(request.content_id)) {
+      throw ModelError(ErrorCode::InvalidArgument,
+                       "a content id has 64 lower-case hex digits (SHA-256)");
+    }
+    if (ModelHandle model = held_or_stored(request.content_id)) return model;
+    throw ModelError(ErrorCode::UnknownModel, "no model with content id " + request.content_id +
+                                                  " on this server or in its store; upload it");
+  }
   if (request.name.empty() || request.name.size() > kMaxNameBytes) {
     throw ModelError(ErrorCode::ModelLoadFailed,
                      "a model name must have 1 to " + std::to_string(kMaxNameBytes) + " bytes");
   }
-  if (request.gltf.empty()) {
-    if (ModelHandle loaded = registry_.find(request.name)) return loaded;
+  if (!request.gltf.empty()) {
+    const std::string content_id =
+        model_content_id(request.gltf, request.rig_map_json, request.keys_per_link);
+    if (ModelHandle model = held_or_stored(content_id)) return model;
+    return bind_and_store(request, content_id, {});
   }
-  ModelRegistry::StoreSlot slot = registry_.claim(request.name);
+  if (ModelHandle loaded = registry_.find(request.name)) return loaded;
+  if (const std::string stored = registry_.stored_content_named(request.name); !stored.empty()) {
+    if (ModelHandle model = held_or_stored(stored)) return model;
+  }
+  const fs::path file = model_file_in_directory(request.name);
+  std::ifstream in(file, std::ios::binary);
+  const std::vector<std::uint8_t> bytes{std::istreambuf_iterator<char>(in),
+                                        std::istreambuf_iterator<char>()};
+  const std::string content_id =
+      model_content_id(bytes, request.rig_map_json, request.keys_per_link);
+  if (ModelHandle model = held_or_stored(content_id)) return model;
+  return bind_and_store(request, content_id, file);
+}
+
+ModelHandle ModelService::bind_and_store(const ModelLoadRequest& request,
+                                         const std::string& content_id,
+                                         const fs::path& directory_file) {
+  ModelRegistry::StoreSlot slot = registry_.claim(request.name, content_id);
+  if (ModelHandle stored = registry_.find_content(content_id)) return stored;
   const auto started = std::chrono::steady_clock::now();
   deform::BoundModel bound;
   try {
-    fs::path source;
-    io::GltfUriPolicy uris;
-    if (request.gltf.empty()) {
-      source = model_file_in_directory(request.name);
-      uris = io::GltfUriPolicy::within(config_.model_dir);
-    } else {
+    fs::path source = directory_file;
+    io::GltfUriPolicy uris = io::GltfUriPolicy::within(config_.model_dir);
+    if (directory_file.empty()) {
       source = slot.file(".glb");
       io::write_file_durably(source, request.gltf);
       uris = io::GltfUriPolicy::self_contained();  // an upload reads nothing but itself
@@ -136,11 +176,10 @@ void ModelService::restore() {
     if (!problem.quarantined_to.empty()) fields["quarantined_to"] = problem.quarantined_to.string();
     log_event("restore_problem", std::move(fields));
   }
-  if (report.index_rebuilt) {
-    log_event("store_index_rebuilt", {{"models", registry_.models().size()}});
-  }
+  if (report.migrated > 0) log_event("store_migrated", {{"models", report.migrated}});
   for (const ModelHandle& model : registry_.models()) {
     log_event("model_restored", {{"model", model->id},
+                                 {"content_id", model->content_id},
                                  {"name", model->name},
                                  {"vertices", model->bound.model.vertex_count()}});
   }
@@ -148,13 +187,17 @@ void ModelService::restore() {
 
 void ModelService::add_default_model() {
   if (!config_.model_dir.empty() || registry_.find(std::string_view("mannequin"))) return;
-  ModelRegistry::StoreSlot slot = registry_.claim("mannequin");
+  const std::string content_id = described_content_id("procedural mannequin, vertices=" +
+                                                      std::to_string(config_.mannequin_vertices));
+  if (held_or_stored(content_id)) return;
+  ModelRegistry::StoreSlot slot = registry_.claim("mannequin", content_id);
   const auto started = std::chrono::steady_clock::now();
   deform::Model model = mannequin::make_mannequin({.target_vertices = config_.mannequin_vertices});
   deform::BoundModel bound = deform::bind(model, deform::detect_rig_map(model.skeleton));
   const ModelHandle added =
       registry_.add(std::move(slot), "mannequin", std::move(bound), nanoseconds_since(started));
   log_event("model_loaded", {{"model", added->id},
+                             {"content_id", added->content_id},
                              {"name", added->name},
                              {"vertices", added->bound.model.vertex_count()},
                              {"bind_time_ns", added->bind_time_ns}});

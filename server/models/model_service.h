@@ -7,15 +7,23 @@
 //
 // restore(): the registry's restore() (model_registry.h: what it mends), logged: each removed
 //   temporary file (store_temporary_removed), each entry not restored (restore_problem: file,
-//   reason, quarantined_to when it was moved aside), a rebuilt index (store_index_rebuilt),
-//   each restored model (model_restored).
-//   add_default_model(): with no model_dir and no model
-//   named "mannequin", binds config.mannequin_vertices of procedural mannequin and stores it.
-// load(request): loads the glTF (the uploaded bytes, kept in the store as <id>.glb, or
-//   `name`[.glb|.gltf] from config.model_dir), refuses more than config.max_model_vertices
-//   (MemoryLimit), maps the rig (detected, or the request's rig map JSON, kept as
-//   <id>.rig.json), binds it and stores it; returns it once durable. A name already loaded,
-//   given without bytes, returns that model. ModelLoadFailed names the model and the reason.
+//   reason, quarantined_to when it was moved aside), a store migrated to content ids
+//   (store_migrated), each restored model (model_restored).
+//   add_default_model(): with no model_dir and no model named "mannequin", adopts the
+//   procedural mannequin of config.mannequin_vertices from the store, or binds and stores it.
+// load(request): the model the request names, found before anything is bound:
+//   - a content id: the held model, or the store's (adopted: another replica stored it);
+//     UnknownModel when neither has it (the client uploads the bytes);
+//   - bytes (an upload): their content id (content_id.h) held or in the store returns that
+//     model — under its own name: names are labels, so an upload sent again after a reconnect
+//     or to another replica costs no binding; else the bytes are kept as <cid>.glb, loaded,
+//     bound and stored;
+//   - a name alone: the held model of that name, else the store's, else
+//     `name`[.glb|.gltf] from config.model_dir, bound as an upload of its bytes would be.
+//   Binding refuses more than config.max_model_vertices (MemoryLimit), maps the rig
+//   (detected, or the request's rig map JSON, kept as <cid>.rig.json); the model is returned
+//   once durable. ModelLoadFailed names the model and the reason. A model adopted from the
+//   store is logged (model_adopted).
 // directory_entries(): model files in config.model_dir (file names) not loaded under that
 //   name, sorted.
 // edit_key_ellipse(model_id, edit): a copy of the model's binding with one rest key replaced
@@ -41,6 +49,7 @@
 namespace sweepd::server {
 
 struct ModelLoadRequest {
+  std::string content_id;              // content_id.h, or empty
   std::string name;                    // stored name; with no gltf: a model_dir file name
   std::span<const std::uint8_t> gltf;  // uploaded .glb/.gltf bytes, or empty
   std::string rig_map_json;            // io/rig_map_json.h override, or empty: detect
@@ -67,6 +76,12 @@ class ModelService {
  private:
   // The model directory's file for a client's name, or ModelError{UnknownModel}.
   std::filesystem::path model_file_in_directory(const std::string& name) const;
+  // The model `content_id` held or adopted from the store (logged), or nullptr.
+  ModelHandle held_or_stored(const std::string& content_id);
+  // Binds and stores request.gltf (an upload), or else directory_file, as request.name under
+  // content_id; a model of that content id stored meanwhile by another load is returned.
+  ModelHandle bind_and_store(const ModelLoadRequest& request, const std::string& content_id,
+                             const std::filesystem::path& directory_file);
 
   const ServerConfig& config_;
   ModelRegistry registry_;

@@ -43,7 +43,7 @@ void build_model_info(flatbuffers::FlatBufferBuilder& builder, const RegisteredM
       builder, model.id, model.name.c_str(), &joint_names, &joint_parents,
       static_cast<std::uint32_t>(bound.model.vertex_count()),
       static_cast<std::uint32_t>(bound.model.triangle_count()), bound.model.has_uvs(), summary,
-      &translations, &rotations, &scales, floor);
+      &translations, &rotations, &scales, floor, model.content_id.c_str());
   pb::finish_message(builder, info, request_id);
 }
 

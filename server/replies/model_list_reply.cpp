@@ -14,7 +14,8 @@ void build_model_list(flatbuffers::FlatBufferBuilder& builder, std::span<const M
     summaries.push_back(pb::CreateModelSummaryDirect(
         builder, model->id, model->name.c_str(),
         static_cast<std::uint32_t>(model->bound.model.vertex_count()),
-        static_cast<std::uint32_t>(model->bound.model.skeleton.joints.size())));
+        static_cast<std::uint32_t>(model->bound.model.skeleton.joints.size()),
+        model->content_id.c_str()));
   }
   for (const std::string& name : directory_entries) {
     summaries.push_back(pb::CreateModelSummaryDirect(builder, 0, name.c_str(), 0, 0));

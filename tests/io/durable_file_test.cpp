@@ -29,8 +29,23 @@ TEST(DurableFile, ReplacesTheFileWholeAndLeavesNoTemporary) {
   EXPECT_EQ(read_bytes(file), first);
   write_file_durably(file, second);
   EXPECT_EQ(read_bytes(file), second);
-  EXPECT_FALSE(fs::exists(file.string() + ".tmp"));
+  for (const fs::directory_entry& entry : fs::directory_iterator(file.parent_path())) {
+    const std::string name = entry.path().filename().string();
+    EXPECT_FALSE(name.starts_with(file.filename().string() + ".") && name.ends_with(".tmp"))
+        << name;
+  }
   fs::remove(file);
+}
+
+// The temporary's name carries its writer, so that writers sharing a directory never share a
+// temporary, and a store can tell a crashed writer's leftovers from a live one's.
+TEST(DurableFile, TemporaryNamesGiveTheirWriter) {
+  const TemporaryWriter writer = temporary_writer("/store/ab.c.sweepbind.4242@node-1.lan.tmp");
+  EXPECT_EQ(writer.pid, 4242);
+  EXPECT_EQ(writer.host, "node-1.lan");
+  EXPECT_EQ(temporary_writer("/store/index.json.tmp").pid, 0) << "an older sweepd's name";
+  EXPECT_EQ(temporary_writer("/store/x.sweepbind").pid, 0) << "not a temporary";
+  EXPECT_EQ(temporary_writer("/store/x.y@host.tmp").pid, 0) << "no pid before the host";
 }
 
 TEST(DurableFile, NamesTheFileAndTheStepItCannotDo) {
@@ -40,7 +55,9 @@ TEST(DurableFile, NamesTheFileAndTheStepItCannotDo) {
     ADD_FAILURE() << "no error";
   } catch (const std::runtime_error& e) {
     const std::string message = e.what();
-    EXPECT_NE(message.find("x.bin.tmp"), std::string::npos) << message;
+    EXPECT_NE(message.find("x.bin." + std::to_string(::getpid()) + "@" + this_host() + ".tmp"),
+              std::string::npos)
+        << message;
     EXPECT_NE(message.find("open"), std::string::npos) << message;
   }
 }

@@ -9,6 +9,7 @@
 
 #include "deform/binding/bind.h"
 #include "deform/rig/rig_map.h"
+#include "io/durable_file.h"
 #include "mannequin/mannequin.h"
 
 namespace sweepd::io {
@@ -40,7 +41,8 @@ TEST(Sweepbind, RoundTripsBitExactlyThroughAFile) {
   const fs::path file =
       fs::temp_directory_path() / ("roundtrip_" + std::to_string(getpid()) + ".sweepbind");
   save_sweepbind(bound_mannequin(), file);
-  EXPECT_FALSE(fs::exists(file.string() + ".tmp"));  // renamed into place
+  EXPECT_FALSE(fs::exists(file.string() + "." + std::to_string(getpid()) + "@" + this_host() +
+                          ".tmp"));  // renamed into place
   const deform::BoundModel loaded = load_sweepbind(file, &bound_mannequin().model);
   // Re-encoding what was read gives the same bytes: every field came back bit for bit.
   EXPECT_EQ(encode_sweepbind(loaded), encode_sweepbind(bound_mannequin()));

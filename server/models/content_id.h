@@ -1,0 +1,32 @@
+// Content ids: what names a model in every replica of a fleet (issue 14 item 2). A model's
+// content id is the SHA-256 (Debian's OpenSSL) of what its binding was made from — the glTF
+// bytes (uploaded or read from the model directory), the client's rig map JSON and the bind
+// options — as 64 lower-case hex digits. Its name is only a label: the same bytes and options
+// give the same id on any replica, so a store shared by replicas holds each model once, and a
+// client that knows the id can ask any replica for it.
+//
+// model_content_id(source, rig_map_json, keys_per_link): the id of a glTF binding (source:
+//   the whole file, any size; rig_map_json: empty when detected; keys_per_link: 0 = default).
+// described_content_id(description): the id of a model made by the server itself from a
+//   description (the procedural mannequin: "mannequin vertices=N").
+// handle_of(content_id): the protocol's 32-bit model_id for it — its first 8 hex digits (0 is
+//   never given: it means "not loaded" on the wire). The same on every replica, so a handle a
+//   client got from one replica names the same model on another. Two ids with one handle are
+//   possible (about n²/2³³ for n models); ModelRegistry refuses the second, saying so.
+// is_content_id(text): 64 lower-case hex digits.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <string_view>
+
+namespace sweepd::server {
+
+std::string model_content_id(std::span<const std::uint8_t> source, std::string_view rig_map_json,
+                             int keys_per_link);
+std::string described_content_id(std::string_view description);
+std::uint32_t handle_of(std::string_view content_id);
+bool is_content_id(std::string_view text);
+
+}  // namespace sweepd::server
