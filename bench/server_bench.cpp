@@ -9,7 +9,8 @@
 //      flight for S seconds → poses answered per second, all clients together, the daemon's
 //      resident memory (VmRSS) at the end, each connection's first round trip, and that of one
 //      more connection opened halfway through while the others stream;
-//   3. in-process: the same poses on the same binding (the daemon's store/1.sweepbind) with
+//   3. in-process: the same poses on the same binding (the daemon's stored <content id>.sweepbind)
+//   with
 //      one deform::DeformJob per pose (one ModelRuntime, one DeformContext), one thread, positions
 //      only → p50 / p99, and round trip ÷ in-process;
 //   4. under attack: 4 honest clients, one pose at a time for S seconds, alone and then beside
@@ -109,7 +110,12 @@ class Daemon {
   }
   std::string address() const { return "127.0.0.1:" + std::to_string(port_); }
   int port() const { return port_; }
-  fs::path binding() const { return directory_ / "store" / "1.sweepbind"; }
+  // The store's one binding (the default mannequin), named by its content id.
+  fs::path binding() const {
+    for (const fs::directory_entry& entry : fs::directory_iterator(directory_ / "store"))
+      if (entry.path().extension() == ".sweepbind") return entry.path();
+    throw std::runtime_error("the daemon stored no binding in " + (directory_ / "store").string());
+  }
   // The daemon's CPU time so far (user + system), in milliseconds; and its resident memory.
   double cpu_ms() const {
     std::ifstream stat("/proc/" + std::to_string(pid_) + "/stat");

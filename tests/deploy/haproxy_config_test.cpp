@@ -67,10 +67,11 @@ TEST(HaproxyConfig, SaysWhatTheReadmePromises) {
   EXPECT_EQ(server_defaults->find("shutdown-sessions"), std::string::npos);
 }
 
-// Sends one pose of the default mannequin (id 1) and returns what came back first.
-protocol::Body pose_once(FrameClient& client, std::size_t joints, std::uint64_t sequence) {
+// Sends one pose of model `model` (the default mannequin) and returns what came back first.
+protocol::Body pose_once(FrameClient& client, std::uint32_t model, std::size_t joints,
+                         std::uint64_t sequence) {
   const std::vector<protocol::Quat> wire = to_wire(bent_rotations(joints));
-  if (!send_pose(client, pose_fields(1, sequence, wire))) return protocol::Body::NONE;
+  if (!send_pose(client, pose_fields(model, sequence, wire))) return protocol::Body::NONE;
   const protocol::Message* message = client.receive();
   return message == nullptr ? protocol::Body::NONE : message->body_type();
 }
@@ -97,6 +98,10 @@ class HaproxyInFrontOfTwoReplicas : public ::testing::Test {
       ASSERT_TRUE(replicas_.back()->running()) << replicas_.back()->log();
       ports_.push_back({replicas_.back()->port(), std::stoi(read_text(home / "http_port"))});
     }
+    // The same default model on both: the same content id, so the same handle on each replica.
+    mannequin_ = replicas_[0]->model_id();
+    ASSERT_NE(mannequin_, 0u) << replicas_[0]->log();
+    ASSERT_EQ(replicas_[1]->model_id(), mannequin_);
     haproxy_ = std::make_unique<HaproxyProcess>(kConfig, directory_, ports_);
     ASSERT_TRUE(haproxy_->running());
   }
@@ -113,6 +118,7 @@ class HaproxyInFrontOfTwoReplicas : public ::testing::Test {
   fs::path directory_;
   std::vector<std::unique_ptr<DaemonProcess>> replicas_;
   std::vector<Replica> ports_;
+  std::uint32_t mannequin_ = 0;
   std::unique_ptr<HaproxyProcess> haproxy_;
 };
 
@@ -125,10 +131,10 @@ TEST_F(HaproxyInFrontOfTwoReplicas, BalancesByLeastConnectionsAndDrainsAReplicaO
   ASSERT_NE(first.hello(""), nullptr) << haproxy_->log();
   const std::size_t joints = mannequin_joints(first);
   ASSERT_GT(joints, 0u);
-  EXPECT_EQ(pose_once(first, joints, 0), protocol::Body::PosedVertices);
+  EXPECT_EQ(pose_once(first, mannequin_, joints, 0), protocol::Body::PosedVertices);
   FrameClient second(haproxy_->port());
   ASSERT_NE(second.hello(""), nullptr);
-  EXPECT_EQ(pose_once(second, joints, 0), protocol::Body::PosedVertices);
+  EXPECT_EQ(pose_once(second, mannequin_, joints, 0), protocol::Body::PosedVertices);
   // leastconn: the second client went to the replica that had none.
   EXPECT_EQ(connections_open(0), 1.0);
   EXPECT_EQ(connections_open(1), 1.0);
@@ -147,7 +153,7 @@ TEST_F(HaproxyInFrontOfTwoReplicas, BalancesByLeastConnectionsAndDrainsAReplicaO
   int byes = 0;
   int answered = 0;
   for (FrameClient* client : {&first, &second}) {
-    const protocol::Body body = pose_once(*client, joints, 1);
+    const protocol::Body body = pose_once(*client, mannequin_, joints, 1);
     byes += body == protocol::Body::Bye;
     answered += body == protocol::Body::PosedVertices;
   }
@@ -157,7 +163,7 @@ TEST_F(HaproxyInFrontOfTwoReplicas, BalancesByLeastConnectionsAndDrainsAReplicaO
   // A new client goes to replica 2, the only one UP.
   FrameClient third(haproxy_->port());
   ASSERT_NE(third.hello(""), nullptr) << haproxy_->log();
-  EXPECT_EQ(pose_once(third, joints, 0), protocol::Body::PosedVertices);
+  EXPECT_EQ(pose_once(third, mannequin_, joints, 0), protocol::Body::PosedVertices);
   EXPECT_EQ(connections_open(1), 2.0);
 }
 

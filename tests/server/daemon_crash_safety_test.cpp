@@ -25,6 +25,7 @@
 #include "mannequin/mannequin.h"
 #include "tests/server/daemon_process.h"
 #include "tests/server/pose_frames.h"
+#include "tests/server/stored_binding.h"
 
 namespace sweepd::test {
 namespace {
@@ -219,7 +220,7 @@ class StoreExpectations {
     for (auto& [slot, values] : keys_) {
       const auto& [id, sweep, key] = slot;
       const deform::KeyEllipse& stored =
-          key_of(io::load_sweepbind(store / (std::to_string(id) + ".sweepbind")), sweep, key);
+          key_of(io::load_sweepbind(stored_binding(store, id)), sweep, key);
       // Exact: a half-axis is sent as a float, set as given and stored bit for bit.
       const auto is_stored = [&](const std::pair<float, float>& v) {
         return v.first == stored.a && v.second == stored.b;
@@ -264,7 +265,7 @@ class StoreExpectations {
   void check_model(FrameClient& client, const fs::path& store, const StoredModel& model) {
     deform::BoundModel bound;
     try {
-      bound = io::load_sweepbind(store / (std::to_string(model.id) + ".sweepbind"));
+      bound = io::load_sweepbind(stored_binding(store, model.id));
     } catch (const std::exception& error) {
       ADD_FAILURE() << "model " << model.id << ": " << error.what();
       return;

@@ -32,7 +32,7 @@ class DaemonDelivery : public ::testing::Test {
     for (std::uint64_t s = 1; s <= count; ++s) {
       flatbuffers::FlatBufferBuilder builder;
       const auto frame = protocol::finish_message(
-          builder, protocol::add_pose(builder, pose_fields(1, s, rotations)));
+          builder, protocol::add_pose(builder, pose_fields(daemon_->model_id(), s, rotations)));
       bytes.insert(bytes.end(), frame.begin(), frame.end());
     }
     return bytes;

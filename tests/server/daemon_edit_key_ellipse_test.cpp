@@ -9,6 +9,7 @@
 #include "io/sweepbind.h"
 #include "tests/server/daemon_process.h"
 #include "tests/server/pose_frames.h"
+#include "tests/server/stored_binding.h"
 
 namespace sweepd::test {
 namespace {
@@ -94,8 +95,7 @@ TEST(DaemonEditKeyEllipse, AnEditIsPosedStoredAndKeptOverARestart) {
       unchanged += rest_after[v] == rest_before[v];
     EXPECT_GT(unchanged, rest_after.size() * 3 / 4);
     // The stored model is the edited one: the library poses it to the daemon's bits.
-    const deform::BoundModel stored =
-        io::load_sweepbind(directory / "store" / (std::to_string(id) + ".sweepbind"));
+    const deform::BoundModel stored = io::load_sweepbind(stored_binding(directory / "store", id));
     EXPECT_EQ(largest_distance(
                   library_deformation(stored, bent, deform::DeformMethod::kSweep).positions, after),
               0.0f);

@@ -47,7 +47,8 @@ class DaemonErrors : public ::testing::Test {
         << error->message()->str();
     EXPECT_EQ(error->sequence(), sequence);
     for (FrameClient* client : {healthy_.get(), broken_.get()}) {
-      ASSERT_TRUE(send_pose(*client, pose_fields(1, 1000 + ++poses_, rotations_)));
+      ASSERT_TRUE(
+          send_pose(*client, pose_fields(daemon_->model_id(), 1000 + ++poses_, rotations_)));
       const protocol::PosedVertices* reply = client->receive_as<protocol::PosedVertices>();
       ASSERT_NE(reply, nullptr);
       EXPECT_EQ(reply->sequence(), 1000 + poses_);
@@ -123,21 +124,21 @@ TEST_F(DaemonErrors, OversizedFrameIsRefusedAndItsBodySkipped) {
 
 TEST_F(DaemonErrors, WrongJointCountNamesThePoseAndBothCounts) {
   const std::span<const protocol::Quat> short_pose(rotations_.data(), kMannequinJoints - 1);
-  ASSERT_TRUE(send_pose(*broken_, pose_fields(1, 42, short_pose)));
+  ASSERT_TRUE(send_pose(*broken_, pose_fields(daemon_->model_id(), 42, short_pose)));
   expect_error_then_service(protocol::ErrorCode::WrongJointCount, "30 rotations", 42);
 }
 
 TEST_F(DaemonErrors, NaNRotationIsAnInvalidPose) {
   std::vector<protocol::Quat> nan_pose = rotations_;
   nan_pose[7] = protocol::Quat(std::numeric_limits<float>::quiet_NaN(), 0, 0, 1);
-  ASSERT_TRUE(send_pose(*broken_, pose_fields(1, 43, nan_pose)));
+  ASSERT_TRUE(send_pose(*broken_, pose_fields(daemon_->model_id(), 43, nan_pose)));
   expect_error_then_service(protocol::ErrorCode::InvalidPose, "joint 7", 43);
 }
 
 TEST_F(DaemonErrors, RotationFarFromUnitLengthIsAnInvalidPose) {
   std::vector<protocol::Quat> long_pose = rotations_;
   long_pose[3] = protocol::Quat(0, 0, 0, 1.5f);
-  ASSERT_TRUE(send_pose(*broken_, pose_fields(1, 44, long_pose)));
+  ASSERT_TRUE(send_pose(*broken_, pose_fields(daemon_->model_id(), 44, long_pose)));
   expect_error_then_service(protocol::ErrorCode::InvalidPose, "joint 3", 44);
 }
 
@@ -147,7 +148,7 @@ TEST_F(DaemonErrors, UnknownModelIdIsNamed) {
 }
 
 TEST_F(DaemonErrors, FeaturesOnASkinningBaselineAreAnInvalidArgument) {
-  protocol::PoseFields fields = pose_fields(1, 46, rotations_);
+  protocol::PoseFields fields = pose_fields(daemon_->model_id(), 46, rotations_);
   fields.method = protocol::DeformMethod::Dqs;
   fields.features = protocol::Features::Folding;
   ASSERT_TRUE(send_pose(*broken_, fields));
@@ -156,7 +157,7 @@ TEST_F(DaemonErrors, FeaturesOnASkinningBaselineAreAnInvalidArgument) {
 
 TEST_F(DaemonErrors, PositionMapsSwitchedOffAreNotAvailable) {
   flatbuffers::FlatBufferBuilder builder;
-  const auto pose = protocol::add_pose(builder, pose_fields(1, 47, rotations_));
+  const auto pose = protocol::add_pose(builder, pose_fields(daemon_->model_id(), 47, rotations_));
   broken_->send_bytes(protocol::finish_message(
       builder, protocol::CreatePositionMapRequest(builder, pose, 64, 64), 12));
   expect_error_then_service(protocol::ErrorCode::NotAvailable, "switched off", 47);
@@ -184,11 +185,11 @@ TEST_F(DaemonErrors, ClientVanishingMidFrameLeavesOthersServed) {
     FrameClient vanishing(daemon_->port());
     ASSERT_NE(vanishing.hello(""), nullptr);
     flatbuffers::FlatBufferBuilder builder;
-    const auto pose = protocol::add_pose(builder, pose_fields(1, 1, rotations_));
+    const auto pose = protocol::add_pose(builder, pose_fields(daemon_->model_id(), 1, rotations_));
     const auto frame = protocol::finish_message(builder, pose);
     ASSERT_TRUE(vanishing.send_bytes(frame.first(frame.size() / 2)));  // truncated
   }
-  ASSERT_TRUE(send_pose(*healthy_, pose_fields(1, 2, rotations_)));
+  ASSERT_TRUE(send_pose(*healthy_, pose_fields(daemon_->model_id(), 2, rotations_)));
   const protocol::PosedVertices* reply = healthy_->receive_as<protocol::PosedVertices>();
   ASSERT_NE(reply, nullptr);
   EXPECT_EQ(reply->sequence(), 2u);
@@ -216,7 +217,7 @@ TEST_F(DaemonErrors, ConnectionsBeyondTheLimitAreRefused) {
   EXPECT_EQ(error->code(), protocol::ErrorCode::ConnectionLimit);
   EXPECT_TRUE(error->fatal());
   EXPECT_TRUE(fourth.closed_by_server());
-  ASSERT_TRUE(send_pose(third, pose_fields(1, 3, rotations_)));
+  ASSERT_TRUE(send_pose(third, pose_fields(daemon_->model_id(), 3, rotations_)));
   EXPECT_NE(third.receive_as<protocol::PosedVertices>(), nullptr);
 }
 

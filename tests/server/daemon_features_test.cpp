@@ -10,6 +10,7 @@
 #include "io/sweepbind.h"
 #include "tests/server/daemon_process.h"
 #include "tests/server/pose_frames.h"
+#include "tests/server/stored_binding.h"
 
 namespace sweepd::test {
 namespace {
@@ -19,7 +20,8 @@ namespace {
 struct Served {
   fs::path directory = fresh_directory("features");
   DaemonProcess daemon{directory, {"--position-maps", "0"}};
-  deform::BoundModel mannequin = io::load_sweepbind(directory / "store" / "1.sweepbind");
+  deform::BoundModel mannequin =
+      io::load_sweepbind(stored_binding(directory / "store", "mannequin"));
   ~Served() { fs::remove_all(directory); }
 };
 
@@ -66,7 +68,7 @@ TEST(DaemonFeatures, RepliesEqualTheLibrarysFeaturesBitForBitAndSwitchPerPose) {
   for (const auto& [bits, features] : requests) {
     const std::string what = "features '" + deform::to_string(features) + "'";
     SCOPED_TRACE(what);
-    protocol::PoseFields fields = pose_fields(1, ++sequence, wire);
+    protocol::PoseFields fields = pose_fields(served().daemon.model_id(), ++sequence, wire);
     fields.features = bits;
     fields.normals = true;
     ASSERT_TRUE(send_pose(client, fields));
@@ -101,7 +103,7 @@ TEST(DaemonFeatures, FeaturesOnSkinningBaselinesAreAnInvalidArgument) {
       to_wire(bent_rotations(bound.model.skeleton.joints.size()));
   FrameClient client(served().daemon.port());
   ASSERT_NE(client.hello(""), nullptr);
-  protocol::PoseFields fields = pose_fields(1, 7, wire);
+  protocol::PoseFields fields = pose_fields(served().daemon.model_id(), 7, wire);
   fields.method = protocol::DeformMethod::Lbs;
   fields.features = protocol::Features::Volume;
   ASSERT_TRUE(send_pose(client, fields));

@@ -15,6 +15,7 @@
 #include "io/sweepbind.h"
 #include "tests/server/daemon_process.h"
 #include "tests/server/pose_frames.h"
+#include "tests/server/stored_binding.h"
 
 namespace sweepd::test {
 namespace {
@@ -72,14 +73,15 @@ TEST(DaemonHostileClients, HonestClientsAreServedWhileSixtyFourHostileOnesAreCut
                   "--send-timeout-ms", std::to_string(kTimeoutMs), "--idle-timeout-ms", "0",
                   "--max-buffered-bytes", std::to_string(64 << 20)});
   ASSERT_TRUE(daemon.running()) << daemon.log();
-  const deform::BoundModel mannequin = io::load_sweepbind(directory / "store" / "1.sweepbind");
+  const deform::BoundModel mannequin =
+      io::load_sweepbind(stored_binding(directory / "store", "mannequin"));
   const std::vector<glm::quat> rotations = bent_rotations(kMannequinJoints);
   const std::vector<protocol::Quat> wire = to_wire(rotations);
   const Deformed expected = library_deformation(mannequin, rotations, deform::DeformMethod::kSweep);
   {
     FrameClient warm(daemon.port());
     ASSERT_NE(warm.hello(""), nullptr);
-    ASSERT_TRUE(send_pose(warm, pose_fields(1, 1, wire)));
+    ASSERT_TRUE(send_pose(warm, pose_fields(daemon.model_id(), 1, wire)));
     ASSERT_NE(warm.receive_as<protocol::PosedVertices>(), nullptr);
   }
   const std::size_t rss_before_kib = status_kib(daemon.pid(), "VmRSS:");
@@ -111,7 +113,7 @@ TEST(DaemonHostileClients, HonestClientsAreServedWhileSixtyFourHostileOnesAreCut
     non_readers.push_back(std::make_unique<FrameClient>(daemon.port(), 4096));
     ASSERT_NE(non_readers.back()->hello(""), nullptr);
     for (int p = 0; p < 40; ++p)
-      ASSERT_TRUE(send_pose(*non_readers.back(), pose_fields(1, p, wire)));
+      ASSERT_TRUE(send_pose(*non_readers.back(), pose_fields(daemon.model_id(), p, wire)));
   }
   // Hostile 4: Hello, then 20 frames of garbage (16 bad frames close a connection).
   std::vector<std::uint8_t> junk = length_prefix(24);
@@ -130,7 +132,7 @@ TEST(DaemonHostileClients, HonestClientsAreServedWhileSixtyFourHostileOnesAreCut
       FrameClient client(daemon.port());
       if (client.hello("") == nullptr) return;
       for (int p = 0; p < kHonestPoses; ++p) {
-        if (!send_pose(client, pose_fields(1, 100 * c + p, wire))) return;
+        if (!send_pose(client, pose_fields(daemon.model_id(), 100 * c + p, wire))) return;
         const protocol::PosedVertices* reply = client.receive_as<protocol::PosedVertices>();
         if (reply == nullptr) return;
         std::vector<glm::vec3> positions(expected.positions.size());
@@ -189,7 +191,7 @@ TEST(DaemonHostileClients, AnIdleConnectionIsClosedAndABusyOneIsNot) {
   ASSERT_NE(busy.hello(""), nullptr);
   // The busy client sends a pose every 100 ms for 1.2 s: three idle timeouts, never idle.
   for (int p = 0; p < 12; ++p) {
-    ASSERT_TRUE(send_pose(busy, pose_fields(1, p, wire)));
+    ASSERT_TRUE(send_pose(busy, pose_fields(daemon.model_id(), p, wire)));
     ASSERT_NE(busy.receive_as<protocol::PosedVertices>(), nullptr) << "pose " << p;
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
@@ -219,7 +221,7 @@ TEST(DaemonHostileClients, AFramePastTheSharedBudgetIsRefusedAndTheSessionGoesOn
   EXPECT_FALSE(error->fatal());
   EXPECT_NE(error->message()->str().find("2097152"), std::string::npos) << error->message()->str();
   const std::vector<protocol::Quat> wire = to_wire(bent_rotations(kMannequinJoints));
-  ASSERT_TRUE(send_pose(client, pose_fields(1, 7, wire)));
+  ASSERT_TRUE(send_pose(client, pose_fields(daemon.model_id(), 7, wire)));
   const protocol::PosedVertices* reply = client.receive_as<protocol::PosedVertices>();
   ASSERT_NE(reply, nullptr);
   EXPECT_EQ(reply->sequence(), 7u);

@@ -62,11 +62,12 @@ class HttpSidePortTest : public ::testing::Test {
     return list == nullptr ? 0 : list->models()->Get(0)->joint_count();
   }
 
-  // Sends `count` poses of the mannequin (id 1) and reads their replies.
-  static void pose_round_trips(FrameClient& client, std::size_t joints, int count) {
+  // Sends `count` poses of the mannequin and reads their replies.
+  void pose_round_trips(FrameClient& client, std::size_t joints, int count) {
     const std::vector<protocol::Quat> wire = to_wire(bent_rotations(joints));
     for (int s = 0; s < count; ++s) {
-      ASSERT_TRUE(send_pose(client, pose_fields(1, static_cast<std::uint64_t>(s), wire)));
+      ASSERT_TRUE(
+          send_pose(client, pose_fields(daemon_->model_id(), static_cast<std::uint64_t>(s), wire)));
       ASSERT_NE(client.receive_as<protocol::PosedVertices>(), nullptr);
     }
   }
@@ -92,7 +93,8 @@ TEST_F(HttpSidePortTest, ReadyzIsReadyWhileServingAndNotWhileDrainingAfterSigter
   const std::vector<protocol::Quat> wire = to_wire(bent_rotations(joints));
   constexpr int kPoses = 100;
   for (int s = 0; s < kPoses; ++s) {
-    ASSERT_TRUE(send_pose(client, pose_fields(1, static_cast<std::uint64_t>(s), wire)));
+    ASSERT_TRUE(
+        send_pose(client, pose_fields(daemon_->model_id(), static_cast<std::uint64_t>(s), wire)));
   }
   // Stuck: more than 1 MB of replies waiting in the server for this client (about 4 replies).
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
@@ -173,7 +175,9 @@ TEST_F(HttpSidePortTest, MetricsPassPromtoolAndCountTheTrafficSent) {
   EXPECT_EQ(grew("sweepd_errors_total{code=\"UnknownModel\"}"), 1);
   EXPECT_EQ(grew("sweepd_pose_latency_seconds_count"), kPoses);
   EXPECT_EQ(grew("sweepd_pose_latency_seconds_bucket{le=\"+Inf\"}"), kPoses);
-  EXPECT_EQ(grew("sweepd_model_poses_total{model=\"mannequin\",id=\"1\"}"), kPoses);
+  EXPECT_EQ(grew("sweepd_model_poses_total{model=\"mannequin\",id=\"" +
+                 std::to_string(daemon_->model_id()) + "\"}"),
+            kPoses);
   EXPECT_GT(grew("sweepd_pose_latency_seconds_sum"), 0.0);
   // Each reply carries the 19k vertices' positions, 12 bytes each: at least 12 × 19k × 12 B.
   EXPECT_GT(grew("sweepd_sent_bytes_total"), kPoses * 19000.0 * 12.0);

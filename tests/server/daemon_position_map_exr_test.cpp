@@ -13,6 +13,7 @@
 #include "tests/io/position_map_exr.h"
 #include "tests/server/daemon_process.h"
 #include "tests/server/pose_frames.h"
+#include "tests/server/stored_binding.h"
 
 namespace sweepd::test {
 namespace {
@@ -46,7 +47,7 @@ class DaemonPositionMap : public ::testing::Test {
   void request(std::uint32_t width, std::uint32_t height, protocol::ExrCompression compression,
                std::span<const protocol::Quat> rotations) {
     flatbuffers::FlatBufferBuilder builder;
-    const auto pose = protocol::add_pose(builder, pose_fields(1, 5, rotations));
+    const auto pose = protocol::add_pose(builder, pose_fields(daemon_->model_id(), 5, rotations));
     const auto layers = protocol::MapLayers::Position | protocol::MapLayers::Coverage;
     client_->send_bytes(protocol::finish_message(
         builder,
@@ -59,7 +60,8 @@ class DaemonPositionMap : public ::testing::Test {
 };
 
 TEST_F(DaemonPositionMap, ExrDecodesToTheLibrarysOwnRenderOfThePose) {
-  const deform::BoundModel bound = io::load_sweepbind(directory_ / "store" / "1.sweepbind");
+  const deform::BoundModel bound =
+      io::load_sweepbind(stored_binding(directory_ / "store", "mannequin"));
   const std::vector<glm::quat> rotations = bent_rotations(bound.model.skeleton.joints.size());
   const std::vector<protocol::Quat> wire = to_wire(rotations);
   request(kSide, kSide, protocol::ExrCompression::Zip, wire);

@@ -22,6 +22,7 @@
 #include <fstream>
 #include <iterator>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -110,6 +111,20 @@ class DaemonProcess {
   pid_t pid() const { return pid_; }  // -1 once it has ended
   bool running() const { return pid_ > 0 && port_ > 0; }
   std::string log() const { return read_text(log_file_); }
+  // The handle (protocol model_id) of the model called `name` the daemon holds since start-up
+  // (the default "mannequin"), from its start-up log: handles come from content ids
+  // (server/models/content_id.h), so a test cannot know them beforehand. 0 when not logged.
+  std::uint32_t model_id(const std::string& name = "mannequin") const {
+    std::istringstream lines(log());
+    for (std::string line; std::getline(lines, line);) {
+      const nlohmann::json event = nlohmann::json::parse(line, nullptr, false);
+      if (event.is_object() && event.value("name", "") == name && event.contains("model") &&
+          (event.value("event", "") == "model_loaded" ||
+           event.value("event", "") == "model_restored"))
+        return event["model"].get<std::uint32_t>();
+    }
+    return 0;
+  }
 
   void signal(int number) { kill(pid_, number); }
   // Waits for the process to end; its exit code, or -signal when killed, or nullopt on timeout.

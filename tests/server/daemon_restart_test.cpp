@@ -4,6 +4,7 @@
 // (Kills at random moments: daemon_crash_safety_test.cpp.)
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 
 #include "io/gltf_save.h"
@@ -11,6 +12,7 @@
 #include "mannequin/mannequin.h"
 #include "tests/server/daemon_process.h"
 #include "tests/server/pose_frames.h"
+#include "tests/server/stored_binding.h"
 
 namespace sweepd::test {
 namespace {
@@ -30,6 +32,12 @@ const protocol::ModelInfo* upload(FrameClient& client, const std::string& name,
   return client.receive_as<protocol::ModelInfo>();
 }
 
+// The handle a content id gives (server/models/content_id.h): its first 8 hex digits.
+std::uint32_t handle_of(const protocol::ModelInfo& info) {
+  return static_cast<std::uint32_t>(std::stoul(info.content_id()->str().substr(0, 8), nullptr, 16));
+}
+
+// The models listed, by name.
 std::vector<std::pair<std::string, std::uint32_t>> list_models(FrameClient& client) {
   flatbuffers::FlatBufferBuilder builder;
   client.send_bytes(protocol::finish_message(builder, protocol::CreateListModels(builder)));
@@ -39,6 +47,7 @@ std::vector<std::pair<std::string, std::uint32_t>> list_models(FrameClient& clie
       models.emplace_back(m->name()->str(), m->vertex_count());
     }
   }
+  std::sort(models.begin(), models.end());
   return models;
 }
 
@@ -55,7 +64,9 @@ TEST(DaemonRestart, AcknowledgedUploadSurvivesKill9WithoutRebinding) {
     ASSERT_NE(info, nullptr);
     small_id = info->model_id();
     small_vertices = info->vertex_count();
-    EXPECT_EQ(small_id, 2u);  // after the default mannequin
+    ASSERT_NE(info->content_id(), nullptr);
+    EXPECT_EQ(info->content_id()->size(), 64u) << "SHA-256 in hex";
+    EXPECT_EQ(small_id, handle_of(*info));
     EXPECT_GT(small_vertices, 2000u);
     daemon.signal(SIGKILL);  // no chance to flush anything after the acknowledgement
     EXPECT_EQ(daemon.wait(), -SIGKILL);
@@ -68,6 +79,7 @@ TEST(DaemonRestart, AcknowledgedUploadSurvivesKill9WithoutRebinding) {
   ASSERT_EQ(models.size(), 2u);
   EXPECT_EQ(models[0].first, "mannequin");
   EXPECT_EQ(models[1], std::make_pair(std::string("small"), small_vertices));
+  // The same handle after the restart: it comes from the model's content.
   // Restored from the store, not bound again.
   const std::string log = restarted.log();
   EXPECT_NE(log.find("\"event\":\"model_restored\""), std::string::npos) << log;
@@ -75,7 +87,7 @@ TEST(DaemonRestart, AcknowledgedUploadSurvivesKill9WithoutRebinding) {
 
   // And it poses exactly as the library does with the stored binding.
   const deform::BoundModel bound =
-      io::load_sweepbind(directory / "store" / (std::to_string(small_id) + ".sweepbind"));
+      io::load_sweepbind(stored_binding(directory / "store", small_id));
   const std::vector<glm::quat> rotations = bent_rotations(bound.model.skeleton.joints.size());
   const std::vector<protocol::Quat> wire = to_wire(rotations);
   ASSERT_TRUE(send_pose(client, pose_fields(small_id, 1, wire)));
@@ -93,6 +105,8 @@ TEST(DaemonRestart, ACorruptStoreFileIsQuarantinedLoggedAndTheOtherModelsServe) 
   const fs::path directory = fresh_directory("quarantine");
   const std::vector<std::string> args = {"--mannequin-vertices", "2000"};
   const std::vector<std::uint8_t> glb = small_glb(directory);
+  std::uint32_t small_id = 0;
+  std::string content_id;
   {
     DaemonProcess daemon(directory, args);
     ASSERT_TRUE(daemon.running()) << daemon.log();
@@ -100,25 +114,28 @@ TEST(DaemonRestart, ACorruptStoreFileIsQuarantinedLoggedAndTheOtherModelsServe) 
     ASSERT_NE(client.hello(""), nullptr);
     const protocol::ModelInfo* info = upload(client, "small", glb);
     ASSERT_NE(info, nullptr);
-    ASSERT_EQ(info->model_id(), 2u);
+    small_id = info->model_id();
+    content_id = info->content_id()->str();
     daemon.signal(SIGKILL);
     daemon.wait();
   }
   const fs::path store = directory / "store";
-  std::vector<std::uint8_t> damaged = read_bytes(store / "2.sweepbind");
+  const fs::path binding = store / (content_id + ".sweepbind");
+  std::vector<std::uint8_t> damaged = read_bytes(binding);
   damaged[damaged.size() / 2] ^= 0x01;  // one bit: the checksum fails
-  std::ofstream(store / "2.sweepbind", std::ios::binary | std::ios::trunc)
+  std::ofstream(binding, std::ios::binary | std::ios::trunc)
       .write(reinterpret_cast<const char*>(damaged.data()),
              static_cast<std::streamsize>(damaged.size()));
-  std::ofstream(store / "index.json.tmp") << "{\"torn";  // what a kill mid-write leaves
+  std::ofstream(store / "index.json.tmp") << "{\"torn";  // what an older sweepd's kill left
 
   DaemonProcess restarted(directory, args);
   ASSERT_TRUE(restarted.running()) << restarted.log();
   const std::string log = restarted.log();
   EXPECT_NE(log.find("\"event\":\"restore_problem\""), std::string::npos) << log;
   EXPECT_NE(log.find("checksum mismatch"), std::string::npos) << log;
-  EXPECT_NE(log.find("\"quarantined_to\":\"" + (store / "quarantine" / "2.sweepbind.").string()),
-            std::string::npos)
+  EXPECT_NE(
+      log.find("\"quarantined_to\":\"" + (store / "quarantine" / binding.filename()).string()),
+      std::string::npos)
       << log;
   EXPECT_NE(log.find("\"event\":\"store_temporary_removed\""), std::string::npos) << log;
   EXPECT_FALSE(fs::exists(store / "index.json.tmp"));
@@ -127,21 +144,26 @@ TEST(DaemonRestart, ACorruptStoreFileIsQuarantinedLoggedAndTheOtherModelsServe) 
   for (const fs::directory_entry& entry : fs::directory_iterator(store / "quarantine"))
     quarantined.push_back(entry.path().filename());
   std::sort(quarantined.begin(), quarantined.end());
-  ASSERT_EQ(quarantined.size(), 2u);  // the binding and its uploaded source
-  EXPECT_TRUE(quarantined[0].string().starts_with("2.glb."));
-  EXPECT_TRUE(quarantined[1].string().starts_with("2.sweepbind."));
-  EXPECT_EQ(read_bytes(store / "quarantine" / quarantined[1]), damaged);
+  ASSERT_EQ(quarantined.size(), 3u);  // the binding, its uploaded source and its label
+  EXPECT_TRUE(quarantined[0].string().starts_with(content_id + ".glb."));
+  EXPECT_TRUE(quarantined[1].string().starts_with(content_id + ".json."));
+  EXPECT_TRUE(quarantined[2].string().starts_with(content_id + ".sweepbind."));
+  EXPECT_EQ(read_bytes(store / "quarantine" / quarantined[2]), damaged);
 
-  // The other model serves; the name is free again and the id is not reused.
+  // The other model serves; the same upload binds again, under the same content id and handle.
   FrameClient client(restarted.port());
   ASSERT_NE(client.hello(""), nullptr);
   ASSERT_EQ(list_models(client).size(), 1u);
-  const std::vector<protocol::Quat> wire = to_wire(bent_rotations(31));
-  ASSERT_TRUE(send_pose(client, pose_fields(1, 1, wire)));
+  const protocol::ModelInfo* mannequin = upload(client, "mannequin", {});
+  ASSERT_NE(mannequin, nullptr);
+  const std::vector<protocol::Quat> wire =
+      to_wire(bent_rotations(mannequin->joint_names()->size()));
+  ASSERT_TRUE(send_pose(client, pose_fields(mannequin->model_id(), 1, wire)));
   EXPECT_NE(client.receive_as<protocol::PosedVertices>(), nullptr);
   const protocol::ModelInfo* again = upload(client, "small", glb);
   ASSERT_NE(again, nullptr);
-  EXPECT_EQ(again->model_id(), 3u);
+  EXPECT_EQ(again->model_id(), small_id);
+  EXPECT_EQ(again->content_id()->str(), content_id);
   fs::remove_all(directory);
 }
 
@@ -163,7 +185,7 @@ TEST(DaemonModelDirectory, ListsUnloadedFilesAndLoadsThemByName) {
       protocol::finish_message(builder, protocol::CreateLoadModelDirect(builder, "small.glb"), 23));
   const protocol::ModelInfo* info = client.receive_as<protocol::ModelInfo>();
   ASSERT_NE(info, nullptr);
-  EXPECT_EQ(info->model_id(), 1u);
+  EXPECT_EQ(info->model_id(), handle_of(*info));
   EXPECT_TRUE(info->has_uvs());
   const std::uint32_t vertices = info->vertex_count();
   EXPECT_EQ(list_models(client),
@@ -206,7 +228,7 @@ TEST(DaemonRestart, SigtermAnswersPosesInFlightThenSaysByeAndExitsZero) {
   constexpr std::uint64_t kPoses = 6;
   const std::vector<protocol::Quat> wire = to_wire(bent_rotations(31));
   for (std::uint64_t s = 1; s <= kPoses; ++s) {
-    ASSERT_TRUE(send_pose(client, pose_fields(1, s, wire)));
+    ASSERT_TRUE(send_pose(client, pose_fields(daemon.model_id(), s, wire)));
   }
   ASSERT_NE(client.receive_as<protocol::PosedVertices>(), nullptr);  // work is under way
   daemon.signal(SIGTERM);

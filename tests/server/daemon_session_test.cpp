@@ -9,6 +9,7 @@
 #include "protocol/float16.h"
 #include "tests/server/daemon_process.h"
 #include "tests/server/pose_frames.h"
+#include "tests/server/stored_binding.h"
 
 namespace sweepd::test {
 namespace {
@@ -32,7 +33,7 @@ class DaemonSession : public ::testing::Test {
   // The mannequin exactly as the daemon holds it: its stored binding, read back.
   static const deform::BoundModel& stored_mannequin() {
     static const deform::BoundModel bound =
-        io::load_sweepbind(*directory_ / "store" / "1.sweepbind");
+        io::load_sweepbind(stored_binding(*directory_ / "store", "mannequin"));
     return bound;
   }
 
@@ -93,8 +94,13 @@ TEST_F(DaemonSession, ListModelsNamesTheDefaultMannequinWithItsCounts) {
   ASSERT_NE(list, nullptr);
   ASSERT_EQ(list->models()->size(), 1u);
   const protocol::ModelSummary* mannequin = list->models()->Get(0);
-  EXPECT_EQ(mannequin->model_id(), 1u);
+  EXPECT_EQ(mannequin->model_id(), daemon_->model_id());
   EXPECT_EQ(mannequin->name()->str(), "mannequin");
+  // The handle is the content id's first 8 hex digits (server/models/content_id.h).
+  ASSERT_NE(mannequin->content_id(), nullptr);
+  ASSERT_EQ(mannequin->content_id()->size(), 64u);
+  EXPECT_EQ(mannequin->model_id(),
+            std::stoul(mannequin->content_id()->str().substr(0, 8), nullptr, 16));
   EXPECT_EQ(mannequin->vertex_count(), stored_mannequin().model.vertex_count());
   EXPECT_EQ(mannequin->joint_count(), stored_mannequin().model.skeleton.joints.size());
 }
@@ -108,7 +114,7 @@ TEST_F(DaemonSession, LoadModelByNameAnswersModelInfoWithJointOrder) {
   const protocol::ModelInfo* info = client.receive_as<protocol::ModelInfo>();
   ASSERT_NE(info, nullptr);
   const deform::Skeleton& skeleton = stored_mannequin().model.skeleton;
-  EXPECT_EQ(info->model_id(), 1u);
+  EXPECT_EQ(info->model_id(), daemon_->model_id());
   ASSERT_EQ(info->joint_names()->size(), skeleton.joints.size());
   for (std::size_t j = 0; j < skeleton.joints.size(); ++j) {
     EXPECT_EQ(info->joint_names()->Get(j)->str(), skeleton.joints[j].name);
@@ -143,7 +149,7 @@ TEST_F(DaemonSession, PosedVerticesEqualTheLibrarysDeformJobBitForBitForEveryMet
   std::uint64_t sequence = 0;
   for (const auto& [wire_method, library_method] : methods) {
     ++sequence;
-    protocol::PoseFields fields = pose_fields(1, sequence, wire);
+    protocol::PoseFields fields = pose_fields(daemon_->model_id(), sequence, wire);
     fields.client_time_ns = 77;
     fields.method = wire_method;
     fields.normals = true;
@@ -174,7 +180,7 @@ TEST_F(DaemonSession, Float16RepliesAreTheLibraryOutputRoundedToHalf) {
   const std::vector<protocol::Quat> wire = to_wire(rotations);
   FrameClient client(daemon_->port());
   ASSERT_NE(client.hello(kToken), nullptr);
-  protocol::PoseFields fields = pose_fields(1, 1, wire);
+  protocol::PoseFields fields = pose_fields(daemon_->model_id(), 1, wire);
   fields.positions = protocol::PositionFormat::Float16;
   ASSERT_TRUE(send_pose(client, fields));
   const protocol::PosedVertices* reply = client.receive_as<protocol::PosedVertices>();
@@ -196,7 +202,7 @@ TEST_F(DaemonSession, UnixSocketServesTheSameSession) {
   const deform::BoundModel& bound = stored_mannequin();
   const std::vector<glm::quat> rotations = bent_rotations(bound.model.skeleton.joints.size());
   const std::vector<protocol::Quat> wire = to_wire(rotations);
-  ASSERT_TRUE(send_pose(client, pose_fields(1, 4, wire)));
+  ASSERT_TRUE(send_pose(client, pose_fields(daemon_->model_id(), 4, wire)));
   const protocol::PosedVertices* reply = client.receive_as<protocol::PosedVertices>();
   ASSERT_NE(reply, nullptr);
   expect_bitwise_equal(
@@ -213,7 +219,7 @@ TEST_F(DaemonSession, StatsCountThisConnectionsPoses) {
   const std::vector<protocol::Quat> wire =
       to_wire(bent_rotations(stored_mannequin().model.skeleton.joints.size()));
   for (std::uint64_t s = 1; s <= 3; ++s) {
-    ASSERT_TRUE(send_pose(client, pose_fields(1, s, wire)));
+    ASSERT_TRUE(send_pose(client, pose_fields(daemon_->model_id(), s, wire)));
     ASSERT_NE(client.receive_as<protocol::PosedVertices>(), nullptr);
   }
   flatbuffers::FlatBufferBuilder builder;

@@ -107,7 +107,7 @@ TEST_F(DaemonTls, PosesOverTlsEqualThoseOverThePlainUnixSocketBitForBit) {
   for (std::uint64_t sequence = 1; sequence <= 3; ++sequence) {
     const std::vector<protocol::Quat> wire =
         to_wire(bent_rotations(joints, 0.7f * static_cast<float>(sequence)));
-    protocol::PoseFields fields = pose_fields(1, sequence, wire);
+    protocol::PoseFields fields = pose_fields(daemon_->model_id(), sequence, wire);
     fields.normals = true;
     flatbuffers::FlatBufferBuilder& builder = secure.builder();
     builder.Clear();

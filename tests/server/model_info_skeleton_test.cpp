@@ -22,7 +22,8 @@ TEST(ModelInfoSkeleton, RebuildsTheMalesSkeletonAndRetargetsLikeTheLibrary) {
   const fs::path male = data / "models/makehuman_male_cmu.glb";
   if (!fs::exists(male)) GTEST_SKIP() << "shared data absent: " << male;
   const deform::Model model = io::load_gltf(male);
-  server::RegisteredModel registered{.id = 7, .name = "male", .bound = {}, .bind_time_ns = 0};
+  server::RegisteredModel registered{
+      .id = 7, .content_id = std::string(64, 'a'), .name = "male", .bound = {}, .bind_time_ns = 0};
   registered.bound = deform::bind(model, deform::detect_rig_map(model.skeleton));
   flatbuffers::FlatBufferBuilder builder;
   server::build_model_info(builder, registered, 1);

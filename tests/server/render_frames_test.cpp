@@ -20,6 +20,7 @@
 #include "tests/io/position_map_exr.h"
 #include "tests/server/client_run.h"
 #include "tests/server/daemon_process.h"
+#include "tests/server/stored_binding.h"
 
 namespace sweepd::test {
 namespace {
@@ -65,7 +66,7 @@ class RenderFrames : public ClipClientTest {
   Map library_map(int frame, int side) {
     if (!bound_) {
       bound_ = std::make_unique<deform::BoundModel>(
-          io::load_sweepbind(directory_ / "store" / "1.sweepbind"));
+          io::load_sweepbind(stored_binding(directory_ / "store", "mannequin")));
       clip_on_model_ = std::make_unique<motion::Retargeter>(
           io::load_bvh(clip_, {.length_scale = kCmuScale}), bound_->model);
     }

@@ -48,6 +48,7 @@ class SweepctlRemote : public ::testing::Test {
     return "--server 127.0.0.1:" + std::to_string(daemon_->port()) + " --token " + kToken;
   }
   static int port() { return daemon_->port(); }
+  static std::uint32_t mannequin_id() { return daemon_->model_id(); }
   // A file in the suite's directory (the daemon's store is "store/").
   static fs::path path(const std::string& name) { return *directory_ / name; }
   static std::string log() { return daemon_->log(); }

@@ -19,6 +19,7 @@
 #include "metrics/quality_metrics.h"
 #include "motion/retarget.h"
 #include "tests/server/pose_frames.h"
+#include "tests/server/stored_binding.h"
 
 namespace sweepd::test {
 namespace {
@@ -76,14 +77,14 @@ TEST_F(SweepctlRemote, ServerOnlyMannequinIsWrittenFromTheServedMesh) {
 
   // The same clip frame retargeted as a client does (from ModelInfo) and posed by the daemon
   // directly; and posed by the library here on the daemon's stored binding.
-  const deform::BoundModel bound = io::load_sweepbind(path("store/1.sweepbind"));
+  const deform::BoundModel bound = io::load_sweepbind(stored_binding(path("store"), "mannequin"));
   client::Connection connection("127.0.0.1:" + std::to_string(port()));
   connection.hello(kToken, "sweepctl_remote_test");
   const deform::Pose pose =
       client::retarget_onto(connection.load_model("mannequin"), io::load_bvh(kClip))
           .pose_at_frame(kClipFrame);
   const std::vector<protocol::Quat> rotations = to_wire(pose.local_rotations);
-  protocol::PoseFields fields = pose_fields(1, 1, rotations);
+  protocol::PoseFields fields = pose_fields(mannequin_id(), 1, rotations);
   const glm::vec3& root = pose.root_translation;
   fields.root_translation = protocol::Vec3(root.x, root.y, root.z);
   fields.normals = true;
@@ -116,13 +117,14 @@ TEST_F(SweepctlRemote, ServerOnlyMannequinIsWrittenFromTheServedMesh) {
 }
 
 TEST_F(SweepctlRemote, MeshRequestAnswersTheRestMeshOrUnknownModel) {
-  const deform::BoundModel bound = io::load_sweepbind(path("store/1.sweepbind"));
+  const deform::BoundModel bound = io::load_sweepbind(stored_binding(path("store"), "mannequin"));
   FrameClient client(port());
   ASSERT_NE(client.hello(kToken), nullptr);
-  for (const std::uint32_t model_id : {1u, 99u}) {
+  const std::uint32_t mannequin = mannequin_id();
+  for (const std::uint32_t model_id : {mannequin, 99u}) {
     flatbuffers::FlatBufferBuilder builder;
-    client.send_bytes(protocol::finish_message(
-        builder, protocol::CreateMeshRequest(builder, model_id), 40 + model_id));
+    client.send_bytes(
+        protocol::finish_message(builder, protocol::CreateMeshRequest(builder, model_id), 40));
     if (model_id == 99u) {
       const protocol::Error* error = client.receive_as<protocol::Error>();
       ASSERT_NE(error, nullptr);
@@ -133,7 +135,7 @@ TEST_F(SweepctlRemote, MeshRequestAnswersTheRestMeshOrUnknownModel) {
     const protocol::Mesh* mesh = client.receive_as<protocol::Mesh>();
     ASSERT_NE(mesh, nullptr);
     const std::size_t n = bound.model.vertex_count();
-    EXPECT_EQ(mesh->model_id(), 1u);
+    EXPECT_EQ(mesh->model_id(), mannequin);
     ASSERT_EQ(mesh->rest_positions()->size(), 3 * n);
     EXPECT_EQ(std::memcmp(mesh->rest_positions()->data(), bound.model.positions.data(),
                           3 * n * sizeof(float)),
