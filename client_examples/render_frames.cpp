@@ -17,7 +17,10 @@
 // 3. One thread per server (a list, or one address behind HAProxy): connect, Hello, choose the
 //    model (--model NAME, default "mannequin", or upload --model-file), retarget the clip onto
 //    the skeleton ModelInfo carries, then take frames from one shared queue
-//    (client/frame_queue.h), up to the server's Welcome.max_poses_in_flight in flight.
+//    (client/frame_queue.h), up to the server's Welcome.max_poses_in_flight in flight. The
+//    model goes by its content id after the first server's answer (client/model_source.h):
+//    a replica sharing the store finds it there; one that answers UnknownModel — at load or
+//    for a frame — gets the upload again (the count is on stderr when above one).
 // 4. Failures: a server that dies, closes, or sends nothing for --timeout seconds (default 60)
 //    loses its frames in flight back to the queue, where the next server to ask takes them
 //    (elsewhere, when there is an elsewhere); its thread connects again after 0.2, 0.4, 0.8,
@@ -62,6 +65,7 @@
 #include "client/frame_queue.h"
 #include "client/frame_shard.h"
 #include "client/model_skeleton.h"
+#include "client/model_source.h"
 #include "client/token_flags.h"
 #include "console/command_line.h"
 #include "console/progress_bar.h"
@@ -219,7 +223,7 @@ class Progress {
 struct Job {
   const Options& options;
   const sweepd::motion::Clip& motion;
-  const std::vector<std::uint8_t>& model_bytes;  // --model-file, read once
+  sweepd::client::ModelSource& model;  // uploaded only to servers that lack it
   sweepd::client::FrameQueue& queue;
   Progress& progress;
 };
@@ -229,6 +233,8 @@ enum class ErrorMeaning {
   kFrameInvalid,  // the frame would get it anywhere: it fails
   kServerBusy,    // at a limit for now: the frame goes back to the queue
   kServerUnfit,   // this server cannot do this job (token, model, no maps): not used again
+  kModelLost,     // the server does not hold the model (a replica without the shared store):
+                  // connect again, which loads it there again
 };
 
 ErrorMeaning meaning_of(pb::ErrorCode code) {
@@ -243,6 +249,8 @@ ErrorMeaning meaning_of(pb::ErrorCode code) {
     case pb::ErrorCode::ConnectionLimit:
     case pb::ErrorCode::ShuttingDown:
       return ErrorMeaning::kServerBusy;
+    case pb::ErrorCode::UnknownModel:
+      return ErrorMeaning::kModelLost;
     default:
       return ErrorMeaning::kServerUnfit;
   }
@@ -282,9 +290,7 @@ class ServerSession {
     try {
       window_ =
           std::max(1u, channel_.hello(job.options.token, "render_frames").max_poses_in_flight());
-      const pb::ModelInfo& info =
-          job.model_bytes.empty() ? channel_.load_model(job.options.model)
-                                  : channel_.load_model(job.options.model_file, job.model_bytes);
+      const pb::ModelInfo& info = job.model.load(channel_);
       model_id_ = info.model_id();
       joint_count_ = info.joint_names()->size();
       clip_.emplace(sweepd::client::retarget_onto(info, job.motion));
@@ -316,7 +322,8 @@ class ServerSession {
                                 ": " + (error->message() ? error->message()->str() : "");
         const ErrorMeaning meaning = meaning_of(error->code());
         if (meaning == ErrorMeaning::kServerUnfit) throw ServerUnfit(why);
-        if (error->fatal()) throw std::runtime_error(why);  // the server closes: connect again
+        // The server closes, or no longer holds the model: connect again.
+        if (error->fatal() || meaning == ErrorMeaning::kModelLost) throw std::runtime_error(why);
         in_flight.pop_front();
         if (meaning == ErrorMeaning::kFrameInvalid) {
           queue.fail(frame, why);
@@ -482,14 +489,20 @@ int run(const Options& options) {
   sweepd::client::FrameQueue queue(todo, options.attempts, static_cast<int>(servers.size()));
   std::vector<int> rendered_by(servers.size(), 0);
   if (!todo.empty()) {  // else nothing to ask a server for
-    const std::vector<std::uint8_t> model_bytes =
-        options.model_file.empty() ? std::vector<std::uint8_t>{} : file_bytes(options.model_file);
+    sweepd::client::ModelSource model =
+        options.model_file.empty()
+            ? sweepd::client::ModelSource(options.model, {})
+            : sweepd::client::ModelSource(options.model_file, file_bytes(options.model_file));
     Progress progress("rendering " + fs::path(options.bvh).stem().string(), skipped, total);
-    const Job job{options, motion, model_bytes, queue, progress};
+    const Job job{options, motion, model, queue, progress};
     std::vector<std::thread> threads;
     for (std::size_t s = 0; s < servers.size(); ++s)
       threads.emplace_back([&, s] { rendered_by[s] = serve(servers[s], job); });
     for (std::thread& thread : threads) thread.join();
+    if (model.uploads() > 1) {  // a server lacked the model another had: sent it again
+      std::fprintf(stderr, "render_frames: uploaded %s %d times\n", options.model_file.c_str(),
+                   model.uploads());
+    }
   }
   const sweepd::client::FrameQueue::Tally tally = queue.tally();
   for (const auto& [frame, why] : tally.failures)

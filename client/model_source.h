@@ -1,0 +1,50 @@
+// ModelSource: how a client names its model to every server it talks to — several servers,
+// reconnects behind HAProxy, replicas with or without a shared store — sending the model's
+// bytes only to a server that lacks them (issue 14 item 2).
+//
+// The first load() is the client's request as given: an upload (name + .glb bytes, and a rig
+// map if any) or a name the server knows (its default model, a model directory file). The
+// ModelInfo answering it carries the model's content id (protocol 1.3). Every later load(), on
+// any connection, asks for that content id first (LoadModel{content_id}, no bytes: the server
+// holds the model, or adopts it from a store it shares with the replica that bound it); only a
+// server that answers UnknownModel gets the request as given again — the upload, once, on that
+// connection. A server older than 1.3 ignores content_id and answers the name as before.
+//
+//   ModelSource source("body.glb", bytes);             // or ModelSource("mannequin", {})
+//   const protocol::ModelInfo& info = source.load(connection);   // on each new connection
+//
+// uploads(): how many times the bytes were sent (1 in a fleet sharing a store). Thread-safe:
+// render_frames' server threads share one. Throws what Connection throws (ServerError with
+// the server's code, std::runtime_error).
+#pragma once
+
+#include <cstdint>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "client/connection.h"
+
+namespace sweepd::client {
+
+class ModelSource {
+ public:
+  ModelSource(std::string name, std::vector<std::uint8_t> glb, std::string rig_map_json = {});
+
+  const protocol::ModelInfo& load(Connection& connection);
+  int uploads() const;
+  const std::string& name() const { return name_; }
+
+ private:
+  // LoadModel{name, bytes, rig map, content id}; an empty content id asks as given.
+  const protocol::ModelInfo& request(Connection& connection, const std::string& content_id,
+                                     bool with_bytes);
+
+  const std::string name_, rig_map_json_;
+  const std::vector<std::uint8_t> glb_;
+  mutable std::mutex mutex_;
+  std::string content_id_;  // from the first ModelInfo; empty before it, or from an old server
+  int uploads_ = 0;
+};
+
+}  // namespace sweepd::client
