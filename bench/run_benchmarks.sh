@@ -45,3 +45,10 @@ rm -rf "$out"
 
 # The daemon over loopback: round trip, throughput and overhead against in-process deformation.
 "$build/bench/server_bench"
+
+# The fleet: the HAProxy hop on the pose round trip, and renders on one and two replicas.
+if command -v haproxy >/dev/null; then
+  "$build/bench/fleet_bench"
+else
+  echo "fleet_bench skipped: haproxy is not installed (deploy/install-deps.sh)"
+fi

@@ -22,11 +22,7 @@
 // Prints a Markdown table for the README; the targets are p50 ≤ 2 ms, p99 ≤ 5 ms,
 // ≥ 1000 poses/s, ratio ≤ 2. Exit code 1 when the daemon or the data cannot be had, 2 for a
 // bad command line (--help lists the flags).
-#include <fcntl.h>
-#include <signal.h>
-#include <spawn.h>
 #include <sys/resource.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -42,12 +38,12 @@
 #include <thread>
 #include <vector>
 
+#include "bench/bench_daemon.h"
+#include "bench/bench_poses.h"
 #include "bench/hostile_peers.h"
 #include "client/connection.h"
-#include "client/model_skeleton.h"
 #include "console/command_line.h"
 #include "deform/job/deform_job.h"
-#include "io/bvh_load.h"
 #include "io/sweepbind.h"
 
 namespace {
@@ -63,126 +59,21 @@ struct Options {
   double seconds = 3.0;
 };
 
-// The daemon as a child process, killed when this goes.
-class Daemon {
+using sweepd::bench::BenchPose;
+using sweepd::bench::clip_poses;
+using sweepd::bench::milliseconds_since;
+using sweepd::bench::percentile;
+using sweepd::bench::send_pose;
+
+// The daemon as server_bench runs it: the mannequin of --vertices, no position maps (not
+// measured here), room for the attack scene's connections.
+class Daemon : public sweepd::bench::BenchDaemon {
  public:
-  Daemon(const Options& options, const fs::path& directory) : directory_(directory) {
-    const fs::path port_file = directory / "port";
-    const std::string vertices = std::to_string(options.vertices);
-    const std::string log = (directory / "sweepd.log").string();
-    const std::string store = (directory / "store").string();
-    const char* argv[] = {options.daemon.c_str(),
-                          "--port",
-                          "0",
-                          "--port-file",
-                          port_file.c_str(),
-                          "--store-dir",
-                          store.c_str(),
-                          "--mannequin-vertices",
-                          vertices.c_str(),
-                          "--position-maps",
-                          "0",
-                          "--max-connections",
-                          "96",
-                          nullptr};
-    // Its JSON log to a file, its stdout away: the bench prints only the tables.
-    posix_spawn_file_actions_t streams;
-    posix_spawn_file_actions_init(&streams);
-    posix_spawn_file_actions_addopen(&streams, STDERR_FILENO, log.c_str(),
-                                     O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_addopen(&streams, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
-    const int spawned =
-        posix_spawn(&pid_, argv[0], &streams, nullptr, const_cast<char* const*>(argv), environ);
-    posix_spawn_file_actions_destroy(&streams);
-    if (spawned != 0) throw std::runtime_error("cannot start " + options.daemon);
-    for (int tries = 0; tries < 1200 && !fs::exists(port_file); ++tries) {
-      if (waitpid(pid_, nullptr, WNOHANG) == pid_) break;
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
-    if (!fs::exists(port_file)) {
-      throw std::runtime_error(options.daemon + " did not start; log in " + log);
-    }
-    std::ifstream(port_file) >> port_;
-  }
-  ~Daemon() {
-    kill(pid_, SIGTERM);
-    waitpid(pid_, nullptr, 0);
-  }
-  std::string address() const { return "127.0.0.1:" + std::to_string(port_); }
-  int port() const { return port_; }
-  // The store's one binding (the default mannequin), named by its content id.
-  fs::path binding() const {
-    for (const fs::directory_entry& entry : fs::directory_iterator(directory_ / "store"))
-      if (entry.path().extension() == ".sweepbind") return entry.path();
-    throw std::runtime_error("the daemon stored no binding in " + (directory_ / "store").string());
-  }
-  // The daemon's CPU time so far (user + system), in milliseconds; and its resident memory.
-  double cpu_ms() const {
-    std::ifstream stat("/proc/" + std::to_string(pid_) + "/stat");
-    std::string field;
-    double ticks = 0.0;
-    for (int i = 1; i <= 15 && stat >> field; ++i) {
-      if (i >= 14) ticks += std::stod(field);  // utime, stime (fields 14, 15)
-    }
-    return ticks * 1000.0 / static_cast<double>(sysconf(_SC_CLK_TCK));
-  }
-  double resident_mib() const {
-    std::ifstream statm("/proc/" + std::to_string(pid_) + "/statm");
-    double pages = 0.0;
-    statm >> pages >> pages;
-    return pages * static_cast<double>(sysconf(_SC_PAGESIZE)) / (1 << 20);
-  }
-
- private:
-  fs::path directory_;
-  pid_t pid_ = -1;
-  int port_ = 0;
+  Daemon(const Options& options, const fs::path& directory)
+      : BenchDaemon(options.daemon, directory,
+                    {"--mannequin-vertices", std::to_string(options.vertices), "--position-maps",
+                     "0", "--max-connections", "96"}) {}
 };
-
-// One pose as the client sends it, and as the library takes it.
-struct BenchPose {
-  std::vector<pb::Quat> rotations;
-  pb::Vec3 root;
-  sweepd::deform::Pose pose;
-};
-
-std::vector<BenchPose> clip_poses(const pb::ModelInfo& info, int count) {
-  const fs::path clip = fs::path(SWEEPD_SHARED_DATA) / "motion" / "cmu_01_01.bvh";
-  const sweepd::motion::Retargeter retargeter =
-      sweepd::client::retarget_onto(info, sweepd::io::load_bvh(clip, {.length_scale = 0.056444f}));
-  std::vector<BenchPose> poses;
-  for (int i = 0; i < count; ++i) {
-    BenchPose p;
-    p.pose = retargeter.pose_at_frame(i * (retargeter.frame_count() - 1) / std::max(1, count - 1));
-    for (const glm::quat& q : p.pose.local_rotations) p.rotations.emplace_back(q.x, q.y, q.z, q.w);
-    const glm::vec3& t = p.pose.root_translation;
-    p.root = pb::Vec3(t.x, t.y, t.z);
-    poses.push_back(std::move(p));
-  }
-  return poses;
-}
-
-void send_pose(sweepd::client::Connection& connection, std::uint32_t model_id,
-               std::uint64_t sequence, const BenchPose& pose) {
-  pb::PoseFields fields;
-  fields.model_id = model_id;
-  fields.sequence = sequence;
-  fields.rotations = pose.rotations;
-  fields.root_translation = pose.root;
-  flatbuffers::FlatBufferBuilder& builder = connection.builder();
-  builder.Clear();
-  connection.send(pb::finish_message(builder, pb::add_pose(builder, fields)));
-}
-
-double percentile(std::vector<double> values, double q) {
-  if (values.empty()) return std::numeric_limits<double>::quiet_NaN();
-  std::sort(values.begin(), values.end());
-  return values[static_cast<std::size_t>(q * static_cast<double>(values.size() - 1))];
-}
-
-double milliseconds_since(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 // One pose's round trip and the server's share of it (ServerTimings), in milliseconds.
 struct RoundTrip {

@@ -103,7 +103,7 @@ class HaproxyInFrontOfTwoReplicas : public ::testing::Test {
     ASSERT_NE(mannequin_, 0u) << replicas_[0]->log();
     ASSERT_EQ(replicas_[1]->model_id(), mannequin_);
     haproxy_ = std::make_unique<HaproxyProcess>(kConfig, directory_, ports_);
-    ASSERT_TRUE(haproxy_->running());
+    ASSERT_TRUE(haproxy_->running()) << "haproxy did not start; log:\n" << haproxy_->log();
   }
   void TearDown() override {
     haproxy_.reset();

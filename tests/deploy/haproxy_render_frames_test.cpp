@@ -61,7 +61,7 @@ class HaproxyRenderFrames : public ::testing::Test {
     }
     haproxy_ = std::make_unique<HaproxyProcess>(
         fs::path(SWEEPD_SOURCE_DIR) / "deploy" / "haproxy.cfg", directory_, ports_);
-    ASSERT_TRUE(haproxy_->running());
+    ASSERT_TRUE(haproxy_->running()) << "haproxy did not start; log:\n" << haproxy_->log();
     ASSERT_TRUE(haproxy_->wait_for("replica1", "UP", 15s)) << haproxy_->log();
     ASSERT_TRUE(haproxy_->wait_for("replica2", "UP", 15s)) << haproxy_->log();
     model_file_ = directory_ / "farm.glb";
