@@ -94,6 +94,9 @@ std::string validate_exr(const ExrLayers& layers, const ExrOptions& options) {
     return "coverage holds " + std::to_string(layers.coverage.size()) +
            " floats, not W*H = " + std::to_string(texels);
   }
+  if (options.zip_level < 1 || options.zip_level > 9) {
+    return "zip level " + std::to_string(options.zip_level) + " is not 1 to 9";
+  }
   if (options.space != "object" && options.space != "camera") {
     return "space is \"" + options.space + "\", not \"object\" or \"camera\"";
   }
@@ -107,6 +110,7 @@ void encode_exr(const ExrLayers& layers, const ExrOptions& options,
   }
   Imf::Header header(layers.width, layers.height);
   header.compression() = to_imf(options.compression);
+  header.zipCompressionLevel() = options.zip_level;
   header.insert("model", Imf::StringAttribute(options.model));
   header.insert("frame", Imf::IntAttribute(options.frame));
   header.insert("poseHash", Imf::StringAttribute(hex16(options.pose_hash)));

@@ -195,6 +195,31 @@ TEST_F(ExrWriteTest, ZipCompressesASmoothMap) {
   EXPECT_LT(zip.size() * 2, none.size());
 }
 
+// The zip level reaches zlib: level 9 makes a smaller file of the same ramp than level 1 (the
+// ramp is long-range repetitive, which zlib's faster levels search less), and both read back
+// bit for bit — the level trades time for bytes, never values.
+TEST_F(ExrWriteTest, ZipLevelTradesBytesNotValues) {
+  const Layers layers;
+  std::vector<float> ramp(256 * 256 * 3);
+  for (std::size_t i = 0; i < ramp.size(); ++i)
+    ramp[i] = static_cast<float>(i / 3 % 256) * 0.01f + static_cast<float>(i % 3);
+  const ExrLayers big{256, 256, ramp, {}, {}};
+  std::vector<std::uint8_t> fast, small;
+  ExrOptions options;
+  options.zip_level = 1;
+  encode_exr(big, options, fast);
+  options.zip_level = 9;
+  encode_exr(big, options, small);
+  EXPECT_LT(small.size(), fast.size());
+  for (const std::vector<std::uint8_t>* bytes : {&fast, &small}) {
+    ExrMemoryStream stream(*bytes);
+    Imf::InputFile input(stream);
+    EXPECT_TRUE(same_bits(read_layer(input, "P", 3), ramp));
+  }
+  options.zip_level = 0;
+  EXPECT_NE(validate_exr(layers.view(), options).find("zip level 0"), std::string::npos);
+}
+
 TEST_F(ExrWriteTest, EncodingWithThreadsGivesTheSameBytes) {
   const Layers layers;
   std::vector<std::uint8_t> single, threaded;
