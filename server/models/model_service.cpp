@@ -121,6 +121,18 @@ ModelHandle ModelService::bind_and_store(const ModelLoadRequest& request,
   ModelRegistry::StoreSlot slot = registry_.claim(request.name, content_id);
   if (ModelHandle stored = registry_.find_content(content_id)) return stored;
   const auto started = std::chrono::steady_clock::now();
+  // A load that fails leaves nothing in the store: the sources it wrote go — unless a binding of
+  // this content id is there (another replica's, on a shared store: the same sources).
+  struct SourcesOfAFailedLoad {
+    fs::path binding, glb, rig_map;
+    bool kept = false;
+    ~SourcesOfAFailedLoad() {
+      std::error_code ignored;
+      if (kept || fs::exists(binding, ignored)) return;
+      fs::remove(glb, ignored);
+      fs::remove(rig_map, ignored);
+    }
+  } sources{slot.file(".sweepbind"), slot.file(".glb"), slot.file(".rig.json")};
   deform::BoundModel bound;
   try {
     fs::path source = directory_file;
@@ -163,7 +175,10 @@ ModelHandle ModelService::bind_and_store(const ModelLoadRequest& request,
     throw ModelError(ErrorCode::ModelLoadFailed,
                      "model '" + request.name + "' could not be loaded: " + error.what());
   }
-  return registry_.add(std::move(slot), request.name, std::move(bound), nanoseconds_since(started));
+  ModelHandle added =
+      registry_.add(std::move(slot), request.name, std::move(bound), nanoseconds_since(started));
+  sources.kept = true;
+  return added;
 }
 
 void ModelService::restore() {

@@ -178,6 +178,9 @@ TEST_F(DaemonErrors, UploadThatIsNotGltfFailsToLoadWithTheReason) {
   broken_->send_bytes(protocol::finish_message(
       builder, protocol::CreateLoadModelDirect(builder, "junk", &junk), 14));
   expect_error_then_service(protocol::ErrorCode::ModelLoadFailed, "junk");
+  // A failed load leaves nothing in the store: no .glb of the bytes it could not read.
+  for (const fs::directory_entry& entry : fs::directory_iterator(*directory_ / "store"))
+    EXPECT_NE(entry.path().extension(), ".glb") << entry.path();
 }
 
 TEST_F(DaemonErrors, ClientVanishingMidFrameLeavesOthersServed) {
