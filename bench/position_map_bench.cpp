@@ -3,7 +3,7 @@
 // space at 1024², gutter, read back, and encoded as EXR, each stage timed alone (the GL stages
 // end with glFinish), then whole frames back to back the way the daemon's GPU worker makes
 // them, in frames per second. Encoding is timed on the calling thread only and with OpenEXR's
-// thread pool at the machine's core count.
+// thread pool at the machine's core count; "Nh" is the normals as half floats.
 //
 //   position_map_bench [frames per row, default 12] [side, default 1024]
 #include <algorithm>
@@ -54,6 +54,7 @@ struct Row {
   bool normals;
   io::ExrCompression compression;
   int exr_threads;
+  bool half_normals = false;
 };
 
 }  // namespace
@@ -82,7 +83,8 @@ int main(int argc, char** argv) {
   for (const Row& row : {Row{"P A", false, io::ExrCompression::kNone, 0},
                          Row{"P A", false, io::ExrCompression::kZip, 0},
                          Row{"P A", false, io::ExrCompression::kZip, cores},
-                         Row{"P N A", true, io::ExrCompression::kZip, cores}}) {
+                         Row{"P N A", true, io::ExrCompression::kZip, cores},
+                         Row{"P Nh A", true, io::ExrCompression::kZip, cores, true}}) {
     io::set_exr_threads(row.exr_threads);
     const std::span<float> n_out = row.normals ? std::span<float>(n) : std::span<float>();
     std::vector<double> deform_ms, encode_ms, whole_ms;
@@ -104,6 +106,7 @@ int main(int argc, char** argv) {
       start = Clock::now();
       io::ExrOptions options;
       options.compression = row.compression;
+      options.half_normals = row.half_normals;
       io::encode_exr({side, side, p, n_out, a}, options, exr);
       if (timings) encode_ms.push_back(ms_since(start));
     };

@@ -37,7 +37,7 @@ struct Options {
   PosingArguments posing;
   std::filesystem::path out;
   int size = 1024, gutter = 0;  // with --server: kServerGutter
-  bool normals = false;
+  bool normals = false, half_normals = false;
   io::ExrCompression compression = io::ExrCompression::kZip;
 };
 
@@ -48,7 +48,8 @@ int positionmap(const Options& options, const ServerAddress& server) {
   if (!server.address.empty()) {
     RemotePosedModel posed(posing, server);
     const std::vector<std::uint8_t> file = posed.position_map(
-        posing.frames.first, {size, options.normals, wire_compression(options.compression)});
+        posing.frames.first,
+        {size, options.normals, wire_compression(options.compression), options.half_normals});
     std::ofstream stream(out, std::ios::binary);
     stream.write(reinterpret_cast<const char*>(file.data()),
                  static_cast<std::streamsize>(file.size()));
@@ -73,6 +74,7 @@ int positionmap(const Options& options, const ServerAddress& server) {
   renderer.render({posed.model().uvs, positions, normals, posed.model().indices}, map, {p, n, a});
   io::ExrOptions exr;
   exr.compression = options.compression;
+  exr.half_normals = options.half_normals;
   exr.model = posed.model().name;
   exr.frame = posing.frames.first;
   exr.pose_hash = pose_hash(posed.pose(posing.frames.first));
@@ -108,6 +110,8 @@ Command add_positionmap_command(CLI::App& sweepctl, const ServerAddress& server)
           ->check(console::whole_number(0, 64))
           ->capture_default_str();
   command->add_flag("--normals", options->normals, "also write N.X N.Y N.Z");
+  command->add_flag("--half-normals", options->half_normals,
+                    "the normals as float16 (half the bytes; implies --normals)");
   console::add_choice(
       *command, "--compression", options->compression,
       std::map<std::string, io::ExrCompression>{{"zip", io::ExrCompression::kZip},
@@ -117,6 +121,7 @@ Command add_positionmap_command(CLI::App& sweepctl, const ServerAddress& server)
       "zip (default), zips, piz or none");
   command->callback([options, gutter, &server] {
     check_method_flags(options->posing);
+    options->normals = options->normals || options->half_normals;
     if (server.address.empty()) return;
     if (gutter->count() > 0 && options->gutter != kServerGutter)
       throw CLI::ValidationError(

@@ -188,8 +188,9 @@ std::vector<std::uint8_t> RemotePosedModel::position_map(int frame,
   const auto side = static_cast<std::uint32_t>(options.size);
   flatbuffers::FlatBufferBuilder& builder = connection_.builder();
   builder.Clear();
-  const auto request = pb::CreatePositionMapRequest(builder, pb::add_pose(builder, fields), side,
-                                                    side, options.compression, layers);
+  const auto request =
+      pb::CreatePositionMapRequest(builder, pb::add_pose(builder, fields), side, side,
+                                   options.compression, layers, options.half_normals);
   connection_.send(pb::finish_message(builder, request));
   const pb::PositionMap& reply = reply_as<pb::PositionMap>();
   return {reply.exr()->begin(), reply.exr()->end()};

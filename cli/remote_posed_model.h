@@ -34,6 +34,7 @@ struct RemoteMapOptions {
   int size = 1024;
   bool normals = false;
   protocol::ExrCompression compression = protocol::ExrCompression::Zip;
+  bool half_normals = false;
 };
 
 class RemotePosedModel {

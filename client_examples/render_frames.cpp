@@ -4,7 +4,8 @@
 //   render_frames --server HOST:PORT[,HOST:PORT...] [--token T | --token-file FILE]
 //                 [--model NAME | --model-file F.glb] --bvh CLIP [--bvh-scale S]
 //                 --frames A-B [--shard I/N] -o DIR [--width W --height H]
-//                 [--compression zip|none|zips|piz] [--normals] [--method sweep|lbs|dqs]
+//                 [--compression zip|none|zips|piz] [--normals] [--half-normals]
+//                 [--method sweep|lbs|dqs]
 //                 [--timeout SECONDS] [--attempts N]
 //
 // 1. Read the clip and check the range A-B (inclusive, 0-based) against its frames. With
@@ -91,7 +92,7 @@ struct Options {
   std::uint32_t width = 1024, height = 1024;
   pb::ExrCompression compression = pb::ExrCompression::Zip;
   pb::DeformMethod method = pb::DeformMethod::Sweep;
-  bool normals = false;
+  bool normals = false, half_normals = false;
   int timeout_ms = 60000, attempts = 3;
   sweepd::client::ClientTls tls;
 };
@@ -128,6 +129,7 @@ void describe(CLI::App& app, Options& o) {
   sweepd::console::add_choice(app, "--compression", o.compression, compressions,
                               "zip (default), none, zips or piz");
   app.add_flag("--normals", o.normals, "also the N layer");
+  app.add_flag("--half-normals", o.half_normals, "the N layer as float16 (implies --normals)");
   const std::map<std::string, pb::DeformMethod> methods = {{"sweep", pb::DeformMethod::Sweep},
                                                            {"lbs", pb::DeformMethod::Lbs},
                                                            {"dqs", pb::DeformMethod::Dqs}};
@@ -369,10 +371,10 @@ class ServerSession {
     flatbuffers::FlatBufferBuilder& builder = channel_.builder();
     builder.Clear();
     auto layers = pb::MapLayers::Position | pb::MapLayers::Coverage;
-    if (job_.options.normals) layers = layers | pb::MapLayers::Normal;
-    const auto request =
-        pb::CreatePositionMapRequest(builder, pb::add_pose(builder, fields), job_.options.width,
-                                     job_.options.height, job_.options.compression, layers);
+    if (job_.options.normals || job_.options.half_normals) layers = layers | pb::MapLayers::Normal;
+    const auto request = pb::CreatePositionMapRequest(
+        builder, pb::add_pose(builder, fields), job_.options.width, job_.options.height,
+        job_.options.compression, layers, job_.options.half_normals);
     channel_.send(pb::finish_message(builder, request));
   }
 

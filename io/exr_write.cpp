@@ -8,10 +8,12 @@
 #include <ImfOutputFile.h>
 #include <ImfStringAttribute.h>
 #include <ImfThreading.h>
+#include <half.h>
 
 #include <cstdio>
 #include <cstring>
 #include <stdexcept>
+#include <type_traits>
 
 #include "io/write_whole_file.h"
 
@@ -53,18 +55,22 @@ Imf::Compression to_imf(ExrCompression compression) {
   return Imf::ZIP_COMPRESSION;
 }
 
-// Adds channels <prefix>X, Y, Z (or just <prefix> for one component) reading `values`.
+// Adds channels <prefix>X, Y, Z (or just <prefix> for one component) reading `values`, whose
+// elements are `type` (FLOAT, or HALF) — the file's channels are the same type: OpenEXR's writer
+// does not convert.
+template <typename Value>
 void add_layer(Imf::Header& header, Imf::FrameBuffer& frame_buffer, const ExrLayers& layers,
-               std::span<const float> values, const std::string& name, int components) {
-  const std::size_t x_stride = sizeof(float) * components;
+               std::span<const Value> values, const std::string& name, int components) {
+  constexpr Imf::PixelType type = std::is_same_v<Value, Imath::half> ? Imf::HALF : Imf::FLOAT;
+  const std::size_t x_stride = sizeof(Value) * components;
   const std::size_t y_stride = x_stride * static_cast<std::size_t>(layers.width);
   static const char* const kAxes[3] = {".X", ".Y", ".Z"};
   for (int c = 0; c < components; ++c) {
     const std::string channel = components == 1 ? name : name + kAxes[c];
-    header.channels().insert(channel, Imf::Channel(Imf::FLOAT));
+    header.channels().insert(channel, Imf::Channel(type));
     // OpenEXR's Slice takes a non-const pointer but only reads from it when writing.
-    char* base = reinterpret_cast<char*>(const_cast<float*>(values.data() + c));
-    frame_buffer.insert(channel, Imf::Slice(Imf::FLOAT, base, x_stride, y_stride));
+    char* base = reinterpret_cast<char*>(const_cast<Value*>(values.data() + c));
+    frame_buffer.insert(channel, Imf::Slice(type, base, x_stride, y_stride));
   }
 }
 
@@ -118,7 +124,14 @@ void encode_exr(const ExrLayers& layers, const ExrOptions& options,
   header.insert("units", Imf::StringAttribute(options.units));
   Imf::FrameBuffer frame_buffer;
   add_layer(header, frame_buffer, layers, layers.positions, "P", 3);
-  if (!layers.normals.empty()) add_layer(header, frame_buffer, layers, layers.normals, "N", 3);
+  // Half normals are rounded here, into scratch this thread keeps between frames.
+  thread_local std::vector<Imath::half> half_normals;
+  if (!layers.normals.empty() && options.half_normals) {
+    half_normals.assign(layers.normals.begin(), layers.normals.end());
+    add_layer(header, frame_buffer, layers, std::span<const Imath::half>(half_normals), "N", 3);
+  } else if (!layers.normals.empty()) {
+    add_layer(header, frame_buffer, layers, layers.normals, "N", 3);
+  }
   if (!layers.coverage.empty()) add_layer(header, frame_buffer, layers, layers.coverage, "A", 1);
   ByteVectorStream stream(bytes);
   Imf::OutputFile file(stream, header);

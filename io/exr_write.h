@@ -13,8 +13,9 @@
 //         float positions' low mantissa bits barely compress at any level) and header
 //         attributes: "model" (string), "frame" (int), "poseHash" (string, 16 hex
 //         digits), "space" ("object" or "camera"), "units" (string, "metres").
-// Output: a scan-line EXR, every channel FLOAT (32-bit), data window (0,0)-(W-1,H-1); the
-//         floats read back bit for bit.
+// Output: a scan-line EXR, every channel FLOAT (32-bit) — the normals HALF with
+//         ExrOptions::half_normals (each float rounded to the nearest half) — data window
+//         (0,0)-(W-1,H-1); the FLOAT channels read back bit for bit.
 // Throws std::invalid_argument when the layers do not fit W × H or an option is invalid, and
 // std::runtime_error (naming the file and the reason) when the file cannot be written.
 // Encoding uses OpenEXR's global thread pool: set_exr_threads(n) sizes it for the process.
@@ -41,6 +42,7 @@ struct ExrLayers {
 struct ExrOptions {
   ExrCompression compression = ExrCompression::kZip;
   int zip_level = 1;
+  bool half_normals = false;
   std::string model;
   int frame = 0;
   std::uint64_t pose_hash = 0;

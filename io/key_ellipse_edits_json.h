@@ -1,5 +1,5 @@
-// Key-ellipse edits JSON (deform/edits/angle_driven_key_edits.h): the file a user writes to correct key
-// ellipses at chosen joint angles (paper §4.2), read for `sweepctl edit` and written back out.
+// Key-ellipse edits JSON (deform/edits/angle_driven_key_edits.h): the file a user writes to correct
+// key ellipses at chosen joint angles (paper §4.2), read for `sweepctl edit` and written back out.
 // Sweeps are named by body part and joints by name; keys are numbered along the sweep, root
 // first (`sweepctl bind MODEL` lists each sweep's keys as it binds).
 //

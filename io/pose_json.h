@@ -9,8 +9,8 @@
 //     }
 //   }
 // Rotations are LOCAL to the joint's parent and replace the joint's rest rotation (see
-// deform/model/pose.h); joints not listed keep their rest rotation, a missing root_translation keeps
-// joint 0's rest translation. Joints are named, never numbered.
+// deform/model/pose.h); joints not listed keep their rest rotation, a missing root_translation
+// keeps joint 0's rest translation. Joints are named, never numbered.
 #pragma once
 
 #include <filesystem>

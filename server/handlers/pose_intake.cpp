@@ -27,8 +27,8 @@ std::variant<PoseRequest, RequestError> read_pose_message(const ModelService& mo
       return RequestError{protocol::ErrorCode::InvalidArgument, std::move(problem),
                           pose.sequence()};
     }
-    request.position_map =
-        PositionMapParams{map->width(), map->height(), map->layers(), map->compression()};
+    request.position_map = PositionMapParams{map->width(), map->height(), map->layers(),
+                                             map->compression(), map->half_normals()};
   }
   return request;
 }

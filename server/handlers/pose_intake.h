@@ -10,9 +10,9 @@
 #include <variant>
 
 #include "protocol/sweepd_generated.h"
+#include "server/handlers/pose_request.h"
 #include "server/handlers/request_error.h"
 #include "server/models/model_service.h"
-#include "server/handlers/pose_request.h"
 
 namespace sweepd::server {
 

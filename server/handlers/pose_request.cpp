@@ -166,6 +166,7 @@ std::uint64_t PosedVerticesWriter::write_position_map(PoseRequest& request,
                   .height = params.height,
                   .layers = params.layers,
                   .compression = params.compression,
+                  .half_normals = params.half_normals,
                   .frame = request.sequence},
                  exr_scratch_);
   protocol::PositionMapFrame frame(builder, {.request_id = request.request_id,

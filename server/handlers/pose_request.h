@@ -44,6 +44,7 @@ struct PositionMapParams {
   std::uint32_t width = 0, height = 0;
   protocol::MapLayers layers = protocol::MapLayers::Position;
   protocol::ExrCompression compression = protocol::ExrCompression::Zip;
+  bool half_normals = false;
 };
 
 struct PoseRequest {

@@ -103,6 +103,7 @@ void PositionMapService::render(const PositionMapJob& job, std::vector<std::uint
 
   io::ExrOptions options;
   options.compression = *exr_compression(job.compression);
+  options.half_normals = job.half_normals;
   options.model = job.model->name;
   options.frame = static_cast<int>(job.frame);
   io::encode_exr({width, height, p, n, a}, options, exr);

@@ -47,7 +47,8 @@ struct PositionMapJob {
   std::uint32_t width = 0, height = 0;
   protocol::MapLayers layers = protocol::MapLayers::Position;
   protocol::ExrCompression compression = protocol::ExrCompression::Zip;
-  std::uint64_t frame = 0;  // written into the EXR header ("frame")
+  bool half_normals = false;  // N channels as float16
+  std::uint64_t frame = 0;    // written into the EXR header ("frame")
 };
 
 // What is wrong with a request for `model`, or "" when it can be rendered.

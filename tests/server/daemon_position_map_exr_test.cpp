@@ -1,8 +1,10 @@
 // PositionMapRequest over localhost: the daemon renders the posed mannequin into UV space on
 // its GPU worker (llvmpipe here) and sends an OpenEXR file whose P and A channels must equal
 // what the library renders in this process for the same bound model and pose.
+#include <ImfChannelList.h>
 #include <ImfInputFile.h>
 #include <gtest/gtest.h>
+#include <half.h>
 
 #include <cstring>
 
@@ -45,13 +47,16 @@ class DaemonPositionMap : public ::testing::Test {
     fs::remove_all(directory_);
   }
   void request(std::uint32_t width, std::uint32_t height, protocol::ExrCompression compression,
-               std::span<const protocol::Quat> rotations) {
+               std::span<const protocol::Quat> rotations, bool half_normals = false) {
     flatbuffers::FlatBufferBuilder builder;
     const auto pose = protocol::add_pose(builder, pose_fields(daemon_->model_id(), 5, rotations));
-    const auto layers = protocol::MapLayers::Position | protocol::MapLayers::Coverage;
+    const auto layers = protocol::MapLayers::Position | protocol::MapLayers::Coverage |
+                        (half_normals ? protocol::MapLayers::Normal : protocol::MapLayers::NONE);
     client_->send_bytes(protocol::finish_message(
         builder,
-        protocol::CreatePositionMapRequest(builder, pose, width, height, compression, layers), 31));
+        protocol::CreatePositionMapRequest(builder, pose, width, height, compression, layers,
+                                           half_normals),
+        31));
   }
 
   fs::path directory_;
@@ -88,6 +93,46 @@ TEST_F(DaemonPositionMap, ExrDecodesToTheLibrarysOwnRenderOfThePose) {
   int covered = 0;
   for (float value : served.coverage) covered += value == 1.0f;
   EXPECT_GT(covered, kSide * kSide / 10) << "the UV charts cover a real share of the map";
+}
+
+// half_normals: the N channels come back HALF, each the library's normal rounded to the nearest
+// half; P stays FLOAT and equal to the library's bit for bit.
+TEST_F(DaemonPositionMap, HalfNormalsAreTheLibrarysNormalsRoundedToHalf) {
+  const deform::BoundModel bound =
+      io::load_sweepbind(stored_binding(directory_ / "store", "mannequin"));
+  const std::vector<glm::quat> rotations = bent_rotations(bound.model.skeleton.joints.size());
+  request(kSide, kSide, protocol::ExrCompression::Zip, to_wire(rotations), /*half_normals=*/true);
+  const protocol::PositionMap* reply = client_->receive_as<protocol::PositionMap>();
+  ASSERT_NE(reply, nullptr);
+  const std::vector<std::uint8_t> exr(reply->exr()->begin(), reply->exr()->end());
+  io::test_support::ExrMemoryStream stream(exr);
+  Imf::InputFile file(stream);
+  ASSERT_NE(file.header().channels().findChannel("N.X"), nullptr);
+  EXPECT_EQ(file.header().channels().findChannel("N.X")->type, Imf::HALF);
+  EXPECT_EQ(file.header().channels().findChannel("P.X")->type, Imf::FLOAT);
+  std::vector<float> served(kSide * kSide * 3);
+  Imf::FrameBuffer normals;
+  const char* channels[3] = {"N.X", "N.Y", "N.Z"};
+  for (int c = 0; c < 3; ++c)
+    normals.insert(channels[c], Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(served.data() + c),
+                                           3 * sizeof(float), 3 * sizeof(float) * kSide));
+  file.setFrameBuffer(normals);
+  file.readPixels(0, kSide - 1);
+
+  const Deformed posed = library_deformation(bound, rotations, deform::DeformMethod::kSweep);
+  gpu::Context context;
+  gpu::PositionMapRenderer renderer(context);
+  std::vector<float> p(kSide * kSide * 3), n(kSide * kSide * 3), a(kSide * kSide);
+  renderer.render({bound.model.uvs, posed.positions, posed.normals, bound.model.indices},
+                  {.width = kSide, .height = kSide, .gutter_pixels = 4, .view = std::nullopt},
+                  {p, n, a});
+  // Exact: the same float normals, rounded by the same conversion (OpenEXR's to half).
+  int covered = 0;
+  for (std::size_t i = 0; i < n.size(); ++i) {
+    ASSERT_EQ(served[i], static_cast<float>(Imath::half(n[i]))) << i;
+    covered += n[i] != 0.0f;
+  }
+  EXPECT_GT(covered, kSide * kSide / 10) << "normals were rendered, not only zeros";
 }
 
 TEST_F(DaemonPositionMap, ZeroSizedMapIsAnInvalidArgument) {
