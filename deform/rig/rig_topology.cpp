@@ -45,12 +45,17 @@ RestHierarchy analyse(const Skeleton& skeleton) {
 
 std::string name(const Skeleton& skeleton, int j) { return "'" + skeleton.joints[j].name + "'"; }
 
-// Walks down single-child links from `start` to the first joint with three or more children;
+// Legs point away from the spine: the line from the pelvis to each leg's end lies within 60° of
+// the direction opposite the spine (cos 60° = 0.5). A neck and an arm hanging off a chest mistaken
+// for a pelvis (legless bodies) do not both do so.
+constexpr float kLegsAgainstSpine = 0.5f;
+
+// Walks down single-child links from `start` to the first joint with `ways` or more children;
 // -1 when the walk ends at a joint with fewer.
-int first_three_way_branch(const RestHierarchy& h, int start) {
+int first_branch_of(const RestHierarchy& h, int start, std::size_t ways) {
   int j = start;
   while (h.children[j].size() == 1) j = h.children[j][0];
-  return h.children[j].size() >= 3 ? j : -1;
+  return h.children[j].size() >= ways ? j : -1;
 }
 
 std::vector<int> longest_path(const RestHierarchy& h, int start) {
@@ -160,7 +165,7 @@ RigMap detect_rig_map_by_topology(const Skeleton& skeleton) {
     if (skeleton.joints[j].parent < 0 && (root < 0 || h.subtree_size[j] > h.subtree_size[root]))
       root = j;
 
-  const int first_branch = first_three_way_branch(h, root);
+  const int first_branch = first_branch_of(h, root, 3);
   if (first_branch < 0)
     throw std::invalid_argument(
         "found no joint where the legs and the spine (or the arms and the neck) branch off: "
@@ -169,22 +174,24 @@ RigMap detect_rig_map_by_topology(const Skeleton& skeleton) {
   int spine = -1;
   for (int c : h.children[first_branch])
     if (spine < 0 || h.subtree_size[c] > h.subtree_size[spine]) spine = c;
-  // With legs: the first branch is the pelvis and the spine branches again at the chest, and
-  // the two other chains at the pelvis reach below it. Else (a bust, a seated avatar cut at the
-  // waist) the first branch is the chest and the torso runs up to it from the root.
+  // With legs: the first branch is the pelvis and the spine branches again at the chest (three
+  // ways: neck and arms; two ways: arms only, a body without a head), and the two other chains
+  // at the pelvis reach below it. Else (a bust, a seated avatar cut at the waist) the first
+  // branch is the chest and the torso runs up to it from the root.
   int pelvis = first_branch;
-  int chest = first_three_way_branch(h, spine);
+  int chest = first_branch_of(h, spine, 2);
   std::vector<int> leg_starts;
   std::string legs_note;
   if (chest >= 0) {
-    const glm::vec3 up = h.position[chest] - h.position[pelvis];
+    const glm::vec3 up = glm::normalize(h.position[chest] - h.position[pelvis]);
     for (int start : two_longest_branches(h, pelvis, spine)) {
-      const std::vector<int> path = longest_path(h, start);
-      if (glm::dot(h.position[path.back()] - h.position[pelvis], up) < 0.0f)
+      const glm::vec3 reach = h.position[longest_path(h, start).back()] - h.position[pelvis];
+      if (glm::dot(reach, up) < -kLegsAgainstSpine * glm::length(reach))
         leg_starts.push_back(start);
     }
   }
-  if (leg_starts.empty()) {
+  if (leg_starts.size() < 2) {
+    leg_starts.clear();
     legs_note = chest < 0 ? "the spine does not branch again above " + name(skeleton, first_branch)
                           : "no chain below " + name(skeleton, first_branch) + " reaches down";
     chest = first_branch;
@@ -200,9 +207,11 @@ RigMap detect_rig_map_by_topology(const Skeleton& skeleton) {
                                 " sits on the pelvis " + name(skeleton, pelvis));
   const glm::vec3 up = glm::normalize(up_vector);
 
+  // The neck, unless only the arms branch off the chest.
   int neck = -1;
   float neck_upness = -2.0f;
-  for (int c : h.children[chest]) {
+  const bool has_neck = h.children[chest].size() >= 3;
+  for (int c : has_neck ? h.children[chest] : std::vector<int>{}) {
     glm::vec3 mean(0.0f);
     const std::vector<int> path = longest_path(h, c);
     for (int j : path) mean += h.position[j] / static_cast<float>(path.size());
@@ -218,11 +227,17 @@ RigMap detect_rig_map_by_topology(const Skeleton& skeleton) {
   map.convention = "topological";
   for (PartDetection& found : map.found) found = {PartFinding::kByShape, ""};
   map.torso.chain = path_down(skeleton, pelvis, chest);
-  for (int j : longest_path(h, neck)) {
-    map.neck.chain.push_back(j);
-    if (h.children[j].size() != 1) break;
+  if (has_neck) {
+    for (int j : longest_path(h, neck)) {
+      map.neck.chain.push_back(j);
+      if (h.children[j].size() != 1) break;
+    }
+    map.neck.head = map.neck.chain.back();
+  } else {
+    map.found[static_cast<int>(RigPart::kHead)] = {
+        PartFinding::kAbsent,
+        "only two chains (the arms) branch off the chest " + name(skeleton, chest)};
   }
-  map.neck.head = map.neck.chain.back();
 
   std::vector<LegJoints> legs;
   for (int start : leg_starts) {

@@ -8,9 +8,10 @@
 // when it finds no torso chain.
 //
 // How: the first joint below the root with three or more child chains is the pelvis when its
-// biggest child chain (the spine) branches three ways again (at the chest) and at least one of
-// its other chains reaches below it (the legs, the two furthest-reaching); otherwise it is the
-// chest of a legless body whose torso runs up to it from the root. "Up" points from pelvis to
+// biggest child chain (the spine) branches again (at the chest: three ways, or two for a body
+// without a head, whose head is then absent) and its two other chains (the legs) both point
+// within 60° of straight away from the spine (the legs, the two furthest-reaching); otherwise it is
+// the chest of a legless body whose torso runs up to it from the root. "Up" points from pelvis to
 // chest; the neck is the chest's child chain pointing most upward, the arms the two others
 // reaching furthest. Along each limb the two consecutive segments with the largest summed
 // length are upper arm + forearm (thigh + shin); the joint before them, if any, is the

@@ -7,6 +7,7 @@
 #include <functional>
 #include <glm/gtc/quaternion.hpp>
 #include <stdexcept>
+#include <utility>
 
 #include "deform/rig/rig_topology.h"
 #include "tests/deform/synthetic_humanoid.h"
@@ -256,6 +257,30 @@ TEST(RigMapTest, ShortRightLegIsAbsentAndNamedInAWarning) {
   EXPECT_NE(warnings.find("no right leg found"), std::string::npos) << warnings;
   EXPECT_NE(warnings.find("thigh_r/calf_r/foot_r"), std::string::npos) << warnings;
   EXPECT_EQ(warnings.find("left leg"), std::string::npos) << warnings;
+}
+
+TEST(RigMapTest, HeadlessSkeletonHasAnAbsentHeadByNamesAndByShape) {
+  // No neck and no head: the arms alone meet at the chest.
+  const HumanoidSpec spec = test::cmu_motionbuilder_spec();
+  std::vector<SkeletonNode> nodes = test::humanoid_nodes(spec);
+  remove_joints(nodes, spec.neck);
+  const Skeleton named = test::make_skeleton(nodes);
+  Skeleton unnamed = named;
+  for (int j = 0; j < unnamed.size(); ++j) unnamed.joints[j].name = "bone" + std::to_string(j);
+  for (const Skeleton* skeleton : {&named, &std::as_const(unnamed)}) {
+    const RigMap map = detect_rig_map(*skeleton);
+    SCOPED_TRACE(map.convention);
+    EXPECT_FALSE(map.has_head());
+    EXPECT_TRUE(map.neck.chain.empty());
+    EXPECT_EQ(names_of(named, map.torso.chain), spec.torso);
+    EXPECT_EQ(named.joints[map.left_arm.upper].name, "LeftArm");
+    EXPECT_EQ(named.joints[map.right_leg.foot].name, "RightFoot");
+    EXPECT_EQ(validate_rig_map(map, *skeleton), "");
+    ASSERT_EQ(map.warnings.size(), 1u) << all_warnings(map);
+    EXPECT_NE(map.warnings[0].find("no head found: the neck and head are skinned"),
+              std::string::npos)
+        << map.warnings[0];
+  }
 }
 
 TEST(RigMapTest, ChainAgainstTheHierarchyFallsToTheShape) {
