@@ -129,7 +129,8 @@ TEST(SweepctlLegless, InspectBindAndPoseALeglessMannequinWithMeaninglessJointNam
   EXPECT_NE(r.output.find("no legs found"), std::string::npos) << r.output;
   const fs::path clip = shared("motion/cmu_01_01.bvh");
   if (!fs::exists(clip)) GTEST_SKIP() << "shared data absent: " << clip;
-  r = run_sweepctl("pose " + binding + " --bvh " + clip.string() + " --frame 600 -o " +
+  r = run_sweepctl("pose " + binding + " --bvh " + clip.string() +
+                   " --frame 600 --features folding,protrusion,volume,bulge -o " +
                    (dir / "legless_posed.glb").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const sweepd::deform::Model posed = sweepd::io::load_gltf(dir / "legless_posed.glb");
