@@ -71,6 +71,24 @@ TEST_F(RigMapJsonTest, RoundTripWithoutOptionalRoles) {
   deform::test::expect_same_rig_parts(load_rig_map_json(path, skeleton), map);
 }
 
+TEST_F(RigMapJsonTest, AbsentLegsAndHeadRoundTripAsNull) {
+  // A map with parts the body lacks (as detect_rig_map leaves them) writes them as null and
+  // reads them back absent.
+  RigMap map = detected;
+  map.left_leg = {};
+  map.right_leg = {};
+  map.neck = {};
+  const std::filesystem::path path = temp_file("absent_parts.json");
+  save_rig_map_json(map, skeleton, path);
+  const json written = json::parse(std::ifstream(path));
+  EXPECT_TRUE(written["left_leg"].is_null());
+  EXPECT_TRUE(written["neck"].is_null());
+  const RigMap loaded = load_rig_map_json(path, skeleton);
+  EXPECT_TRUE(loaded.left_leg.absent() && loaded.right_leg.absent());
+  EXPECT_FALSE(loaded.has_head());
+  deform::test::expect_same_rig_parts(loaded, map);
+}
+
 TEST_F(RigMapJsonTest, WritesJointNamesByRole) {
   const json document = saved_document("names.json");
   EXPECT_EQ(document["torso"], json({"Hips", "LowerBack", "Spine", "Spine1"}));
