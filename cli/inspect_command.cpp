@@ -1,13 +1,16 @@
-// sweepctl inspect FILE: what a model (.glb/.gltf) or motion clip (.bvh) holds, for a person.
+// sweepctl inspect FILE: what a model (.glb/.gltf) or motion clip (.bvh) holds, for a person;
+// for a model also the detected rig map and what the binding would sweep and skin.
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <stdexcept>
 #include <string>
 
 #include "cli/commands.h"
 #include "cli/text_format.h"
 #include "deform/mesh/mesh_topology.h"
+#include "deform/rig/rig_map.h"
 #include "io/bvh_load.h"
 #include "io/gltf_load.h"
 
@@ -31,6 +34,41 @@ void print_tree(const Children& children_of, const Label& label, int node, int d
 void print_warnings(const std::vector<std::string>& warnings) {
   std::printf("warnings:    %s\n", warnings.empty() ? "none" : "");
   for (const std::string& w : warnings) std::printf("  - %s\n", w.c_str());
+}
+
+// The detected rig map: each part's joints and how it was found (name or shape), what the
+// binding sweeps and what it leaves to the model's skinning, and the parts not found.
+void print_rig(const deform::Skeleton& skeleton) {
+  deform::RigMap rig;
+  try {
+    rig = deform::detect_rig_map(skeleton);
+  } catch (const std::invalid_argument& e) {
+    std::printf("rig:         refused: %s\n", e.what());
+    return;
+  }
+  std::printf("rig:         detected (each part: [how it was found])\n");
+  const std::string listing = deform::describe(rig, skeleton);
+  for (std::size_t start = 0; start < listing.size();) {
+    const std::size_t end = listing.find('\n', start);
+    std::printf("  %s\n", listing.substr(start, end - start).c_str());
+    start = end + 1;
+  }
+  const std::pair<deform::RigPart, bool> parts[] = {
+      {deform::RigPart::kLeftArm, !rig.left_arm.absent()},
+      {deform::RigPart::kRightArm, !rig.right_arm.absent()},
+      {deform::RigPart::kLeftLeg, !rig.left_leg.absent()},
+      {deform::RigPart::kRightLeg, !rig.right_leg.absent()}};
+  std::string swept = rig.has_head() ? "torso, neck" : "torso";
+  std::string skinned = rig.has_head() ? "head" : "neck and head";
+  for (const auto& [part, present] : parts) {
+    const std::string name = deform::to_string(part);
+    if (present) swept += ", " + name;
+    const bool arm = part == deform::RigPart::kLeftArm || part == deform::RigPart::kRightArm;
+    const std::string end = name.substr(0, name.find(' ')) + (arm ? " hand" : " foot");
+    skinned += ", " + (present ? end : name + " (absent)");
+  }
+  std::printf("swept:       %s\n", swept.c_str());
+  std::printf("skinned:     %s (with everything below them)\n", skinned.c_str());
 }
 
 int inspect_model(const std::filesystem::path& file) {
@@ -78,6 +116,7 @@ int inspect_model(const std::filesystem::path& file) {
       influence_sum / std::max<std::size_t>(1, model.vertex_count()), max_influences,
       report.renormalised_weight_count, report.zero_weight_vertex_count);
   print_warnings(report.warnings);
+  print_rig(skeleton);
   std::printf("joint tree:\n");
   for (int j = 0; j < skeleton.size(); ++j)
     if (skeleton.joints[j].parent < 0)
@@ -122,7 +161,9 @@ Command add_inspect_command(CLI::App& sweepctl) {
       "inspect", "counts, joint tree, UVs, bounds and weights of a .glb/.gltf/.bvh file");
   command->footer(
       "Prints counts, the joint tree, UV presence, bounding box and height, skin weight\n"
-      "statistics (models) or channels, frames and frame rate (clips), and warnings.");
+      "statistics, the detected rig map (each part's joints, found by name or by shape) and\n"
+      "what is swept versus skinned (models), or channels, frames and frame rate (clips), and\n"
+      "warnings.");
   auto file = std::make_shared<std::filesystem::path>();
   const CLI::Validator known_type(
       [](std::string& name) -> std::string {

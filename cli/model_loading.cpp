@@ -1,5 +1,7 @@
 #include "cli/model_loading.h"
 
+#include <cstdio>
+
 #include "io/gltf_load.h"
 #include "io/rig_map_json.h"
 
@@ -11,6 +13,8 @@ LoadedModel load_model_and_rig(const std::filesystem::path& model_file,
   loaded.model = io::load_gltf(model_file);
   loaded.rig = rig_file.empty() ? deform::detect_rig_map(loaded.model.skeleton)
                                 : io::load_rig_map_json(rig_file, loaded.model.skeleton);
+  for (const std::string& warning : loaded.rig.warnings)
+    std::fprintf(stderr, "warning: %s: %s\n", model_file.string().c_str(), warning.c_str());
   return loaded;
 }
 

@@ -14,7 +14,8 @@ struct LoadedModel {
   deform::RigMap rig;
 };
 
-// rig_file empty: detect. Throws io::LoadError / std::invalid_argument with the reason.
+// rig_file empty: detect, printing the map's warnings (parts not found, left to skinning) to
+// stderr. Throws io::LoadError / std::invalid_argument with the reason.
 LoadedModel load_model_and_rig(const std::filesystem::path& model_file,
                                const std::filesystem::path& rig_file);
 

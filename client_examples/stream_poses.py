@@ -373,7 +373,27 @@ def match_convention(index, joints, convention):
         for limb, roles in (("arm", arm), ("leg", leg)):
             if any(roles[r] < 0 for r in REQUIRED_ROLES if r in roles):
                 missing.append(f"{side} {limb}")
+    # A clavicle or hip link the convention does not name: the upper joint's parent, when only
+    # this limb hangs below it (deform/rig/rig_naming.cpp, link_above).
+    uppers = [rig.limbs[limb]["upper"] for limb in LIMBS] + [rig.head]
+    for limb in LIMBS:
+        roles = rig.limbs[limb]
+        link = "clavicle" if limb.endswith("arm") else "hip"
+        if roles["upper"] >= 0 and roles[link] < 0:
+            others = [u for u in uppers if u != roles["upper"]]
+            roles[link] = link_above(joints, roles["upper"], pelvis_joint, others)
     return rig, pelvis_joint, missing
+
+
+def link_above(joints, upper, pelvis, others):
+    """The parent of `upper` unless it is the pelvis or another limb or the head hangs below it."""
+    parent = joints[upper].parent
+    if parent < 0 or parent == pelvis:
+        return -1
+    for other in others:
+        if other >= 0 and (other == parent or is_strict_ancestor(joints, parent, other)):
+            return -1
+    return parent
 
 
 def complete_chains(rig, pelvis, joints):

@@ -62,10 +62,11 @@ class RigMapReader {
   }
 
   // Fills the slots from a keyed object, or from an array naming either the required roles
-  // only or every role, in chain order.
+  // only or every role, in chain order; null leaves the limb absent (every slot -1).
   template <std::size_t N>
   void limb(const ordered_json& value, const std::string& part,
             const std::array<RoleSlot, N>& roles) const {
+    if (value.is_null()) return;
     if (value.is_array()) {
       std::size_t first = 0, count = 0;
       for (const RoleSlot& role : roles) count += role.required;
@@ -138,8 +139,10 @@ deform::RigMap load_rig_map_json(const std::filesystem::path& path,
   deform::RigMap map;
   map.convention = "json";
   map.torso.chain = reader.chain(document["torso"], "torso");
-  map.neck.chain = reader.chain(document["neck"], "neck");
-  map.neck.head = map.neck.chain.back();
+  if (!document["neck"].is_null()) {  // null: no head (the neck and head are skinned)
+    map.neck.chain = reader.chain(document["neck"], "neck");
+    map.neck.head = map.neck.chain.back();
+  }
   reader.limb(document["left_arm"], "left_arm", slots(map.left_arm));
   reader.limb(document["right_arm"], "right_arm", slots(map.right_arm));
   reader.limb(document["left_leg"], "left_leg", slots(map.left_leg));
@@ -160,6 +163,9 @@ void save_rig_map_json(const deform::RigMap& map, const deform::Skeleton& skelet
     return list;
   };
   auto roles = [&](const auto& role_slots) {
+    const bool absent = std::all_of(role_slots.begin(), role_slots.end(),
+                                    [](const RoleSlot& role) { return *role.joint < 0; });
+    if (absent) return ordered_json(nullptr);
     ordered_json object = ordered_json::object();
     for (const RoleSlot& role : role_slots)
       if (*role.joint >= 0) object[role.key] = skeleton.joints[*role.joint].name;
@@ -169,7 +175,7 @@ void save_rig_map_json(const deform::RigMap& map, const deform::Skeleton& skelet
   ordered_json document;
   document["convention"] = map.convention;
   document["torso"] = names(map.torso.chain);
-  document["neck"] = names(map.neck.chain);
+  document["neck"] = map.has_head() ? names(map.neck.chain) : ordered_json(nullptr);
   document["left_arm"] = roles(slots(copy.left_arm));
   document["right_arm"] = roles(slots(copy.right_arm));
   document["left_leg"] = roles(slots(copy.left_leg));

@@ -15,6 +15,8 @@
 //   }
 // A limb may also be an array in chain order: an arm [upper, lower, hand] or
 // [clavicle, upper, lower, hand]; a leg [upper, lower, foot] or [hip, upper, lower, foot, toe].
+// null for a limb, or for the neck, marks a part the body lacks (a bust's legs): it gets no
+// sweep and follows the model's skinning (as deform::detect_rig_map leaves a part not found).
 // The loaded map's convention is "json". It must pass deform::validate_rig_map.
 #pragma once
 

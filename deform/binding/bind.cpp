@@ -20,26 +20,19 @@ struct SweepPlan {
   glm::vec3 x_hint;
 };
 
+// One sweep per part the map has: torso, neck, arms, legs (an absent part is left to skinning).
 std::vector<SweepPlan> plan_sweeps(const RigMap& rig, std::span<const glm::mat4> world_rest) {
-  auto position = [&](int joint) { return glm::vec3(world_rest[joint][3]); };
   // The body's own axes, so the keys' first axes agree from model to model.
-  const glm::vec3 up = glm::normalize(position(rig.torso.chest()) - position(rig.torso.pelvis()));
-  glm::vec3 lateral = position(rig.left_arm.upper) - position(rig.right_arm.upper);
-  lateral = glm::normalize(lateral - glm::dot(lateral, up) * up);
-  const glm::vec3 forward = glm::cross(lateral, up);
-  auto limb = [](int upper, int lower, int end) { return std::vector<int>{upper, lower, end}; };
-  return {
-      {BodyPart::kTorso, rig.torso.chain, lateral},
-      {BodyPart::kNeck, rig.neck.chain, lateral},
-      {BodyPart::kLeftArm, limb(rig.left_arm.upper, rig.left_arm.lower, rig.left_arm.hand),
-       forward},
-      {BodyPart::kRightArm, limb(rig.right_arm.upper, rig.right_arm.lower, rig.right_arm.hand),
-       forward},
-      {BodyPart::kLeftLeg, limb(rig.left_leg.upper, rig.left_leg.lower, rig.left_leg.foot),
-       forward},
-      {BodyPart::kRightLeg, limb(rig.right_leg.upper, rig.right_leg.lower, rig.right_leg.foot),
-       forward},
-  };
+  const BodyAxes axes = rest_body_axes(rig, world_rest);
+  std::vector<SweepPlan> plans = {{BodyPart::kTorso, rig.torso.chain, axes.left}};
+  if (rig.has_head()) plans.push_back({BodyPart::kNeck, rig.neck.chain, axes.left});
+  for (const auto& [part, arm] : {std::pair{BodyPart::kLeftArm, &rig.left_arm},
+                                  std::pair{BodyPart::kRightArm, &rig.right_arm}})
+    if (!arm->absent()) plans.push_back({part, {arm->upper, arm->lower, arm->hand}, axes.forward});
+  for (const auto& [part, leg] : {std::pair{BodyPart::kLeftLeg, &rig.left_leg},
+                                  std::pair{BodyPart::kRightLeg, &rig.right_leg}})
+    if (!leg->absent()) plans.push_back({part, {leg->upper, leg->lower, leg->foot}, axes.forward});
+  return plans;
 }
 
 }  // namespace

@@ -80,10 +80,7 @@ std::vector<BoneProxy> make_bone_proxies(const BoundModel& bound, const Collisio
   const RigMap& rig = bound.rig;
   const std::vector<glm::mat4> world_rest = bound.model.skeleton.world_rest_matrices();
   auto position = [&](int joint) { return glm::vec3(world_rest[joint][3]); };
-  const glm::vec3 up = glm::normalize(position(rig.torso.chest()) - position(rig.torso.pelvis()));
-  glm::vec3 lateral = position(rig.left_arm.upper) - position(rig.right_arm.upper);
-  lateral = glm::normalize(lateral - glm::dot(lateral, up) * up);
-  const glm::vec3 forward = glm::cross(lateral, up);
+  const glm::vec3 forward = rest_body_axes(rig, world_rest).forward;
 
   std::vector<glm::vec3> sphere;
   std::vector<std::uint32_t> sphere_indices;

@@ -1,10 +1,9 @@
 #include "deform/rig/rig_map.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "deform/model/joint_paths.h"
-#include "deform/rig/rig_naming.h"
-#include "deform/rig/rig_topology.h"
 
 namespace sweepd::deform {
 
@@ -146,26 +145,24 @@ const char* to_string(BodyPart part) {
   return "unknown";
 }
 
-RigMap detect_rig_map(const Skeleton& skeleton) {
-  if (std::string why = skeleton.validate(); !why.empty())
-    throw std::invalid_argument("cannot map an invalid skeleton: " + why);
-  NamedRigMatch named = match_rig_naming(skeleton);
-  if (!named.map && named.looks_named) throw std::invalid_argument(named.problem);
-  RigMap map;
-  if (named.map) {
-    map = std::move(*named.map);
-  } else {
-    try {
-      map = detect_rig_map_by_topology(skeleton);
-    } catch (const std::invalid_argument& e) {
-      throw std::invalid_argument("cannot map the skeleton's joints: " + named.problem +
-                                  "; and the topological fallback failed: " + e.what());
-    }
+const char* to_string(RigPart part) {
+  constexpr const char* kNames[] = {"torso",     "head",     "left arm",
+                                    "right arm", "left leg", "right leg"};
+  return kNames[static_cast<int>(part)];
+}
+
+const char* to_string(PartFinding finding) {
+  switch (finding) {
+    case PartFinding::kGiven:
+      return "given";
+    case PartFinding::kByName:
+      return "by name";
+    case PartFinding::kByShape:
+      return "by shape";
+    case PartFinding::kAbsent:
+      return "absent";
   }
-  if (std::string why = validate_rig_map(map, skeleton); !why.empty())
-    throw std::invalid_argument("rig map (" + map.convention +
-                                ") does not fit the skeleton: " + why);
-  return map;
+  return "unknown";
 }
 
 std::string validate_rig_map(const RigMap& map, const Skeleton& skeleton) {
@@ -174,13 +171,16 @@ std::string validate_rig_map(const RigMap& map, const Skeleton& skeleton) {
     return "torso: needs at least two joints (pelvis and chest), has " +
            std::to_string(torso.size());
   if (std::string why = validate_path("torso", torso, -1, skeleton); !why.empty()) return why;
-  if (map.neck.chain.empty()) return "neck: has no joints (needs at least the head)";
-  if (std::string why = validate_path("neck", map.neck.chain, map.torso.chest(), skeleton);
-      !why.empty())
-    return why;
-  if (map.neck.head != map.neck.chain.back())
-    return "neck: the head " + joint_name(skeleton, map.neck.head) +
-           " is not the last joint of the neck chain";
+  const bool head_absent = map.neck.chain.empty() && map.neck.head == -1;
+  if (!head_absent) {
+    if (map.neck.chain.empty()) return "neck: has no joints (needs at least the head)";
+    if (std::string why = validate_path("neck", map.neck.chain, map.torso.chest(), skeleton);
+        !why.empty())
+      return why;
+    if (map.neck.head != map.neck.chain.back())
+      return "neck: the head " + joint_name(skeleton, map.neck.head) +
+             " is not the last joint of the neck chain";
+  }
   const struct {
     const char* part;
     std::vector<LimbRole> roles;
@@ -200,6 +200,9 @@ std::string validate_rig_map(const RigMap& map, const Skeleton& skeleton) {
   for (int j : map.neck.chain)
     if (std::string why = claim("neck", j); !why.empty()) return why;
   for (const auto& [part, roles] : limbs) {
+    const bool absent = std::all_of(roles.begin(), roles.end(),
+                                    [](const LimbRole& role) { return role.joint == -1; });
+    if (absent) continue;
     if (std::string why = validate_limb(part, roles, skeleton); !why.empty()) return why;
     const int root = roles[0].joint >= 0 ? roles[0].joint : roles[1].joint;
     if (!is_strict_ancestor(skeleton, map.torso.pelvis(), root))
@@ -240,14 +243,44 @@ std::vector<BodyPart> label_joints(const RigMap& map, const Skeleton& skeleton) 
   return labels;
 }
 
+BodyAxes rest_body_axes(const RigMap& map, std::span<const glm::mat4> world_rest) {
+  auto position = [&](int joint) { return glm::vec3(world_rest[joint][3]); };
+  BodyAxes axes;
+  axes.up = glm::normalize(position(map.torso.chest()) - position(map.torso.pelvis()));
+  glm::vec3 lateral(1.0f, 0.0f, 0.0f);
+  if (!map.left_arm.absent() && !map.right_arm.absent())
+    lateral = position(map.left_arm.upper) - position(map.right_arm.upper);
+  else if (!map.left_leg.absent() && !map.right_leg.absent())
+    lateral = position(map.left_leg.upper) - position(map.right_leg.upper);
+  axes.left = glm::normalize(lateral - glm::dot(lateral, axes.up) * axes.up);
+  axes.forward = glm::cross(axes.left, axes.up);
+  return axes;
+}
+
 std::string describe(const RigMap& map, const Skeleton& skeleton) {
-  return "convention: " + map.convention + "\n" + "torso: " + names_of(map.torso.chain, skeleton) +
-         "\n" + "neck: " + names_of(map.neck.chain, skeleton) + " (head " +
-         skeleton.joints[map.neck.head].name + ")\n" +
-         "left arm: " + describe_roles(roles_of(map.left_arm), skeleton) + "\n" +
-         "right arm: " + describe_roles(roles_of(map.right_arm), skeleton) + "\n" +
-         "left leg: " + describe_roles(roles_of(map.left_leg), skeleton) + "\n" +
-         "right leg: " + describe_roles(roles_of(map.right_leg), skeleton) + "\n";
+  auto how = [&](RigPart part) {
+    const PartDetection& found = map.found[static_cast<int>(part)];
+    std::string text = std::string(" [") + to_string(found.finding);
+    // Where some names were read, say why they did not settle a part the shape found.
+    if (found.finding == PartFinding::kByShape && map.convention != "topological")
+      text += ": " + found.note;
+    return text + "]\n";
+  };
+  auto limb = [&](RigPart part, const std::vector<LimbRole>& roles, bool absent) {
+    return std::string(to_string(part)) + ": " +
+           (absent ? std::string("absent, skinned") : describe_roles(roles, skeleton)) + how(part);
+  };
+  std::string text = "convention: " + map.convention + "\n" +
+                     "torso: " + names_of(map.torso.chain, skeleton) + how(RigPart::kTorso);
+  text += map.has_head() ? "neck: " + names_of(map.neck.chain, skeleton) + " (head " +
+                               skeleton.joints[map.neck.head].name + ")" + how(RigPart::kHead)
+                         : "neck and head: absent, skinned" + how(RigPart::kHead);
+  text += limb(RigPart::kLeftArm, roles_of(map.left_arm), map.left_arm.absent());
+  text += limb(RigPart::kRightArm, roles_of(map.right_arm), map.right_arm.absent());
+  text += limb(RigPart::kLeftLeg, roles_of(map.left_leg), map.left_leg.absent());
+  text += limb(RigPart::kRightLeg, roles_of(map.right_leg), map.right_leg.absent());
+  for (const std::string& warning : map.warnings) text += "warning: " + warning + "\n";
+  return text;
 }
 
 }  // namespace sweepd::deform

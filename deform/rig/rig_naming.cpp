@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <optional>
 #include <string_view>
 #include <unordered_map>
 #include <vector>
@@ -21,7 +22,7 @@ struct SideSpelling {
 
 struct NamingConvention {
   std::string_view name;
-  std::string_view pelvis_prefix;  // the pelvis's raw name must start with this (any case)
+  std::string_view pelvis_marker;  // the pelvis's raw name must contain this (any case)
   std::vector<SideSpelling> sides;
   Patterns pelvis, head;
   Patterns clavicle, upper_arm, forearm, hand;  // clavicle optional
@@ -41,6 +42,9 @@ const std::vector<NamingConvention>& naming_conventions() {
       {"cmu_3dsmax", "", {{"Left", "Right"}, {"L", "R"}}, {"Hips"}, {"Head"},
        {"*Collar"}, {"*Shoulder"}, {"*Elbow"}, {"*Wrist"},
        {}, {"*Hip"}, {"*Knee"}, {"*Ankle"}, {"*Toe"}},
+      {"biped", "bip", {{"L", "R"}}, {"Pelvis"}, {"Head"},
+       {"* Clavicle"}, {"* UpperArm"}, {"* Forearm"}, {"* Hand"},
+       {}, {"* Thigh"}, {"* Calf"}, {"* Foot"}, {"* Toe0"}},
       {"unreal", "", {{"l", "r"}}, {"pelvis"}, {"head"},
        {"clavicle_*"}, {"upperarm_*"}, {"lowerarm_*"}, {"hand_*"},
        {}, {"thigh_*"}, {"calf_*"}, {"foot_*"}, {"ball_*"}},
@@ -53,6 +57,15 @@ const std::vector<NamingConvention>& naming_conventions() {
       {"vrm", "", {{"left", "right"}}, {"hips"}, {"head"},
        {"*Shoulder"}, {"*UpperArm"}, {"*LowerArm"}, {"*Hand"},
        {}, {"*UpperLeg"}, {"*LowerLeg"}, {"*Foot"}, {"*Toes"}},
+      {"vrm", "", {{"L", "R"}}, {"J_Bip_C_Hips"}, {"J_Bip_C_Head"},
+       {"J_Bip_*_Shoulder"}, {"J_Bip_*_UpperArm"}, {"J_Bip_*_LowerArm"}, {"J_Bip_*_Hand"},
+       {}, {"J_Bip_*_UpperLeg"}, {"J_Bip_*_LowerLeg"}, {"J_Bip_*_Foot"}, {"J_Bip_*_ToeBase"}},
+      {"daz_genesis", "", {{"l", "r"}}, {"hip"}, {"head"},
+       {"*Collar"}, {"*ShldrBend", "*Shldr"}, {"*ForearmBend", "*ForeArm"}, {"*Hand"},
+       {}, {"*ThighBend", "*Thigh"}, {"*Shin"}, {"*Foot"}, {"*Toe"}},
+      {"makehuman", "", {{"L", "R"}}, {"root"}, {"head"},
+       {"clavicle.*"}, {"upperarm01.*"}, {"lowerarm01.*"}, {"wrist.*"},
+       {"pelvis.*"}, {"upperleg01.*"}, {"lowerleg01.*"}, {"foot.*"}, {"toe1-1.*"}},
   };
   // clang-format on
   return table;
@@ -64,34 +77,78 @@ std::string lowercase(std::string_view text) {
   return lower;
 }
 
-// Joint names as matched: lower case, without a namespace ("mixamorig:", "Armature|") and
-// without Blender's deform-bone prefix "def-".
+bool is_digits(std::string_view text) {
+  return !text.empty() && std::all_of(text.begin(), text.end(), [](char c) {
+    return std::isdigit(static_cast<unsigned char>(c));
+  });
+}
+
+// The name as matched, and how much its layer is preferred (0 best): lower case, without a
+// namespace ("ns:", "Armature|"), a Mixamo or Biped prefix ("mixamorig_", "bip01 ") or a
+// Blender layer prefix (DEF- deform bones before plain names before ORG- before MCH-).
+std::pair<std::string, int> matched_name(std::string_view raw) {
+  std::string name = lowercase(raw);
+  if (const auto cut = name.find_last_of(":|"); cut != std::string::npos) name.erase(0, cut + 1);
+  for (const std::string_view prefix : {"mixamorig", "bip"}) {
+    if (!name.starts_with(prefix)) continue;
+    const std::size_t end = name.find_first_of("_ ", prefix.size());
+    if (end != std::string::npos &&
+        (end == prefix.size() ||
+         is_digits(std::string_view(name).substr(prefix.size(), end - prefix.size()))))
+      name.erase(0, end + 1);
+  }
+  constexpr std::string_view kLayers[] = {"def-", "", "org-", "mch-"};
+  for (int rank = 0; rank < 4; ++rank)
+    if (!kLayers[rank].empty() && name.starts_with(kLayers[rank]))
+      return {name.substr(kLayers[rank].size()), rank};
+  return {name, 1};
+}
+
+// The name without a numbered suffix (".001") or an "_end"/".end" suffix; "" when it has none.
+std::string without_suffix(const std::string& name) {
+  for (const std::string_view end : {"_end", ".end"})
+    if (name.size() > end.size() && name.ends_with(end))
+      return name.substr(0, name.size() - end.size());
+  const auto dot = name.find_last_of('.');
+  if (dot != std::string::npos && dot > 0 && is_digits(std::string_view(name).substr(dot + 1)))
+    return name.substr(0, dot);
+  return {};
+}
+
+// Joint names as matched (matched_name), each to the joint of the most preferred layer; names
+// without their suffix apart, consulted only when no joint has the exact name.
 class JointNameIndex {
  public:
   explicit JointNameIndex(const Skeleton& skeleton) {
     for (int j = 0; j < skeleton.size(); ++j) {
-      std::string name = lowercase(skeleton.joints[j].name);
-      if (const auto cut = name.find_last_of(":|"); cut != std::string::npos)
-        name.erase(0, cut + 1);
-      const bool deform_bone = name.starts_with("def-");
-      if (deform_bone) name.erase(0, 4);
-      // Where a rig has both "DEF-x" and "x" (Rigify's full rig), the deform bone wins.
-      auto [it, inserted] = index_.try_emplace(name, j);
-      if (!inserted && deform_bone) it->second = j;
+      const auto [name, layer] = matched_name(skeleton.joints[j].name);
+      add(exact_, name, {j, layer});
+      if (std::string bare = without_suffix(name); !bare.empty()) add(suffixed_, bare, {j, layer});
     }
   }
   // The first joint matching a pattern, '*' replaced by `side`; -1 when none does.
   int find(const Patterns& patterns, std::string_view side = {}) const {
     for (std::string_view pattern : patterns) {
-      std::string name(pattern);
-      if (const auto star = name.find('*'); star != std::string::npos) name.replace(star, 1, side);
-      if (auto it = index_.find(lowercase(name)); it != index_.end()) return it->second;
+      std::string name = lowercase(pattern);
+      if (const auto star = name.find('*'); star != std::string::npos)
+        name.replace(star, 1, lowercase(side));
+      if (auto it = exact_.find(name); it != exact_.end()) return it->second.joint;
+      if (auto it = suffixed_.find(name); it != suffixed_.end()) return it->second.joint;
     }
     return -1;
   }
 
  private:
-  std::unordered_map<std::string, int> index_;
+  struct Entry {
+    int joint;
+    int layer;
+  };
+  static void add(std::unordered_map<std::string, Entry>& index, const std::string& name,
+                  Entry entry) {
+    auto [it, inserted] = index.try_emplace(name, entry);
+    if (!inserted && entry.layer < it->second.layer) it->second = entry;
+  }
+  std::unordered_map<std::string, Entry> exact_, suffixed_;
 };
 
 // Finds a role on one side, trying each of the convention's side spellings.
@@ -102,75 +159,58 @@ int find_sided(const JointNameIndex& names, const NamingConvention& convention,
   return -1;
 }
 
+// Keeps `optional` only where it lies strictly above (`above`) or below `anchor`.
+int keep_if_in_order(const Skeleton& skeleton, int optional, int anchor, bool above) {
+  if (optional < 0) return -1;
+  const bool fits = above ? is_strict_ancestor(skeleton, optional, anchor)
+                          : is_strict_ancestor(skeleton, anchor, optional);
+  return fits ? optional : -1;
+}
+
+// Why the required roles (upper, lower, end) do not make a limb below the pelvis; "" if they do.
+std::string limb_problem(const Skeleton& skeleton, int pelvis, int upper, int lower, int end) {
+  if (upper < 0 || lower < 0 || end < 0) return "missing";
+  auto quoted = [&](int j) { return "'" + skeleton.joints[j].name + "'"; };
+  if (!is_strict_ancestor(skeleton, upper, lower))
+    return quoted(lower) + " is not below " + quoted(upper);
+  if (!is_strict_ancestor(skeleton, lower, end))
+    return quoted(end) + " is not below " + quoted(lower);
+  if (pelvis >= 0 && !is_strict_ancestor(skeleton, pelvis, upper))
+    return quoted(upper) + " is not below the pelvis " + quoted(pelvis);
+  return {};
+}
+
+// The parent of `upper` when it hangs between the torso and this limb only: no other limb root
+// and not the head below it, and not the pelvis. -1 otherwise.
+int link_above(const Skeleton& skeleton, int upper, int pelvis, const std::vector<int>& others) {
+  const int parent = skeleton.joints[upper].parent;
+  if (parent < 0 || parent == pelvis) return -1;
+  for (int other : others)
+    if (other >= 0 && (other == parent || is_strict_ancestor(skeleton, parent, other))) return -1;
+  return parent;
+}
+
 struct ConventionMatch {
-  RigMap map;  // roles only; torso and neck chains filled by complete_chains
-  int pelvis = -1;
-  std::vector<std::string> missing;  // parts: "pelvis", "head", "left arm", ...
-  int whole_limbs = 0;
+  NamedRigParts parts;
+  int roles_found = 0;
+  int parts_named() const {
+    return static_cast<int>(std::count(parts.problem.begin(), parts.problem.end(), ""));
+  }
 };
 
-ConventionMatch match_convention(const JointNameIndex& names, const Skeleton& skeleton,
-                                 const NamingConvention& convention) {
-  ConventionMatch match;
-  match.map.convention = convention.name;
-  match.pelvis = names.find(convention.pelvis);
-  if (match.pelvis >= 0 &&
-      !lowercase(skeleton.joints[match.pelvis].name).starts_with(convention.pelvis_prefix))
-    match.pelvis = -1;
-  if (match.pelvis < 0) match.missing.push_back("pelvis");
-  match.map.neck.head = names.find(convention.head);
-  if (match.map.neck.head < 0) match.missing.push_back("head");
-  for (const bool left : {true, false}) {
-    ArmJoints& arm = left ? match.map.left_arm : match.map.right_arm;
-    arm.clavicle = find_sided(names, convention, convention.clavicle, left);
-    arm.upper = find_sided(names, convention, convention.upper_arm, left);
-    arm.lower = find_sided(names, convention, convention.forearm, left);
-    arm.hand = find_sided(names, convention, convention.hand, left);
-    const bool whole_arm = arm.upper >= 0 && arm.lower >= 0 && arm.hand >= 0;
-    if (!whole_arm) match.missing.push_back(left ? "left arm" : "right arm");
-    LegJoints& leg = left ? match.map.left_leg : match.map.right_leg;
-    leg.hip = find_sided(names, convention, convention.hip, left);
-    leg.upper = find_sided(names, convention, convention.thigh, left);
-    leg.lower = find_sided(names, convention, convention.shin, left);
-    leg.foot = find_sided(names, convention, convention.foot, left);
-    leg.toe = find_sided(names, convention, convention.toe, left);
-    const bool whole_leg = leg.upper >= 0 && leg.lower >= 0 && leg.foot >= 0;
-    if (!whole_leg) match.missing.push_back(left ? "left leg" : "right leg");
-    match.whole_limbs += int{whole_arm} + int{whole_leg};
-  }
-  return match;
-}
-
-// Fills the torso (pelvis up to the chest, where both arms and the head meet) and the neck
-// (below the chest down to the head) from the hierarchy. Returns the problem, or "".
-std::string complete_chains(ConventionMatch& match, const Skeleton& skeleton) {
-  RigMap& map = match.map;
-  const int head = map.neck.head;
-  const int left_root = map.left_arm.clavicle >= 0 ? map.left_arm.clavicle : map.left_arm.upper;
-  const int right_root = map.right_arm.clavicle >= 0 ? map.right_arm.clavicle : map.right_arm.upper;
-  const int chest =
-      common_ancestor(skeleton, common_ancestor(skeleton, left_root, right_root), head);
-  map.torso.chain = path_down(skeleton, match.pelvis, chest);
-  if (map.torso.chain.empty())
-    return "the arms and the head do not meet below the pelvis '" +
-           skeleton.joints[match.pelvis].name + "'";
-  if (chest == head) return "the arms hang below the head '" + skeleton.joints[head].name + "'";
-  map.neck.chain = path_down(skeleton, chest, head);
-  map.neck.chain.erase(map.neck.chain.begin());
-  return validate_rig_map(map, skeleton);
-}
-
 // "LeftArm/LeftForeArm/LeftHand, upperarm_l/lowerarm_l/hand_l, ..." over all conventions.
-std::string expected_names(const std::string& part) {
+std::string expected_names(RigPart part) {
   std::vector<std::string> examples;
   for (const NamingConvention& c : naming_conventions()) {
-    const bool left = part.starts_with("left");
+    const bool left = part == RigPart::kLeftArm || part == RigPart::kLeftLeg;
     const std::string_view side = left ? c.sides[0].left : c.sides[0].right;
     std::vector<const Patterns*> roles;
-    if (part == "pelvis") roles = {&c.pelvis};
-    if (part == "head") roles = {&c.head};
-    if (part.ends_with("arm")) roles = {&c.upper_arm, &c.forearm, &c.hand};
-    if (part.ends_with("leg")) roles = {&c.thigh, &c.shin, &c.foot};
+    if (part == RigPart::kTorso) roles = {&c.pelvis};
+    if (part == RigPart::kHead) roles = {&c.head};
+    if (part == RigPart::kLeftArm || part == RigPart::kRightArm)
+      roles = {&c.upper_arm, &c.forearm, &c.hand};
+    if (part == RigPart::kLeftLeg || part == RigPart::kRightLeg)
+      roles = {&c.thigh, &c.shin, &c.foot};
     std::string example;
     for (const Patterns* role : roles) {
       std::string name(role->front());
@@ -187,47 +227,103 @@ std::string expected_names(const std::string& part) {
   return text;
 }
 
-std::string describe_missing(const ConventionMatch& match) {
-  std::string text;
-  for (const std::string& part : match.missing) {
-    const bool single = part == "pelvis" || part == "head";
-    text += (text.empty() ? "" : "; ") + ("no " + part + ": expected ") +
-            (single ? "a joint like " : "joints like ") + expected_names(part);
+std::string missing_part(RigPart part) {
+  const bool single = part == RigPart::kTorso || part == RigPart::kHead;
+  return std::string("no ") + (part == RigPart::kTorso ? "pelvis" : to_string(part)) +
+         ": expected " + (single ? "a joint like " : "joints like ") + expected_names(part);
+}
+
+ConventionMatch match_convention(const JointNameIndex& names, const Skeleton& skeleton,
+                                 const NamingConvention& convention) {
+  ConventionMatch match;
+  NamedRigParts& parts = match.parts;
+  RigMap& map = parts.map;
+  parts.convention = convention.name;
+  auto count = [&](int j) {
+    match.roles_found += j >= 0;
+    return j;
+  };
+  parts.pelvis = count(names.find(convention.pelvis));
+  if (parts.pelvis >= 0 &&
+      lowercase(skeleton.joints[parts.pelvis].name).find(convention.pelvis_marker) ==
+          std::string::npos)
+    parts.pelvis = -1;
+  map.neck.head = count(names.find(convention.head));
+  if (parts.pelvis < 0)
+    parts.problem[static_cast<int>(RigPart::kTorso)] = missing_part(RigPart::kTorso);
+  if (map.neck.head < 0)
+    parts.problem[static_cast<int>(RigPart::kHead)] = missing_part(RigPart::kHead);
+  for (const bool left : {true, false}) {
+    auto sided = [&](const Patterns& patterns) {
+      return count(find_sided(names, convention, patterns, left));
+    };
+    ArmJoints arm{sided(convention.clavicle), sided(convention.upper_arm),
+                  sided(convention.forearm), sided(convention.hand)};
+    const RigPart arm_part = left ? RigPart::kLeftArm : RigPart::kRightArm;
+    if (std::string why = limb_problem(skeleton, parts.pelvis, arm.upper, arm.lower, arm.hand);
+        why.empty()) {
+      arm.clavicle = keep_if_in_order(skeleton, arm.clavicle, arm.upper, true);
+      (left ? map.left_arm : map.right_arm) = arm;
+    } else {
+      parts.problem[static_cast<int>(arm_part)] =
+          why == "missing" ? missing_part(arm_part) : std::string(to_string(arm_part)) + ": " + why;
+    }
+    LegJoints leg{sided(convention.hip), sided(convention.thigh), sided(convention.shin),
+                  sided(convention.foot), sided(convention.toe)};
+    const RigPart leg_part = left ? RigPart::kLeftLeg : RigPart::kRightLeg;
+    if (std::string why = limb_problem(skeleton, parts.pelvis, leg.upper, leg.lower, leg.foot);
+        why.empty()) {
+      leg.hip = keep_if_in_order(skeleton, leg.hip, leg.upper, true);
+      leg.toe = keep_if_in_order(skeleton, leg.toe, leg.foot, false);
+      (left ? map.left_leg : map.right_leg) = leg;
+    } else {
+      parts.problem[static_cast<int>(leg_part)] =
+          why == "missing" ? missing_part(leg_part) : std::string(to_string(leg_part)) + ": " + why;
+    }
   }
-  return text;
+  // Hip links and clavicles the names left out, from the hierarchy.
+  const std::vector<int> limb_roots = {map.left_arm.upper, map.right_arm.upper, map.left_leg.upper,
+                                       map.right_leg.upper, map.neck.head};
+  auto others = [&](int upper) {
+    std::vector<int> rest;
+    for (int j : limb_roots)
+      if (j != upper) rest.push_back(j);
+    return rest;
+  };
+  for (ArmJoints* arm : {&map.left_arm, &map.right_arm})
+    if (arm->upper >= 0 && arm->clavicle < 0)
+      arm->clavicle = link_above(skeleton, arm->upper, parts.pelvis, others(arm->upper));
+  for (LegJoints* leg : {&map.left_leg, &map.right_leg})
+    if (leg->upper >= 0 && leg->hip < 0)
+      leg->hip = link_above(skeleton, leg->upper, parts.pelvis, others(leg->upper));
+  return match;
 }
 
 }  // namespace
 
-NamedRigMatch match_rig_naming(const Skeleton& skeleton) {
+bool NamedRigParts::settles_every_part() const {
+  return std::all_of(problem.begin(), problem.end(),
+                     [](const std::string& p) { return p.empty(); });
+}
+
+NamedRigParts match_rig_naming(const Skeleton& skeleton) {
   const JointNameIndex names(skeleton);
-  NamedRigMatch result;
-  std::optional<ConventionMatch> closest;
+  std::optional<ConventionMatch> best;
   for (const NamingConvention& convention : naming_conventions()) {
     ConventionMatch match = match_convention(names, skeleton, convention);
-    if (match.missing.empty()) {
-      if (std::string why = complete_chains(match, skeleton); !why.empty()) {
-        // Every name is there but the hierarchy disagrees: report it unless another fits.
-        if (!result.looks_named) result.problem = std::string(convention.name) + " names: " + why;
-        result.looks_named = true;
-        continue;
-      }
-      result.map = std::move(match.map);
-      return result;
-    }
-    if (!closest || match.missing.size() < closest->missing.size()) closest = std::move(match);
+    if (!best || match.parts_named() > best->parts_named() ||
+        (match.parts_named() == best->parts_named() && match.roles_found > best->roles_found))
+      best = std::move(match);
   }
-  if (result.looks_named) return result;
-  result.looks_named = closest->whole_limbs > 0;
-  if (closest->missing.size() == 6) {  // not even a pelvis or head name: no convention at all
-    result.problem = "no joint has a name of a known convention (";
+  if (best->roles_found == 0) {  // not one name of a known convention
+    std::string conventions;
     for (const NamingConvention& c : naming_conventions())
-      result.problem += std::string(c.name) + (&c == &naming_conventions().back() ? ")" : ", ");
-    return result;
+      if (conventions.find(c.name) == std::string::npos)
+        conventions += (conventions.empty() ? "" : ", ") + std::string(c.name);
+    best->parts.convention.clear();
+    best->parts.problem.fill("no joint has a name of a known convention (" + conventions + ")");
   }
-  result.problem = "joint names closest to the " + closest->map.convention + " convention, but " +
-                   describe_missing(*closest);
-  return result;
+  return std::move(best->parts);
 }
 
 }  // namespace sweepd::deform

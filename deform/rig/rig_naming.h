@@ -1,29 +1,43 @@
-// Rig naming: finds a RigMap from joint names, trying the common naming conventions of
-// humanoid rigs in turn.
+// Rig naming: which joints the names of a humanoid rig give for each part, trying the common
+// naming conventions in turn and keeping the one that names the most parts.
 //
 // Conventions (the "convention" string it reports, and the left-arm/left-leg names it looks for;
-// right sides alike; matching ignores case, a namespace prefix up to the last ':' or '|',
-// and Blender's "DEF-" prefix):
+// right sides alike):
+//   mixamo             mixamorig[N]:Hips .. Head; [LeftShoulder] LeftArm LeftForeArm LeftHand;
+//                      LeftUpLeg LeftLeg LeftFoot [LeftToeBase]   (any "mixamorig" prefix)
 //   cmu_motionbuilder  Hips .. Head;  [LeftShoulder] LeftArm LeftForeArm LeftHand;
 //                      [LHipJoint] LeftUpLeg LeftLeg LeftFoot [LeftToeBase]
-//   mixamo             the same names behind a "mixamorig:" prefix
 //   cmu_3dsmax         Hips .. Head;  [LeftCollar] LeftShoulder LeftElbow LeftWrist;
 //                      LeftHip LeftKnee LeftAnkle [LeftToe]
+//   biped              Bip001 Pelvis .. Bip001 Head;  [Bip001 L Clavicle] Bip001 L UpperArm
+//                      Bip001 L Forearm Bip001 L Hand;  Bip001 L Thigh Bip001 L Calf
+//                      Bip001 L Foot [Bip001 L Toe0]   (3ds Max Biped, any "Bip<digits> ")
 //   unreal             pelvis .. head;  [clavicle_l] upperarm_l lowerarm_l hand_l;
 //                      thigh_l calf_l foot_l [ball_l]
-//   rigify             [DEF-]spine .. spine.006;  [shoulder.L] upper_arm.L forearm.L hand.L;
-//                      thigh.L shin.L foot.L [toe.L]
+//   rigify             spine .. spine.006;  [shoulder.L] upper_arm.L forearm.L hand.L;
+//                      thigh.L shin.L foot.L [toe.L]   (the metarig, and its DEF-/ORG-/MCH-
+//                      layers: a DEF- deform bone wins over the others of the same name)
 //   smpl               Pelvis .. Head;  [L_Collar] L_Shoulder L_Elbow L_Wrist;
 //                      L_Hip L_Knee L_Ankle [L_Foot]   (SMPL-X's left_shoulder etc. too)
 //   vrm                hips .. head;  [leftShoulder] leftUpperArm leftLowerArm leftHand;
-//                      leftUpperLeg leftLowerLeg leftFoot [leftToes]
-// Only the pelvis, the head and the limb roles are looked up by name. The torso is the
-// hierarchy path from the pelvis to the chest (the deepest common ancestor of both arms and
-// the head) and the neck the path from there to the head, so any number of spine and neck
-// joints fits.
+//                      leftUpperLeg leftLowerLeg leftFoot [leftToes]; and VRoid's node names
+//                      J_Bip_C_Hips .. J_Bip_C_Head, J_Bip_L_UpperArm ...
+//   daz_genesis        hip .. head;  [lCollar] lShldrBend lForearmBend lHand;
+//                      lThighBend lShin lFoot [lToe]   (Genesis 1-2's lShldr, lForeArm, lThigh)
+//   makehuman          root .. head;  [clavicle.L] upperarm01.L lowerarm01.L wrist.L;
+//                      [pelvis.L] upperleg01.L lowerleg01.L foot.L [toe1-1.L]
+// Matching ignores case, a namespace up to the last ':' or '|' ("ns:name", "Armature|name"),
+// Blender's layer prefixes DEF-/ORG-/MCH-, and, where no joint has the exact name, a numbered
+// or "_end" suffix (".001", "_end").
+//
+// Matching is per part: a limb is named when its upper, lower and end roles are all found and
+// follow the hierarchy (optional roles that break it are dropped); the torso when the pelvis
+// is found, the head when the head is. An optional hip link or clavicle the convention does
+// not name is taken from the hierarchy: the upper joint's parent, when only this limb hangs
+// below it. The torso and neck chains are not filled here (rig_detection: detect_rig_map).
 #pragma once
 
-#include <optional>
+#include <array>
 #include <string>
 
 #include "deform/model/skeleton.h"
@@ -31,17 +45,17 @@
 
 namespace sweepd::deform {
 
-struct NamedRigMatch {
-  // Set when a convention names every part and its chains follow the hierarchy.
-  std::optional<RigMap> map;
-  // True when, without a map, some convention still names at least one whole limb: the
-  // skeleton is named, only incompletely or inconsistently, and a geometric guess would hide
-  // the problem.
-  bool looks_named = false;
-  // Without a map: why not, naming the missing parts and the joint names expected for them.
-  std::string problem;
+struct NamedRigParts {
+  std::string convention;  // the convention naming the most parts; "" when it names none
+  int pelvis = -1;
+  // The named parts' roles: neck.head and the limbs, -1 where a part is not named. No torso
+  // or neck chain.
+  RigMap map;
+  // Per part (index RigPart): "" when named, else why not, naming the joints expected.
+  std::array<std::string, kRigPartCount> problem;
+  bool settles_every_part() const;
 };
 
-NamedRigMatch match_rig_naming(const Skeleton& skeleton);
+NamedRigParts match_rig_naming(const Skeleton& skeleton);
 
 }  // namespace sweepd::deform

@@ -45,17 +45,17 @@ RestHierarchy analyse(const Skeleton& skeleton) {
 
 std::string name(const Skeleton& skeleton, int j) { return "'" + skeleton.joints[j].name + "'"; }
 
-// Walks down single-child links from `start` to the first joint with three or more children.
-int first_three_way_branch(const RestHierarchy& h, const Skeleton& skeleton, int start,
-                           const std::string& what) {
+// Legs point away from the spine: the line from the pelvis to each leg's end lies within 60° of
+// the direction opposite the spine (cos 60° = 0.5). A neck and an arm hanging off a chest mistaken
+// for a pelvis (legless bodies) do not both do so.
+constexpr float kLegsAgainstSpine = 0.5f;
+
+// Walks down single-child links from `start` to the first joint with `ways` or more children;
+// -1 when the walk ends at a joint with fewer.
+int first_branch_of(const RestHierarchy& h, int start, std::size_t ways) {
   int j = start;
   while (h.children[j].size() == 1) j = h.children[j][0];
-  if (h.children[j].size() < 3)
-    throw std::invalid_argument("found no joint where " + what + " branch off: below " +
-                                name(skeleton, start) + " the first branching joint " +
-                                name(skeleton, j) + " has " + std::to_string(h.children[j].size()) +
-                                " children, expected 3");
-  return j;
+  return h.children[j].size() >= ways ? j : -1;
 }
 
 std::vector<int> longest_path(const RestHierarchy& h, int start) {
@@ -64,9 +64,8 @@ std::vector<int> longest_path(const RestHierarchy& h, int start) {
   return path;
 }
 
-// The children of `joint` other than `excluded`, furthest-reaching first; at least two.
-std::vector<int> two_longest_branches(const RestHierarchy& h, const Skeleton& skeleton, int joint,
-                                      int excluded, const std::string& what) {
+// The children of `joint` other than `excluded`, furthest-reaching first; at most two.
+std::vector<int> two_longest_branches(const RestHierarchy& h, int joint, int excluded) {
   std::vector<int> branches;
   for (int c : h.children[joint])
     if (c != excluded) branches.push_back(c);
@@ -75,10 +74,7 @@ std::vector<int> two_longest_branches(const RestHierarchy& h, const Skeleton& sk
   };
   std::sort(branches.begin(), branches.end(),
             [&](int a, int b) { return reach_from_joint(a) > reach_from_joint(b); });
-  if (branches.size() < 2)
-    throw std::invalid_argument("joint " + name(skeleton, joint) + " has fewer than two " + what +
-                                " branches");
-  branches.resize(2);
+  if (branches.size() > 2) branches.resize(2);
   return branches;
 }
 
@@ -136,15 +132,27 @@ glm::vec3 forward_direction(const RestHierarchy& h, const glm::vec3& up, const L
   return glm::normalize(horizontal(glm::vec3(0, -1, 0), up));
 }
 
-// True when joint a lies on the character's left of joint b.
-bool is_left_of(const RestHierarchy& h, const Skeleton& skeleton, int a, int b,
-                const glm::vec3& left) {
-  const float side = glm::dot(h.position[a] - h.position[b], left);
-  const float spread = glm::distance(h.position[a], h.position[b]);
-  if (!(std::abs(side) > 0.1f * spread))
-    throw std::invalid_argument("cannot tell left from right: " + name(skeleton, a) + " and " +
-                                name(skeleton, b) + " are not side by side");
-  return side > 0.0f;
+// Which side each of up to two limbs is on: `sided[0]` left, `sided[1]` right, absent where a
+// limb is missing or the sides cannot be told (then the note says why). `root` of a limb is
+// its upper joint; a lone limb's side is read against `centre`.
+template <typename Limb>
+void assign_sides(const RestHierarchy& h, const Skeleton& skeleton, std::vector<Limb> limbs,
+                  int centre, const glm::vec3& left, Limb& left_limb, Limb& right_limb,
+                  std::string& left_note, std::string& right_note) {
+  if (limbs.empty()) return;
+  const int other = limbs.size() == 2 ? limbs[1].upper : centre;
+  const glm::vec3 offset = h.position[limbs[0].upper] - h.position[other];
+  const float side = glm::dot(offset, left);
+  if (!(std::abs(side) > 0.1f * glm::length(offset))) {
+    left_note = right_note = "cannot tell left from right: " + name(skeleton, limbs[0].upper) +
+                             " and " + name(skeleton, other) + " are not side by side";
+    return;
+  }
+  const bool first_left = side > 0.0f;
+  (first_left ? left_limb : right_limb) = limbs[0];
+  if (limbs.size() == 2) (first_left ? right_limb : left_limb) = limbs[1];
+  std::string& lone = first_left ? right_note : left_note;
+  if (limbs.size() == 1 && lone.empty()) lone = "only one limb hangs there";
 }
 
 }  // namespace
@@ -157,20 +165,53 @@ RigMap detect_rig_map_by_topology(const Skeleton& skeleton) {
     if (skeleton.joints[j].parent < 0 && (root < 0 || h.subtree_size[j] > h.subtree_size[root]))
       root = j;
 
-  const int pelvis = first_three_way_branch(h, skeleton, root, "the legs and the spine");
+  const int first_branch = first_branch_of(h, root, 3);
+  if (first_branch < 0)
+    throw std::invalid_argument(
+        "found no joint where the legs and the spine (or the arms and the neck) branch off: "
+        "below " +
+        name(skeleton, root) + " no joint has 3 or more children");
   int spine = -1;
-  for (int c : h.children[pelvis])
+  for (int c : h.children[first_branch])
     if (spine < 0 || h.subtree_size[c] > h.subtree_size[spine]) spine = c;
-  const int chest = first_three_way_branch(h, skeleton, spine, "the arms and the neck");
+  // With legs: the first branch is the pelvis and the spine branches again at the chest (three
+  // ways: neck and arms; two ways: arms only, a body without a head), and the two other chains
+  // at the pelvis reach below it. Else (a bust, a seated avatar cut at the waist) the first
+  // branch is the chest and the torso runs up to it from the root.
+  int pelvis = first_branch;
+  int chest = first_branch_of(h, spine, 2);
+  std::vector<int> leg_starts;
+  std::string legs_note;
+  if (chest >= 0) {
+    const glm::vec3 up = glm::normalize(h.position[chest] - h.position[pelvis]);
+    for (int start : two_longest_branches(h, pelvis, spine)) {
+      const glm::vec3 reach = h.position[longest_path(h, start).back()] - h.position[pelvis];
+      if (glm::dot(reach, up) < -kLegsAgainstSpine * glm::length(reach))
+        leg_starts.push_back(start);
+    }
+  }
+  if (leg_starts.size() < 2) {
+    leg_starts.clear();
+    legs_note = chest < 0 ? "the spine does not branch again above " + name(skeleton, first_branch)
+                          : "no chain below " + name(skeleton, first_branch) + " reaches down";
+    chest = first_branch;
+    pelvis = root;
+    if (pelvis == chest)
+      throw std::invalid_argument("found no torso chain: the joint " + name(skeleton, chest) +
+                                  " where the arms and the neck branch off is the root, and "
+                                  "no chains reach below it for legs");
+  }
   const glm::vec3 up_vector = h.position[chest] - h.position[pelvis];
   if (!(glm::length(up_vector) > 0.0f))
-    throw std::invalid_argument("the chest " + name(skeleton, chest) + " sits on the pelvis " +
-                                name(skeleton, pelvis));
+    throw std::invalid_argument("found no torso chain: the chest " + name(skeleton, chest) +
+                                " sits on the pelvis " + name(skeleton, pelvis));
   const glm::vec3 up = glm::normalize(up_vector);
 
+  // The neck, unless only the arms branch off the chest.
   int neck = -1;
   float neck_upness = -2.0f;
-  for (int c : h.children[chest]) {
+  const bool has_neck = h.children[chest].size() >= 3;
+  for (int c : has_neck ? h.children[chest] : std::vector<int>{}) {
     glm::vec3 mean(0.0f);
     const std::vector<int> path = longest_path(h, c);
     for (int j : path) mean += h.position[j] / static_cast<float>(path.size());
@@ -184,31 +225,61 @@ RigMap detect_rig_map_by_topology(const Skeleton& skeleton) {
 
   RigMap map;
   map.convention = "topological";
+  for (PartDetection& found : map.found) found = {PartFinding::kByShape, ""};
   map.torso.chain = path_down(skeleton, pelvis, chest);
-  for (int j : longest_path(h, neck)) {
-    map.neck.chain.push_back(j);
-    if (h.children[j].size() != 1) break;
+  if (has_neck) {
+    for (int j : longest_path(h, neck)) {
+      map.neck.chain.push_back(j);
+      if (h.children[j].size() != 1) break;
+    }
+    map.neck.head = map.neck.chain.back();
+  } else {
+    map.found[static_cast<int>(RigPart::kHead)] = {
+        PartFinding::kAbsent,
+        "only two chains (the arms) branch off the chest " + name(skeleton, chest)};
   }
-  map.neck.head = map.neck.chain.back();
 
-  const std::vector<int> leg_starts = two_longest_branches(h, skeleton, pelvis, spine, "leg");
-  LegJoints leg_a = leg_roles(h, skeleton, leg_starts[0]);
-  LegJoints leg_b = leg_roles(h, skeleton, leg_starts[1]);
-  for (const LegJoints* leg : {&leg_a, &leg_b})
-    if (!(glm::dot(h.position[leg->foot] - h.position[pelvis], up) < 0.0f))
-      throw std::invalid_argument("the leg ending at " + name(skeleton, leg->foot) +
-                                  " does not reach below the pelvis " + name(skeleton, pelvis));
-  const std::vector<int> arm_starts = two_longest_branches(h, skeleton, chest, neck, "arm");
-  ArmJoints arm_a = arm_roles(h, skeleton, arm_starts[0]);
-  ArmJoints arm_b = arm_roles(h, skeleton, arm_starts[1]);
-
-  const glm::vec3 left = glm::cross(up, forward_direction(h, up, leg_a, leg_b));
-  const bool leg_a_left = is_left_of(h, skeleton, leg_a.upper, leg_b.upper, left);
-  map.left_leg = leg_a_left ? leg_a : leg_b;
-  map.right_leg = leg_a_left ? leg_b : leg_a;
-  const bool arm_a_left = is_left_of(h, skeleton, arm_a.upper, arm_b.upper, left);
-  map.left_arm = arm_a_left ? arm_a : arm_b;
-  map.right_arm = arm_a_left ? arm_b : arm_a;
+  std::vector<LegJoints> legs;
+  for (int start : leg_starts) {
+    try {
+      legs.push_back(leg_roles(h, skeleton, start));
+    } catch (const std::invalid_argument& e) {
+      legs_note = e.what();
+    }
+  }
+  std::vector<ArmJoints> arms;
+  std::string arms_note =
+      "no chains besides the neck branch off the chest " + name(skeleton, chest);
+  for (int start : two_longest_branches(h, chest, neck)) {
+    try {
+      arms.push_back(arm_roles(h, skeleton, start));
+    } catch (const std::invalid_argument& e) {
+      arms_note = e.what();
+    }
+  }
+  const LegJoints no_leg;
+  const glm::vec3 left =
+      glm::cross(up, forward_direction(h, up, legs.size() == 2 ? legs[0] : no_leg,
+                                       legs.size() == 2 ? legs[1] : no_leg));
+  std::string notes[kRigPartCount];
+  assign_sides(h, skeleton, legs, pelvis, left, map.left_leg, map.right_leg,
+               notes[static_cast<int>(RigPart::kLeftLeg)],
+               notes[static_cast<int>(RigPart::kRightLeg)]);
+  assign_sides(h, skeleton, arms, chest, left, map.left_arm, map.right_arm,
+               notes[static_cast<int>(RigPart::kLeftArm)],
+               notes[static_cast<int>(RigPart::kRightArm)]);
+  const std::pair<RigPart, bool> limbs[] = {{RigPart::kLeftArm, map.left_arm.absent()},
+                                            {RigPart::kRightArm, map.right_arm.absent()},
+                                            {RigPart::kLeftLeg, map.left_leg.absent()},
+                                            {RigPart::kRightLeg, map.right_leg.absent()}};
+  for (const auto& [part, absent] : limbs) {
+    if (!absent) continue;
+    const int i = static_cast<int>(part);
+    const bool arm = part == RigPart::kLeftArm || part == RigPart::kRightArm;
+    map.found[i] = {PartFinding::kAbsent, !notes[i].empty() ? notes[i]
+                                          : arm             ? arms_note
+                                                            : legs_note};
+  }
   return map;
 }
 

@@ -1,20 +1,24 @@
 // Rig topology: finds a RigMap from the hierarchy and rest-pose geometry alone, for skeletons
 // whose joint names say nothing (e.g. "joint_12").
 //
-// Input: a skeleton whose world rest pose is a standing human in any orientation (Y or Z up)
-// and roughly an A- or T-pose. Output: the map, convention "topological". Throws
-// std::invalid_argument naming the step that failed.
+// Input: a skeleton whose world rest pose is a standing human, or its upper body, in any
+// orientation (Y or Z up) and roughly an A- or T-pose. Output: the map, convention
+// "topological", with each part's finding kByShape, or kAbsent with the reason in its note
+// (legs, one arm, ...). Throws std::invalid_argument, saying where the search stopped, only
+// when it finds no torso chain.
 //
-// How: the pelvis is the first joint below the root with three or more child chains; the
-// spine is its child chain with the most joints (it carries arms and head), the legs the two
-// others reaching furthest. The chest is the first joint up the spine with three or more child
-// chains; "up" points from pelvis to chest; the neck is the chest's child chain pointing most
-// upward, the arms the two others reaching furthest. Along each limb the two consecutive
-// segments with the largest summed length are upper arm + forearm (thigh + shin); the joint
-// before them, if any, is the clavicle (hip link), the joint after them the hand (foot) and,
-// for legs, the next one the toe. The head is the first neck joint that branches or ends.
-// Left is up x forward, forward taken from the feet (ankle to toe) when toes are present,
-// otherwise the glTF convention (+Z when Y is up, -Y when Z is up).
+// How: the first joint below the root with three or more child chains is the pelvis when its
+// biggest child chain (the spine) branches again (at the chest: three ways, or two for a body
+// without a head, whose head is then absent) and its two other chains (the legs) both point
+// within 60° of straight away from the spine (the legs, the two furthest-reaching); otherwise it is
+// the chest of a legless body whose torso runs up to it from the root. "Up" points from pelvis to
+// chest; the neck is the chest's child chain pointing most upward, the arms the two others
+// reaching furthest. Along each limb the two consecutive segments with the largest summed
+// length are upper arm + forearm (thigh + shin); the joint before them, if any, is the
+// clavicle (hip link), the joint after them the hand (foot) and, for legs, the next one the
+// toe. The head is the first neck joint that branches or ends. Left is up x forward, forward
+// taken from the feet (ankle to toe) when toes are present, otherwise the glTF convention (+Z
+// when Y is up, -Y when Z is up); a lone arm or leg is on the side it lies from the torso.
 #pragma once
 
 #include "deform/model/skeleton.h"

@@ -13,6 +13,9 @@
 
 #include "deform/mesh/mesh_topology.h"
 #include "io/gltf_load.h"
+#include "io/gltf_save.h"
+#include "mannequin/mannequin.h"
+#include "tests/deform/rig/legless_cut.h"
 
 namespace {
 
@@ -80,6 +83,62 @@ TEST(SweepctlInspect, ReportsBothCmuClips) {
     EXPECT_NE(r.output.find("(120.00 fps)"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("joints:      31"), std::string::npos) << r.output;
   }
+}
+
+TEST(SweepctlInspect, PrintsTheRigMapHowEachPartWasFoundAndWhatIsSwept) {
+  const fs::path male = shared("models/makehuman_male_cmu.glb");
+  if (!fs::exists(male)) GTEST_SKIP() << "shared data absent: " << male;
+  const Result r = run_sweepctl("inspect " + male.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("convention: cmu_motionbuilder"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("torso: Hips > LowerBack > Spine > Spine1 [by name]"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("swept:       torso, neck, left arm, right arm, left leg, right leg"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("skinned:     head, left hand, right hand, left foot, right foot"),
+            std::string::npos)
+      << r.output;
+}
+
+TEST(SweepctlLegless, InspectBindAndPoseALeglessMannequinWithMeaninglessJointNames) {
+  // The mannequin cut at the waist (tests/deform/rig/legless_cut.h), its joints named j0, j1...:
+  // found by shape alone, its legs absent and left to skinning.
+  sweepd::deform::Model model = sweepd::deform::test::legless_cut(
+      sweepd::mannequin::make_mannequin({.target_vertices = 3000}));
+  for (int j = 0; j < model.skeleton.size(); ++j)
+    model.skeleton.joints[j].name = "j" + std::to_string(j);
+  const fs::path dir = temp_dir();
+  const std::string file = (dir / "legless.glb").string();
+  sweepd::io::save_gltf(model, file);
+
+  Result r = run_sweepctl("inspect " + file);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("convention: topological"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("left arm: clavicle"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("left leg: absent, skinned [absent]"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("warning: no legs found: legs are skinned by linear blending"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("swept:       torso, neck, left arm, right arm\n"), std::string::npos)
+      << r.output;
+
+  const std::string binding = (dir / "legless.sweepbind").string();
+  r = run_sweepctl("bind " + file + " -o " + binding);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("no legs found"), std::string::npos) << r.output;
+  const fs::path clip = shared("motion/cmu_01_01.bvh");
+  if (!fs::exists(clip)) GTEST_SKIP() << "shared data absent: " << clip;
+  r = run_sweepctl("pose " + binding + " --bvh " + clip.string() +
+                   " --frame 600 --features folding,protrusion,volume,bulge -o " +
+                   (dir / "legless_posed.glb").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const sweepd::deform::Model posed = sweepd::io::load_gltf(dir / "legless_posed.glb");
+  ASSERT_EQ(posed.vertex_count(), model.vertex_count());
+  for (const glm::vec3& p : posed.positions)
+    ASSERT_TRUE(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
+  for (const fs::path& written : {fs::path(file), fs::path(binding), dir / "legless_posed.glb"})
+    fs::remove(written);
 }
 
 TEST(SweepctlMannequin, WritesAClosedUvMappedModelNearTheRequestedSizeThatInspectReadsBack) {

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "io/load_error.h"
+#include "tests/deform/rig/same_rig_parts.h"
 #include "tests/deform/synthetic_humanoid.h"
 
 namespace sweepd::io {
@@ -21,21 +22,6 @@ std::filesystem::path temp_file(const std::string& name) {
 
 void write_text(const std::filesystem::path& path, const std::string& text) {
   std::ofstream(path) << text;
-}
-
-void expect_same_map(const RigMap& a, const RigMap& b) {
-  EXPECT_EQ(a.torso.chain, b.torso.chain);
-  EXPECT_EQ(a.neck.chain, b.neck.chain);
-  EXPECT_EQ(a.neck.head, b.neck.head);
-  EXPECT_EQ(a.left_arm.chain(), b.left_arm.chain());
-  EXPECT_EQ(a.left_arm.clavicle, b.left_arm.clavicle);
-  EXPECT_EQ(a.right_arm.chain(), b.right_arm.chain());
-  EXPECT_EQ(a.right_arm.clavicle, b.right_arm.clavicle);
-  EXPECT_EQ(a.left_leg.chain(), b.left_leg.chain());
-  EXPECT_EQ(a.left_leg.hip, b.left_leg.hip);
-  EXPECT_EQ(a.left_leg.toe, b.left_leg.toe);
-  EXPECT_EQ(a.right_leg.chain(), b.right_leg.chain());
-  EXPECT_EQ(a.right_leg.toe, b.right_leg.toe);
 }
 
 class RigMapJsonTest : public testing::Test {
@@ -70,7 +56,7 @@ TEST_F(RigMapJsonTest, RoundTripKeepsEveryRole) {
   save_rig_map_json(detected, skeleton, path);
   const RigMap loaded = load_rig_map_json(path, skeleton);
   EXPECT_EQ(loaded.convention, "json");
-  expect_same_map(loaded, detected);
+  deform::test::expect_same_rig_parts(loaded, detected);
   ASSERT_GE(detected.left_leg.hip, 0) << "the round trip should carry the optional roles";
 }
 
@@ -82,7 +68,25 @@ TEST_F(RigMapJsonTest, RoundTripWithoutOptionalRoles) {
   save_rig_map_json(map, skeleton, path);
   const json written = json::parse(std::ifstream(path));
   EXPECT_FALSE(written["left_arm"].contains("clavicle"));
-  expect_same_map(load_rig_map_json(path, skeleton), map);
+  deform::test::expect_same_rig_parts(load_rig_map_json(path, skeleton), map);
+}
+
+TEST_F(RigMapJsonTest, AbsentLegsAndHeadRoundTripAsNull) {
+  // A map with parts the body lacks (as detect_rig_map leaves them) writes them as null and
+  // reads them back absent.
+  RigMap map = detected;
+  map.left_leg = {};
+  map.right_leg = {};
+  map.neck = {};
+  const std::filesystem::path path = temp_file("absent_parts.json");
+  save_rig_map_json(map, skeleton, path);
+  const json written = json::parse(std::ifstream(path));
+  EXPECT_TRUE(written["left_leg"].is_null());
+  EXPECT_TRUE(written["neck"].is_null());
+  const RigMap loaded = load_rig_map_json(path, skeleton);
+  EXPECT_TRUE(loaded.left_leg.absent() && loaded.right_leg.absent());
+  EXPECT_FALSE(loaded.has_head());
+  deform::test::expect_same_rig_parts(loaded, map);
 }
 
 TEST_F(RigMapJsonTest, WritesJointNamesByRole) {

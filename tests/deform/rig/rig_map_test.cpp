@@ -7,6 +7,7 @@
 #include <functional>
 #include <glm/gtc/quaternion.hpp>
 #include <stdexcept>
+#include <utility>
 
 #include "deform/rig/rig_topology.h"
 #include "tests/deform/synthetic_humanoid.h"
@@ -215,35 +216,88 @@ std::string detection_error(const Skeleton& skeleton) {
   return "(no error)";
 }
 
-TEST(RigMapTest, MissingLeftArmNamesThePartAndExpectedJoints) {
+std::string all_warnings(const RigMap& map) {
+  std::string text;
+  for (const std::string& w : map.warnings) text += w + "\n";
+  return text;
+}
+
+TEST(RigMapTest, MissingLeftArmIsAbsentAndNamedInAWarning) {
+  // Neither names nor shape find a left arm: the rest maps by name, the arm is left to skinning.
   std::vector<SkeletonNode> nodes = test::humanoid_nodes(test::cmu_motionbuilder_spec());
   remove_joints(nodes, {"LeftShoulder", "LeftArm", "LeftForeArm", "LeftHand", "LeftFingerBase"});
-  const std::string error = detection_error(test::make_skeleton(nodes));
-  EXPECT_NE(error.find("cmu_motionbuilder"), std::string::npos) << error;
-  EXPECT_NE(error.find("no left arm: expected joints like LeftArm/LeftForeArm/LeftHand"),
+  const Skeleton skeleton = test::make_skeleton(nodes);
+  const RigMap map = detect_rig_map(skeleton);
+  EXPECT_EQ(map.convention, "cmu_motionbuilder");
+  EXPECT_TRUE(map.left_arm.absent());
+  EXPECT_EQ(map.found[static_cast<int>(RigPart::kLeftArm)].finding, PartFinding::kAbsent);
+  EXPECT_EQ(skeleton.joints[map.right_arm.upper].name, "RightArm");
+  EXPECT_EQ(names_of(skeleton, map.torso.chain), test::cmu_motionbuilder_spec().torso);
+  EXPECT_EQ(validate_rig_map(map, skeleton), "");
+  ASSERT_EQ(map.warnings.size(), 1u) << all_warnings(map);
+  const std::string& warning = map.warnings[0];
+  EXPECT_NE(warning.find("no left arm found: the left arm is skinned by linear blending"),
             std::string::npos)
-      << error;
-  EXPECT_NE(error.find("upperarm_l/lowerarm_l/hand_l"), std::string::npos) << error;
-  EXPECT_EQ(error.find("right arm"), std::string::npos) << error;
+      << warning;
+  EXPECT_NE(warning.find("no left arm: expected joints like LeftArm/LeftForeArm/LeftHand"),
+            std::string::npos)
+      << warning;
+  EXPECT_NE(warning.find("upperarm_l/lowerarm_l/hand_l"), std::string::npos) << warning;
 }
 
-TEST(RigMapTest, MissingRightLegNamesThePart) {
+TEST(RigMapTest, ShortRightLegIsAbsentAndNamedInAWarning) {
+  // Only the thigh is left: too short a chain for the shape to find a leg either.
   std::vector<SkeletonNode> nodes = test::humanoid_nodes(unreal_spec());
   remove_joints(nodes, {"calf_r", "foot_r", "ball_r"});
-  const std::string error = detection_error(test::make_skeleton(nodes));
-  EXPECT_NE(error.find("no right leg: expected joints like"), std::string::npos) << error;
-  EXPECT_NE(error.find("thigh_r/calf_r/foot_r"), std::string::npos) << error;
-  EXPECT_EQ(error.find("left leg"), std::string::npos) << error;
+  const Skeleton skeleton = test::make_skeleton(nodes);
+  const RigMap map = detect_rig_map(skeleton);
+  EXPECT_TRUE(map.right_leg.absent());
+  EXPECT_EQ(skeleton.joints[map.left_leg.foot].name, "foot_l");
+  const std::string warnings = all_warnings(map);
+  EXPECT_NE(warnings.find("no right leg found"), std::string::npos) << warnings;
+  EXPECT_NE(warnings.find("thigh_r/calf_r/foot_r"), std::string::npos) << warnings;
+  EXPECT_EQ(warnings.find("left leg"), std::string::npos) << warnings;
 }
 
-TEST(RigMapTest, ChainAgainstTheHierarchyIsRejected) {
-  // The forearm hangs off the clavicle beside the upper arm instead of below it.
+TEST(RigMapTest, HeadlessSkeletonHasAnAbsentHeadByNamesAndByShape) {
+  // No neck and no head: the arms alone meet at the chest.
+  const HumanoidSpec spec = test::cmu_motionbuilder_spec();
+  std::vector<SkeletonNode> nodes = test::humanoid_nodes(spec);
+  remove_joints(nodes, spec.neck);
+  const Skeleton named = test::make_skeleton(nodes);
+  Skeleton unnamed = named;
+  for (int j = 0; j < unnamed.size(); ++j) unnamed.joints[j].name = "bone" + std::to_string(j);
+  for (const Skeleton* skeleton : {&named, &std::as_const(unnamed)}) {
+    const RigMap map = detect_rig_map(*skeleton);
+    SCOPED_TRACE(map.convention);
+    EXPECT_FALSE(map.has_head());
+    EXPECT_TRUE(map.neck.chain.empty());
+    EXPECT_EQ(names_of(named, map.torso.chain), spec.torso);
+    EXPECT_EQ(named.joints[map.left_arm.upper].name, "LeftArm");
+    EXPECT_EQ(named.joints[map.right_leg.foot].name, "RightFoot");
+    EXPECT_EQ(validate_rig_map(map, *skeleton), "");
+    ASSERT_EQ(map.warnings.size(), 1u) << all_warnings(map);
+    EXPECT_NE(map.warnings[0].find("no head found: the neck and head are skinned"),
+              std::string::npos)
+        << map.warnings[0];
+  }
+}
+
+TEST(RigMapTest, ChainAgainstTheHierarchyFallsToTheShape) {
+  // The forearm hangs off the clavicle beside the upper arm: the names do not settle the left
+  // arm, the shape does (the longest path through the clavicle) and says why.
   std::vector<SkeletonNode> nodes = test::humanoid_nodes(test::cmu_motionbuilder_spec());
   for (SkeletonNode& node : nodes)
     if (node.name == "LeftForeArm") node.parent = "LeftShoulder";
-  const std::string error = detection_error(test::make_skeleton(nodes));
-  EXPECT_NE(error.find("left arm: 'LeftForeArm' is not below 'LeftArm'"), std::string::npos)
-      << error;
+  const Skeleton skeleton = test::make_skeleton(nodes);
+  const RigMap map = detect_rig_map(skeleton);
+  const PartDetection& arm = map.found[static_cast<int>(RigPart::kLeftArm)];
+  EXPECT_EQ(arm.finding, PartFinding::kByShape);
+  EXPECT_NE(arm.note.find("left arm: 'LeftForeArm' is not below 'LeftArm'"), std::string::npos)
+      << arm.note;
+  EXPECT_EQ(map.found[static_cast<int>(RigPart::kRightArm)].finding, PartFinding::kByName);
+  EXPECT_EQ(validate_rig_map(map, skeleton), "");
+  EXPECT_TRUE(map.warnings.empty()) << all_warnings(map);
 }
 
 TEST(RigMapTest, UnnamedChainFailsInTheFallbackWithReason) {
