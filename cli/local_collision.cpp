@@ -52,19 +52,27 @@ void LocalCollision::add(const deform::FeatureReport& report) {
   frame_gpu_times_ = {};
 }
 
-std::string LocalCollision::summary() const {
-  char text[256];
-  const bool on_gpu = decision_.backend == gpu::CollisionBackend::kGpu;
+std::string describe_collision(gpu::CollisionBackend backend, const std::string& where,
+                               const std::string& reason, const std::string& counted,
+                               const deform::FeatureTimes& times,
+                               const gpu::CollisionTimings& gpu_times) {
   char gpu_part[96] = "";
-  if (on_gpu) {
+  if (backend == gpu::CollisionBackend::kGpu) {
     std::snprintf(gpu_part, sizeof gpu_part, " (upload %.1f, readback %.1f)",
-                  milliseconds(gpu_times_.upload), milliseconds(gpu_times_.readback));
+                  milliseconds(gpu_times.upload), milliseconds(gpu_times.readback));
   }
-  std::snprintf(text, sizeof text, "%d frame%s: detect %.1f ms%s, fold %.1f ms, protrude %.1f ms",
-                frames_, frames_ == 1 ? "" : "s", milliseconds(times_.detect), gpu_part,
-                milliseconds(times_.fold), milliseconds(times_.protrude));
-  return std::string("collision: ") + gpu::to_string(decision_.backend) + " (" + decision_.reason +
-         "); " + text;
+  char stages[192];
+  std::snprintf(stages, sizeof stages, ": detect %.1f ms%s, fold %.1f ms, protrude %.1f ms",
+                milliseconds(times.detect), gpu_part, milliseconds(times.fold),
+                milliseconds(times.protrude));
+  return std::string("collision") + where + ": " + gpu::to_string(backend) + " (" + reason + "); " +
+         counted + stages;
+}
+
+std::string LocalCollision::summary() const {
+  return describe_collision(decision_.backend, "", decision_.reason,
+                            std::to_string(frames_) + (frames_ == 1 ? " frame" : " frames"), times_,
+                            gpu_times_);
 }
 
 }  // namespace sweepd::cli

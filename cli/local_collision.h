@@ -11,6 +11,8 @@
 // add(report): one deformation's stage times (FeatureReport::times, and the GPU detector's
 //   upload and readback). summary(): "collision: gpu (why); N frames: detect ... ms (upload
 //   ..., readback ...), fold ... ms, protrude ... ms" — totals over the frames added.
+// describe_collision: that line from its parts (also for a daemon's Stats.collision, where
+//   `where` is " on sweepd at HOST:PORT" and `counted` "N poses since it started").
 #pragma once
 
 #include <chrono>
@@ -23,6 +25,12 @@
 #include "gpu/egl_context.h"
 
 namespace sweepd::cli {
+
+// Upload and readback are printed on the GPU backend only.
+std::string describe_collision(gpu::CollisionBackend backend, const std::string& where,
+                               const std::string& reason, const std::string& counted,
+                               const deform::FeatureTimes& times,
+                               const gpu::CollisionTimings& gpu_times);
 
 class LocalCollision {
  public:

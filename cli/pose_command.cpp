@@ -57,6 +57,10 @@ int pose(const Options& options, const ServerAddress& server) {
     std::printf("model %s on sweepd at %s (%s)\n", posed.model().name.c_str(),
                 server.address.c_str(), posed.origin().c_str());
     write_frames(posed, out);
+    if (posing.features.collision()) {
+      if (const std::string collision = posed.collision_summary(); !collision.empty())
+        std::printf("%s\n", collision.c_str());
+    }
     return 0;
   }
   PosedModel posed(posing);
