@@ -1,17 +1,21 @@
 // sweepd --collision: two daemons over localhost, one finding folding's pairs on its GPU thread
 // (llvmpipe here), one on the CPU, return the same vertices for the shared male with folding and
 // protrusion — elbow and knee flexed 150°, and frames of CMU clips 01_01 and 01_03 — and
-// say which backend they use, with its stage times, in Stats. Without an EGL driver (libglvnd
-// told to load no vendor, as tests/gpu/egl_context_test.cpp does) `--collision gpu` is a start-up
-// error naming the problem (exit 2) and `auto` serves on the CPU, saying why in its log.
+// say which backend they use, with its stage times, in Stats; with one deformation worker, a
+// plain pose of a second connection is answered while the first waits on the GPU thread.
+// Without an EGL driver (libglvnd told to load no vendor, as tests/gpu/egl_context_test.cpp
+// does) `--collision gpu` is a start-up error naming the problem (exit 2) and `auto` serves on
+// the CPU, saying why in its log.
 // The clips are sampled every 1500th frame (7 poses; llvmpipe takes about 1.5 s a pose on the
 // GPU path here); SWEEPD_COLLISION_FRAME_STEP=50 runs the every 50th frame (147
 // poses, about 4 minutes on 2 cores).
 #include <gtest/gtest.h>
 #include <stdlib.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <memory>
+#include <thread>
 
 #include "deform/model/joint_flexion.h"
 #include "io/bvh_load.h"
@@ -183,6 +187,33 @@ TEST(DaemonCollisionBackend, GpuAndCpuGiveTheSameVerticesOnTheMaleAndItsClips) {
       on_gpu.detect_ns() * 1e-6 / on_gpu.requests(), on_gpu.upload_ns() * 1e-6 / on_gpu.requests(),
       on_gpu.readback_ns() * 1e-6 / on_gpu.requests(), on_gpu.fold_ns() * 1e-6 / on_gpu.requests(),
       on_gpu.protrude_ns() * 1e-6 / on_gpu.requests());
+
+  // A connection's CPU work does not wait behind another's GPU wait: with one deformation
+  // worker (--worker-threads 1), a plain pose on a second connection is answered while the
+  // first connection's pose waits for its folding pairs on the GPU thread (about a second on
+  // llvmpipe, against milliseconds for the plain pose). Were the GPU wait holding the worker,
+  // the plain pose would come second.
+  FrameClient second(gpu.daemon.port());
+  ASSERT_NE(second.hello(""), nullptr);
+  MaleDaemon& first = gpu;
+  ASSERT_TRUE(send_male_pose(first, poses[0].second, ++sequence, F::Folding | F::Protrusion));
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));  // the first is under way
+  const auto sent = std::chrono::steady_clock::now();
+  {
+    const std::vector<pb::Quat> wire = to_wire(poses[0].second.local_rotations);
+    ASSERT_TRUE(send_pose(second, pose_fields(gpu.model_id, 1, wire)));
+    ASSERT_NE(second.receive_as<pb::PosedVertices>(), nullptr);
+  }
+  const auto plain_answered = std::chrono::steady_clock::now();
+  ASSERT_EQ(receive_positions(first).size(), 3 * male.vertex_count());
+  const auto folded_answered = std::chrono::steady_clock::now();
+  EXPECT_LT(plain_answered, folded_answered)
+      << "the plain pose waited for the other connection's GPU folding";
+  std::printf(
+      "plain pose beside a GPU-folding one: answered in %.0f ms, the folding one %.0f ms "
+      "after it was sent\n",
+      std::chrono::duration<double, std::milli>(plain_answered - sent).count(),
+      std::chrono::duration<double, std::milli>(folded_answered - sent).count() + 50.0);
 
   stats = request_stats(*cpu.client);
   ASSERT_NE(stats, nullptr);
