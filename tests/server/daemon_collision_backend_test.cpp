@@ -192,28 +192,35 @@ TEST(DaemonCollisionBackend, GpuAndCpuGiveTheSameVerticesOnTheMaleAndItsClips) {
   // worker (--worker-threads 1), a plain pose on a second connection is answered while the
   // first connection's pose waits for its folding pairs on the GPU thread (about a second on
   // llvmpipe, against milliseconds for the plain pose). Were the GPU wait holding the worker,
-  // the plain pose would come second.
+  // the plain pose would be answered only after the folding one, at about the same time (the
+  // replies are read in that order: the folding one's time is at least the plain one's).
   FrameClient second(gpu.daemon.port());
   ASSERT_NE(second.hello(""), nullptr);
   MaleDaemon& first = gpu;
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point folding_sent = Clock::now();
   ASSERT_TRUE(send_male_pose(first, poses[0].second, ++sequence, F::Folding | F::Protrusion));
   std::this_thread::sleep_for(std::chrono::milliseconds(50));  // the first is under way
-  const auto sent = std::chrono::steady_clock::now();
+  const Clock::time_point plain_sent = Clock::now();
   {
     const std::vector<pb::Quat> wire = to_wire(poses[0].second.local_rotations);
     ASSERT_TRUE(send_pose(second, pose_fields(gpu.model_id, 1, wire)));
     ASSERT_NE(second.receive_as<pb::PosedVertices>(), nullptr);
   }
-  const auto plain_answered = std::chrono::steady_clock::now();
+  const double plain_ms =
+      std::chrono::duration<double, std::milli>(Clock::now() - plain_sent).count();
   ASSERT_EQ(receive_positions(first).size(), 3 * male.vertex_count());
-  const auto folded_answered = std::chrono::steady_clock::now();
-  EXPECT_LT(plain_answered, folded_answered)
-      << "the plain pose waited for the other connection's GPU folding";
+  const double folding_ms =
+      std::chrono::duration<double, std::milli>(Clock::now() - folding_sent).count();
   std::printf(
-      "plain pose beside a GPU-folding one: answered in %.0f ms, the folding one %.0f ms "
-      "after it was sent\n",
-      std::chrono::duration<double, std::milli>(plain_answered - sent).count(),
-      std::chrono::duration<double, std::milli>(folded_answered - sent).count() + 50.0);
+      "plain pose beside a GPU-folding one: answered in %.0f ms, the folding one in %.0f ms\n",
+      plain_ms, folding_ms);
+  // Half: room for a loaded machine; with the wait holding the worker the two were 1005 and
+  // 1057 ms here. Only where the GPU wait is long enough to tell (llvmpipe; a GPU is fast).
+  if (folding_ms > 200.0) {
+    EXPECT_LT(plain_ms, 0.5 * folding_ms)
+        << "the plain pose waited for the other connection's GPU folding";
+  }
 
   stats = request_stats(*cpu.client);
   ASSERT_NE(stats, nullptr);
