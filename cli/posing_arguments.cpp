@@ -72,6 +72,10 @@ void add_method_flags(CLI::App& command, PosingArguments& out) {
       "with sweep: any of folding,protrusion (collision, paper 4.3), volume (preservation, "
       "4.4), bulge (biceps, 4.3)")
       ->type_name("LIST");
+  add_collision_flag(command, out);
+}
+
+void add_collision_flag(CLI::App& command, PosingArguments& out) {
   command
       .add_option("--collision",
                   "where folding finds intersecting triangles: gpu (EGL compute; llvmpipe "

@@ -6,9 +6,10 @@
 //                       the command takes a frame range (pose, metrics; --frames wins over
 //                       --frame); --bvh and --pose exclude each other, --frame and --frames
 //                       need --bvh
-//   add_method_flags    --method sweep|lbs|dqs, --features LIST, --collision auto|gpu|cpu
-//                       (where folding finds its pairs: cli/local_collision.h) (pose, render,
-//                       positionmap; metrics has its own --method list)
+//   add_method_flags    --method sweep|lbs|dqs, --features LIST and add_collision_flag's
+//                       (pose, render, positionmap; metrics has its own --method list)
+//   add_collision_flag  --collision auto|gpu|cpu: where folding finds its pairs
+//                       (cli/local_collision.h) (through add_method_flags, and metrics)
 //   check_method_flags  the rules CLI11 cannot state: --features need --method sweep, and
 //                       --collision applies here, not with --server (the daemon's own
 //                       --collision decides); throws CLI::ValidationError (call it from the
@@ -46,6 +47,7 @@ enum class ClipFrames { kOne, kOneOrRange };  // whether the command takes --fra
 
 void add_posing_flags(CLI::App& command, PosingArguments& out, ClipFrames frames);
 void add_method_flags(CLI::App& command, PosingArguments& out);
+void add_collision_flag(CLI::App& command, PosingArguments& out);
 void check_method_flags(const PosingArguments& arguments, bool on_server = false);
 
 }  // namespace sweepd::cli

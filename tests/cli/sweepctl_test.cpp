@@ -194,6 +194,19 @@ TEST(SweepctlPosing, CollisionOnTheGpuAndTheCpuGiveTheSameFoldedMale) {
   ASSERT_EQ(on_gpu.positions.size(), on_cpu.positions.size());
   for (std::size_t v = 0; v < on_gpu.positions.size(); ++v)
     ASSERT_LE(glm::length(on_gpu.positions[v] - on_cpu.positions[v]), 1e-6f) << "vertex " << v;
+  // metrics' sweep+features method: the same table either way, and its collision line.
+  const std::string measuring = "metrics " + male.string() + " --bvh " + clip.string() +
+                                " --frame 1257 --method sweep+features --collision ";
+  const Result gpu_metrics = run_sweepctl(measuring + "gpu", "2>/dev/null");
+  const Result cpu_metrics = run_sweepctl(measuring + "cpu", "2>/dev/null");
+  ASSERT_EQ(gpu_metrics.exit_code, 0) << gpu_metrics.output;
+  ASSERT_EQ(cpu_metrics.exit_code, 0) << cpu_metrics.output;
+  const std::size_t gpu_line = gpu_metrics.output.find("collision: gpu (");
+  const std::size_t cpu_line = cpu_metrics.output.find("collision: cpu (");
+  ASSERT_NE(gpu_line, std::string::npos) << gpu_metrics.output;
+  ASSERT_NE(cpu_line, std::string::npos) << cpu_metrics.output;
+  EXPECT_NE(gpu_metrics.output.find("crossing triangle pairs"), std::string::npos);
+  EXPECT_EQ(gpu_metrics.output.substr(0, gpu_line), cpu_metrics.output.substr(0, cpu_line));
   // Without an EGL driver (libglvnd told to load no vendor) --collision gpu names the problem.
   const Result no_egl =
       run_sweepctl(posing + (dir / "x.glb").string() + " --collision gpu", "2>&1",
@@ -278,6 +291,8 @@ TEST(SweepctlCommandLine, RefusalsNameTheCommandTheFlagAndTheValue) {
       {"pose m.glb -o x.glb --token t", {"--token requires --server"}},
       {"pose m.glb -o x.glb --collision cuda", {"--collision", "cuda"}},
       {"pose m.glb -o x.glb --collision gpu --server 127.0.0.1:1",
+       {"--collision applies where sweepctl deforms"}},
+      {"metrics m.glb --collision gpu --server 127.0.0.1:1",
        {"--collision applies where sweepctl deforms"}},
       {"edit m.glb edits.json", {"m.glb is not a .sweepbind file"}},
       // --server after the command is the top-level flag: inspect refuses it by name.
