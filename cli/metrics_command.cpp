@@ -5,12 +5,14 @@
 // With --server the daemon deforms and the metrics are measured here on its vertices; the
 // part regions and section planes come from binding the served mesh here; the sweep integral
 // (the deformation's own sweep state) is not available remotely.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <functional>
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "cli/commands.h"
 #include "cli/posed_model.h"
@@ -38,12 +40,14 @@ struct Method {
   std::string name;
   deform::DeformMethod method;
   bool preserve_volume;
+  bool collision = false;  // folding and protrusion, their pairs from --collision's backend
 };
 
 const std::map<std::string, Method>& methods_by_name() {
   static const std::map<std::string, Method> methods = {
       {"sweep", {"sweep", deform::DeformMethod::kSweep, false}},
       {"sweep+volume", {"sweep+volume", deform::DeformMethod::kSweep, true}},
+      {"sweep+features", {"sweep+features", deform::DeformMethod::kSweep, false, true}},
       {"lbs", {"lbs", deform::DeformMethod::kLbs, false}},
       {"dqs", {"dqs", deform::DeformMethod::kDqs, false}}};
   return methods;
@@ -81,17 +85,22 @@ struct MethodReport {
 using PoseDeformer =
     std::function<const deform::SweepPoser&(deform::Pose, std::vector<glm::vec3>&)>;
 
-// The method deformed in this process (the context's poser holds the sweep state).
+// The method deformed in this process (the context's poser holds the sweep state); folding's
+// pairs from `collision` (null: the CPU reference).
 PoseDeformer local_deformer(const Method& m, const deform::ModelRuntime& runtime,
-                            deform::DeformContext& context) {
-  return [&runtime, &context, m](deform::Pose pose,
-                                 std::vector<glm::vec3>& positions) -> const deform::SweepPoser& {
-    deform::DeformJob{.runtime = runtime,
-                      .pose = pose,
-                      .method = m.method,
-                      .features = {.volume = m.preserve_volume},
-                      .positions = positions}
-        .run(context);
+                            deform::DeformContext& context, LocalCollision* collision) {
+  return [&runtime, &context, m, collision](
+             deform::Pose pose, std::vector<glm::vec3>& positions) -> const deform::SweepPoser& {
+    deform::DeformJob job{.runtime = runtime,
+                          .pose = pose,
+                          .method = m.method,
+                          .features = {.folding = m.collision,
+                                       .protrusion = m.collision,
+                                       .volume = m.preserve_volume},
+                          .positions = positions};
+    if (m.collision && collision != nullptr) job.options.detect = collision->detect();
+    const deform::DeformReport report = job.run(context);
+    if (m.collision && collision != nullptr) collision->add(report.features);
     if (m.method != deform::DeformMethod::kSweep)
       context.sweep_poser().set_pose(context.world_pose());  // section planes
     return context.sweep_poser();
@@ -103,7 +112,9 @@ PoseDeformer server_deformer(const Method& m, RemotePosedModel& remote, deform::
                               std::vector<glm::vec3>& positions) -> const deform::SweepPoser& {
     std::vector<glm::vec3> normals;
     remote.deform_pose(pose, m.method,
-                       m.preserve_volume ? protocol::Features::Volume : protocol::Features::NONE,
+                       m.preserve_volume ? protocol::Features::Volume
+                       : m.collision ? protocol::Features::Folding | protocol::Features::Protrusion
+                                     : protocol::Features::NONE,
                        positions, normals);
     const deform::Skeleton& skeleton = remote.model().skeleton;
     if (const std::string problem = deform::normalize_and_validate(pose, skeleton);
@@ -240,6 +251,11 @@ int metrics(const Options& options, const ServerAddress* server) {
     for (int f = posing.frames.first; f <= last; f += options.step) frames.push_back(f);
   }
   const metrics::QualityMeter meter(bound);
+  // sweep+features here: folding's pairs from the --collision backend.
+  std::optional<LocalCollision> collision;
+  if (!server &&
+      std::any_of(methods.begin(), methods.end(), [](const Method& m) { return m.collision; }))
+    collision.emplace(posing.collision);
   std::vector<MethodReport> reports;
   {
     std::unique_ptr<console::ProgressBar> bar;
@@ -249,8 +265,9 @@ int metrics(const Options& options, const ServerAddress* server) {
     if (!server) runtime = std::make_unique<deform::ModelRuntime>(bound);
     for (std::size_t m = 0; m < methods.size(); ++m) {
       deform::DeformContext context;
-      const PoseDeformer deform = server ? server_deformer(methods[m], *remote, *served_poser)
-                                         : local_deformer(methods[m], *runtime, context);
+      const PoseDeformer deform =
+          server ? server_deformer(methods[m], *remote, *served_poser)
+                 : local_deformer(methods[m], *runtime, context, collision ? &*collision : nullptr);
       reports.push_back(measure_method(methods[m], bound, deform, !server, pose_of, meter, frames,
                                        bar.get(), static_cast<int>(m * frames.size()), total));
     }
@@ -263,6 +280,7 @@ int metrics(const Options& options, const ServerAddress* server) {
     print_csv(reports);
   } else {
     print_table(reports, frames.size(), source);
+    if (collision) std::printf("%s\n", collision->summary().c_str());
   }
   return 0;
 }
@@ -281,11 +299,13 @@ Command add_metrics_command(CLI::App& sweepctl, const ServerAddress& server) {
       "default methods sweep,lbs,dqs; no sweep integral (it needs the server's sweep state).");
   auto options = std::make_shared<Options>();
   add_posing_flags(*command, options->posing, ClipFrames::kOneOrRange);
+  add_collision_flag(*command, options->posing);
   console::add_choice_list(
       *command, "--method", methods_by_name(),
       [options](const Method& method) { options->methods.push_back(method); },
       "comma-separated methods (default: sweep,sweep+volume,lbs,dqs); sweep+volume is the "
-      "sweep method with volume preservation (arms, legs, torso)")
+      "sweep method with volume preservation (arms, legs, torso), sweep+features with folding "
+      "and protrusion (pairs from --collision's backend)")
       ->type_name("LIST");
   command->add_option("--step", options->step, "with a clip: every Nth frame")
       ->type_name("N")
@@ -295,6 +315,7 @@ Command add_metrics_command(CLI::App& sweepctl, const ServerAddress& server) {
   command->add_flag("--csv", options->csv, "machine-readable CSV instead of the table");
   command->callback([options, command, &server] {
     if (options->json && options->csv) throw CLI::ValidationError("give --json or --csv, not both");
+    check_method_flags(options->posing, !server.address.empty());
     options->one_frame = command->count("--frame") > 0;
     if (options->methods.empty())
       for (const std::string& name :

@@ -57,6 +57,10 @@ int pose(const Options& options, const ServerAddress& server) {
     std::printf("model %s on sweepd at %s (%s)\n", posed.model().name.c_str(),
                 server.address.c_str(), posed.origin().c_str());
     write_frames(posed, out);
+    if (posing.features.collision()) {
+      if (const std::string collision = posed.collision_summary(); !collision.empty())
+        std::printf("%s\n", collision.c_str());
+    }
     return 0;
   }
   PosedModel posed(posing);
@@ -68,6 +72,8 @@ int pose(const Options& options, const ServerAddress& server) {
         "%d pushed out of bone proxies; volume change %.1f cm3\n",
         r.pairs_before, r.pairs_after, r.folded, r.protruded, r.volume_change * 1e6);
   }
+  if (const LocalCollision* collision = posed.collision())
+    std::printf("%s\n", collision->summary().c_str());
   return 0;
 }
 
@@ -87,7 +93,8 @@ Command add_pose_command(CLI::App& sweepctl, const ServerAddress& server) {
                    "posed .glb for one frame; a folder for --frames (frame_NNNNN.glb)")
       ->type_name("OUT")
       ->required();
-  command->callback([options] { check_method_flags(options->posing); });
+  command->callback(
+      [options, &server] { check_method_flags(options->posing, !server.address.empty()); });
   return {command, [options, &server] { return pose(*options, server); }, true};
 }
 

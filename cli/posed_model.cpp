@@ -36,6 +36,8 @@ PosedModel::PosedModel(const PosingArguments& arguments) : arguments_(arguments)
   }
   if (!arguments.pose_file.empty())
     file_pose_ = io::load_pose_json(arguments.pose_file, bound_->model.skeleton);
+  if (arguments.method == deform::DeformMethod::kSweep && arguments.features.collision())
+    collision_.emplace(arguments.collision);
 }
 
 deform::Pose PosedModel::pose(int frame) const {
@@ -59,7 +61,9 @@ void PosedModel::deform(int frame, std::vector<glm::vec3>& positions,
                                        : deform::VolumeChangeSource::kFixedPoint},
       .positions = positions,
       .normals = normals};
+  if (collision_) job.options.detect = collision_->detect();
   feature_report_ = job.run(context_).features;
+  if (collision_) collision_->add(feature_report_);
 }
 
 std::uint64_t pose_hash(const deform::Pose& pose) {

@@ -1,6 +1,7 @@
 // PosedModel: what sweepctl's posing commands (pose, render, positionmap, metrics) deform here —
 // a bound model from a .glb/.gltf (bound on the spot) or a .sweepbind file, posed from their
-// PosingArguments (cli/posing_arguments.h) with its deformation method.
+// PosingArguments (cli/posing_arguments.h) with its deformation method; folding's pairs come
+// from the --collision backend (cli/local_collision.h).
 #pragma once
 
 #include <cstdint>
@@ -10,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/local_collision.h"
 #include "cli/posing_arguments.h"
 #include "deform/binding/bound_model.h"
 #include "deform/job/deform_job.h"
@@ -37,6 +39,9 @@ class PosedModel {
   void deform(int frame, std::vector<glm::vec3>& positions, std::vector<glm::vec3>& normals);
   // What folding and protrusion did in the last deform (zeros without them).
   const deform::FeatureReport& feature_report() const { return feature_report_; }
+  // The collision backend (--collision) with its stage times over every deform; null when
+  // folding and protrusion are not selected (then EGL is not probed).
+  const LocalCollision* collision() const { return collision_ ? &*collision_ : nullptr; }
 
  private:
   PosingArguments arguments_;
@@ -46,6 +51,7 @@ class PosedModel {
   std::optional<motion::Retargeter> retargeter_;
   std::optional<deform::Pose> file_pose_;
   deform::FeatureReport feature_report_;
+  std::optional<LocalCollision> collision_;
 };
 
 // A stable 64-bit hash (FNV-1a) of a pose's numbers: names a frame's pose in EXR headers.

@@ -72,12 +72,30 @@ void add_method_flags(CLI::App& command, PosingArguments& out) {
       "with sweep: any of folding,protrusion (collision, paper 4.3), volume (preservation, "
       "4.4), bulge (biceps, 4.3)")
       ->type_name("LIST");
+  add_collision_flag(command, out);
 }
 
-void check_method_flags(const PosingArguments& arguments) {
+void add_collision_flag(CLI::App& command, PosingArguments& out) {
+  command
+      .add_option("--collision",
+                  "where folding finds intersecting triangles: gpu (EGL compute; llvmpipe "
+                  "allowed), cpu (the reference), auto (default: gpu on a hardware GPU, else cpu)")
+      ->type_name("auto|gpu|cpu")
+      ->check(CLI::IsMember({"auto", "gpu", "cpu"}))
+      ->each([&out](const std::string& name) {
+        out.collision = *gpu::parse_collision_choice(name);
+        out.collision_given = true;
+      });
+}
+
+void check_method_flags(const PosingArguments& arguments, bool on_server) {
   if (arguments.features.any() && arguments.method != deform::DeformMethod::kSweep)
     throw CLI::ValidationError("--features apply to --method sweep, not " +
                                std::string(deform::to_string(arguments.method)));
+  if (arguments.collision_given && on_server)
+    throw CLI::ValidationError(
+        "--collision applies where sweepctl deforms; with --server the daemon's own "
+        "--collision decides (its Stats say which)");
 }
 
 }  // namespace sweepd::cli

@@ -6,10 +6,14 @@
 //                       the command takes a frame range (pose, metrics; --frames wins over
 //                       --frame); --bvh and --pose exclude each other, --frame and --frames
 //                       need --bvh
-//   add_method_flags    --method sweep|lbs|dqs, --features LIST (pose, render, positionmap;
-//                       metrics has its own --method list)
-//   check_method_flags  the rule CLI11 cannot state: --features need --method sweep; throws
-//                       CLI::ValidationError (call it from the command's callback)
+//   add_method_flags    --method sweep|lbs|dqs, --features LIST and add_collision_flag's
+//                       (pose, render, positionmap; metrics has its own --method list)
+//   add_collision_flag  --collision auto|gpu|cpu: where folding finds its pairs
+//                       (cli/local_collision.h) (through add_method_flags, and metrics)
+//   check_method_flags  the rules CLI11 cannot state: --features need --method sweep, and
+//                       --collision applies here, not with --server (the daemon's own
+//                       --collision decides); throws CLI::ValidationError (call it from the
+//                       command's callback with whether --server was given)
 // Bad values ("12x", "5-3", an unknown method or feature) are usage errors naming the flag.
 #pragma once
 
@@ -18,6 +22,7 @@
 
 #include "deform/job/anatomical_features.h"
 #include "deform/job/deform_method.h"
+#include "gpu/collision_backend.h"
 #include "motion/frame_range.h"
 
 namespace sweepd::cli {
@@ -33,12 +38,16 @@ struct PosingArguments {
   deform::DeformMethod method = deform::DeformMethod::kSweep;
   // --features: anatomical features on top of the sweep method (paper §4.3, §4.4).
   deform::AnatomicalFeatures features;
+  // --collision: where folding finds its pairs when it runs here.
+  gpu::CollisionChoice collision = gpu::CollisionChoice::kAuto;
+  bool collision_given = false;  // --collision was on the command line
 };
 
 enum class ClipFrames { kOne, kOneOrRange };  // whether the command takes --frames A-B
 
 void add_posing_flags(CLI::App& command, PosingArguments& out, ClipFrames frames);
 void add_method_flags(CLI::App& command, PosingArguments& out);
-void check_method_flags(const PosingArguments& arguments);
+void add_collision_flag(CLI::App& command, PosingArguments& out);
+void check_method_flags(const PosingArguments& arguments, bool on_server = false);
 
 }  // namespace sweepd::cli

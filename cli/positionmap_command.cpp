@@ -120,7 +120,7 @@ Command add_positionmap_command(CLI::App& sweepctl, const ServerAddress& server)
                                                 {"none", io::ExrCompression::kNone}},
       "zip (default), zips, piz or none");
   command->callback([options, gutter, &server] {
-    check_method_flags(options->posing);
+    check_method_flags(options->posing, !server.address.empty());
     options->normals = options->normals || options->half_normals;
     if (server.address.empty()) return;
     if (gutter->count() > 0 && options->gutter != kServerGutter)

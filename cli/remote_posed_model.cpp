@@ -1,5 +1,6 @@
 #include "cli/remote_posed_model.h"
 
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -194,6 +195,25 @@ std::vector<std::uint8_t> RemotePosedModel::position_map(int frame,
   connection_.send(pb::finish_message(builder, request));
   const pb::PositionMap& reply = reply_as<pb::PositionMap>();
   return {reply.exr()->begin(), reply.exr()->end()};
+}
+
+std::string RemotePosedModel::collision_summary() {
+  flatbuffers::FlatBufferBuilder& builder = connection_.builder();
+  builder.Clear();
+  connection_.send(pb::finish_message(builder, pb::CreateStatsRequest(builder)));
+  const pb::CollisionStats* collision = reply_as<pb::Stats>().collision();
+  if (collision == nullptr) return "";
+  using std::chrono::nanoseconds;
+  const auto text = [](const flatbuffers::String* s) { return s == nullptr ? "" : s->str(); };
+  return describe_collision(
+      text(collision->backend()) == "gpu" ? gpu::CollisionBackend::kGpu
+                                          : gpu::CollisionBackend::kCpu,
+      " on sweepd at " + connection_.address(), text(collision->reason()),
+      std::to_string(collision->requests()) + " poses since it started, " +
+          std::to_string(collision->gpu_fallbacks()) + " GPU fallbacks",
+      {nanoseconds(collision->detect_ns()), nanoseconds(collision->fold_ns()),
+       nanoseconds(collision->protrude_ns())},
+      {nanoseconds(collision->upload_ns()), nanoseconds(collision->readback_ns())});
 }
 
 }  // namespace sweepd::cli

@@ -63,6 +63,9 @@ class RemotePosedModel {
   // The server's OpenEXR position map of clip frame `frame` (P, A and N when asked for; the
   // server's 4-texel gutter); the EXR header's frame is `frame`.
   std::vector<std::uint8_t> position_map(int frame, const RemoteMapOptions& options);
+  // The daemon's collision backend and its stage times since it started (Stats.collision,
+  // protocol 1.3), as one line for the command's report; "" from an older server.
+  std::string collision_summary();
 
  private:
   static protocol::Features features(const PosingArguments& arguments);

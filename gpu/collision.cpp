@@ -193,8 +193,11 @@ void CollisionDetector::detect(std::span<const glm::vec3> positions,
                                std::span<const std::uint32_t> indices,
                                std::span<const std::uint32_t> triangles,
                                std::vector<deform::TrianglePair>& pairs) {
+  using Clock = std::chrono::steady_clock;
   pairs.clear();
+  timings_ = {};
   if (triangles.size() < 2) return;
+  const Clock::time_point started = Clock::now();
   const std::size_t count = triangles.size();
   corners_.resize(3 * count);
   records_.resize(count);
@@ -222,6 +225,7 @@ void CollisionDetector::detect(std::span<const glm::vec3> positions,
   upload(1, records_.size() * sizeof(glm::uvec4), records_.data());
   pair_capacity_ = std::max(pair_capacity_, std::max<std::size_t>(4096, 4 * count));
 
+  const Clock::time_point uploaded = Clock::now();
   program_.use();
   gl_.Uniform1i(program_.uniform("slot_count"), static_cast<GLint>(count));
   for (;;) {
@@ -247,6 +251,8 @@ void CollisionDetector::detect(std::span<const glm::vec3> positions,
     }
     break;
   }
+  const Clock::time_point read = Clock::now();
+  timings_ = {uploaded - started, read - uploaded};
   pairs.reserve(found_.size());
   for (const glm::uvec2& p : found_) pairs.push_back({p.x, p.y});
   std::sort(pairs.begin(), pairs.end());

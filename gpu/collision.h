@@ -12,12 +12,16 @@
 // Broad phase: sort and sweep along x — the triangles are uploaded sorted by their boxes'
 // lower x; one invocation per triangle tests the boxes of the later ones until one starts past
 // its own upper x (at worst #T²/2 box tests); narrow phase: the Guigue–Devillers test of
-// deform/features/triangle_intersection.h, transcribed to GLSL with the same double-precision operations in
-// the same order (`precise`, so no fused multiply-adds), so the pairs are bit-identical to the CPU
-// reference. Construct, call and destroy on the context's thread (gpu::Worker jobs); the Context
-// must outlive the detector. GL buffers are kept and grown between calls.
+// deform/features/triangle_intersection.h, transcribed to GLSL with the same double-precision
+// operations in the same order (`precise`, so no fused multiply-adds), so the pairs are
+// bit-identical to the CPU reference. Construct, call and destroy on the context's thread
+// (gpu::Worker jobs); the Context must outlive the detector. GL buffers are kept and grown between
+// calls. last_timings(): the last detect's upload (sorting the boxes and writing the buffers, CPU
+// clock) and readback (from the dispatch to the pairs in hand: the wait for the compute
+// shader is in it, as GL gives no cheaper split without timer queries).
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <glm/glm.hpp>
 #include <memory>
@@ -31,6 +35,10 @@
 
 namespace sweepd::gpu {
 
+struct CollisionTimings {
+  std::chrono::nanoseconds upload{0}, readback{0};
+};
+
 class CollisionDetector {
  public:
   explicit CollisionDetector(const Context& context);
@@ -40,6 +48,7 @@ class CollisionDetector {
 
   void detect(std::span<const glm::vec3> positions, std::span<const std::uint32_t> indices,
               std::span<const std::uint32_t> triangles, std::vector<deform::TrianglePair>& pairs);
+  const CollisionTimings& last_timings() const { return timings_; }
 
  private:
   const GlFunctions& gl_;
@@ -50,6 +59,7 @@ class CollisionDetector {
   std::vector<glm::uvec4> records_;
   std::vector<glm::uvec2> found_;
   std::vector<std::pair<float, std::uint32_t>> order_;  // (box lower x, triangle id)
+  CollisionTimings timings_;
 };
 
 }  // namespace sweepd::gpu

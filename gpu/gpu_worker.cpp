@@ -1,15 +1,16 @@
 #include "gpu/gpu_worker.h"
 
 #include <optional>
+#include <tuple>
 
 namespace sweepd::gpu {
 
 Worker::Worker(const ContextOptions& options) {
-  std::promise<std::string> started;
-  std::future<std::string> renderer = started.get_future();
+  std::promise<std::pair<std::string, bool>> started;
+  std::future<std::pair<std::string, bool>> device = started.get_future();
   thread_ = std::thread([this, options, &started] { run(options, started); });
   try {
-    renderer_ = renderer.get();
+    std::tie(renderer_, software_) = device.get();
   } catch (...) {
     thread_.join();
     throw;
@@ -33,7 +34,8 @@ void Worker::post(std::function<void(Context&)> job) {
   wake_.notify_one();
 }
 
-void Worker::run(const ContextOptions& options, std::promise<std::string>& started) {
+void Worker::run(const ContextOptions& options,
+                 std::promise<std::pair<std::string, bool>>& started) {
   std::optional<Context> context;
   try {
     context.emplace(options);
@@ -41,7 +43,8 @@ void Worker::run(const ContextOptions& options, std::promise<std::string>& start
     started.set_exception(std::current_exception());
     return;
   }
-  started.set_value(context->renderer());  // `started` dies with the constructor after this
+  started.set_value({context->renderer(),
+                     context->software()});  // `started` dies with the constructor after this
   for (;;) {
     std::function<void(Context&)> job;
     {

@@ -17,6 +17,7 @@
 #include <string>
 #include <thread>
 #include <type_traits>
+#include <utility>
 
 #include "gpu/egl_context.h"
 
@@ -29,8 +30,9 @@ class Worker {
   Worker(const Worker&) = delete;
   Worker& operator=(const Worker&) = delete;
 
-  // GL_RENDERER of the worker's context.
+  // GL_RENDERER of the worker's context, and whether it is Mesa's software rasteriser.
   const std::string& renderer() const { return renderer_; }
+  bool software() const { return software_; }
 
   template <class Job>
   auto submit(Job&& job) -> std::future<std::invoke_result_t<Job&, Context&>> {
@@ -43,13 +45,14 @@ class Worker {
 
  private:
   void post(std::function<void(Context&)> job);
-  void run(const ContextOptions& options, std::promise<std::string>& started);
+  void run(const ContextOptions& options, std::promise<std::pair<std::string, bool>>& started);
 
   std::mutex mutex_;
   std::condition_variable wake_;
   std::deque<std::function<void(Context&)>> jobs_;
   bool stopping_ = false;
   std::string renderer_;
+  bool software_ = false;
   std::thread thread_;
 };
 

@@ -63,6 +63,14 @@ Setting address_and_port_setting(const char* key) {
           }};
 }
 
+Setting collision_setting(const char* key) {
+  return {key, [](ServerConfig& config, const std::string& value, const std::string& where) {
+            const auto choice = gpu::parse_collision_choice(value);
+            if (!choice) throw ConfigError(where + ": '" + value + "' is not auto, gpu or cpu");
+            config.collision = *choice;
+          }};
+}
+
 const std::vector<Setting>& settings() {
   static const std::vector<Setting> all = {
       text_setting("listen", &ServerConfig::listen_address),
@@ -96,6 +104,7 @@ const std::vector<Setting>& settings() {
       integer_setting("deform_threads", &ServerConfig::deform_threads, 1, 1024),
       integer_setting("mannequin_vertices", &ServerConfig::mannequin_vertices, 1000, 500000),
       integer_setting("position_maps", &ServerConfig::position_maps, 0, 1),
+      collision_setting("collision"),
   };
   return all;
 }
@@ -271,6 +280,11 @@ Flags (each also a key of the JSON config file, with '_' for '-'):
   --deform-threads N        threads one pose is split over (default 1)
   --mannequin-vertices N    size of the default "mannequin" model (default 20000)
   --position-maps 0|1       render PositionMapRequest with EGL (GPU or llvmpipe) (default 1)
+  --collision auto|gpu|cpu  where folding finds intersecting triangle pairs: gpu = compute
+                            jobs on the GPU thread (the one that renders position maps), cpu =
+                            the CPU reference (the same pairs), auto = gpu on a hardware EGL
+                            device, cpu on llvmpipe (software) or without EGL; gpu without a
+                            usable EGL context is a start-up error (default auto)
 Signals: SIGTERM/SIGINT finish in-flight work, send Bye, and exit 0.
 Logs: one JSON object per line on stderr.
 )";

@@ -3,7 +3,8 @@
 //
 // parse_server_config(args): args are argv[1..] (program name excluded). Throws ConfigError
 // naming the flag, key or file and the reason (unknown flag, missing value, bad number,
-// unreadable or invalid JSON, an --http-listen on the protocol port, --tls-cert without
+// unreadable or invalid JSON, a --collision other than auto/gpu/cpu, an --http-listen on the
+// protocol port, --tls-cert without
 // --tls-key or the reverse, --tls-client-ca without them, a token on a plain TCP listener that
 // is not loopback without --allow-plaintext). `--help` sets `show_help`.
 // config_usage(): the text `sweepd --help` prints, listing every flag and config key.
@@ -15,6 +16,8 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+
+#include "gpu/collision_backend.h"
 
 namespace sweepd::server {
 
@@ -62,6 +65,8 @@ struct ServerConfig {
   int deform_threads = 1;                        // threads one pose is split over
   int mannequin_vertices = 20000;                // the default model's size
   int position_maps = 1;  // 1: answer PositionMapRequest on the GPU worker (EGL); 0: off
+  // Where folding finds its pairs (gpu/collision_backend.h): auto, gpu or cpu.
+  gpu::CollisionChoice collision = gpu::CollisionChoice::kAuto;
   bool show_help = false;
 };
 

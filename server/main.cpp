@@ -8,8 +8,11 @@
 #include <string>
 #include <vector>
 
+#include "gpu/collision_backend.h"
 #include "io/durable_file.h"
 #include "server/config.h"
+#include "server/handlers/collision_service.h"
+#include "server/handlers/gpu_thread.h"
 #include "server/http/http_side_port.h"
 #include "server/log_event.h"
 #include "server/models/model_service.h"
@@ -49,6 +52,28 @@ int main(int argc, char** argv) {
     std::fputs(server::config_usage(), stdout);
     return 0;
   }
+  // The collision backend is decided before any work: --collision gpu without a usable EGL
+  // context is a configuration error. The GPU thread (EGL) starts here unless it is cpu.
+  server::GpuThread gpu;
+  const bool probe = config.collision != gpu::CollisionChoice::kCpu;
+  const gpu::EglDevice device = probe ? gpu.device() : gpu::EglDevice{};
+  gpu::CollisionBackendDecision collision_backend;
+  try {
+    collision_backend = gpu::choose_collision_backend(config.collision, device);
+  } catch (const gpu::CollisionBackendError& error) {
+    server::log_event("fatal", {{"reason", error.what()}});
+    std::fprintf(stderr, "sweepd: %s\n", error.what());
+    return 2;
+  }
+  server::log_event("collision_backend",
+                    {{"backend", gpu::to_string(collision_backend.backend)},
+                     {"choice", gpu::to_string(config.collision)},
+                     {"device", !probe                   ? "not probed"
+                                : device.failure.empty() ? device.renderer
+                                                         : "none: " + device.failure},
+                     {"software", device.software},
+                     {"reason", collision_backend.reason}});
+  server::CollisionService collision(gpu, collision_backend);
   // Under systemd (Type=notify, deploy/sweepd.service) each stage is a STATUS= line, READY=1
   // comes when /readyz turns 200 and STOPPING=1 on SIGTERM; without NOTIFY_SOCKET, nothing.
   server::SystemdNotifier systemd;
@@ -99,7 +124,7 @@ int main(int argc, char** argv) {
                        {"position_maps", config.position_maps != 0},
                        {"systemd_notify", systemd.enabled()},
                        {"watchdog_ms", watchdog_timeout ? watchdog_timeout->count() / 1000 : 0}});
-    server.emplace(config, models, readiness, std::move(tls));
+    server.emplace(config, models, readiness, std::move(tls), gpu, collision);
     serving = &*server;
     // WATCHDOG=1 only while the I/O thread answers (a snapshot is a job it runs); declared
     // after `server`, so it stops before the server goes.

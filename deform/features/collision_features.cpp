@@ -1,22 +1,31 @@
 #include "deform/features/collision_features.h"
 
 #include <algorithm>
+#include <chrono>
 
 #include "deform/mesh/enclosed_volume.h"
 
 namespace sweepd::deform {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+}  // namespace
 
 CollisionFeatures::CollisionFeatures(const CollisionModel& model,
                                      const CollisionFeatureOptions& options)
     : model_(model), options_(options), sweep_volume_change_(model.sweep_count, 0.0) {}
 
 int CollisionFeatures::find_pairs(const CollisionRegion& region,
-                                  std::span<const glm::vec3> positions, const DetectPairs& detect) {
+                                  std::span<const glm::vec3> positions, const DetectPairs& detect,
+                                  FeatureTimes& times) {
+  const Clock::time_point started = Clock::now();
   if (detect) {
     detect(positions, model_.regions.welded_indices, region.triangles, pairs_);
   } else {
     detector_.detect(positions, model_.regions.welded_indices, region.triangles, pairs_);
   }
+  times.detect += Clock::now() - started;
   return static_cast<int>(pairs_.size());
 }
 
@@ -37,7 +46,7 @@ int CollisionFeatures::fold_region(const CollisionRegion& region, int pairs,
       } else {
         folder_.relax(region, model_.regions.welded_indices, saved_pairs_, positions);
       }
-      const int now = find_pairs(region, positions, detect);
+      const int now = find_pairs(region, positions, detect, report.times);
       reduced = now < pairs;
       if (!reduced) {  // never keep a step that does not help
         for (std::size_t i = 0; i < region.vertices.size(); ++i)
@@ -59,9 +68,11 @@ FeatureReport CollisionFeatures::apply(std::span<const glm::mat4> skinning,
   std::fill(sweep_volume_change_.begin(), sweep_volume_change_.end(), 0.0);
   if (options_.folding) {
     for (const CollisionRegion& region : model_.regions.regions) {
-      const int before = find_pairs(region, positions, detect);
+      const int before = find_pairs(region, positions, detect, report.times);
       report.pairs_before += before;
       if (before == 0) continue;
+      const Clock::time_point started = Clock::now();
+      const std::chrono::nanoseconds detected_before = report.times.detect;
       saved_.resize(region.vertices.size());
       const double volume_before =
           enclosed_volume(positions, model_.regions.welded_indices, region.triangles);
@@ -71,9 +82,12 @@ FeatureReport CollisionFeatures::apply(std::span<const glm::mat4> skinning,
           volume_before;
       report.volume_change += change;
       if (region.sweep >= 0) sweep_volume_change_[region.sweep] += change;
+      // The region's folding time, less the detection calls it made.
+      report.times.fold += Clock::now() - started - (report.times.detect - detected_before);
     }
   }
   if (options_.protrusion) {
+    const Clock::time_point started = Clock::now();
     for (const BoneProxy& proxy : model_.proxies) {
       proxy_positions_.resize(proxy.rest_positions.size());
       const glm::vec3 anchor = pose_bone_proxy(proxy, skinning, proxy_positions_);
@@ -86,6 +100,7 @@ FeatureReport CollisionFeatures::apply(std::span<const glm::mat4> skinning,
       if (const int s = model_.regions.regions[proxy.region].sweep; s >= 0)
         sweep_volume_change_[s] += pushed.volume_change;
     }
+    report.times.protrude += Clock::now() - started;
   }
   copy_to_seam_copies(model_.regions, positions);
   return report;

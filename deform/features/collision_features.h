@@ -9,7 +9,9 @@
 //                       empty: the CPU reference
 //   In/out:  positions  #V posed positions (the sweep poser's output); region vertices move,
 //                       UV-seam copies follow their representative
-//   Output:  FeatureReport (counts, deepest penetrations, net volume change), and
+//   Output:  FeatureReport (counts, deepest penetrations, net volume change, the time spent in
+//            each stage: detect (the pair finder's calls), fold (fold and relax steps),
+//            protrude (the bone proxies)), and
 //            sweep_volume_change(): the same change per sweep (CollisionModel::sweep_count
 //            values; each region's and each proxy's change goes to the region's limb sweep) —
 //            the paper's I_C (§4.4), which DeformJob subtracts from the preserved target.
@@ -21,6 +23,7 @@
 // bench/collision_bench): about 4× one detect-fold-detect pass, most of it the elbow's rounds.
 #pragma once
 
+#include <chrono>
 #include <functional>
 #include <span>
 #include <vector>
@@ -43,6 +46,19 @@ struct CollisionFeatureOptions {
   float protrusion_gap = 2e-4f;  // m between a proxy and the skin pushed over it
 };
 
+// Wall time per stage of CollisionFeatures::apply (steady clock, a few reads per region).
+struct FeatureTimes {
+  std::chrono::nanoseconds detect{0};    // the pair finder: every region's detection calls
+  std::chrono::nanoseconds fold{0};      // fold and relax steps, restores and region volumes
+  std::chrono::nanoseconds protrude{0};  // posing the bone proxies and pushing skin out
+  FeatureTimes& operator+=(const FeatureTimes& other) {
+    detect += other.detect;
+    fold += other.fold;
+    protrude += other.protrude;
+    return *this;
+  }
+};
+
 struct FeatureReport {
   int pairs_before = 0;  // intersecting pairs over all regions, before folding
   int pairs_after = 0;   // ... after folding (regions that had none are not re-tested)
@@ -50,6 +66,7 @@ struct FeatureReport {
   int protruded = 0;     // vertices pushed out by bone proxies
   float deepest_fold = 0.0f, deepest_protrusion = 0.0f;  // m
   double volume_change = 0.0;  // m³, both features together (Σ sweep_volume_change())
+  FeatureTimes times{};
 };
 
 class CollisionFeatures {
@@ -73,8 +90,9 @@ class CollisionFeatures {
   std::span<const double> sweep_volume_change() const { return sweep_volume_change_; }
 
  private:
+  // Detects the region's pairs into pairs_ (timed into `times`); returns how many.
   int find_pairs(const CollisionRegion& region, std::span<const glm::vec3> positions,
-                 const DetectPairs& detect);
+                 const DetectPairs& detect, FeatureTimes& times);
   // Detect -> fold/relax rounds on one region holding `pairs` (in pairs_); returns the pairs
   // left.
   int fold_region(const CollisionRegion& region, int pairs, std::span<glm::vec3> positions,

@@ -124,7 +124,9 @@ void DeformJob::run_sweep(DeformContext& context, DeformReport& report) {
     report.rounds = round + 1;
     if (!collide) break;
     const auto started = std::chrono::steady_clock::now();
+    const FeatureTimes earlier_rounds = report.features.times;
     report.features = collision.apply(context.skinning_, positions, options.detect);
+    report.features.times += earlier_rounds;
     report.features_time += std::chrono::steady_clock::now() - started;
     const std::span<const double> measured = collision.sweep_volume_change();
     if (round + 1 == rounds ||

@@ -75,7 +75,7 @@ struct DeformJobOptions {
 };
 
 struct DeformReport {
-  FeatureReport features{};                         // the last round's folding and protrusion
+  FeatureReport features{};  // the last round's folding and protrusion (times: all rounds')
   std::span<const double> volume_change{};          // per sweep: the I_C targeted (m³); sweep only
   std::span<const VolumeCorrection> corrections{};  // per sweep; empty without volume
   int rounds = 0;                                   // deformations of the mesh this frame

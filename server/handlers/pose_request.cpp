@@ -112,8 +112,12 @@ std::pair<std::uint64_t, std::uint64_t> PosedVerticesWriter::deform(PoseRequest&
   thread_local deform::DeformContext context;
   const Clock::time_point start = Clock::now();
   // Validated once, when the pose arrived (read_pose_request).
-  const deform::DeformReport report =
-      request.job(deform_threads_, positions, normals).run_validated(context);
+  deform::DeformJob job = request.job(deform_threads_, positions, normals);
+  const bool collide =
+      request.method == deform::DeformMethod::kSweep && request.features.collision();
+  if (collide) job.options.detect = pair_finder_.begin();
+  const deform::DeformReport report = job.run_validated(context);
+  if (collide) pair_finder_.finish(report.features);
   const auto total = static_cast<std::uint64_t>(
       std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - start).count());
   const auto features = static_cast<std::uint64_t>(report.features_time.count());

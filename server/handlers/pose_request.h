@@ -20,8 +20,10 @@
 //   (RegisteredModel::runtime) with the worker thread's own DeformContext (one per thread,
 //   not per connection), each request standing alone (VolumeChangeSource::kFixedPoint), so
 //   the vertices equal the library's bit for bit; ServerTimings.features_ns times folding and
-//   protrusion (DeformReport::features_time). One writer per connection (its encoding scratch
-//   is not shared between threads).
+//   protrusion (DeformReport::features_time). Folding's pairs come from the server's collision
+//   backend (CollisionService: the CPU reference, or jobs on the GPU thread), which counts the
+//   pose and its stage times. One writer per connection (its encoding scratch and pair finder
+//   are not shared between threads).
 #pragma once
 
 #include <chrono>
@@ -34,6 +36,7 @@
 #include "deform/job/deform_method.h"
 #include "deform/model/pose.h"
 #include "protocol/messages.h"
+#include "server/handlers/collision_service.h"
 #include "server/handlers/position_map_service.h"
 #include "server/models/model_registry.h"
 
@@ -69,7 +72,8 @@ std::optional<protocol::PoseProblem> read_pose_request(const protocol::Pose& pos
 
 class PosedVerticesWriter {
  public:
-  explicit PosedVerticesWriter(int deform_threads) : deform_threads_(deform_threads) {}
+  PosedVerticesWriter(int deform_threads, CollisionService& collision)
+      : deform_threads_(deform_threads), pair_finder_(collision) {}
 
   // Returns the time spent deforming (features included), in nanoseconds.
   std::uint64_t write(PoseRequest& request, std::uint32_t dropped_before,
@@ -86,6 +90,7 @@ class PosedVerticesWriter {
                                                  std::span<glm::vec3> normals);
 
   int deform_threads_;
+  CollisionPairFinder pair_finder_;
   std::vector<glm::vec3> positions_scratch_, normals_scratch_;  // float16 and position maps
   std::vector<std::uint8_t> exr_scratch_;
 };

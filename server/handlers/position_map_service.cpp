@@ -53,27 +53,23 @@ std::string check_position_map_request(const protocol::PositionMapRequest& reque
   return "";
 }
 
-PositionMapService::PositionMapService(bool enabled) : enabled_(enabled) {}
+PositionMapService::PositionMapService(bool enabled, GpuThread& gpu)
+    : enabled_(enabled), gpu_(gpu) {}
 
 PositionMapService::~PositionMapService() {
   // GL objects go with the context, on the worker's thread, before the worker ends.
-  if (worker_) worker_->submit([this](gpu::Context&) { renderer_.reset(); }).get();
+  if (renderer_) worker().submit([this](gpu::Context&) { renderer_.reset(); }).get();
 }
 
 gpu::Worker& PositionMapService::worker() {
-  std::lock_guard lock(mutex_);
   if (!enabled_) {
     throw PositionMapUnavailable("position maps are switched off on this server");
   }
-  if (!worker_ && failure_.empty()) {
-    try {
-      worker_ = std::make_unique<gpu::Worker>();
-    } catch (const std::exception& error) {
-      failure_ = error.what();
-    }
+  gpu::Worker* worker = gpu_.start();
+  if (worker == nullptr) {
+    throw PositionMapUnavailable("no GPU context for position maps: " + gpu_.failure());
   }
-  if (!worker_) throw PositionMapUnavailable("no GPU context for position maps: " + failure_);
-  return *worker_;
+  return *worker;
 }
 
 void PositionMapService::render(const PositionMapJob& job, std::vector<std::uint8_t>& exr) {

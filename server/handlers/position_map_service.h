@@ -2,9 +2,10 @@
 // (gpu::PositionMapRenderer) on the server's one GPU worker thread (gpu::Worker, shared by
 // all connections), then encoded as an OpenEXR file in memory (io::encode_exr).
 //
-// The GPU worker starts on the first request (EGL: a real GPU, or Mesa llvmpipe); when no EGL
-// context can be made, that and every later request throws PositionMapUnavailable with the
-// driver's reason. render() may be called from any thread; it waits for the GPU job.
+// The GPU worker (GpuThread, shared with collision detection) starts on the first request
+// unless it already runs (EGL: a real GPU, or Mesa llvmpipe); when no EGL context can be made,
+// that and every later request throws PositionMapUnavailable with the driver's reason.
+// render() may be called from any thread; it waits for the GPU job.
 //
 // Input (PositionMapJob): the model (UVs and triangles), its posed positions and normals
 // (vertex_count each), width × height (1..kMaxPositionMapSide), the layers and compression.
@@ -17,7 +18,6 @@
 #include <cstdint>
 #include <glm/glm.hpp>
 #include <memory>
-#include <mutex>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -25,9 +25,9 @@
 
 #include "deform/model/model.h"
 #include "protocol/sweepd_generated.h"
+#include "server/handlers/gpu_thread.h"
 
 namespace sweepd::gpu {
-class Worker;
 class PositionMapRenderer;
 }  // namespace sweepd::gpu
 
@@ -57,7 +57,8 @@ std::string check_position_map_request(const protocol::PositionMapRequest& reque
 
 class PositionMapService {
  public:
-  explicit PositionMapService(bool enabled);
+  // `gpu` must outlive this service.
+  PositionMapService(bool enabled, GpuThread& gpu);
   ~PositionMapService();
 
   bool enabled() const { return enabled_; }
@@ -67,10 +68,8 @@ class PositionMapService {
   gpu::Worker& worker();  // throws PositionMapUnavailable
 
   bool enabled_;
-  std::mutex mutex_;
-  std::unique_ptr<gpu::Worker> worker_;
+  GpuThread& gpu_;
   std::unique_ptr<gpu::PositionMapRenderer> renderer_;  // touched only on the worker's thread
-  std::string failure_;
 };
 
 }  // namespace sweepd::server

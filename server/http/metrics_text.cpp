@@ -134,6 +134,19 @@ void add_server(Page& page, const ServerSnapshot& server) {
                  &ModelSnapshot::poses);
   page.per_model("sweepd_model_errors_total", "Requests failed, by model.", server.models,
                  &ModelSnapshot::errors);
+  const CollisionSnapshot& collision = server.collision;
+  page.header("sweepd_collision_backend", "gauge",
+              "Where folding finds intersecting triangle pairs (--collision): 1 for the backend "
+              "in use, 0 for the other.");
+  for (const gpu::CollisionBackend backend :
+       {gpu::CollisionBackend::kGpu, gpu::CollisionBackend::kCpu}) {
+    page.sample("sweepd_collision_backend",
+                std::string("backend=\"") + gpu::to_string(backend) + "\"",
+                backend == collision.backend ? "1" : "0");
+  }
+  page.single("sweepd_collision_gpu_fallbacks_total", "counter",
+              "Poses answered with the CPU reference's pairs after a GPU collision job failed.",
+              collision.gpu_fallbacks);
 }
 
 }  // namespace

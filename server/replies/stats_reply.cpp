@@ -9,7 +9,8 @@ namespace sweepd::server {
 void build_stats(flatbuffers::FlatBufferBuilder& builder, std::uint64_t uptime_ns,
                  std::span<const ModelHandle> models,
                  const std::map<std::uint32_t, ModelCounters>& model_counters,
-                 std::span<const ConnectionCounters> connections, std::uint64_t request_id) {
+                 std::span<const ConnectionCounters> connections,
+                 const CollisionSnapshot& collision, std::uint64_t request_id) {
   namespace pb = sweepd::protocol;
   std::vector<flatbuffers::Offset<pb::ConnectionStats>> connection_stats;
   for (const ConnectionCounters& c : connections) {
@@ -27,9 +28,14 @@ void build_stats(flatbuffers::FlatBufferBuilder& builder, std::uint64_t uptime_n
     model_stats.push_back(pb::CreateModelStatsDirect(builder, model->id, model->name.c_str(),
                                                      counters.poses, counters.errors, &latency));
   }
-  pb::finish_message(builder,
-                     pb::CreateStatsDirect(builder, uptime_ns, &model_stats, &connection_stats),
-                     request_id);
+  const auto collision_stats = pb::CreateCollisionStatsDirect(
+      builder, gpu::to_string(collision.backend), collision.reason.c_str(),
+      collision.device.c_str(), collision.requests, collision.gpu_fallbacks, collision.detect_ns,
+      collision.fold_ns, collision.protrude_ns, collision.upload_ns, collision.readback_ns);
+  pb::finish_message(
+      builder,
+      pb::CreateStatsDirect(builder, uptime_ns, &model_stats, &connection_stats, collision_stats),
+      request_id);
 }
 
 }  // namespace sweepd::server

@@ -46,7 +46,7 @@ Connection::Connection(ConnectionStream stream, std::uint64_t id, std::string pe
           std::min(environment.config.max_hello_frame_bytes, environment.config.max_frame_bytes),
           &environment.buffer_budget),
       read_buffer_(kReadChunkBytes),
-      writer_(environment.config.deform_threads) {
+      writer_(environment.config.deform_threads, environment.collision) {
   counters_.connection_id = id;
   counters_.peer = std::move(peer);
   secured_ = !stream_.tls();
@@ -291,7 +291,8 @@ void Connection::dispatch(const pb::Message& message) {
     case pb::Body::StatsRequest: {
       flatbuffers::FlatBufferBuilder builder = take_builder();
       build_stats(builder, nanoseconds_since(environment_.started), models.models(),
-                  environment_.model_counters, environment_.all_counters(), request_id);
+                  environment_.model_counters, environment_.all_counters(),
+                  environment_.collision.snapshot(), request_id);
       send(std::move(builder));
       break;
     }
@@ -430,7 +431,13 @@ void Connection::start_next_pose() {
   const std::uint32_t dropped = request->position_map ? 0 : dropped_since_reply_;
   dropped_since_reply_ -= dropped;
   auto builder = std::make_shared<flatbuffers::FlatBufferBuilder>(take_builder());
-  asio::post(environment_.workers, [self = shared_from_this(), request, builder, dropped]() {
+  // A pose whose folding waits on the GPU thread runs on the pool kept for that, so that its
+  // wait never holds a deformation worker another connection's CPU work could use.
+  const bool waits_on_gpu = environment_.collision.backend() == gpu::CollisionBackend::kGpu &&
+                            request->method == deform::DeformMethod::kSweep &&
+                            request->features.collision();
+  asio::thread_pool& pool = waits_on_gpu ? environment_.gpu_waiters : environment_.workers;
+  asio::post(pool, [self = shared_from_this(), request, builder, dropped]() {
     std::string failure;
     pb::ErrorCode code = pb::ErrorCode::Internal;
     std::uint64_t deform_ns = 0;

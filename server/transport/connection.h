@@ -5,7 +5,8 @@
 // (server/models/). It holds no model state of its own.
 //
 // Runs on the server's single I/O thread; only deformation and model loading go to the
-// worker pool. On a TLS stream (ConnectionStream) the handshake comes first: it must be done,
+// worker pool (poses whose folding runs on the GPU thread to the pool of GPU waiters, see
+// CollisionService). On a TLS stream (ConnectionStream) the handshake comes first: it must be done,
 // like Hello, within config.hello_timeout_ms, or the connection is cut (`connection_cut`, no
 // reply: there is no channel to send it on); a failed handshake (a plaintext client on the TLS
 // port, a missing or untrusted client certificate) is cut with OpenSSL's reason. Frames are read
@@ -58,7 +59,9 @@ struct ConnectionEnvironment {
   const ServerConfig& config;
   ModelService& models;
   asio::thread_pool& workers;
+  asio::thread_pool& gpu_waiters;  // poses whose pair detection waits on the GPU thread
   PositionMapService& position_maps;
+  CollisionService& collision;
   std::chrono::steady_clock::time_point started;
   std::function<void(std::uint64_t connection_id)> on_close;
   std::function<std::vector<ConnectionCounters>()> all_counters;

@@ -25,18 +25,29 @@ std::size_t worker_count(const ServerConfig& config) {
 }  // namespace
 
 Server::Server(const ServerConfig& config, ModelService& models, Readiness& readiness,
-               std::optional<asio::ssl::context> tls)
+               std::optional<asio::ssl::context> tls, GpuThread& gpu, CollisionService& collision)
     : config_(config),
       readiness_(readiness),
       workers_(worker_count(config)),
-      position_maps_(config.position_maps != 0),
+      gpu_waiters_(worker_count(config)),
+      position_maps_(config.position_maps != 0, gpu),
       buffer_budget_(config.max_buffered_bytes),
       // Enough idle builders for every worker's reply and the I/O thread's.
       builders_(2 * static_cast<std::size_t>(worker_count(config)) + 4),
       signals_(io_, SIGTERM, SIGINT),
       tls_(std::move(tls)),
-      environment_{config, models, workers_, position_maps_, std::chrono::steady_clock::now(),
-                   {},     {},     {},       buffer_budget_, builders_,
+      environment_{config,
+                   models,
+                   workers_,
+                   gpu_waiters_,
+                   position_maps_,
+                   collision,
+                   std::chrono::steady_clock::now(),
+                   {},
+                   {},
+                   {},
+                   buffer_budget_,
+                   builders_,
                    {}} {
   // Position maps' EXR compression runs on OpenEXR's process-wide pool: one thread per worker,
   // so that a ZIP frame is compressed in parallel scan-line blocks instead of on one core.
@@ -57,7 +68,10 @@ Server::Server(const ServerConfig& config, ModelService& models, Readiness& read
   };
 }
 
-Server::~Server() { workers_.join(); }
+Server::~Server() {
+  workers_.join();
+  gpu_waiters_.join();
+}
 
 int Server::open() {
   int port = 0;
@@ -144,6 +158,7 @@ void Server::run() {
   io_.run();
   serving_ = false;
   workers_.join();
+  gpu_waiters_.join();
   if (!config_.unix_socket.empty()) {
     std::error_code ignored;
     std::filesystem::remove(config_.unix_socket, ignored);
@@ -190,6 +205,7 @@ ServerSnapshot Server::gather_snapshot() const {
   snapshot.connections_open = connections_.size();
   snapshot.connections_accepted = next_connection_id_ - 1;
   snapshot.buffered_bytes = buffer_budget_.used();
+  snapshot.collision = environment_.collision.snapshot();
   for (const ModelHandle& model : environment_.models.models()) {
     ModelSnapshot& entry = snapshot.models.emplace_back();
     entry.id = model->id;

@@ -1,7 +1,8 @@
 // Server: sweepd's listeners, connections and worker pool.
 //
-// Server(config, models, readiness, tls): `tls`, when given, is the TCP listener's TLS
-//   (server/transport/tls_context.h); none: plain TCP.
+// Server(config, models, readiness, tls, gpu, collision): `tls`, when given, is the TCP
+//   listener's TLS (server/transport/tls_context.h); none: plain TCP. `gpu` (the one GPU
+//   thread, for position maps) and `collision` (the collision backend) outlive the server.
 // open(): binds the TCP listener (config.listen_address:port; port 0 picks a free one) and
 //   the Unix-socket listener (config.unix_socket, a stale socket file is replaced; always
 //   plain). Throws std::runtime_error naming the address and the reason. Returns the bound TCP
@@ -14,7 +15,9 @@
 // `readiness` is set to accepting once run() serves and to draining on shutdown.
 // Connections beyond config.max_connections get a fatal Error{ConnectionLimit}.
 // All socket work runs on the thread that calls run(); deformation and model loading run on
-// a pool of config.worker_threads (0: one per core).
+// a pool of config.worker_threads (0: one per core); poses whose folding waits on the GPU
+// thread (the gpu collision backend) run on a second pool of as many threads, which mostly
+// wait, so that the first stays free for other connections' CPU work.
 #pragma once
 
 #include <asio.hpp>
@@ -26,6 +29,8 @@
 #include <optional>
 
 #include "server/config.h"
+#include "server/handlers/collision_service.h"
+#include "server/handlers/gpu_thread.h"
 #include "server/handlers/position_map_service.h"
 #include "server/models/model_service.h"
 #include "server/readiness.h"
@@ -37,7 +42,7 @@ namespace sweepd::server {
 class Server {
  public:
   Server(const ServerConfig& config, ModelService& models, Readiness& readiness,
-         std::optional<asio::ssl::context> tls);
+         std::optional<asio::ssl::context> tls, GpuThread& gpu, CollisionService& collision);
   ~Server();
 
   int open();
@@ -58,6 +63,7 @@ class Server {
   std::atomic<bool> serving_{false};  // io_.run() is (about to be) running
   asio::io_context io_;
   asio::thread_pool workers_;
+  asio::thread_pool gpu_waiters_;
   PositionMapService position_maps_;
   protocol::BufferBudget buffer_budget_;
   ReplyBuilderPool builders_;

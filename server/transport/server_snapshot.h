@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "server/handlers/collision_service.h"
 #include "server/transport/traffic_counters.h"
 
 namespace sweepd::server {
@@ -27,6 +28,7 @@ struct ServerSnapshot {
   std::uint64_t buffered_bytes = 0;  // frames being read and replies waiting (BufferBudget)
   std::uint64_t store_bytes = 0;     // the store directory's files (ModelService::store_bytes)
   std::vector<ModelSnapshot> models;
+  CollisionSnapshot collision;  // the collision backend and its GPU fallbacks
 };
 
 }  // namespace sweepd::server

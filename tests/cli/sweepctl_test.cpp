@@ -26,8 +26,11 @@ struct Result {
   std::string output;  // stdout and stderr together, or what `streams` leaves
 };
 
-Result run_sweepctl(const std::string& arguments, const std::string& streams = "2>&1") {
-  const std::string command = std::string(SWEEPD_SWEEPCTL) + " " + arguments + " " + streams;
+// `environment`: VAR=value assignments put before the command.
+Result run_sweepctl(const std::string& arguments, const std::string& streams = "2>&1",
+                    const std::string& environment = "") {
+  const std::string command =
+      environment + std::string(SWEEPD_SWEEPCTL) + " " + arguments + " " + streams;
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe) return {-1, "popen failed"};
   std::string output;
@@ -228,6 +231,51 @@ TEST(SweepctlPosing, FeaturesFoldTheSharedMalesBentElbow) {
   fs::remove_all(dir);
 }
 
+TEST(SweepctlPosing, CollisionOnTheGpuAndTheCpuGiveTheSameFoldedMale) {
+  const fs::path male = shared("models/makehuman_male_cmu.glb");
+  const fs::path clip = shared("motion/cmu_01_01.bvh");
+  if (!fs::exists(male) || !fs::exists(clip)) GTEST_SKIP() << "shared data absent";
+  const fs::path dir = temp_dir();
+  const std::string posing = "pose " + male.string() + " --bvh " + clip.string() +
+                             " --frame 1257 --features folding,protrusion -o ";
+  const Result gpu = run_sweepctl(posing + (dir / "gpu.glb").string() + " --collision gpu");
+  ASSERT_EQ(gpu.exit_code, 0) << gpu.output;
+  EXPECT_NE(gpu.output.find("collision: gpu (--collision gpu on "), std::string::npos)
+      << gpu.output;
+  EXPECT_NE(gpu.output.find("1 frame: detect "), std::string::npos) << gpu.output;
+  EXPECT_NE(gpu.output.find("(upload "), std::string::npos) << gpu.output;
+  const Result cpu = run_sweepctl(posing + (dir / "cpu.glb").string() + " --collision cpu");
+  ASSERT_EQ(cpu.exit_code, 0) << cpu.output;
+  EXPECT_NE(cpu.output.find("collision: cpu (--collision cpu"), std::string::npos) << cpu.output;
+  // The same pairs, so the same vertices (1e-6 m: the bound; they are bit-identical).
+  const sweepd::deform::Model on_gpu = sweepd::io::load_gltf(dir / "gpu.glb");
+  const sweepd::deform::Model on_cpu = sweepd::io::load_gltf(dir / "cpu.glb");
+  ASSERT_EQ(on_gpu.positions.size(), on_cpu.positions.size());
+  for (std::size_t v = 0; v < on_gpu.positions.size(); ++v)
+    ASSERT_LE(glm::length(on_gpu.positions[v] - on_cpu.positions[v]), 1e-6f) << "vertex " << v;
+  // metrics' sweep+features method: the same table either way, and its collision line.
+  const std::string measuring = "metrics " + male.string() + " --bvh " + clip.string() +
+                                " --frame 1257 --method sweep+features --collision ";
+  const Result gpu_metrics = run_sweepctl(measuring + "gpu", "2>/dev/null");
+  const Result cpu_metrics = run_sweepctl(measuring + "cpu", "2>/dev/null");
+  ASSERT_EQ(gpu_metrics.exit_code, 0) << gpu_metrics.output;
+  ASSERT_EQ(cpu_metrics.exit_code, 0) << cpu_metrics.output;
+  const std::size_t gpu_line = gpu_metrics.output.find("collision: gpu (");
+  const std::size_t cpu_line = cpu_metrics.output.find("collision: cpu (");
+  ASSERT_NE(gpu_line, std::string::npos) << gpu_metrics.output;
+  ASSERT_NE(cpu_line, std::string::npos) << cpu_metrics.output;
+  EXPECT_NE(gpu_metrics.output.find("crossing triangle pairs"), std::string::npos);
+  EXPECT_EQ(gpu_metrics.output.substr(0, gpu_line), cpu_metrics.output.substr(0, cpu_line));
+  // Without an EGL driver (libglvnd told to load no vendor) --collision gpu names the problem.
+  const Result no_egl =
+      run_sweepctl(posing + (dir / "x.glb").string() + " --collision gpu", "2>&1",
+                   "__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent/sweepd_no_vendor.json ");
+  EXPECT_EQ(no_egl.exit_code, 1) << no_egl.output;
+  EXPECT_NE(no_egl.output.find("--collision gpu: no usable EGL context"), std::string::npos)
+      << no_egl.output;
+  fs::remove_all(dir);
+}
+
 TEST(SweepctlErrors, NameTheFileAndTheProblemWithoutCrashing) {
   const fs::path dir = temp_dir();
   const fs::path truncated = dir / "truncated.glb";
@@ -300,6 +348,11 @@ TEST(SweepctlCommandLine, RefusalsNameTheCommandTheFlagAndTheValue) {
       {"pose m.glb --bvh c.bvh --pose p.json -o x.glb", {"--bvh", "--pose"}},
       {"pose m.glb -o x.glb render", {"sweepctl pose", "render"}},
       {"pose m.glb -o x.glb --token t", {"--token requires --server"}},
+      {"pose m.glb -o x.glb --collision cuda", {"--collision", "cuda"}},
+      {"pose m.glb -o x.glb --collision gpu --server 127.0.0.1:1",
+       {"--collision applies where sweepctl deforms"}},
+      {"metrics m.glb --collision gpu --server 127.0.0.1:1",
+       {"--collision applies where sweepctl deforms"}},
       {"edit m.glb edits.json", {"m.glb is not a .sweepbind file"}},
       // --server after the command is the top-level flag: inspect refuses it by name.
       {"inspect m.glb --server 127.0.0.1:1", {"sweepctl inspect: runs locally only"}},

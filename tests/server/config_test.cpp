@@ -83,6 +83,20 @@ TEST(ServerConfig, MistakesAreNamed) {
   fs::remove_all(directory);
 }
 
+TEST(ServerConfig, CollisionBackendIsAFlagAndAConfigKey) {
+  EXPECT_EQ(parse({}).collision, gpu::CollisionChoice::kAuto);
+  EXPECT_EQ(parse({"--collision", "gpu"}).collision, gpu::CollisionChoice::kGpu);
+  const fs::path directory = fresh_directory("collision_config");
+  const fs::path file = directory / "sweepd.json";
+  std::ofstream(file) << R"({"collision": "cpu"})";
+  EXPECT_EQ(parse({"--config", file.c_str()}).collision, gpu::CollisionChoice::kCpu);
+  EXPECT_EQ(parse({"--config", file.c_str(), "--collision", "auto"}).collision,
+            gpu::CollisionChoice::kAuto);  // the flag wins
+  EXPECT_NE(error_of({"--collision", "cuda"}).find("--collision: 'cuda' is not auto, gpu or cpu"),
+            std::string::npos);
+  fs::remove_all(directory);
+}
+
 TEST(ServerConfig, HttpSidePortIsOffByDefaultAndNeverTheProtocolPort) {
   EXPECT_EQ(parse({}).http_port, -1);
   const server::ServerConfig v4 = parse({"--http-listen", "0.0.0.0:9464"});

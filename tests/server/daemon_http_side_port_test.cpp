@@ -198,6 +198,12 @@ TEST_F(HttpSidePortTest, MetricsPassPromtoolAndCountTheTrafficSent) {
   const double now =
       std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
   EXPECT_NEAR(metric(after, "sweepd_process_start_time_seconds"), now, 3600.0);
+  // The collision backend (--collision auto: the CPU on llvmpipe or without EGL, the GPU on a
+  // hardware device) is the one the start-up log names, and nothing fell back.
+  const bool gpu = daemon_->log().find(R"("backend":"gpu")") != std::string::npos;
+  EXPECT_EQ(metric(after, R"(sweepd_collision_backend{backend="gpu"})"), gpu ? 1.0 : 0.0);
+  EXPECT_EQ(metric(after, R"(sweepd_collision_backend{backend="cpu"})"), gpu ? 0.0 : 1.0);
+  EXPECT_EQ(metric(after, "sweepd_collision_gpu_fallbacks_total"), 0.0);
 }
 
 TEST_F(HttpSidePortTest, RealPrometheusScrapesThePoseCount) {

@@ -69,6 +69,21 @@ TEST_F(SweepctlRemote, FrameRangeOfAnAlreadyLoadedModelEqualsTheLocalFrames) {
   }
 }
 
+TEST_F(SweepctlRemote, PoseWithFoldingPrintsTheDaemonsCollisionBackend) {
+  const ClientRun remote =
+      run_sweepctl(server() + " pose mannequin " + kClipFrameArgs +
+                   " --features folding,protrusion -o " + path("folded.glb").string());
+  ASSERT_EQ(remote.exit_code, 0) << remote.output << log();
+  // The daemon runs --collision auto: the backend its start-up log names.
+  const bool gpu = log().find(R"("backend":"gpu")") != std::string::npos;
+  const std::string line = "collision on sweepd at 127.0.0.1:" + std::to_string(port()) + ": " +
+                           (gpu ? "gpu" : "cpu") + " (--collision auto: ";
+  EXPECT_NE(remote.output.find(line), std::string::npos) << remote.output;
+  EXPECT_NE(remote.output.find(" poses since it started, 0 GPU fallbacks: detect "),
+            std::string::npos)
+      << remote.output;
+}
+
 TEST_F(SweepctlRemote, ServerOnlyMannequinIsWrittenFromTheServedMesh) {
   const ClientRun remote = run_sweepctl(server() + " pose mannequin " + kClipFrameArgs + " -o " +
                                         path("mannequin.glb").string());
