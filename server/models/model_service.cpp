@@ -152,6 +152,9 @@ ModelHandle ModelService::bind_and_store(const ModelLoadRequest& request,
     deform::RigMap rig;
     if (request.rig_map_json.empty()) {
       rig = deform::detect_rig_map(model.skeleton);
+      // A part found neither by name nor by shape is skinned, not swept: the operator hears it.
+      for (const std::string& warning : rig.warnings)
+        log_event("rig_warning", {{"name", request.name}, {"warning", warning}});
     } else {
       const fs::path rig_file = slot.file(".rig.json");
       io::write_file_durably(rig_file,

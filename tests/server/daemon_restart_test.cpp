@@ -10,6 +10,7 @@
 #include "io/gltf_save.h"
 #include "io/sweepbind.h"
 #include "mannequin/mannequin.h"
+#include "tests/deform/rig/legless_cut.h"
 #include "tests/server/daemon_process.h"
 #include "tests/server/pose_frames.h"
 #include "tests/server/stored_binding.h"
@@ -198,6 +199,25 @@ TEST(DaemonModelDirectory, ListsUnloadedFilesAndLoadsThemByName) {
   ASSERT_NE(error, nullptr);
   EXPECT_EQ(error->code(), protocol::ErrorCode::UnknownModel);
   EXPECT_NE(error->message()->str().find("absent"), std::string::npos);
+  fs::remove_all(directory);
+}
+
+// A legless upload binds (arms, spine and neck swept) and the daemon logs what it skins instead.
+TEST(DaemonModelLoad, ALeglessUploadBindsAndItsRigWarningIsLogged) {
+  const fs::path directory = fresh_directory("legless_upload");
+  const fs::path file = directory / "bust.glb";
+  io::save_gltf(deform::test::legless_cut(mannequin::make_mannequin({.target_vertices = 3000})),
+                file);
+  DaemonProcess daemon(directory, {"--mannequin-vertices", "1000"});
+  ASSERT_TRUE(daemon.running()) << daemon.log();
+  FrameClient client(daemon.port());
+  ASSERT_NE(client.hello(""), nullptr);
+  const protocol::ModelInfo* info = upload(client, "bust", read_bytes(file));
+  ASSERT_NE(info, nullptr) << daemon.log();
+  EXPECT_GT(info->bind()->sweep_count(), 0u);
+  const std::string log = daemon.log();
+  EXPECT_NE(log.find("\"event\":\"rig_warning\""), std::string::npos) << log;
+  EXPECT_NE(log.find("no legs found"), std::string::npos) << log;
   fs::remove_all(directory);
 }
 
