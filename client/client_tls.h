@@ -9,8 +9,11 @@
 //   allow_plaintext  send a token over plain TCP to a host that is not loopback; without it
 //                    client::Connection::hello refuses to (the token would cross the network
 //                    in clear)
+//   handshake_timeout  how long the TLS handshake may wait for the server's next bytes (a
+//                    server that accepts and never answers); zero: for ever
 #pragma once
 
+#include <chrono>
 #include <string>
 
 namespace sweepd::client {
@@ -21,6 +24,7 @@ struct ClientTls {
   std::string cert_file;
   std::string key_file;
   bool allow_plaintext = false;
+  std::chrono::milliseconds handshake_timeout{30000};
 };
 
 }  // namespace sweepd::client

@@ -91,7 +91,7 @@ TlsChannel::TlsChannel(int fd, const std::string& host, const std::string& addre
   fcntl(fd_, F_SETFL, fcntl(fd_, F_GETFL) | O_NONBLOCK);
   SSL_set_fd(ssl, fd_);
   try {
-    run([ssl] { return SSL_connect(ssl); }, "TLS handshake with", std::chrono::milliseconds(0));
+    run([ssl] { return SSL_connect(ssl); }, "TLS handshake with", tls.handshake_timeout);
   } catch (const std::runtime_error&) {
     const long verify = SSL_get_verify_result(ssl);
     if (verify != X509_V_OK) {

@@ -7,7 +7,9 @@
 //                                        certificate must chain to tls.ca_file (or the
 //                                        system's store) and name `host` (DNS name or IP
 //                                        address); tls.cert_file/key_file are offered when
-//                                        the server asks. Makes `fd` non-blocking.
+//                                        the server asks; throws ReceiveTimeout when the
+//                                        server sends nothing for tls.handshake_timeout.
+//                                        Makes `fd` non-blocking.
 //   write_all(bytes), read_exactly(bytes, timeout)
 //                                        the whole span, or std::runtime_error; a read that
 //                                        waits `timeout` (zero: for ever) for the socket

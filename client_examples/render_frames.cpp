@@ -22,7 +22,8 @@
 //    model goes by its content id after the first server's answer (client/model_source.h):
 //    a replica sharing the store finds it there; one that answers UnknownModel — at load or
 //    for a frame — gets the upload again (the count is on stderr when above one).
-// 4. Failures: a server that dies, closes, or sends nothing for --timeout seconds (default 60)
+// 4. Failures: a server that dies, closes, or sends nothing for --timeout seconds (default 60;
+//    the TLS handshake included)
 //    loses its frames in flight back to the queue, where the next server to ask takes them
 //    (elsewhere, when there is an elsewhere); its thread connects again after 0.2, 0.4, 0.8,
 //    1.6 s and gives up after 5 failed tries in a row. A frame is tried at most --attempts
@@ -282,12 +283,20 @@ bool write_file(const fs::path& file, const pb::PositionMap& map) {
   throw std::runtime_error("cannot rename " + partial.string() + ": " + std::strerror(error));
 }
 
+// The TLS settings with --timeout bounding the handshake too: a server that accepts and never
+// answers is left like one that stops answering frames.
+sweepd::client::ClientTls with_handshake_timeout(const Options& options) {
+  sweepd::client::ClientTls tls = options.tls;
+  tls.handshake_timeout = std::chrono::milliseconds(options.timeout_ms);
+  return tls;
+}
+
 // One connection to one server: set up for the job, then frames until the queue has ended.
 // Frames it holds are in `in_flight`, so that the caller can give them back when it throws.
 class ServerSession {
  public:
   ServerSession(const std::string& address, const Job& job)
-      : job_(job), channel_(address, job.options.tls) {
+      : job_(job), channel_(address, with_handshake_timeout(job.options)) {
     channel_.set_receive_timeout(std::chrono::milliseconds(job.options.timeout_ms));
     try {
       window_ =
