@@ -155,11 +155,8 @@ RestoreReport ModelRegistry::restore() {
       report.problems.push_back({file, "not loaded: " + why, {}});
       continue;
     }
-    models_.push_back(std::move(model));
+    hold(std::move(model));
   }
-  std::lock_guard lock(mutex_);
-  std::sort(models_.begin(), models_.end(),
-            [](const ModelHandle& a, const ModelHandle& b) { return a->id < b->id; });
   return report;
 }
 
@@ -208,6 +205,24 @@ std::string ModelRegistry::conflict(const std::string& name, const std::string& 
   return {};
 }
 
+void ModelRegistry::check_room(const std::string& name, const std::string& content_id,
+                               const std::string& what) const {
+  if (models_.size() >= max_models_) {
+    throw ModelError(ErrorCode::ModelLimit, "model '" + name +
+                                                "': the server already holds its limit of " +
+                                                std::to_string(max_models_) + " models");
+  }
+  if (const std::string why = conflict(name, content_id); !why.empty())
+    throw ModelError(ErrorCode::ModelLoadFailed, what + ": " + why);
+}
+
+void ModelRegistry::hold(ModelHandle model) {
+  std::erase_if(models_, [&](const ModelHandle& held) { return held->id == model->id; });
+  const auto by_handle = [](const ModelHandle& a, const ModelHandle& b) { return a->id < b->id; };
+  models_.insert(std::upper_bound(models_.begin(), models_.end(), model, by_handle),
+                 std::move(model));
+}
+
 std::string ModelRegistry::stored_content_named(std::string_view name) const {
   for (const std::string& content_id : stored_content_ids(store_dir_)) {
     if (read_label(store_dir_ / (content_id + ".json")).name == name) return content_id;
@@ -231,16 +246,8 @@ ModelHandle ModelRegistry::adopt(const std::string& content_id) {
                          " is damaged and was quarantined: " + std::string(error.what()));
   }
   std::lock_guard lock(mutex_);
-  if (models_.size() >= max_models_) {
-    throw ModelError(ErrorCode::ModelLimit, "model '" + model->name +
-                                                "': the server already holds its limit of " +
-                                                std::to_string(max_models_) + " models");
-  }
-  if (const std::string why = conflict(model->name, content_id); !why.empty())
-    throw ModelError(ErrorCode::ModelLoadFailed, "stored model " + content_id + ": " + why);
-  models_.push_back(model);
-  std::sort(models_.begin(), models_.end(),
-            [](const ModelHandle& a, const ModelHandle& b) { return a->id < b->id; });
+  check_room(model->name, content_id, "stored model " + content_id);
+  hold(model);
   return model;
 }
 
@@ -248,13 +255,7 @@ ModelRegistry::StoreSlot ModelRegistry::claim(const std::string& name,
                                               const std::string& content_id) {
   std::unique_lock store_lock(store_mutex_);
   std::lock_guard lock(mutex_);
-  if (models_.size() >= max_models_) {
-    throw ModelError(ErrorCode::ModelLimit, "model '" + name +
-                                                "': the server already holds its limit of " +
-                                                std::to_string(max_models_) + " models");
-  }
-  if (const std::string why = conflict(name, content_id); !why.empty())
-    throw ModelError(ErrorCode::ModelLoadFailed, "model '" + name + "': " + why);
+  check_room(name, content_id, "model '" + name + "'");
   return StoreSlot(std::move(store_lock), store_dir_, content_id);
 }
 
@@ -281,10 +282,7 @@ ModelHandle ModelRegistry::add(StoreSlot slot, const std::string& name, deform::
   }
   std::lock_guard lock(mutex_);
   // The slot kept every other add out, so the claim's room, name and handle still hold.
-  std::erase_if(models_, [&](const ModelHandle& held) { return held->id == model->id; });
-  models_.push_back(model);
-  std::sort(models_.begin(), models_.end(),
-            [](const ModelHandle& a, const ModelHandle& b) { return a->id < b->id; });
+  hold(model);
   return model;
 }
 

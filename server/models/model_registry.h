@@ -148,6 +148,12 @@ class ModelRegistry {
   // Why `name`/`content_id` cannot be held beside the held models; empty: it can. Caller
   // holds mutex_.
   std::string conflict(const std::string& name, const std::string& content_id) const;
+  // ModelError{ModelLimit} when full, {ModelLoadFailed} "<what>: <conflict>" when `name` or
+  // the handle is held by another model. Caller holds mutex_.
+  void check_room(const std::string& name, const std::string& content_id,
+                  const std::string& what) const;
+  // Holds `model` in handle order, in place of one with its handle. Caller holds mutex_.
+  void hold(ModelHandle model);
   // Reads <cid>.sweepbind and its label into a model (not yet held); throws what load throws.
   std::shared_ptr<RegisteredModel> read_stored(const std::string& content_id) const;
   void migrate_numbered_store(RestoreReport& report);
