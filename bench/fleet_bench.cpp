@@ -20,7 +20,6 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <regex>
 #include <string>
 #include <thread>
 #include <vector>
@@ -29,6 +28,7 @@
 #include "bench/bench_poses.h"
 #include "client/connection.h"
 #include "console/command_line.h"
+#include "tests/server/client_run.h"
 #include "tests/server/haproxy_process.h"
 
 namespace {
@@ -61,15 +61,6 @@ void round_trips(const std::string& address, const std::vector<BenchPose>& poses
   connection.close();
 }
 
-// Runs a shell command; its stdout and stderr, and whether it exited 0.
-bool run(const std::string& command, std::string& output) {
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  if (!pipe) return false;
-  char buffer[4096];
-  while (std::size_t n = std::fread(buffer, 1, sizeof buffer, pipe)) output.append(buffer, n);
-  return pclose(pipe) == 0;
-}
-
 // Frames per second of render_frames runs started at once (each given its own flags), all
 // frames counted over the wall time of the slowest; throws when one fails.
 double render_rate(const Options& options, const std::vector<std::string>& runs,
@@ -80,21 +71,19 @@ double render_rate(const Options& options, const std::vector<std::string>& runs,
                              std::to_string(options.frames - 1) + " --width " +
                              std::to_string(options.side) + " --height " +
                              std::to_string(options.side) + " -o " + output.string() + " ";
-  std::vector<std::string> outputs(runs.size());
-  std::vector<char> ok(runs.size(), 0);
+  std::vector<sweepd::test::ClientRun> results(runs.size());
   const Clock::time_point start = Clock::now();
   std::vector<std::thread> threads;
   for (std::size_t r = 0; r < runs.size(); ++r)
-    threads.emplace_back([&, r] { ok[r] = run(common + runs[r], outputs[r]); });
+    threads.emplace_back([&, r] { results[r] = sweepd::test::run_client(common + runs[r]); });
   for (std::thread& thread : threads) thread.join();
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   int rendered = 0;
-  const std::regex summary(R"(rendered (\d+), skipped)");
   for (std::size_t r = 0; r < runs.size(); ++r) {
-    std::smatch match;
-    if (!ok[r] || !std::regex_search(outputs[r], match, summary))
-      throw std::runtime_error("render_frames " + runs[r] + " failed:\n" + outputs[r]);
-    rendered += std::stoi(match[1]);
+    const int frames = sweepd::test::render_counts(results[r].output)[0];
+    if (results[r].exit_code != 0 || frames < 0)
+      throw std::runtime_error("render_frames " + runs[r] + " failed:\n" + results[r].output);
+    rendered += frames;
   }
   if (rendered != options.frames)
     throw std::runtime_error("rendered " + std::to_string(rendered) + " frames, not " +

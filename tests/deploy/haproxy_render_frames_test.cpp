@@ -83,14 +83,19 @@ class HaproxyRenderFrames : public ::testing::Test {
     }
   }
 
-  // render_frames through HAProxy on the range, with `extra` flags, into `frames`.
+  // render_frames against `server` on the range, with `extra` flags, into `frames`.
+  std::string render_command(const std::string& server, const std::string& extra,
+                             const fs::path& frames) const {
+    return std::string(SWEEPD_RENDER_FRAMES) + " --server " + server + " --frames " +
+           std::to_string(kFirst) + "-" + std::to_string(kLast) + " --width " +
+           std::to_string(kSide) + " --height " + std::to_string(kSide) + " --bvh " +
+           clip_.string() + " --token t0k " + extra + " -o " + frames.string();
+  }
+
+  // render_frames through HAProxy, with a 5 s timeout, started now.
   std::future<ClientRun> render(const std::string& extra, const fs::path& frames) const {
-    const std::string command = std::string(SWEEPD_RENDER_FRAMES) +
-                                " --server 127.0.0.1:" + std::to_string(haproxy_->port()) +
-                                " --frames " + std::to_string(kFirst) + "-" +
-                                std::to_string(kLast) + " --width " + std::to_string(kSide) +
-                                " --height " + std::to_string(kSide) + " --bvh " + clip_.string() +
-                                " --token t0k --timeout 5 " + extra + " -o " + frames.string();
+    const std::string command = render_command("127.0.0.1:" + std::to_string(haproxy_->port()),
+                                               "--timeout 5 " + extra, frames);
     return std::async(std::launch::async, [command] { return run_client(command); });
   }
 
@@ -125,12 +130,8 @@ class HaproxyRenderFrames : public ::testing::Test {
   // The same range from the surviving replica alone, directly, with `extra` flags.
   fs::path render_alone(const std::string& extra) const {
     const fs::path alone = directory_ / "alone";
-    const ClientRun single =
-        run_client(std::string(SWEEPD_RENDER_FRAMES) +
-                   " --server 127.0.0.1:" + std::to_string(ports_[1 - killed_].protocol_port) +
-                   " --frames " + std::to_string(kFirst) + "-" + std::to_string(kLast) +
-                   " --width " + std::to_string(kSide) + " --height " + std::to_string(kSide) +
-                   " --bvh " + clip_.string() + " --token t0k " + extra + " -o " + alone.string());
+    const ClientRun single = run_client(render_command(
+        "127.0.0.1:" + std::to_string(ports_[1 - killed_].protocol_port), extra, alone));
     EXPECT_EQ(single.exit_code, 0) << single.output;
     return alone;
   }
