@@ -1,0 +1,358 @@
+"""Client: a blocking sweepd session with NumPy in and out.
+
+    with Client("127.0.0.1", 7878, token="SECRET") as sweepd:
+        body = sweepd.upload("body.glb")                  # or sweepd.load("mannequin")
+        posed = sweepd.pose(body, rotations)              # rotations: (joints, 4) x, y, z, w
+        posed.positions                                    # (vertices, 3) float32, metres
+        exr = sweepd.position_map(body, rotations, width=512, height=512)
+
+Rotations are local (parent-relative) unit quaternions in the model's joint order
+(Model.joint_names), as an array of shape (joints, 4) in x, y, z, w order; None is the rest
+pose. `model` arguments take a Model, a model id or a model name (loaded on first use).
+Errors raise the exceptions of sweepd_client.errors; every receive waits at most `timeout`
+seconds.
+"""
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+from sweepd.protocol import (Body, Bye, DeformMethod, Error, ExrCompression, Features, Hello,
+                             ListModels, LoadModel, MapLayers, Mesh, MeshRequest, ModelInfo,
+                             ModelList, Pose, PoseDelivery, PosedVertices, PositionFormat,
+                             PositionMap, PositionMapRequest, Quat, Stats, StatsRequest, Vec3,
+                             Welcome)
+
+from .connection import Connection, body_of, new_builder
+from .errors import ConnectionLost, SweepdError, Timeout, server_error
+
+PROTOCOL_VERSION = (1, 3)
+METHODS = {"sweep": DeformMethod.DeformMethod.Sweep, "lbs": DeformMethod.DeformMethod.Lbs,
+           "dqs": DeformMethod.DeformMethod.Dqs}
+FEATURES = {"folding": Features.Features.Folding, "protrusion": Features.Features.Protrusion,
+            "bulge": Features.Features.Bulge, "volume": Features.Features.Volume}
+LAYERS = {"position": MapLayers.MapLayers.Position, "normal": MapLayers.MapLayers.Normal,
+          "coverage": MapLayers.MapLayers.Coverage}
+COMPRESSIONS = {name.lower(): value for name, value in vars(ExrCompression.ExrCompression).items()
+                if not name.startswith("_")}
+
+
+@dataclass(frozen=True)
+class ModelSummary:
+    name: str
+    model_id: int          # 0: in the server's model directory, not loaded yet
+    content_id: str        # SHA-256 of what the binding was made from ("" when not loaded)
+    vertex_count: int
+    joint_count: int
+
+
+@dataclass(frozen=True)
+class Model:
+    model_id: int
+    name: str
+    content_id: str
+    joint_names: list
+    joint_parents: list
+    vertex_count: int
+    triangle_count: int
+    rig_convention: str
+
+
+@dataclass
+class Posed:
+    positions: np.ndarray         # (vertices, 3) float32
+    normals: np.ndarray | None    # (vertices, 3) float32 when asked for
+    sequence: int
+    timings_ns: dict = field(default_factory=dict)  # queued, deform, features, encode
+
+
+@dataclass
+class RestMesh:
+    positions: np.ndarray         # (vertices, 3) float32
+    triangles: np.ndarray         # (triangles, 3) uint32
+    uvs: np.ndarray | None        # (vertices, 2) float32, None without UVs
+    skin_joints: np.ndarray       # (vertices, 4) uint16
+    skin_weights: np.ndarray      # (vertices, 4) float32
+
+
+def _text(value):
+    return value.decode() if value is not None else ""
+
+
+class Client:
+    def __init__(self, host="127.0.0.1", port=7878, token="", *, unix=None, tls=None,
+                 timeout=30.0, client_name="sweepd-client", latest_wins=False,
+                 allow_plaintext=False):
+        """tls: an ssl.SSLContext (ssl.create_default_context(cafile=...)) for a TLS listener.
+        A token is not sent over plain TCP to a host that is not loopback unless
+        allow_plaintext."""
+        self._connection = Connection(host, port, unix, tls, timeout)
+        self._models = {}
+        self._sequence = 0
+        try:
+            if token and not self._connection.tls and not self._connection.loopback \
+                    and not allow_plaintext:
+                raise SweepdError(f"{self._connection.address}: refusing to send the token "
+                                  "over plain TCP to a host that is not loopback; pass tls= or "
+                                  "allow_plaintext=True on a private network")
+            welcome = self._hello(token, client_name, latest_wins)
+        except BaseException:
+            self._connection.close()
+            raise
+        self.server_version = (welcome.VersionMajor(), welcome.VersionMinor())
+        self.max_poses_in_flight = max(1, welcome.MaxPosesInFlight())
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exception):
+        self.close()
+
+    def close(self, reason="done"):
+        """Bye, then the socket is closed. Safe to call twice."""
+        if self._connection is None:
+            return
+        builder = new_builder(64)
+        text = builder.CreateString(reason)
+        Bye.Start(builder)
+        Bye.AddReason(builder, text)
+        try:
+            self._connection.send(builder, Body.Body.Bye, Bye.End(builder))
+        except ConnectionLost:
+            pass  # already gone: nothing to say goodbye to
+        self._connection.close()
+        self._connection = None
+
+    # -- requests -------------------------------------------------------------------------
+
+    def models(self):
+        """The models the server holds, then those in its model directory."""
+        builder = new_builder(64)
+        ListModels.Start(builder)
+        self._send(builder, Body.Body.ListModels, ListModels.End(builder))
+        reply = self._expect(ModelList.ModelList)
+        return [ModelSummary(_text(m.Name()), m.ModelId(), _text(m.ContentId()), m.VertexCount(),
+                             m.JointCount())
+                for m in (reply.Models(i) for i in range(reply.ModelsLength()))]
+
+    def load(self, name):
+        """A model the server holds or finds in its store or model directory, by name."""
+        return self._load_model(name, b"")
+
+    def upload(self, glb, name=None):
+        """Uploads a .glb (a path or its bytes) and returns the bound Model. The same bytes
+        again are answered from the server's store without binding again."""
+        if not isinstance(glb, (bytes, bytearray, memoryview)):
+            path = str(glb)
+            with open(path, "rb") as file:
+                glb = file.read()
+            name = name or path.rsplit("/", 1)[-1]
+        return self._load_model(name or "upload.glb", bytes(glb))
+
+    def mesh(self, model):
+        """The model's rest mesh (in the order of every Posed's vertices)."""
+        model_id = self._model_id(model)
+        builder = new_builder(64)
+        MeshRequest.Start(builder)
+        MeshRequest.AddModelId(builder, model_id)
+        self._send(builder, Body.Body.MeshRequest, MeshRequest.End(builder))
+        reply = self._expect(Mesh.Mesh)
+        uvs = None if reply.UvsIsNone() or reply.UvsLength() == 0 else \
+            reply.UvsAsNumpy().reshape(-1, 2)
+        return RestMesh(reply.RestPositionsAsNumpy().reshape(-1, 3),
+                        reply.IndicesAsNumpy().reshape(-1, 3), uvs,
+                        reply.SkinJointsAsNumpy().reshape(-1, 4),
+                        reply.SkinWeightsAsNumpy().reshape(-1, 4))
+
+    def pose(self, model, rotations=None, root=None, *, method="sweep", features=(),
+             float16=False, normals=False):
+        """One pose → Posed. root: the root joint's translation (x, y, z), None: at rest."""
+        return next(self.poses(model, [(rotations, root)], method=method, features=features,
+                               float16=float16, normals=normals))
+
+    def poses(self, model, frames, *, method="sweep", features=(), float16=False, normals=False,
+              window=None):
+        """Streams `frames` (an iterable of rotations, or of (rotations, root) pairs) with up to
+        `window` poses in flight (default: the server's max_poses_in_flight) and yields each
+        Posed in order."""
+        model_id = self._model_id(model)
+        window = window or self.max_poses_in_flight
+        frames, pending = iter(frames), 0
+        while True:
+            while pending < window:
+                frame = next(frames, None)
+                if frame is None:
+                    break
+                rotations, root = frame if isinstance(frame, tuple) else (frame, None)
+                builder = new_builder(256)
+                pose = self._add_pose(builder, model_id, rotations, root, method, features,
+                                      float16, normals)
+                self._send(builder, Body.Body.Pose, pose)
+                pending += 1
+            if pending == 0:
+                return
+            pending -= 1
+            yield self._posed(self._expect(PosedVertices.PosedVertices))
+
+    def position_map(self, model, rotations=None, root=None, *, width=1024, height=1024,
+                     layers=("position",), compression="zip", half_normals=False,
+                     method="sweep", features=()):
+        """The posed surface rendered into UV space → the bytes of an OpenEXR file."""
+        model_id = self._model_id(model)
+        builder = new_builder(256)
+        pose = self._add_pose(builder, model_id, rotations, root, method, features, False, False)
+        PositionMapRequest.Start(builder)
+        PositionMapRequest.AddPose(builder, pose)
+        PositionMapRequest.AddWidth(builder, width)
+        PositionMapRequest.AddHeight(builder, height)
+        PositionMapRequest.AddCompression(builder, _choice(COMPRESSIONS, compression,
+                                                           "compression"))
+        PositionMapRequest.AddLayers(builder, _flags(LAYERS, layers, "layer"))
+        PositionMapRequest.AddHalfNormals(builder, half_normals)
+        self._send(builder, Body.Body.PositionMapRequest, PositionMapRequest.End(builder))
+        return self._expect(PositionMap.PositionMap).ExrAsNumpy().tobytes()
+
+    def stats(self):
+        """The server's Stats table (the generated class: .UptimeNs(), .Models(i), ...)."""
+        builder = new_builder(64)
+        StatsRequest.Start(builder)
+        self._send(builder, Body.Body.StatsRequest, StatsRequest.End(builder))
+        return self._expect(Stats.Stats)
+
+    # -- internals ------------------------------------------------------------------------
+
+    def _hello(self, token, client_name, latest_wins):
+        builder = new_builder(256)
+        token_offset = builder.CreateString(token)
+        name = builder.CreateString(client_name)
+        Hello.Start(builder)
+        Hello.AddVersionMajor(builder, PROTOCOL_VERSION[0])
+        Hello.AddVersionMinor(builder, PROTOCOL_VERSION[1])
+        Hello.AddAuthToken(builder, token_offset)
+        Hello.AddClientName(builder, name)
+        Hello.AddDelivery(builder, PoseDelivery.PoseDelivery.LatestWins if latest_wins
+                          else PoseDelivery.PoseDelivery.InOrder)
+        self._send(builder, Body.Body.Hello, Hello.End(builder))
+        try:
+            return self._expect(Welcome.Welcome)
+        except Timeout:
+            raise
+        except ConnectionLost as error:
+            if self._connection.tls:
+                raise
+            # A TLS listener drops a plaintext Hello without a reply.
+            raise ConnectionLost(f"{error} (closed before Welcome: if sweepd serves TLS, "
+                                 "pass tls=)") from error
+
+    def _load_model(self, name, glb):
+        builder = new_builder(1024 + len(glb))
+        gltf = builder.CreateByteVector(glb) if glb else None
+        name_offset = builder.CreateString(name)
+        LoadModel.Start(builder)
+        LoadModel.AddName(builder, name_offset)
+        if gltf is not None:
+            LoadModel.AddGltf(builder, gltf)
+        self._send(builder, Body.Body.LoadModel, LoadModel.End(builder))
+        info = self._expect(ModelInfo.ModelInfo)
+        bind = info.Bind()
+        model = Model(info.ModelId(), _text(info.Name()), _text(info.ContentId()),
+                      [_text(info.JointNames(j)) for j in range(info.JointNamesLength())],
+                      [info.JointParents(j) for j in range(info.JointParentsLength())],
+                      info.VertexCount(), info.TriangleCount(),
+                      _text(bind.RigConvention()) if bind else "")
+        self._models[model.name] = self._models[model.model_id] = model
+        return model
+
+    def _model_id(self, model):
+        if isinstance(model, Model):
+            self._models.setdefault(model.model_id, model)
+            return model.model_id
+        if model not in self._models:
+            if not isinstance(model, str):
+                raise SweepdError(f"model {model}: not loaded on this connection (load or "
+                                  "upload it first, or pass its name)")
+            self.load(model)
+        return self._models[model].model_id
+
+    def _add_pose(self, builder, model_id, rotations, root, method, features, float16, normals):
+        joints = len(self._models[model_id].joint_names)
+        if rotations is None:
+            rotations = np.tile(np.array([0.0, 0.0, 0.0, 1.0], np.float32), (joints, 1))
+        rotations = np.asarray(rotations, np.float32)
+        if rotations.ndim != 2 or rotations.shape[1] != 4:
+            raise SweepdError(f"rotations: shape {rotations.shape}, expected (joints, 4) "
+                              "quaternions x, y, z, w")
+        Pose.StartRotationsVector(builder, len(rotations))
+        for x, y, z, w in rotations[::-1].tolist():
+            Quat.CreateQuat(builder, x, y, z, w)
+        rotation_vector = builder.EndVector()
+        self._sequence += 1
+        Pose.Start(builder)
+        Pose.AddModelId(builder, model_id)
+        Pose.AddSequence(builder, self._sequence)
+        Pose.AddClientTimeNs(builder, time.monotonic_ns())
+        Pose.AddRotations(builder, rotation_vector)
+        if root is not None:
+            Pose.AddRootTranslation(builder, Vec3.CreateVec3(builder, *map(float, root)))
+        Pose.AddMethod(builder, _choice(METHODS, method, "method"))
+        Pose.AddFeatures(builder, _flags(FEATURES, features, "feature"))
+        Pose.AddPositions(builder, PositionFormat.PositionFormat.Float16 if float16
+                          else PositionFormat.PositionFormat.Float32)
+        Pose.AddNormals(builder, normals)
+        return Pose.End(builder)
+
+    @staticmethod
+    def _posed(reply):
+        if not reply.PositionsF32IsNone():
+            positions = reply.PositionsF32AsNumpy().reshape(-1, 3)
+        elif not reply.PositionsF16IsNone():
+            positions = _from_half(reply.PositionsF16AsNumpy())
+        else:
+            positions = np.zeros((0, 3), np.float32)
+        normals = None
+        if not reply.NormalsF32IsNone():
+            normals = reply.NormalsF32AsNumpy().reshape(-1, 3)
+        elif not reply.NormalsF16IsNone():
+            normals = _from_half(reply.NormalsF16AsNumpy())
+        if len(positions) != reply.VertexCount():
+            raise ConnectionLost(f"a reply with {len(positions)} positions for "
+                                 f"{reply.VertexCount()} vertices")
+        t = reply.Timings()
+        timings = {} if t is None else {"queued": t.QueuedNs(), "deform": t.DeformNs(),
+                                        "features": t.FeaturesNs(), "encode": t.EncodeNs()}
+        return Posed(positions, normals, reply.Sequence(), timings)
+
+    def _send(self, builder, body_type, body):
+        if self._connection is None:
+            raise SweepdError("the client is closed")
+        self._connection.send(builder, body_type, body)
+
+    def _expect(self, table):
+        message = self._connection.receive()
+        if message.BodyType() == Body.Body.Error:
+            error = body_of(message, Error.Error)
+            raise server_error(error.Code(), _text(error.Message()), error.Fatal(),
+                               error.Sequence())
+        expected = getattr(Body.Body, table.__name__)
+        if message.BodyType() != expected:
+            raise ConnectionLost(f"{self._connection.address}: expected {table.__name__}, got "
+                                 f"body type {message.BodyType()}")
+        return body_of(message, table)
+
+
+def _from_half(bits):
+    """binary16 bit patterns (uint16) → (n, 3) float32."""
+    return bits.view(np.float16).astype(np.float32).reshape(-1, 3)
+
+
+def _choice(options, name, what):
+    if name not in options:
+        raise SweepdError(f"unknown {what} '{name}' (one of {', '.join(options)})")
+    return options[name]
+
+
+def _flags(options, names, what):
+    value = 0
+    for name in names:
+        value |= _choice(options, name, what)
+    return value
