@@ -1,12 +1,14 @@
 """Drives a sweepd with the installed sweepd_client package only (run by
 tests/server/python_package_test.cpp from a fresh venv, outside the source tree).
 
-  python_package_check.py PORT TOKEN BODY.glb ROTATIONS.f32 OUT_DIR
+  python_package_check.py PORT TOKEN BODY.glb ROTATIONS.f32 OUT_DIR OTHER_PORT
 
 Uploads BODY.glb, poses it with ROTATIONS (float32 x, y, z, w per joint) and writes
 OUT_DIR/positions.f32 and OUT_DIR/map.exr for the test to compare with the library. Checks on
 the way that streamed poses equal the single pose, that protocol errors raise their own
-exception classes and that a silent server raises Timeout. Prints "ok" and exits 0, or names
+exception classes, that a silent server raises Timeout, and that bytes uploaded once are
+named by content id afterwards: not sent again to PORT, sent to OTHER_PORT (a daemon with a
+store of its own, which answers the content id with UnknownModel). Prints "ok" and exits 0, or names
 the failed check and exits 1.
 """
 
@@ -32,7 +34,7 @@ def expect_error(cls, call):
     check(False, f"{cls.__name__} was not raised")
 
 
-def main(port, token, glb, rotations_file, out):
+def main(port, token, glb, rotations_file, out, other_port):
     check("site-packages" in sweepd_client.__file__, f"imported from {sweepd_client.__file__}")
     with Client("127.0.0.1", int(port), token=token, timeout=60) as sweepd:
         check(any(m.name == "mannequin" for m in sweepd.models()), "the default model is listed")
@@ -61,6 +63,21 @@ def main(port, token, glb, rotations_file, out):
         exr = sweepd.position_map(body, rotations, width=128, height=64)
         with open(f"{out}/map.exr", "wb") as file:
             file.write(exr)
+
+    def bytes_in(sweepd, client_name):
+        stats = sweepd.stats()
+        connections = [stats.Connections(i) for i in range(stats.ConnectionsLength())]
+        return next(c.BytesIn() for c in connections if c.ClientName().decode() == client_name)
+
+    glb_bytes = len(open(glb, "rb").read())
+    with Client("127.0.0.1", int(port), token=token, client_name="again") as sweepd:
+        again = sweepd.upload(glb, name="uploaded")
+        check(again.content_id == body.content_id, "the same content id again")
+        check(bytes_in(sweepd, "again") < glb_bytes / 10, "the bytes are not sent again")
+    with Client("127.0.0.1", int(other_port), token=token, client_name="other") as sweepd:
+        other = sweepd.upload(glb, name="uploaded")
+        check(other.content_id == body.content_id, "the same content id on the other server")
+        check(bytes_in(sweepd, "other") > glb_bytes, "the other server got the bytes")
 
     expect_error(errors.AuthFailed, lambda: Client("127.0.0.1", int(port), token="wrong"))
     silent = socket.socket()

@@ -66,6 +66,10 @@ TEST(PythonPackage, InstallsOfflineIntoAVenvAndPosesLikeTheLibrary) {
   io::save_gltf(mannequin::make_mannequin({.target_vertices = 2500}), glb);
   DaemonProcess daemon(directory, {"--token", "t0k", "--mannequin-vertices", "1000"});
   ASSERT_TRUE(daemon.running()) << daemon.log();
+  // A second server with a store of its own: the package must upload to it again.
+  fs::create_directories(directory / "other");
+  DaemonProcess other(directory / "other", {"--token", "t0k", "--mannequin-vertices", "1000"});
+  ASSERT_TRUE(other.running()) << other.log();
   const std::size_t joints =
       mannequin::make_mannequin({.target_vertices = 2500}).skeleton.joints.size();
   const std::vector<glm::quat> rotations = bent_rotations(joints);
@@ -81,7 +85,8 @@ TEST(PythonPackage, InstallsOfflineIntoAVenvAndPosesLikeTheLibrary) {
       run_command("cd " + quoted(directory) + " && " + quoted(venv / "bin/python") + " " +
                   quoted(fs::path(SWEEPD_SOURCE_DIR) / "tests/server/python_package_check.py") +
                   " " + std::to_string(daemon.port()) + " t0k " + quoted(glb) + " " +
-                  quoted(directory / "rotations.f32") + " " + quoted(directory));
+                  quoted(directory / "rotations.f32") + " " + quoted(directory) + " " +
+                  std::to_string(other.port()));
   ASSERT_EQ(check.exit_code, 0) << check.output << daemon.log();
   EXPECT_NE(check.output.find("ok"), std::string::npos) << check.output;
 

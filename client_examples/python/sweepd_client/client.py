@@ -13,6 +13,7 @@ Errors raise the exceptions of sweepd_client.errors; every receive waits at most
 seconds.
 """
 
+import hashlib
 import time
 from dataclasses import dataclass, field
 
@@ -24,7 +25,7 @@ from sweepd.protocol import (Body, Bye, DeformMethod, Error, ExrCompression, Fea
                              Welcome)
 
 from .connection import Connection, body_of, new_builder
-from .errors import ConnectionLost, SweepdError, Timeout, server_error
+from .errors import ConnectionLost, SweepdError, Timeout, UnknownModel, server_error
 
 PROTOCOL_VERSION = (1, 3)
 METHODS = {"sweep": DeformMethod.DeformMethod.Sweep, "lbs": DeformMethod.DeformMethod.Lbs,
@@ -80,6 +81,10 @@ def _text(value):
 
 
 class Client:
+    # (SHA-256 of the .glb, name) → the content id a server gave it: shared by every Client
+    # of the process, so a reconnect or another replica is asked by id before bytes are sent.
+    _uploaded = {}
+
     def __init__(self, host="127.0.0.1", port=7878, token="", *, unix=None, tls=None,
                  timeout=30.0, client_name="sweepd-client", latest_wins=False,
                  allow_plaintext=False):
@@ -140,14 +145,27 @@ class Client:
         return self._load_model(name, b"")
 
     def upload(self, glb, name=None):
-        """Uploads a .glb (a path or its bytes) and returns the bound Model. The same bytes
-        again are answered from the server's store without binding again."""
+        """Uploads a .glb (a path or its bytes) and returns the bound Model. Bytes this process
+        uploaded before (on any Client) are named by their content id first, without sending
+        them: a server that holds the model, or shares a store with one that does, answers at
+        once; one that answers UnknownModel gets the bytes (as client/model_source.h does)."""
         if not isinstance(glb, (bytes, bytearray, memoryview)):
             path = str(glb)
             with open(path, "rb") as file:
                 glb = file.read()
             name = name or path.rsplit("/", 1)[-1]
-        return self._load_model(name or "upload.glb", bytes(glb))
+        name, glb = name or "upload.glb", bytes(glb)
+        key = (hashlib.sha256(glb).digest(), name)
+        content_id = Client._uploaded.get(key)
+        if content_id:
+            try:
+                return self._load_model(name, b"", content_id)
+            except UnknownModel:
+                pass  # a server with a store of its own: send the bytes
+        model = self._load_model(name, glb)
+        if model.content_id:
+            Client._uploaded[key] = model.content_id
+        return model
 
     def mesh(self, model):
         """The model's rest mesh (in the order of every Posed's vertices)."""
@@ -244,14 +262,17 @@ class Client:
             raise ConnectionLost(f"{error} (closed before Welcome: if sweepd serves TLS, "
                                  "pass tls=)") from error
 
-    def _load_model(self, name, glb):
+    def _load_model(self, name, glb, content_id=""):
         builder = new_builder(1024 + len(glb))
         gltf = builder.CreateByteVector(glb) if glb else None
         name_offset = builder.CreateString(name)
+        content_id_offset = builder.CreateString(content_id) if content_id else None
         LoadModel.Start(builder)
         LoadModel.AddName(builder, name_offset)
         if gltf is not None:
             LoadModel.AddGltf(builder, gltf)
+        if content_id_offset is not None:
+            LoadModel.AddContentId(builder, content_id_offset)
         self._send(builder, Body.Body.LoadModel, LoadModel.End(builder))
         info = self._expect(ModelInfo.ModelInfo)
         bind = info.Bind()
