@@ -52,3 +52,6 @@ if command -v haproxy >/dev/null; then
 else
   echo "fleet_bench skipped: haproxy is not installed (deploy/install-deps.sh)"
 fi
+
+# The Python package against the C++ client: poses a second received as NumPy arrays.
+/usr/bin/python3 "$(dirname "$0")/python_client_bench.py" "$build"

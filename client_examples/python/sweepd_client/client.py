@@ -21,7 +21,7 @@ import numpy as np
 from sweepd.protocol import (Body, Bye, DeformMethod, Error, ExrCompression, Features, Hello,
                              ListModels, LoadModel, MapLayers, Mesh, MeshRequest, ModelInfo,
                              ModelList, Pose, PoseDelivery, PosedVertices, PositionFormat,
-                             PositionMap, PositionMapRequest, Quat, Stats, StatsRequest, Vec3,
+                             PositionMap, PositionMapRequest, Stats, StatsRequest, Vec3,
                              Welcome)
 
 from .connection import Connection, body_of, new_builder
@@ -303,10 +303,7 @@ class Client:
         if rotations.ndim != 2 or rotations.shape[1] != 4:
             raise SweepdError(f"rotations: shape {rotations.shape}, expected (joints, 4) "
                               "quaternions x, y, z, w")
-        Pose.StartRotationsVector(builder, len(rotations))
-        for x, y, z, w in rotations[::-1].tolist():
-            Quat.CreateQuat(builder, x, y, z, w)
-        rotation_vector = builder.EndVector()
+        rotation_vector = _struct_vector(builder, np.ascontiguousarray(rotations, "<f4"), 4)
         self._sequence += 1
         Pose.Start(builder)
         Pose.AddModelId(builder, model_id)
@@ -359,6 +356,17 @@ class Client:
             raise ConnectionLost(f"{self._connection.address}: expected {table.__name__}, got "
                                  f"body type {message.BodyType()}")
         return body_of(message, table)
+
+
+def _struct_vector(builder, rows, alignment):
+    """A vector of structs (one per row: Quat is 4 little-endian floats) written in one copy, as
+    flatbuffers' own CreateNumpyVector does for scalars: a struct per Prepend costs about 1 ms
+    a pose for a 70-joint skeleton in pure Python."""
+    size = rows.nbytes
+    builder.StartVector(rows.shape[1] * rows.itemsize, len(rows), alignment)
+    builder.head = builder.Head() - size
+    builder.Bytes[builder.Head():builder.Head() + size] = rows.tobytes()
+    return builder.EndVector()
 
 
 def _from_half(bits):

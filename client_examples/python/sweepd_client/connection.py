@@ -76,7 +76,8 @@ class Connection:
         prefix = bytearray(4)
         self._receive_into(memoryview(prefix))
         (size,) = struct.unpack("<I", prefix)
-        frame = prefix + bytearray(size)
+        frame = bytearray(4 + size)
+        frame[:4] = prefix
         self._receive_into(memoryview(frame)[4:])
         if size < 8 or not Message.Message.MessageBufferHasIdentifier(frame, 0, True):
             raise ConnectionLost(f"{self.address}: a frame without the SWPD identifier")

@@ -1,0 +1,100 @@
+#!/usr/bin/python3
+"""python_client_bench: how many poses a second the Python package (client_examples/python)
+receives as NumPy arrays, against the C++ client (stream_poses --flat-out) on the same daemon
+and model in the same run (issue 18's target: >= 1,000 poses/s of the 14.5k male).
+
+  bench/python_client_bench.py [BUILD_DIR] [--model M.glb] [--bvh CLIP.bvh] [--poses N]
+
+Installs the package into a temporary venv (offline, as tests/server/python_package_test.cpp
+does), starts sweepd from BUILD_DIR on a free port, uploads the model, streams N poses with
+Client.poses (the server's max_poses_in_flight in flight) and then the clip's first N frames
+with the C++ client. Prints one table row per client and the ratio.
+"""
+
+import argparse
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+
+
+def start_daemon(build, directory):
+    port_file = os.path.join(directory, "port")
+    daemon = subprocess.Popen([os.path.join(build, "server/sweepd"), "--port", "0", "--port-file",
+                               port_file, "--store-dir", os.path.join(directory, "store"),
+                               "--mannequin-vertices", "1000"],
+                              stderr=open(os.path.join(directory, "sweepd.log"), "w"))
+    deadline = time.monotonic() + 60
+    while not os.path.exists(port_file) or not open(port_file).read().strip():
+        if daemon.poll() is not None or time.monotonic() > deadline:
+            sys.exit(f"sweepd did not start: {open(os.path.join(directory, 'sweepd.log')).read()}")
+        time.sleep(0.1)
+    return daemon, int(open(port_file).read())
+
+
+PYTHON_STREAM = """
+import sys, time
+import numpy as np
+from sweepd_client import Client
+port, model, count = int(sys.argv[1]), sys.argv[2], int(sys.argv[3])
+with Client("127.0.0.1", port) as sweepd:
+    body = sweepd.upload(model)
+    joints = len(body.joint_names)
+    # Distinct small bends per frame, made before the clock starts.
+    angles = np.linspace(0.0, 0.6, count, dtype=np.float32)[:, None] * np.ones(joints, np.float32)
+    frames = [np.stack([np.sin(a / 2), np.zeros(joints), np.zeros(joints), np.cos(a / 2)], 1)
+              for a in angles]
+    sweepd.pose(body)  # warm up the connection and the server's caches
+    start = time.perf_counter()
+    received = sum(p.positions.shape[0] == body.vertex_count for p in sweepd.poses(body, frames))
+    seconds = time.perf_counter() - start
+    print(f"{received} {seconds} {body.vertex_count}")
+"""
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("build", nargs="?", default=os.path.join(ROOT, "build/release"))
+    parser.add_argument("--model", default=os.path.join(ROOT, "../shared/data/models/"
+                                                        "makehuman_male_cmu.glb"))
+    parser.add_argument("--bvh", default=os.path.join(ROOT, "../shared/data/motion/cmu_01_01.bvh"))
+    parser.add_argument("--poses", type=int, default=2000)
+    options = parser.parse_args()
+    with tempfile.TemporaryDirectory(prefix="python_client_bench_") as directory:
+        venv = os.path.join(directory, "venv")
+        subprocess.run(["/usr/bin/python3", "-m", "venv", "--system-site-packages", venv],
+                       check=True)
+        source = os.path.join(directory, "source")
+        shutil.copytree(os.path.join(ROOT, "client_examples/python"), source,
+                        ignore=shutil.ignore_patterns("build", "*.egg-info"))
+        subprocess.run([os.path.join(venv, "bin/pip"), "install", "-q", "--no-index",
+                        "--no-build-isolation", source], check=True)
+        daemon, port = start_daemon(options.build, directory)
+        try:
+            python = subprocess.run([os.path.join(venv, "bin/python"), "-c", PYTHON_STREAM,
+                                     str(port), options.model, str(options.poses)],
+                                    check=True, capture_output=True, text=True, cwd=directory)
+            received, seconds, vertices = python.stdout.split()
+            python_rate = int(received) / float(seconds)
+            cpp = subprocess.run([os.path.join(options.build, "client_examples/stream_poses"),
+                                  "--port", str(port), "--model-file", options.model, "--bvh",
+                                  options.bvh, "--frames", str(options.poses), "--flat-out"],
+                                 check=True, capture_output=True, text=True)
+            cpp_rate = float(re.search(r"poses: .* \((\d+)/s\)", cpp.stdout).group(1))
+        finally:
+            daemon.terminate()
+            daemon.wait()
+    print(f"| client | model vertices | poses | poses/s |")
+    print(f"|---|---|---|---|")
+    print(f"| Python package, NumPy arrays | {int(vertices):,} | {received} | {python_rate:.0f} |")
+    print(f"| C++ stream_poses (baseline) | {int(vertices):,} | {options.poses} | {cpp_rate:.0f} |")
+    print(f"Python / C++: {python_rate / cpp_rate:.2f}")
+
+
+if __name__ == "__main__":
+    main()
