@@ -8,13 +8,13 @@
 //   exr_files(directory)  how many .exr files it holds (0 when it does not exist)
 #pragma once
 
-#include <sys/wait.h>
-
 #include <array>
 #include <cstdio>
 #include <filesystem>
 #include <regex>
 #include <string>
+
+#include "tests/deploy/shell_command.h"
 
 namespace sweepd::test {
 
@@ -24,16 +24,8 @@ struct ClientRun {
 };
 
 inline ClientRun run_client(const std::string& command) {
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  if (!pipe) return {};
-  ClientRun run;
-  std::array<char, 4096> buffer;
-  while (std::size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe)) {
-    run.output.append(buffer.data(), n);
-  }
-  const int status = pclose(pipe);
-  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return run;
+  const CommandResult result = run_command(command);
+  return {result.exit_code, result.output};
 }
 
 inline std::array<int, 4> pose_counts(const std::string& output) {
