@@ -1,5 +1,6 @@
-// Camera: view and projection matrices for previews and camera-space position maps, and the
-// default camera that frames a mesh from the front.
+// Camera: view and projection matrices for previews and camera-space position maps, the
+// default camera that frames a mesh from the front, and a camera framing a sphere from any
+// direction (contact sheets: the same scale in every cell, close-ups of a joint).
 //
 // Conventions: right-handed world, Y up, models face +Z (glTF). view maps world to camera space
 // (camera looks down -Z); projection is an OpenGL clip-space projection (z in [-w, w]).
@@ -20,5 +21,12 @@ struct Camera {
 // vertical field of view. positions: V points, V >= 1.
 Camera front_camera(std::span<const glm::vec3> positions, float aspect,
                     float vertical_fov_degrees = 30.0f);
+
+// A perspective camera on the side `towards_eye` (a non-zero direction) of the sphere (centre,
+// radius > 0), looking at its centre with Y up (or +Z up when towards_eye is vertical), placed
+// so the sphere fits the view for this aspect and vertical field of view; depth spans the
+// sphere with a sphere's margin on either side.
+Camera sphere_camera(glm::vec3 centre, float radius, glm::vec3 towards_eye, float aspect,
+                     float vertical_fov_degrees = 30.0f);
 
 }  // namespace sweepd::gpu
