@@ -42,9 +42,8 @@ const std::map<std::string, FocusRole>& focus_roles() {
 }
 
 constexpr float kFocusRadiusPerHeight = 0.16f;
-// The whole body's sphere: its bounding box's largest side, not its diagonal (a box's corners
-// are empty around a body), with 10 % to spare.
-constexpr float kBodyRadiusPerSize = 0.55f;
+// Room around the whole body: 5 % of its extent on each side.
+constexpr float kBodyMargin = 1.05f;
 constexpr std::array<std::uint8_t, 3> kCaptionInk{30, 30, 36};
 
 float rest_height(std::span<const glm::vec3> positions) {
@@ -113,29 +112,35 @@ ContactSheet::ContactSheet(PosedModel& posed, const SheetOptions& options, gpu::
   const int pelvis = posed.bound().rig.torso.pelvis();
   const int joint = options.focus.empty() ? -1 : focus_joint(posed.bound().rig, options.focus);
   const MethodChoice& lbs = methods_by_name().at("lbs");
-  std::vector<glm::vec3> centres;
-  std::vector<glm::vec3> towards_eye;
-  float radius = kFocusRadiusPerHeight * rest_height(posed.model().positions);
-  if (joint < 0) radius = 0.0f;
+  std::vector<glm::vec3> centres, towards_eye;
+  const float focus_radius = kFocusRadiusPerHeight * rest_height(posed.model().positions);
+  glm::vec3 half_extents(focus_radius);
+  if (joint < 0) half_extents = glm::vec3(0.0f);
   for (const int frame : options.frames) {
     deform_with(lbs, posed.runtime(), deform_context_, nullptr, posed.pose(frame), positions_);
     const std::span<const glm::mat4> world = deform_context_.world_pose();
-    towards_eye.push_back(eye_direction(world[pelvis], rest[pelvis], options.azimuth_degrees,
-                                        options.elevation_degrees));
+    const glm::vec3 eye = eye_direction(world[pelvis], rest[pelvis], options.azimuth_degrees,
+                                        options.elevation_degrees);
+    towards_eye.push_back(eye);
     if (joint >= 0) {
       centres.push_back(glm::vec3(world[joint][3]));
       continue;
     }
     glm::vec3 low = positions_.front(), high = low;
     for (const glm::vec3& p : positions_) low = glm::min(low, p), high = glm::max(high, p);
-    centres.push_back(0.5f * (low + high));
-    const glm::vec3 size = high - low;
-    radius = std::max(radius, kBodyRadiusPerSize * std::max({size.x, size.y, size.z}));
+    const glm::vec3 centre = 0.5f * (low + high);
+    centres.push_back(centre);
+    // The body's extent along this frame's view axes (right, up, towards the eye).
+    const glm::vec3 right = glm::normalize(glm::cross(glm::vec3(0.0f, 1.0f, 0.0f), eye));
+    const glm::mat3 axes(right, glm::cross(eye, right), eye);
+    for (const glm::vec3& p : positions_)
+      half_extents = glm::max(half_extents, glm::abs((p - centre) * axes));
   }
+  if (joint < 0) half_extents *= kBodyMargin;
   const float aspect = static_cast<float>(options.cell_width) /
                        static_cast<float>(options.cell_height - caption_height_);
   for (std::size_t f = 0; f < centres.size(); ++f)
-    cameras_.push_back(gpu::sphere_camera(centres[f], radius, towards_eye[f], aspect));
+    cameras_.push_back(gpu::box_camera(centres[f], half_extents, towards_eye[f], aspect));
 }
 
 void ContactSheet::render_row(std::size_t frame_index, std::span<std::uint8_t> rgba, int row) {

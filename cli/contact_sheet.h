@@ -5,11 +5,12 @@
 // Each cell is cell_width × cell_height pixels: a white caption band on top (method; frame and
 // the worst edge stretch from metrics::QualityMeter, as `sweepctl metrics` reports it) and the
 // render below it (gpu::PreviewRenderer), optionally coloured by edge stretch (cli/stretch_heat.h).
-// Cameras (gpu::sphere_camera), one per frame and shared by the methods of its row:
-//   whole body  a sphere at the centre of the body's bounding box at that frame (linear blend
-//               skinning), all with one radius: 0.55 × the largest side of any frame's box, so
-//               the body has the same scale in every cell;
-//   focus       a sphere around one joint (SheetFocus) of radius 0.16 × the rest model's height.
+// Cameras (gpu::box_camera), one per frame and shared by the methods of its row:
+//   whole body  looking at the centre of the body's bounding box at that frame (linear blend
+//               skinning), all framing one box: the largest extent of the body along the view's
+//               axes over all frames, 5 % to spare, so the body has the same scale in every cell;
+//   focus       looking at one joint (focus_joint), framing a cube of half side 0.16 × the rest
+//               model's height.
 // The eye looks at the body's front (the pelvis's facing at that frame, turned about the
 // vertical by azimuth_degrees towards the body's left, raised by elevation_degrees).
 //

@@ -16,6 +16,7 @@ packages=(
   libssl-dev openssl  # TLS in sweepd and its clients (Asio's ssl over OpenSSL); the TLS tests make certificates with openssl
   curl prometheus  # tests/server/daemon_http_side_port_test.cpp: curl, promtool, a real scrape
   libsystemd-dev  # sd_notify for the Type=notify unit (server/systemd_notifier.h)
+  ffmpeg  # sweepctl sheet --video pipes its frames to ffmpeg (cli/video_encoder.h)
   haproxy  # deploy/haproxy.cfg: checked with haproxy -c and run in front of two daemons (tests/deploy/)
 )
 
