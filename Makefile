@@ -6,7 +6,7 @@
 BUILD := build/release
 JOBS ?= $(shell nproc)
 
-.PHONY: deps build test sanitize tsan demo bench fuzz clean
+.PHONY: deps build test sanitize tsan demo bench fuzz docs-sheet clean
 
 deps:
 	bash deploy/install-deps.sh
@@ -38,6 +38,18 @@ bench: build
 FUZZ_SECONDS ?= 60
 fuzz: deps
 	bash fuzz/run_fuzzers.sh $(FUZZ_SECONDS)
+
+# README's contact sheet: sweep, LBS and DQS on the shared male at three frames of CMU 01_01
+# (197: a deep crouch, 600: standing, arms down, 1257: both elbows bent furthest), from the
+# shared data beside this checkout, as deploy/demo.sh finds it.
+SHARED := ../shared/data
+docs-sheet: deps
+	@test -f $(SHARED)/models/makehuman_male_cmu.glb || { echo "docs-sheet: no $(SHARED)/models/makehuman_male_cmu.glb: ../shared/data is not beside this checkout"; exit 1; }
+	cmake --preset release >/dev/null
+	cmake --build $(BUILD) -j $(JOBS) --target sweepctl
+	$(BUILD)/cli/sweepctl sheet $(SHARED)/models/makehuman_male_cmu.glb \
+	  --bvh $(SHARED)/motion/cmu_01_01.bvh --frames 197,600,1257 --methods sweep,lbs,dqs \
+	  --cell 200x300 -o docs/contact_sheet.png
 
 clean:
 	rm -rf build

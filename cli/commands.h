@@ -32,5 +32,6 @@ Command add_render_command(CLI::App& sweepctl);
 Command add_positionmap_command(CLI::App& sweepctl, const ServerAddress& server);
 Command add_metrics_command(CLI::App& sweepctl, const ServerAddress& server);
 Command add_edit_command(CLI::App& sweepctl);
+Command add_sheet_command(CLI::App& sweepctl);
 
 }  // namespace sweepd::cli

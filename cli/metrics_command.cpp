@@ -15,6 +15,7 @@
 #include <optional>
 
 #include "cli/commands.h"
+#include "cli/method_choice.h"
 #include "cli/posed_model.h"
 #include "cli/remote_posed_model.h"
 #include "console/command_line.h"
@@ -36,22 +37,7 @@ const char* const kServerNote =
     "positions from the server; part regions and section planes from binding the served mesh "
     "here; sweep integral unavailable remotely";
 
-struct Method {
-  std::string name;
-  deform::DeformMethod method;
-  bool preserve_volume;
-  bool collision = false;  // folding and protrusion, their pairs from --collision's backend
-};
-
-const std::map<std::string, Method>& methods_by_name() {
-  static const std::map<std::string, Method> methods = {
-      {"sweep", {"sweep", deform::DeformMethod::kSweep, false}},
-      {"sweep+volume", {"sweep+volume", deform::DeformMethod::kSweep, true}},
-      {"sweep+features", {"sweep+features", deform::DeformMethod::kSweep, false, true}},
-      {"lbs", {"lbs", deform::DeformMethod::kLbs, false}},
-      {"dqs", {"dqs", deform::DeformMethod::kDqs, false}}};
-  return methods;
-}
+using Method = MethodChoice;
 
 struct Options {
   PosingArguments posing;
@@ -91,19 +77,7 @@ PoseDeformer local_deformer(const Method& m, const deform::ModelRuntime& runtime
                             deform::DeformContext& context, LocalCollision* collision) {
   return [&runtime, &context, m, collision](
              deform::Pose pose, std::vector<glm::vec3>& positions) -> const deform::SweepPoser& {
-    deform::DeformJob job{.runtime = runtime,
-                          .pose = pose,
-                          .method = m.method,
-                          .features = {.folding = m.collision,
-                                       .protrusion = m.collision,
-                                       .volume = m.preserve_volume},
-                          .positions = positions};
-    if (m.collision && collision != nullptr) job.options.detect = collision->detect();
-    const deform::DeformReport report = job.run(context);
-    if (m.collision && collision != nullptr) collision->add(report.features);
-    if (m.method != deform::DeformMethod::kSweep)
-      context.sweep_poser().set_pose(context.world_pose());  // section planes
-    return context.sweep_poser();
+    return deform_with(m, runtime, context, collision, std::move(pose), positions);
   };
 }
 

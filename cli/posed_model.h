@@ -30,6 +30,7 @@ class PosedModel {
   explicit PosedModel(const PosingArguments& arguments);
   const deform::Model& model() const { return bound_->model; }
   const deform::BoundModel& bound() const { return *bound_; }
+  const deform::ModelRuntime& runtime() const { return *runtime_; }
   const PosingArguments& arguments() const { return arguments_; }
   // The pose of clip frame `frame` (or the pose file / rest pose without a clip).
   deform::Pose pose(int frame) const;

@@ -7,7 +7,7 @@
 
 namespace sweepd::cli {
 
-void add_posing_flags(CLI::App& command, PosingArguments& out, ClipFrames frames) {
+CLI::Option* add_model_and_clip_flags(CLI::App& command, PosingArguments& out) {
   command
       .add_option("MODEL", out.model,
                   "a rigged .glb/.gltf (bound on the spot) or a .sweepbind file")
@@ -24,6 +24,11 @@ void add_posing_flags(CLI::App& command, PosingArguments& out, ClipFrames frames
       .add_option("--bvh-map", out.bvh_map,
                   "BVH joint name -> model joint name, for rigs the names do not match")
       ->type_name("MAP.json");
+  return bvh;
+}
+
+void add_posing_flags(CLI::App& command, PosingArguments& out, ClipFrames frames) {
+  CLI::Option* bvh = add_model_and_clip_flags(command, out);
   command.add_option("--frame", "the clip frame (default 0)")
       ->type_name("N")
       ->check(console::whole_number(0, 1 << 30))

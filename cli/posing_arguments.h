@@ -1,8 +1,10 @@
-// PosingArguments: what sweepctl's posing commands (pose, render, positionmap, metrics) read
+// PosingArguments: what sweepctl's posing commands (pose, render, positionmap, metrics, sheet) read
 // from their command line — the model, the pose source (a BVH clip retargeted onto it, a pose
 // JSON file, or the rest pose) and the deformation method — and the flags that fill it,
 // declared here once for all of them:
-//   add_posing_flags    MODEL, --rig, --bvh, --bvh-map, --frame, --pose, and --frames where
+//   add_model_and_clip_flags  MODEL, --rig, --bvh, --bvh-map (returns --bvh's option); for
+//                       commands with frames of their own (sheet)
+//   add_posing_flags    those, --frame, --pose, and --frames where
 //                       the command takes a frame range (pose, metrics; --frames wins over
 //                       --frame); --bvh and --pose exclude each other, --frame and --frames
 //                       need --bvh
@@ -45,6 +47,7 @@ struct PosingArguments {
 
 enum class ClipFrames { kOne, kOneOrRange };  // whether the command takes --frames A-B
 
+CLI::Option* add_model_and_clip_flags(CLI::App& command, PosingArguments& out);
 void add_posing_flags(CLI::App& command, PosingArguments& out, ClipFrames frames);
 void add_method_flags(CLI::App& command, PosingArguments& out);
 void add_collision_flag(CLI::App& command, PosingArguments& out);

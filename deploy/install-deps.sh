@@ -17,6 +17,7 @@ packages=(
   curl prometheus  # tests/server/daemon_http_side_port_test.cpp: curl, promtool, a real scrape
   libsystemd-dev  # sd_notify for the Type=notify unit (server/systemd_notifier.h)
   python3-numpy python3-venv python3-setuptools python3-pip  # client_examples/python (sweepd-client), pip-installed offline in tests/server/python_package_test.cpp
+  ffmpeg  # sweepctl sheet --video pipes its frames to ffmpeg (cli/video_encoder.h)
   haproxy  # deploy/haproxy.cfg: checked with haproxy -c and run in front of two daemons (tests/deploy/)
 )
 

@@ -27,4 +27,22 @@ Camera front_camera(std::span<const glm::vec3> positions, float aspect,
   return camera;
 }
 
+Camera box_camera(glm::vec3 centre, glm::vec3 half_extents, glm::vec3 towards_eye, float aspect,
+                  float vertical_fov_degrees) {
+  const float tan_vertical = std::tan(0.5f * glm::radians(vertical_fov_degrees));
+  const float tan_horizontal = tan_vertical * aspect;
+  // The box's near face is half_extents.z closer than the centre: fit its corners there.
+  const float distance =
+      std::max(half_extents.x / tan_horizontal, half_extents.y / tan_vertical) + half_extents.z;
+  const glm::vec3 eye_direction = glm::normalize(towards_eye);
+  const glm::vec3 up = std::abs(eye_direction.y) > 0.999f ? glm::vec3(0.0f, 0.0f, 1.0f)
+                                                          : glm::vec3(0.0f, 1.0f, 0.0f);
+  Camera camera;
+  camera.view = glm::lookAt(centre + distance * eye_direction, centre, up);
+  camera.projection = glm::perspective(glm::radians(vertical_fov_degrees), aspect,
+                                       std::max(distance - 2.0f * half_extents.z, 0.01f * distance),
+                                       distance + 2.0f * half_extents.z);
+  return camera;
+}
+
 }  // namespace sweepd::gpu

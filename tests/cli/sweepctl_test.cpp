@@ -15,39 +15,18 @@
 #include "io/gltf_load.h"
 #include "io/gltf_save.h"
 #include "mannequin/mannequin.h"
+#include "tests/cli/sweepctl_process.h"
 #include "tests/deform/rig/legless_cut.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int exit_code;
-  std::string output;  // stdout and stderr together, or what `streams` leaves
-};
+using Result = sweepd::test::SweepctlResult;
+using sweepd::test::run_sweepctl;
+using sweepd::test::shared;
 
-// `environment`: VAR=value assignments put before the command.
-Result run_sweepctl(const std::string& arguments, const std::string& streams = "2>&1",
-                    const std::string& environment = "") {
-  const std::string command =
-      environment + std::string(SWEEPD_SWEEPCTL) + " " + arguments + " " + streams;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return {-1, "popen failed"};
-  std::string output;
-  std::array<char, 4096> buffer;
-  while (std::size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe))
-    output.append(buffer.data(), n);
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
-}
-
-fs::path shared(const std::string& relative) { return fs::path(SWEEPD_SHARED_DATA) / relative; }
-
-fs::path temp_dir() {
-  const fs::path dir = fs::temp_directory_path() / ("sweepctl_test_" + std::to_string(getpid()));
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path temp_dir() { return sweepd::test::temp_dir("sweepctl_test"); }
 
 TEST(SweepctlInspect, ReportsTheSharedMaleCounts) {
   const fs::path male = shared("models/makehuman_male_cmu.glb");
@@ -316,8 +295,8 @@ TEST(SweepctlCommandLine, UsageGoesToStdoutForHelpAndToStderrWithoutACommand) {
   // Only stdout is kept: --help's usage is there (exit 0), a bare sweepctl's is not (exit 2).
   Result r = run_sweepctl("--help", "2>/dev/null");
   EXPECT_EQ(r.exit_code, 0) << r.output;
-  for (const char* command :
-       {"inspect", "mannequin", "bind", "pose", "render", "positionmap", "metrics", "edit"})
+  for (const char* command : {"inspect", "mannequin", "bind", "pose", "render", "positionmap",
+                              "metrics", "edit", "sheet"})
     EXPECT_NE(r.output.find(command), std::string::npos) << command << "\n" << r.output;
   r = run_sweepctl("", "2>/dev/null");
   EXPECT_EQ(r.exit_code, 2) << r.output;
@@ -356,6 +335,18 @@ TEST(SweepctlCommandLine, RefusalsNameTheCommandTheFlagAndTheValue) {
       {"edit m.glb edits.json", {"m.glb is not a .sweepbind file"}},
       // --server after the command is the top-level flag: inspect refuses it by name.
       {"inspect m.glb --server 127.0.0.1:1", {"sweepctl inspect: runs locally only"}},
+      // sheet: unknown method or joint, bad or empty frame lists, too many rows, no output.
+      {"sheet m.glb --bvh c.bvh --frames 1 --methods sweep,wobble -o x.png",
+       {"sweepctl sheet: --methods", "'wobble'"}},
+      {"sheet m.glb --bvh c.bvh --frames 1 --focus elbow -o x.png", {"--focus", "elbow not in"}},
+      {"sheet m.glb --bvh c.bvh --frames '' -o x.png", {"--frames", "the frame list is empty"}},
+      {"sheet m.glb --bvh c.bvh --frames 1,,2 -o x.png", {"--frames", "got ''"}},
+      {"sheet m.glb --bvh c.bvh --frames 3-1 -o x.png", {"--frames", "got '3-1'"}},
+      {"sheet m.glb --bvh c.bvh --frames 0-40 -o x.png", {"41 frames", "at most 32"}},
+      {"sheet m.glb --bvh c.bvh --frames 1", {"give -o OUT.png, --video OUT.mp4 or both"}},
+      {"sheet m.glb --frames 1 -o x.png", {"--bvh is required"}},
+      {"sheet m.glb --bvh c.bvh --frames 1 --cell 32x32 -o x.png", {"--cell", "32x32"}},
+      {"sheet m.glb --bvh c.bvh --frames 1 --heat crease -o x.png", {"--heat", "crease"}},
   };
   for (const auto& [arguments, words] : refusals) {
     const Result r = run_sweepctl(arguments);

@@ -1,0 +1,90 @@
+// ContactSheet: shaded renders of one posed model, deformed by several methods at several clip
+// frames, laid out as a grid (sweepctl sheet: one row per frame, one column per method; its
+// --video: one row per video frame) for people to compare the methods by eye.
+//
+// Each cell is cell_width × cell_height pixels: a white caption band on top (method; frame and
+// the worst edge stretch from metrics::QualityMeter, as `sweepctl metrics` reports it) and the
+// render below it (gpu::PreviewRenderer), optionally coloured by edge stretch (cli/stretch_heat.h).
+// Cameras (gpu::box_camera), one per frame and shared by the methods of its row:
+//   whole body  looking at the centre of the body's bounding box at that frame (linear blend
+//               skinning), all framing one box: the largest extent of the body along the view's
+//               axes over all frames, 5 % to spare, so the body has the same scale in every cell;
+//   focus       looking at one joint (focus_joint), framing a cube of half side 0.16 × the rest
+//               model's height.
+// The eye looks at the body's front (the pelvis's facing at that frame, turned about the
+// vertical by azimuth_degrees towards the body's left, raised by elevation_degrees).
+//
+// Inputs: a PosedModel with a clip; SheetOptions (methods, frames, cell size, focus, heat,
+//   collision for sweep+features). The constructor runs the framing pass (one LBS deformation
+//   per frame). render_row(i, rgba, row) renders frame frames[i] into row `row` of a picture
+//   width() pixels wide (rgba: width() × rows × cell_height × 4 bytes, row 0 at the top).
+// worst_stretch(): the largest edge stretch of each rendered cell, in order.
+// Construct and use on one thread (the gpu::Context is made current there).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "cli/local_collision.h"
+#include "cli/method_choice.h"
+#include "cli/posed_model.h"
+#include "cli/stretch_heat.h"
+#include "gpu/camera.h"
+#include "gpu/egl_context.h"
+#include "gpu/preview_renderer.h"
+#include "metrics/quality_metrics.h"
+
+namespace sweepd::cli {
+
+// A close-up's joint by role name: shoulder_l, elbow_l, wrist_l, hip_l, knee_l, ankle_l (and
+// _r), neck, chest, pelvis.
+const std::vector<std::string>& focus_names();
+// The joint of that role in the rig map; throws std::invalid_argument when the model lacks it.
+int focus_joint(const deform::RigMap& rig, const std::string& name);
+
+struct SheetOptions {
+  std::vector<MethodChoice> methods;
+  std::vector<int> frames;
+  int cell_width = 240, cell_height = 320;
+  std::string focus;          // empty: the whole body
+  bool heat = false;          // colour by edge stretch
+  float heat_full_scale = 1;  // the stretch shown red (1 = 100 %)
+  float azimuth_degrees = 0;  // 0: the body's front; 90: its left side
+  float elevation_degrees = 0;
+  gpu::CollisionChoice collision = gpu::CollisionChoice::kAuto;
+};
+
+class ContactSheet {
+ public:
+  static constexpr int kSmallestCell = 64;  // pixels, either side
+  ContactSheet(PosedModel& posed, const SheetOptions& options, gpu::Context& context);
+
+  int width() const { return options_.cell_width * static_cast<int>(options_.methods.size()); }
+  void render_row(std::size_t frame_index, std::span<std::uint8_t> rgba, int row);
+  const std::vector<double>& worst_stretch() const { return worst_stretch_; }
+  // Where sweep+features found its pairs (empty without that method).
+  std::string collision_summary() const { return collision_ ? collision_->summary() : ""; }
+
+ private:
+  void render_cell(std::size_t frame_index, std::size_t method, std::span<std::uint8_t> rgba,
+                   int row);
+
+  PosedModel& posed_;
+  SheetOptions options_;
+  gpu::Context& context_;
+  gpu::PreviewRenderer renderer_;
+  metrics::QualityMeter meter_;
+  StretchHeat heat_;
+  std::optional<LocalCollision> collision_;
+  deform::DeformContext deform_context_;
+  int caption_scale_ = 1, caption_height_ = 0;
+  std::vector<gpu::Camera> cameras_;  // per frame
+  std::vector<glm::vec3> positions_, normals_, colours_;
+  std::vector<std::uint8_t> cell_;  // the render, cell_width × (cell_height − caption) × 4
+  std::vector<double> worst_stretch_;
+};
+
+}  // namespace sweepd::cli

@@ -1,0 +1,34 @@
+#include "cli/method_choice.h"
+
+namespace sweepd::cli {
+
+const std::map<std::string, MethodChoice>& methods_by_name() {
+  static const std::map<std::string, MethodChoice> methods = {
+      {"sweep", {"sweep", deform::DeformMethod::kSweep, false}},
+      {"sweep+volume", {"sweep+volume", deform::DeformMethod::kSweep, true}},
+      {"sweep+features", {"sweep+features", deform::DeformMethod::kSweep, false, true}},
+      {"lbs", {"lbs", deform::DeformMethod::kLbs, false}},
+      {"dqs", {"dqs", deform::DeformMethod::kDqs, false}}};
+  return methods;
+}
+
+const deform::SweepPoser& deform_with(const MethodChoice& m, const deform::ModelRuntime& runtime,
+                                      deform::DeformContext& context, LocalCollision* collision,
+                                      deform::Pose pose, std::span<glm::vec3> positions,
+                                      std::span<glm::vec3> normals) {
+  deform::DeformJob job{
+      .runtime = runtime,
+      .pose = pose,
+      .method = m.method,
+      .features = {.folding = m.collision, .protrusion = m.collision, .volume = m.preserve_volume},
+      .positions = positions,
+      .normals = normals};
+  if (m.collision && collision != nullptr) job.options.detect = collision->detect();
+  const deform::DeformReport report = job.run(context);
+  if (m.collision && collision != nullptr) collision->add(report.features);
+  if (m.method != deform::DeformMethod::kSweep)
+    context.sweep_poser().set_pose(context.world_pose());  // section planes
+  return context.sweep_poser();
+}
+
+}  // namespace sweepd::cli
