@@ -88,6 +88,8 @@ const std::vector<Setting>& settings() {
       integer_setting("allow_plaintext", &ServerConfig::allow_plaintext, 0, 1),
       integer_setting("max_frame_bytes", &ServerConfig::max_frame_bytes, 1024, 1u << 30),
       integer_setting("max_models", &ServerConfig::max_models, 1, 100000),
+      integer_setting("max_clips", &ServerConfig::max_clips, 1, 100000),
+      integer_setting("max_clip_bytes", &ServerConfig::max_clip_bytes, 0, 1ll << 40),
       integer_setting("max_connections", &ServerConfig::max_connections, 1, 100000),
       integer_setting("max_poses_in_flight", &ServerConfig::max_poses_in_flight, 1, 4096),
       integer_setting("hello_timeout_ms", &ServerConfig::hello_timeout_ms, 1, 3'600'000),
@@ -259,6 +261,8 @@ Flags (each also a key of the JSON config file, with '_' for '-'):
                             at start-up (config key: allow_plaintext true)
   --max-frame-bytes N       largest accepted frame (default 67108864)
   --max-models N            most models held (default 16)
+  --max-clips N             most motion clips held, in memory (UploadClip; default 64)
+  --max-clip-bytes N        BVH bytes of all clips held together (default 268435456)
   --max-connections N       most simultaneous connections (default 64)
   --max-poses-in-flight N   queued poses per connection before backpressure (default 8)
   --hello-timeout-ms N      close connections that send no Hello in time, the TLS handshake

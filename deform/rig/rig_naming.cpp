@@ -299,7 +299,56 @@ ConventionMatch match_convention(const JointNameIndex& names, const Skeleton& sk
   return match;
 }
 
+// The roles one convention gives the joints of `names` by name alone (rig_roles' order).
+std::array<int, kRigRoleCount> convention_roles(const JointNameIndex& names,
+                                                const NamingConvention& convention) {
+  std::array<int, kRigRoleCount> roles;
+  roles.fill(-1);
+  int next = 0;
+  roles[next++] = names.find(convention.pelvis);
+  roles[next++] = names.find(convention.head);
+  for (const bool left : {true, false}) {
+    for (const Patterns* arm :
+         {&convention.clavicle, &convention.upper_arm, &convention.forearm, &convention.hand})
+      roles[next++] = find_sided(names, convention, *arm, left);
+    for (const Patterns* leg :
+         {&convention.hip, &convention.thigh, &convention.shin, &convention.foot, &convention.toe})
+      roles[next++] = find_sided(names, convention, *leg, left);
+  }
+  return roles;
+}
+
 }  // namespace
+
+std::array<int, kRigRoleCount> rig_roles(const RigMap& map) {
+  std::array<int, kRigRoleCount> roles;
+  int next = 0;
+  roles[next++] = map.torso.pelvis();
+  roles[next++] = map.neck.head;
+  for (const bool left : {true, false}) {
+    const ArmJoints& arm = left ? map.left_arm : map.right_arm;
+    for (const int j : {arm.clavicle, arm.upper, arm.lower, arm.hand}) roles[next++] = j;
+    const LegJoints& leg = left ? map.left_leg : map.right_leg;
+    for (const int j : {leg.hip, leg.upper, leg.lower, leg.foot, leg.toe}) roles[next++] = j;
+  }
+  return roles;
+}
+
+NameRoles match_name_roles(std::span<const std::string> names) {
+  Skeleton flat;  // the names as roots: JointNameIndex reads names only
+  for (const std::string& name : names) flat.joints.push_back({.name = name});
+  const JointNameIndex index(flat);
+  NameRoles best{"", {}};
+  best.roles.fill(-1);
+  int best_count = 0;
+  for (const NamingConvention& convention : naming_conventions()) {
+    const std::array<int, kRigRoleCount> roles = convention_roles(index, convention);
+    const int count =
+        static_cast<int>(std::count_if(roles.begin(), roles.end(), [](int j) { return j >= 0; }));
+    if (count > best_count) best = {std::string(convention.name), roles}, best_count = count;
+  }
+  return best;
+}
 
 bool NamedRigParts::settles_every_part() const {
   return std::all_of(problem.begin(), problem.end(),

@@ -38,6 +38,7 @@
 #pragma once
 
 #include <array>
+#include <span>
 #include <string>
 
 #include "deform/model/skeleton.h"
@@ -57,5 +58,21 @@ struct NamedRigParts {
 };
 
 NamedRigParts match_rig_naming(const Skeleton& skeleton);
+
+// The joint roles a rig map gives, in one fixed order (pelvis, head, then per side the arm's
+// clavicle, upper, lower, hand and the leg's hip, upper, lower, foot, toe): -1 where absent.
+// Two maps over different skeletons pair their joints role by role through it.
+inline constexpr int kRigRoleCount = 20;
+std::array<int, kRigRoleCount> rig_roles(const RigMap& map);
+
+// Joint names on their own, without a hierarchy (e.g. a pose keyed by joint name): the roles
+// the convention recognising the most of them gives, as indices into `names` in rig_roles'
+// order (-1 where no name has that role), matched as match_rig_naming matches (case, namespaces,
+// prefixes and suffixes ignored). convention is "" when no name is recognised.
+struct NameRoles {
+  std::string convention;
+  std::array<int, kRigRoleCount> roles;
+};
+NameRoles match_name_roles(std::span<const std::string> names);
 
 }  // namespace sweepd::deform

@@ -46,11 +46,34 @@ deform::AnatomicalFeatures features_of(protocol::Features bits) {
 
 }  // namespace
 
+glm::vec3 root_translation_of(const protocol::Pose& pose, const deform::Skeleton& skeleton) {
+  const protocol::Vec3* root = pose.root_translation();
+  return root != nullptr           ? glm::vec3(root->x(), root->y(), root->z())
+         : skeleton.joints.empty() ? glm::vec3(0.0f)
+                                   : skeleton.joints[0].rest_translation;
+}
+
 std::optional<protocol::PoseProblem> read_pose_request(const protocol::Pose& pose,
                                                        const ModelHandle& model,
                                                        std::uint64_t request_id, PoseRequest& out) {
+  // As many rotations as the wire holds (the frame limit bounds them); the job names a count
+  // other than the skeleton's.
+  deform::Pose posed;
+  if (const auto* rotations = pose.rotations()) {
+    posed.local_rotations.reserve(rotations->size());
+    for (const protocol::Quat* q : *rotations)
+      posed.local_rotations.emplace_back(q->w(), q->x(), q->y(), q->z());
+  }
+  posed.root_translation = root_translation_of(pose, model->bound.model.skeleton);
+  return read_posed_request(pose, std::move(posed), model, request_id, out);
+}
+
+std::optional<protocol::PoseProblem> read_posed_request(const protocol::Pose& pose,
+                                                        deform::Pose posed,
+                                                        const ModelHandle& model,
+                                                        std::uint64_t request_id,
+                                                        PoseRequest& out) {
   if (auto problem = protocol::check_pose_enums(pose)) return problem;
-  const deform::Skeleton& skeleton = model->bound.model.skeleton;
   out.request_id = request_id;
   out.model = model;
   out.sequence = pose.sequence();
@@ -68,19 +91,7 @@ std::optional<protocol::PoseProblem> read_pose_request(const protocol::Pose& pos
     default:
       out.method = deform::DeformMethod::kSweep;
   }
-  // As many rotations as the wire holds (the frame limit bounds them); the job names a count
-  // other than the skeleton's.
-  const auto* rotations = pose.rotations();
-  out.pose.local_rotations.clear();
-  if (rotations != nullptr) {
-    out.pose.local_rotations.reserve(rotations->size());
-    for (const protocol::Quat* q : *rotations)
-      out.pose.local_rotations.emplace_back(q->w(), q->x(), q->y(), q->z());
-  }
-  const protocol::Vec3* root = pose.root_translation();
-  out.pose.root_translation = root != nullptr           ? glm::vec3(root->x(), root->y(), root->z())
-                              : skeleton.joints.empty() ? glm::vec3(0.0f)
-                                                        : skeleton.joints[0].rest_translation;
+  out.pose = std::move(posed);
   deform::DeformJob job = out.job(0, {}, {});
   const deform::JobProblem problem = job.validate();
   if (!problem) return std::nullopt;

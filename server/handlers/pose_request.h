@@ -10,6 +10,11 @@
 //   feature or format this server does not know (NotAvailable), a wrong joint count
 //   (WrongJointCount), NaN/inf or rotations further than protocol::kRotationNormTolerance
 //   from unit length (InvalidPose), features on a method other than sweep (InvalidArgument).
+// root_translation_of(pose, skeleton): the pose's root translation, or the skeleton's rest one
+//   when the pose has none.
+// read_posed_request(pose, posed, model, request_id, out): the same with the joint rotations
+//   and root translation given (`posed`: a clip frame, named rotations) instead of the wire's;
+//   the rest of `pose` (method, features, output, sequence) is read as above.
 // PoseRequest::job(threads, positions, normals): the request as a deform::DeformJob, writing
 //   into the given buffers; the worker runs it with run_validated.
 // PosedVerticesWriter::write(request, dropped_before, builder): builds the complete reply
@@ -69,6 +74,11 @@ struct PoseRequest {
 std::optional<protocol::PoseProblem> read_pose_request(const protocol::Pose& pose,
                                                        const ModelHandle& model,
                                                        std::uint64_t request_id, PoseRequest& out);
+glm::vec3 root_translation_of(const protocol::Pose& pose, const deform::Skeleton& skeleton);
+std::optional<protocol::PoseProblem> read_posed_request(const protocol::Pose& pose,
+                                                        deform::Pose posed,
+                                                        const ModelHandle& model,
+                                                        std::uint64_t request_id, PoseRequest& out);
 
 class PosedVerticesWriter {
  public:

@@ -3,6 +3,7 @@
 #include <openssl/evp.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <memory>
 #include <stdexcept>
 
@@ -49,6 +50,12 @@ std::string model_content_id(std::span<const std::uint8_t> source, std::string_v
 
 std::string described_content_id(std::string_view description) {
   return sha256_hex({bytes_of("sweepd model v1: described"), bytes_of(description)});
+}
+
+std::string clip_content_id(std::string_view bvh, float length_scale) {
+  char scale[32];
+  std::snprintf(scale, sizeof scale, "length_scale=%a", static_cast<double>(length_scale));
+  return sha256_hex({bytes_of("sweepd clip v1: BVH, options"), bytes_of(bvh), bytes_of(scale)});
 }
 
 std::uint32_t handle_of(std::string_view content_id) {

@@ -7,6 +7,7 @@
 #include "protocol/messages.h"
 #include "server/handlers/pose_intake.h"
 #include "server/log_event.h"
+#include "server/replies/clip_info.h"
 #include "server/replies/model_info.h"
 #include "server/replies/stats_reply.h"
 #include "server/replies/welcome_reply.h"
@@ -328,6 +329,30 @@ void Connection::dispatch(const pb::Message& message) {
           log_edit_outcome);
       break;
     }
+    case pb::Body::UploadClip:
+      upload_clip(*message.body_as_UploadClip(), request_id);
+      break;
+    case pb::Body::PoseFromClip: {
+      const pb::PoseFromClip* request = message.body_as_PoseFromClip();
+      if (request->pose() == nullptr || request->clip() == nullptr) {
+        send_error(pb::ErrorCode::InvalidArgument, "a PoseFromClip needs a pose and a clip", 0,
+                   request_id);
+      } else {
+        queue_intake(read_clip_pose_message(models, environment_.clips, *request->pose(),
+                                            *request->clip(), request_id),
+                     request_id);
+      }
+      break;
+    }
+    case pb::Body::PoseByName: {
+      const pb::PoseByName* request = message.body_as_PoseByName();
+      if (request->pose() == nullptr) {
+        send_error(pb::ErrorCode::InvalidArgument, "a PoseByName needs a pose", 0, request_id);
+      } else {
+        queue_intake(read_named_pose_message(models, *request, request_id), request_id);
+      }
+      break;
+    }
     case pb::Body::Hello:
       send_error(pb::ErrorCode::InvalidArgument, "Hello was already received on this connection", 0,
                  request_id);
@@ -375,9 +400,18 @@ void Connection::authenticate(const pb::Hello& hello, std::uint64_t request_id) 
 
 void Connection::queue_pose(const pb::Pose& pose, std::uint64_t request_id,
                             const pb::PositionMapRequest* map) {
+  if (map != nullptr && map->clip() != nullptr) {
+    queue_intake(read_clip_pose_message(environment_.models, environment_.clips, pose, *map->clip(),
+                                        request_id, map),
+                 request_id);
+  } else {
+    queue_intake(read_pose_message(environment_.models, pose, request_id, map), request_id);
+  }
+}
+
+void Connection::queue_intake(std::variant<PoseRequest, RequestError> intake,
+                              std::uint64_t request_id) {
   ++counters_.poses_received;
-  std::variant<PoseRequest, RequestError> intake =
-      read_pose_message(environment_.models, pose, request_id, map);
   if (const RequestError* error = std::get_if<RequestError>(&intake)) {
     send_error(*error, request_id);
     return;
@@ -393,6 +427,38 @@ void Connection::queue_pose(const pb::Pose& pose, std::uint64_t request_id,
   }
   waiting_poses_.push_back(std::move(request));
   start_next_pose();
+}
+
+void Connection::upload_clip(const pb::UploadClip& upload, std::uint64_t request_id) {
+  // The text lives in the reader's storage, reused by the next frame: copied for the worker.
+  auto text = std::make_shared<const std::string>(upload.bvh() ? upload.bvh()->str() : "");
+  std::string name = upload.name() ? upload.name()->str() : "";
+  const float length_scale = upload.length_scale();
+  log_event("clip_upload_start",
+            {{"connection", id()}, {"name", name}, {"upload_bytes", text->size()}});
+  ++loads_running_;
+  asio::post(environment_.workers, [self = shared_from_this(), text, name = std::move(name),
+                                    length_scale, request_id]() {
+    std::variant<ClipHandle, RequestError> outcome =
+        self->environment_.clips.add(name, *text, length_scale);
+    asio::post(self->stream_.get_executor(), [self, outcome = std::move(outcome), request_id]() {
+      --self->loads_running_;
+      if (const ClipHandle* clip = std::get_if<ClipHandle>(&outcome)) {
+        log_event("clip_uploaded", {{"connection", self->id()},
+                                    {"clip", (*clip)->id()},
+                                    {"name", (*clip)->name()},
+                                    {"frames", (*clip)->clip().frame_count}});
+        flatbuffers::FlatBufferBuilder builder = self->take_builder();
+        build_clip_info(builder, **clip, request_id);
+        self->send(std::move(builder));
+      } else {
+        const RequestError& error = std::get<RequestError>(outcome);
+        log_event("clip_upload_failed", {{"connection", self->id()}, {"reason", error.message}});
+        self->send_error(error, request_id);
+      }
+      self->process_input();
+    });
+  });
 }
 
 void Connection::change_model(std::uint64_t request_id, std::function<ModelChange()> change,

@@ -47,6 +47,7 @@
 #include "server/handlers/model_requests.h"
 #include "server/handlers/pose_request.h"
 #include "server/handlers/request_error.h"
+#include "server/models/clip_store.h"
 #include "server/models/model_service.h"
 #include "server/transport/connection_counters.h"
 #include "server/transport/connection_stream.h"
@@ -61,6 +62,7 @@ struct ConnectionEnvironment {
   asio::thread_pool& workers;
   asio::thread_pool& gpu_waiters;  // poses whose pair detection waits on the GPU thread
   PositionMapService& position_maps;
+  ClipStore& clips;  // UploadClip's clips (1.4)
   CollisionService& collision;
   std::chrono::steady_clock::time_point started;
   std::function<void(std::uint64_t connection_id)> on_close;
@@ -100,6 +102,11 @@ class Connection : public std::enable_shared_from_this<Connection> {
   // A Pose, or the pose of a PositionMapRequest (`map` set), checked and queued.
   void queue_pose(const protocol::Pose& pose, std::uint64_t request_id,
                   const protocol::PositionMapRequest* map = nullptr);
+  // A PoseFromClip / PoseByName (1.4), or a clip's PositionMapRequest: like queue_pose.
+  void queue_intake(std::variant<PoseRequest, RequestError> intake, std::uint64_t request_id);
+  // An UploadClip read on a worker (a BVH of megabytes takes milliseconds); reading pauses
+  // until its ClipInfo or error is queued, as for change_model.
+  void upload_clip(const protocol::UploadClip& upload, std::uint64_t request_id);
   // A model load or edit on a worker; reading pauses until its reply (ModelInfo or the
   // error) is queued, so replies stay in request order. `log_outcome` runs on the I/O thread.
   void change_model(std::uint64_t request_id, std::function<ModelChange()> change,

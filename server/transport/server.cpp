@@ -31,6 +31,7 @@ Server::Server(const ServerConfig& config, ModelService& models, Readiness& read
       workers_(worker_count(config)),
       gpu_waiters_(worker_count(config)),
       position_maps_(config.position_maps != 0, gpu),
+      clips_(config.max_clips, config.max_clip_bytes),
       buffer_budget_(config.max_buffered_bytes),
       // Enough idle builders for every worker's reply and the I/O thread's.
       builders_(2 * static_cast<std::size_t>(worker_count(config)) + 4),
@@ -41,6 +42,7 @@ Server::Server(const ServerConfig& config, ModelService& models, Readiness& read
                    workers_,
                    gpu_waiters_,
                    position_maps_,
+                   clips_,
                    collision,
                    std::chrono::steady_clock::now(),
                    {},

@@ -65,6 +65,7 @@ class Server {
   asio::thread_pool workers_;
   asio::thread_pool gpu_waiters_;
   PositionMapService position_maps_;
+  ClipStore clips_;  // UploadClip's clips, shared by every connection
   protocol::BufferBudget buffer_budget_;
   ReplyBuilderPool builders_;
   asio::signal_set signals_;

@@ -285,6 +285,62 @@ std::vector<Sample> one_of_each_body() {
          EXPECT_EQ(mesh->skin_joints()->size(), 12u);
          EXPECT_EQ(mesh->skin_weights()->Get(8), 1.0f);
        }},
+      {Body::UploadClip,
+       [](FlatBufferBuilder& b) {
+         return finish_message(b, CreateUploadClipDirect(b, "walk.bvh", "HIERARCHY\n", 0.5f), 13);
+       },
+       [](const Message& m) {
+         const UploadClip* upload = m.body_as_UploadClip();
+         EXPECT_EQ(upload->bvh()->str(), "HIERARCHY\n");
+         EXPECT_EQ(upload->length_scale(), 0.5f);
+       }},
+      {Body::ClipInfo,
+       [](FlatBufferBuilder& b) {
+         const auto warnings = b.CreateVectorOfStrings({"Frames: says 3, 2 rows"});
+         return finish_message(b,
+                               CreateClipInfo(b, b.CreateString(std::string(64, 'c')),
+                                              b.CreateString("walk.bvh"), 2, 120.0f, 31, warnings),
+                               13);
+       },
+       [](const Message& m) {
+         const ClipInfo* info = m.body_as_ClipInfo();
+         EXPECT_EQ(info->clip_id()->size(), 64u);
+         EXPECT_EQ(info->frame_count(), 2u);
+         EXPECT_EQ(info->frames_per_second(), 120.0f);
+         EXPECT_EQ(info->warnings()->size(), 1u);
+       }},
+      {Body::PoseFromClip,
+       [](FlatBufferBuilder& b) {
+         PoseFields fields;
+         fields.model_id = 4;
+         fields.sequence = 9;
+         const auto pose = add_pose(b, fields);
+         const auto clip = CreateClipFrameDirect(b, "id", flatbuffers::nullopt, 1.5, true);
+         return finish_message(b, CreatePoseFromClip(b, pose, clip), 14);
+       },
+       [](const Message& m) {
+         const PoseFromClip* request = m.body_as_PoseFromClip();
+         EXPECT_EQ(request->pose()->sequence(), 9u);
+         EXPECT_FALSE(request->clip()->frame().has_value()) << "absent, not 0";
+         EXPECT_EQ(request->clip()->time_seconds().value_or(0.0), 1.5);
+         EXPECT_TRUE(request->clip()->loop());
+       }},
+      {Body::PoseByName,
+       [](FlatBufferBuilder& b) {
+         PoseFields fields;
+         fields.model_id = 4;
+         const auto pose = add_pose(b, fields);
+         const Quat turn(0.0f, 0.0f, 0.6f, 0.8f);
+         return finish_message(b,
+                               CreatePoseByName(b, pose, b.CreateVectorOfStrings({"upperarm_l"}),
+                                                b.CreateVectorOfStructs(&turn, 1)),
+                               15);
+       },
+       [](const Message& m) {
+         const PoseByName* request = m.body_as_PoseByName();
+         EXPECT_EQ(request->joint_names()->Get(0)->str(), "upperarm_l");
+         EXPECT_EQ(request->rotations()->Get(0)->z(), 0.6f);
+       }},
   };
 }
 

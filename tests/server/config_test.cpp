@@ -69,6 +69,16 @@ TEST(ServerConfig, TheSystemdUnitsConfigFileIsValid) {
   EXPECT_TRUE(config.token.empty());  // the token comes from the credential, not the file
 }
 
+TEST(ServerConfig, ClipLimitsAreFlagsAndConfigKeys) {
+  EXPECT_EQ(parse({}).max_clips, 64u);
+  EXPECT_EQ(parse({}).max_clip_bytes, 256ull << 20);
+  const server::ServerConfig flags = parse({"--max-clips", "3", "--max-clip-bytes", "1000"});
+  EXPECT_EQ(flags.max_clips, 3u);
+  EXPECT_EQ(flags.max_clip_bytes, 1000u);
+  const std::string file = std::string(SWEEPD_SOURCE_DIR) + "/deploy/sweepd.conf";
+  EXPECT_EQ(parse({"--config", file}).max_clips, 64u);
+}
+
 TEST(ServerConfig, MistakesAreNamed) {
   EXPECT_NE(error_of({"--prot", "1"}).find("--prot: unknown flag"), std::string::npos);
   EXPECT_NE(error_of({"--port"}).find("--port: missing value"), std::string::npos);

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <fstream>
 #include <limits>
 
 #include "tests/server/daemon_process.h"
@@ -91,7 +92,8 @@ TEST_F(DaemonErrors, ABodyTypeWithoutItsBodyIsABadFrame) {
   for (const protocol::Body type :
        {protocol::Body::Pose, protocol::Body::LoadModel, protocol::Body::PositionMapRequest,
         protocol::Body::MeshRequest, protocol::Body::EditKeyEllipse, protocol::Body::ListModels,
-        protocol::Body::Bye, protocol::Body::Hello}) {
+        protocol::Body::Bye, protocol::Body::Hello, protocol::Body::UploadClip,
+        protocol::Body::PoseFromClip, protocol::Body::PoseByName}) {
     SCOPED_TRACE(protocol::EnumNameBody(type));
     flatbuffers::FlatBufferBuilder builder;
     const std::span<const std::uint8_t> frame =
@@ -181,6 +183,96 @@ TEST_F(DaemonErrors, UploadThatIsNotGltfFailsToLoadWithTheReason) {
   // A failed load leaves nothing in the store: no .glb of the bytes it could not read.
   for (const fs::directory_entry& entry : fs::directory_iterator(*directory_ / "store"))
     EXPECT_NE(entry.path().extension(), ".glb") << entry.path();
+}
+
+// cmu_01_01's hierarchy with its first `frames` frames: a clip that drives the mannequin, small
+// enough for this daemon's 64 KiB frames.
+std::string short_clip(int frames) {
+  std::ifstream in(fs::path(SWEEPD_SHARED_DATA) / "motion" / "cmu_01_01.bvh");
+  std::string text, line;
+  while (std::getline(in, line)) {
+    if (line.starts_with("Frames:")) line = "Frames: " + std::to_string(frames);
+    text += line + "\n";
+    if (line.starts_with("Frame Time:")) break;
+  }
+  for (int f = 0; f < frames && std::getline(in, line); ++f) text += line + "\n";
+  return text;
+}
+
+// UploadClip with `text` (named "short.bvh"); the reply is left to read.
+void upload_clip(FrameClient& client, const std::string& text, std::uint64_t request_id) {
+  flatbuffers::FlatBufferBuilder builder;
+  client.send_bytes(protocol::finish_message(
+      builder, protocol::CreateUploadClipDirect(builder, "short.bvh", text.c_str()), request_id));
+}
+
+// A PoseFromClip of `model` with `sequence`, its ClipFrame built by `clip_frame`.
+template <typename ClipFrameBuilder>
+void send_clip_pose(FrameClient& client, std::uint32_t model, std::uint64_t sequence,
+                    ClipFrameBuilder clip_frame, std::span<const protocol::Quat> rotations = {}) {
+  flatbuffers::FlatBufferBuilder builder;
+  const auto pose = protocol::add_pose(builder, pose_fields(model, sequence, rotations));
+  const auto clip = clip_frame(builder);
+  client.send_bytes(
+      protocol::finish_message(builder, protocol::CreatePoseFromClip(builder, pose, clip)));
+}
+
+TEST_F(DaemonErrors, MalformedClipFailsToLoadNamingTheLine) {
+  upload_clip(*broken_, "HIERARCHY\nROOT Hips\n{\n  OFFSET 0 zero 0\n", 20);
+  expect_error_then_service(protocol::ErrorCode::ClipLoadFailed, "short.bvh");
+}
+
+TEST_F(DaemonErrors, OversizedClipIsRefusedLikeAnyLargeFrame) {
+  upload_clip(*broken_, short_clip(2) + std::string(2 * kMaxFrameBytes, ' '), 21);
+  expect_error_then_service(protocol::ErrorCode::FrameTooLarge, "exceeds the limit");
+}
+
+TEST_F(DaemonErrors, UnknownClipIsItsOwnCodeSoClientsUploadAgain) {
+  send_clip_pose(*broken_, daemon_->model_id(), 22, [](flatbuffers::FlatBufferBuilder& builder) {
+    return protocol::CreateClipFrameDirect(builder, std::string(64, 'a').c_str(), 0u);
+  });
+  expect_error_then_service(protocol::ErrorCode::UnknownClip, "upload it", 22);
+}
+
+TEST_F(DaemonErrors, ClipFramePastTheEndNaNTimeAndRotationsAreInvalidArguments) {
+  upload_clip(*broken_, short_clip(3), 23);
+  const protocol::ClipInfo* info = broken_->receive_as<protocol::ClipInfo>();
+  ASSERT_NE(info, nullptr);
+  EXPECT_EQ(info->frame_count(), 3u);
+  const std::string id = info->clip_id()->str();
+  send_clip_pose(*broken_, daemon_->model_id(), 24, [&](flatbuffers::FlatBufferBuilder& builder) {
+    return protocol::CreateClipFrameDirect(builder, id.c_str(), 3u);
+  });
+  expect_error_then_service(protocol::ErrorCode::InvalidArgument,
+                            "frame 3 is past the clip's last frame 2", 24);
+  send_clip_pose(*broken_, daemon_->model_id(), 25, [&](flatbuffers::FlatBufferBuilder& builder) {
+    return protocol::CreateClipFrameDirect(builder, id.c_str(), flatbuffers::nullopt,
+                                           std::numeric_limits<double>::quiet_NaN());
+  });
+  expect_error_then_service(protocol::ErrorCode::InvalidArgument, "not a finite number", 25);
+  send_clip_pose(*broken_, daemon_->model_id(), 26, [&](flatbuffers::FlatBufferBuilder& builder) {
+    return protocol::CreateClipFrameDirect(builder, id.c_str(), 1u, 0.01);
+  });
+  expect_error_then_service(protocol::ErrorCode::InvalidArgument, "exactly one of a frame", 26);
+  send_clip_pose(
+      *broken_, daemon_->model_id(), 27,
+      [&](flatbuffers::FlatBufferBuilder& builder) {
+        return protocol::CreateClipFrameDirect(builder, id.c_str(), 1u);
+      },
+      rotations_);
+  expect_error_then_service(protocol::ErrorCode::InvalidArgument, "the clip gives them", 27);
+}
+
+TEST_F(DaemonErrors, UnknownJointNamesAreNamed) {
+  flatbuffers::FlatBufferBuilder builder;
+  const auto pose = protocol::add_pose(builder, pose_fields(daemon_->model_id(), 28, {}));
+  const std::vector<std::string> names = {"LeftArm", "Tail", "upperarm_r"};
+  const std::vector<protocol::Quat> rotations(3, protocol::Quat(0, 0, 0, 1));
+  broken_->send_bytes(protocol::finish_message(
+      builder, protocol::CreatePoseByName(
+                   builder, pose, builder.CreateVectorOfStrings(names),
+                   builder.CreateVectorOfStructs(rotations.data(), rotations.size()))));
+  expect_error_then_service(protocol::ErrorCode::InvalidArgument, "unknown joint names 'Tail'", 28);
 }
 
 TEST_F(DaemonErrors, ClientVanishingMidFrameLeavesOthersServed) {

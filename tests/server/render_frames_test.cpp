@@ -213,6 +213,27 @@ TEST_F(RenderFrames, ShardsRenderTheirSlicesAndTogetherTheRangeOnce) {
   EXPECT_NE(half.output.find("JOB_COMPLETIONS is not"), std::string::npos) << half.output;
 }
 
+TEST_F(RenderFrames, ClipOnServerWritesTheSameFilesAsPosesRetargetedHere) {
+  const std::string range = " --frames " + std::to_string(kFirst) + "-" + std::to_string(kLast) +
+                            " --width 64 --height 64 -o ";
+  const ClientRun poses =
+      run_render_frames(server_arguments() + range + (directory_ / "frames").string());
+  ASSERT_EQ(poses.exit_code, 0) << poses.output << daemon_->log();
+  const ClientRun clip = run_render_frames(server_arguments() + " --clip-on-server" + range +
+                                           (directory_ / "clip_frames").string());
+  ASSERT_EQ(clip.exit_code, 0) << clip.output << daemon_->log();
+  EXPECT_EQ(render_counts(clip.output), (std::array<int, 5>{6, 0, 6, 0, 0})) << clip.output;
+  for (int frame = kFirst; frame <= kLast; ++frame) {
+    const fs::path file = directory_ / "clip_frames" / frame_file(frame).filename();
+    ASSERT_TRUE(fs::exists(file)) << file;
+    // The server retargets with the library's Retargeter on the model itself, the client with
+    // it on ModelInfo's skeleton and floor: the same floats, so the same EXR bytes.
+    EXPECT_TRUE(read_text(file) == read_text(frame_file(frame))) << file;
+  }
+  expect_library_map(kFirst);
+  EXPECT_NE(daemon_->log().find("\"clip_uploaded\""), std::string::npos);
+}
+
 TEST_F(RenderFrames, AKilledServersFramesAreRenderedByTheOther) {
   const fs::path other_directory = fresh_directory("render_frames_other");
   DaemonProcess other(other_directory, {"--token", "t0k"});

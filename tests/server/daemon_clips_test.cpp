@@ -1,0 +1,182 @@
+// Clips and named joints on the daemon (protocol 1.4, issue 18): a clip uploaded once is posed
+// by frame number exactly as `sweepctl pose --bvh --frame` poses it (bit for bit), by time and
+// looping; the same text uploads to the same id; rotations keyed by joint names of another
+// rig's convention land on the model's joints as its own names do.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <map>
+
+#include "client/clip_upload.h"
+#include "client/connection.h"
+#include "client/mesh_request.h"
+#include "client/model_source.h"
+#include "io/bvh_load.h"
+#include "io/gltf_load.h"
+#include "io/gltf_save.h"
+#include "metrics/quality_metrics.h"
+#include "tests/server/pose_frames.h"
+#include "tests/server/sweepctl_remote.h"
+
+namespace sweepd::test {
+namespace {
+
+namespace pb = sweepd::protocol;
+
+class DaemonClips : public SweepctlRemote {
+ protected:
+  void SetUp() override {
+    SweepctlRemote::SetUp();
+    connection_ = std::make_unique<client::Connection>("127.0.0.1:" + std::to_string(port()));
+    connection_->hello(kToken, "daemon_clips_test");
+  }
+  static std::string clip_text() {
+    const std::vector<char> bytes = file_bytes(kClip);
+    return {bytes.begin(), bytes.end()};
+  }
+  // The vertices of `model` posed as the clip's `frame` (and loop, time) on the server; its
+  // normals into `normals` when given.
+  std::vector<glm::vec3> served_frame(std::uint32_t model, std::size_t vertex_count,
+                                      const std::string& clip_id,
+                                      std::optional<std::uint32_t> frame,
+                                      std::optional<double> seconds = std::nullopt,
+                                      bool loop = false,
+                                      std::vector<glm::vec3>* normals = nullptr) {
+    flatbuffers::FlatBufferBuilder& builder = connection_->builder();
+    builder.Clear();
+    pb::PoseFields fields;
+    fields.model_id = model;
+    fields.sequence = ++sequence_;
+    fields.normals = normals != nullptr;
+    const auto pose = pb::add_pose(builder, fields);
+    flatbuffers::Optional<std::uint32_t> wire_frame = flatbuffers::nullopt;
+    flatbuffers::Optional<double> wire_seconds = flatbuffers::nullopt;
+    if (frame) wire_frame = *frame;
+    if (seconds) wire_seconds = *seconds;
+    const auto clip =
+        pb::CreateClipFrame(builder, builder.CreateString(clip_id), wire_frame, wire_seconds, loop);
+    connection_->send(pb::finish_message(builder, pb::CreatePoseFromClip(builder, pose, clip)));
+    const pb::PosedVertices& reply = connection_->expect<pb::PosedVertices>();
+    EXPECT_EQ(reply.sequence(), sequence_);
+    std::vector<glm::vec3> positions(vertex_count);
+    EXPECT_TRUE(pb::copy_positions(reply, {&positions[0].x, 3 * positions.size()}));
+    if (normals != nullptr) {
+      normals->resize(vertex_count);
+      EXPECT_TRUE(pb::copy_normals(reply, {&(*normals)[0].x, 3 * normals->size()}));
+    }
+    return positions;
+  }
+  std::vector<glm::vec3> served_by_name(std::uint32_t model, std::size_t vertex_count,
+                                        const std::vector<std::string>& names,
+                                        const std::vector<pb::Quat>& rotations) {
+    flatbuffers::FlatBufferBuilder& builder = connection_->builder();
+    builder.Clear();
+    pb::PoseFields fields;
+    fields.model_id = model;
+    fields.sequence = ++sequence_;
+    const auto pose = pb::add_pose(builder, fields);
+    const auto request =
+        pb::CreatePoseByName(builder, pose, builder.CreateVectorOfStrings(names),
+                             builder.CreateVectorOfStructs(rotations.data(), rotations.size()));
+    connection_->send(pb::finish_message(builder, request));
+    std::vector<glm::vec3> positions(vertex_count);
+    EXPECT_TRUE(pb::copy_positions(connection_->expect<pb::PosedVertices>(),
+                                   {&positions[0].x, 3 * positions.size()}));
+    return positions;
+  }
+  static bool same_bits(const std::vector<glm::vec3>& a, const std::vector<glm::vec3>& b) {
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(a[0])) == 0;
+  }
+
+  std::unique_ptr<client::Connection> connection_;
+  std::uint64_t sequence_ = 0;
+};
+
+TEST_F(DaemonClips, ServerClipFrameEqualsSweepctlPoseBitForBit) {
+  const ClientRun local =
+      run_sweepctl("pose " + kSharedMale.string() + " --bvh " + kClip.string() + " --frame " +
+                   std::to_string(kClipFrame) + " -o " + path("local.glb").string());
+  ASSERT_EQ(local.exit_code, 0) << local.output;
+
+  std::ifstream glb_file(kSharedMale, std::ios::binary);
+  client::ModelSource male(kSharedMale.filename().string(),
+                           {std::istreambuf_iterator<char>(glb_file), {}});
+  const pb::ModelInfo& male_info = male.load(*connection_);
+  const std::uint32_t model = male_info.model_id();
+  // The served model (ModelInfo + MeshRequest), named as sweepctl names a local file's model.
+  deform::Model frame_model = client::served_model(*connection_, male_info);
+  frame_model.name = kSharedMale.stem().string();
+  const std::string text = clip_text();
+  const pb::ClipInfo& info = client::upload_clip(*connection_, "cmu_01_01.bvh", text);
+  const motion::Clip clip = io::load_bvh(kClip);
+  EXPECT_EQ(info.frame_count(), static_cast<std::uint32_t>(clip.frame_count));
+  EXPECT_EQ(info.joint_count(), clip.joints.size());
+  EXPECT_FLOAT_EQ(info.frames_per_second(), clip.frames_per_second());
+  const std::string clip_id = info.clip_id()->str();
+  EXPECT_EQ(clip_id.size(), 64u);
+  // Content-addressed: the same text under another name is the same clip; another scale is not.
+  EXPECT_EQ(client::upload_clip(*connection_, "again.bvh", text).clip_id()->str(), clip_id);
+  EXPECT_NE(client::upload_clip(*connection_, "again.bvh", text, 0.5f).clip_id()->str(), clip_id);
+
+  // The file sweepctl wrote locally is the served model with the served positions and
+  // normals, byte for byte (compared as files: a .glb read back does not give every float back
+  // as written).
+  std::vector<glm::vec3> normals;
+  const std::vector<glm::vec3> served = served_frame(model, frame_model.vertex_count(), clip_id,
+                                                     kClipFrame, std::nullopt, false, &normals);
+  frame_model.positions = served;
+  frame_model.normals = normals;
+  io::save_gltf(frame_model, path("served.glb"));
+  EXPECT_TRUE(file_bytes(path("served.glb")) == file_bytes(path("local.glb")))
+      << "the server's retargeting and deformation are sweepctl's: bit for bit";
+  EXPECT_GT(metrics::largest_distance(served, io::load_gltf(kSharedMale).positions), 0.1)
+      << "frame " << kClipFrame << " is far from the rest pose";
+
+  // Looping wraps frame numbers exactly; a time on frame 300 samples it within float rounding
+  // of the frame position (300 * frame_time / frame_time may land a hair before 300, giving a
+  // slerp 1 - 1e-5 of the way from frame 299).
+  EXPECT_TRUE(same_bits(served_frame(model, served.size(), clip_id,
+                                     kClipFrame + static_cast<std::uint32_t>(clip.frame_count),
+                                     std::nullopt, /*loop=*/true),
+                        served));
+  const std::vector<glm::vec3> timed = served_frame(model, served.size(), clip_id, std::nullopt,
+                                                    kClipFrame * double{clip.frame_time});
+  EXPECT_LT(metrics::largest_distance(timed, served), 1e-4);
+}
+
+TEST_F(DaemonClips, RotationsByNameOfAnyConventionLandOnTheModelsJoints) {
+  const pb::ModelInfo& info = connection_->load_model("mannequin");
+  const std::uint32_t model = info.model_id();
+  const std::size_t vertex_count = info.vertex_count();
+  std::map<std::string, int> index;
+  for (std::uint32_t j = 0; j < info.joint_names()->size(); ++j)
+    index[info.joint_names()->Get(j)->str()] = static_cast<int>(j);
+  std::vector<pb::Quat> all;  // the rest rotations, some replaced below
+  for (const pb::Quat* rest : *info.joint_rest_rotations()) all.push_back(*rest);
+  // The mannequin uses CMU/MotionBuilder names; ask in Unreal's and in Mixamo's.
+  const std::vector<std::string> own = {"LeftArm", "LeftForeArm", "RightUpLeg", "RightLeg", "Head"};
+  const std::vector<std::string> unreal = {"upperarm_l", "lowerarm_l", "thigh_r", "calf_r", "head"};
+  const std::vector<std::string> mixamo = {"mixamorig:LeftArm", "mixamorig:LeftForeArm",
+                                           "mixamorig:RightUpLeg", "mixamorig:RightLeg",
+                                           "mixamorig:Head"};
+  const std::vector<pb::Quat> bends = to_wire(bent_rotations(own.size()));
+  for (std::size_t i = 0; i < own.size(); ++i) {
+    ASSERT_TRUE(index.contains(own[i])) << own[i];
+    all[index[own[i]]] = bends[i];
+  }
+  connection_->builder().Clear();
+  connection_->send(pb::finish_message(
+      connection_->builder(),
+      pb::add_pose(connection_->builder(), pose_fields(model, ++sequence_, all))));
+  std::vector<glm::vec3> whole(vertex_count);
+  ASSERT_TRUE(pb::copy_positions(connection_->expect<pb::PosedVertices>(),
+                                 {&whole[0].x, 3 * whole.size()}));
+
+  EXPECT_TRUE(same_bits(served_by_name(model, vertex_count, own, bends), whole))
+      << "named joints at their rotations, the others at rest: the same pose";
+  EXPECT_TRUE(same_bits(served_by_name(model, vertex_count, unreal, bends), whole));
+  EXPECT_TRUE(same_bits(served_by_name(model, vertex_count, mixamo, bends), whole));
+}
+
+}  // namespace
+}  // namespace sweepd::test

@@ -1,0 +1,87 @@
+// ClipStore: clips are named by their content (text and scale), held once however often they
+// are uploaded, refused past the count or byte limit with the limit named, and text that is
+// not a usable BVH is refused with the reader's reason without taking room.
+#include "server/models/clip_store.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+namespace sweepd::server {
+namespace {
+
+// Two joints, two frames; `frame_time` tells clips apart.
+std::string tiny_clip(const std::string& frame_time = "0.1", int frames = 2) {
+  std::string text =
+      "HIERARCHY\nROOT Hips\n{\n  OFFSET 0 0 0\n"
+      "  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n"
+      "  JOINT Spine\n  {\n    OFFSET 0 1 0\n    CHANNELS 3 Zrotation Xrotation Yrotation\n"
+      "    End Site\n    {\n      OFFSET 0 1 0\n    }\n  }\n}\nMOTION\nFrames: " +
+      std::to_string(frames) + "\nFrame Time: " + frame_time + "\n";
+  for (int f = 0; f < frames; ++f) text += "0 0 0 " + std::to_string(10 * f) + " 0 0 0 0 0\n";
+  return text;
+}
+
+ClipHandle held(std::variant<ClipHandle, RequestError> outcome) {
+  if (const RequestError* error = std::get_if<RequestError>(&outcome)) {
+    ADD_FAILURE() << error->message;
+    return nullptr;
+  }
+  return std::get<ClipHandle>(outcome);
+}
+
+RequestError refused(std::variant<ClipHandle, RequestError> outcome) {
+  EXPECT_TRUE(std::holds_alternative<RequestError>(outcome));
+  return std::holds_alternative<RequestError>(outcome) ? std::get<RequestError>(outcome)
+                                                       : RequestError{};
+}
+
+TEST(ClipStore, TheSameTextIsOneClipWhateverItsNameButAnotherScaleIsAnother) {
+  ClipStore store(8, 1 << 20);
+  const ClipHandle first = held(store.add("walk.bvh", tiny_clip(), 1.0f));
+  ASSERT_NE(first, nullptr);
+  EXPECT_EQ(first->id().size(), 64u);
+  EXPECT_EQ(first->clip().frame_count, 2);
+  EXPECT_EQ(held(store.add("copy.bvh", tiny_clip(), 1.0f)), first);
+  EXPECT_EQ(store.find(first->id()), first);
+  const ClipHandle scaled = held(store.add("walk.bvh", tiny_clip(), 0.5f));
+  ASSERT_NE(scaled, nullptr);
+  EXPECT_NE(scaled->id(), first->id());
+  EXPECT_FLOAT_EQ(scaled->clip().joints[1].offset.y, 0.5f);  // offsets scaled
+  EXPECT_EQ(store.find(std::string(64, '0')), nullptr);
+}
+
+TEST(ClipStore, CountLimitRefusesANewClipButNotOneHeld) {
+  ClipStore store(2, 1 << 20);
+  ASSERT_NE(held(store.add("a", tiny_clip("0.1"), 1.0f)), nullptr);
+  ASSERT_NE(held(store.add("b", tiny_clip("0.2"), 1.0f)), nullptr);
+  const RequestError full = refused(store.add("c", tiny_clip("0.3"), 1.0f));
+  EXPECT_EQ(full.code, protocol::ErrorCode::ClipLimit);
+  EXPECT_NE(full.message.find("maximum of 2 clips (--max-clips)"), std::string::npos)
+      << full.message;
+  EXPECT_NE(held(store.add("a again", tiny_clip("0.1"), 1.0f)), nullptr);
+}
+
+TEST(ClipStore, ByteLimitCountsTheBvhText) {
+  const std::size_t size = tiny_clip("0.1").size();
+  ClipStore store(8, 2 * size - 1);
+  ASSERT_NE(held(store.add("a", tiny_clip("0.1"), 1.0f)), nullptr);
+  const RequestError full = refused(store.add("b", tiny_clip("0.2"), 1.0f));
+  EXPECT_EQ(full.code, protocol::ErrorCode::ClipLimit);
+  EXPECT_NE(full.message.find("(--max-clip-bytes)"), std::string::npos) << full.message;
+}
+
+TEST(ClipStore, TextThatIsNotAUsableBvhIsRefusedWithoutTakingRoom) {
+  ClipStore store(1, 1 << 20);
+  const RequestError broken = refused(store.add("broken.bvh", "HIERARCHY\nROOT Hips\n{\n", 1.0f));
+  EXPECT_EQ(broken.code, protocol::ErrorCode::ClipLoadFailed);
+  EXPECT_NE(broken.message.find("broken.bvh"), std::string::npos) << broken.message;
+  EXPECT_EQ(refused(store.add("still.bvh", tiny_clip("0.1", 0), 1.0f)).code,
+            protocol::ErrorCode::ClipLoadFailed);
+  EXPECT_EQ(refused(store.add("flat.bvh", tiny_clip(), 0.0f)).code,
+            protocol::ErrorCode::InvalidArgument);
+  EXPECT_NE(held(store.add("fine.bvh", tiny_clip(), 1.0f)), nullptr) << "nothing was counted";
+}
+
+}  // namespace
+}  // namespace sweepd::server
