@@ -1,5 +1,6 @@
-// Tests that the Python package flatc generates at build time speaks the same frames as the
-// C++ code: Python reads a C++ PosedVertices frame, and C++ reads a Python Hello frame.
+// Tests that the Python protocol code (flatc's, committed in client_examples/python/sweepd)
+// speaks the same frames as the C++ code: Python reads a C++ PosedVertices frame, and C++
+// reads a Python Hello frame.
 // Runs Debian's /usr/bin/python3 with python3-flatbuffers and the standard library only.
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -77,8 +78,8 @@ class PythonPackage : public ::testing::Test {
 };
 
 TEST_F(PythonPackage, ReadsCppFramesAndWritesFramesCppReads) {
-  ASSERT_TRUE(fs::exists(fs::path(SWEEPD_PROTOCOL_PYTHON_DIR) / "sweepd/protocol/Message.py"))
-      << "flatc --python output missing in " << SWEEPD_PROTOCOL_PYTHON_DIR;
+  const fs::path package = fs::path(SWEEPD_SOURCE_DIR) / "client_examples/python";
+  ASSERT_TRUE(fs::exists(package / "sweepd/protocol/Message.py")) << package;
   // C++ → Python: a float16 reply for two vertices.
   const std::vector<float> positions = {0.5f, -1.25f, 3.0f, 0.1f, 100.0f, -0.0078125f};
   flatbuffers::FlatBufferBuilder builder;
@@ -95,8 +96,8 @@ TEST_F(PythonPackage, ReadsCppFramesAndWritesFramesCppReads) {
       .write(reinterpret_cast<const char*>(frame.bytes().data()),
              static_cast<std::streamsize>(frame.bytes().size()));
   std::ofstream(script) << kScript;
-  const std::string command = "PYTHONPATH=" + std::string(SWEEPD_PROTOCOL_PYTHON_DIR) + " " +
-                              kPython + " " + script.string() + " " + cpp_frame.string() + " " +
+  const std::string command = "PYTHONPATH=" + package.string() + " " + kPython + " " +
+                              script.string() + " " + cpp_frame.string() + " " +
                               python_frame.string() + " > " + printed.string();
   ASSERT_EQ(std::system(command.c_str()), 0) << command;
 

@@ -209,16 +209,14 @@ TEST_F(DaemonTls, TheCppAndPythonStreamPosesStreamOverTls) {
   EXPECT_EQ(cpp.exit_code, 0) << cpp.output;
   EXPECT_EQ(pose_counts(cpp.output), (std::array<int, 4>{40, 40, 0, 0})) << cpp.output;
   const ClientRun python = run_client("/usr/bin/python3 " + std::string(SWEEPD_SOURCE_DIR) +
-                                      "/client_examples/stream_poses.py --protocol-dir " +
-                                      SWEEPD_PROTOCOL_PYTHON_DIR + common);
+                                      "/client_examples/stream_poses.py" + common);
   EXPECT_EQ(python.exit_code, 0) << python.output;
   EXPECT_EQ(pose_counts(python.output), (std::array<int, 4>{40, 40, 0, 0})) << python.output;
   // Without the client certificate Python names the refusal (exit 3: the connection broke).
-  const ClientRun refused =
-      run_client("/usr/bin/python3 " + std::string(SWEEPD_SOURCE_DIR) +
-                 "/client_examples/stream_poses.py --protocol-dir " + SWEEPD_PROTOCOL_PYTHON_DIR +
-                 " --port " + std::to_string(daemon_->port()) + " --token " + kToken + " --bvh " +
-                 clip.string() + " --frames 1 --tls-ca " + c.ca.string());
+  const ClientRun refused = run_client(
+      "/usr/bin/python3 " + std::string(SWEEPD_SOURCE_DIR) +
+      "/client_examples/stream_poses.py --port " + std::to_string(daemon_->port()) + " --token " +
+      kToken + " --bvh " + clip.string() + " --frames 1 --tls-ca " + c.ca.string());
   EXPECT_EQ(refused.exit_code, 3) << refused.output;
   EXPECT_NE(refused.output.find("certificate required"), std::string::npos) << refused.output;
 }

@@ -1,15 +1,17 @@
 """Drives a sweepd with the installed sweepd_client package only (run by
 tests/server/python_package_test.cpp from a fresh venv, outside the source tree).
 
-  python_package_check.py PORT TOKEN BODY.glb ROTATIONS.f32 OUT_DIR OTHER_PORT
+  python_package_check.py PORT TOKEN BODY.glb ROTATIONS.f32 OUT_DIR OTHER_PORT CLIP.bvh
 
 Uploads BODY.glb, poses it with ROTATIONS (float32 x, y, z, w per joint) and writes
 OUT_DIR/positions.f32 and OUT_DIR/map.exr for the test to compare with the library. Checks on
 the way that streamed poses equal the single pose, that protocol errors raise their own
 exception classes, that a silent server raises Timeout, and that bytes uploaded once are
 named by content id afterwards: not sent again to PORT, sent to OTHER_PORT (a daemon with a
-store of its own, which answers the content id with UnknownModel). Prints "ok" and exits 0, or names
-the failed check and exits 1.
+store of its own, which answers the content id with UnknownModel). Clips: a frame kept on the
+server is the same by index, in a stream and by time; named joints pose like rotations; a
+Clip uploaded on one server is uploaded again by the package on the other. Prints "ok" and
+exits 0, or names the failed check and exits 1.
 """
 
 import socket
@@ -34,7 +36,7 @@ def expect_error(cls, call):
     check(False, f"{cls.__name__} was not raised")
 
 
-def main(port, token, glb, rotations_file, out, other_port):
+def main(port, token, glb, rotations_file, out, other_port, clip_file):
     check("site-packages" in sweepd_client.__file__, f"imported from {sweepd_client.__file__}")
     with Client("127.0.0.1", int(port), token=token, timeout=60) as sweepd:
         check(any(m.name == "mannequin" for m in sweepd.models()), "the default model is listed")
@@ -60,6 +62,30 @@ def main(port, token, glb, rotations_file, out, other_port):
         expect_error(errors.InvalidPose, lambda: sweepd.pose(body, np.full_like(rotations, np.nan)))
         expect_error(errors.SweepdError, lambda: sweepd.pose(body, method="blend"))
 
+        names = {name: rotations[j] for j, name in enumerate(body.joint_names)}
+        check(np.array_equal(sweepd.pose_by_name(body, names).positions,
+                             sweepd.pose(body, rotations).positions),
+              "pose_by_name with every joint equals pose")
+        expect_error(errors.InvalidArgument,
+                     lambda: sweepd.pose_by_name(body, {"no_such_joint": rotations[0]}))
+
+        clip = sweepd.upload_clip(clip_file, length_scale=0.056444)
+        check(clip.frame_count > 100 and clip.frames_per_second > 0, "clip info")
+        check(sweepd.upload_clip(clip_file, length_scale=0.056444).clip_id == clip.clip_id,
+              "the same clip, the same id")
+        frame = sweepd.pose(body, clip=clip, frame=100)
+        stream = list(sweepd.poses(body, [99, 100, 101], clip=clip))
+        check(np.array_equal(stream[1].positions, frame.positions), "a streamed clip frame")
+        check(not np.array_equal(stream[0].positions, frame.positions), "frames differ")
+        timed = sweepd.pose(body, clip=clip, time=100 / clip.frames_per_second)
+        # Between-frame sampling rounds: the time of frame 100 lands on it within 0.1 mm.
+        check(np.abs(timed.positions - frame.positions).max() < 1e-4, "a clip time")
+        expect_error(errors.InvalidArgument, lambda: sweepd.pose(body, clip=clip,
+                                                                 frame=clip.frame_count))
+        expect_error(errors.UnknownClip, lambda: sweepd.pose(body, clip="0" * 64, frame=0))
+        clip_map = sweepd.position_map(body, clip=clip, frame=100, width=64, height=64)
+        check(clip_map[:4] == b"\x76\x2f\x31\x01", "a clip frame's position map")
+
         exr = sweepd.position_map(body, rotations, width=128, height=64)
         with open(f"{out}/map.exr", "wb") as file:
             file.write(exr)
@@ -78,6 +104,9 @@ def main(port, token, glb, rotations_file, out, other_port):
         other = sweepd.upload(glb, name="uploaded")
         check(other.content_id == body.content_id, "the same content id on the other server")
         check(bytes_in(sweepd, "other") > glb_bytes, "the other server got the bytes")
+        # The Clip came from the first server; the package uploads it here before use.
+        check(np.array_equal(sweepd.pose(other, clip=clip, frame=100).positions, frame.positions),
+              "the clip frame on the other server")
 
     expect_error(errors.AuthFailed, lambda: Client("127.0.0.1", int(port), token="wrong"))
     silent = socket.socket()

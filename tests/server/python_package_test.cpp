@@ -20,6 +20,7 @@ namespace sweepd::test {
 namespace {
 
 const fs::path kPackage = fs::path(SWEEPD_SOURCE_DIR) / "client_examples/python";
+const fs::path kClip = fs::path(SWEEPD_SHARED_DATA) / "motion/cmu_01_01.bvh";
 
 std::string quoted(const fs::path& path) { return "'" + path.string() + "'"; }
 
@@ -47,6 +48,7 @@ TEST(PythonPackage, CommittedProtocolCodeIsWhatFlatcMakesOfTheSchema) {
 }
 
 TEST(PythonPackage, InstallsOfflineIntoAVenvAndPosesLikeTheLibrary) {
+  ASSERT_TRUE(fs::exists(kClip)) << kClip << ": the shared data must sit beside the checkout";
   const fs::path directory = fresh_directory("python_package");
   const fs::path venv = directory / "venv";
   const CommandResult create =
@@ -86,7 +88,7 @@ TEST(PythonPackage, InstallsOfflineIntoAVenvAndPosesLikeTheLibrary) {
                   quoted(fs::path(SWEEPD_SOURCE_DIR) / "tests/server/python_package_check.py") +
                   " " + std::to_string(daemon.port()) + " t0k " + quoted(glb) + " " +
                   quoted(directory / "rotations.f32") + " " + quoted(directory) + " " +
-                  std::to_string(other.port()));
+                  std::to_string(other.port()) + " " + quoted(kClip));
   ASSERT_EQ(check.exit_code, 0) << check.output << daemon.log();
   EXPECT_NE(check.output.find("ok"), std::string::npos) << check.output;
 

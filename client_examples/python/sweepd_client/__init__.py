@@ -5,8 +5,8 @@
         posed = sweepd.pose("mannequin")          # the rest pose; .positions is (n, 3) float32
 """
 
-from .client import Client, Model, ModelSummary, Posed, RestMesh
+from .client import Client, Clip, Model, ModelSummary, Posed, RestMesh
 from .errors import ConnectionLost, ServerError, SweepdError, Timeout
 
-__all__ = ["Client", "Model", "ModelSummary", "Posed", "RestMesh", "SweepdError",
+__all__ = ["Client", "Clip", "Model", "ModelSummary", "Posed", "RestMesh", "SweepdError",
            "ConnectionLost", "Timeout", "ServerError"]

@@ -14,20 +14,22 @@ seconds.
 """
 
 import hashlib
-import time
+import os
+from time import monotonic_ns
 from dataclasses import dataclass, field
 
 import numpy as np
-from sweepd.protocol import (Body, Bye, DeformMethod, Error, ExrCompression, Features, Hello,
-                             ListModels, LoadModel, MapLayers, Mesh, MeshRequest, ModelInfo,
-                             ModelList, Pose, PoseDelivery, PosedVertices, PositionFormat,
-                             PositionMap, PositionMapRequest, Stats, StatsRequest, Vec3,
-                             Welcome)
+from sweepd.protocol import (Body, Bye, ClipFrame, ClipInfo, DeformMethod, Error,
+                             ExrCompression, Features, Hello, ListModels, LoadModel, MapLayers,
+                             Mesh, MeshRequest, ModelInfo, ModelList, Pose, PoseByName,
+                             PoseDelivery, PosedVertices, PoseFromClip, PositionFormat,
+                             PositionMap, PositionMapRequest, Stats, StatsRequest, UploadClip,
+                             Vec3, Welcome)
 
 from .connection import Connection, body_of, new_builder
 from .errors import ConnectionLost, SweepdError, Timeout, UnknownModel, server_error
 
-PROTOCOL_VERSION = (1, 3)
+PROTOCOL_VERSION = (1, 4)
 METHODS = {"sweep": DeformMethod.DeformMethod.Sweep, "lbs": DeformMethod.DeformMethod.Lbs,
            "dqs": DeformMethod.DeformMethod.Dqs}
 FEATURES = {"folding": Features.Features.Folding, "protrusion": Features.Features.Protrusion,
@@ -59,11 +61,31 @@ class Model:
     rig_convention: str
 
 
+@dataclass(frozen=True)
+class Clip:
+    clip_id: str                  # SHA-256 of the BVH text and length scale
+    name: str
+    frame_count: int
+    frames_per_second: float
+    joint_count: int
+    warnings: list                # what did not stop the server reading the clip
+
+
+@dataclass(frozen=True)
+class _Output:
+    method: str
+    features: tuple
+    float16: bool
+    normals: bool
+
+
 @dataclass
 class Posed:
     positions: np.ndarray         # (vertices, 3) float32
     normals: np.ndarray | None    # (vertices, 3) float32 when asked for
     sequence: int
+    client_time_ns: int           # when this client sent the pose (time.monotonic_ns())
+    dropped_before: int           # latest_wins: poses the server dropped since the last reply
     timings_ns: dict = field(default_factory=dict)  # queued, deform, features, encode
 
 
@@ -84,6 +106,8 @@ class Client:
     # (SHA-256 of the .glb, name) → the content id a server gave it: shared by every Client
     # of the process, so a reconnect or another replica is asked by id before bytes are sent.
     _uploaded = {}
+    # clip id → (BVH text, name, length scale) of every clip this process uploaded.
+    _clip_sources = {}
 
     def __init__(self, host="127.0.0.1", port=7878, token="", *, unix=None, tls=None,
                  timeout=30.0, client_name="sweepd-client", latest_wins=False,
@@ -93,6 +117,7 @@ class Client:
         allow_plaintext."""
         self._connection = Connection(host, port, unix, tls, timeout)
         self._models = {}
+        self._clips = set()  # clip ids uploaded on this connection
         self._sequence = 0
         try:
             if token and not self._connection.tls and not self._connection.loopback \
@@ -182,18 +207,51 @@ class Client:
                         reply.SkinJointsAsNumpy().reshape(-1, 4),
                         reply.SkinWeightsAsNumpy().reshape(-1, 4))
 
-    def pose(self, model, rotations=None, root=None, *, method="sweep", features=(),
-             float16=False, normals=False):
-        """One pose → Posed. root: the root joint's translation (x, y, z), None: at rest."""
-        return next(self.poses(model, [(rotations, root)], method=method, features=features,
-                               float16=float16, normals=normals))
+    def upload_clip(self, bvh, name=None, length_scale=1.0):
+        """Keeps a BVH clip on the server (a path, or the BVH text itself) and returns its Clip.
+        length_scale multiplies the clip's lengths (CMU's inches to metres: 0.056444). The
+        server retargets the clip onto each model it poses (as `sweepctl pose --bvh` does)."""
+        if isinstance(bvh, os.PathLike) or "\n" not in bvh:
+            path = os.fspath(bvh)
+            with open(path, encoding="utf-8") as file:
+                bvh = file.read()
+            name = name or os.path.basename(path)
+        builder = new_builder(1024 + len(bvh))
+        text = builder.CreateString(bvh)
+        label = builder.CreateString(name or "clip.bvh")
+        UploadClip.Start(builder)
+        UploadClip.AddName(builder, label)
+        UploadClip.AddBvh(builder, text)
+        UploadClip.AddLengthScale(builder, length_scale)
+        self._send(builder, Body.Body.UploadClip, UploadClip.End(builder))
+        info = self._expect(ClipInfo.ClipInfo)
+        clip = Clip(_text(info.ClipId()), _text(info.Name()), info.FrameCount(),
+                    info.FramesPerSecond(), info.JointCount(),
+                    [_text(info.Warnings(i)) for i in range(info.WarningsLength())])
+        self._clips.add(clip.clip_id)
+        Client._clip_sources[clip.clip_id] = (bvh, name, length_scale)
+        return clip
 
-    def poses(self, model, frames, *, method="sweep", features=(), float16=False, normals=False,
-              window=None):
-        """Streams `frames` (an iterable of rotations, or of (rotations, root) pairs) with up to
-        `window` poses in flight (default: the server's max_poses_in_flight) and yields each
-        Posed in order."""
+    def pose(self, model, rotations=None, root=None, *, clip=None, frame=None, time=None,
+             loop=False, fps=0.0, method="sweep", features=(), float16=False, normals=False):
+        """One pose → Posed: `rotations` (None: the rest pose) and `root` (the root joint's
+        translation, None: at rest); or, with clip=, the clip's `frame` (an index) or `time`
+        (seconds; `fps` overrides the clip's rate, `loop` wraps past its end)."""
+        if clip is not None and (frame is None) == (time is None):
+            raise SweepdError("a clip pose takes one of frame= and time=")
+        frames = [(rotations, root) if clip is None else frame if time is None else float(time)]
+        return next(self.poses(model, frames, clip=clip, loop=loop, fps=fps, method=method,
+                               features=features, float16=float16, normals=normals))
+
+    def poses(self, model, frames, *, clip=None, loop=False, fps=0.0, method="sweep",
+              features=(), float16=False, normals=False, window=None):
+        """Streams `frames` with up to `window` poses in flight (default: the server's
+        max_poses_in_flight) and yields each Posed in order (with latest_wins, the answered
+        ones: Posed.dropped_before counts the others). `frames`: rotations, or
+        (rotations, root) pairs; with clip=, frame indices (int) or times in seconds (float)."""
         model_id = self._model_id(model)
+        output = _Output(method, features, float16, normals)
+        clip_id = self._clip_id(clip) if clip is not None else None
         window = window or self.max_poses_in_flight
         frames, pending = iter(frames), 0
         while True:
@@ -201,24 +259,67 @@ class Client:
                 frame = next(frames, None)
                 if frame is None:
                     break
-                rotations, root = frame if isinstance(frame, tuple) else (frame, None)
                 builder = new_builder(256)
-                pose = self._add_pose(builder, model_id, rotations, root, method, features,
-                                      float16, normals)
-                self._send(builder, Body.Body.Pose, pose)
+                if clip_id is None:
+                    rotations, root = frame if isinstance(frame, tuple) else (frame, None)
+                    pose = self._add_pose(builder, model_id, output, self._rotations(model_id,
+                                                                                 rotations), root)
+                    self._send(builder, Body.Body.Pose, pose)
+                else:
+                    clip_frame = _add_clip_frame(builder, clip_id, frame, loop, fps)
+                    pose = self._add_pose(builder, model_id, output)
+                    PoseFromClip.Start(builder)
+                    PoseFromClip.AddPose(builder, pose)
+                    PoseFromClip.AddClip(builder, clip_frame)
+                    self._send(builder, Body.Body.PoseFromClip, PoseFromClip.End(builder))
                 pending += 1
             if pending == 0:
                 return
-            pending -= 1
-            yield self._posed(self._expect(PosedVertices.PosedVertices))
+            posed = self._posed(self._expect(PosedVertices.PosedVertices))
+            pending -= 1 + posed.dropped_before
+            yield posed
 
-    def position_map(self, model, rotations=None, root=None, *, width=1024, height=1024,
-                     layers=("position",), compression="zip", half_normals=False,
-                     method="sweep", features=()):
-        """The posed surface rendered into UV space → the bytes of an OpenEXR file."""
+    def pose_by_name(self, model, rotations, root=None, *, method="sweep", features=(),
+                     float16=False, normals=False):
+        """One pose from {joint name: (x, y, z, w)}, in the model's joint names or any rig
+        naming convention the server knows (Mixamo, Unreal, CMU, ...); joints not named keep
+        their rest rotation. Unknown names raise errors.InvalidArgument naming them."""
         model_id = self._model_id(model)
         builder = new_builder(256)
-        pose = self._add_pose(builder, model_id, rotations, root, method, features, False, False)
+        names = [builder.CreateString(name) for name in rotations]
+        PoseByName.StartJointNamesVector(builder, len(names))
+        for name in reversed(names):
+            builder.PrependUOffsetTRelative(name)
+        name_vector = builder.EndVector()
+        rotation_vector = _struct_vector(builder, _quaternions(list(rotations.values())), 4)
+        pose = self._add_pose(builder, model_id, _Output(method, features, float16, normals),
+                              root=root)
+        PoseByName.Start(builder)
+        PoseByName.AddPose(builder, pose)
+        PoseByName.AddJointNames(builder, name_vector)
+        PoseByName.AddRotations(builder, rotation_vector)
+        self._send(builder, Body.Body.PoseByName, PoseByName.End(builder))
+        return self._posed(self._expect(PosedVertices.PosedVertices))
+
+    def position_map(self, model, rotations=None, root=None, *, clip=None, frame=None,
+                     time=None, loop=False, fps=0.0, width=1024, height=1024,
+                     layers=("position",), compression="zip", half_normals=False,
+                     method="sweep", features=()):
+        """The posed surface rendered into UV space → the bytes of an OpenEXR file. The pose is
+        given as for pose()."""
+        model_id = self._model_id(model)
+        output = _Output(method, features, False, False)
+        builder = new_builder(256)
+        if clip is None:
+            clip_frame = None
+            pose = self._add_pose(builder, model_id, output, self._rotations(model_id, rotations),
+                                  root)
+        else:
+            if (frame is None) == (time is None):
+                raise SweepdError("a clip pose takes one of frame= and time=")
+            clip_frame = _add_clip_frame(builder, self._clip_id(clip),
+                                         frame if time is None else float(time), loop, fps)
+            pose = self._add_pose(builder, model_id, output)
         PositionMapRequest.Start(builder)
         PositionMapRequest.AddPose(builder, pose)
         PositionMapRequest.AddWidth(builder, width)
@@ -227,6 +328,8 @@ class Client:
                                                            "compression"))
         PositionMapRequest.AddLayers(builder, _flags(LAYERS, layers, "layer"))
         PositionMapRequest.AddHalfNormals(builder, half_normals)
+        if clip_frame is not None:
+            PositionMapRequest.AddClip(builder, clip_frame)
         self._send(builder, Body.Body.PositionMapRequest, PositionMapRequest.End(builder))
         return self._expect(PositionMap.PositionMap).ExrAsNumpy().tobytes()
 
@@ -295,29 +398,41 @@ class Client:
             self.load(model)
         return self._models[model].model_id
 
-    def _add_pose(self, builder, model_id, rotations, root, method, features, float16, normals):
-        joints = len(self._models[model_id].joint_names)
+    def _rotations(self, model_id, rotations):
+        """(joints, 4) little-endian float32 quaternions; None: every joint at rest."""
         if rotations is None:
-            rotations = np.tile(np.array([0.0, 0.0, 0.0, 1.0], np.float32), (joints, 1))
-        rotations = np.asarray(rotations, np.float32)
-        if rotations.ndim != 2 or rotations.shape[1] != 4:
-            raise SweepdError(f"rotations: shape {rotations.shape}, expected (joints, 4) "
-                              "quaternions x, y, z, w")
-        rotation_vector = _struct_vector(builder, np.ascontiguousarray(rotations, "<f4"), 4)
+            joints = len(self._models[model_id].joint_names)
+            return np.tile(np.array([0.0, 0.0, 0.0, 1.0], "<f4"), (joints, 1))
+        return _quaternions(rotations)
+
+    def _add_pose(self, builder, model_id, output, rotations=None, root=None):
+        """A Pose table; without rotations for a clip frame or named joints."""
+        rotation_vector = None if rotations is None else _struct_vector(builder, rotations, 4)
         self._sequence += 1
         Pose.Start(builder)
         Pose.AddModelId(builder, model_id)
         Pose.AddSequence(builder, self._sequence)
-        Pose.AddClientTimeNs(builder, time.monotonic_ns())
-        Pose.AddRotations(builder, rotation_vector)
+        Pose.AddClientTimeNs(builder, monotonic_ns())
+        if rotation_vector is not None:
+            Pose.AddRotations(builder, rotation_vector)
         if root is not None:
             Pose.AddRootTranslation(builder, Vec3.CreateVec3(builder, *map(float, root)))
-        Pose.AddMethod(builder, _choice(METHODS, method, "method"))
-        Pose.AddFeatures(builder, _flags(FEATURES, features, "feature"))
-        Pose.AddPositions(builder, PositionFormat.PositionFormat.Float16 if float16
+        Pose.AddMethod(builder, _choice(METHODS, output.method, "method"))
+        Pose.AddFeatures(builder, _flags(FEATURES, output.features, "feature"))
+        Pose.AddPositions(builder, PositionFormat.PositionFormat.Float16 if output.float16
                           else PositionFormat.PositionFormat.Float32)
-        Pose.AddNormals(builder, normals)
+        Pose.AddNormals(builder, output.normals)
         return Pose.End(builder)
+
+    def _clip_id(self, clip):
+        """The clip's id, uploaded first to this connection's server when another Client of the
+        process uploaded it (the server keeps clips in memory only: a restart or another
+        replica lacks them; the same text gives the same id)."""
+        clip_id = clip.clip_id if isinstance(clip, Clip) else str(clip)
+        if clip_id not in self._clips and clip_id in Client._clip_sources:
+            bvh, name, length_scale = Client._clip_sources[clip_id]
+            self.upload_clip(bvh, name, length_scale)
+        return clip_id
 
     @staticmethod
     def _posed(reply):
@@ -338,7 +453,8 @@ class Client:
         t = reply.Timings()
         timings = {} if t is None else {"queued": t.QueuedNs(), "deform": t.DeformNs(),
                                         "features": t.FeaturesNs(), "encode": t.EncodeNs()}
-        return Posed(positions, normals, reply.Sequence(), timings)
+        return Posed(positions, normals, reply.Sequence(), reply.ClientTimeNs(),
+                     reply.DroppedBefore(), timings)
 
     def _send(self, builder, body_type, body):
         if self._connection is None:
@@ -356,6 +472,28 @@ class Client:
             raise ConnectionLost(f"{self._connection.address}: expected {table.__name__}, got "
                                  f"body type {message.BodyType()}")
         return body_of(message, table)
+
+
+def _quaternions(rotations):
+    rotations = np.ascontiguousarray(rotations, "<f4")
+    if rotations.ndim != 2 or rotations.shape[1] != 4:
+        raise SweepdError(f"rotations: shape {rotations.shape}, expected (joints, 4) "
+                          "quaternions x, y, z, w")
+    return rotations
+
+
+def _add_clip_frame(builder, clip_id, frame, loop, fps):
+    """A ClipFrame: `frame` an index (int) or a time in seconds (float)."""
+    clip_id = builder.CreateString(clip_id)
+    ClipFrame.Start(builder)
+    ClipFrame.AddClipId(builder, clip_id)
+    if isinstance(frame, float):
+        ClipFrame.AddTimeSeconds(builder, frame)
+    else:
+        ClipFrame.AddFrame(builder, int(frame))
+    ClipFrame.AddLoop(builder, loop)
+    ClipFrame.AddFramesPerSecond(builder, fps)
+    return ClipFrame.End(builder)
 
 
 def _struct_vector(builder, rows, alignment):

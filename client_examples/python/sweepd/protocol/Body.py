@@ -21,3 +21,7 @@ class Body(object):
     Error = 15
     MeshRequest = 16
     Mesh = 17
+    UploadClip = 18
+    ClipInfo = 19
+    PoseFromClip = 20
+    PoseByName = 21

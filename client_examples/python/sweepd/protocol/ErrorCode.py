@@ -22,3 +22,6 @@ class ErrorCode(object):
     InvalidArgument = 16
     ShuttingDown = 17
     ResourceExhausted = 18
+    UnknownClip = 19
+    ClipLimit = 20
+    ClipLoadFailed = 21

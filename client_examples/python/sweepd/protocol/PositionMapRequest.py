@@ -74,7 +74,18 @@ class PositionMapRequest(object):
             return bool(self._tab.Get(flatbuffers.number_types.BoolFlags, o + self._tab.Pos))
         return False
 
-def PositionMapRequestStart(builder): builder.StartObject(6)
+    # PositionMapRequest
+    def Clip(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(16))
+        if o != 0:
+            x = self._tab.Indirect(o + self._tab.Pos)
+            from sweepd.protocol.ClipFrame import ClipFrame
+            obj = ClipFrame()
+            obj.Init(self._tab.Bytes, x)
+            return obj
+        return None
+
+def PositionMapRequestStart(builder): builder.StartObject(7)
 def Start(builder):
     return PositionMapRequestStart(builder)
 def PositionMapRequestAddPose(builder, pose): builder.PrependUOffsetTRelativeSlot(0, flatbuffers.number_types.UOffsetTFlags.py_type(pose), 0)
@@ -95,6 +106,9 @@ def AddLayers(builder, layers):
 def PositionMapRequestAddHalfNormals(builder, halfNormals): builder.PrependBoolSlot(5, halfNormals, 0)
 def AddHalfNormals(builder, halfNormals):
     return PositionMapRequestAddHalfNormals(builder, halfNormals)
+def PositionMapRequestAddClip(builder, clip): builder.PrependUOffsetTRelativeSlot(6, flatbuffers.number_types.UOffsetTFlags.py_type(clip), 0)
+def AddClip(builder, clip):
+    return PositionMapRequestAddClip(builder, clip)
 def PositionMapRequestEnd(builder): return builder.EndObject()
 def End(builder):
     return PositionMapRequestEnd(builder)
