@@ -26,16 +26,6 @@ constexpr char kToken[] = "tls-t0k";
 // A small default model: the tests are about the channel, not the deformation.
 const std::vector<std::string> kSmallModel = {"--mannequin-vertices", "2000"};
 
-std::vector<std::string> with(std::vector<std::string> args, const std::vector<std::string>& more) {
-  args.insert(args.end(), more.begin(), more.end());
-  return args;
-}
-
-std::vector<float> copy_floats(const flatbuffers::Vector<float>* values) {
-  return values == nullptr ? std::vector<float>()
-                           : std::vector<float>(values->begin(), values->end());
-}
-
 // The message of what `attempt` throws, or "" when it does not.
 template <typename Attempt>
 std::string failure_of(Attempt attempt) {

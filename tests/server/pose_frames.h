@@ -44,6 +44,12 @@ inline bool send_pose(FrameClient& client, protocol::PoseFields fields,
   return client.send_bytes(protocol::finish_message(builder, pose, request_id));
 }
 
+// A reply's float vector (positions_f32, normals_f32), copied; empty when absent.
+inline std::vector<float> copy_floats(const flatbuffers::Vector<float>* values) {
+  return values == nullptr ? std::vector<float>()
+                           : std::vector<float>(values->begin(), values->end());
+}
+
 struct Deformed {
   std::vector<glm::vec3> positions, normals;
   deform::FeatureReport features;  // what folding and protrusion did

@@ -1,0 +1,266 @@
+// sweepd's WebSocket listener (--ws-listen, issue 18 item 2): Hello, ListModels and Poses over
+// WebSocket equal those over TCP bit for bit (and the round trips of both are printed); the
+// TCP path's bad inputs, sent over WebSocket with the same helpers (tests/server/hostile_input.h),
+// are refused as on TCP — plus the WebSocket-only ones: text messages, a message past the
+// limit before Hello, a refused Origin, plain HTTP on the WebSocket port — while the daemon
+// serves an honest WebSocket client throughout.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cstring>
+#include <thread>
+
+#include "tests/server/daemon_process.h"
+#include "tests/server/hostile_input.h"
+#include "tests/server/pose_frames.h"
+
+namespace sweepd::test {
+namespace {
+
+constexpr char kToken[] = "ws-t0k";
+constexpr int kTimeoutMs = 1500;  // Hello, frame and send timeouts of the daemon under test
+constexpr int kIdleTimeoutMs = 3000;
+constexpr std::uint16_t kCloseUnsupportedData = 1003, kCloseMessageTooBig = 1009;
+
+double percentile(std::vector<double> values, double p) {
+  std::sort(values.begin(), values.end());
+  return values[static_cast<std::size_t>(p * static_cast<double>(values.size() - 1))];
+}
+
+class DaemonWebSocket : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    directory_ = new fs::path(fresh_directory("websocket"));
+    daemon_ = new DaemonProcess(
+        *directory_,
+        with(DaemonProcess::websocket_flags(*directory_),
+             {"--token", kToken, "--position-maps", "0", "--hello-timeout-ms",
+              std::to_string(kTimeoutMs), "--frame-timeout-ms", std::to_string(kTimeoutMs),
+              "--send-timeout-ms", std::to_string(kTimeoutMs), "--idle-timeout-ms",
+              std::to_string(kIdleTimeoutMs)}));
+  }
+  static void TearDownTestSuite() {
+    delete daemon_;
+    fs::remove_all(*directory_);
+    delete directory_;
+  }
+  void SetUp() override { ASSERT_TRUE(daemon_->running()) << daemon_->log(); }
+
+  static int ws_port() { return daemon_->websocket_port(); }
+  static std::vector<protocol::Quat> wire(float phase = 0.0f) {
+    return to_wire(bent_rotations(31, phase));  // the mannequin's joints (mannequin/mannequin.h)
+  }
+  // A WebSocket client that has said Hello with the right token.
+  static std::unique_ptr<FrameClient> greeted() {
+    auto client = std::make_unique<FrameClient>(ws_port(), WebSocketUpgrade{});
+    EXPECT_EQ(client->websocket_status(), 101);
+    EXPECT_NE(client->hello(kToken), nullptr);
+    return client;
+  }
+  // The daemon still serves: a WebSocket Hello and a Pose.
+  static void expect_still_serving() {
+    std::unique_ptr<FrameClient> client = greeted();
+    ASSERT_TRUE(send_pose(*client, pose_fields(daemon_->model_id(), 5, wire())));
+    const protocol::PosedVertices* reply = client->receive_as<protocol::PosedVertices>();
+    ASSERT_NE(reply, nullptr);
+    EXPECT_EQ(reply->sequence(), 5u);
+  }
+
+  static fs::path* directory_;
+  static DaemonProcess* daemon_;
+};
+fs::path* DaemonWebSocket::directory_ = nullptr;
+DaemonProcess* DaemonWebSocket::daemon_ = nullptr;
+
+TEST_F(DaemonWebSocket, HelloListModelsAndPosesEqualThoseOverTcpBitForBit) {
+  std::unique_ptr<FrameClient> websocket = greeted();
+  FrameClient tcp(daemon_->port());
+  ASSERT_NE(tcp.hello(kToken), nullptr);
+  {
+    flatbuffers::FlatBufferBuilder builder;
+    websocket->send_bytes(
+        protocol::finish_message(builder, protocol::CreateListModels(builder), 9));
+  }
+  const protocol::ModelList* models = websocket->receive_as<protocol::ModelList>();
+  ASSERT_NE(models, nullptr);
+  ASSERT_GE(models->models()->size(), 1u);
+  EXPECT_EQ(models->models()->Get(0)->name()->str(), "mannequin");
+  for (std::uint64_t sequence = 1; sequence <= 3; ++sequence) {
+    const std::vector<protocol::Quat> rotations = wire(0.7f * static_cast<float>(sequence));
+    protocol::PoseFields fields = pose_fields(daemon_->model_id(), sequence, rotations);
+    fields.normals = true;
+    ASSERT_TRUE(send_pose(*websocket, fields));
+    const protocol::PosedVertices* over_websocket =
+        websocket->receive_as<protocol::PosedVertices>();
+    ASSERT_NE(over_websocket, nullptr);
+    const std::vector<float> ws_positions = copy_floats(over_websocket->positions_f32());
+    const std::vector<float> ws_normals = copy_floats(over_websocket->normals_f32());
+    ASSERT_TRUE(send_pose(tcp, fields));
+    const protocol::PosedVertices* over_tcp = tcp.receive_as<protocol::PosedVertices>();
+    ASSERT_NE(over_tcp, nullptr);
+    const std::vector<float> tcp_positions = copy_floats(over_tcp->positions_f32());
+    const std::vector<float> tcp_normals = copy_floats(over_tcp->normals_f32());
+    ASSERT_EQ(ws_positions.size(), tcp_positions.size());
+    ASSERT_GT(ws_positions.size(), 3000u);
+    // Bit for bit: WebSocket carries the same frames.
+    EXPECT_EQ(
+        std::memcmp(ws_positions.data(), tcp_positions.data(), ws_positions.size() * sizeof(float)),
+        0);
+    ASSERT_EQ(ws_normals.size(), tcp_normals.size());
+    EXPECT_EQ(std::memcmp(ws_normals.data(), tcp_normals.data(), ws_normals.size() * sizeof(float)),
+              0);
+  }
+
+  // Round trips of the same pose, WebSocket and TCP taking turns (figures, not asserted: the
+  // machine is shared).
+  constexpr int kRoundTrips = 300;
+  const std::vector<protocol::Quat> rotations = wire(0.3f);
+  std::vector<double> ws_ms, tcp_ms;
+  for (int i = 0; i < kRoundTrips; ++i) {
+    for (FrameClient* client : {websocket.get(), &tcp}) {
+      const auto start = std::chrono::steady_clock::now();
+      ASSERT_TRUE(send_pose(*client, pose_fields(daemon_->model_id(), 100 + i, rotations)));
+      ASSERT_NE(client->receive_as<protocol::PosedVertices>(), nullptr);
+      const double ms =
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+              .count();
+      (client == &tcp ? tcp_ms : ws_ms).push_back(ms);
+    }
+  }
+  std::printf(
+      "pose round trip, %d each, 20k-vertex mannequin, positions only: WebSocket p50 %.3f ms "
+      "p99 %.3f ms; TCP p50 %.3f ms p99 %.3f ms\n",
+      kRoundTrips, percentile(ws_ms, 0.5), percentile(ws_ms, 0.99), percentile(tcp_ms, 0.5),
+      percentile(tcp_ms, 0.99));
+  const std::string log = daemon_->log();
+  EXPECT_GE(log_lines(log, "websocket_open", ""), 1u) << log;
+}
+
+TEST_F(DaemonWebSocket, AWrongTokenAndARequestBeforeHelloAreRefusedAsOnTcp) {
+  FrameClient wrong(ws_port(), WebSocketUpgrade{});
+  flatbuffers::FlatBufferBuilder builder;
+  wrong.send_bytes(protocol::build_hello(builder, "not-the-token", "ws_test"));
+  EXPECT_EQ(last_error_before_close(wrong), protocol::ErrorCode::AuthFailed);
+
+  FrameClient early(ws_port(), WebSocketUpgrade{});
+  builder.Clear();
+  early.send_bytes(protocol::finish_message(builder, protocol::CreateListModels(builder), 1));
+  EXPECT_EQ(last_error_before_close(early), protocol::ErrorCode::NotAuthenticated);
+  expect_still_serving();
+}
+
+TEST_F(DaemonWebSocket, MalformedFramesAreAnsweredAndSixteenCloseTheSession) {
+  std::unique_ptr<FrameClient> garbage = greeted();
+  std::vector<std::uint8_t> junk = length_prefix(24);
+  junk.resize(28, 0xee);
+  for (int f = 0; f < 20; ++f) garbage->send_bytes(junk);
+  EXPECT_EQ(last_error_before_close(*garbage), protocol::ErrorCode::BadFrame);
+  EXPECT_GE(log_lines(daemon_->log(), "connection_cut", "16 bad frames"), 1u);
+  expect_still_serving();
+}
+
+TEST_F(DaemonWebSocket, OversizedFramesAndMessagesBeforeHelloAreCut) {
+  // A frame announcing 1 MiB in a small message: the frame reader's limit, as on TCP.
+  FrameClient announced(ws_port(), WebSocketUpgrade{});
+  announced.send_bytes(length_prefix(1u << 20));
+  EXPECT_EQ(last_error_before_close(announced), protocol::ErrorCode::FrameTooLarge);
+  // A message of 70 KiB: refused from its header (1009), before its payload is taken.
+  FrameClient large(ws_port(), WebSocketUpgrade{});
+  std::vector<std::uint8_t> message = length_prefix(70u << 10);
+  message.resize(4 + (70u << 10), 0x11);
+  large.send_bytes(message);
+  EXPECT_TRUE(large.closed_by_server());
+  EXPECT_EQ(large.websocket().peer_close_code(), kCloseMessageTooBig);
+  const std::string log = daemon_->log();
+  EXPECT_GE(log_lines(log, "connection_cut", "before Hello a frame may have at most 65536 bytes"),
+            1u);
+  EXPECT_GE(log_lines(log, "connection_cut", "WebSocket closed with 1009"), 1u) << log;
+  expect_still_serving();
+}
+
+TEST_F(DaemonWebSocket, ATextMessageEndsTheSessionWithUnsupportedData) {
+  std::unique_ptr<FrameClient> client = greeted();
+  ASSERT_TRUE(client->send_text("{\"type\": \"Pose\"}"));
+  EXPECT_TRUE(client->closed_by_server());
+  EXPECT_EQ(client->websocket().peer_close_code(), kCloseUnsupportedData);
+  EXPECT_GE(log_lines(daemon_->log(), "connection_cut", "a text message"), 1u);
+  expect_still_serving();
+}
+
+TEST_F(DaemonWebSocket, AnOriginOfAnotherSiteIsRefusedAndTheSameHostIsNot) {
+  FrameClient other_site(ws_port(), WebSocketUpgrade{.origin = "https://evil.example"});
+  EXPECT_EQ(other_site.websocket_status(), 403);
+  EXPECT_TRUE(other_site.closed_by_server());
+  EXPECT_GE(log_lines(daemon_->log(), "connection_cut", "Origin https://evil.example is not"), 1u);
+  FrameClient same_host(ws_port(), WebSocketUpgrade{.origin = "http://127.0.0.1:8080"});
+  EXPECT_EQ(same_host.websocket_status(), 101);
+  EXPECT_NE(same_host.hello(kToken), nullptr);
+  expect_still_serving();
+}
+
+TEST_F(DaemonWebSocket, PlainHttpOnTheWebSocketPortGets426) {
+  FrameClient http(ws_port());
+  const std::string request = "GET /metrics HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n";
+  http.send_raw({reinterpret_cast<const std::uint8_t*>(request.data()), request.size()});
+  const std::string response = http.receive_text_until_closed();
+  EXPECT_TRUE(response.starts_with("HTTP/1.1 426")) << response;
+  // The TCP protocol's own Hello on the WebSocket port never ends an HTTP request: cut at the
+  // handshake deadline, with no reply.
+  FrameClient frames(ws_port());
+  flatbuffers::FlatBufferBuilder builder;
+  frames.send_raw(protocol::build_hello(builder, kToken, "tcp_client"));
+  EXPECT_EQ(frames.receive_text_until_closed(), "");
+  EXPECT_GE(log_lines(daemon_->log(), "connection_cut", "WebSocket handshake failed: HTTP 426"),
+            1u);
+  expect_still_serving();
+}
+
+TEST_F(DaemonWebSocket, SilentTricklingIdleAndNonReadingClientsAreCutWhileOthersAreServed) {
+  std::atomic<bool> done = false;
+  std::atomic<int> answered = 0, failed = 0;
+  std::thread honest([&] {
+    std::unique_ptr<FrameClient> client = greeted();
+    for (std::uint64_t p = 0; !done; ++p) {
+      if (!send_pose(*client, pose_fields(daemon_->model_id(), p, wire())) ||
+          client->receive_as<protocol::PosedVertices>() == nullptr) {
+        ++failed;
+        return;
+      }
+      ++answered;
+    }
+  });
+  const auto opened = std::chrono::steady_clock::now();
+  FrameClient no_upgrade(ws_port());  // TCP, never a byte of HTTP
+  FrameClient no_hello(ws_port(), WebSocketUpgrade{});
+  std::unique_ptr<FrameClient> trickler = greeted();
+  ASSERT_TRUE(trickler->send_bytes(length_prefix(1u << 20)));  // a frame begun, never finished
+  std::unique_ptr<FrameClient> idle = greeted();
+  auto non_reader = std::make_unique<FrameClient>(
+      ws_port(), WebSocketUpgrade{.origin = "", .receive_buffer_bytes = 4096});
+  ASSERT_NE(non_reader->hello(kToken), nullptr);
+  for (int p = 0; p < 40; ++p)
+    ASSERT_TRUE(send_pose(*non_reader, pose_fields(daemon_->model_id(), p, wire())));
+
+  EXPECT_TRUE(no_upgrade.closed_by_server());
+  EXPECT_EQ(last_error_before_close(no_hello), protocol::ErrorCode::NotAuthenticated);
+  EXPECT_EQ(last_error_before_close(*trickler), protocol::ErrorCode::BadFrame);
+  const protocol::Error* idle_error = idle->receive_as<protocol::Error>();
+  ASSERT_NE(idle_error, nullptr);
+  EXPECT_NE(idle_error->message()->str().find("no request for 3000 ms"), std::string::npos);
+  std::this_thread::sleep_for(std::chrono::milliseconds(2 * kTimeoutMs));
+  done = true;
+  honest.join();
+  EXPECT_EQ(failed, 0);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - opened).count();
+  EXPECT_GT(answered, 10) << "the honest client in " << seconds << " s";
+  const std::string log = daemon_->log();
+  EXPECT_GE(log_lines(log, "connection_cut", "no WebSocket handshake within 1500 ms"), 1u) << log;
+  EXPECT_GE(log_lines(log, "connection_cut", "was not whole within 1500 ms"), 1u);
+  EXPECT_GE(log_lines(log, "connection_cut", "took no reply bytes for 1500 ms"), 1u);
+  expect_still_serving();
+}
+
+}  // namespace
+}  // namespace sweepd::test
