@@ -4,7 +4,8 @@
 // FrameClient: a blocking socket client speaking the sweepd framing, with a receive timeout,
 // so a test fails instead of hanging when the server does not answer; on TCP, a Unix socket,
 // or WebSocket (--ws-listen: one frame per binary message, the client side of sweepd's own
-// WebSocketSession on websocketpp), so that every test helper taking a FrameClient works on all.
+// WebSocketSession on websocketpp; wss over OpenSSL), so that every test helper taking a
+// FrameClient works on all.
 // ClipClientTest: a fixture for the client examples' tests — a daemon with token "t0k" in a
 // fresh directory, and CMU clip 01_01 for the client to stream (skipped without shared data).
 #pragma once
@@ -12,6 +13,7 @@
 #include <gtest/gtest.h>
 #include <netinet/in.h>
 #include <netinet/tcp.h>
+#include <openssl/ssl.h>
 #include <signal.h>
 #include <sys/socket.h>
 #include <sys/un.h>
@@ -166,6 +168,7 @@ class DaemonProcess {
 struct WebSocketUpgrade {
   std::string origin;
   int receive_buffer_bytes = 0;  // > 0: SO_RCVBUF (a client that reads slowly)
+  std::string tls_ca;            // wss: TLS first, trusting this CA (PEM); "": plain ws
 };
 
 class FrameClient {
@@ -176,6 +179,7 @@ class FrameClient {
   // websocket_status() says with what) before the constructor returns.
   FrameClient(int port, const WebSocketUpgrade& upgrade)
       : FrameClient(port, upgrade.receive_buffer_bytes) {
+    if (!upgrade.tls_ca.empty() && !start_tls(upgrade.tls_ca)) return;
     websocket_ = std::make_unique<server::WebSocketSession>(server::WebSocketSession::Role::kClient,
                                                             std::vector<std::string>{}, 1u << 30);
     websocket_->start_client("127.0.0.1:" + std::to_string(port), upgrade.origin);
@@ -229,6 +233,10 @@ class FrameClient {
   }
 
   bool send_raw(std::span<const std::uint8_t> bytes) {
+    if (tls_) {
+      return bytes.empty() || SSL_write(tls_.get(), bytes.data(), static_cast<int>(bytes.size())) ==
+                                  static_cast<int>(bytes.size());
+    }
     std::size_t sent = 0;
     while (sent < bytes.size()) {
       const ssize_t n = ::send(fd_, bytes.data() + sent, bytes.size() - sent, MSG_NOSIGNAL);
@@ -300,7 +308,9 @@ class FrameClient {
 
   // WebSocket only: the session (its close code, text messages), and the upgrade's HTTP status.
   server::WebSocketSession& websocket() { return *websocket_; }
-  int websocket_status() const { return websocket_->http_status(); }
+  int websocket_status() const { return websocket_ ? websocket_->http_status() : 0; }
+  // wss: the TLS handshake failed (or was not tried).
+  bool tls_failed() const { return tls_ == nullptr; }
 
   const protocol::Welcome* hello(
       const std::string& token, protocol::PoseDelivery delivery = protocol::PoseDelivery::InOrder) {
@@ -346,7 +356,8 @@ class FrameClient {
   // WebSocket: one read from the socket into the session; false at its end or on timeout.
   bool read_websocket() {
     std::uint8_t chunk[64 * 1024];
-    const ssize_t n = recv(fd_, chunk, sizeof(chunk), 0);
+    const ssize_t n =
+        tls_ ? SSL_read(tls_.get(), chunk, sizeof(chunk)) : recv(fd_, chunk, sizeof(chunk), 0);
     if (n <= 0) {
       socket_ended_ = n == 0;
       return false;
@@ -356,8 +367,22 @@ class FrameClient {
     return true;
   }
 
+  // wss: a blocking TLS client on the socket (OpenSSL), checking the server's certificate.
+  bool start_tls(const std::string& ca_file) {
+    tls_context_.reset(SSL_CTX_new(TLS_client_method()));
+    SSL_CTX_set_verify(tls_context_.get(), SSL_VERIFY_PEER, nullptr);
+    if (SSL_CTX_load_verify_locations(tls_context_.get(), ca_file.c_str(), nullptr) != 1)
+      return false;
+    tls_.reset(SSL_new(tls_context_.get()));
+    SSL_set_fd(tls_.get(), fd_);
+    if (SSL_connect(tls_.get()) != 1) tls_.reset();
+    return tls_ != nullptr;
+  }
+
   int fd_ = -1;
   bool connected_ = false;
+  std::unique_ptr<SSL_CTX, decltype(&SSL_CTX_free)> tls_context_{nullptr, SSL_CTX_free};
+  std::unique_ptr<SSL, decltype(&SSL_free)> tls_{nullptr, SSL_free};
   std::unique_ptr<server::WebSocketSession> websocket_;
   std::size_t payload_taken_ = 0;
   bool socket_ended_ = false;

@@ -3,7 +3,7 @@
 // TCP path's bad inputs, sent over WebSocket with the same helpers (tests/server/hostile_input.h),
 // are refused as on TCP — plus the WebSocket-only ones: text messages, a message past the
 // limit before Hello, a refused Origin, plain HTTP on the WebSocket port — while the daemon
-// serves an honest WebSocket client throughout.
+// serves an honest WebSocket client throughout. With --tls-cert the listener serves wss.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -14,6 +14,7 @@
 #include "tests/server/daemon_process.h"
 #include "tests/server/hostile_input.h"
 #include "tests/server/pose_frames.h"
+#include "tests/server/test_certificates.h"
 
 namespace sweepd::test {
 namespace {
@@ -189,11 +190,15 @@ TEST_F(DaemonWebSocket, ATextMessageEndsTheSessionWithUnsupportedData) {
 }
 
 TEST_F(DaemonWebSocket, AnOriginOfAnotherSiteIsRefusedAndTheSameHostIsNot) {
-  FrameClient other_site(ws_port(), WebSocketUpgrade{.origin = "https://evil.example"});
+  FrameClient other_site(
+      ws_port(),
+      WebSocketUpgrade{.origin = "https://evil.example", .receive_buffer_bytes = 0, .tls_ca = ""});
   EXPECT_EQ(other_site.websocket_status(), 403);
   EXPECT_TRUE(other_site.closed_by_server());
   EXPECT_GE(log_lines(daemon_->log(), "connection_cut", "Origin https://evil.example is not"), 1u);
-  FrameClient same_host(ws_port(), WebSocketUpgrade{.origin = "http://127.0.0.1:8080"});
+  FrameClient same_host(
+      ws_port(),
+      WebSocketUpgrade{.origin = "http://127.0.0.1:8080", .receive_buffer_bytes = 0, .tls_ca = ""});
   EXPECT_EQ(same_host.websocket_status(), 101);
   EXPECT_NE(same_host.hello(kToken), nullptr);
   expect_still_serving();
@@ -237,7 +242,7 @@ TEST_F(DaemonWebSocket, SilentTricklingIdleAndNonReadingClientsAreCutWhileOthers
   ASSERT_TRUE(trickler->send_bytes(length_prefix(1u << 20)));  // a frame begun, never finished
   std::unique_ptr<FrameClient> idle = greeted();
   auto non_reader = std::make_unique<FrameClient>(
-      ws_port(), WebSocketUpgrade{.origin = "", .receive_buffer_bytes = 4096});
+      ws_port(), WebSocketUpgrade{.origin = "", .receive_buffer_bytes = 4096, .tls_ca = ""});
   ASSERT_NE(non_reader->hello(kToken), nullptr);
   for (int p = 0; p < 40; ++p)
     ASSERT_TRUE(send_pose(*non_reader, pose_fields(daemon_->model_id(), p, wire())));
@@ -260,6 +265,55 @@ TEST_F(DaemonWebSocket, SilentTricklingIdleAndNonReadingClientsAreCutWhileOthers
   EXPECT_GE(log_lines(log, "connection_cut", "was not whole within 1500 ms"), 1u);
   EXPECT_GE(log_lines(log, "connection_cut", "took no reply bytes for 1500 ms"), 1u);
   expect_still_serving();
+}
+
+TEST(DaemonWebSocketTls, WssCarriesTheSameFramesAndAPlainClientIsCut) {
+  const fs::path directory = fresh_directory("wss");
+  const std::optional<TestCertificates> certificates = TestCertificates::make(directory);
+  if (!certificates) GTEST_SKIP() << "openssl is not installed (deploy/install-deps.sh)";
+  DaemonProcess daemon(directory, with(DaemonProcess::websocket_flags(directory),
+                                       {"--token", kToken, "--position-maps", "0",
+                                        "--mannequin-vertices", "2000", "--hello-timeout-ms", "400",
+                                        "--tls-cert", certificates->server_cert.string(),
+                                        "--tls-key", certificates->server_key.string(),
+                                        "--unix-socket", (directory / "sweepd.sock").string()}));
+  ASSERT_TRUE(daemon.running()) << daemon.log();
+  const int ws_port = daemon.websocket_port();
+  FrameClient secure(
+      ws_port, WebSocketUpgrade{
+                   .origin = "", .receive_buffer_bytes = 0, .tls_ca = certificates->ca.string()});
+  ASSERT_FALSE(secure.tls_failed());
+  ASSERT_EQ(secure.websocket_status(), 101);
+  ASSERT_NE(secure.hello(kToken), nullptr);
+  FrameClient unix_socket(directory / "sweepd.sock");
+  ASSERT_NE(unix_socket.hello(kToken), nullptr);
+  const std::vector<protocol::Quat> rotations = to_wire(bent_rotations(31));
+  protocol::PoseFields fields = pose_fields(daemon.model_id(), 1, rotations);
+  fields.normals = true;
+  ASSERT_TRUE(send_pose(secure, fields));
+  const protocol::PosedVertices* over_wss = secure.receive_as<protocol::PosedVertices>();
+  ASSERT_NE(over_wss, nullptr);
+  const std::vector<float> wss_positions = copy_floats(over_wss->positions_f32());
+  ASSERT_TRUE(send_pose(unix_socket, fields));
+  const protocol::PosedVertices* over_unix = unix_socket.receive_as<protocol::PosedVertices>();
+  ASSERT_NE(over_unix, nullptr);
+  const std::vector<float> unix_positions = copy_floats(over_unix->positions_f32());
+  ASSERT_EQ(wss_positions.size(), unix_positions.size());
+  ASSERT_GT(wss_positions.size(), 3000u);
+  // Bit for bit: wss carries the same frames.
+  EXPECT_EQ(std::memcmp(wss_positions.data(), unix_positions.data(),
+                        wss_positions.size() * sizeof(float)),
+            0);
+
+  // A plain WebSocket client on the wss port: its HTTP request is no TLS handshake.
+  FrameClient plain(ws_port, WebSocketUpgrade{});
+  EXPECT_NE(plain.websocket_status(), 101);
+  EXPECT_TRUE(plain.closed_by_server());
+  const std::string log = daemon.log();
+  EXPECT_GE(log_lines(log, "connection_cut", "TLS handshake failed"), 1u) << log;
+  EXPECT_GE(log_lines(log, "tls_established", "TLSv1.3"), 1u) << log;
+  EXPECT_GE(log_lines(log, "websocket_open", ""), 1u) << log;
+  fs::remove_all(directory);
 }
 
 }  // namespace
