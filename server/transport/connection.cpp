@@ -602,6 +602,19 @@ void Connection::close_if_done() {
     return;
   }
   if (writing_ || !outgoing_.empty()) return;
+  if (stream_.websocket() && !close_frame_sent_) {
+    // A browser sees a clean close (1000); written under the send deadline like a reply.
+    close_frame_sent_ = true;
+    writing_ = true;
+    last_send_progress_ = Clock::now();
+    arm_send_deadline();
+    stream_.send_close_frame([self = shared_from_this()]() {
+      self->writing_ = false;
+      self->send_deadline_.cancel();
+      self->close_now();
+    });
+    return;
+  }
   close_now();
 }
 

@@ -153,6 +153,7 @@ class Connection : public std::enable_shared_from_this<Connection> {
   bool draining_ = false;       // Bye, end of stream, a fatal error or shutdown
   bool shutting_down_ = false;  // shutdown: send Bye when drained
   bool bye_sent_ = false;
+  bool close_frame_sent_ = false;  // WebSocket: the close frame before the socket closes
   bool closed_ = false;
   int loads_running_ = 0;
   protocol::PoseDelivery delivery_ = protocol::PoseDelivery::InOrder;

@@ -158,6 +158,15 @@ void ConnectionStream::set_max_message_bytes(std::size_t bytes) {
   if (websocket_) websocket_->set_max_message_bytes(bytes);
 }
 
+void ConnectionStream::send_close_frame(std::function<void()> done) {
+  if (!websocket_ || websocket_->state() != WebSocketSession::State::kOpen) {
+    done();
+    return;
+  }
+  websocket_->close(1000, "");  // normal closure: a fatal Error frame, if any, said why
+  flush([done = std::move(done)](std::error_code) { done(); });
+}
+
 TlsSession ConnectionStream::tls_session() {
   if (!tls_) return {};
   SSL* ssl = tls_->native_handle();

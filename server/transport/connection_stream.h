@@ -21,9 +21,10 @@
 //   set_max_message_bytes(n)            WebSocket: the largest message from now on; else nothing
 //   tls_session()                       after the handshake: protocol version, cipher and the
 //                                       client certificate's subject (empty: none), for logs
+//   send_close_frame(done)              WebSocket, while open: a close frame (1000), then done();
+//                                       otherwise done() at once
 //   close()                             shuts the socket down and closes it, no TLS close_notify
-//                                       or WebSocket close frame (a peer may read the last
-//                                       reply, then sees the end)
+//                                       (a peer may read the last reply, then sees the end)
 // All calls on the connection's I/O thread; one read and one write may be outstanding at once.
 #pragma once
 
@@ -92,6 +93,7 @@ class ConnectionStream {
   bool mid_message() const { return websocket_ && websocket_->mid_message(); }
   std::string failure() const { return websocket_ ? websocket_->failure() : ""; }
   void set_max_message_bytes(std::size_t bytes);
+  void send_close_frame(std::function<void()> done);
   TlsSession tls_session();
   void close();
 

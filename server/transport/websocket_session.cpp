@@ -90,7 +90,6 @@ struct WebSocketSession::Endpoint {
   Endpoint(std::vector<std::string> origins, std::size_t max_message)
       : allowed_origins(std::move(origins)), max_message_bytes(max_message) {}
 
-
   std::vector<std::string> allowed_origins;
   std::size_t max_message_bytes;
   Traffic traffic;
@@ -201,8 +200,7 @@ const std::string& WebSocketSession::failure() const {
     endpoint_->on_connection([&traffic](auto& connection) {
       const auto code = connection->get_local_close_code();
       if (connection->get_state() != ws::session::state::open && code != ws::close::status::blank &&
-          code != ws::close::status::normal &&
-          !close_received(*connection))
+          code != ws::close::status::normal && !close_received(*connection))
         traffic.failure = "WebSocket closed with " + std::to_string(code) + " (" +
                           connection->get_local_close_reason() + ")";
     });

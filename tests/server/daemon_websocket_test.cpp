@@ -22,7 +22,8 @@ namespace {
 constexpr char kToken[] = "ws-t0k";
 constexpr int kTimeoutMs = 1500;  // Hello, frame and send timeouts of the daemon under test
 constexpr int kIdleTimeoutMs = 3000;
-constexpr std::uint16_t kCloseUnsupportedData = 1003, kCloseMessageTooBig = 1009;
+constexpr std::uint16_t kCloseNormal = 1000, kCloseUnsupportedData = 1003,
+                        kCloseMessageTooBig = 1009;
 
 double percentile(std::vector<double> values, double p) {
   std::sort(values.begin(), values.end());
@@ -102,15 +103,10 @@ TEST_F(DaemonWebSocket, HelloListModelsAndPosesEqualThoseOverTcpBitForBit) {
     ASSERT_NE(over_tcp, nullptr);
     const std::vector<float> tcp_positions = copy_floats(over_tcp->positions_f32());
     const std::vector<float> tcp_normals = copy_floats(over_tcp->normals_f32());
-    ASSERT_EQ(ws_positions.size(), tcp_positions.size());
     ASSERT_GT(ws_positions.size(), 3000u);
     // Bit for bit: WebSocket carries the same frames.
-    EXPECT_EQ(
-        std::memcmp(ws_positions.data(), tcp_positions.data(), ws_positions.size() * sizeof(float)),
-        0);
-    ASSERT_EQ(ws_normals.size(), tcp_normals.size());
-    EXPECT_EQ(std::memcmp(ws_normals.data(), tcp_normals.data(), ws_normals.size() * sizeof(float)),
-              0);
+    EXPECT_TRUE(same_bits(ws_positions, tcp_positions));
+    EXPECT_TRUE(same_bits(ws_normals, tcp_normals));
   }
 
   // Round trips of the same pose, WebSocket and TCP taking turns (figures, not asserted: the
@@ -143,6 +139,7 @@ TEST_F(DaemonWebSocket, AWrongTokenAndARequestBeforeHelloAreRefusedAsOnTcp) {
   flatbuffers::FlatBufferBuilder builder;
   wrong.send_bytes(protocol::build_hello(builder, "not-the-token", "ws_test"));
   EXPECT_EQ(last_error_before_close(wrong), protocol::ErrorCode::AuthFailed);
+  EXPECT_EQ(wrong.websocket().peer_close_code(), kCloseNormal);  // after the fatal Error
 
   FrameClient early(ws_port(), WebSocketUpgrade{});
   builder.Clear();
@@ -298,12 +295,9 @@ TEST(DaemonWebSocketTls, WssCarriesTheSameFramesAndAPlainClientIsCut) {
   const protocol::PosedVertices* over_unix = unix_socket.receive_as<protocol::PosedVertices>();
   ASSERT_NE(over_unix, nullptr);
   const std::vector<float> unix_positions = copy_floats(over_unix->positions_f32());
-  ASSERT_EQ(wss_positions.size(), unix_positions.size());
   ASSERT_GT(wss_positions.size(), 3000u);
   // Bit for bit: wss carries the same frames.
-  EXPECT_EQ(std::memcmp(wss_positions.data(), unix_positions.data(),
-                        wss_positions.size() * sizeof(float)),
-            0);
+  EXPECT_TRUE(same_bits(wss_positions, unix_positions));
 
   // A plain WebSocket client on the wss port: its HTTP request is no TLS handshake.
   FrameClient plain(ws_port, WebSocketUpgrade{});

@@ -2,6 +2,7 @@
 // as a Pose frame, and the library's own deformation of the same pose to compare replies with.
 #pragma once
 
+#include <cstring>
 #include <glm/gtc/quaternion.hpp>
 #include <vector>
 
@@ -48,6 +49,11 @@ inline bool send_pose(FrameClient& client, protocol::PoseFields fields,
 inline std::vector<float> copy_floats(const flatbuffers::Vector<float>* values) {
   return values == nullptr ? std::vector<float>()
                            : std::vector<float>(values->begin(), values->end());
+}
+
+// Two float vectors of the same size and the same bits (memcmp: not even -0 for 0 passes).
+inline bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
 }
 
 struct Deformed {
