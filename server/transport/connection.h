@@ -87,6 +87,7 @@ class Connection : public std::enable_shared_from_this<Connection> {
   void shut_down();
 
   std::uint64_t id() const { return counters_.connection_id; }
+  bool websocket() const { return stream_.websocket(); }
   const ConnectionCounters& counters() const { return counters_; }
   std::size_t poses_waiting() const { return waiting_poses_.size(); }
   bool pose_running() const { return pose_running_; }

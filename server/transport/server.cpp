@@ -156,6 +156,7 @@ void Server::accept_next(Acceptor& acceptor) {
 
 void Server::admit(ConnectionStream stream, std::string peer) {
   const std::uint64_t id = next_connection_id_++;
+  if (stream.websocket()) ++websocket_connections_accepted_;
   auto connection = std::make_shared<Connection>(std::move(stream), id, peer, environment_);
   if (connections_.size() >= config_.max_connections) {
     connection->refuse(protocol::ErrorCode::ConnectionLimit,
@@ -223,9 +224,11 @@ ServerSnapshot Server::gather_snapshot() const {
     snapshot.all_connections.add(connection->counters());
     snapshot.poses_waiting += connection->poses_waiting();
     snapshot.poses_running += connection->pose_running() ? 1 : 0;
+    snapshot.websocket_connections_open += connection->websocket() ? 1 : 0;
   }
   snapshot.connections_open = connections_.size();
   snapshot.connections_accepted = next_connection_id_ - 1;
+  snapshot.websocket_connections_accepted = websocket_connections_accepted_;
   snapshot.buffered_bytes = buffer_budget_.used();
   snapshot.collision = environment_.collision.snapshot();
   for (const ModelHandle& model : environment_.models.models()) {

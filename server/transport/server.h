@@ -81,6 +81,7 @@ class Server {
   ConnectionEnvironment environment_;
   std::map<std::uint64_t, std::shared_ptr<Connection>> connections_;
   std::uint64_t next_connection_id_ = 1;
+  std::uint64_t websocket_connections_accepted_ = 0;
   bool shutting_down_ = false;
 };
 

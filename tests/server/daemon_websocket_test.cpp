@@ -13,6 +13,7 @@
 
 #include "tests/server/daemon_process.h"
 #include "tests/server/hostile_input.h"
+#include "tests/server/http_probe.h"
 #include "tests/server/pose_frames.h"
 #include "tests/server/test_certificates.h"
 
@@ -37,10 +38,11 @@ class DaemonWebSocket : public ::testing::Test {
     daemon_ = new DaemonProcess(
         *directory_,
         with(DaemonProcess::websocket_flags(*directory_),
-             {"--token", kToken, "--position-maps", "0", "--hello-timeout-ms",
-              std::to_string(kTimeoutMs), "--frame-timeout-ms", std::to_string(kTimeoutMs),
-              "--send-timeout-ms", std::to_string(kTimeoutMs), "--idle-timeout-ms",
-              std::to_string(kIdleTimeoutMs)}));
+             {"--http-listen", "127.0.0.1:0", "--http-port-file",
+              (*directory_ / "http_port").string(), "--token", kToken, "--position-maps", "0",
+              "--hello-timeout-ms", std::to_string(kTimeoutMs), "--frame-timeout-ms",
+              std::to_string(kTimeoutMs), "--send-timeout-ms", std::to_string(kTimeoutMs),
+              "--idle-timeout-ms", std::to_string(kIdleTimeoutMs)}));
   }
   static void TearDownTestSuite() {
     delete daemon_;
@@ -132,6 +134,13 @@ TEST_F(DaemonWebSocket, HelloListModelsAndPosesEqualThoseOverTcpBitForBit) {
       percentile(tcp_ms, 0.99));
   const std::string log = daemon_->log();
   EXPECT_GE(log_lines(log, "websocket_open", ""), 1u) << log;
+
+  // /metrics counts WebSocket connections among all and on their own: these two are open.
+  if (!have_program("curl")) GTEST_SKIP() << "curl is not installed (deploy/install-deps.sh)";
+  const HttpReply metrics = curl_get(std::stoi(read_text(*directory_ / "http_port")), "/metrics");
+  EXPECT_EQ(metric(metrics.body, "sweepd_connections_open"), 2.0) << metrics.body;
+  EXPECT_EQ(metric(metrics.body, "sweepd_websocket_connections_open"), 1.0);
+  EXPECT_GE(metric(metrics.body, "sweepd_websocket_connections_accepted_total"), 1.0);
 }
 
 TEST_F(DaemonWebSocket, AWrongTokenAndARequestBeforeHelloAreRefusedAsOnTcp) {
