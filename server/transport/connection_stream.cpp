@@ -159,11 +159,13 @@ void ConnectionStream::set_max_message_bytes(std::size_t bytes) {
 }
 
 void ConnectionStream::send_close_frame(std::function<void()> done) {
-  if (!websocket_ || websocket_->state() != WebSocketSession::State::kOpen) {
+  if (!websocket_) {
     done();
     return;
   }
-  websocket_->close(1000, "");  // normal closure: a fatal Error frame, if any, said why
+  // Normal closure: a fatal Error frame, if any, said why. A session already closing has its
+  // close frame (or the answer to the peer's) in the queue: that goes out first all the same.
+  if (websocket_->state() == WebSocketSession::State::kOpen) websocket_->close(1000, "");
   flush([done = std::move(done)](std::error_code) { done(); });
 }
 

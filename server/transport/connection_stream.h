@@ -21,8 +21,9 @@
 //   set_max_message_bytes(n)            WebSocket: the largest message from now on; else nothing
 //   tls_session()                       after the handshake: protocol version, cipher and the
 //                                       client certificate's subject (empty: none), for logs
-//   send_close_frame(done)              WebSocket, while open: a close frame (1000), then done();
-//                                       otherwise done() at once
+//   send_close_frame(done)              WebSocket: a close frame (1000) unless one went out
+//                                       already, then done() once the queue is written; plain
+//                                       or TLS: done() at once
 //   close()                             shuts the socket down and closes it, no TLS close_notify
 //                                       (a peer may read the last reply, then sees the end)
 // All calls on the connection's I/O thread; one read and one write may be outstanding at once.
@@ -80,7 +81,12 @@ class ConnectionStream {
   template <typename Handler>
   void async_write(asio::const_buffer buffer, std::function<void()> on_progress,
                    Handler&& handler) {
-    if (websocket_) {
+    if (websocket_ && websocket_->state() != WebSocketSession::State::kOpen) {
+      // The session is closing: no message can go out.
+      asio::post(get_executor(), [done = ReadHandler(std::forward<Handler>(handler))]() {
+        done(asio::error::broken_pipe, 0);
+      });
+    } else if (websocket_) {
       websocket_->send_binary(static_cast<const std::uint8_t*>(buffer.data()), buffer.size());
       write_queue_.push_back(
           {std::move(on_progress), std::forward<Handler>(handler), buffer.size()});

@@ -51,7 +51,10 @@ void wire(Connection& connection, Traffic& traffic) {
     traffic.ended = true;
     return std::error_code();
   });
-  connection->set_open_handler([&traffic](ws::connection_hdl) { traffic.open = true; });
+  connection->set_open_handler([&traffic](ws::connection_hdl) {
+    traffic.open = true;
+    traffic.pending_bytes = 0;  // the upgrade's bytes are no message
+  });
   connection->set_close_handler([&traffic](ws::connection_hdl) { traffic.ended = true; });
   Connection* self = &connection;
   connection->set_fail_handler([&traffic, self](ws::connection_hdl) {
