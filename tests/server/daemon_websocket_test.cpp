@@ -281,19 +281,7 @@ TEST(DaemonWebSocketBudget, AMessagePastTheSharedBudgetIsRefusedAndTheSessionGoe
   ASSERT_TRUE(daemon.running()) << daemon.log();
   FrameClient client(daemon.websocket_port(), WebSocketUpgrade{});
   ASSERT_NE(client.hello(""), nullptr);
-  // 2 MiB of body: within max_frame_bytes (64 MiB), past the 1 MiB all connections share.
-  std::vector<std::uint8_t> frame = length_prefix(2u << 20);
-  frame.resize(4 + (2u << 20), 0x33);
-  ASSERT_TRUE(client.send_bytes(frame));
-  const protocol::Error* error = client.receive_as<protocol::Error>();
-  ASSERT_NE(error, nullptr);
-  EXPECT_EQ(error->code(), protocol::ErrorCode::ResourceExhausted);
-  EXPECT_FALSE(error->fatal());
-  const std::vector<protocol::Quat> rotations = to_wire(bent_rotations(31));
-  ASSERT_TRUE(send_pose(client, pose_fields(daemon.model_id(), 7, rotations)));
-  const protocol::PosedVertices* reply = client.receive_as<protocol::PosedVertices>();
-  ASSERT_NE(reply, nullptr);
-  EXPECT_EQ(reply->sequence(), 7u);
+  expect_frame_past_budget_refused(client, daemon.model_id());
   fs::remove_all(directory);
 }
 

@@ -1,6 +1,7 @@
 // What the hostile-client tests send and look for, on TCP and WebSocket alike: a bare length
 // prefix (a frame announced, its body never or slowly sent), the daemon's JSON log lines of an
-// event, and the last Error a client reads before the server closes the connection.
+// event, the last Error a client reads before the server closes the connection, and a frame
+// past the shared buffer budget.
 #pragma once
 
 #include <cstdint>
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "tests/server/daemon_process.h"
+#include "tests/server/pose_frames.h"
 
 namespace sweepd::test {
 
@@ -42,6 +44,25 @@ inline std::optional<protocol::ErrorCode> last_error_before_close(FrameClient& c
     }
   }
   return last;
+}
+
+// On a daemon with --max-buffered-bytes 1 MiB, after Hello: a frame of 2 MiB (within
+// max_frame_bytes, past the budget all connections share) gets ResourceExhausted, not fatal,
+// and the session goes on: the next pose (the mannequin's 31 joints) is answered.
+inline void expect_frame_past_budget_refused(FrameClient& client, std::uint32_t model_id) {
+  std::vector<std::uint8_t> frame = length_prefix(2u << 20);
+  frame.resize(4 + (2u << 20), 0x33);
+  ASSERT_TRUE(client.send_bytes(frame));
+  const protocol::Error* error = client.receive_as<protocol::Error>();
+  ASSERT_NE(error, nullptr);
+  EXPECT_EQ(error->code(), protocol::ErrorCode::ResourceExhausted);
+  EXPECT_FALSE(error->fatal());
+  EXPECT_NE(error->message()->str().find("2097152"), std::string::npos) << error->message()->str();
+  const std::vector<protocol::Quat> wire = to_wire(bent_rotations(31));
+  ASSERT_TRUE(send_pose(client, pose_fields(model_id, 7, wire)));
+  const protocol::PosedVertices* reply = client.receive_as<protocol::PosedVertices>();
+  ASSERT_NE(reply, nullptr);
+  EXPECT_EQ(reply->sequence(), 7u);
 }
 
 }  // namespace sweepd::test
