@@ -15,6 +15,7 @@ packages=(
   libcpp-httplib-dev  # sweepd's HTTP side port (server/http/): /healthz, /readyz, /metrics
   libssl-dev openssl  # TLS in sweepd and its clients (Asio's ssl over OpenSSL); the TLS tests make certificates with openssl
   curl prometheus  # tests/server/daemon_http_side_port_test.cpp: curl, promtool, a real scrape
+  libwebsocketpp-dev  # sweepd's WebSocket listener (--ws-listen, server/transport/websocket_session.h); header-only
   libsystemd-dev  # sd_notify for the Type=notify unit (server/systemd_notifier.h)
   python3-numpy python3-venv python3-setuptools python3-pip  # client_examples/python (sweepd-client), pip-installed offline in tests/server/python_package_test.cpp
   ffmpeg  # sweepctl sheet --video pipes its frames to ffmpeg (cli/video_encoder.h)

@@ -46,9 +46,11 @@ Setting text_setting(const char* key, Field ServerConfig::*field) {
           }};
 }
 
-// "ADDR:PORT" or "[V6ADDR]:PORT" into http_address and http_port.
-Setting address_and_port_setting(const char* key) {
-  return {key, [](ServerConfig& config, const std::string& value, const std::string& where) {
+// "ADDR:PORT" or "[V6ADDR]:PORT" into `address` and `port`.
+Setting address_and_port_setting(const char* key, std::string ServerConfig::*address_field,
+                                 int ServerConfig::*port_field) {
+  return {key, [address_field, port_field](ServerConfig& config, const std::string& value,
+                                           const std::string& where) {
             const std::size_t colon = value.rfind(':');
             if (colon == std::string::npos || colon == 0) {
               throw ConfigError(where + ": '" + value + "' is not ADDR:PORT");
@@ -57,9 +59,21 @@ Setting address_and_port_setting(const char* key) {
             if (address.front() == '[' && address.back() == ']') {
               address = address.substr(1, address.size() - 2);
             }
-            config.http_port =
+            config.*port_field =
                 static_cast<int>(parse_integer(value.substr(colon + 1), where, 0, 65535));
-            config.http_address = address;
+            config.*address_field = address;
+          }};
+}
+
+// A comma-separated list, added to what earlier flags or the file gave.
+Setting list_setting(const char* key, std::vector<std::string> ServerConfig::*field) {
+  return {key, [field](ServerConfig& config, const std::string& value, const std::string&) {
+            std::size_t start = 0;
+            while (start <= value.size()) {
+              const std::size_t comma = std::min(value.find(',', start), value.size());
+              if (comma > start) (config.*field).push_back(value.substr(start, comma - start));
+              start = comma + 1;
+            }
           }};
 }
 
@@ -77,8 +91,12 @@ const std::vector<Setting>& settings() {
       integer_setting("port", &ServerConfig::port, -1, 65535),
       text_setting("unix_socket", &ServerConfig::unix_socket),
       text_setting("port_file", &ServerConfig::port_file),
-      address_and_port_setting("http_listen"),
+      address_and_port_setting("http_listen", &ServerConfig::http_address,
+                               &ServerConfig::http_port),
       text_setting("http_port_file", &ServerConfig::http_port_file),
+      address_and_port_setting("ws_listen", &ServerConfig::ws_address, &ServerConfig::ws_port),
+      text_setting("ws_port_file", &ServerConfig::ws_port_file),
+      list_setting("ws_allowed_origin", &ServerConfig::ws_allowed_origins),
       text_setting("model_dir", &ServerConfig::model_dir),
       text_setting("store_dir", &ServerConfig::store_dir),
       text_setting("token", &ServerConfig::token),
@@ -145,13 +163,21 @@ void check_transport_security(const ServerConfig& config) {
         "--tls-client-ca: needs --tls-cert and --tls-key (client certificates are "
         "checked in the TLS handshake)");
   }
-  if (!config.token.empty() && config.port >= 0 && !tls && !config.allow_plaintext &&
-      !is_loopback(config.listen_address)) {
-    throw ConfigError("--token: plain TCP on " + config.listen_address +
-                      " would send the token across the network in clear; give --tls-cert FILE "
-                      "--tls-key FILE, or --listen 127.0.0.1, or --allow-plaintext where the "
-                      "network is private (e.g. behind a proxy that terminates TLS)");
-  }
+  const auto check_plain = [&](bool listening, const std::string& address, const char* what,
+                               const char* loopback_flag) {
+    if (!config.token.empty() && listening && !tls && !config.allow_plaintext &&
+        !is_loopback(address)) {
+      throw ConfigError(std::string("--token: ") + what + " on " + address +
+                        " would send the token across the network in clear; give --tls-cert "
+                        "FILE --tls-key FILE, or " +
+                        loopback_flag +
+                        ", or --allow-plaintext where the network is private (e.g. behind a "
+                        "proxy that terminates TLS)");
+    }
+  };
+  check_plain(config.port >= 0, config.listen_address, "plain TCP", "--listen 127.0.0.1");
+  check_plain(config.ws_port >= 0, config.ws_address, "plain WebSocket",
+              "--ws-listen 127.0.0.1:PORT");
 }
 
 std::string read_token_file(const std::filesystem::path& file) {
@@ -231,6 +257,11 @@ ServerConfig parse_server_config(std::span<const std::string_view> args) {
     throw ConfigError("--http-listen: port " + std::to_string(config.http_port) +
                       " is the protocol port (--port); the HTTP side port needs its own");
   }
+  if (config.ws_port > 0 && (config.ws_port == config.port || config.ws_port == config.http_port)) {
+    throw ConfigError("--ws-listen: port " + std::to_string(config.ws_port) +
+                      " is already the protocol or HTTP side port; the WebSocket listener needs "
+                      "its own");
+  }
   check_transport_security(config);
   return config;
 }
@@ -248,15 +279,24 @@ Flags (each also a key of the JSON config file, with '_' for '-'):
                             [V6ADDR]:PORT for IPv6, PORT 0 picks a free one; never the
                             protocol port (default: off)
   --http-port-file FILE     write the bound HTTP side port to FILE once listening
+  --ws-listen ADDR:PORT     WebSocket listener: the protocol's frames, one per binary message,
+                            with the TCP listener's token, limits and TLS (wss with
+                            --tls-cert); [V6ADDR]:PORT for IPv6, PORT 0 picks a free one
+                            (default: off)
+  --ws-port-file FILE       write the bound WebSocket port to FILE once listening
+  --ws-allowed-origin LIST  browser Origins (scheme://host[:port], comma-separated, or *) that
+                            may connect; repeatable. Default: requests without Origin (not a
+                            browser) and pages served by the host the request names
   --model-dir DIR           .glb/.gltf files clients may load by name
   --store-dir DIR           where bound models are kept (default ./sweepd-store)
   --token TOKEN             shared token clients must send in Hello (default: none)
   --token-file FILE         read the token from the first line of FILE (not a config key)
-  --tls-cert FILE           TLS on the TCP listener: certificate chain (PEM; needs --tls-key);
-                            TLS 1.2 at least, 1.3 preferred; the Unix socket stays plain
+  --tls-cert FILE           TLS on the TCP and WebSocket listeners: certificate chain (PEM;
+                            needs --tls-key); TLS 1.2 at least, 1.3 preferred; the Unix
+                            socket stays plain
   --tls-key FILE            the certificate's private key (PEM)
   --tls-client-ca FILE      require a client certificate signed by this CA (PEM)
-  --allow-plaintext         allow --token on plain TCP off loopback (a private network, e.g.
+  --allow-plaintext         allow --token on plain TCP or WebSocket off loopback (a private network, e.g.
                             behind a proxy that terminates TLS); without it that is refused
                             at start-up (config key: allow_plaintext true)
   --max-frame-bytes N       largest accepted frame (default 67108864)

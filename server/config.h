@@ -3,10 +3,10 @@
 //
 // parse_server_config(args): args are argv[1..] (program name excluded). Throws ConfigError
 // naming the flag, key or file and the reason (unknown flag, missing value, bad number,
-// unreadable or invalid JSON, a --collision other than auto/gpu/cpu, an --http-listen on the
-// protocol port, --tls-cert without
+// unreadable or invalid JSON, a --collision other than auto/gpu/cpu, an --http-listen or
+// --ws-listen on another listener's port, --tls-cert without
 // --tls-key or the reverse, --tls-client-ca without them, a token on a plain TCP listener that
-// is not loopback without --allow-plaintext). `--help` sets `show_help`.
+// is not loopback without --allow-plaintext, the same for --ws-listen). `--help` sets `show_help`.
 // config_usage(): the text `sweepd --help` prints, listing every flag and config key.
 #pragma once
 
@@ -16,6 +16,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "gpu/collision_backend.h"
 
@@ -31,11 +32,20 @@ struct ServerConfig {
   std::string http_address;
   int http_port = -1;
   std::filesystem::path http_port_file;  // written (tmp + rename) with the bound HTTP port
-  std::filesystem::path model_dir;       // .glb/.gltf files clients may load by name
+  // The WebSocket listener (--ws-listen ADDR:PORT): the protocol's frames as binary messages,
+  // with the TCP listener's auth, limits and TLS (wss when --tls-cert is given); ws_port -1:
+  // off, 0: a free port (see ws_port_file). ws_allowed_origins: the browser Origins allowed
+  // (server/transport/origin_policy.h); empty: no Origin (not a browser) or this host's.
+  std::string ws_address;
+  int ws_port = -1;
+  std::filesystem::path ws_port_file;
+  std::vector<std::string> ws_allowed_origins;
+  std::filesystem::path model_dir;                   // .glb/.gltf files clients may load by name
   std::filesystem::path store_dir = "sweepd-store";  // bound models (.sweepbind) + index
   std::string token;                                 // shared auth token; empty: none asked
-  // TLS on the TCP listener (the Unix socket stays plain): certificate chain and private key
-  // (PEM); with tls_client_ca, clients must present a certificate signed by that CA (PEM).
+  // TLS on the TCP and WebSocket listeners (the Unix socket stays plain): certificate chain and
+  // private key (PEM); with tls_client_ca, clients must present a certificate signed by that CA
+  // (PEM).
   std::filesystem::path tls_cert;
   std::filesystem::path tls_key;
   std::filesystem::path tls_client_ca;

@@ -135,6 +135,9 @@ int main(int argc, char** argv) {
       });
     }
     const int port = server->open();
+    // The WebSocket port first: whoever waits for the port file finds both.
+    if (!config.ws_port_file.empty())
+      write_port_file(config.ws_port_file, server->websocket_port());
     if (!config.port_file.empty()) write_port_file(config.port_file, port);
     std::printf("sweepd listening port=%d\n", port);
     std::fflush(stdout);

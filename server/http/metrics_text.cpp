@@ -118,6 +118,12 @@ void add_server(Page& page, const ServerSnapshot& server) {
               server.connections_accepted);
   page.single("sweepd_connections_open", "gauge", "Client connections open now.",
               server.connections_open);
+  page.single("sweepd_websocket_connections_accepted_total", "counter",
+              "Of the connections accepted, those on the WebSocket listener (--ws-listen).",
+              server.websocket_connections_accepted);
+  page.single("sweepd_websocket_connections_open", "gauge",
+              "Of the connections open now, those on the WebSocket listener.",
+              server.websocket_connections_open);
   page.single("sweepd_poses_waiting", "gauge",
               "Poses queued behind a running one, all connections (the queue depth).",
               server.poses_waiting);

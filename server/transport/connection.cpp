@@ -50,12 +50,17 @@ Connection::Connection(ConnectionStream stream, std::uint64_t id, std::string pe
       writer_(environment.config.deform_threads, environment.collision) {
   counters_.connection_id = id;
   counters_.peer = std::move(peer);
-  secured_ = !stream_.tls();
+  secured_ = stream_.pending_handshake().empty();
+  // Before Hello only a small message too: websocketpp takes a message whole before the frame
+  // reader sees it.
+  stream_.set_max_message_bytes(reader_.max_frame_bytes() + protocol::kLengthPrefixBytes);
 }
 
 void Connection::start() {
-  log_event("connection_open",
-            {{"connection", id()}, {"peer", counters_.peer}, {"tls", stream_.tls()}});
+  log_event("connection_open", {{"connection", id()},
+                                {"peer", counters_.peer},
+                                {"tls", stream_.tls()},
+                                {"websocket", stream_.websocket()}});
   arm_hello_deadline();
   arm_idle_deadline();
   secure_then([self = shared_from_this()]() { self->read_more(); });
@@ -76,7 +81,8 @@ void Connection::arm_hello_deadline() {
     if (error || self->authenticated_ || self->draining_ || self->closed_) return;
     const std::string timeout = std::to_string(self->environment_.config.hello_timeout_ms);
     if (!self->secured_) {
-      self->cut(pb::ErrorCode::NotAuthenticated, "no TLS handshake within " + timeout + " ms");
+      self->cut(pb::ErrorCode::NotAuthenticated,
+                "no " + self->stream_.pending_handshake() + " handshake within " + timeout + " ms");
       return;
     }
     self->send_error(pb::ErrorCode::NotAuthenticated, "no Hello within " + timeout + " ms", 0, 0,
@@ -89,20 +95,24 @@ void Connection::secure_then(std::function<void()> next) {
     next();
     return;
   }
-  stream_.handshake([self = shared_from_this(), next = std::move(next)](std::error_code error) {
-    if (self->closed_) return;
-    if (error) {
-      self->cut(pb::ErrorCode::NotAuthenticated, "TLS handshake failed: " + error.message());
-      return;
-    }
-    self->secured_ = true;
-    const TlsSession session = self->stream_.tls_session();
-    log_event("tls_established", {{"connection", self->id()},
-                                  {"version", session.version},
-                                  {"cipher", session.cipher},
-                                  {"client_certificate", session.client_subject}});
-    next();
-  });
+  stream_.handshake(
+      [self = shared_from_this(), next = std::move(next)](const std::string& failure) {
+        if (self->closed_) return;
+        if (!failure.empty()) {
+          self->cut(pb::ErrorCode::NotAuthenticated, failure);
+          return;
+        }
+        self->secured_ = true;
+        if (self->stream_.tls()) {
+          const TlsSession session = self->stream_.tls_session();
+          log_event("tls_established", {{"connection", self->id()},
+                                        {"version", session.version},
+                                        {"cipher", session.cipher},
+                                        {"client_certificate", session.client_subject}});
+        }
+        if (self->stream_.websocket()) log_event("websocket_open", {{"connection", self->id()}});
+        next();
+      });
 }
 
 void Connection::shut_down() {
@@ -122,8 +132,10 @@ void Connection::cut(pb::ErrorCode code, const std::string& reason) {
 // ---------------------------------------------------------------------------------------
 // Deadlines: a timer that fires after its connection closed, or was re-armed, does nothing.
 
+bool Connection::mid_frame() const { return reader_.mid_frame() || stream_.mid_message(); }
+
 void Connection::watch_frame() {
-  if (!reader_.mid_frame()) {
+  if (!mid_frame()) {
     if (frame_deadline_armed_) frame_deadline_.cancel();
     frame_deadline_armed_ = false;
     return;
@@ -133,7 +145,7 @@ void Connection::watch_frame() {
   const std::uint32_t timeout_ms = environment_.config.frame_timeout_ms;
   frame_deadline_.expires_after(std::chrono::milliseconds(timeout_ms));
   frame_deadline_.async_wait([self = shared_from_this(), timeout_ms](std::error_code error) {
-    if (error || self->closed_ || self->draining_ || !self->reader_.mid_frame()) return;
+    if (error || self->closed_ || self->draining_ || !self->mid_frame()) return;
     self->cut(pb::ErrorCode::BadFrame,
               "a frame was not whole within " + std::to_string(timeout_ms) + " ms");
   });
@@ -141,7 +153,7 @@ void Connection::watch_frame() {
 
 bool Connection::has_work() const {
   return pose_running_ || !waiting_poses_.empty() || loads_running_ > 0 || !outgoing_.empty() ||
-         reader_.mid_frame();
+         mid_frame();
 }
 
 void Connection::arm_idle_deadline() {
@@ -188,7 +200,11 @@ void Connection::read_more() {
     self->reading_ = false;
     if (self->closed_) return;
     if (error) {
-      if (self->reader_.mid_frame()) {
+      if (const std::string failure = self->stream_.failure(); !failure.empty()) {
+        log_event(
+            "connection_cut",
+            {{"connection", self->id()}, {"peer", self->counters_.peer}, {"reason", failure}});
+      } else if (self->mid_frame()) {
         log_event("truncated_frame", {{"connection", self->id()}});
       }
       self->draining_ = true;
@@ -387,6 +403,7 @@ void Connection::authenticate(const pb::Hello& hello, std::uint64_t request_id) 
   authenticated_ = true;
   hello_deadline_.cancel();
   reader_.set_max_frame_bytes(environment_.config.max_frame_bytes);
+  stream_.set_max_message_bytes(environment_.config.max_frame_bytes + protocol::kLengthPrefixBytes);
   delivery_ = hello.delivery() == pb::PoseDelivery::LatestWins ? pb::PoseDelivery::LatestWins
                                                                : pb::PoseDelivery::InOrder;
   log_event("hello", {{"connection", id()},
@@ -610,32 +627,28 @@ void Connection::write_next() {
   last_send_progress_ = Clock::now();
   arm_send_deadline();
   const flatbuffers::FlatBufferBuilder& front = outgoing_.front();
-  // The whole rest of the frame in each send: asio's default completion condition would cut
-  // a 0.85 MB reply into 64 KiB sends (13 system calls instead of one or two). Each partial
-  // send is progress for the send deadline.
   const std::size_t size = front.GetSize();
-  auto whole_rest = [this, size](std::error_code error, std::size_t sent) -> std::size_t {
-    if (sent > 0) last_send_progress_ = Clock::now();
-    return error ? 0 : size - sent;
-  };
-  stream_.async_write(asio::buffer(front.GetBufferPointer(), size), whole_rest,
-                      [self = shared_from_this(), size](std::error_code error, std::size_t n) {
-                        self->writing_ = false;
-                        self->send_deadline_.cancel();
-                        self->counters_.bytes_out += n;
-                        if (self->closed_) return;  // close_now gave the queue's bytes back
-                        self->environment_.buffer_budget.give_back(size);
-                        self->queued_reply_bytes_ -= size;
-                        self->environment_.builders.give_back(std::move(self->outgoing_.front()));
-                        self->outgoing_.pop_front();
-                        if (error) {
-                          self->close_now();
-                          return;
-                        }
-                        self->write_next();
-                        self->start_next_pose();
-                        self->process_input();
-                      });
+  // Each partial send is progress for the send deadline.
+  stream_.async_write(
+      asio::buffer(front.GetBufferPointer(), size),
+      [this]() { last_send_progress_ = Clock::now(); },
+      [self = shared_from_this(), size](std::error_code error, std::size_t n) {
+        self->writing_ = false;
+        self->send_deadline_.cancel();
+        self->counters_.bytes_out += n;
+        if (self->closed_) return;  // close_now gave the queue's bytes back
+        self->environment_.buffer_budget.give_back(size);
+        self->queued_reply_bytes_ -= size;
+        self->environment_.builders.give_back(std::move(self->outgoing_.front()));
+        self->outgoing_.pop_front();
+        if (error) {
+          self->close_now();
+          return;
+        }
+        self->write_next();
+        self->start_next_pose();
+        self->process_input();
+      });
 }
 
 void Connection::drain() {
@@ -655,6 +668,19 @@ void Connection::close_if_done() {
     return;
   }
   if (writing_ || !outgoing_.empty()) return;
+  if (stream_.websocket() && !close_frame_sent_) {
+    // A browser sees a clean close (1000); written under the send deadline like a reply.
+    close_frame_sent_ = true;
+    writing_ = true;
+    last_send_progress_ = Clock::now();
+    arm_send_deadline();
+    stream_.send_close_frame([self = shared_from_this()]() {
+      self->writing_ = false;
+      self->send_deadline_.cancel();
+      self->close_now();
+    });
+    return;
+  }
   close_now();
 }
 

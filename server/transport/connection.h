@@ -1,15 +1,19 @@
-// Connection: one client session of sweepd, on TCP or a Unix socket — the transport. It moves
-// frames, enforces authentication, limits, backpressure and reply order, and dispatches each
+// Connection: one client session of sweepd, on TCP, WebSocket or a Unix socket — the transport. It
+// moves frames, enforces authentication, limits, backpressure and reply order, and dispatches each
 // request: handlers (server/handlers/) turn it into work and a reply, encoders
 // (server/replies/) build the reply frames, and every model change goes through ModelService
 // (server/models/). It holds no model state of its own.
 //
 // Runs on the server's single I/O thread; only deformation and model loading go to the
 // worker pool (poses whose folding runs on the GPU thread to the pool of GPU waiters, see
-// CollisionService). On a TLS stream (ConnectionStream) the handshake comes first: it must be done,
-// like Hello, within config.hello_timeout_ms, or the connection is cut (`connection_cut`, no
-// reply: there is no channel to send it on); a failed handshake (a plaintext client on the TLS
-// port, a missing or untrusted client certificate) is cut with OpenSSL's reason. Frames are read
+// CollisionService). On a TLS or WebSocket stream (ConnectionStream) the handshakes come first:
+// they must be done, like Hello, within config.hello_timeout_ms, or the connection is cut
+// (`connection_cut`, no reply: there is no channel to send it on); a failed handshake (a
+// plaintext client on the TLS port, a missing or untrusted client certificate, an HTTP request
+// that is no WebSocket upgrade, a refused Origin) is cut with its reason (OpenSSL's, or the HTTP
+// status sent back). On WebSocket each frame travels as one binary message; a text message, a
+// message past the frame limit (before Hello: max_hello_frame_bytes) or a broken WebSocket
+// frame ends the session with a WebSocket close code and a `connection_cut`. Frames are read
 // with protocol::FrameReader; the first must be Hello (token compared in constant time), anything
 // else before it — or no Hello within config.hello_timeout_ms — is a fatal NotAuthenticated, and
 // before it a frame may have at most config.max_hello_frame_bytes (a fatal FrameTooLarge). Frame
@@ -85,6 +89,7 @@ class Connection : public std::enable_shared_from_this<Connection> {
   void shut_down();
 
   std::uint64_t id() const { return counters_.connection_id; }
+  bool websocket() const { return stream_.websocket(); }
   const ConnectionCounters& counters() const { return counters_; }
   std::size_t poses_waiting() const { return waiting_poses_.size(); }
   bool pose_running() const { return pose_running_; }
@@ -130,6 +135,8 @@ class Connection : public std::enable_shared_from_this<Connection> {
   // bytes move.
   void arm_hello_deadline();
   void watch_frame();
+  // Part of a frame read, or (WebSocket) part of the message that carries it.
+  bool mid_frame() const;
   void arm_idle_deadline();
   void arm_send_deadline();
   bool has_work() const;
@@ -154,6 +161,7 @@ class Connection : public std::enable_shared_from_this<Connection> {
   bool draining_ = false;       // Bye, end of stream, a fatal error or shutdown
   bool shutting_down_ = false;  // shutdown: send Bye when drained
   bool bye_sent_ = false;
+  bool close_frame_sent_ = false;  // WebSocket: the close frame before the socket closes
   bool closed_ = false;
   int loads_running_ = 0;
   protocol::PoseDelivery delivery_ = protocol::PoseDelivery::InOrder;

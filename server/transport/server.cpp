@@ -75,23 +75,37 @@ Server::~Server() {
   gpu_waiters_.join();
 }
 
+int Server::listen_tcp(std::optional<asio::ip::tcp::acceptor>& acceptor, const std::string& address,
+                       int port, const char* what) {
+  try {
+    const asio::ip::tcp::endpoint endpoint(asio::ip::make_address(address),
+                                           static_cast<unsigned short>(port));
+    acceptor.emplace(io_, endpoint, /*reuse_address=*/true);
+    return acceptor->local_endpoint().port();
+  } catch (const std::exception& error) {
+    throw std::runtime_error(std::string("cannot listen") + what + " on " + address + ":" +
+                             std::to_string(port) + " (" + error.what() + ")");
+  }
+}
+
 int Server::open() {
   int port = 0;
   if (config_.port >= 0) {
-    try {
-      const asio::ip::tcp::endpoint endpoint(asio::ip::make_address(config_.listen_address),
-                                             static_cast<unsigned short>(config_.port));
-      tcp_acceptor_.emplace(io_, endpoint, /*reuse_address=*/true);
-      port = tcp_acceptor_->local_endpoint().port();
-    } catch (const std::exception& error) {
-      throw std::runtime_error("cannot listen on " + config_.listen_address + ":" +
-                               std::to_string(config_.port) + " (" + error.what() + ")");
-    }
+    port = listen_tcp(tcp_acceptor_, config_.listen_address, config_.port, "");
     log_event("listening", {{"address", config_.listen_address},
                             {"port", port},
                             {"tls", tls_.has_value()},
                             {"client_certificates", !config_.tls_client_ca.empty()}});
     accept_next(*tcp_acceptor_);
+  }
+  if (config_.ws_port >= 0) {
+    websocket_port_ =
+        listen_tcp(websocket_acceptor_, config_.ws_address, config_.ws_port, " for WebSocket");
+    log_event("listening", {{"address", config_.ws_address},
+                            {"websocket_port", websocket_port_},
+                            {"tls", tls_.has_value()},
+                            {"allowed_origins", config_.ws_allowed_origins}});
+    accept_next(*websocket_acceptor_);
   }
   if (!config_.unix_socket.empty()) {
     std::error_code ignored;
@@ -120,12 +134,19 @@ void Server::accept_next(Acceptor& acceptor) {
         socket.set_option(asio::ip::tcp::no_delay(true), ignored);
         const auto endpoint = socket.remote_endpoint(ignored);
         std::string peer = endpoint.address().to_string() + ":" + std::to_string(endpoint.port());
-        ConnectionStream::Socket generic(std::move(socket));
-        admit(tls_ ? ConnectionStream(std::move(generic), *tls_)
-                   : ConnectionStream(std::move(generic)),
+        std::unique_ptr<WebSocketSession> websocket;
+        if (websocket_acceptor_ && &acceptor == &*websocket_acceptor_) {
+          // Before Hello at most a Hello-sized message; Connection raises it after Hello.
+          websocket = std::make_unique<WebSocketSession>(
+              WebSocketSession::Role::kServer, config_.ws_allowed_origins,
+              config_.max_hello_frame_bytes + protocol::kLengthPrefixBytes);
+          peer = "ws:" + peer;
+        }
+        admit(ConnectionStream(ConnectionStream::Socket(std::move(socket)), tls_ ? &*tls_ : nullptr,
+                               std::move(websocket)),
               std::move(peer));
       } else {
-        admit(ConnectionStream(ConnectionStream::Socket(std::move(socket))),
+        admit(ConnectionStream(ConnectionStream::Socket(std::move(socket)), nullptr, nullptr),
               "unix:" + config_.unix_socket.string());
       }
     } else {
@@ -137,6 +158,7 @@ void Server::accept_next(Acceptor& acceptor) {
 
 void Server::admit(ConnectionStream stream, std::string peer) {
   const std::uint64_t id = next_connection_id_++;
+  if (stream.websocket()) ++websocket_connections_accepted_;
   auto connection = std::make_shared<Connection>(std::move(stream), id, peer, environment_);
   if (connections_.size() >= config_.max_connections) {
     connection->refuse(protocol::ErrorCode::ConnectionLimit,
@@ -180,6 +202,7 @@ void Server::begin_shutdown(const char* reason) {
   std::error_code ignored;
   signals_.cancel(ignored);
   if (tcp_acceptor_) tcp_acceptor_->close(ignored);
+  if (websocket_acceptor_) websocket_acceptor_->close(ignored);
   if (unix_acceptor_) unix_acceptor_->close(ignored);
   // Copy: a connection that closes at once removes itself from the map (deferred anyway).
   const auto connections = connections_;
@@ -203,9 +226,11 @@ ServerSnapshot Server::gather_snapshot() const {
     snapshot.all_connections.add(connection->counters());
     snapshot.poses_waiting += connection->poses_waiting();
     snapshot.poses_running += connection->pose_running() ? 1 : 0;
+    snapshot.websocket_connections_open += connection->websocket() ? 1 : 0;
   }
   snapshot.connections_open = connections_.size();
   snapshot.connections_accepted = next_connection_id_ - 1;
+  snapshot.websocket_connections_accepted = websocket_connections_accepted_;
   snapshot.buffered_bytes = buffer_budget_.used();
   snapshot.collision = environment_.collision.snapshot();
   for (const ModelHandle& model : environment_.models.models()) {

@@ -1,12 +1,13 @@
 // Server: sweepd's listeners, connections and worker pool.
 //
-// Server(config, models, readiness, tls, gpu, collision): `tls`, when given, is the TCP
-//   listener's TLS (server/transport/tls_context.h); none: plain TCP. `gpu` (the one GPU
+// Server(config, models, readiness, tls, gpu, collision): `tls`, when given, is the TCP and
+//   WebSocket listeners' TLS (server/transport/tls_context.h); none: plain TCP. `gpu` (the one GPU
 //   thread, for position maps) and `collision` (the collision backend) outlive the server.
-// open(): binds the TCP listener (config.listen_address:port; port 0 picks a free one) and
-//   the Unix-socket listener (config.unix_socket, a stale socket file is replaced; always
-//   plain). Throws std::runtime_error naming the address and the reason. Returns the bound TCP
-//   port (0 with no TCP listener).
+// open(): binds the TCP listener (config.listen_address:port; port 0 picks a free one), the
+//   WebSocket listener (config.ws_address:ws_port; TLS like the TCP one) and the Unix-socket
+//   listener (config.unix_socket, a stale socket file is replaced; always plain). Throws
+//   std::runtime_error naming the address and the reason. Returns the bound TCP port (0 with
+//   no TCP listener); websocket_port() the bound WebSocket port (0: none).
 // run(): serves until SIGTERM/SIGINT or request_shutdown(), then stops accepting, lets every
 //   connection finish its in-flight work and say Bye, joins the workers and returns.
 // snapshot(timeout): thread-safe; a copy of the counters and gauges (ServerSnapshot) taken on
@@ -46,6 +47,7 @@ class Server {
   ~Server();
 
   int open();
+  int websocket_port() const { return websocket_port_; }
   void run();
   // Thread-safe: asks run() to shut down as on SIGTERM.
   void request_shutdown();
@@ -54,6 +56,9 @@ class Server {
  private:
   template <typename Acceptor>
   void accept_next(Acceptor& acceptor);
+  // Binds config address:port; the bound port. Throws naming `what`, the address and why.
+  int listen_tcp(std::optional<asio::ip::tcp::acceptor>& acceptor, const std::string& address,
+                 int port, const char* what);
   void admit(ConnectionStream stream, std::string peer);
   void begin_shutdown(const char* reason);
   ServerSnapshot gather_snapshot() const;  // on the I/O thread
@@ -71,10 +76,13 @@ class Server {
   asio::signal_set signals_;
   std::optional<asio::ssl::context> tls_;  // the TCP listener's TLS; none: plain
   std::optional<asio::ip::tcp::acceptor> tcp_acceptor_;
+  std::optional<asio::ip::tcp::acceptor> websocket_acceptor_;
+  int websocket_port_ = 0;
   std::optional<asio::local::stream_protocol::acceptor> unix_acceptor_;
   ConnectionEnvironment environment_;
   std::map<std::uint64_t, std::shared_ptr<Connection>> connections_;
   std::uint64_t next_connection_id_ = 1;
+  std::uint64_t websocket_connections_accepted_ = 0;
   bool shutting_down_ = false;
 };
 

@@ -23,6 +23,8 @@ struct ServerSnapshot {
   ConnectionTotals all_connections;        // closed and open together
   std::uint64_t connections_accepted = 0;  // admitted or refused, since start
   std::uint64_t connections_open = 0;
+  // Of those, on the WebSocket listener (--ws-listen).
+  std::uint64_t websocket_connections_accepted = 0, websocket_connections_open = 0;
   std::uint64_t poses_waiting = 0;  // queued behind a running pose, all connections
   std::uint64_t poses_running = 0;
   std::uint64_t buffered_bytes = 0;  // frames being read and replies waiting (BufferBudget)

@@ -121,6 +121,30 @@ TEST(ServerConfig, HttpSidePortIsOffByDefaultAndNeverTheProtocolPort) {
   EXPECT_NE(error_of({"--http-listen", "h:99999"}).find("out of range"), std::string::npos);
 }
 
+TEST(ServerConfig, WebSocketListenerIsOffByDefaultAndKeepsTheTokenOffPlainNetworks) {
+  EXPECT_EQ(parse({}).ws_port, -1);
+  const server::ServerConfig config = parse(
+      {"--ws-listen", "[::1]:7879", "--ws-port-file", "ws_port", "--ws-allowed-origin",
+       "https://a.example,https://b.example", "--ws-allowed-origin", "http://c.example:8080"});
+  EXPECT_EQ(config.ws_address, "::1");
+  EXPECT_EQ(config.ws_port, 7879);
+  EXPECT_EQ(config.ws_port_file, "ws_port");
+  EXPECT_EQ(config.ws_allowed_origins,
+            (std::vector<std::string>{"https://a.example", "https://b.example",
+                                      "http://c.example:8080"}));
+  EXPECT_NE(error_of({"--ws-listen", "127.0.0.1:7878"}).find("already the protocol or HTTP"),
+            std::string::npos);
+  const std::string error = error_of({"--ws-listen", "0.0.0.0:7879", "--token", "t"});
+  for (const char* named :
+       {"plain WebSocket on 0.0.0.0", "--tls-cert", "--ws-listen 127.0.0.1", "--allow-plaintext"}) {
+    EXPECT_NE(error.find(named), std::string::npos) << named << " in: " << error;
+  }
+  EXPECT_EQ(error_of({"--ws-listen", "0.0.0.0:7879", "--token", "t", "--tls-cert", "c", "--tls-key",
+                      "k"}),
+            "");
+  EXPECT_EQ(error_of({"--ws-listen", "127.0.0.1:7879", "--token", "t"}), "");
+}
+
 TEST(ServerConfig, TlsFlagsGoTogetherAndAreConfigKeys) {
   EXPECT_NE(error_of({"--tls-cert", "c.pem"}).find("--tls-cert: needs --tls-key"),
             std::string::npos);

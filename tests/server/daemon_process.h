@@ -2,7 +2,10 @@
 // integration tests — on an ephemeral localhost port (--port 0 --port-file), with its own
 // store directory, stderr (the JSON logs) captured to a file for failure messages.
 // FrameClient: a blocking socket client speaking the sweepd framing, with a receive timeout,
-// so a test fails instead of hanging when the server does not answer.
+// so a test fails instead of hanging when the server does not answer; on TCP, a Unix socket,
+// or WebSocket (--ws-listen: one frame per binary message, the client side of sweepd's own
+// WebSocketSession on websocketpp; wss over OpenSSL), so that every test helper taking a
+// FrameClient works on all.
 // ClipClientTest: a fixture for the client examples' tests — a daemon with token "t0k" in a
 // fresh directory, and CMU clip 01_01 for the client to stream (skipped without shared data).
 #pragma once
@@ -10,6 +13,7 @@
 #include <gtest/gtest.h>
 #include <netinet/in.h>
 #include <netinet/tcp.h>
+#include <openssl/ssl.h>
 #include <signal.h>
 #include <sys/socket.h>
 #include <sys/un.h>
@@ -31,6 +35,7 @@
 
 #include "protocol/framing.h"
 #include "protocol/messages.h"
+#include "server/transport/websocket_session.h"
 
 namespace sweepd::test {
 
@@ -54,6 +59,13 @@ inline std::string read_text(const fs::path& file) {
 inline std::vector<std::uint8_t> read_bytes(const fs::path& file) {
   std::ifstream in(file, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// A daemon's flags: `args` followed by `more`.
+inline std::vector<std::string> with(std::vector<std::string> args,
+                                     const std::vector<std::string>& more) {
+  args.insert(args.end(), more.begin(), more.end());
+  return args;
 }
 
 class DaemonProcess {
@@ -108,6 +120,11 @@ class DaemonProcess {
   DaemonProcess& operator=(const DaemonProcess&) = delete;
 
   int port() const { return port_; }
+  // The --ws-listen port of a daemon started with websocket_flags(directory).
+  static std::vector<std::string> websocket_flags(const fs::path& directory) {
+    return {"--ws-listen", "127.0.0.1:0", "--ws-port-file", (directory / "ws_port").string()};
+  }
+  int websocket_port() const { return std::stoi(read_text(directory_ / "ws_port")); }
   pid_t pid() const { return pid_; }  // -1 once it has ended
   bool running() const { return pid_ > 0 && port_ > 0; }
   std::string log() const { return read_text(log_file_); }
@@ -147,9 +164,30 @@ class DaemonProcess {
   int port_ = 0;
 };
 
+// The WebSocket upgrade a FrameClient asks for; origin "": none sent (not a browser).
+struct WebSocketUpgrade {
+  std::string origin;
+  int receive_buffer_bytes = 0;  // > 0: SO_RCVBUF (a client that reads slowly)
+  std::string tls_ca;            // wss: TLS first, trusting this CA (PEM); "": plain ws
+};
+
 class FrameClient {
  public:
   static constexpr int kTimeoutSeconds = 30;
+
+  // A WebSocket client on the daemon's --ws-listen port: the upgrade, answered (or refused:
+  // websocket_status() says with what) before the constructor returns.
+  FrameClient(int port, const WebSocketUpgrade& upgrade)
+      : FrameClient(port, upgrade.receive_buffer_bytes) {
+    if (!upgrade.tls_ca.empty() && !start_tls(upgrade.tls_ca)) return;
+    websocket_ = std::make_unique<server::WebSocketSession>(server::WebSocketSession::Role::kClient,
+                                                            std::vector<std::string>{}, 1u << 30);
+    websocket_->start_client("127.0.0.1:" + std::to_string(port), upgrade.origin);
+    flush_websocket();
+    while (websocket_->state() == server::WebSocketSession::State::kHandshaking &&
+           read_websocket()) {
+    }
+  }
 
   // receive_buffer_bytes > 0: SO_RCVBUF set before connecting (a client that reads slowly).
   explicit FrameClient(int port, int receive_buffer_bytes = 0) {
@@ -179,7 +217,26 @@ class FrameClient {
 
   bool connected() const { return connected_; }
 
+  // On WebSocket: one binary message.
   bool send_bytes(std::span<const std::uint8_t> bytes) {
+    if (websocket_) {
+      websocket_->send_binary(bytes.data(), bytes.size());
+      return flush_websocket();
+    }
+    return send_raw(bytes);
+  }
+
+  // WebSocket only: a text message (what a browser's send(string) makes).
+  bool send_text(const std::string& text) {
+    websocket_->send_text(text);
+    return flush_websocket();
+  }
+
+  bool send_raw(std::span<const std::uint8_t> bytes) {
+    if (tls_) {
+      return bytes.empty() || SSL_write(tls_.get(), bytes.data(), static_cast<int>(bytes.size())) ==
+                                  static_cast<int>(bytes.size());
+    }
     std::size_t sent = 0;
     while (sent < bytes.size()) {
       const ssize_t n = ::send(fd_, bytes.data() + sent, bytes.size() - sent, MSG_NOSIGNAL);
@@ -228,11 +285,32 @@ class FrameClient {
     return body;
   }
 
-  // True when the server has closed the connection (a read returns end of stream).
+  // True when the server has closed the connection (a read returns end of stream; on
+  // WebSocket after its close frame, if any).
   bool closed_by_server() {
+    if (websocket_) {
+      while (read_websocket()) {
+      }
+      return socket_ended_;
+    }
     std::uint8_t byte;
     return recv(fd_, &byte, 1, 0) == 0;
   }
+
+  // Everything the server sends until it closes (an HTTP response to a request on the
+  // WebSocket port), as text.
+  std::string receive_text_until_closed() {
+    std::string text;
+    char chunk[4096];
+    for (ssize_t n; (n = recv(fd_, chunk, sizeof(chunk), 0)) > 0;) text.append(chunk, n);
+    return text;
+  }
+
+  // WebSocket only: the session (its close code, text messages), and the upgrade's HTTP status.
+  server::WebSocketSession& websocket() { return *websocket_; }
+  int websocket_status() const { return websocket_ ? websocket_->http_status() : 0; }
+  // wss: the TLS handshake failed (or was not tried).
+  bool tls_failed() const { return tls_ == nullptr; }
 
   const protocol::Welcome* hello(
       const std::string& token, protocol::PoseDelivery delivery = protocol::PoseDelivery::InOrder) {
@@ -247,6 +325,19 @@ class FrameClient {
     setsockopt(fd_, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof(timeout));
   }
   bool receive_exactly(std::uint8_t* out, std::size_t count) {
+    if (websocket_) {
+      std::vector<std::uint8_t>& payload = websocket_->payload();
+      while (payload.size() - payload_taken_ < count) {
+        if (!read_websocket()) return false;
+      }
+      std::memcpy(out, payload.data() + payload_taken_, count);
+      payload_taken_ += count;
+      if (payload_taken_ == payload.size()) {
+        payload.clear();
+        payload_taken_ = 0;
+      }
+      return true;
+    }
     std::size_t got = 0;
     while (got < count) {
       const ssize_t n = recv(fd_, out + got, count - got, 0);
@@ -256,8 +347,45 @@ class FrameClient {
     return true;
   }
 
+  // WebSocket: what the session has for the server (its messages, pongs, close frames).
+  bool flush_websocket() {
+    std::vector<std::uint8_t> bytes;
+    bytes.swap(websocket_->outgoing());
+    return send_raw(bytes);
+  }
+  // WebSocket: one read from the socket into the session; false at its end or on timeout.
+  bool read_websocket() {
+    std::uint8_t chunk[64 * 1024];
+    const ssize_t n =
+        tls_ ? SSL_read(tls_.get(), chunk, sizeof(chunk)) : recv(fd_, chunk, sizeof(chunk), 0);
+    if (n <= 0) {
+      socket_ended_ = n == 0;
+      return false;
+    }
+    websocket_->receive(chunk, static_cast<std::size_t>(n));
+    flush_websocket();
+    return true;
+  }
+
+  // wss: a blocking TLS client on the socket (OpenSSL), checking the server's certificate.
+  bool start_tls(const std::string& ca_file) {
+    tls_context_.reset(SSL_CTX_new(TLS_client_method()));
+    SSL_CTX_set_verify(tls_context_.get(), SSL_VERIFY_PEER, nullptr);
+    if (SSL_CTX_load_verify_locations(tls_context_.get(), ca_file.c_str(), nullptr) != 1)
+      return false;
+    tls_.reset(SSL_new(tls_context_.get()));
+    SSL_set_fd(tls_.get(), fd_);
+    if (SSL_connect(tls_.get()) != 1) tls_.reset();
+    return tls_ != nullptr;
+  }
+
   int fd_ = -1;
   bool connected_ = false;
+  std::unique_ptr<SSL_CTX, decltype(&SSL_CTX_free)> tls_context_{nullptr, SSL_CTX_free};
+  std::unique_ptr<SSL, decltype(&SSL_free)> tls_{nullptr, SSL_free};
+  std::unique_ptr<server::WebSocketSession> websocket_;
+  std::size_t payload_taken_ = 0;
+  bool socket_ended_ = false;
   std::vector<std::uint64_t> storage_;
   std::span<const std::uint8_t> last_frame_;
 };

@@ -2,6 +2,7 @@
 // as a Pose frame, and the library's own deformation of the same pose to compare replies with.
 #pragma once
 
+#include <cstring>
 #include <glm/gtc/quaternion.hpp>
 #include <vector>
 
@@ -42,6 +43,17 @@ inline bool send_pose(FrameClient& client, protocol::PoseFields fields,
   flatbuffers::FlatBufferBuilder builder;
   const auto pose = protocol::add_pose(builder, fields);
   return client.send_bytes(protocol::finish_message(builder, pose, request_id));
+}
+
+// A reply's float vector (positions_f32, normals_f32), copied; empty when absent.
+inline std::vector<float> copy_floats(const flatbuffers::Vector<float>* values) {
+  return values == nullptr ? std::vector<float>()
+                           : std::vector<float>(values->begin(), values->end());
+}
+
+// Two float vectors of the same size and the same bits (memcmp: not even -0 for 0 passes).
+inline bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
 }
 
 struct Deformed {
