@@ -2,8 +2,8 @@
 # Fuzzes each of sweepd's untrusted inputs with libFuzzer (fuzz/fuzz_inputs.h) for a given time.
 # Usage: fuzz/run_fuzzers.sh [seconds per target, default 60] [target ...]
 #   Builds the `fuzz` preset (clang, ASan + UBSan) into build/fuzz, seeds each corpus from
-#   sweepd's own writers (make_seeds) the first time, keeps the corpora in build/fuzz/corpus so
-#   time adds up over runs, and appends each run to build/fuzz/fuzzed_seconds.tsv (target, wall
+#   sweepd's own writers (make_seeds) the first time a target runs, keeps the corpora in
+#   build/fuzz/corpus so time adds up over runs, and appends each run to build/fuzz/fuzzed_seconds.tsv (target, wall
 #   seconds, executions, corpus size, crashes, CPU seconds). CPU seconds are what counts: a run
 #   under `nice` on a busy machine gets less CPU than its wall time. A crash leaves its input in
 #   build/fuzz/crashes/<target>/; fix it and copy the input to fuzz/regressions/<target>/,
@@ -13,11 +13,15 @@ cd "$(dirname "$0")/.."
 seconds=${1:-60}
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(frames gltf bvh sweepbind json)
+[ ${#targets[@]} -gt 0 ] || targets=(frames gltf fbx bvh sweepbind json)
 build=build/fuzz
 cmake --preset fuzz >/dev/null
 cmake --build "$build" -j "$(nproc)" --target make_seeds "${targets[@]/%/_fuzzer}" >/dev/null
-[ -d "$build/corpus" ] || "$build/fuzz/make_seeds" "$build/corpus" >/dev/null
+# Seeds for every corpus not there yet (a target added since the corpora were made gets its own;
+# make_seeds rewrites the other targets' seed files with the same bytes).
+for target in "${targets[@]}"; do
+  [ -d "$build/corpus/$target" ] || { "$build/fuzz/make_seeds" "$build/corpus" >/dev/null; break; }
+done
 failed=0
 for target in "${targets[@]}"; do
   corpus="$build/corpus/$target" crashes="$build/crashes/$target"
