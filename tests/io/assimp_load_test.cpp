@@ -330,6 +330,15 @@ TEST(AssimpLoad, SweepctlInspectsAndPosesAnFbxModel) {
                             .c_str()),
             0);
   EXPECT_EQ(load_gltf(dir / "posed.glb").vertex_count(), load_assimp(fbx).vertex_count());
+  // The daemon takes glTF uploads only: refused before connecting (nothing listens on port 9).
+  EXPECT_NE(
+      std::system((std::string(SWEEPD_SWEEPCTL) + " --server 127.0.0.1:9 pose " + fbx + " -o " +
+                   (dir / "remote.glb").string() + " 2> " + (dir / "remote.txt").string())
+                      .c_str()),
+      0);
+  EXPECT_NE(read_bytes(dir / "remote.txt").find("the daemon takes glTF uploads only"),
+            std::string::npos)
+      << read_bytes(dir / "remote.txt");
 }
 
 }  // namespace
