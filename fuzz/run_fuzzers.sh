@@ -27,9 +27,11 @@ for target in "${targets[@]}"; do
   corpus="$build/corpus/$target" crashes="$build/crashes/$target"
   mkdir -p "$corpus" "$crashes"
   log="$build/$target.log"
-  # ASan's leak check stays on; -rss_limit_mb keeps a runaway allocation a finding, not a hang.
+  # ASan's leak check stays on (third-party leaks suppressed by .ci/lsan.supp, each with its
+  # reason); -rss_limit_mb keeps a runaway allocation a finding, not a hang.
   TIMEFORMAT='%U %S'
-  if { time "$build/fuzz/${target}_fuzzer" "$corpus" -max_total_time="$seconds" -timeout=10 \
+  if { time LSAN_OPTIONS="suppressions=$PWD/.ci/lsan.supp:print_suppressions=0" \
+      "$build/fuzz/${target}_fuzzer" "$corpus" -max_total_time="$seconds" -timeout=10 \
       -rss_limit_mb=2048 -max_len=1048576 -artifact_prefix="$crashes/" -print_final_stats=1 \
       >"$log" 2>&1; } 2>"$build/$target.cpu"; then status=ok; else status=CRASH; failed=1; fi
   cpu=$(awk '{printf "%.0f", $1 + $2}' "$build/$target.cpu")
