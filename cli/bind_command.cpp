@@ -128,7 +128,7 @@ Command add_bind_command(CLI::App& sweepctl) {
       "ellipse's in-plane offset from the centre where it has one), the bound vertices, and the\n"
       "rest-pose reconstruction error.");
   auto options = std::make_shared<Options>();
-  command->add_option("MODEL", options->model, "a rigged .glb/.gltf model")
+  command->add_option("MODEL", options->model, "a rigged .glb/.gltf/.fbx/.dae model")
       ->type_name("")
       ->required();
   command

@@ -1,5 +1,5 @@
-// sweepctl inspect FILE: what a model (.glb/.gltf) or motion clip (.bvh) holds, for a person;
-// for a model also the detected rig map and what the binding would sweep and skin.
+// sweepctl inspect FILE: what a model (.glb/.gltf/.fbx/.dae) or motion clip (.bvh) holds, for a
+// person; for a model also the detected rig map and what the binding would sweep and skin.
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -12,13 +12,13 @@
 #include "deform/mesh/mesh_topology.h"
 #include "deform/rig/rig_map.h"
 #include "io/bvh_load.h"
-#include "io/gltf_load.h"
+#include "io/model_load.h"
 
 namespace sweepd::cli {
 
 namespace {
 
-// ".glb", ".gltf" or ".bvh" (lower case), or the file's extension when it is none of them.
+// The file's extension in lower case (".glb", ".gltf", ".fbx", ".dae", ".bvh" or another).
 std::string file_type(const std::filesystem::path& file) {
   std::string extension = file.extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(), ::tolower);
@@ -73,7 +73,7 @@ void print_rig(const deform::Skeleton& skeleton) {
 
 int inspect_model(const std::filesystem::path& file) {
   io::LoadReport report;
-  const deform::Model model = io::load_gltf(file, &report);
+  const deform::Model model = io::load_model(file, &report);
   glm::vec3 lo(1e30f), hi(-1e30f);
   for (const glm::vec3& p : model.positions) {
     lo = glm::min(lo, p);
@@ -91,7 +91,7 @@ int inspect_model(const std::filesystem::path& file) {
   const deform::Skeleton& skeleton = model.skeleton;
 
   std::printf("file:        %s\n", file.string().c_str());
-  std::printf("kind:        skinned model (glTF)%s%s\n",
+  std::printf("kind:        skinned model (%s)%s%s\n", report.format.c_str(),
               report.generator.empty() ? "" : ", generator ", report.generator.c_str());
   std::printf("vertices:    %s\n", with_thousands(model.vertex_count()).c_str());
   std::printf("triangles:   %s (from %d primitive%s)\n",
@@ -158,7 +158,7 @@ int inspect_motion(const std::filesystem::path& file) {
 
 Command add_inspect_command(CLI::App& sweepctl) {
   CLI::App* command = sweepctl.add_subcommand(
-      "inspect", "counts, joint tree, UVs, bounds and weights of a .glb/.gltf/.bvh file");
+      "inspect", "counts, joint tree, UVs, bounds and weights of a .glb/.gltf/.fbx/.dae/.bvh file");
   command->footer(
       "Prints counts, the joint tree, UV presence, bounding box and height, skin weight\n"
       "statistics, the detected rig map (each part's joints, found by name or by shape) and\n"
@@ -168,11 +168,13 @@ Command add_inspect_command(CLI::App& sweepctl) {
   const CLI::Validator known_type(
       [](std::string& name) -> std::string {
         const std::string type = file_type(name);
-        if (type == ".bvh" || type == ".glb" || type == ".gltf") return "";
-        return name + ": unknown file type '" + type + "' (expected .glb, .gltf or .bvh)";
+        for (const char* known : {".bvh", ".glb", ".gltf", ".fbx", ".dae"})
+          if (type == known) return "";
+        return name + ": unknown file type '" + type +
+               "' (expected .glb, .gltf, .fbx, .dae or .bvh)";
       },
       "");
-  command->add_option("FILE", *file, "a .glb/.gltf model or a .bvh motion clip")
+  command->add_option("FILE", *file, "a .glb/.gltf/.fbx/.dae model or a .bvh motion clip")
       ->type_name("")
       ->required()
       ->check(known_type);

@@ -1,5 +1,5 @@
-// Loading what sweepctl's model commands share: a rigged glTF model and its rig map (from a
-// JSON override file, or detected from the joint names).
+// Loading what sweepctl's model commands share: a rigged model (glTF, FBX or COLLADA:
+// io/model_load.h) and its rig map (from a JSON override file, or detected from the joint names).
 #pragma once
 
 #include <filesystem>

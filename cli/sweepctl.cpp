@@ -26,7 +26,7 @@ int main(int argc, char** argv) {
   CLI::Option* server_flag =
       app.add_option("--server", server.address,
                      "run pose, positionmap or metrics on a sweepd daemon: MODEL is a local "
-                     ".glb/.gltf (uploaded) or a model name there")
+                     ".glb/.gltf (uploaded; not .fbx/.dae) or a model name there")
           ->type_name("HOST:PORT");
   client::add_token_flags(app, server.token, server_flag);
   client::add_client_tls_flags(app, server.tls, server_flag);

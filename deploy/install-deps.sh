@@ -19,6 +19,8 @@ packages=(
   libsystemd-dev  # sd_notify for the Type=notify unit (server/systemd_notifier.h)
   python3-numpy python3-venv python3-setuptools python3-pip  # client_examples/python (sweepd-client), pip-installed offline in tests/server/python_package_test.cpp
   ffmpeg  # sweepctl sheet --video pipes its frames to ffmpeg (cli/video_encoder.h)
+  libassimp-dev  # FBX and COLLADA models (io/assimp_load.h): sweepctl MODEL files, tests/io/assimp_load_test
+  assimp-utils  # the `assimp` command (assimp export in.glb out.fbx): FBX by hand, as the tests make it
   haproxy  # deploy/haproxy.cfg: checked with haproxy -c and run in front of two daemons (tests/deploy/)
 )
 

@@ -13,6 +13,7 @@
 #include "deform/edits/rest_key_edit.h"
 #include "deform/job/deform_job.h"
 #include "deform/rig/rig_map.h"
+#include "io/assimp_load.h"
 #include "io/bvh_load.h"
 #include "io/gltf_load.h"
 #include "io/joint_name_map_json.h"
@@ -128,6 +129,10 @@ bool fuzz_frames(std::span<const std::uint8_t> bytes) {
 bool fuzz_gltf(std::span<const std::uint8_t> bytes) {
   const fs::path file = scratch_file(bytes, ".glb");
   return accepted([&] { io::load_gltf(file, io::GltfUriPolicy::self_contained()); });
+}
+
+bool fuzz_fbx(std::span<const std::uint8_t> bytes) {
+  return accepted([&] { io::load_assimp(bytes, "fuzz.fbx"); });
 }
 
 bool fuzz_bvh(std::span<const std::uint8_t> bytes) {

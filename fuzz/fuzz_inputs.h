@@ -4,6 +4,8 @@
 //                        and deformed, LoadModel and EditKeyEllipse read (the edit applied to a
 //                        copy of the model), PositionMapRequest checked
 //   fuzz_gltf            io::load_gltf, as an upload (self-contained: no file but itself)
+//   fuzz_fbx             io::load_assimp over the bytes (FBX or COLLADA; assimp may open no
+//                        other file)
 //   fuzz_bvh             io::parse_bvh
 //   fuzz_sweepbind       io::decode_sweepbind
 //   fuzz_json            the first byte picks the JSON input: rig map, pose, key-ellipse edits,
@@ -26,6 +28,7 @@ void prepare();
 
 bool fuzz_frames(std::span<const std::uint8_t> bytes);
 bool fuzz_gltf(std::span<const std::uint8_t> bytes);
+bool fuzz_fbx(std::span<const std::uint8_t> bytes);
 bool fuzz_bvh(std::span<const std::uint8_t> bytes);
 bool fuzz_sweepbind(std::span<const std::uint8_t> bytes);
 bool fuzz_json(std::span<const std::uint8_t> bytes);

@@ -10,6 +10,7 @@
 #include "deform/binding/bind.h"
 #include "deform/model/pose.h"
 #include "deform/rig/rig_map.h"
+#include "io/assimp_convert.h"
 #include "io/gltf_save.h"
 #include "io/pose_json.h"
 #include "io/rig_map_json.h"
@@ -121,6 +122,10 @@ std::map<std::string, std::vector<Input>> seed_inputs() {
   std::map<std::string, std::vector<Input>> seeds;
   seeds["frames"] = {session(bound, glb, 255), session(bound, glb, 0)};
   seeds["gltf"] = {glb};
+  // The smallest mannequin as ASCII FBX (about 0.3 MB; made here, never committed).
+  io::save_gltf(mannequin::make_mannequin({.target_vertices = mannequin::kMannequinMinVertices}),
+                directory / "small.glb");
+  seeds["fbx"] = {io::convert_with_assimp(directory / "small.glb", io::AssimpExport::kFbxMetres)};
   seeds["bvh"] = {as_input(bvh_of(model.skeleton))};
   seeds["sweepbind"] = {io::encode_sweepbind(bound)};
   const Input rig_bytes = read_bytes(directory / "rig.json");

@@ -15,16 +15,15 @@
 #include <string>
 #include <vector>
 
+#include "io/bind_pose_vertices.h"
 #include "io/gltf_guarded_files.h"
+#include "io/rest_transform.h"
 
 namespace sweepd::io {
 
 namespace {
 
 namespace fs = std::filesystem;
-
-// The validator's criterion for normalised weights: |sum - 1| <= 2e-7 per non-zero weight.
-constexpr double kWeightTolerancePerInfluence = 2e-7;
 
 std::string trimmed(std::string text) {
   while (!text.empty() && std::isspace(static_cast<unsigned char>(text.back()))) text.pop_back();
@@ -301,25 +300,10 @@ glm::dmat4 node_local_matrix(const tinygltf::Node& node) {
   return m;
 }
 
-// Splits an affine matrix into translation, rotation and (signed) scale; shear is dropped.
-// False when a scale is zero.
-bool decompose(const glm::dmat4& m, deform::Joint& joint) {
-  glm::dvec3 scale(glm::length(glm::dvec3(m[0])), glm::length(glm::dvec3(m[1])),
-                   glm::length(glm::dvec3(m[2])));
-  if (!(scale.x > 0.0 && scale.y > 0.0 && scale.z > 0.0)) return false;
-  if (glm::determinant(glm::dmat3(m)) < 0.0) scale.x = -scale.x;
-  const glm::dmat3 rotation(glm::dvec3(m[0]) / scale.x, glm::dvec3(m[1]) / scale.y,
-                            glm::dvec3(m[2]) / scale.z);
-  joint.rest_translation = glm::vec3(glm::dvec3(m[3]));
-  joint.rest_rotation = glm::quat(glm::normalize(glm::quat_cast(rotation)));
-  joint.rest_scale = glm::vec3(scale);
-  return true;
-}
-
 // Rest TRS straight from the node's own fields (exact when it has no matrix); false when a
 // scale is zero (no bind matrix could be inverted).
 bool node_trs(const tinygltf::Node& node, deform::Joint& joint) {
-  if (node.matrix.size() == 16) return decompose(node_local_matrix(node), joint);
+  if (node.matrix.size() == 16) return decompose_rest_transform(node_local_matrix(node), joint);
   if (node.translation.size() == 3)
     joint.rest_translation =
         glm::vec3(glm::dvec3(node.translation[0], node.translation[1], node.translation[2]));
@@ -330,16 +314,6 @@ bool node_trs(const tinygltf::Node& node, deform::Joint& joint) {
   if (node.scale.size() == 3)
     joint.rest_scale = glm::vec3(glm::dvec3(node.scale[0], node.scale[1], node.scale[2]));
   return joint.rest_scale.x != 0.0f && joint.rest_scale.y != 0.0f && joint.rest_scale.z != 0.0f;
-}
-
-bool finite_trs(const deform::Joint& joint) {
-  const float values[10] = {joint.rest_translation.x, joint.rest_translation.y,
-                            joint.rest_translation.z, joint.rest_rotation.x,
-                            joint.rest_rotation.y,    joint.rest_rotation.z,
-                            joint.rest_rotation.w,    joint.rest_scale.x,
-                            joint.rest_scale.y,       joint.rest_scale.z};
-  return std::all_of(std::begin(values), std::end(values),
-                     [](float v) { return std::isfinite(v); });
 }
 
 // The node graph: parent per node and world matrices, with bad references rejected.
@@ -456,14 +430,15 @@ SkinSkeleton build_skeleton(const AccessorReader& reader, const tinygltf::Model&
     const bool direct = parent < 0 ? parent_node < 0 : parent_node == skin.joints[parent];
     // Non-joint nodes in between (e.g. a Z-up to Y-up root matrix) are folded in.
     const bool ok = direct ? node_trs(node, joint)
-                           : decompose(parent < 0 ? graph.world[node_index]
-                                                  : glm::inverse(graph.world[skin.joints[parent]]) *
-                                                        graph.world[node_index],
-                                       joint);
+                           : decompose_rest_transform(
+                                 parent < 0 ? graph.world[node_index]
+                                            : glm::inverse(graph.world[skin.joints[parent]]) *
+                                                  graph.world[node_index],
+                                 joint);
     if (!ok)
       reader.fail("joint node " + std::to_string(node_index) + " ('" + joint.name +
                   "') has a degenerate (zero-scale) rest transform");
-    if (!finite_trs(joint))
+    if (!finite_rest_transform(joint))
       reader.fail("joint node " + std::to_string(node_index) + " ('" + joint.name +
                   "') has a rest transform that is not finite (NaN or Inf)");
     result.skeleton.joints.push_back(joint);
@@ -498,11 +473,6 @@ std::vector<glm::dmat4> skinning_matrices(const AccessorReader& reader, const ti
   return result;
 }
 
-// Columns a1 x a2, a2 x a0, a0 x a1: det(A) * inverse-transpose(A), defined for singular A.
-glm::dmat3 cofactor(const glm::dmat3& a) {
-  return glm::dmat3(glm::cross(a[1], a[2]), glm::cross(a[2], a[0]), glm::cross(a[0], a[1]));
-}
-
 class ModelAssembler {
  public:
   ModelAssembler(const AccessorReader& reader, const SkinSkeleton& skeleton,
@@ -511,7 +481,7 @@ class ModelAssembler {
         skeleton_(skeleton),
         skinning_(std::move(skinning)),
         fallback_joint_(fallback_joint),
-        report_(report) {}
+        vertices_(model_, report) {}
 
   void add_primitive(const tinygltf::Primitive& primitive, const std::string& what) {
     const auto& attributes = primitive.attributes;
@@ -557,30 +527,7 @@ class ModelAssembler {
 
   deform::Model finish() {
     if (model_.positions.empty()) reader_.fail("the skinned mesh has no vertices");
-    if (any_uvs_ && missing_uvs_ > 0)
-      report_.warnings.push_back(std::to_string(missing_uvs_) +
-                                 " vertices had no TEXCOORD_0; set to (0, 0)");
-    if (!any_uvs_) model_.uvs.clear();
-    if (report_.computed_normal_count > 0) {
-      const std::vector<glm::vec3> computed =
-          deform::compute_vertex_normals(model_.positions, model_.indices);
-      for (std::size_t v = 0; v < computed.size(); ++v)
-        if (!has_normal_[v]) model_.normals[v] = computed[v];
-      report_.warnings.push_back(std::to_string(report_.computed_normal_count) +
-                                 " vertices had no NORMAL; computed from the triangles");
-    }
-    if (report_.renormalised_weight_count > 0)
-      report_.warnings.push_back(std::to_string(report_.renormalised_weight_count) +
-                                 " vertices had skin weights not summing to 1 (lowest sum " +
-                                 std::to_string(lowest_sum_) + ", highest " +
-                                 std::to_string(highest_sum_) + "); renormalised");
-    if (report_.trimmed_influence_count > 0)
-      report_.warnings.push_back(std::to_string(report_.trimmed_influence_count) +
-                                 " vertices had more than 4 influences; kept the 4 largest");
-    if (report_.zero_weight_vertex_count > 0)
-      report_.warnings.push_back(std::to_string(report_.zero_weight_vertex_count) +
-                                 " vertices had no skin weight; bound to joint '" +
-                                 skeleton_.skeleton.joints[fallback_joint_].name + "'");
+    vertices_.finish(skeleton_.skeleton, "NORMAL", "TEXCOORD_0");
     model_.skeleton = skeleton_.skeleton;
     return std::move(model_);
   }
@@ -611,11 +558,10 @@ class ModelAssembler {
   }
 
   // Fills influences_ with vertex v's non-zero (new joint index, weight) pairs over all
-  // JOINTS_n/WEIGHTS_n sets, repeated joints merged; returns the weight sum.
-  double gather_influences(const SourceVertices& source, const std::string& what, std::size_t v) {
+  // JOINTS_n/WEIGHTS_n sets, repeated joints merged.
+  void gather_influences(const SourceVertices& source, const std::string& what, std::size_t v) {
     const std::size_t joint_count = skeleton_.new_index.size();
     influences_.clear();
-    double sum = 0.0;
     for (std::size_t set = 0; set < source.joint_sets.size(); ++set)
       for (int k = 0; k < 4; ++k) {
         const double slot = source.joint_sets[set][v * 4 + k];
@@ -629,72 +575,24 @@ class ModelAssembler {
         if (weight < 0.0)
           reader_.fail("WEIGHTS" + name + " has a negative weight " + std::to_string(weight));
         if (weight == 0.0) continue;
-        const int joint = skeleton_.new_index[static_cast<int>(slot)];
-        sum += weight;
-        auto same = std::find_if(influences_.begin(), influences_.end(),
-                                 [&](const auto& influence) { return influence.first == joint; });
-        if (same != influences_.end())
-          same->second += weight;
-        else
-          influences_.emplace_back(joint, weight);
+        add_influence(influences_, skeleton_.new_index[static_cast<int>(slot)], weight);
       }
-    return sum;
   }
 
   void append_vertices(const SourceVertices& source, const std::string& what, std::size_t n) {
-    any_uvs_ = any_uvs_ || !source.uvs.empty();
-    if (source.uvs.empty()) missing_uvs_ += n;
     for (std::size_t v = 0; v < n; ++v) {
-      std::array<std::uint16_t, deform::kInfluences> joints{};
-      std::array<float, deform::kInfluences> weights{};
-      const double sum = gather_influences(source, what, v);
-      if (sum <= 0.0) {
-        ++report_.zero_weight_vertex_count;
-        joints[0] = static_cast<std::uint16_t>(fallback_joint_);
-        weights[0] = 1.0f;
-      } else {
-        if (std::abs(sum - 1.0) > kWeightTolerancePerInfluence * influences_.size()) {
-          ++report_.renormalised_weight_count;
-          lowest_sum_ = std::min(lowest_sum_, sum);
-          highest_sum_ = std::max(highest_sum_, sum);
-        }
-        // The 4 largest influences, renormalised (more only come with JOINTS_1/WEIGHTS_1).
-        std::stable_sort(influences_.begin(), influences_.end(),
-                         [](const auto& a, const auto& b) { return a.second > b.second; });
-        if (influences_.size() > deform::kInfluences) {
-          ++report_.trimmed_influence_count;
-          influences_.resize(deform::kInfluences);
-        }
-        double kept = 0.0;
-        for (const auto& influence : influences_) kept += influence.second;
-        for (std::size_t k = 0; k < influences_.size(); ++k) {
-          joints[k] = static_cast<std::uint16_t>(influences_[k].first);
-          weights[k] = static_cast<float>(influences_[k].second / kept);
-        }
-      }
-      glm::dmat4 skin(0.0);
-      for (int k = 0; k < deform::kInfluences; ++k)
-        if (weights[k] > 0.0f) skin += static_cast<double>(weights[k]) * skinning_[joints[k]];
-      const glm::dvec3 p(source.positions[v * 3], source.positions[v * 3 + 1],
-                         source.positions[v * 3 + 2]);
-      model_.positions.push_back(glm::vec3(skin * glm::dvec4(p, 1.0)));
-      glm::vec3 normal(0, 1, 0);
-      if (!source.normals.empty()) {
-        const glm::dvec3 file_normal(source.normals[v * 3], source.normals[v * 3 + 1],
-                                     source.normals[v * 3 + 2]);
-        const glm::dvec3 world = cofactor(glm::dmat3(skin)) * file_normal;
-        const double length = glm::length(world);
-        normal = length > 0.0 ? glm::vec3(world / length) : glm::vec3(0, 1, 0);
-      } else {
-        ++report_.computed_normal_count;
-      }
-      model_.normals.push_back(normal);
-      has_normal_.push_back(!source.normals.empty());
-      model_.uvs.push_back(source.uvs.empty()
-                               ? glm::vec2(0.0f)
-                               : glm::vec2(source.uvs[v * 2], source.uvs[v * 2 + 1]));
-      model_.skin_joints.push_back(joints);
-      model_.skin_weights.push_back(weights);
+      gather_influences(source, what, v);
+      const glm::dvec3 position(source.positions[v * 3], source.positions[v * 3 + 1],
+                                source.positions[v * 3 + 2]);
+      glm::dvec3 normal;
+      if (!source.normals.empty())
+        normal =
+            glm::dvec3(source.normals[v * 3], source.normals[v * 3 + 1], source.normals[v * 3 + 2]);
+      glm::vec2 uv;
+      if (!source.uvs.empty()) uv = glm::vec2(source.uvs[v * 2], source.uvs[v * 2 + 1]);
+      vertices_.append(influences_, fallback_joint_, skinning_, position,
+                       source.normals.empty() ? nullptr : &normal,
+                       source.uvs.empty() ? nullptr : &uv);
     }
   }
 
@@ -702,12 +600,8 @@ class ModelAssembler {
   const SkinSkeleton& skeleton_;
   std::vector<glm::dmat4> skinning_;
   int fallback_joint_;
-  LoadReport& report_;
   deform::Model model_;
-  std::vector<bool> has_normal_;
-  bool any_uvs_ = false;
-  std::size_t missing_uvs_ = 0;
-  double lowest_sum_ = 1.0, highest_sum_ = 1.0;
+  BindPoseVertices vertices_;
   std::vector<std::pair<int, double>> influences_;  // scratch for one vertex
 };
 
@@ -731,6 +625,7 @@ deform::Model load_gltf(const fs::path& file, const GltfUriPolicy& uris, LoadRep
   LoadReport& out = report ? *report : local_report;
   out = LoadReport{};
   const tinygltf::Model gltf = parse_file(file, uris, &out);
+  out.format = "glTF";
   out.generator = gltf.asset.generator;
   const AccessorReader reader(file, gltf);
   const NodeGraph graph = build_node_graph(reader, gltf);

@@ -18,7 +18,8 @@ struct LoadReport {
   int source_joint_count = 0;         // joints of the chosen skin
   int source_primitive_count = 0;     // triangle primitives merged into the model
   int skinned_mesh_count = 0;         // nodes with both a mesh and a skin in the file
-  std::string generator;              // asset.generator, empty when absent
+  std::string format;                 // "glTF", "FBX" or "COLLADA"
+  std::string generator;              // the file's generator (asset.generator), empty when absent
 };
 
 }  // namespace sweepd::io

@@ -20,11 +20,8 @@ namespace {
 namespace fs = std::filesystem;
 
 const std::map<std::string, std::function<bool(std::span<const std::uint8_t>)>> kTargets = {
-    {"frames", fuzz_frames},
-    {"gltf", fuzz_gltf},
-    {"bvh", fuzz_bvh},
-    {"sweepbind", fuzz_sweepbind},
-    {"json", fuzz_json}};
+    {"frames", fuzz_frames}, {"gltf", fuzz_gltf},           {"fbx", fuzz_fbx},
+    {"bvh", fuzz_bvh},       {"sweepbind", fuzz_sweepbind}, {"json", fuzz_json}};
 
 const std::map<std::string, std::vector<Input>>& seeds() {
   static const auto all = seed_inputs();
@@ -42,8 +39,8 @@ TEST(FuzzInputs, EverySeedIsAnInputItsParserAccepts) {
 }
 
 TEST(FuzzInputs, DamagedInputsAreRefusedNotAccepted) {
-  // The same entry points say no: a truncated .glb, .sweepbind and frame stream.
-  for (const std::string target : {"frames", "gltf", "sweepbind"}) {
+  // The same entry points say no: a truncated .glb, FBX, .sweepbind and frame stream.
+  for (const std::string target : {"frames", "gltf", "fbx", "sweepbind"}) {
     Input cut = seeds().at(target).front();
     cut.resize(cut.size() / 2);
     EXPECT_FALSE(kTargets.at(target)(cut)) << target;

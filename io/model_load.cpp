@@ -1,0 +1,22 @@
+#include "io/model_load.h"
+
+#include <array>
+#include <cstdint>
+#include <fstream>
+#include <span>
+
+#include "io/assimp_load.h"
+#include "io/gltf_load.h"
+
+namespace sweepd::io {
+
+deform::Model load_model(const std::filesystem::path& file, LoadReport* report) {
+  std::array<std::uint8_t, 1024> head{};
+  std::ifstream stream(file, std::ios::binary);
+  if (!stream) throw LoadError(file, "cannot open the file (missing or unreadable)");
+  stream.read(reinterpret_cast<char*>(head.data()), head.size());
+  const std::span<const std::uint8_t> read(head.data(), static_cast<std::size_t>(stream.gcount()));
+  return looks_like_assimp_model(read) ? load_assimp(file, report) : load_gltf(file, report);
+}
+
+}  // namespace sweepd::io

@@ -1,0 +1,21 @@
+// load_model: reads a skinned human from any model file sweepctl takes — glTF 2.0 (.glb, .gltf),
+// FBX (binary or ASCII) or COLLADA (.dae) — choosing the reader from the file's first bytes, not
+// its name: io/assimp_load.h for FBX and COLLADA, io/gltf_load.h (its own directory's files only)
+// for everything else.
+//
+// Input:  file    the model file
+//         report  optional; what the reader lost or changed (io/load_report.h)
+// Output: a deform::Model that satisfies Model::validate(). Throws io::LoadError with the reason.
+#pragma once
+
+#include <filesystem>
+
+#include "deform/model/model.h"
+#include "io/load_error.h"
+#include "io/load_report.h"
+
+namespace sweepd::io {
+
+deform::Model load_model(const std::filesystem::path& file, LoadReport* report = nullptr);
+
+}  // namespace sweepd::io

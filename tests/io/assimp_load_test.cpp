@@ -1,0 +1,345 @@
+// io::load_assimp on FBX (and one COLLADA) files made in the test from the shared male and the
+// mannequin with assimp's own exporter (issue 15 items 5 and 6): the round trip gives the
+// original's rest positions, skin, joint names and posed vertices; centimetre files are scaled
+// and reported; a corrupt file, a file with no skin and a file of another kind give errors that
+// name the problem.
+//
+// The FBX files are ASCII ("fbxa"): Debian's assimp 5.2.5 writes binary FBX that its own importer
+// refuses ("FBX-Tokenize ... block offset is out of range"), so binary FBX is read here only as
+// far as its magic and a corrupt body go.
+#include "io/assimp_load.h"
+
+#include <assimp/scene.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "io/assimp_convert.h"
+#include "io/gltf_load.h"
+#include "io/gltf_save.h"
+#include "io/model_load.h"
+#include "mannequin/mannequin.h"
+#include "tests/deform/rig/swept_parts_pose.h"
+#include "tests/deform/shared_male.h"
+#include "tests/io/gltf_test_files.h"
+
+namespace sweepd::io {
+namespace {
+
+using testing::read_bytes;
+using testing::ScratchDirectory;
+using testing::shared_model;
+using testing::write_bytes;
+
+void scale_scene(aiScene& scene, float factor) {
+  std::function<void(aiNode*)> scale_node = [&](aiNode* node) {
+    node->mTransformation.a4 *= factor;
+    node->mTransformation.b4 *= factor;
+    node->mTransformation.c4 *= factor;
+    for (unsigned c = 0; c < node->mNumChildren; ++c) scale_node(node->mChildren[c]);
+  };
+  scale_node(scene.mRootNode);
+  for (unsigned m = 0; m < scene.mNumMeshes; ++m) {
+    aiMesh& mesh = *scene.mMeshes[m];
+    for (unsigned v = 0; v < mesh.mNumVertices; ++v) mesh.mVertices[v] *= factor;
+    for (unsigned b = 0; b < mesh.mNumBones; ++b) {
+      aiMatrix4x4& offset = mesh.mBones[b]->mOffsetMatrix;
+      offset.a4 *= factor, offset.b4 *= factor, offset.c4 *= factor;
+    }
+  }
+}
+
+void remove_bones(aiScene& scene) {
+  for (unsigned m = 0; m < scene.mNumMeshes; ++m) {
+    aiMesh& mesh = *scene.mMeshes[m];
+    for (unsigned b = 0; b < mesh.mNumBones; ++b) delete mesh.mBones[b];
+    delete[] mesh.mBones;
+    mesh.mBones = nullptr;
+    mesh.mNumBones = 0;
+  }
+}
+
+enum class Variant { kMetres, kCentimetres, kNoSkin };
+
+// The glTF file as FBX (io/assimp_convert.h): in metres; every length ×100 with the file
+// declaring centimetres; or with no bones.
+void export_fbx(const std::filesystem::path& gltf, const std::filesystem::path& fbx,
+                Variant variant) {
+  const std::vector<std::uint8_t> bytes = convert_with_assimp(
+      gltf,
+      variant == Variant::kCentimetres ? AssimpExport::kFbxCentimetres : AssimpExport::kFbxMetres,
+      [variant](aiScene& scene) {
+        if (variant == Variant::kCentimetres) scale_scene(scene, 100.0f);
+        if (variant == Variant::kNoSkin) remove_bones(scene);
+      });
+  write_bytes(fbx, std::string(bytes.begin(), bytes.end()));
+}
+
+// The 3,000-vertex mannequin as FBX in `dir`, and its glTF beside it (mannequin.glb).
+std::filesystem::path mannequin_fbx(const ScratchDirectory& dir, Variant variant,
+                                    const std::string& name) {
+  save_gltf(mannequin::make_mannequin({.target_vertices = 3000}), dir / "mannequin.glb");
+  export_fbx(dir / "mannequin.glb", dir / name, variant);
+  return dir / name;
+}
+
+// Original vertex of each FBX vertex: assimp joins identical vertices in the order the triangles
+// first use them, so the k-th loaded vertex is the k-th original vertex the index list reaches.
+std::vector<std::uint32_t> first_use_order(const deform::Model& original) {
+  std::vector<std::uint32_t> order;
+  std::vector<char> seen(original.vertex_count(), 0);
+  for (std::uint32_t index : original.indices)
+    if (!seen[index]) seen[index] = 1, order.push_back(index);
+  return order;
+}
+
+std::vector<glm::vec3> sweep_posed(const deform::Model& model) {
+  const deform::RigMap rig = deform::detect_rig_map(model.skeleton);
+  const deform::BoundModel bound = deform::bind(model, rig);
+  deform::test::Posing posing(bound);
+  return deform::test::deformed(posing, deform::test::swept_parts_pose(model.skeleton, rig),
+                                deform::DeformMethod::kSweep);
+}
+
+struct RoundTripErrors {
+  float rest = 0, posed = 0, normal = 0, uv = 0, weight = 0, joint_translation = 0;
+};
+
+// `loaded` is `original` read back from FBX: same triangles (through first_use_order), same
+// joint names and parents, and the errors of everything else, in metres or weight units.
+RoundTripErrors compare(const deform::Model& original, const deform::Model& loaded) {
+  RoundTripErrors errors;
+  const std::vector<std::uint32_t> order = first_use_order(original);
+  EXPECT_EQ(loaded.vertex_count(), order.size());
+  EXPECT_EQ(loaded.vertex_count(), original.vertex_count()) << "a vertex no triangle uses";
+  std::vector<std::uint32_t> loaded_of(original.vertex_count(), 0);
+  for (std::size_t k = 0; k < order.size(); ++k)
+    loaded_of[order[k]] = static_cast<std::uint32_t>(k);
+  EXPECT_EQ(loaded.indices.size(), original.indices.size());
+  for (std::size_t i = 0; i < std::min(loaded.indices.size(), original.indices.size()); ++i)
+    if (loaded.indices[i] != loaded_of[original.indices[i]]) {
+      ADD_FAILURE() << "triangle corner " << i << " differs";
+      return errors;
+    }
+  std::vector<std::string> names, loaded_names;
+  for (const deform::Joint& joint : original.skeleton.joints) names.push_back(joint.name);
+  for (const deform::Joint& joint : loaded.skeleton.joints) loaded_names.push_back(joint.name);
+  EXPECT_EQ(loaded_names, names);
+  if (loaded_names != names) return errors;
+  for (int j = 0; j < original.skeleton.size(); ++j) {
+    EXPECT_EQ(loaded.skeleton.joints[j].parent, original.skeleton.joints[j].parent);
+    errors.joint_translation = std::max(
+        errors.joint_translation, glm::distance(loaded.skeleton.joints[j].rest_translation,
+                                                original.skeleton.joints[j].rest_translation));
+  }
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    const std::uint32_t v = order[k];
+    errors.rest = std::max(errors.rest, glm::distance(loaded.positions[k], original.positions[v]));
+    errors.normal = std::max(errors.normal, glm::distance(loaded.normals[k], original.normals[v]));
+    errors.uv = std::max(errors.uv, glm::distance(loaded.uvs[k], original.uvs[v]));
+    std::map<int, float> weight_of;
+    for (int i = 0; i < deform::kInfluences; ++i)
+      weight_of[original.skin_joints[v][i]] += original.skin_weights[v][i];
+    for (int i = 0; i < deform::kInfluences; ++i)
+      weight_of[loaded.skin_joints[k][i]] -= loaded.skin_weights[k][i];
+    for (const auto& [joint, difference] : weight_of)
+      errors.weight = std::max(errors.weight, std::abs(difference));
+  }
+  const std::vector<glm::vec3> posed = sweep_posed(original), loaded_posed = sweep_posed(loaded);
+  for (std::size_t k = 0; k < order.size(); ++k)
+    errors.posed = std::max(errors.posed, glm::distance(loaded_posed[k], posed[order[k]]));
+  return errors;
+}
+
+void expect_round_trip(const deform::Model& original, const deform::Model& loaded,
+                       const char* what) {
+  const RoundTripErrors errors = compare(original, loaded);
+  std::printf(
+      "%s round trip: rest %.3g m, posed (sweep) %.3g m, joint translation %.3g m, "
+      "normal %.3g, uv %.3g, weight %.3g\n",
+      what, errors.rest, errors.posed, errors.joint_translation, errors.normal, errors.uv,
+      errors.weight);
+  // Issue 15's acceptance: the FBX round trip within 1e-4 m, rest and posed.
+  EXPECT_LE(errors.rest, 1e-4f);
+  EXPECT_LE(errors.posed, 1e-4f);
+  EXPECT_LE(errors.joint_translation, 1e-4f);
+  // assimp stores FBX numbers as float and recomputes nothing of the skin: weights differ by
+  // float rounding of the renormalisation (1e-6); normals and UVs are written as they were read
+  // (1e-5: float rounding through the skinning matrices and FBX's ASCII digits).
+  EXPECT_LE(errors.weight, 1e-6f);
+  EXPECT_LE(errors.normal, 1e-5f);
+  EXPECT_LE(errors.uv, 1e-5f);
+}
+
+TEST(AssimpLoad, SharedMaleFbxRoundTripGivesTheOriginalRestAndPosedVertices) {
+  SWEEPD_REQUIRE_SHARED_MODEL(testing::kMale);
+  ScratchDirectory dir;
+  export_fbx(shared_model(testing::kMale), dir / "male.fbx", Variant::kMetres);
+  const deform::Model original = load_gltf(shared_model(testing::kMale));
+  LoadReport report;
+  const auto start = std::chrono::steady_clock::now();
+  const deform::Model loaded = load_assimp(dir / "male.fbx", &report);
+  const auto fbx_done = std::chrono::steady_clock::now();
+  load_gltf(shared_model(testing::kMale));
+  const auto gltf_done = std::chrono::steady_clock::now();
+  std::printf("male load: FBX (ASCII) %.1f ms, glTF %.1f ms\n",
+              std::chrono::duration<double, std::milli>(fbx_done - start).count(),
+              std::chrono::duration<double, std::milli>(gltf_done - fbx_done).count());
+  ASSERT_EQ(loaded.validate(), "");
+  for (const std::string& warning : report.warnings) ADD_FAILURE() << "warning: " << warning;
+  EXPECT_EQ(report.source_joint_count, 31);
+  EXPECT_EQ(report.skinned_mesh_count, 1);
+  EXPECT_EQ(report.format, "FBX");
+  EXPECT_EQ(loaded.name, "male");
+  expect_round_trip(original, loaded, "male FBX");
+}
+
+TEST(AssimpLoad, CentimetreMannequinIsScaledToMetresAndSaysSo) {
+  ScratchDirectory dir;
+  const deform::Model original = mannequin::make_mannequin({.target_vertices = 3000});
+  save_gltf(original, dir / "mannequin.glb");
+  export_fbx(dir / "mannequin.glb", dir / "mannequin_cm.fbx", Variant::kCentimetres);
+  LoadReport report;
+  const deform::Model loaded = load_assimp(dir / "mannequin_cm.fbx", &report);
+  ASSERT_EQ(loaded.validate(), "");
+  ASSERT_EQ(report.warnings.size(), 1u);
+  EXPECT_NE(report.warnings[0].find("the file's unit is 1.000000 cm (UnitScaleFactor); positions "
+                                    "and joint translations scaled by 0.010000 to metres"),
+            std::string::npos)
+      << report.warnings[0];
+  expect_round_trip(original, loaded, "mannequin FBX (centimetres)");
+}
+
+TEST(AssimpLoad, PreRotationsAreCollapsedIntoTheirJointsAndReported) {
+  SWEEPD_REQUIRE_SHARED_MODEL(testing::kMale);
+  const std::vector<std::uint8_t> bytes =
+      convert_with_assimp(shared_model(testing::kMale), AssimpExport::kFbxMetres);
+  std::string text(bytes.begin(), bytes.end());
+  // LeftArm gets a pre-rotation of 30° about z and the opposite rotation: the same rest pose,
+  // which assimp keeps as helper nodes above the joint (its translation, pre-rotation and
+  // rotation, each a node).
+  const std::size_t model = text.find("\"Model::LeftArm\", \"LimbNode\" {");
+  ASSERT_NE(model, std::string::npos);
+  const std::string properties = "Properties70:  {\n";
+  const std::size_t at = text.find(properties, model);
+  ASSERT_NE(at, std::string::npos);
+  text.insert(at + properties.size(),
+              "\t\t\tP: \"PreRotation\", \"Vector3D\", \"Vector\", \"\", 0, 0, 30\n"
+              "\t\t\tP: \"Lcl Rotation\", \"Lcl Rotation\", \"\", \"A\", 0, 0, -30\n");
+  LoadReport report;
+  const deform::Model loaded = load_assimp(
+      {reinterpret_cast<const std::uint8_t*>(text.data()), text.size()}, "male.fbx", &report);
+  ASSERT_EQ(report.warnings.size(), 1u);
+  EXPECT_EQ(report.warnings[0],
+            "FBX transform parts that assimp keeps as $AssimpFbx$ helper nodes (PreRotation on 1 "
+            "joints, Rotation on 1 joints, Translation on 1 joints) were collapsed into their "
+            "joints' rest transforms");
+  expect_round_trip(load_gltf(shared_model(testing::kMale)), loaded, "male FBX (pre-rotated arm)");
+}
+
+TEST(AssimpLoad, SharedMaleColladaRoundTripGivesTheOriginal) {
+  SWEEPD_REQUIRE_SHARED_MODEL(testing::kMale);
+  const std::vector<std::uint8_t> dae =
+      convert_with_assimp(shared_model(testing::kMale), AssimpExport::kCollada);
+  LoadReport report;
+  const deform::Model loaded = load_assimp(dae, "male.dae", &report);
+  ASSERT_EQ(loaded.validate(), "");
+  EXPECT_EQ(report.format, "COLLADA");
+  for (const std::string& warning : report.warnings) ADD_FAILURE() << "warning: " << warning;
+  expect_round_trip(load_gltf(shared_model(testing::kMale)), loaded, "male COLLADA");
+}
+
+TEST(AssimpLoad, BytesAndModelLoadReadTheSameModelAsThePath) {
+  ScratchDirectory dir;
+  const deform::Model from_path =
+      load_assimp(mannequin_fbx(dir, Variant::kMetres, "mannequin.fbx"));
+  const std::string bytes = read_bytes(dir / "mannequin.fbx");
+  ASSERT_TRUE(
+      looks_like_assimp_model({reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()}));
+  const deform::Model from_bytes = load_assimp(
+      {reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()}, "upload.fbx");
+  const deform::Model dispatched = load_model(dir / "mannequin.fbx");
+  for (const deform::Model* other : {&from_bytes, &dispatched}) {
+    EXPECT_EQ(other->positions, from_path.positions);
+    EXPECT_EQ(other->indices, from_path.indices);
+    EXPECT_EQ(other->skin_weights, from_path.skin_weights);
+  }
+  EXPECT_EQ(from_bytes.name, "upload");
+  // A glTF goes to the glTF reader.
+  EXPECT_EQ(load_model(dir / "mannequin.glb").vertex_count(), from_path.vertex_count());
+}
+
+std::string load_error_reason(const std::function<void()>& load) {
+  try {
+    load();
+  } catch (const LoadError& error) {
+    return error.reason();
+  }
+  return "(no error)";
+}
+
+std::string bytes_error(const std::string& bytes) {
+  return load_error_reason([&] {
+    load_assimp({reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()}, "bad.fbx");
+  });
+}
+
+TEST(AssimpLoad, CorruptFilesAreRefusedWithTheReason) {
+  ScratchDirectory dir;
+  const std::string whole = read_bytes(mannequin_fbx(dir, Variant::kMetres, "mannequin.fbx"));
+  const std::string truncated = bytes_error(whole.substr(0, whole.size() / 2));
+  EXPECT_EQ(truncated.rfind("not a valid FBX file (corrupt or truncated): ", 0), 0u) << truncated;
+  const std::string binary =
+      bytes_error(std::string("Kaydara FBX Binary  \0\x1a\0", 23) + std::string(64, '\xff'));
+  EXPECT_EQ(binary.rfind("not a valid FBX file (corrupt or truncated): ", 0), 0u) << binary;
+  EXPECT_EQ(bytes_error("solid cube\nfacet normal 0 0 1\n"),
+            "not an FBX (binary or ASCII) or COLLADA file");
+  EXPECT_EQ(bytes_error(""), "the file is empty");
+  EXPECT_EQ(load_error_reason([&] { load_assimp(dir / "absent.fbx"); }),
+            "cannot open the file (missing or unreadable)");
+}
+
+TEST(AssimpLoad, AFileWithNoSkinIsRefusedAsSuch) {
+  ScratchDirectory dir;
+  const std::filesystem::path fbx = mannequin_fbx(dir, Variant::kNoSkin, "unskinned.fbx");
+  EXPECT_EQ(load_error_reason([&] { load_assimp(fbx); }),
+            "no skin: 1 meshes but none has bones (a skinned mesh bound to a skeleton is needed)");
+}
+
+TEST(AssimpLoad, SweepctlInspectsAndPosesAnFbxModel) {
+  ScratchDirectory dir;
+  const std::string fbx = mannequin_fbx(dir, Variant::kMetres, "mannequin.fbx").string();
+  EXPECT_EQ(std::system((std::string(SWEEPD_SWEEPCTL) + " inspect " + fbx + " > " +
+                         (dir / "inspect.txt").string())
+                            .c_str()),
+            0);
+  const std::string inspected = read_bytes(dir / "inspect.txt");
+  EXPECT_NE(inspected.find("kind:        skinned model (FBX)"), std::string::npos) << inspected;
+  EXPECT_NE(inspected.find("swept:       torso, neck, left arm, right arm, left leg, right leg"),
+            std::string::npos)
+      << inspected;
+  EXPECT_EQ(std::system((std::string(SWEEPD_SWEEPCTL) + " pose " + fbx + " -o " +
+                         (dir / "posed.glb").string())
+                            .c_str()),
+            0);
+  EXPECT_EQ(load_gltf(dir / "posed.glb").vertex_count(), load_assimp(fbx).vertex_count());
+  // The daemon takes glTF uploads only: refused before connecting (nothing listens on port 9).
+  EXPECT_NE(
+      std::system((std::string(SWEEPD_SWEEPCTL) + " --server 127.0.0.1:9 pose " + fbx + " -o " +
+                   (dir / "remote.glb").string() + " 2> " + (dir / "remote.txt").string())
+                      .c_str()),
+      0);
+  EXPECT_NE(read_bytes(dir / "remote.txt").find("the daemon takes glTF uploads only"),
+            std::string::npos)
+      << read_bytes(dir / "remote.txt");
+}
+
+}  // namespace
+}  // namespace sweepd::io
