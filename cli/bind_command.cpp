@@ -9,6 +9,7 @@
 
 #include "cli/commands.h"
 #include "cli/model_loading.h"
+#include "cli/posing_arguments.h"
 #include "cli/segment_colours.h"
 #include "cli/text_format.h"
 #include "console/command_line.h"
@@ -126,7 +127,8 @@ Command add_bind_command(CLI::App& sweepctl) {
   command->footer(
       "Prints per sweep the key ellipses (centre, half-axes, fit error, area ratio, the\n"
       "ellipse's in-plane offset from the centre where it has one), the bound vertices, and the\n"
-      "rest-pose reconstruction error.");
+      "rest-pose reconstruction error. --orientation smooth stores the C2 orientation curve in\n"
+      "the binding (the server and pose use it from there).");
   auto options = std::make_shared<Options>();
   command->add_option("MODEL", options->model, "a rigged .glb/.gltf/.fbx/.dae model")
       ->type_name("")
@@ -146,6 +148,7 @@ Command add_bind_command(CLI::App& sweepctl) {
       ->type_name("N")
       ->check(console::whole_number(0, 8))
       ->capture_default_str();
+  add_orientation_flag(*command, options->bind.orientation_curve);
   command
       ->add_option("--debug-gltf", options->debug_gltf,
                    "the mesh coloured by sweep and blend share, with every key ellipse as a "

@@ -1,7 +1,10 @@
 // sweepctl metrics: how well each deformation method keeps the body's shape — per body part
 // volume change (closed mesh region and sweep integral), smallest limb section ratio,
-// crossing triangle pairs, largest edge stretch and the rest-pose error — for one pose or over a
-// clip (worst, mean and the frame of the worst), as a table, JSON or CSV.
+// crossing triangle pairs, largest edge stretch, per body part the crease (largest dihedral change
+// from rest, anywhere and at the sweep's keys; the posed sweep's kink at its keys for sweep
+// methods; metrics/crease_metrics.h) and the rest-pose error — for one pose or over a clip
+// (worst, mean and the frame of the worst) — and the candy wrapper (smallest limb section ratio
+// with both forearms twisted 90° and 180°), as a table, JSON or CSV.
 // With --server the daemon deforms and the metrics are measured here on its vertices; the
 // part regions and section planes come from binding the served mesh here; the sweep integral
 // (the deformation's own sweep state) is not available remotely.
@@ -25,6 +28,7 @@
 #include "deform/model/forward_kinematics.h"
 #include "io/bvh_load.h"
 #include "io/rig_map_json.h"
+#include "metrics/crease_metrics.h"
 #include "metrics/quality_metrics.h"
 
 namespace sweepd::cli {
@@ -106,8 +110,10 @@ PoseDeformer server_deformer(const Method& m, RemotePosedModel& remote, deform::
 MethodReport measure_method(const Method& m, const deform::BoundModel& bound,
                             const PoseDeformer& deform, bool sweep_state,
                             const std::function<deform::Pose(int)>& pose_of,
-                            const metrics::QualityMeter& meter, const std::vector<int>& frames,
-                            console::ProgressBar* bar, int done, int total) {
+                            const metrics::QualityMeter& meter,
+                            const metrics::CreaseMeter& crease_meter,
+                            const std::vector<int>& frames, console::ProgressBar* bar, int done,
+                            int total) {
   MethodReport report;
   report.method = m.name;
   std::vector<glm::vec3> positions(bound.model.vertex_count());
@@ -122,9 +128,16 @@ MethodReport measure_method(const Method& m, const deform::BoundModel& bound,
       report.series.push_back({std::string(deform::to_string(s.part)) + " sweep integral %"});
   for (const char* name : {"smallest section ratio", "crossing triangle pairs", "edge stretch %"})
     report.series.push_back({name});
+  for (const deform::BoundSweep& s : bound.sweeps) {
+    const std::string part = deform::to_string(s.part);
+    report.series.push_back({part + " crease deg"});
+    report.series.push_back({part + " crease at keys deg"});
+    if (sweep) report.series.push_back({part + " kink deg"});
+  }
   for (std::size_t i = 0; i < frames.size(); ++i) {
     const deform::SweepPoser& poser = deform(pose_of(frames[i]), positions);
     const metrics::QualityMetrics q = meter.measure(positions, poser, sweep);
+    const metrics::CreaseMetrics crease = crease_meter.measure(positions, sweep ? &poser : nullptr);
     std::size_t k = 0;
     for (const metrics::PartMetrics& part : q.parts) {
       const double percent = 100.0 * part.mesh_volume_change;
@@ -138,7 +151,22 @@ MethodReport measure_method(const Method& m, const deform::BoundModel& bound,
     report.series[k++].add(q.smallest_section_ratio, -q.smallest_section_ratio, frames[i]);
     report.series[k++].add(q.self_intersections, q.self_intersections, frames[i]);
     report.series[k++].add(100.0 * q.largest_edge_stretch, q.largest_edge_stretch, frames[i]);
+    for (const metrics::RegionCrease& region : crease.regions) {
+      report.series[k++].add(region.dihedral_change, region.dihedral_change, frames[i]);
+      report.series[k++].add(region.dihedral_change_at_keys, region.dihedral_change_at_keys,
+                             frames[i]);
+      if (sweep) report.series[k++].add(region.kink, region.kink, frames[i]);
+    }
     if (bar) bar->update(static_cast<double>(done + i + 1) / total, "measuring " + m.name);
+  }
+  // The candy wrapper: both forearms twisted at the wrist, not a clip frame (-1).
+  for (const float degrees : {90.0f, 180.0f}) {
+    const deform::SweepPoser& poser =
+        deform(metrics::forearm_twist_pose(bound, degrees), positions);
+    const double ratio = meter.measure(positions, poser, sweep).smallest_section_ratio;
+    Series twist{"candy wrapper " + std::to_string(static_cast<int>(degrees)) + " deg section"};
+    twist.add(ratio, -ratio, -1);
+    report.series.push_back(twist);
   }
   return report;
 }
@@ -225,6 +253,7 @@ int metrics(const Options& options, const ServerAddress* server) {
     for (int f = posing.frames.first; f <= last; f += options.step) frames.push_back(f);
   }
   const metrics::QualityMeter meter(bound);
+  const metrics::CreaseMeter crease_meter(bound);
   // sweep+features here: folding's pairs from the --collision backend.
   std::optional<LocalCollision> collision;
   if (!server &&
@@ -242,8 +271,9 @@ int metrics(const Options& options, const ServerAddress* server) {
       const PoseDeformer deform =
           server ? server_deformer(methods[m], *remote, *served_poser)
                  : local_deformer(methods[m], *runtime, context, collision ? &*collision : nullptr);
-      reports.push_back(measure_method(methods[m], bound, deform, !server, pose_of, meter, frames,
-                                       bar.get(), static_cast<int>(m * frames.size()), total));
+      reports.push_back(measure_method(methods[m], bound, deform, !server, pose_of, meter,
+                                       crease_meter, frames, bar.get(),
+                                       static_cast<int>(m * frames.size()), total));
     }
   }
   const std::string source = server ? "sweepd at " + server->address + ": " + kServerNote : "";
@@ -266,9 +296,12 @@ Command add_metrics_command(CLI::App& sweepctl, const ServerAddress& server) {
       "metrics", "volume, section, crossing and stretch metrics per method");
   command->footer(
       "Per body part the volume change (closed mesh region and sweep integral), the smallest\n"
-      "limb section ratio, crossing triangle pairs, the largest edge stretch and the rest-pose\n"
+      "limb section ratio, crossing triangle pairs, the largest edge stretch, per body part the\n"
+      "crease (largest change of dihedral angle from rest, anywhere and at the sweep's keys, and\n"
+      "for sweep methods the posed sweep's kink at its keys, in degrees) and the rest-pose\n"
       "error, for one pose or over a clip (worst, mean and the frame of the worst; without\n"
-      "--frame or --frames the whole clip).\n"
+      "--frame or --frames the whole clip); then the candy wrapper: the smallest limb section\n"
+      "ratio with both forearms twisted 90 and 180 degrees at the wrists (frame -1).\n"
       "With --server the daemon deforms and the metrics are measured here on its vertices:\n"
       "default methods sweep,lbs,dqs; no sweep integral (it needs the server's sweep state).");
   auto options = std::make_shared<Options>();

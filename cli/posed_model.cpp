@@ -26,7 +26,8 @@ PosedModel::PosedModel(const PosingArguments& arguments) : arguments_(arguments)
     bound_ = std::make_unique<deform::BoundModel>(io::load_sweepbind(arguments.model));
   } else {
     const LoadedModel loaded = load_model_and_rig(arguments.model, arguments.rig);
-    bound_ = std::make_unique<deform::BoundModel>(deform::bind(loaded.model, loaded.rig));
+    bound_ = std::make_unique<deform::BoundModel>(
+        deform::bind(loaded.model, loaded.rig, {.orientation_curve = arguments.orientation}));
   }
   runtime_ = std::make_unique<deform::ModelRuntime>(*bound_);
   if (!arguments.bvh.empty()) {

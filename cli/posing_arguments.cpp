@@ -15,6 +15,7 @@ CLI::Option* add_model_and_clip_flags(CLI::App& command, PosingArguments& out) {
       ->required();
   command.add_option("--rig", out.rig, "rig map override when binding a model file")
       ->type_name("RIG.json");
+  add_orientation_flag(command, out.orientation);
   CLI::Option* bvh = command
                          .add_option("--bvh", out.bvh,
                                      "a BVH clip, retargeted onto the model by joint names "
@@ -56,6 +57,17 @@ void add_posing_flags(CLI::App& command, PosingArguments& out, ClipFrames frames
                   "a hand-written pose (format in io/pose_json.h) instead of a clip")
       ->type_name("POSE.json")
       ->excludes(bvh);
+}
+
+void add_orientation_flag(CLI::App& command, deform::OrientationCurveKind& out) {
+  console::add_choice(command, "--orientation", out,
+                      std::map<std::string, deform::OrientationCurveKind>{
+                          {"linear", deform::OrientationCurveKind::kLinear},
+                          {"smooth", deform::OrientationCurveKind::kSmooth}},
+                      "the sweeps' orientation curve when binding a glTF: linear (the paper's "
+                      "piecewise-linear quaternions, default) or smooth (C2 cumulative "
+                      "B-spline: no crease at the keys)")
+      ->type_name("CURVE");
 }
 
 void add_method_flags(CLI::App& command, PosingArguments& out) {

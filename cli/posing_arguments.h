@@ -2,8 +2,9 @@
 // from their command line — the model, the pose source (a BVH clip retargeted onto it, a pose
 // JSON file, or the rest pose) and the deformation method — and the flags that fill it,
 // declared here once for all of them:
-//   add_model_and_clip_flags  MODEL, --rig, --bvh, --bvh-map (returns --bvh's option); for
-//                       commands with frames of their own (sheet)
+//   add_model_and_clip_flags  MODEL, --rig, --orientation (add_orientation_flag's), --bvh,
+//                       --bvh-map (returns --bvh's option); for commands with frames of
+//                       their own (sheet)
 //   add_posing_flags    those, --frame, --pose, and --frames where
 //                       the command takes a frame range (pose, metrics; --frames wins over
 //                       --frame); --bvh and --pose exclude each other, --frame and --frames
@@ -12,6 +13,8 @@
 //                       (pose, render, positionmap; metrics has its own --method list)
 //   add_collision_flag  --collision auto|gpu|cpu: where folding finds its pairs
 //                       (cli/local_collision.h) (through add_method_flags, and metrics)
+//   add_orientation_flag  --orientation linear|smooth: the orientation curve Q(t) of a binding
+//                       made here (also sweepctl bind's)
 //   check_method_flags  the rules CLI11 cannot state: --features need --method sweep, and
 //                       --collision applies here, not with --server (the daemon's own
 //                       --collision decides); throws CLI::ValidationError (call it from the
@@ -24,14 +27,17 @@
 
 #include "deform/job/anatomical_features.h"
 #include "deform/job/deform_method.h"
+#include "deform/sweep/orientation_curve.h"
 #include "gpu/collision_backend.h"
 #include "motion/frame_range.h"
 
 namespace sweepd::cli {
 
 struct PosingArguments {
-  std::filesystem::path model;      // .glb/.gltf/.sweepbind
-  std::filesystem::path rig;        // optional rig map JSON (binding a glTF)
+  std::filesystem::path model;  // .glb/.gltf/.sweepbind
+  std::filesystem::path rig;    // optional rig map JSON (binding a glTF)
+  // The orientation curve when binding a glTF (a .sweepbind keeps the one it was bound with).
+  deform::OrientationCurveKind orientation = deform::OrientationCurveKind::kLinear;
   std::filesystem::path bvh;        // optional clip
   std::filesystem::path bvh_map;    // optional BVH→model joint name map JSON
   std::filesystem::path pose_file;  // optional pose JSON
@@ -50,6 +56,7 @@ enum class ClipFrames { kOne, kOneOrRange };  // whether the command takes --fra
 CLI::Option* add_model_and_clip_flags(CLI::App& command, PosingArguments& out);
 void add_posing_flags(CLI::App& command, PosingArguments& out, ClipFrames frames);
 void add_method_flags(CLI::App& command, PosingArguments& out);
+void add_orientation_flag(CLI::App& command, deform::OrientationCurveKind& out);
 void add_collision_flag(CLI::App& command, PosingArguments& out);
 void check_method_flags(const PosingArguments& arguments, bool on_server = false);
 

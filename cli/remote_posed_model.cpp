@@ -104,10 +104,12 @@ RemotePosedModel::RemotePosedModel(const PosingArguments& arguments, const Serve
     }
     flatbuffers::FlatBufferBuilder& builder = connection_.builder();
     builder.Clear();
-    const auto rig =
-        arguments.rig.empty()
-            ? 0
-            : pb::CreateBindOptions(builder, builder.CreateString(read_text(arguments.rig)));
+    const auto rig_json =
+        arguments.rig.empty() ? 0 : builder.CreateString(read_text(arguments.rig));
+    const auto orientation = static_cast<std::uint8_t>(arguments.orientation);
+    const auto rig = arguments.rig.empty() && orientation == 0
+                         ? 0
+                         : pb::CreateBindOptions(builder, rig_json, 0, orientation);
     const auto bytes = upload.empty() ? 0 : builder.CreateVector(upload);
     connection_.send(pb::finish_message(
         builder, pb::CreateLoadModel(builder, builder.CreateString(name), bytes, rig)));

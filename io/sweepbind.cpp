@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -25,7 +26,11 @@ constexpr std::uint64_t kMaxEditSamples = 1u << 10;
 // Records stored as raw bytes: their layout is the file format (io/SWEEPBIND.md). No padding.
 static_assert(sizeof(deform::KeyAnchor) == 12);
 static_assert(sizeof(deform::KeyEllipse) == 44);
-static_assert(sizeof(deform::BindOptions) == 24);
+static_assert(sizeof(deform::BindOptions) == 28);
+// Version 6's bind options are version 7's without the orientation curve, their last field.
+constexpr std::size_t kVersion6BindOptionsSize = 24;
+static_assert(offsetof(deform::BindOptions, orientation_curve) == kVersion6BindOptionsSize);
+constexpr std::uint32_t kOldestReadableVersion = 6;
 static_assert(sizeof(deform::VertexBinding) == 84);
 
 using deform::BodyPart;
@@ -145,6 +150,11 @@ std::string validate(const BoundModel& bound) {
   if (std::string why = bound.model.validate(); !why.empty()) return "model: " + why;
   if (std::string why = deform::validate_rig_map(bound.rig, bound.model.skeleton); !why.empty())
     return "rig map: " + why;
+  if (const auto kind = bound.options.orientation_curve;
+      kind != deform::OrientationCurveKind::kLinear &&
+      kind != deform::OrientationCurveKind::kSmooth)
+    return "bind options: orientation curve " + std::to_string(static_cast<int>(kind)) +
+           " is neither 0 (linear) nor 1 (smooth)";
   const int joints = bound.model.skeleton.size();
   for (std::size_t s = 0; s < bound.sweeps.size(); ++s) {
     const deform::BoundSweep& sweep = bound.sweeps[s];
@@ -253,10 +263,10 @@ BoundModel decode_sweepbind(std::span<const std::uint8_t> bytes,
     header.fail("not a .sweepbind file (wrong magic)");
   for (std::size_t i = 0; i < sizeof(kMagic); ++i) header.get<char>("magic");
   const auto version = header.get<std::uint32_t>("version");
-  if (version != kSweepbindVersion)
+  if (version < kOldestReadableVersion || version > kSweepbindVersion)
     header.fail("unsupported .sweepbind version " + std::to_string(version) +
-                " (this sweepd reads " + std::to_string(kSweepbindVersion) +
-                "; bind the model again to rebuild it)");
+                " (this sweepd reads " + std::to_string(kOldestReadableVersion) + " to " +
+                std::to_string(kSweepbindVersion) + "; bind the model again to rebuild it)");
   header.get<std::uint32_t>("flags");
   const auto payload_size = header.get<std::uint64_t>("payload size");
   const auto payload_crc = header.get<std::uint32_t>("payload checksum");
@@ -275,7 +285,13 @@ BoundModel decode_sweepbind(std::span<const std::uint8_t> bytes,
   BoundModel bound;
   bound.model = get_model(in);
   bound.rig = get_rig(in);
-  bound.options = in.get<deform::BindOptions>("bind options");
+  if (version >= 7) {
+    bound.options = in.get<deform::BindOptions>("bind options");
+  } else {  // version 6: the paper's linear orientation curve
+    const auto old = in.get<std::array<std::uint8_t, kVersion6BindOptionsSize>>("bind options");
+    std::memcpy(static_cast<void*>(&bound.options), old.data(), old.size());
+    bound.options.orientation_curve = deform::OrientationCurveKind::kLinear;
+  }
   const auto sweeps = in.get<std::uint64_t>("sweep count");
   if (sweeps > 64) in.fail("sweep count " + std::to_string(sweeps) + " is out of range");
   for (std::uint64_t s = 0; s < sweeps; ++s) bound.sweeps.push_back(get_sweep(in));

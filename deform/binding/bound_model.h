@@ -18,6 +18,7 @@
 #include "deform/rig/rig_map.h"
 #include "deform/sweep/interpolating_splines.h"
 #include "deform/sweep/key_ellipse.h"
+#include "deform/sweep/orientation_curve.h"
 
 namespace sweepd::deform {
 
@@ -86,6 +87,10 @@ struct BindOptions {
   float transition_half_width = 0.3f;
   // Half-width of the hand-over to the skinned hand/foot/head, as a fraction of the last link.
   float end_blend_half_width = 0.12f;
+  // The orientation curve Q(t): the paper's piecewise-linear unit quaternions (kLinear), whose
+  // turning rate jumps at every key, or the C2 cumulative B-spline through the end keys and near
+  // the inner ones (kSmooth; deform/sweep/orientation_curve.h). Last: .sweepbind version 7 on.
+  OrientationCurveKind orientation_curve = OrientationCurveKind::kLinear;
 };
 
 struct BoundModel {

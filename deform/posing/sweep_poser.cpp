@@ -25,6 +25,19 @@ glm::vec3 skinned_position(const BoundModel& bound, std::span<const glm::mat4> s
   return glm::vec3(m[0]) * p.x + glm::vec3(m[1]) * p.y + glm::vec3(m[2]) * p.z + glm::vec3(m[3]);
 }
 
+// A row's R(q / |q|) as three columns, from q without normalising it: 2 / |q|² scales the
+// products.
+inline void set_row_frame(const glm::quat& q, SweepSample& out) {
+  const float x = q.x, y = q.y, z = q.z, w = q.w;
+  const float scale = 2.0f / (x * x + y * y + z * z + w * w);
+  const float xx = scale * x * x, yy = scale * y * y, zz = scale * z * z;
+  const float xy = scale * x * y, xz = scale * x * z, yz = scale * y * z;
+  const float wx = scale * w * x, wy = scale * w * y, wz = scale * w * z;
+  out.x_axis = glm::vec3(1.0f - (yy + zz), xy + wz, xz - wy);
+  out.y_axis = glm::vec3(xy - wz, 1.0f - (xx + zz), yz + wx);
+  out.normal = glm::vec3(xz + wy, yz - wx, 1.0f - (xx + yy));
+}
+
 }  // namespace
 
 SweepPoser::SweepPoser(const BoundModel& bound, VertexLoopInstructions instructions)
@@ -72,21 +85,21 @@ void SweepPoser::refresh_table() {
     const int i = run.span;
     const glm::vec3 p0 = d.points[i], p1 = d.points[i + 1];
     const glm::vec3 s0 = d.second[2 * i], s1 = d.second[2 * i + 1];
+    for (std::uint32_t row = run.begin; row < run.end; ++row)
+      table[row].centre = w0[row] * p0 + w1[row] * p1 + w2[row] * s0 + w3[row] * s1;
+    const OrientationCurve& orientation = sweeps_[run.sweep].orientation_curve();
+    if (orientation.kind() == OrientationCurveKind::kSmooth) {
+      // The C2 curve is evaluated at each row (a few exponentials; not vectorised).
+      const auto t = sweeps_[run.sweep].parameters();
+      for (std::uint32_t row = run.begin; row < run.end; ++row)
+        set_row_frame(glm::quat(orientation.unit(t[i] + q_mix[row] * (t[i + 1] - t[i]))),
+                      table[row]);
+      continue;
+    }
     const glm::quat q0 = d.keys[i], q1 = d.keys[i + 1];
     for (std::uint32_t row = run.begin; row < run.end; ++row) {
-      SweepSample& out = table[row];
-      out.centre = w0[row] * p0 + w1[row] * p1 + w2[row] * s0 + w3[row] * s1;
-      // R(q / |q|) from q = (1 - m) q0 + m q1 without normalising q: 2 / |q|² scales the products.
-      const float m = q_mix[row], keep = 1.0f - m;
-      const float x = keep * q0.x + m * q1.x, y = keep * q0.y + m * q1.y;
-      const float z = keep * q0.z + m * q1.z, w = keep * q0.w + m * q1.w;
-      const float scale = 2.0f / (x * x + y * y + z * z + w * w);
-      const float xx = scale * x * x, yy = scale * y * y, zz = scale * z * z;
-      const float xy = scale * x * y, xz = scale * x * z, yz = scale * y * z;
-      const float wx = scale * w * x, wy = scale * w * y, wz = scale * w * z;
-      out.x_axis = glm::vec3(1.0f - (yy + zz), xy + wz, xz - wy);
-      out.y_axis = glm::vec3(xy - wz, 1.0f - (xx + zz), yz + wx);
-      out.normal = glm::vec3(xz + wy, yz - wx, 1.0f - (xx + yy));
+      const float m = q_mix[row];
+      set_row_frame((1.0f - m) * q0 + m * q1, table[row]);
     }
   }
   for (const SweepPoserTables::SampleRun& run : tables_->sample_runs) {

@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "deform/sweep/bspline_basis.h"
+
 namespace sweepd::deform {
 namespace {
 
@@ -243,20 +245,7 @@ int InterpolatingQuadraticSpline::nonzero_basis(double t,
   // Span k with knots[k] <= t < knots[k+1], clamped to the valid spans [p, n].
   const auto it = std::upper_bound(knots_.begin() + p + 1, knots_.begin() + last_span + 1, t);
   const int k = static_cast<int>(it - knots_.begin()) - 1;
-  // Cox–de Boor (Piegl & Tiller, algorithm A2.2).
-  std::array<double, kMaxDegree + 1> left{}, right{};
-  basis[0] = 1.0;
-  for (int j = 1; j <= p; ++j) {
-    left[j] = t - knots_[k + 1 - j];
-    right[j] = knots_[k + j] - t;
-    double saved = 0.0;
-    for (int r = 0; r < j; ++r) {
-      const double temp = basis[r] / (right[r + 1] + left[j - r]);
-      basis[r] = saved + right[r + 1] * temp;
-      saved = left[j - r] * temp;
-    }
-    basis[j] = saved;
-  }
+  bspline_basis(knots_, k, p, t, basis.data());
   return k - p;
 }
 

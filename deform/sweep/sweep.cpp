@@ -15,7 +15,7 @@ void require_count(std::span<const KeyEllipse> keys, int expected) {
 
 }  // namespace
 
-Sweep::Sweep(std::span<const KeyEllipse> keys, SplineEnds ends) {
+Sweep::Sweep(std::span<const KeyEllipse> keys, SplineEnds ends, OrientationCurveKind orientation) {
   if (keys.size() < 2)
     throw std::invalid_argument("sweep: need at least 2 key ellipses, got " +
                                 std::to_string(keys.size()));
@@ -36,7 +36,7 @@ Sweep::Sweep(std::span<const KeyEllipse> keys, SplineEnds ends) {
   if (!chord_length_parameters(centres_, parameters_))
     throw std::invalid_argument("sweep: two consecutive key ellipses share a centre");
   centre_.set_parameters(parameters_, ends);
-  orientation_.set_parameters(parameters_);
+  orientation_.set_parameters(parameters_, orientation);
   a_.set_parameters(parameters_);
   b_.set_parameters(parameters_);
   offset_x_.set_parameters(parameters_);
@@ -76,7 +76,7 @@ glm::vec3 Sweep::ellipse_centre(float t) const {
 }
 
 glm::dvec3 Sweep::ellipse_centre_derivative(double t) const {
-  // R v = Q v Q* / |Q|² for the unnormalised Q(t), so
+  // R v = Q v Q* / |Q|² for the unnormalised Q(t) (|Q| = 1 for the smooth curve), so
   // (R v)' = (Q' v Q* + Q v Q'*) / |Q|² - 2 <Q, Q'> / |Q|² R v.
   const glm::dquat q = orientation_.unnormalised(t), dq = orientation_.derivative(t);
   const glm::dquat o(0.0, offset_x_.value(t), offset_y_.value(t), 0.0);

@@ -7,8 +7,9 @@
 //   valid while the keys move).
 // - C(t): C2 cubic spline through the centres, knots t_i (InterpolatingCubicSpline; not-a-knot
 //   ends by default, a straight segment for 2 keys).
-// - R(t): rotation of the normalised, sign-continuous piecewise-linear quaternion curve Q(t);
-//   N(t) is its third column.
+// - R(t): rotation of the orientation curve Q(t) through the key orientations
+//   (OrientationCurve: the paper's normalised piecewise-linear unit quaternions by default, or
+//   the C2 cumulative B-spline); N(t) is its third column.
 // - a(t), b(t): quadratic B-spline functions interpolating the key half-axes; their control
 //   values α_i, β_i (one per key) are exposed for the volume correction of §4.4.
 // - o(t) = (o_x(t), o_y(t)): the keys' in-plane offsets, interpolated like a and b (the same
@@ -42,7 +43,8 @@ class Sweep {
  public:
   // keys: n+1 >= 2 key ellipses in sweep order. Throws std::invalid_argument (with the reason)
   // for fewer than 2 keys, coincident consecutive centres, non-positive or non-finite half-axes.
-  explicit Sweep(std::span<const KeyEllipse> keys, SplineEnds ends = SplineEnds::kNotAKnot);
+  explicit Sweep(std::span<const KeyEllipse> keys, SplineEnds ends = SplineEnds::kNotAKnot,
+                 OrientationCurveKind orientation = OrientationCurveKind::kLinear);
 
   // New centres and orientations (same count as at construction); a and b are ignored.
   // Allocation-free. Throws std::invalid_argument on a count mismatch.

@@ -43,20 +43,38 @@ double add_sample(const Sweep& sweep, double t, double w, std::span<double> d_al
   return flux * a * b;
 }
 
+// 8-point Gauss–Legendre on [lo, hi].
+double integrate_interval(const Sweep& sweep, double lo, double hi, std::span<double> d_alpha,
+                          std::span<double> d_beta) {
+  const double centre = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
+  double volume = 0.0;
+  for (std::size_t k = 0; k < kGaussNodes.size(); ++k) {
+    const double w = kGaussWeights[k] * half;
+    volume += add_sample(sweep, centre - half * kGaussNodes[k], w, d_alpha, d_beta);
+    volume += add_sample(sweep, centre + half * kGaussNodes[k], w, d_alpha, d_beta);
+  }
+  return volume;
+}
+
 double integrate(const Sweep& sweep, std::span<double> d_alpha, std::span<double> d_beta) {
   std::fill(d_alpha.begin(), d_alpha.end(), 0.0);
   std::fill(d_beta.begin(), d_beta.end(), 0.0);
   const auto t = sweep.parameters();
+  // The orientation curve's own joints: the linear curve's are the keys; the smooth curve's
+  // knots fall inside the halves, which are split there too.
+  const auto breaks = sweep.orientation_curve().breakpoints();
+  auto next_break = breaks.begin();
   double volume = 0.0;
   for (std::size_t i = 0; i + 1 < t.size(); ++i) {
     const double middle = 0.5 * (t[i] + t[i + 1]);
     for (const auto& [lo, hi] : {std::pair{t[i], middle}, std::pair{middle, t[i + 1]}}) {
-      const double centre = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
-      for (std::size_t k = 0; k < kGaussNodes.size(); ++k) {
-        const double w = kGaussWeights[k] * half;
-        volume += add_sample(sweep, centre - half * kGaussNodes[k], w, d_alpha, d_beta);
-        volume += add_sample(sweep, centre + half * kGaussNodes[k], w, d_alpha, d_beta);
-      }
+      double from = lo;
+      for (; next_break != breaks.end() && *next_break < hi; ++next_break)
+        if (*next_break > from) {
+          volume += integrate_interval(sweep, from, *next_break, d_alpha, d_beta);
+          from = *next_break;
+        }
+      volume += integrate_interval(sweep, from, hi, d_alpha, d_beta);
     }
   }
   return volume;

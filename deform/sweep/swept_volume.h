@@ -14,6 +14,10 @@
 // polynomial part is integrated exactly and the rational part to
 // better than 1e-10 relative for neighbouring keys up to 150 degrees apart (checked against a
 // 2e6-point midpoint rule).
+// With the smooth orientation curve (OrientationCurveKind::kSmooth) the halves are split again
+// at its knots and N(t) holds sines and cosines of polynomials, so no rule is exact: against a
+// 2e6-point midpoint rule the relative error stays below 1e-9 for keys up to 150 degrees apart
+// (tests/deform/sweep/swept_volume_test.cpp).
 // The volume is the signed one: positive when N points along C̃'.
 #pragma once
 

@@ -37,7 +37,10 @@ LoadModelWork read_load_model(const pb::LoadModel& load) {
   if (load.options() && load.options()->rig_map_json()) {
     work.rig_map_json = load.options()->rig_map_json()->str();
   }
-  if (load.options()) work.keys_per_link = load.options()->keys_per_link();
+  if (load.options()) {
+    work.keys_per_link = load.options()->keys_per_link();
+    work.orientation = load.options()->orientation();
+  }
   return work;
 }
 
@@ -48,6 +51,7 @@ ModelChange run_load_model(ModelService& models, const LoadModelWork& work) {
   request.gltf = work.gltf;
   request.rig_map_json = work.rig_map_json;
   request.keys_per_link = work.keys_per_link;
+  request.orientation = work.orientation;
   try {
     return models.load(request);
   } catch (const ModelError& error) {

@@ -38,6 +38,7 @@ struct LoadModelWork {
   std::vector<std::uint8_t> gltf;
   std::string rig_map_json;
   int keys_per_link = 0;
+  int orientation = 0;  // BindOptions.orientation: 0 linear, 1 smooth
 };
 LoadModelWork read_load_model(const protocol::LoadModel& load);
 ModelChange run_load_model(ModelService& models, const LoadModelWork& work);

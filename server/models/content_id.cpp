@@ -42,8 +42,11 @@ std::span<const std::uint8_t> bytes_of(std::string_view text) {
 }  // namespace
 
 std::string model_content_id(std::span<const std::uint8_t> source, std::string_view rig_map_json,
-                             int keys_per_link) {
-  const std::string options = "keys_per_link=" + std::to_string(keys_per_link);
+                             int keys_per_link, int orientation) {
+  // The linear curve (0) adds nothing, so ids made before the orientation option stay valid.
+  const std::string options =
+      "keys_per_link=" + std::to_string(keys_per_link) +
+      (orientation != 0 ? ",orientation=" + std::to_string(orientation) : "");
   return sha256_hex({bytes_of("sweepd model v1: glTF, rig map, options"), source,
                      bytes_of(rig_map_json), bytes_of(options)});
 }

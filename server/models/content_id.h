@@ -6,7 +6,8 @@
 // client that knows the id can ask any replica for it.
 //
 // model_content_id(source, rig_map_json, keys_per_link): the id of a glTF binding (source:
-//   the whole file, any size; rig_map_json: empty when detected; keys_per_link: 0 = default).
+//   the whole file, any size; rig_map_json: empty when detected; keys_per_link: 0 = default;
+//   orientation: BindOptions.orientation, 0 = linear, which leaves the id as it was before).
 // described_content_id(description): the id of a model made by the server itself from a
 //   description (the procedural mannequin: "mannequin vertices=N").
 // clip_content_id(bvh, length_scale): the id of a motion clip (issue 18): the BVH text and the
@@ -26,7 +27,7 @@
 namespace sweepd::server {
 
 std::string model_content_id(std::span<const std::uint8_t> source, std::string_view rig_map_json,
-                             int keys_per_link);
+                             int keys_per_link, int orientation = 0);
 std::string described_content_id(std::string_view description);
 std::string clip_content_id(std::string_view bvh, float length_scale);
 std::uint32_t handle_of(std::string_view content_id);

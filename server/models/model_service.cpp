@@ -91,13 +91,17 @@ ModelHandle ModelService::load(const ModelLoadRequest& request) {
     throw ModelError(ErrorCode::UnknownModel, "no model with content id " + request.content_id +
                                                   " on this server or in its store; upload it");
   }
+  if (request.orientation != 0 && request.orientation != 1)
+    throw ModelError(ErrorCode::ModelLoadFailed, "orientation curve " +
+                                                     std::to_string(request.orientation) +
+                                                     " is neither 0 (linear) nor 1 (smooth)");
   if (request.name.empty() || request.name.size() > kMaxNameBytes) {
     throw ModelError(ErrorCode::ModelLoadFailed,
                      "a model name must have 1 to " + std::to_string(kMaxNameBytes) + " bytes");
   }
   if (!request.gltf.empty()) {
-    const std::string content_id =
-        model_content_id(request.gltf, request.rig_map_json, request.keys_per_link);
+    const std::string content_id = model_content_id(request.gltf, request.rig_map_json,
+                                                    request.keys_per_link, request.orientation);
     if (ModelHandle model = held_or_stored(content_id)) return model;
     return bind_and_store(request, content_id, {});
   }
@@ -110,7 +114,7 @@ ModelHandle ModelService::load(const ModelLoadRequest& request) {
   const std::vector<std::uint8_t> bytes{std::istreambuf_iterator<char>(in),
                                         std::istreambuf_iterator<char>()};
   const std::string content_id =
-      model_content_id(bytes, request.rig_map_json, request.keys_per_link);
+      model_content_id(bytes, request.rig_map_json, request.keys_per_link, request.orientation);
   if (ModelHandle model = held_or_stored(content_id)) return model;
   return bind_and_store(request, content_id, file);
 }
@@ -164,6 +168,7 @@ ModelHandle ModelService::bind_and_store(const ModelLoadRequest& request,
     }
     deform::BindOptions options;
     if (request.keys_per_link > 0) options.intermediate_keys_per_link = request.keys_per_link;
+    options.orientation_curve = static_cast<deform::OrientationCurveKind>(request.orientation);
     model.name = request.name;
     bound = deform::bind(model, rig, options);
   } catch (const ModelError&) {

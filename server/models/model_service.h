@@ -54,6 +54,7 @@ struct ModelLoadRequest {
   std::span<const std::uint8_t> gltf;  // uploaded .glb/.gltf bytes, or empty
   std::string rig_map_json;            // io/rig_map_json.h override, or empty: detect
   int keys_per_link = 0;               // 0: the bind default
+  int orientation = 0;                 // 0: linear Q(t), 1: smooth (BindOptions)
 };
 
 class ModelService {

@@ -3,6 +3,7 @@
 // reads back, a bad edits file refused with its name).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -86,16 +87,57 @@ TEST(SweepctlMetrics, ClipFramesGiveWorstMeanAndFrameAsCsvAndTable) {
   EXPECT_EQ(csv.rfind("method,metric,worst,mean,worst_frame\n", 0), 0u) << csv;
   std::istringstream lines(csv);
   std::string line;
-  int rows = 0;
+  int rows = 0, twists = 0;
   while (std::getline(lines, line)) {
     if (!line.starts_with("dqs,") || line.starts_with("dqs,rest")) continue;
     const int frame = std::stoi(line.substr(line.rfind(',') + 1));
+    if (line.starts_with("dqs,candy wrapper")) {  // a twist pose, not a clip frame
+      EXPECT_EQ(frame, -1) << line;
+      ++twists;
+      continue;
+    }
     EXPECT_TRUE(frame == 0 || frame == 10 || frame == 20) << line;  // a measured frame
     ++rows;
   }
-  EXPECT_EQ(rows, 6 + 3);  // six part volumes, section ratio, crossings, edge stretch
+  // Six part volumes, section ratio, crossings, edge stretch, and per part the crease anywhere
+  // and at keys (no kink: DQS has no sweep); the candy wrapper at 90 and 180 degrees.
+  EXPECT_EQ(rows, 6 + 3 + 2 * 6);
+  EXPECT_EQ(twists, 2);
   ASSERT_EQ(sweepctl(common, table), 0) << table;
   EXPECT_NE(table.find("at frame"), std::string::npos) << table;
+}
+
+TEST(SweepctlBind, StoresTheSmoothOrientationCurveWhoseSweepsHaveNoKink) {
+  REQUIRE_DATA();
+  const fs::path bound = scratch() / "smooth.sweepbind";
+  std::string out;
+  ASSERT_EQ(
+      sweepctl("bind " + kMale.string() + " -o " + bound.string() + " --orientation smooth", out),
+      0)
+      << out;
+  EXPECT_EQ(sweepd::io::load_sweepbind(bound).options.orientation_curve,
+            sweepd::deform::OrientationCurveKind::kSmooth);
+  // The same clip frame from the stored smooth binding and bound linear on the spot: the
+  // linear sweeps kink at their keys (tens of degrees on a walking clip), the smooth ones only
+  // by the metric's one-sided differences (below 1.5°; metrics/crease_metrics.h).
+  auto largest_kink = [&](const std::string& model) {
+    std::string json;
+    EXPECT_EQ(sweepctl("metrics " + model + " --bvh " + kClip.string() +
+                           " --frame 100 --method sweep --json",
+                       json),
+              0)
+        << json;
+    double worst = 0.0;
+    const auto report = nlohmann::json::parse(json.substr(0, json.rfind('}') + 1));
+    for (const auto& m : report["methods"][0]["metrics"])
+      if (m["name"].get<std::string>().ends_with("kink deg"))
+        worst = std::max(worst, m["worst"].get<double>());
+    return worst;
+  };
+  EXPECT_LT(largest_kink(bound.string()), 1.5);
+  EXPECT_GT(largest_kink(kMale.string()), 10.0);
+  EXPECT_EQ(sweepctl("bind " + kMale.string() + " -o x.sweepbind --orientation wavy", out), 2);
+  EXPECT_NE(out.find("--orientation"), std::string::npos) << out;
 }
 
 TEST(SweepctlMetrics, RefusesBadArgumentsWithUsage) {

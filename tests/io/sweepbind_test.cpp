@@ -3,12 +3,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 
 #include "deform/binding/bind.h"
 #include "deform/rig/rig_map.h"
+#include "io/byte_stream.h"
 #include "io/durable_file.h"
 #include "mannequin/mannequin.h"
 
@@ -74,10 +76,36 @@ TEST(Sweepbind, RefusesAVersion5FileAskingForARebind) {
   std::vector<std::uint8_t> bytes = encode_sweepbind(bound_mannequin());
   bytes[8] = 5;
   const std::string error = decode_error(bytes);
-  EXPECT_NE(error.find("unsupported .sweepbind version 5 (this sweepd reads 6; bind the model "
-                       "again to rebuild it)"),
+  EXPECT_NE(error.find("unsupported .sweepbind version 5 (this sweepd reads 6 to 7; bind the "
+                       "model again to rebuild it)"),
             std::string::npos)
       << error;
+}
+
+TEST(Sweepbind, CarriesTheOrientationCurveAndReadsVersion6AsLinear) {
+  deform::BoundModel smooth = bound_mannequin();
+  smooth.options.orientation_curve = deform::OrientationCurveKind::kSmooth;
+  std::vector<std::uint8_t> bytes = encode_sweepbind(smooth);
+  EXPECT_EQ(decode_sweepbind(bytes, "smooth.sweepbind").options.orientation_curve,
+            deform::OrientationCurveKind::kSmooth);
+  // The same file as version 6 wrote it: bind options without their last 4 bytes.
+  const auto* options = reinterpret_cast<const std::uint8_t*>(&smooth.options);
+  const auto at =
+      std::search(bytes.begin() + 32, bytes.end(), options, options + sizeof(deform::BindOptions));
+  ASSERT_NE(at, bytes.end());
+  bytes.erase(at + 24, at + 28);
+  bytes[8] = 6;
+  const std::uint64_t payload_size = bytes.size() - 32;
+  std::memcpy(bytes.data() + 16, &payload_size, sizeof(payload_size));
+  const std::uint32_t crc = crc32(std::span<const std::uint8_t>(bytes).subspan(32));
+  std::memcpy(bytes.data() + 24, &crc, sizeof(crc));
+  const deform::BoundModel old = decode_sweepbind(bytes, "old.sweepbind");
+  EXPECT_EQ(old.options.orientation_curve, deform::OrientationCurveKind::kLinear);
+  EXPECT_EQ(old.options.plane_samples_per_span, smooth.options.plane_samples_per_span);
+  EXPECT_EQ(encode_sweepbind(old), encode_sweepbind(bound_mannequin()));  // all else as written
+  // An orientation curve this reader does not know is refused.
+  smooth.options.orientation_curve = static_cast<deform::OrientationCurveKind>(2);
+  EXPECT_NE(decode_error(encode_sweepbind(smooth)).find("orientation curve 2"), std::string::npos);
 }
 
 TEST(Sweepbind, RefusesSkinnedShareInfluencesThatDoNotFitTheModel) {

@@ -5,8 +5,13 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <iterator>
 #include <optional>
 
+#include "io/gltf_save.h"
+#include "mannequin/mannequin.h"
+#include "server/models/content_id.h"
 #include "tests/server/daemon_process.h"
 
 namespace sweepd::test {
@@ -66,6 +71,37 @@ TEST(ModelService, KeyEllipseEditsAreCheckedSwappedInAndStored) {
   restarted.restore();
   ASSERT_TRUE(restarted.find(before->id));
   EXPECT_EQ(restarted.find(before->id)->bound.sweeps[arm].rest_keys[0].a, edit.a);
+}
+
+TEST(ModelService, BindsAnUploadWithTheOrientationCurveItAsksFor) {
+  const server::ServerConfig config = config_in(fresh_directory("model_service_orientation"));
+  server::ModelService models(config);
+  models.restore();
+  const std::filesystem::path glb = fresh_directory("model_service_glb") / "small.glb";
+  io::save_gltf(mannequin::make_mannequin({.target_vertices = 2000}), glb);
+  std::ifstream in(glb, std::ios::binary);
+  const std::vector<std::uint8_t> bytes{std::istreambuf_iterator<char>(in),
+                                        std::istreambuf_iterator<char>()};
+  server::ModelLoadRequest request;
+  request.name = "small";
+  request.gltf = bytes;
+  const server::ModelHandle linear = models.load(request);
+  EXPECT_EQ(linear->bound.options.orientation_curve, deform::OrientationCurveKind::kLinear);
+  // The linear curve leaves the content id as it was before the option existed.
+  EXPECT_EQ(linear->content_id, server::model_content_id(bytes, "", 0));
+  request.name = "small_smooth";
+  request.orientation = 1;
+  const server::ModelHandle smooth = models.load(request);
+  EXPECT_EQ(smooth->bound.options.orientation_curve, deform::OrientationCurveKind::kSmooth);
+  EXPECT_NE(smooth->content_id, linear->content_id);  // another binding, another id
+  request.orientation = 2;
+  try {
+    models.load(request);
+    ADD_FAILURE() << "orientation 2 was accepted";
+  } catch (const server::ModelError& error) {
+    EXPECT_EQ(error.code(), protocol::ErrorCode::ModelLoadFailed);
+    EXPECT_NE(std::string(error.what()).find("orientation curve 2"), std::string::npos);
+  }
 }
 
 }  // namespace

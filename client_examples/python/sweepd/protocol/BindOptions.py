@@ -42,7 +42,14 @@ class BindOptions(object):
             return self._tab.Get(flatbuffers.number_types.Uint8Flags, o + self._tab.Pos)
         return 0
 
-def BindOptionsStart(builder): builder.StartObject(2)
+    # BindOptions
+    def Orientation(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(8))
+        if o != 0:
+            return self._tab.Get(flatbuffers.number_types.Uint8Flags, o + self._tab.Pos)
+        return 0
+
+def BindOptionsStart(builder): builder.StartObject(3)
 def Start(builder):
     return BindOptionsStart(builder)
 def BindOptionsAddRigMapJson(builder, rigMapJson): builder.PrependUOffsetTRelativeSlot(0, flatbuffers.number_types.UOffsetTFlags.py_type(rigMapJson), 0)
@@ -51,6 +58,9 @@ def AddRigMapJson(builder, rigMapJson):
 def BindOptionsAddKeysPerLink(builder, keysPerLink): builder.PrependUint8Slot(1, keysPerLink, 0)
 def AddKeysPerLink(builder, keysPerLink):
     return BindOptionsAddKeysPerLink(builder, keysPerLink)
+def BindOptionsAddOrientation(builder, orientation): builder.PrependUint8Slot(2, orientation, 0)
+def AddOrientation(builder, orientation):
+    return BindOptionsAddOrientation(builder, orientation)
 def BindOptionsEnd(builder): return builder.EndObject()
 def End(builder):
     return BindOptionsEnd(builder)
