@@ -27,6 +27,7 @@
 #include "server/handlers/model_requests.h"
 #include "server/handlers/pose_request.h"
 #include "server/handlers/position_map_service.h"
+#include "server/models/clip_store.h"
 
 namespace sweepd::fuzz {
 namespace {
@@ -96,6 +97,18 @@ void decode_message(const protocol::Message& message) {
           !problem.empty())
         throw std::invalid_argument(problem);
       break;
+    case protocol::Body::UploadClip: {
+      // As the daemon's worker takes it: a store of its own per input, so inputs do not fill
+      // one another's room.
+      const protocol::UploadClip& upload = *message.body_as_UploadClip();
+      server::ClipStore clips(1, server::ServerConfig{}.max_clip_bytes);
+      const auto added =
+          clips.add(upload.name() ? upload.name()->str() : "",
+                    upload.bvh() ? upload.bvh()->string_view() : "", upload.length_scale());
+      if (const auto* error = std::get_if<server::RequestError>(&added))
+        throw std::invalid_argument(error->message);
+      break;
+    }
     default:
       break;
   }

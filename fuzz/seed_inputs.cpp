@@ -43,7 +43,8 @@ void append(Input& stream, std::span<const std::uint8_t> frame) {
 }
 
 // A session as a client sends it, cut into reads of `piece` bytes (fuzz_frames' first byte).
-Input session(const deform::BoundModel& bound, const Input& glb, std::uint8_t piece) {
+Input session(const deform::BoundModel& bound, const Input& glb, const std::string& bvh,
+              std::uint8_t piece) {
   Input stream(1, piece);
   flatbuffers::FlatBufferBuilder builder;
   append(stream, pb::build_hello(builder, "token", "fuzz seed"));
@@ -69,6 +70,10 @@ Input session(const deform::BoundModel& bound, const Input& glb, std::uint8_t pi
   const auto map_pose = pb::add_pose(builder, fields);
   append(stream,
          pb::finish_message(builder, pb::CreatePositionMapRequest(builder, map_pose, 64, 64), 4));
+  builder.Clear();
+  append(stream,
+         pb::finish_message(builder,
+                            pb::CreateUploadClipDirect(builder, "seed.bvh", bvh.c_str(), 1.0f), 5));
   return stream;
 }
 
@@ -120,13 +125,14 @@ std::map<std::string, std::vector<Input>> seed_inputs() {
   deform::Pose pose = deform::rest_pose(model.skeleton);
   io::save_pose_json(pose, model.skeleton, directory / "pose.json");
   std::map<std::string, std::vector<Input>> seeds;
-  seeds["frames"] = {session(bound, glb, 255), session(bound, glb, 0)};
+  const std::string bvh = bvh_of(model.skeleton);
+  seeds["frames"] = {session(bound, glb, bvh, 255), session(bound, glb, bvh, 0)};
   seeds["gltf"] = {glb};
   // The smallest mannequin as ASCII FBX (about 0.3 MB; made here, never committed).
   io::save_gltf(mannequin::make_mannequin({.target_vertices = mannequin::kMannequinMinVertices}),
                 directory / "small.glb");
   seeds["fbx"] = {io::convert_with_assimp(directory / "small.glb", io::AssimpExport::kFbxMetres)};
-  seeds["bvh"] = {as_input(bvh_of(model.skeleton))};
+  seeds["bvh"] = {as_input(bvh)};
   seeds["sweepbind"] = {io::encode_sweepbind(bound)};
   const Input rig_bytes = read_bytes(directory / "rig.json");
   const Input pose_bytes = read_bytes(directory / "pose.json");

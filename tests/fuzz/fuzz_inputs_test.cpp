@@ -58,7 +58,7 @@ TEST(FuzzInputs, TheFramesSeedIsAWholeSession) {
     EXPECT_EQ(event.status, protocol::FrameStatus::kFrame) << event.reason;
     ++whole;
   }
-  EXPECT_EQ(whole, 5) << "Hello, Pose, LoadModel, EditKeyEllipse, PositionMapRequest";
+  EXPECT_EQ(whole, 6) << "Hello, Pose, LoadModel, EditKeyEllipse, PositionMapRequest, UploadClip";
 }
 
 TEST(FuzzInputs, EveryRegressionStillPasses) {

@@ -3,7 +3,7 @@ tests/server/python_package_test.cpp from a fresh venv, outside the source tree)
 
   python_package_check.py PORT TOKEN BODY.glb ROTATIONS.f32 OUT_DIR OTHER_PORT CLIP.bvh
 
-Uploads BODY.glb, poses it with ROTATIONS (float32 x, y, z, w per joint) and writes
+Uploads BODY.glb (also with the smooth orientation curve), poses it with ROTATIONS (float32 x, y, z, w per joint) and writes
 OUT_DIR/positions.f32 and OUT_DIR/map.exr for the test to compare with the library. Checks on
 the way that streamed poses equal the single pose, that protocol errors raise their own
 exception classes, that a silent server raises Timeout, and that bytes uploaded once are
@@ -47,6 +47,11 @@ def main(port, token, glb, rotations_file, out, other_port, clip_file):
         check(posed.positions.shape == (body.vertex_count, 3), "positions shape")
         check(posed.normals.shape == (body.vertex_count, 3), "normals shape")
         posed.positions.astype(np.float32).tofile(f"{out}/positions.f32")
+
+        smooth = sweepd.upload(glb, name="uploaded_smooth", orientation="smooth")
+        check(smooth.content_id != body.content_id, "the smooth curve is another binding")
+        check(not np.array_equal(sweepd.pose(smooth, rotations).positions, posed.positions),
+              "the smooth curve poses differently")
 
         streamed = list(sweepd.poses(body, [rotations] * 20))
         check(len(streamed) == 20, "20 streamed replies")

@@ -19,7 +19,7 @@ from time import monotonic_ns
 from dataclasses import dataclass, field
 
 import numpy as np
-from sweepd.protocol import (Body, Bye, ClipFrame, ClipInfo, DeformMethod, Error,
+from sweepd.protocol import (BindOptions, Body, Bye, ClipFrame, ClipInfo, DeformMethod, Error,
                              ExrCompression, Features, Hello, ListModels, LoadModel, MapLayers,
                              Mesh, MeshRequest, ModelInfo, ModelList, Pose, PoseByName,
                              PoseDelivery, PosedVertices, PoseFromClip, PositionFormat,
@@ -34,6 +34,8 @@ METHODS = {"sweep": DeformMethod.DeformMethod.Sweep, "lbs": DeformMethod.DeformM
            "dqs": DeformMethod.DeformMethod.Dqs}
 FEATURES = {"folding": Features.Features.Folding, "protrusion": Features.Features.Protrusion,
             "bulge": Features.Features.Bulge, "volume": Features.Features.Volume}
+# BindOptions.orientation: the sweeps' orientation curve Q(t).
+ORIENTATIONS = {"linear": 0, "smooth": 1}
 LAYERS = {"position": MapLayers.MapLayers.Position, "normal": MapLayers.MapLayers.Normal,
           "coverage": MapLayers.MapLayers.Coverage}
 COMPRESSIONS = {name.lower(): value for name, value in vars(ExrCompression.ExrCompression).items()
@@ -169,8 +171,9 @@ class Client:
         """A model the server holds or finds in its store or model directory, by name."""
         return self._load_model(name, b"")
 
-    def upload(self, glb, name=None):
-        """Uploads a .glb (a path or its bytes) and returns the bound Model. Bytes this process
+    def upload(self, glb, name=None, orientation="linear"):
+        """Uploads a .glb (a path or its bytes) and returns the bound Model; orientation: the
+        sweeps' orientation curve, "linear" (the paper's) or "smooth" (C2). Bytes this process
         uploaded before (on any Client) are named by their content id first, without sending
         them: a server that holds the model, or shares a store with one that does, answers at
         once; one that answers UnknownModel gets the bytes (as client/model_source.h does)."""
@@ -180,14 +183,15 @@ class Client:
                 glb = file.read()
             name = name or path.rsplit("/", 1)[-1]
         name, glb = name or "upload.glb", bytes(glb)
-        key = (hashlib.sha256(glb).digest(), name)
+        curve = _choice(ORIENTATIONS, orientation, "orientation")
+        key = (hashlib.sha256(glb).digest(), name, curve)
         content_id = Client._uploaded.get(key)
         if content_id:
             try:
-                return self._load_model(name, b"", content_id)
+                return self._load_model(name, b"", content_id=content_id)
             except UnknownModel:
                 pass  # a server with a store of its own: send the bytes
-        model = self._load_model(name, glb)
+        model = self._load_model(name, glb, orientation=curve)
         if model.content_id:
             Client._uploaded[key] = model.content_id
         return model
@@ -365,13 +369,20 @@ class Client:
             raise ConnectionLost(f"{error} (closed before Welcome: if sweepd serves TLS, "
                                  "pass tls=)") from error
 
-    def _load_model(self, name, glb, content_id=""):
+    def _load_model(self, name, glb, content_id="", orientation=0):
         builder = new_builder(1024 + len(glb))
         gltf = builder.CreateByteVector(glb) if glb else None
         name_offset = builder.CreateString(name)
         content_id_offset = builder.CreateString(content_id) if content_id else None
+        options = None
+        if orientation:
+            BindOptions.Start(builder)
+            BindOptions.AddOrientation(builder, orientation)
+            options = BindOptions.End(builder)
         LoadModel.Start(builder)
         LoadModel.AddName(builder, name_offset)
+        if options is not None:
+            LoadModel.AddOptions(builder, options)
         if gltf is not None:
             LoadModel.AddGltf(builder, gltf)
         if content_id_offset is not None:
