@@ -65,15 +65,15 @@ TEST(PythonPackage, InstallsOfflineIntoAVenvAndPosesLikeTheLibrary) {
   fs::remove_all(source);
 
   const fs::path glb = directory / "body.glb";
-  io::save_gltf(mannequin::make_mannequin({.target_vertices = 2500}), glb);
+  const deform::Model body = mannequin::make_mannequin({.target_vertices = 2500});
+  io::save_gltf(body, glb);
   DaemonProcess daemon(directory, {"--token", "t0k", "--mannequin-vertices", "1000"});
   ASSERT_TRUE(daemon.running()) << daemon.log();
   // A second server with a store of its own: the package must upload to it again.
   fs::create_directories(directory / "other");
   DaemonProcess other(directory / "other", {"--token", "t0k", "--mannequin-vertices", "1000"});
   ASSERT_TRUE(other.running()) << other.log();
-  const std::size_t joints =
-      mannequin::make_mannequin({.target_vertices = 2500}).skeleton.joints.size();
+  const std::size_t joints = body.skeleton.joints.size();
   const std::vector<glm::quat> rotations = bent_rotations(joints);
   const std::vector<protocol::Quat> wire = to_wire(rotations);
   {

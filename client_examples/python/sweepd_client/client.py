@@ -178,10 +178,10 @@ class Client:
         them: a server that holds the model, or shares a store with one that does, answers at
         once; one that answers UnknownModel gets the bytes (as client/model_source.h does)."""
         if not isinstance(glb, (bytes, bytearray, memoryview)):
-            path = str(glb)
+            path = os.fspath(glb)
             with open(path, "rb") as file:
                 glb = file.read()
-            name = name or path.rsplit("/", 1)[-1]
+            name = name or os.path.basename(path)
         name, glb = name or "upload.glb", bytes(glb)
         curve = _choice(ORIENTATIONS, orientation, "orientation")
         key = (hashlib.sha256(glb).digest(), name, curve)
@@ -241,9 +241,7 @@ class Client:
         """One pose → Posed: `rotations` (None: the rest pose) and `root` (the root joint's
         translation, None: at rest); or, with clip=, the clip's `frame` (an index) or `time`
         (seconds; `fps` overrides the clip's rate, `loop` wraps past its end)."""
-        if clip is not None and (frame is None) == (time is None):
-            raise SweepdError("a clip pose takes one of frame= and time=")
-        frames = [(rotations, root) if clip is None else frame if time is None else float(time)]
+        frames = [(rotations, root) if clip is None else _clip_point(frame, time)]
         return next(self.poses(model, frames, clip=clip, loop=loop, fps=fps, method=method,
                                features=features, float16=float16, normals=normals))
 
@@ -319,10 +317,8 @@ class Client:
             pose = self._add_pose(builder, model_id, output, self._rotations(model_id, rotations),
                                   root)
         else:
-            if (frame is None) == (time is None):
-                raise SweepdError("a clip pose takes one of frame= and time=")
-            clip_frame = _add_clip_frame(builder, self._clip_id(clip),
-                                         frame if time is None else float(time), loop, fps)
+            clip_frame = _add_clip_frame(builder, self._clip_id(clip), _clip_point(frame, time),
+                                         loop, fps)
             pose = self._add_pose(builder, model_id, output)
         PositionMapRequest.Start(builder)
         PositionMapRequest.AddPose(builder, pose)
@@ -491,6 +487,13 @@ def _quaternions(rotations):
         raise SweepdError(f"rotations: shape {rotations.shape}, expected (joints, 4) "
                           "quaternions x, y, z, w")
     return rotations
+
+
+def _clip_point(frame, time):
+    """A clip pose's frame index (int) or time in seconds (float): exactly one is given."""
+    if (frame is None) == (time is None):
+        raise SweepdError("a clip pose takes one of frame= and time=")
+    return frame if time is None else float(time)
 
 
 def _add_clip_frame(builder, clip_id, frame, loop, fps):
