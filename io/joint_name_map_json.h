@@ -10,6 +10,8 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
+#include <string_view>
 
 #include "motion/joint_name_map.h"
 
@@ -17,5 +19,9 @@ namespace sweepd::io {
 
 // Throws LoadError naming the file: not JSON, not an object, a value neither a string nor null.
 motion::JointNameMap load_joint_name_map_json(const std::filesystem::path& path);
+
+// The same from JSON text (UploadClip.joint_name_map): `source` names it in errors and becomes
+// the map's source.
+motion::JointNameMap parse_joint_name_map_json(std::string_view text, const std::string& source);
 
 }  // namespace sweepd::io

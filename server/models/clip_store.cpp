@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "io/bvh_load.h"
+#include "io/joint_name_map_json.h"
 #include "io/load_error.h"
 #include "server/models/content_id.h"
 
@@ -18,15 +19,16 @@ std::shared_ptr<const motion::Retargeter> HeldClip::retargeter(const ModelHandle
   }
   // Built outside the lock (milliseconds: rig maps of both skeletons, the model's floor); two
   // first requests at once build it twice and keep the first.
-  auto built = std::make_shared<const motion::Retargeter>(clip_, model->bound.model);
+  auto built = std::make_shared<const motion::Retargeter>(clip_, model->bound.model, name_map_);
   const std::lock_guard lock(mutex_);
   return retargeted_.try_emplace(model.get(), Retargeted{model, std::move(built)})
       .first->second.retargeter;
 }
 
 std::variant<ClipHandle, RequestError> ClipStore::add(const std::string& name, std::string_view bvh,
-                                                      float length_scale) {
-  const std::string id = clip_content_id(bvh, length_scale);
+                                                      float length_scale,
+                                                      std::string_view joint_name_map) {
+  const std::string id = clip_content_id(bvh, length_scale, joint_name_map);
   {
     const std::lock_guard lock(mutex_);
     if (auto held = clips_.find(id); held != clips_.end()) return held->second;
@@ -37,6 +39,14 @@ std::variant<ClipHandle, RequestError> ClipStore::add(const std::string& name, s
     return RequestError{protocol::ErrorCode::InvalidArgument, "clip '" + name + "': length_scale " +
                                                                   std::to_string(length_scale) +
                                                                   " must be finite and > 0"};
+  motion::JointNameMap name_map;
+  try {
+    if (!joint_name_map.empty())
+      name_map =
+          io::parse_joint_name_map_json(joint_name_map, "clip '" + name + "' joint_name_map");
+  } catch (const std::exception& error) {
+    return RequestError{protocol::ErrorCode::InvalidArgument, error.what()};
+  }
   motion::Clip clip;
   try {
     clip = io::parse_bvh(bvh, name, {.length_scale = length_scale});
@@ -46,7 +56,8 @@ std::variant<ClipHandle, RequestError> ClipStore::add(const std::string& name, s
   } catch (const std::exception& error) {
     return RequestError{protocol::ErrorCode::ClipLoadFailed, error.what()};
   }
-  auto held = std::make_shared<const HeldClip>(id, name, std::move(clip), bvh.size());
+  auto held =
+      std::make_shared<const HeldClip>(id, name, std::move(clip), std::move(name_map), bvh.size());
   const std::lock_guard lock(mutex_);
   if (auto again = clips_.find(id); again != clips_.end()) return again->second;  // raced
   if (std::string problem = room_problem(bvh.size()); !problem.empty())

@@ -2,15 +2,17 @@
 // protocol 1.4), in memory only — a restart or another replica answers UnknownClip and the
 // client uploads again (a clip is a few MB of text: cheaper to send again than to store).
 //
-// add(name, bvh, length_scale): the clip named by clip_content_id(bvh, length_scale). Text the
-//   store already holds is answered with the held clip, nothing parsed and nothing counted.
-//   Otherwise the text is read (io::parse_bvh) and held, unless that would pass max_clips
-//   clips or max_bytes BVH bytes in all (ClipLimit, saying which limit and how full), or the
-//   text is not a usable BVH (ClipLoadFailed with the reader's line and reason; a clip with no
-//   joints or no frames too). Thread-safe; parses outside the lock.
+// add(name, bvh, length_scale, joint_name_map): the clip named by clip_content_id of the three.
+//   Text the store already holds is answered with the held clip, nothing parsed and nothing
+//   counted. Otherwise the text is read (io::parse_bvh) and held, unless that would pass
+//   max_clips clips or max_bytes BVH bytes in all (ClipLimit, saying which limit and how full),
+//   or the text is not a usable BVH (ClipLoadFailed with the reader's line and reason; a clip
+//   with no joints or no frames too), or the joint name map is not a JSON object of names
+//   (InvalidArgument with the reason). Thread-safe; parses outside the lock.
 // find(clip_id): the held clip, or nullptr. Thread-safe.
 // HeldClip::retargeter(model): the clip retargeted onto a held model (motion::Retargeter on
-//   the model's own mesh, exactly as `sweepctl pose --bvh` builds it, so a frame of it equals
+//   the model's own mesh with the clip's joint name map, exactly as `sweepctl pose --bvh
+//   [--bvh-map]` builds it, so a frame of it equals
 //   that command's frame bit for bit), built on first use per model and kept while the model
 //   is (an edited model is a new one). Thread-safe. Each retargeter keeps its own copy of the
 //   frames: memory is about (1 + models posed with it) × the frames' floats per clip.
@@ -35,8 +37,13 @@ namespace sweepd::server {
 
 class HeldClip {
  public:
-  HeldClip(std::string id, std::string name, motion::Clip clip, std::size_t bvh_bytes)
-      : id_(std::move(id)), name_(std::move(name)), clip_(std::move(clip)), bytes_(bvh_bytes) {}
+  HeldClip(std::string id, std::string name, motion::Clip clip, motion::JointNameMap name_map,
+           std::size_t bvh_bytes)
+      : id_(std::move(id)),
+        name_(std::move(name)),
+        clip_(std::move(clip)),
+        name_map_(std::move(name_map)),
+        bytes_(bvh_bytes) {}
 
   const std::string& id() const { return id_; }
   const std::string& name() const { return name_; }
@@ -52,6 +59,7 @@ class HeldClip {
   };
   const std::string id_, name_;
   const motion::Clip clip_;
+  const motion::JointNameMap name_map_;
   const std::size_t bytes_;
   mutable std::mutex mutex_;
   mutable std::map<const RegisteredModel*, Retargeted> retargeted_;
@@ -65,7 +73,8 @@ class ClipStore {
       : max_clips_(max_clips), max_bytes_(max_bytes) {}
 
   std::variant<ClipHandle, RequestError> add(const std::string& name, std::string_view bvh,
-                                             float length_scale);
+                                             float length_scale,
+                                             std::string_view joint_name_map = {});
   ClipHandle find(std::string_view clip_id) const;
 
  private:

@@ -55,10 +55,14 @@ std::string described_content_id(std::string_view description) {
   return sha256_hex({bytes_of("sweepd model v1: described"), bytes_of(description)});
 }
 
-std::string clip_content_id(std::string_view bvh, float length_scale) {
+std::string clip_content_id(std::string_view bvh, float length_scale,
+                            std::string_view joint_name_map) {
   char scale[32];
   std::snprintf(scale, sizeof scale, "length_scale=%a", static_cast<double>(length_scale));
-  return sha256_hex({bytes_of("sweepd clip v1: BVH, options"), bytes_of(bvh), bytes_of(scale)});
+  if (joint_name_map.empty())  // the ids of clips without a map are those of protocol 1.4
+    return sha256_hex({bytes_of("sweepd clip v1: BVH, options"), bytes_of(bvh), bytes_of(scale)});
+  return sha256_hex({bytes_of("sweepd clip v1: BVH, options"), bytes_of(bvh), bytes_of(scale),
+                     bytes_of("joint_name_map="), bytes_of(joint_name_map)});
 }
 
 std::uint32_t handle_of(std::string_view content_id) {

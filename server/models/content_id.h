@@ -10,8 +10,9 @@
 //   orientation: BindOptions.orientation, 0 = linear, which leaves the id as it was before).
 // described_content_id(description): the id of a model made by the server itself from a
 //   description (the procedural mannequin: "mannequin vertices=N").
-// clip_content_id(bvh, length_scale): the id of a motion clip (issue 18): the BVH text and the
-//   scale it is read with, so the same upload gives the same id on any replica.
+// clip_content_id(bvh, length_scale, joint_name_map): the id of a motion clip (issue 18): the
+//   BVH text and how it is read (scale, and the joint name map's JSON text when not empty), so
+//   the same upload gives the same id on any replica.
 // handle_of(content_id): the protocol's 32-bit model_id for it — its first 8 hex digits (0 is
 //   never given: it means "not loaded" on the wire). The same on every replica, so a handle a
 //   client got from one replica names the same model on another. Two ids with one handle are
@@ -29,7 +30,8 @@ namespace sweepd::server {
 std::string model_content_id(std::span<const std::uint8_t> source, std::string_view rig_map_json,
                              int keys_per_link, int orientation = 0);
 std::string described_content_id(std::string_view description);
-std::string clip_content_id(std::string_view bvh, float length_scale);
+std::string clip_content_id(std::string_view bvh, float length_scale,
+                            std::string_view joint_name_map = {});
 std::uint32_t handle_of(std::string_view content_id);
 bool is_content_id(std::string_view text);
 

@@ -451,13 +451,14 @@ void Connection::upload_clip(const pb::UploadClip& upload, std::uint64_t request
   auto text = std::make_shared<const std::string>(upload.bvh() ? upload.bvh()->str() : "");
   std::string name = upload.name() ? upload.name()->str() : "";
   const float length_scale = upload.length_scale();
+  std::string name_map = upload.joint_name_map() ? upload.joint_name_map()->str() : "";
   log_event("clip_upload_start",
             {{"connection", id()}, {"name", name}, {"upload_bytes", text->size()}});
   ++loads_running_;
   asio::post(environment_.workers, [self = shared_from_this(), text, name = std::move(name),
-                                    length_scale, request_id]() {
+                                    length_scale, name_map = std::move(name_map), request_id]() {
     std::variant<ClipHandle, RequestError> outcome =
-        self->environment_.clips.add(name, *text, length_scale);
+        self->environment_.clips.add(name, *text, length_scale, name_map);
     asio::post(self->stream_.get_executor(), [self, outcome = std::move(outcome), request_id]() {
       --self->loads_running_;
       if (const ClipHandle* clip = std::get_if<ClipHandle>(&outcome)) {

@@ -88,6 +88,13 @@ def main(port, token, glb, rotations_file, out, other_port, clip_file):
         expect_error(errors.InvalidArgument, lambda: sweepd.pose(body, clip=clip,
                                                                  frame=clip.frame_count))
         expect_error(errors.UnknownClip, lambda: sweepd.pose(body, clip="0" * 64, frame=0))
+        # A joint name map travels with the clip (1.5): the left forearm unmapped, the elbow
+        # stays at rest, so frame 100 moves differently (1 mm is far below the forearm's swing).
+        mapped = sweepd.upload_clip(clip_file, length_scale=0.056444,
+                                    joint_name_map={"LeftForeArm": None})
+        check(mapped.clip_id != clip.clip_id, "the map is part of the clip's id")
+        check(np.abs(sweepd.pose(body, clip=mapped, frame=100).positions
+                     - frame.positions).max() > 1e-3, "the map changes the pose")
         clip_map = sweepd.position_map(body, clip=clip, frame=100, width=64, height=64)
         check(clip_map[:4] == b"\x76\x2f\x31\x01", "a clip frame's position map")
 

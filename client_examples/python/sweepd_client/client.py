@@ -14,6 +14,7 @@ seconds.
 """
 
 import hashlib
+import json
 import os
 from time import monotonic_ns
 from dataclasses import dataclass, field
@@ -29,7 +30,7 @@ from sweepd.protocol import (BindOptions, Body, Bye, ClipFrame, ClipInfo, Deform
 from .connection import Connection, body_of, new_builder
 from .errors import ConnectionLost, SweepdError, Timeout, UnknownModel, server_error
 
-PROTOCOL_VERSION = (1, 4)
+PROTOCOL_VERSION = (1, 5)
 METHODS = {"sweep": DeformMethod.DeformMethod.Sweep, "lbs": DeformMethod.DeformMethod.Lbs,
            "dqs": DeformMethod.DeformMethod.Dqs}
 FEATURES = {"folding": Features.Features.Folding, "protrusion": Features.Features.Protrusion,
@@ -211,10 +212,12 @@ class Client:
                         reply.SkinJointsAsNumpy().reshape(-1, 4),
                         reply.SkinWeightsAsNumpy().reshape(-1, 4))
 
-    def upload_clip(self, bvh, name=None, length_scale=1.0):
+    def upload_clip(self, bvh, name=None, length_scale=1.0, joint_name_map=None):
         """Keeps a BVH clip on the server (a path, or the BVH text itself) and returns its Clip.
-        length_scale multiplies the clip's lengths (CMU's inches to metres: 0.056444). The
-        server retargets the clip onto each model it poses (as `sweepctl pose --bvh` does)."""
+        length_scale multiplies the clip's lengths (CMU's inches to metres: 0.056444).
+        joint_name_map: {clip joint: model joint or None} where names and rig roles do not say
+        (as `sweepctl --bvh-map`; protocol 1.5). The server retargets the clip onto each model
+        it poses (as `sweepctl pose --bvh` does)."""
         if isinstance(bvh, os.PathLike) or "\n" not in bvh:
             path = os.fspath(bvh)
             with open(path, encoding="utf-8") as file:
@@ -223,17 +226,21 @@ class Client:
         builder = new_builder(1024 + len(bvh))
         text = builder.CreateString(bvh)
         label = builder.CreateString(name or "clip.bvh")
+        name_map = (builder.CreateString(json.dumps(joint_name_map)) if joint_name_map
+                    else None)
         UploadClip.Start(builder)
         UploadClip.AddName(builder, label)
         UploadClip.AddBvh(builder, text)
         UploadClip.AddLengthScale(builder, length_scale)
+        if name_map is not None:
+            UploadClip.AddJointNameMap(builder, name_map)
         self._send(builder, Body.Body.UploadClip, UploadClip.End(builder))
         info = self._expect(ClipInfo.ClipInfo)
         clip = Clip(_text(info.ClipId()), _text(info.Name()), info.FrameCount(),
                     info.FramesPerSecond(), info.JointCount(),
                     [_text(info.Warnings(i)) for i in range(info.WarningsLength())])
         self._clips.add(clip.clip_id)
-        Client._clip_sources[clip.clip_id] = (bvh, name, length_scale)
+        Client._clip_sources[clip.clip_id] = (bvh, name, length_scale, joint_name_map)
         return clip
 
     def pose(self, model, rotations=None, root=None, *, clip=None, frame=None, time=None,
@@ -437,8 +444,7 @@ class Client:
         replica lacks them; the same text gives the same id)."""
         clip_id = clip.clip_id if isinstance(clip, Clip) else str(clip)
         if clip_id not in self._clips and clip_id in Client._clip_sources:
-            bvh, name, length_scale = Client._clip_sources[clip_id]
-            self.upload_clip(bvh, name, length_scale)
+            self.upload_clip(*Client._clip_sources[clip_id])
         return clip_id
 
     @staticmethod

@@ -49,7 +49,14 @@ class UploadClip(object):
             return self._tab.Get(flatbuffers.number_types.Float32Flags, o + self._tab.Pos)
         return 1.0
 
-def UploadClipStart(builder): builder.StartObject(3)
+    # UploadClip
+    def JointNameMap(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(10))
+        if o != 0:
+            return self._tab.String(o + self._tab.Pos)
+        return None
+
+def UploadClipStart(builder): builder.StartObject(4)
 def Start(builder):
     return UploadClipStart(builder)
 def UploadClipAddName(builder, name): builder.PrependUOffsetTRelativeSlot(0, flatbuffers.number_types.UOffsetTFlags.py_type(name), 0)
@@ -61,6 +68,9 @@ def AddBvh(builder, bvh):
 def UploadClipAddLengthScale(builder, lengthScale): builder.PrependFloat32Slot(2, lengthScale, 1.0)
 def AddLengthScale(builder, lengthScale):
     return UploadClipAddLengthScale(builder, lengthScale)
+def UploadClipAddJointNameMap(builder, jointNameMap): builder.PrependUOffsetTRelativeSlot(3, flatbuffers.number_types.UOffsetTFlags.py_type(jointNameMap), 0)
+def AddJointNameMap(builder, jointNameMap):
+    return UploadClipAddJointNameMap(builder, jointNameMap)
 def UploadClipEnd(builder): return builder.EndObject()
 def End(builder):
     return UploadClipEnd(builder)
