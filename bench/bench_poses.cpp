@@ -6,6 +6,7 @@
 
 #include "client/model_skeleton.h"
 #include "io/bvh_load.h"
+#include "motion/retarget.h"
 
 namespace sweepd::bench {
 
@@ -14,8 +15,10 @@ namespace pb = sweepd::protocol;
 std::vector<BenchPose> clip_poses(const pb::ModelInfo& info, int count) {
   const std::filesystem::path clip =
       std::filesystem::path(SWEEPD_SHARED_DATA) / "motion" / "cmu_01_01.bvh";
-  const motion::Retargeter retargeter =
-      client::retarget_onto(info, io::load_bvh(clip, {.length_scale = 0.056444f}));
+  // Retargeted here with the library (the benchmarks time the server's Pose path, so they send
+  // rotations), onto the skeleton and floor that ModelInfo carries.
+  const motion::Retargeter retargeter(io::load_bvh(clip, {.length_scale = 0.056444f}),
+                                      client::rest_skeleton(info), {}, info.floor_height());
   std::vector<BenchPose> poses;
   for (int i = 0; i < count; ++i) {
     BenchPose p;

@@ -1,7 +1,7 @@
 // What the network benchmarks (server_bench, fleet_bench) send and how they summarise times.
 //
 // clip_poses(info, count): `count` frames spread over CMU clip 01_01, retargeted client-side
-//   onto the served model (client::retarget_onto on its ModelInfo), each as the wire's
+//   onto the served model (motion::Retargeter on its ModelInfo's skeleton), each as the wire's
 //   rotations and root translation and as the library's Pose.
 // send_pose(connection, model_id, sequence, pose): one Pose frame, float32 positions asked.
 // percentile(values, q): the q-quantile (0..1) by rank, NaN for none.

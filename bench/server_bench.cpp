@@ -18,7 +18,7 @@
 //      frames, clients that never read, garbage) → the honest round trip p50 / p99 and the
 //      ratio with / without (issue 16's target: p99 ≤ 2×). The daemon runs with
 //      --max-connections 96 so that this scene measures service, not admission.
-// The poses are frames of CMU clip 01_01 retargeted client-side (client::retarget_onto).
+// The poses are frames of CMU clip 01_01 retargeted by the bench (bench_poses.h).
 // Prints a Markdown table for the README; the issue's targets are p50 ≤ 2 ms, p99 ≤ 5 ms,
 // ≥ 1000 poses/s, ratio ≤ 2. Exit code 1 when the daemon or the data cannot be had, 2 for a
 // bad command line (--help lists the flags).

@@ -6,8 +6,8 @@
 #include <iterator>
 #include <stdexcept>
 
+#include "client/clip_upload.h"
 #include "client/mesh_request.h"
-#include "client/model_skeleton.h"
 #include "io/bvh_load.h"
 #include "io/pose_json.h"
 
@@ -115,13 +115,15 @@ RemotePosedModel::RemotePosedModel(const PosingArguments& arguments, const Serve
         builder, pb::CreateLoadModel(builder, builder.CreateString(name), bytes, rig)));
     const pb::ModelInfo& info = connection_.expect<pb::ModelInfo>();
     model_id_ = info.model_id();
-    if (!arguments.bvh.empty()) {
-      retargeter_.emplace(client::retarget_onto(info, io::load_bvh(arguments.bvh),
-                                                load_joint_name_map(arguments.bvh_map)));
-      require_clip_frames(arguments, retargeter_->frame_count());
-    }
     model_ = client::served_model(connection_, info);    // `info` is invalid from here on
     if (local_file) model_.name = file.stem().string();  // as the local commands name it
+    if (!arguments.bvh.empty()) {
+      const pb::ClipInfo& clip = client::upload_clip(
+          connection_, arguments.bvh.filename().string(), read_text(arguments.bvh), 1.0f,
+          arguments.bvh_map.empty() ? "" : read_text(arguments.bvh_map));
+      clip_id_ = clip.clip_id()->str();
+      require_clip_frames(arguments, static_cast<int>(clip.frame_count()));
+    }
     if (!arguments.pose_file.empty())
       file_pose_ = io::load_pose_json(arguments.pose_file, model_.skeleton);
   } catch (const client::ServerError& error) {
@@ -137,7 +139,10 @@ RemotePosedModel::~RemotePosedModel() {
   }
 }
 
-deform::Pose RemotePosedModel::pose(int frame) const {
+deform::Pose RemotePosedModel::pose(int frame) {
+  if (!clip_id_.empty() && !retargeter_)
+    retargeter_.emplace(io::load_bvh(arguments_.bvh), model_,
+                        load_joint_name_map(arguments_.bvh_map));
   if (retargeter_) return retargeter_->pose_at_frame(frame);
   if (file_pose_) return *file_pose_;
   return deform::rest_pose(model_.skeleton);
@@ -175,7 +180,45 @@ void RemotePosedModel::deform_pose(const deform::Pose& pose, deform::DeformMetho
   flatbuffers::FlatBufferBuilder& builder = connection_.builder();
   builder.Clear();
   connection_.send(pb::finish_message(builder, pb::add_pose(builder, fields)));
-  const pb::PosedVertices& reply = reply_as<pb::PosedVertices>();
+  copy_vertices(reply_as<pb::PosedVertices>(), positions, normals);
+}
+
+void RemotePosedModel::deform(int frame, std::vector<glm::vec3>& positions,
+                              std::vector<glm::vec3>& normals) {
+  if (clip_id_.empty()) {
+    deform_pose(pose(frame), arguments_.method, features(arguments_), positions, normals);
+    return;
+  }
+  pb::PoseFields fields = frame_fields(frame);
+  fields.normals = true;
+  flatbuffers::FlatBufferBuilder& builder = connection_.builder();
+  builder.Clear();
+  const auto request =
+      pb::CreatePoseFromClip(builder, pb::add_pose(builder, fields), clip_frame(builder, frame));
+  connection_.send(pb::finish_message(builder, request));
+  copy_vertices(reply_as<pb::PosedVertices>(), positions, normals);
+}
+
+pb::PoseFields RemotePosedModel::frame_fields(int frame) {
+  if (clip_id_.empty()) return pose_fields(pose(frame), arguments_.method, features(arguments_));
+  pb::PoseFields fields;
+  fields.model_id = model_id_;
+  fields.sequence = ++sequence_;
+  fields.method = wire_method(arguments_.method);
+  fields.features = features(arguments_);
+  return fields;
+}
+
+flatbuffers::Offset<pb::ClipFrame> RemotePosedModel::clip_frame(
+    flatbuffers::FlatBufferBuilder& builder, int frame) const {
+  if (clip_id_.empty()) return 0;
+  return pb::CreateClipFrame(builder, builder.CreateString(clip_id_),
+                             static_cast<std::uint32_t>(frame));
+}
+
+void RemotePosedModel::copy_vertices(const pb::PosedVertices& reply,
+                                     std::vector<glm::vec3>& positions,
+                                     std::vector<glm::vec3>& normals) const {
   positions.resize(model_.vertex_count());
   normals.resize(model_.vertex_count());
   if (reply.vertex_count() != model_.vertex_count() ||
@@ -188,16 +231,17 @@ void RemotePosedModel::deform_pose(const deform::Pose& pose, deform::DeformMetho
 
 std::vector<std::uint8_t> RemotePosedModel::position_map(int frame,
                                                          const RemoteMapOptions& options) {
-  pb::PoseFields fields = pose_fields(pose(frame), arguments_.method, features(arguments_));
+  pb::PoseFields fields = frame_fields(frame);
   fields.sequence = static_cast<std::uint64_t>(frame);  // the EXR header's "frame"
   const pb::MapLayers layers = pb::MapLayers::Position | pb::MapLayers::Coverage |
                                (options.normals ? pb::MapLayers::Normal : pb::MapLayers::NONE);
   const auto side = static_cast<std::uint32_t>(options.size);
   flatbuffers::FlatBufferBuilder& builder = connection_.builder();
   builder.Clear();
+  const auto pose = pb::add_pose(builder, fields);
   const auto request =
-      pb::CreatePositionMapRequest(builder, pb::add_pose(builder, fields), side, side,
-                                   options.compression, layers, options.half_normals);
+      pb::CreatePositionMapRequest(builder, pose, side, side, options.compression, layers,
+                                   options.half_normals, clip_frame(builder, frame));
   connection_.send(pb::finish_message(builder, request));
   const pb::PositionMap& reply = reply_as<pb::PositionMap>();
   return {reply.exr()->begin(), reply.exr()->end()};

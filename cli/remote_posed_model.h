@@ -4,8 +4,10 @@
 // MODEL is a local .glb/.gltf (uploaded with LoadModel, named by its file name; a model
 // already loaded under that name is reused) or, when no such file exists, the name of a model
 // on the server (e.g. "mannequin"). The model's mesh comes back with MeshRequest, so results
-// are written as the local commands write them; BVH clips and pose files are turned into
-// joint rotations here (client::retarget_onto), and each pose goes over the wire.
+// are written as the local commands write them. A BVH clip (with its --bvh-map) is uploaded
+// once (UploadClip) and each frame is asked for by number: the server retargets, as
+// `sweepctl pose --bvh` does locally. A pose file is turned into joint rotations here and goes
+// over the wire.
 // Errors (unreachable server, wrong token, unknown model, refused pose) throw with the
 // server's address, the protocol error code and its reason.
 #pragma once
@@ -49,17 +51,18 @@ class RemotePosedModel {
   const PosingArguments& arguments() const { return arguments_; }
   // How the model was found, for the command's report: "uploaded", "already loaded", "server".
   const std::string& origin() const { return origin_; }
-  // The pose of clip frame `frame` (or the pose file / rest pose without a clip).
-  deform::Pose pose(int frame) const;
+  // The pose of clip frame `frame` (or the pose file / rest pose without a clip), for
+  // measurements made here (`metrics --server`): a clip is then also retargeted here, with the
+  // library's Retargeter on the served model, as the server retargets it.
+  deform::Pose pose(int frame);
   // The server deforms `pose` with `method` and `features` (Sweep only): positions and
   // normals, vertex_count() each.
   void deform_pose(const deform::Pose& pose, deform::DeformMethod method,
                    protocol::Features features, std::vector<glm::vec3>& positions,
                    std::vector<glm::vec3>& normals);
-  // deform_pose with the arguments' pose of clip frame `frame`, method and features.
-  void deform(int frame, std::vector<glm::vec3>& positions, std::vector<glm::vec3>& normals) {
-    deform_pose(pose(frame), arguments_.method, features(arguments_), positions, normals);
-  }
+  // Clip frame `frame` (the server's clip) or the pose file / rest pose, deformed by the
+  // server with the arguments' method and features.
+  void deform(int frame, std::vector<glm::vec3>& positions, std::vector<glm::vec3>& normals);
   // The server's OpenEXR position map of clip frame `frame` (P, A and N when asked for; the
   // server's 4-texel gutter); the EXR header's frame is `frame`.
   std::vector<std::uint8_t> position_map(int frame, const RemoteMapOptions& options);
@@ -71,6 +74,15 @@ class RemotePosedModel {
   static protocol::Features features(const PosingArguments& arguments);
   protocol::PoseFields pose_fields(const deform::Pose& pose, deform::DeformMethod method,
                                    protocol::Features features);
+  // The pose fields of `frame`: with a clip, only the model, method and features (the clip
+  // gives the rest); else the pose's rotations.
+  protocol::PoseFields frame_fields(int frame);
+  // The clip frame `frame` in a request, or null without a clip.
+  flatbuffers::Offset<protocol::ClipFrame> clip_frame(flatbuffers::FlatBufferBuilder& builder,
+                                                      int frame) const;
+  // `reply`'s positions and normals into the caller's arrays; throws when they do not match.
+  void copy_vertices(const protocol::PosedVertices& reply, std::vector<glm::vec3>& positions,
+                     std::vector<glm::vec3>& normals) const;
   // The next reply as a Reply; a server Error throws with the address, code and reason.
   template <typename Reply>
   const Reply& reply_as();
@@ -80,7 +92,8 @@ class RemotePosedModel {
   std::uint32_t model_id_ = 0;
   std::string origin_;
   deform::Model model_;
-  std::optional<motion::Retargeter> retargeter_;
+  std::string clip_id_;                           // the server's id for --bvh, else empty
+  std::optional<motion::Retargeter> retargeter_;  // built by pose() for a clip, when asked
   std::optional<deform::Pose> file_pose_;
   std::vector<protocol::Quat> rotations_;  // wire scratch
   std::uint64_t sequence_ = 0;

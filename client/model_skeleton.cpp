@@ -1,7 +1,6 @@
 #include "client/model_skeleton.h"
 
 #include <stdexcept>
-#include <utility>
 
 namespace sweepd::client {
 
@@ -33,11 +32,6 @@ deform::Skeleton rest_skeleton(const protocol::ModelInfo& info) {
     throw std::runtime_error("ModelInfo's skeleton is unusable: " + problem);
   }
   return skeleton;
-}
-
-motion::Retargeter retarget_onto(const protocol::ModelInfo& info, motion::Clip clip,
-                                 const motion::JointNameMap& name_map) {
-  return motion::Retargeter(std::move(clip), rest_skeleton(info), name_map, info.floor_height());
 }
 
 }  // namespace sweepd::client

@@ -5,7 +5,7 @@
 //                 [--model NAME | --model-file F.glb] --bvh CLIP [--bvh-scale S]
 //                 --frames A-B [--shard I/N] -o DIR [--width W --height H]
 //                 [--compression zip|none|zips|piz] [--normals] [--half-normals]
-//                 [--method sweep|lbs|dqs] [--clip-on-server]
+//                 [--method sweep|lbs|dqs]
 //                 [--timeout SECONDS] [--attempts N]
 //
 // 1. Read the clip and check the range A-B (inclusive, 0-based) against its frames. With
@@ -16,10 +16,10 @@
 //    complete OpenEXR file is skipped; a truncated or corrupt one is removed and rendered again
 //    (said on stderr). With every frame complete no server is contacted.
 // 3. One thread per server (a list, or one address behind HAProxy): connect, Hello, choose the
-//    model (--model NAME, default "mannequin", or upload --model-file), retarget the clip onto
-//    the skeleton ModelInfo carries (or, with --clip-on-server, upload the BVH text once with
-//    UploadClip, client/clip_upload.h, and let the server retarget: each frame is then asked
-//    for by clip id and frame number, not as a pose), then take frames from one shared queue
+//    model (--model NAME, default "mannequin", or upload --model-file), upload the BVH text
+//    once with UploadClip (client/clip_upload.h) so that the server retargets it (each frame
+//    is asked for by clip id and frame number, not as a pose), then take frames from one
+//    shared queue
 //    (client/frame_queue.h), up to the server's Welcome.max_poses_in_flight in flight. The
 //    model goes by its content id after the first server's answer (client/model_source.h):
 //    a replica sharing the store finds it there; one that answers UnknownModel (or
@@ -70,7 +70,6 @@
 #include "client/connection.h"
 #include "client/frame_queue.h"
 #include "client/frame_shard.h"
-#include "client/model_skeleton.h"
 #include "client/model_source.h"
 #include "client/token_flags.h"
 #include "console/command_line.h"
@@ -98,7 +97,6 @@ struct Options {
   pb::ExrCompression compression = pb::ExrCompression::Zip;
   pb::DeformMethod method = pb::DeformMethod::Sweep;
   bool normals = false, half_normals = false;
-  bool clip_on_server = false;  // UploadClip once per connection, then frames by number
   int timeout_ms = 60000, attempts = 3;
   sweepd::client::ClientTls tls;
 };
@@ -140,9 +138,6 @@ void describe(CLI::App& app, Options& o) {
                                                            {"lbs", pb::DeformMethod::Lbs},
                                                            {"dqs", pb::DeformMethod::Dqs}};
   sweepd::console::add_choice(app, "--method", o.method, methods, "sweep (default), lbs or dqs");
-  app.add_flag("--clip-on-server", o.clip_on_server,
-               "upload the clip to each server once and ask for frames by number: the server "
-               "retargets (protocol 1.4)");
   app.add_option_function<int>(
          "--timeout", [&o](int seconds) { o.timeout_ms = seconds * 1000; },
          "SECONDS a server may take to answer before its frames go elsewhere (default 60)")
@@ -239,8 +234,7 @@ class Progress {
 // What every server thread reads.
 struct Job {
   const Options& options;
-  const sweepd::motion::Clip& motion;
-  const std::string& bvh_text;         // the clip file's text with --clip-on-server, else empty
+  const std::string& bvh_text;         // the clip file's text, uploaded to each server
   sweepd::client::ModelSource& model;  // uploaded only to servers that lack it
   sweepd::client::FrameQueue& queue;
   Progress& progress;
@@ -319,16 +313,11 @@ class ServerSession {
           std::max(1u, channel_.hello(job.options.token, "render_frames").max_poses_in_flight());
       const pb::ModelInfo& info = job.model.load(channel_);
       model_id_ = info.model_id();
-      joint_count_ = info.joint_names()->size();
-      if (job.options.clip_on_server) {
-        clip_id_ =
-            sweepd::client::upload_clip(channel_, fs::path(job.options.bvh).filename().string(),
-                                        job.bvh_text, job.options.bvh_scale)
-                .clip_id()
-                ->str();
-      } else {
-        clip_.emplace(sweepd::client::retarget_onto(info, job.motion));
-      }
+      clip_id_ =
+          sweepd::client::upload_clip(channel_, fs::path(job.options.bvh).filename().string(),
+                                      job.bvh_text, job.options.bvh_scale)
+              .clip_id()
+              ->str();
     } catch (const sweepd::client::ServerError& error) {
       if (meaning_of(error.code()) == ErrorMeaning::kServerBusy) throw;
       throw ServerUnfit(error.what());
@@ -387,33 +376,20 @@ class ServerSession {
   }
 
  private:
-  // A PositionMapRequest for `frame`: the retargeted pose, or with --clip-on-server the held
-  // clip's frame number (the pose then names only the model and method).
+  // A PositionMapRequest for `frame`: the held clip's frame number (the pose names only the
+  // model and method).
   void send_frame(int frame) {
     pb::PoseFields fields;
     fields.model_id = model_id_;
     fields.sequence = static_cast<std::uint64_t>(frame) + 1;  // sequences start at 1
     fields.method = job_.options.method;
-    if (clip_) {
-      const sweepd::deform::Pose pose = clip_->pose_at_frame(frame);
-      rotations_.resize(joint_count_);
-      for (std::size_t j = 0; j < joint_count_; ++j) {
-        const glm::quat& q = pose.local_rotations[j];
-        rotations_[j] = pb::Quat(q.x, q.y, q.z, q.w);
-      }
-      fields.rotations = rotations_;
-      fields.root_translation =
-          pb::Vec3(pose.root_translation.x, pose.root_translation.y, pose.root_translation.z);
-    }
     flatbuffers::FlatBufferBuilder& builder = channel_.builder();
     builder.Clear();
     auto layers = pb::MapLayers::Position | pb::MapLayers::Coverage;
     if (job_.options.normals || job_.options.half_normals) layers = layers | pb::MapLayers::Normal;
     const auto pose = pb::add_pose(builder, fields);
-    const auto clip = clip_id_.empty()
-                          ? 0
-                          : pb::CreateClipFrame(builder, builder.CreateString(clip_id_),
-                                                static_cast<std::uint32_t>(frame));
+    const auto clip = pb::CreateClipFrame(builder, builder.CreateString(clip_id_),
+                                          static_cast<std::uint32_t>(frame));
     const auto request = pb::CreatePositionMapRequest(builder, pose, job_.options.width,
                                                       job_.options.height, job_.options.compression,
                                                       layers, job_.options.half_normals, clip);
@@ -423,10 +399,7 @@ class ServerSession {
   const Job& job_;
   sweepd::client::Connection channel_;
   std::uint32_t window_ = 1, model_id_ = 0;
-  std::size_t joint_count_ = 0;
-  std::optional<sweepd::motion::Retargeter> clip_;  // retargeted here, or
-  std::string clip_id_;                             // the server's clip (--clip-on-server)
-  std::vector<pb::Quat> rotations_;                 // one frame's, reused
+  std::string clip_id_;  // the server's id for the clip
 };
 
 // One server's thread: sessions until the queue has ended, connecting again after a failure
@@ -508,10 +481,13 @@ std::optional<sweepd::motion::FrameRange> own_frames(const Options& options,
 }
 
 int run(const Options& options) {
-  const sweepd::motion::Clip motion =
-      sweepd::io::load_bvh(options.bvh, {.length_scale = options.bvh_scale});
-  const sweepd::motion::FrameRange range = clip_range(options.frames, motion.frame_count);
-  const std::string bvh_text = options.clip_on_server ? text_of(options.bvh) : std::string();
+  // The clip is read here only for its frame count: the range is checked, and complete frames
+  // skipped, before any server is asked.
+  const std::string bvh_text = text_of(options.bvh);
+  const sweepd::motion::FrameRange range =
+      clip_range(options.frames,
+                 sweepd::io::parse_bvh(bvh_text, options.bvh, {.length_scale = options.bvh_scale})
+                     .frame_count);
   const std::vector<std::string> servers = sweepd::console::split_list(options.server);
   if (servers.empty()) throw UsageError("--server: expected HOST:PORT[,HOST:PORT...]");
   const std::optional<sweepd::motion::FrameRange> mine = own_frames(options, range);
@@ -541,7 +517,7 @@ int run(const Options& options) {
             ? sweepd::client::ModelSource(options.model, {})
             : sweepd::client::ModelSource(options.model_file, file_bytes(options.model_file));
     Progress progress("rendering " + fs::path(options.bvh).stem().string(), skipped, total);
-    const Job job{options, motion, bvh_text, model, queue, progress};
+    const Job job{options, bvh_text, model, queue, progress};
     std::vector<std::thread> threads;
     for (std::size_t s = 0; s < servers.size(); ++s)
       threads.emplace_back([&, s] { rendered_by[s] = serve(servers[s], job); });

@@ -6,17 +6,17 @@
 //
 // 1. Connect, Hello (with the token; LatestWins if asked), read Welcome.
 // 2. Choose the model: --model-file uploads a .glb (LoadModel with bytes); otherwise the
-//    server's default "mannequin" (LoadModel by name). ModelInfo gives the joint order.
-// 3. Stream the clip: every frame's joint rotations in model order, at the clip's frame rate
-//    or --flat-out (as fast as the server answers, up to Welcome.max_poses_in_flight queued).
-// 4. Print poses sent/answered/dropped/errors, round-trip latency percentiles, and the
+//    server's default "mannequin" (LoadModel by name).
+// 3. Upload the clip's text once (UploadClip, client/clip_upload.h): the server reads it and
+//    retargets it onto the model, so this client needs no skeleton and no retargeter.
+// 4. Stream the clip: one PoseFromClip per frame, naming the clip and the frame number, at the
+//    clip's frame rate or --flat-out (as fast as the server answers, up to
+//    Welcome.max_poses_in_flight queued).
+// 5. Print poses sent/answered/dropped/errors, round-trip latency percentiles, and the
 //    server's own deformation time for the model (from Stats), to show the overhead.
 //
 // The wire is the protocol alone (protocol/, with the blocking connection of client/).
-// Turning BVH frames into local joint rotations needs the model's rest skeleton: ModelInfo
-// carries it (protocol 1.1), and the project's io library reads and retargets the clip
-// (io::load_bvh, client::retarget_onto). CMU clips are in inches: --bvh-scale defaults to
-// 0.056444 (CMU units to metres).
+// CMU clips are in inches: --bvh-scale defaults to 0.056444 (CMU units to metres).
 // Exit codes: 0 every pose answered (or --help); 1 pose errors; 2 a bad command line (naming
 // the flag: --port 12x) or a failure (unreachable server, refused, unreadable clip).
 #include <algorithm>
@@ -24,6 +24,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <mutex>
@@ -33,11 +34,10 @@
 #include <vector>
 
 #include "client/client_tls_flags.h"
+#include "client/clip_upload.h"
 #include "client/connection.h"
-#include "client/model_skeleton.h"
 #include "client/token_flags.h"
 #include "console/command_line.h"
-#include "io/bvh_load.h"
 #include "protocol/messages.h"
 
 namespace {
@@ -75,6 +75,13 @@ void describe(CLI::App& app, Options& o) {
   app.add_flag("--float16", o.float16, "positions as float16 on the wire");
 }
 
+// A file's bytes, whole.
+std::string file_bytes(const std::string& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot read " + file);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
 double percentile_ms(std::vector<double> values, double q) {
   if (values.empty()) return 0.0;
   std::sort(values.begin(), values.end());
@@ -90,22 +97,24 @@ int run(const Options& options) {
           .max_poses_in_flight();
 
   // The model: upload a .glb, or use the server's default mannequin.
-  std::vector<std::uint8_t> glb;
-  if (!options.model_file.empty()) {
-    std::ifstream in(options.model_file, std::ios::binary);
-    if (!in) throw std::runtime_error("cannot read " + options.model_file);
-    glb.assign(std::istreambuf_iterator<char>(in), {});
-  }
+  const std::string glb = options.model_file.empty() ? "" : file_bytes(options.model_file);
   const pb::ModelInfo& info =
-      channel.load_model(options.model_file.empty() ? "mannequin" : options.model_file, glb);
+      channel.load_model(options.model_file.empty() ? "mannequin" : options.model_file,
+                         {reinterpret_cast<const std::uint8_t*>(glb.data()), glb.size()});
   const std::uint32_t model_id = info.model_id();
-  const sweepd::motion::Retargeter clip = sweepd::client::retarget_onto(
-      info, sweepd::io::load_bvh(options.bvh, {.length_scale = options.bvh_scale}));
-  const std::size_t joint_count = info.joint_names()->size();
-  std::printf("model %u: %u vertices, %zu joints\n", model_id, info.vertex_count(), joint_count);
+  std::printf("model %u: %u vertices, %u joints\n", model_id, info.vertex_count(),
+              info.joint_names()->size());
+  // `info` is invalid from the next receive on.
+  const pb::ClipInfo& clip =
+      sweepd::client::upload_clip(channel, std::filesystem::path(options.bvh).filename().string(),
+                                  file_bytes(options.bvh), options.bvh_scale);
+  const std::string clip_id = clip.clip_id()->str();
+  const double frame_time = 1.0 / clip.frames_per_second();
+  const int clip_frames = static_cast<int>(clip.frame_count());
+  std::printf("clip %s: %d frames at %.0f fps\n", clip.name()->c_str(), clip_frames,
+              clip.frames_per_second());
 
-  const int frames =
-      options.frames > 0 ? std::min(options.frames, clip.frame_count()) : clip.frame_count();
+  const int frames = options.frames > 0 ? std::min(options.frames, clip_frames) : clip_frames;
 
   // Replies are read on their own thread; `slots` bounds the poses in flight.
   std::counting_semaphore<1 << 16> slots(static_cast<std::ptrdiff_t>(window));
@@ -136,28 +145,22 @@ int run(const Options& options) {
 
   flatbuffers::FlatBufferBuilder& builder = channel.builder();
   const Clock::time_point start = Clock::now();
-  std::vector<pb::Quat> rotations(joint_count);
   for (int frame = 0; frame < frames; ++frame) {
     if (!options.flat_out) {
-      std::this_thread::sleep_until(
-          start + std::chrono::duration_cast<Clock::duration>(
-                      std::chrono::duration<double>(frame * double{clip.motion().frame_time})));
-    }
-    const sweepd::deform::Pose pose = clip.pose_at_frame(frame);
-    for (std::size_t j = 0; j < rotations.size(); ++j) {
-      const glm::quat& q = pose.local_rotations[j];
-      rotations[j] = pb::Quat(q.x, q.y, q.z, q.w);
+      std::this_thread::sleep_until(start + std::chrono::duration_cast<Clock::duration>(
+                                                std::chrono::duration<double>(frame * frame_time)));
     }
     pb::PoseFields fields;
     fields.model_id = model_id;
     fields.sequence = static_cast<std::uint64_t>(frame) + 1;
-    fields.rotations = rotations;
-    fields.root_translation =
-        pb::Vec3(pose.root_translation.x, pose.root_translation.y, pose.root_translation.z);
     fields.positions = options.float16 ? pb::PositionFormat::Float16 : pb::PositionFormat::Float32;
     if (!options.latest_wins) slots.acquire();  // LatestWins: the server drops, we never wait
     builder.Clear();
-    const auto frame_bytes = pb::finish_message(builder, pb::add_pose(builder, fields));
+    const auto pose = pb::add_pose(builder, fields);
+    const auto clip_frame = pb::CreateClipFrame(builder, builder.CreateString(clip_id),
+                                                static_cast<std::uint32_t>(frame));
+    const auto frame_bytes =
+        pb::finish_message(builder, pb::CreatePoseFromClip(builder, pose, clip_frame));
     sent_at[fields.sequence] = Clock::now();
     channel.send(frame_bytes);
   }

@@ -1,8 +1,8 @@
 // build_model_info: a ModelInfo reply for a registered model — joint names and parents in
 // model order (what Pose.rotations follow), vertex/triangle counts, UVs, a summary of the
 // binding (rig convention, sweeps, key ellipses, swept and skinned vertex counts), and the rest
-// skeleton with the mesh's floor, for client-side retargeting (client/model_skeleton.h).
-// Finishes `builder` as one frame carrying `request_id`.
+// skeleton with the mesh's floor, so a client holds the served model whole
+// (client/model_skeleton.h). Finishes `builder` as one frame carrying `request_id`.
 #pragma once
 
 #include <cstdint>

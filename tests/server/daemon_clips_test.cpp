@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <fstream>
 #include <map>
 
 #include "client/clip_upload.h"
@@ -176,6 +177,48 @@ TEST_F(DaemonClips, RotationsByNameOfAnyConventionLandOnTheModelsJoints) {
       << "named joints at their rotations, the others at rest: the same pose";
   EXPECT_TRUE(same_bits(served_by_name(model, vertex_count, unreal, bends), whole));
   EXPECT_TRUE(same_bits(served_by_name(model, vertex_count, mixamo, bends), whole));
+}
+
+TEST_F(DaemonClips, AJointNameMapTravelsWithTheClipAsSweepctlsBvhMap) {
+  // The left forearm left unmapped: the clip then does not bend the left elbow.
+  const fs::path map = path("forearm_unmapped.json");
+  std::ofstream(map) << R"({"LeftForeArm": null})";
+  const std::string frame = " --frame " + std::to_string(kClipFrame) + " -o ";
+  const std::string clip = " --bvh " + kClip.string();
+  const ClientRun local = run_sweepctl("pose " + kSharedMale.string() + clip + " --bvh-map " +
+                                       map.string() + frame + path("map_local.glb").string());
+  ASSERT_EQ(local.exit_code, 0) << local.output;
+  const ClientRun remote =
+      run_sweepctl(server() + " pose " + kSharedMale.string() + clip + " --bvh-map " +
+                   map.string() + frame + path("map_remote.glb").string());
+  ASSERT_EQ(remote.exit_code, 0) << remote.output << log();
+  EXPECT_TRUE(file_bytes(path("map_remote.glb")) == file_bytes(path("map_local.glb")))
+      << "the server applies the uploaded map as sweepctl applies --bvh-map: bit for bit";
+  const ClientRun unmapped = run_sweepctl("pose " + kSharedMale.string() + clip + frame +
+                                          path("unmapped_local.glb").string());
+  ASSERT_EQ(unmapped.exit_code, 0) << unmapped.output;
+  // 1 cm: the left forearm of frame 300 moves far more than that when the elbow bends (the
+  // check fails if the map were dropped on the way).
+  EXPECT_GT(metrics::largest_distance(io::load_gltf(path("map_local.glb")).positions,
+                                      io::load_gltf(path("unmapped_local.glb")).positions),
+            0.01);
+
+  // The map is part of the clip's id; a map that is not an object of names is named.
+  const std::string text = clip_text();
+  const std::string plain = client::upload_clip(*connection_, "a.bvh", text).clip_id()->str();
+  EXPECT_NE(client::upload_clip(*connection_, "a.bvh", text, 1.0f, R"({"LeftForeArm": null})")
+                .clip_id()
+                ->str(),
+            plain);
+  try {
+    client::upload_clip(*connection_, "a.bvh", text, 1.0f, R"({"LeftForeArm": 3})");
+    FAIL() << "a number for a joint name was accepted";
+  } catch (const client::ServerError& error) {
+    EXPECT_EQ(error.code(), pb::ErrorCode::InvalidArgument);
+    EXPECT_NE(std::string(error.what()).find("'LeftForeArm': expected a model joint name or null"),
+              std::string::npos)
+        << error.what();
+  }
 }
 
 }  // namespace

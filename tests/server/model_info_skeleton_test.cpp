@@ -1,5 +1,5 @@
-// ModelInfo carries the rest skeleton (protocol 1.1): a client rebuilds it exactly and
-// retargets a clip onto the served model as the library does from the model file.
+// ModelInfo carries the rest skeleton and floor (protocol 1.1): a client rebuilds them exactly,
+// so the served model is the model (a clip retargeted onto them moves as on the model file).
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -9,6 +9,7 @@
 #include "deform/rig/rig_map.h"
 #include "io/bvh_load.h"
 #include "io/gltf_load.h"
+#include "motion/retarget.h"
 #include "server/replies/model_info.h"
 
 namespace sweepd::test {
@@ -45,7 +46,7 @@ TEST(ModelInfoSkeleton, RebuildsTheMalesSkeletonAndRetargetsLikeTheLibrary) {
   // The same inputs (skeleton, floor, motion) → the same poses, bit for bit.
   const io::BvhOptions cmu{.length_scale = 0.056444f};
   const motion::Clip motion = io::load_bvh(data / "motion/cmu_01_01.bvh", cmu);
-  const motion::Retargeter remote = client::retarget_onto(info, motion);
+  const motion::Retargeter remote(motion, client::rest_skeleton(info), {}, info.floor_height());
   const motion::Retargeter local(motion, model);
   for (int frame : {0, 600, 1257}) {
     const deform::Pose a = remote.pose_at_frame(frame), b = local.pose_at_frame(frame);

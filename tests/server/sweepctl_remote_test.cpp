@@ -10,7 +10,6 @@
 #include <nlohmann/json.hpp>
 
 #include "client/connection.h"
-#include "client/model_skeleton.h"
 #include "deform/job/deform_job.h"
 #include "io/bvh_load.h"
 #include "io/gltf_load.h"
@@ -90,14 +89,15 @@ TEST_F(SweepctlRemote, ServerOnlyMannequinIsWrittenFromTheServedMesh) {
   ASSERT_EQ(remote.exit_code, 0) << remote.output << log();
   EXPECT_NE(remote.output.find("(server)"), std::string::npos) << remote.output;
 
-  // The same clip frame retargeted as a client does (from ModelInfo) and posed by the daemon
-  // directly; and posed by the library here on the daemon's stored binding.
+  // The same clip frame retargeted by the library here (sweepctl --server had the server
+  // retarget it: UploadClip) and posed by the daemon directly; and posed by the library here on
+  // the daemon's stored binding.
   const deform::BoundModel bound = io::load_sweepbind(stored_binding(path("store"), "mannequin"));
   client::Connection connection("127.0.0.1:" + std::to_string(port()));
   connection.hello(kToken, "sweepctl_remote_test");
+  connection.load_model("mannequin");
   const deform::Pose pose =
-      client::retarget_onto(connection.load_model("mannequin"), io::load_bvh(kClip))
-          .pose_at_frame(kClipFrame);
+      motion::Retargeter(io::load_bvh(kClip), bound.model).pose_at_frame(kClipFrame);
   const std::vector<protocol::Quat> rotations = to_wire(pose.local_rotations);
   protocol::PoseFields fields = pose_fields(mannequin_id(), 1, rotations);
   const glm::vec3& root = pose.root_translation;
