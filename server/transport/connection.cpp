@@ -455,8 +455,9 @@ void Connection::upload_clip(const pb::UploadClip& upload, std::uint64_t request
   log_event("clip_upload_start",
             {{"connection", id()}, {"name", name}, {"upload_bytes", text->size()}});
   ++loads_running_;
-  asio::post(environment_.workers, [self = shared_from_this(), text, name = std::move(name),
-                                    length_scale, name_map = std::move(name_map), request_id]() {
+  environment_.workers.post(fair_share_, [self = shared_from_this(), text, name = std::move(name),
+                                          length_scale, name_map = std::move(name_map),
+                                          request_id]() {
     std::variant<ClipHandle, RequestError> outcome =
         self->environment_.clips.add(name, *text, length_scale, name_map);
     asio::post(self->stream_.get_executor(), [self, outcome = std::move(outcome), request_id]() {
@@ -482,24 +483,24 @@ void Connection::upload_clip(const pb::UploadClip& upload, std::uint64_t request
 void Connection::change_model(std::uint64_t request_id, std::function<ModelChange()> change,
                               LogModelChange log_outcome) {
   ++loads_running_;
-  asio::post(environment_.workers,
-             [self = shared_from_this(), change = std::move(change), log_outcome, request_id]() {
-               ModelChange outcome = change();
-               asio::post(self->stream_.get_executor(),
-                          [self, outcome = std::move(outcome), log_outcome, request_id]() {
-                            --self->loads_running_;
-                            log_outcome(self->id(), outcome);
-                            if (const ModelHandle* model = std::get_if<ModelHandle>(&outcome)) {
-                              flatbuffers::FlatBufferBuilder builder = self->take_builder();
-                              build_model_info(builder, **model, request_id);
-                              self->send(std::move(builder));
-                            } else {
-                              const RequestError& error = std::get<RequestError>(outcome);
-                              self->send_error(error.code, error.message, 0, request_id);
-                            }
-                            self->process_input();
-                          });
-             });
+  environment_.workers.post(fair_share_, [self = shared_from_this(), change = std::move(change),
+                                          log_outcome, request_id]() {
+    ModelChange outcome = change();
+    asio::post(self->stream_.get_executor(),
+               [self, outcome = std::move(outcome), log_outcome, request_id]() {
+                 --self->loads_running_;
+                 log_outcome(self->id(), outcome);
+                 if (const ModelHandle* model = std::get_if<ModelHandle>(&outcome)) {
+                   flatbuffers::FlatBufferBuilder builder = self->take_builder();
+                   build_model_info(builder, **model, request_id);
+                   self->send(std::move(builder));
+                 } else {
+                   const RequestError& error = std::get<RequestError>(outcome);
+                   self->send_error(error.code, error.message, 0, request_id);
+                 }
+                 self->process_input();
+               });
+  });
 }
 
 // ---------------------------------------------------------------------------------------
@@ -520,8 +521,7 @@ void Connection::start_next_pose() {
   const bool waits_on_gpu = environment_.collision.backend() == gpu::CollisionBackend::kGpu &&
                             request->method == deform::DeformMethod::kSweep &&
                             request->features.collision();
-  asio::thread_pool& pool = waits_on_gpu ? environment_.gpu_waiters : environment_.workers;
-  asio::post(pool, [self = shared_from_this(), request, builder, dropped]() {
+  auto job = [self = shared_from_this(), request, builder, dropped]() {
     std::string failure;
     pb::ErrorCode code = pb::ErrorCode::Internal;
     std::uint64_t deform_ns = 0;
@@ -556,7 +556,12 @@ void Connection::start_next_pose() {
       self->process_input();
       self->close_if_done();
     });
-  });
+  };
+  if (waits_on_gpu) {
+    asio::post(environment_.gpu_waiters, std::move(job));
+  } else {
+    environment_.workers.post(fair_share_, std::move(job));
+  }
 }
 
 void Connection::finish_pose(flatbuffers::FlatBufferBuilder builder, const PoseRequest& request,

@@ -55,6 +55,7 @@
 #include "server/models/model_service.h"
 #include "server/transport/connection_counters.h"
 #include "server/transport/connection_stream.h"
+#include "server/transport/fair_work_queue.h"
 #include "server/transport/reply_builder_pool.h"
 #include "server/transport/traffic_counters.h"
 
@@ -63,7 +64,7 @@ namespace sweepd::server {
 struct ConnectionEnvironment {
   const ServerConfig& config;
   ModelService& models;
-  asio::thread_pool& workers;
+  FairWorkQueue& workers;          // poses, maps, loads and uploads, fair between connections
   asio::thread_pool& gpu_waiters;  // poses whose pair detection waits on the GPU thread
   PositionMapService& position_maps;
   ClipStore& clips;  // UploadClip's clips (1.4)
@@ -167,6 +168,7 @@ class Connection : public std::enable_shared_from_this<Connection> {
   protocol::PoseDelivery delivery_ = protocol::PoseDelivery::InOrder;
   std::deque<PoseRequest> waiting_poses_;
   bool pose_running_ = false;
+  FairShare fair_share_;  // this connection's turn on environment_.workers
   std::uint32_t dropped_since_reply_ = 0;
   std::deque<flatbuffers::FlatBufferBuilder> outgoing_;
   bool writing_ = false;

@@ -28,7 +28,7 @@ Server::Server(const ServerConfig& config, ModelService& models, Readiness& read
                std::optional<asio::ssl::context> tls, GpuThread& gpu, CollisionService& collision)
     : config_(config),
       readiness_(readiness),
-      workers_(worker_count(config)),
+      worker_pool_(worker_count(config)),
       gpu_waiters_(worker_count(config)),
       position_maps_(config.position_maps != 0, gpu),
       clips_(config.max_clips, config.max_clip_bytes),
@@ -71,7 +71,7 @@ Server::Server(const ServerConfig& config, ModelService& models, Readiness& read
 }
 
 Server::~Server() {
-  workers_.join();
+  worker_pool_.join();
   gpu_waiters_.join();
 }
 
@@ -181,7 +181,7 @@ void Server::run() {
   serving_ = true;
   io_.run();
   serving_ = false;
-  workers_.join();
+  worker_pool_.join();
   gpu_waiters_.join();
   if (!config_.unix_socket.empty()) {
     std::error_code ignored;
