@@ -25,6 +25,7 @@
 #include "protocol/framing.h"
 #include "server/config.h"
 #include "server/handlers/model_requests.h"
+#include "server/handlers/pose_intake.h"
 #include "server/handlers/pose_request.h"
 #include "server/handlers/position_map_service.h"
 #include "server/models/clip_store.h"
@@ -69,17 +70,38 @@ bool accepted(Parse&& parse) {
   }
 }
 
-void decode_message(const protocol::Message& message) {
+// The models a fuzzed pose may name: the mannequin, as id 1.
+class OneModel : public server::ModelLookup {
+ public:
+  server::ModelHandle find(std::uint32_t id) const override { return id == 1 ? model() : nullptr; }
+};
+
+// A pose intake's outcome deformed as the daemon's worker would, or its refusal thrown.
+void deform(std::variant<server::PoseRequest, server::RequestError> intake) {
+  if (const auto* error = std::get_if<server::RequestError>(&intake))
+    throw std::invalid_argument(error->message);
+  server::PoseRequest& request = std::get<server::PoseRequest>(intake);
+  std::vector<glm::vec3> positions(model()->bound.model.vertex_count());
+  thread_local deform::DeformContext context;
+  request.job(1, positions, {}).run_validated(context);
+}
+
+// One message of a frames input, against the clips uploaded earlier in the same input.
+void decode_message(const protocol::Message& message, server::ClipStore& clips) {
+  const OneModel models;
   switch (message.body_type()) {
-    case protocol::Body::Pose: {
-      server::PoseRequest request;
-      if (auto problem = server::read_pose_request(*message.body_as_Pose(), model(), 1, request))
-        throw std::invalid_argument(problem->message);
-      std::vector<glm::vec3> positions(model()->bound.model.vertex_count());
-      thread_local deform::DeformContext context;
-      request.job(1, positions, {}).run_validated(context);
+    case protocol::Body::Pose:
+      deform(server::read_pose_message(models, *message.body_as_Pose(), 1));
+      break;
+    case protocol::Body::PoseFromClip: {
+      const protocol::PoseFromClip& request = *message.body_as_PoseFromClip();
+      if (!request.pose() || !request.clip()) throw std::invalid_argument("no pose or clip");
+      deform(server::read_clip_pose_message(models, clips, *request.pose(), *request.clip(), 1));
       break;
     }
+    case protocol::Body::PoseByName:
+      deform(server::read_named_pose_message(models, *message.body_as_PoseByName(), 1));
+      break;
     case protocol::Body::LoadModel:
       server::read_load_model(*message.body_as_LoadModel());
       break;
@@ -91,20 +113,23 @@ void decode_message(const protocol::Message& message) {
         throw std::invalid_argument(problem);
       break;
     }
-    case protocol::Body::PositionMapRequest:
-      if (std::string problem = server::check_position_map_request(
-              *message.body_as_PositionMapRequest(), model()->bound.model);
-          !problem.empty())
-        throw std::invalid_argument(problem);
+    case protocol::Body::PositionMapRequest: {
+      // Its pose deformed as for a Pose or a clip frame; the map's rendering is the GPU's.
+      const protocol::PositionMapRequest& map = *message.body_as_PositionMapRequest();
+      if (!map.pose()) throw std::invalid_argument("no pose");
+      deform(map.clip()
+                 ? server::read_clip_pose_message(models, clips, *map.pose(), *map.clip(), 1, &map)
+                 : server::read_pose_message(models, *map.pose(), 1, &map));
       break;
+    }
     case protocol::Body::UploadClip: {
-      // As the daemon's worker takes it: a store of its own per input, so inputs do not fill
-      // one another's room.
+      // As the daemon's worker takes it, into the input's own store (inputs do not fill one
+      // another's room; a later PoseFromClip of the input finds it).
       const protocol::UploadClip& upload = *message.body_as_UploadClip();
-      server::ClipStore clips(1, server::ServerConfig{}.max_clip_bytes);
       const auto added =
           clips.add(upload.name() ? upload.name()->str() : "",
-                    upload.bvh() ? upload.bvh()->string_view() : "", upload.length_scale());
+                    upload.bvh() ? upload.bvh()->string_view() : "", upload.length_scale(),
+                    upload.joint_name_map() ? upload.joint_name_map()->string_view() : "");
       if (const auto* error = std::get_if<server::RequestError>(&added))
         throw std::invalid_argument(error->message);
       break;
@@ -125,6 +150,7 @@ bool fuzz_frames(std::span<const std::uint8_t> bytes) {
   bytes = bytes.subspan(1);
   protocol::BufferBudget budget(1 << 20);
   protocol::FrameReader reader(256 * 1024, &budget);
+  server::ClipStore clips(2, server::ServerConfig{}.max_clip_bytes);
   bool whole = true;  // every frame whole and decoded
   for (std::size_t at = 0; at < bytes.size(); at += piece) {
     std::span<const std::uint8_t> input = bytes.subspan(at, std::min(piece, bytes.size() - at));
@@ -132,7 +158,7 @@ bool fuzz_frames(std::span<const std::uint8_t> bytes) {
          event.status != protocol::FrameStatus::kPending; event = reader.read(input)) {
       // Every frame is decoded, whatever happened to the ones before.
       const bool decoded = event.status == protocol::FrameStatus::kFrame &&
-                           accepted([&] { decode_message(*event.message); });
+                           accepted([&] { decode_message(*event.message, clips); });
       whole = whole && decoded;
     }
   }

@@ -17,6 +17,7 @@
 #include "io/sweepbind.h"
 #include "mannequin/mannequin.h"
 #include "protocol/messages.h"
+#include "server/models/content_id.h"
 
 namespace sweepd::fuzz {
 namespace {
@@ -74,6 +75,33 @@ Input session(const deform::BoundModel& bound, const Input& glb, const std::stri
   append(stream,
          pb::finish_message(builder,
                             pb::CreateUploadClipDirect(builder, "seed.bvh", bvh.c_str(), 1.0f), 5));
+  // Frame 1 of that clip (its id is its content id), as a pose and as a map; and two joints
+  // turned by name.
+  const std::string clip_id = server::clip_content_id(bvh, 1.0f);
+  pb::PoseFields clip_fields;
+  clip_fields.model_id = 1;
+  clip_fields.sequence = 8;
+  builder.Clear();
+  auto pose = pb::add_pose(builder, clip_fields);
+  auto clip = pb::CreateClipFrameDirect(builder, clip_id.c_str(), 1u);
+  append(stream, pb::finish_message(builder, pb::CreatePoseFromClip(builder, pose, clip), 6));
+  builder.Clear();
+  pose = pb::add_pose(builder, clip_fields);
+  clip = pb::CreateClipFrameDirect(builder, clip_id.c_str(), 1u);
+  append(stream, pb::finish_message(
+                     builder,
+                     pb::CreatePositionMapRequest(builder, pose, 64, 64, pb::ExrCompression::Zip,
+                                                  pb::MapLayers::Position, false, clip),
+                     7));
+  builder.Clear();
+  pose = pb::add_pose(builder, clip_fields);
+  const std::vector<std::string> names = {bound.model.skeleton.joints[1].name,
+                                          bound.model.skeleton.joints[2].name};
+  const std::vector<pb::Quat> turns = {pb::Quat(0.1f, 0.0f, 0.0f, 0.995f),
+                                       pb::Quat(0.0f, 0.1f, 0.0f, 0.995f)};
+  const auto by_name = pb::CreatePoseByName(builder, pose, builder.CreateVectorOfStrings(names),
+                                            builder.CreateVectorOfStructs(turns));
+  append(stream, pb::finish_message(builder, by_name, 8));
   return stream;
 }
 

@@ -14,7 +14,7 @@ namespace {
 using PoseSource =
     std::function<std::variant<deform::Pose, RequestError>(const ModelHandle& model)>;
 
-std::variant<PoseRequest, RequestError> intake(const ModelService& models,
+std::variant<PoseRequest, RequestError> intake(const ModelLookup& models,
                                                const protocol::Pose& pose, std::uint64_t request_id,
                                                const protocol::PositionMapRequest* map,
                                                const PoseSource& source) {
@@ -62,7 +62,7 @@ RequestError invalid(const protocol::Pose& pose, const std::string& reason) {
 
 }  // namespace
 
-std::variant<PoseRequest, RequestError> read_pose_message(const ModelService& models,
+std::variant<PoseRequest, RequestError> read_pose_message(const ModelLookup& models,
                                                           const protocol::Pose& pose,
                                                           std::uint64_t request_id,
                                                           const protocol::PositionMapRequest* map) {
@@ -70,7 +70,7 @@ std::variant<PoseRequest, RequestError> read_pose_message(const ModelService& mo
 }
 
 std::variant<PoseRequest, RequestError> read_clip_pose_message(
-    const ModelService& models, const ClipStore& clips, const protocol::Pose& pose,
+    const ModelLookup& models, const ClipStore& clips, const protocol::Pose& pose,
     const protocol::ClipFrame& clip, std::uint64_t request_id,
     const protocol::PositionMapRequest* map) {
   const PoseSource from_clip =
@@ -100,7 +100,7 @@ std::variant<PoseRequest, RequestError> read_clip_pose_message(
   return intake(models, pose, request_id, map, from_clip);
 }
 
-std::variant<PoseRequest, RequestError> read_named_pose_message(const ModelService& models,
+std::variant<PoseRequest, RequestError> read_named_pose_message(const ModelLookup& models,
                                                                 const protocol::PoseByName& named,
                                                                 std::uint64_t request_id) {
   const protocol::Pose& pose = *named.pose();

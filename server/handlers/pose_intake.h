@@ -24,20 +24,20 @@
 #include "server/handlers/pose_request.h"
 #include "server/handlers/request_error.h"
 #include "server/models/clip_store.h"
-#include "server/models/model_service.h"
+#include "server/models/model_lookup.h"
 
 namespace sweepd::server {
 
 std::variant<PoseRequest, RequestError> read_pose_message(
-    const ModelService& models, const protocol::Pose& pose, std::uint64_t request_id,
+    const ModelLookup& models, const protocol::Pose& pose, std::uint64_t request_id,
     const protocol::PositionMapRequest* map = nullptr);
 
 std::variant<PoseRequest, RequestError> read_clip_pose_message(
-    const ModelService& models, const ClipStore& clips, const protocol::Pose& pose,
+    const ModelLookup& models, const ClipStore& clips, const protocol::Pose& pose,
     const protocol::ClipFrame& clip, std::uint64_t request_id,
     const protocol::PositionMapRequest* map = nullptr);
 
-std::variant<PoseRequest, RequestError> read_named_pose_message(const ModelService& models,
+std::variant<PoseRequest, RequestError> read_named_pose_message(const ModelLookup& models,
                                                                 const protocol::PoseByName& named,
                                                                 std::uint64_t request_id);
 

@@ -44,6 +44,7 @@
 
 #include "deform/edits/rest_key_edit.h"
 #include "server/config.h"
+#include "server/models/model_lookup.h"
 #include "server/models/model_registry.h"
 
 namespace sweepd::server {
@@ -57,14 +58,14 @@ struct ModelLoadRequest {
   int orientation = 0;                 // 0: linear Q(t), 1: smooth (BindOptions)
 };
 
-class ModelService {
+class ModelService : public ModelLookup {
  public:
   explicit ModelService(const ServerConfig& config);
 
   void restore();
   void add_default_model();
 
-  ModelHandle find(std::uint32_t id) const { return registry_.find(id); }
+  ModelHandle find(std::uint32_t id) const override { return registry_.find(id); }
   std::vector<ModelHandle> models() const { return registry_.models(); }
   std::vector<std::string> directory_entries() const;
   // Bytes of the regular files in the store directory (models, sources, index; not the

@@ -58,7 +58,8 @@ TEST(FuzzInputs, TheFramesSeedIsAWholeSession) {
     EXPECT_EQ(event.status, protocol::FrameStatus::kFrame) << event.reason;
     ++whole;
   }
-  EXPECT_EQ(whole, 6) << "Hello, Pose, LoadModel, EditKeyEllipse, PositionMapRequest, UploadClip";
+  EXPECT_EQ(whole, 9) << "Hello, Pose, LoadModel, EditKeyEllipse, PositionMapRequest, UploadClip, "
+                         "PoseFromClip, PositionMapRequest of a clip frame, PoseByName";
 }
 
 TEST(FuzzInputs, EveryRegressionStillPasses) {
