@@ -68,10 +68,6 @@ const PosingArguments& checked_model(const PosingArguments& arguments) {
   if (local_file && file.extension() == ".sweepbind")
     throw std::invalid_argument(file.string() +
                                 ": a .sweepbind is not uploaded; give the .glb it was bound from");
-  if (local_file && (file.extension() == ".fbx" || file.extension() == ".dae"))
-    throw std::invalid_argument(file.string() +
-                                ": the daemon takes glTF uploads only; pose an FBX or COLLADA "
-                                "model without --server, or upload its .glb");
   return arguments;
 }
 

@@ -359,8 +359,15 @@ double fbx_unit_scale(const fs::path& file, const aiScene& scene, LoadReport& re
 
 }  // namespace
 
-bool looks_like_assimp_model(std::span<const std::uint8_t> bytes) {
-  return sniff(bytes) != Format::kUnknown;
+std::string_view assimp_model_suffix(std::span<const std::uint8_t> bytes) {
+  switch (sniff(bytes)) {
+    case Format::kFbx:
+      return ".fbx";
+    case Format::kCollada:
+      return ".dae";
+    default:
+      return "";
+  }
 }
 
 deform::Model load_assimp(const fs::path& file, LoadReport* report) {

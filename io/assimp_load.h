@@ -34,6 +34,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <span>
+#include <string_view>
 
 #include "deform/model/model.h"
 #include "io/load_error.h"
@@ -45,8 +46,9 @@ deform::Model load_assimp(const std::filesystem::path& file, LoadReport* report 
 deform::Model load_assimp(std::span<const std::uint8_t> bytes, const std::filesystem::path& file,
                           LoadReport* report = nullptr);
 
-// Whether the bytes start like a file load_assimp reads: binary FBX ("Kaydara FBX Binary"), ASCII
-// FBX ("; FBX" comment header) or COLLADA XML (a <COLLADA element in the first 1 KiB).
-bool looks_like_assimp_model(std::span<const std::uint8_t> bytes);
+// What the bytes start like, as a file suffix: ".fbx" for binary FBX ("Kaydara FBX Binary") or
+// ASCII FBX ("; FBX" comment header), ".dae" for COLLADA XML (a <COLLADA element in the first
+// 1 KiB); "" for anything load_assimp does not read.
+std::string_view assimp_model_suffix(std::span<const std::uint8_t> bytes);
 
 }  // namespace sweepd::io

@@ -16,7 +16,7 @@ deform::Model load_model(const std::filesystem::path& file, LoadReport* report) 
   if (!stream) throw LoadError(file, "cannot open the file (missing or unreadable)");
   stream.read(reinterpret_cast<char*>(head.data()), head.size());
   const std::span<const std::uint8_t> read(head.data(), static_cast<std::size_t>(stream.gcount()));
-  return looks_like_assimp_model(read) ? load_assimp(file, report) : load_gltf(file, report);
+  return assimp_model_suffix(read).empty() ? load_gltf(file, report) : load_assimp(file, report);
 }
 
 }  // namespace sweepd::io

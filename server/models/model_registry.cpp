@@ -15,7 +15,7 @@ namespace {
 using protocol::ErrorCode;
 namespace fs = std::filesystem;
 
-constexpr const char* kSourceSuffixes[] = {".glb", ".rig.json", ".json"};
+constexpr const char* kSourceSuffixes[] = {".glb", ".fbx", ".dae", ".rig.json", ".json"};
 
 std::span<const std::uint8_t> as_bytes(const std::string& text) {
   return {reinterpret_cast<const std::uint8_t*>(text.data()), text.size()};

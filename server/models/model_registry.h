@@ -6,7 +6,8 @@
 //   <cid>.json       {"version":2,"content_id","name","bind_time_ns"}: its label and history;
 //   <cid>.sweepbind  the binding (io::save_sweepbind, CRC-checked) — written last: a model is
 //                    in the store once this file is;
-//   <cid>.glb        the uploaded bytes it was bound from; <cid>.rig.json a client's rig map.
+//   <cid>.glb        the uploaded bytes it was bound from (.fbx, .dae for an FBX or COLLADA
+//                    upload); <cid>.rig.json a client's rig map.
 // Every file is written by io::write_file_durably (a temporary named by its writer, fsync,
 // rename, directory fsync), so two replicas storing the same model at once each rename a whole
 // file over the other's identical one, and no reader sees a torn file. A model is acknowledged,

@@ -6,6 +6,7 @@
 
 #include "deform/binding/bind.h"
 #include "deform/rig/rig_map.h"
+#include "io/assimp_load.h"
 #include "io/durable_file.h"
 #include "io/gltf_load.h"
 #include "io/rig_map_json.h"
@@ -128,25 +129,30 @@ ModelHandle ModelService::bind_and_store(const ModelLoadRequest& request,
   // A load that fails leaves nothing in the store: the sources it wrote go — unless a binding of
   // this content id is there (another replica's, on a shared store: the same sources).
   struct SourcesOfAFailedLoad {
-    fs::path binding, glb, rig_map;
+    fs::path binding, upload, rig_map;
     bool kept = false;
     ~SourcesOfAFailedLoad() {
       std::error_code ignored;
       if (kept || fs::exists(binding, ignored)) return;
-      fs::remove(glb, ignored);
+      if (!upload.empty()) fs::remove(upload, ignored);
       fs::remove(rig_map, ignored);
     }
-  } sources{slot.file(".sweepbind"), slot.file(".glb"), slot.file(".rig.json")};
+  } sources{slot.file(".sweepbind"), {}, slot.file(".rig.json")};
   deform::BoundModel bound;
   try {
-    fs::path source = directory_file;
-    io::GltfUriPolicy uris = io::GltfUriPolicy::within(config_.model_dir);
+    deform::Model model;
     if (directory_file.empty()) {
-      source = slot.file(".glb");
-      io::write_file_durably(source, request.gltf);
-      uris = io::GltfUriPolicy::self_contained();  // an upload reads nothing but itself
+      // An upload reads nothing but itself: a glTF its GLB chunk and data: URIs, an FBX or
+      // COLLADA file (io/assimp_load.h) its bytes. Kept under its format's suffix.
+      const std::string_view assimp_suffix = io::assimp_model_suffix(request.gltf);
+      sources.upload = slot.file(assimp_suffix.empty() ? ".glb" : assimp_suffix);
+      io::write_file_durably(sources.upload, request.gltf);
+      model = assimp_suffix.empty()
+                  ? io::load_gltf(sources.upload, io::GltfUriPolicy::self_contained())
+                  : io::load_assimp(request.gltf, sources.upload);
+    } else {
+      model = io::load_gltf(directory_file, io::GltfUriPolicy::within(config_.model_dir));
     }
-    deform::Model model = io::load_gltf(source, uris);
     if (model.vertex_count() > config_.max_model_vertices) {
       throw ModelError(ErrorCode::MemoryLimit, "model '" + request.name + "' has " +
                                                    std::to_string(model.vertex_count()) +

@@ -1,9 +1,9 @@
-// ModelService: the one place sweepd's models change. It owns loading a glTF (uploaded, or by
-// name from the model directory), binding it, edits of a model's rest key ellipses, the default
-// procedural mannequin, and the registry with its durable store (model_registry.h: the
-// .sweepbind files and the index, restored at start). Connections and request handlers read
-// models through it and ask it for every change; none of them touches the registry or a
-// binding itself.
+// ModelService: the one place sweepd's models change. It owns loading a model (an uploaded glTF,
+// FBX or COLLADA file, or a glTF by name from the model directory), binding it, edits of a model's
+// rest key ellipses, the default procedural mannequin, and the registry with its durable store
+// (model_registry.h: the .sweepbind files and the index, restored at start). Connections and
+// request handlers read models through it and ask it for every change; none of them touches the
+// registry or a binding itself.
 //
 // restore(): the registry's restore() (model_registry.h: what it mends), logged: each removed
 //   temporary file (store_temporary_removed), each entry not restored (restore_problem: file,
@@ -16,7 +16,8 @@
 //     UnknownModel when neither has it (the client uploads the bytes);
 //   - bytes (an upload): their content id (content_id.h) held or in the store returns that
 //     model — under its own name: names are labels, so an upload sent again after a reconnect
-//     or to another replica costs no binding; else the bytes are kept as <cid>.glb, loaded,
+//     or to another replica costs no binding; else the bytes are kept as <cid>.glb (<cid>.fbx,
+//     <cid>.dae: the format is read from the first bytes, io/assimp_load.h), loaded,
 //     bound and stored;
 //   - a name alone: the held model of that name, else the store's, else
 //     `name`[.glb|.gltf] from config.model_dir, bound as an upload of its bytes would be.
@@ -52,7 +53,7 @@ namespace sweepd::server {
 struct ModelLoadRequest {
   std::string content_id;              // content_id.h, or empty
   std::string name;                    // stored name; with no gltf: a model_dir file name
-  std::span<const std::uint8_t> gltf;  // uploaded .glb/.gltf bytes, or empty
+  std::span<const std::uint8_t> gltf;  // uploaded .glb/.gltf/.fbx/.dae bytes, or empty
   std::string rig_map_json;            // io/rig_map_json.h override, or empty: detect
   int keys_per_link = 0;               // 0: the bind default
   int orientation = 0;                 // 0: linear Q(t), 1: smooth (BindOptions)

@@ -261,8 +261,9 @@ TEST(AssimpLoad, BytesAndModelLoadReadTheSameModelAsThePath) {
   const deform::Model from_path =
       load_assimp(mannequin_fbx(dir, Variant::kMetres, "mannequin.fbx"));
   const std::string bytes = read_bytes(dir / "mannequin.fbx");
-  ASSERT_TRUE(
-      looks_like_assimp_model({reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()}));
+  ASSERT_EQ(
+      assimp_model_suffix({reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()}),
+      ".fbx");
   const deform::Model from_bytes = load_assimp(
       {reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()}, "upload.fbx");
   const deform::Model dispatched = load_model(dir / "mannequin.fbx");
@@ -330,15 +331,6 @@ TEST(AssimpLoad, SweepctlInspectsAndPosesAnFbxModel) {
                             .c_str()),
             0);
   EXPECT_EQ(load_gltf(dir / "posed.glb").vertex_count(), load_assimp(fbx).vertex_count());
-  // The daemon takes glTF uploads only: refused before connecting (nothing listens on port 9).
-  EXPECT_NE(
-      std::system((std::string(SWEEPD_SWEEPCTL) + " --server 127.0.0.1:9 pose " + fbx + " -o " +
-                   (dir / "remote.glb").string() + " 2> " + (dir / "remote.txt").string())
-                      .c_str()),
-      0);
-  EXPECT_NE(read_bytes(dir / "remote.txt").find("the daemon takes glTF uploads only"),
-            std::string::npos)
-      << read_bytes(dir / "remote.txt");
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 
 #include "client/connection.h"
 #include "deform/job/deform_job.h"
+#include "io/assimp_convert.h"
 #include "io/bvh_load.h"
 #include "io/gltf_load.h"
 #include "io/gltf_save.h"
@@ -210,6 +211,47 @@ TEST_F(SweepctlRemote, RemoteMetricsEqualTheLocalOnesWithoutTheSweepIntegral) {
         << "6 part volumes, section, crossings, stretch, 6 parts' crease anywhere and at keys, "
            "the candy wrapper at 90 and 180 degrees";
   }
+}
+
+TEST_F(SweepctlRemote, UploadedFbxAndColladaPoseAsTheLocalFilesByteForByte) {
+  // The male as ASCII FBX (in metres) and as COLLADA, made here by assimp's exporters.
+  for (const auto& [name, target] : {std::pair{"male.fbx", io::AssimpExport::kFbxMetres},
+                                     std::pair{"male.dae", io::AssimpExport::kCollada}}) {
+    SCOPED_TRACE(name);
+    const std::vector<std::uint8_t> bytes = io::convert_with_assimp(kSharedMale, target);
+    std::ofstream(path(name), std::ios::binary)
+        .write(reinterpret_cast<const char*>(bytes.data()),
+               static_cast<std::streamsize>(bytes.size()));
+    const std::string pose = "pose " + path(name).string() + " " + kClipFrameArgs + " -o ";
+    const ClientRun local = run_sweepctl(pose + path(std::string(name) + ".local.glb").string());
+    ASSERT_EQ(local.exit_code, 0) << local.output;
+    const ClientRun remote =
+        run_sweepctl(server() + " " + pose + path(std::string(name) + ".remote.glb").string());
+    ASSERT_EQ(remote.exit_code, 0) << remote.output << log();
+    EXPECT_NE(remote.output.find("(uploaded)"), std::string::npos) << remote.output;
+    // The daemon reads the bytes with the same importer and binds as sweepctl does.
+    EXPECT_TRUE(file_bytes(path(std::string(name) + ".local.glb")) ==
+                file_bytes(path(std::string(name) + ".remote.glb")));
+    // The upload is kept under its format's suffix beside the binding.
+    const std::string suffix = fs::path(name).extension().string();
+    int kept = 0;
+    for (const fs::directory_entry& entry : fs::directory_iterator(path("store")))
+      kept += entry.path().extension() == suffix;
+    EXPECT_EQ(kept, 1) << "one " << suffix << " in the store";
+  }
+  // A truncated FBX upload is refused with the importer's reason; the daemon serves on.
+  const std::vector<char> whole = file_bytes(path("male.fbx"));
+  std::ofstream(path("truncated.fbx"), std::ios::binary)
+      .write(whole.data(), static_cast<std::streamsize>(whole.size() / 3));
+  const ClientRun broken = run_sweepctl(server() + " pose " + path("truncated.fbx").string() +
+                                        " -o " + path("truncated.glb").string());
+  EXPECT_EQ(broken.exit_code, 1) << broken.output;
+  EXPECT_NE(broken.output.find("ModelLoadFailed"), std::string::npos) << broken.output;
+  EXPECT_NE(broken.output.find("could not be loaded: the uploaded file: "), std::string::npos)
+      << broken.output;
+  EXPECT_EQ(run_sweepctl(server() + " pose mannequin -o " + path("after.glb").string()).exit_code,
+            0)
+      << log();
 }
 
 TEST_F(SweepctlRemote, WrongTokenExitsNonZeroWithTheReason) {
