@@ -66,6 +66,23 @@ class BrowserViewer : public ::testing::Test {
   int http_port_ = 0;
 };
 
+// The same daemon, with Debian's chromium and node to load the page.
+class BrowserViewerTest : public BrowserViewer {
+ public:
+  void SetUp() override {
+    for (const char* program : {"chromium", "node"}) {
+      if (!have_program(program)) {
+        GTEST_SKIP() << program << " is not installed (deploy/install-deps.sh installs it)";
+      }
+    }
+    BrowserViewer::SetUp();
+  }
+  const fs::path& directory() const { return directory_; }
+  int http_port() const { return http_port_; }
+  int websocket_port() const { return daemon_->websocket_port(); }
+  std::string daemon_log() const { return daemon_->log(); }
+};
+
 TEST_F(BrowserViewer, ServesThePageFromMemoryAndNothingElse) {
   if (!have_program("curl")) GTEST_SKIP() << "curl is not installed (deploy/install-deps.sh)";
   const HttpReply page = curl_get(http_port_, "/viewer");
@@ -87,34 +104,30 @@ TEST_F(BrowserViewer, ServesThePageFromMemoryAndNothingElse) {
   EXPECT_EQ(curl_get(http_port_, "/viewer/a/b").status, 404);
 }
 
-TEST_F(BrowserViewer, StreamsAClipAndShowsTheBodyInEachViewport) {
-  for (const char* program : {"chromium", "node"}) {
-    if (!have_program(program)) {
-      GTEST_SKIP() << program << " is not installed (deploy/install-deps.sh installs it)";
-    }
-  }
-  if (!fs::exists(kClip)) GTEST_SKIP() << "no shared clip " << kClip;
-  const std::string url = "http://127.0.0.1:" + std::to_string(http_port_) +
-                          "/viewer?ws=ws://127.0.0.1:" + std::to_string(daemon_->websocket_port()) +
+// Runs tests/tools/viewer_headless.mjs on the viewer with `arguments`; the page's status, and
+// the screenshot in `screenshot`. Fails (and returns null) when the driver did.
+nlohmann::json run_page(const BrowserViewerTest& test, const std::string& arguments,
+                        const fs::path& screenshot) {
+  const fs::path status_file = test.directory() / "status.json";
+  const fs::path log = test.directory() / "driver.log";
+  const std::string url = "http://127.0.0.1:" + std::to_string(test.http_port()) +
+                          "/viewer?ws=ws://127.0.0.1:" + std::to_string(test.websocket_port()) +
                           "&token=" + kToken;
-  const fs::path screenshot = directory_ / "viewer.png";
-  const fs::path status_file = directory_ / "status.json";
-  const std::string command = "node '" + kDriver.string() + "' --url '" + url + "' --bvh '" +
-                              kClip.string() + "' --frames 30 --width " + std::to_string(kWidth) +
-                              " --height " + std::to_string(kHeight) + " --screenshot '" +
-                              screenshot.string() + "' --status '" + status_file.string() +
-                              "' > '" + (directory_ / "driver.log").string() + "' 2>&1";
-  const int exit_code = std::system(command.c_str());
-  const std::string driver_log = read_text(directory_ / "driver.log");
-  ASSERT_EQ(exit_code, 0) << driver_log << "\nsweepd:\n" << daemon_->log();
+  const std::string command = "node '" + kDriver.string() + "' --url '" + url + "' " + arguments +
+                              " --width " + std::to_string(kWidth) + " --height " +
+                              std::to_string(kHeight) + " --screenshot '" + screenshot.string() +
+                              "' --status '" + status_file.string() + "' > '" + log.string() +
+                              "' 2>&1";
+  if (std::system(command.c_str()) != 0) {
+    ADD_FAILURE() << read_text(log) << "\nsweepd:\n" << test.daemon_log();
+    return nullptr;
+  }
+  return nlohmann::json::parse(read_text(status_file));
+}
 
-  const nlohmann::json status = nlohmann::json::parse(read_text(status_file));
-  EXPECT_EQ(status.value("state", ""), "streaming") << status.dump();
-  EXPECT_FALSE(status.contains("error")) << status.dump();
-  EXPECT_GE(status["figures"]["frames"].get<int>(), 30);
-  // Three methods per set: every set's replies came back.
-  EXPECT_GE(status["figures"]["poses"].get<int>(), 3 * 30);
-
+// In each method's viewport of `screenshot`, the body in that method's colour covers a plausible
+// part of the viewport and nearly all the rest is the clear colour.
+void expect_a_body_in_each_viewport(const nlohmann::json& status, const fs::path& screenshot) {
   int width = 0, height = 0, channels = 0;
   std::unique_ptr<stbi_uc, void (*)(void*)> pixels(
       stbi_load(screenshot.c_str(), &width, &height, &channels, 3), stbi_image_free);
@@ -162,6 +175,31 @@ TEST_F(BrowserViewer, StreamsAClipAndShowsTheBodyInEachViewport) {
   // The same pose in all three: their silhouettes differ by far less than a factor 1.5.
   const auto [least, most] = std::minmax_element(coverages.begin(), coverages.end());
   EXPECT_LT(*most / *least, 1.5);
+}
+
+TEST_F(BrowserViewerTest, StreamsAClipAndShowsTheBodyInEachViewport) {
+  if (!fs::exists(kClip)) GTEST_SKIP() << "no shared clip " << kClip;
+  const fs::path screenshot = directory() / "clip.png";
+  const nlohmann::json status =
+      run_page(*this, "--bvh '" + kClip.string() + "' --frames 30", screenshot);
+  ASSERT_FALSE(status.is_null());
+  EXPECT_EQ(status.value("state", ""), "streaming") << status.dump();
+  EXPECT_FALSE(status.contains("error")) << status.dump();
+  EXPECT_GE(status["figures"]["frames"].get<int>(), 30);
+  // Three methods per set: every set's replies came back.
+  EXPECT_GE(status["figures"]["poses"].get<int>(), 3 * 30);
+  expect_a_body_in_each_viewport(status, screenshot);
+}
+
+TEST_F(BrowserViewerTest, TurnsAJointWithTheSliders) {
+  const fs::path screenshot = directory() / "posed.png";
+  // The left arm lowered from the mannequin's A pose to its side, in 5 steps (PoseByName).
+  const nlohmann::json status = run_page(*this, "--turn LeftArm:0,0,-40 --frames 5", screenshot);
+  ASSERT_FALSE(status.is_null());
+  EXPECT_EQ(status.value("state", ""), "posing") << status.dump();
+  EXPECT_FALSE(status.contains("error")) << status.dump();
+  EXPECT_GE(status["figures"]["frames"].get<int>(), 1 + 5);  // the rest pose, then each step
+  expect_a_body_in_each_viewport(status, screenshot);
 }
 
 }  // namespace

@@ -3,14 +3,16 @@
 // answers on fd 4, each JSON message ended by a NUL byte). Used by
 // tests/server/browser_viewer_test.cpp and bench/viewer_bench.sh.
 //
-//   node tests/tools/viewer_headless.mjs --url URL [--bvh FILE] [--frames N] [--seconds S]
-//        [--screenshot OUT.png] [--status OUT.json] [--width 1200] [--height 700]
+//   node tests/tools/viewer_headless.mjs --url URL [--bvh FILE | --turn JOINT:X,Y,Z]
+//        [--frames N] [--seconds S] [--screenshot OUT.png] [--status OUT.json]
+//        [--width 1200] [--height 700]
 //
-// Loads URL (the viewer, /viewer?ws=...&token=...), waits for the rest pose ("ready"), gives
-// the page's clip input the BVH FILE (the page uploads it and streams it), then waits until N
-// pose sets are drawn and S seconds have passed while streaming; writes the page's status
-// (#status's data attributes: state, error, figures, viewports) as JSON and a screenshot.
-// Exit 0 when the page streamed without error; 1 with the reason otherwise.
+// Loads URL (the viewer, /viewer?ws=...&token=...) and waits for the rest pose ("ready"). With
+// --bvh it gives the page's clip input the BVH FILE (the page uploads it and streams it) and
+// waits until N pose sets are drawn and S seconds have passed while streaming; with --turn it
+// picks JOINT in the page and moves its sliders to X, Y, Z degrees in N steps, each step's pose
+// drawn. Writes the page's status (#status's data attributes: state, error, figures, viewports)
+// as JSON and a screenshot. Exit 0 when the page did so without error; 1 with the reason.
 import { spawn } from 'node:child_process';
 import { mkdtempSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
@@ -21,6 +23,7 @@ const { values: options } = parseArgs({
   options: {
     url: { type: 'string' },
     bvh: { type: 'string' },
+    turn: { type: 'string' },
     frames: { type: 'string', default: '30' },
     seconds: { type: 'string', default: '0' },
     screenshot: { type: 'string' },
@@ -36,7 +39,8 @@ if (!options.url) throw new Error('--url is required');
 const profile = mkdtempSync(join(tmpdir(), 'viewer-chromium-'));
 const browser = spawn(options.chromium, [
   '--headless', '--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
-  '--remote-debugging-pipe', `--user-data-dir=${profile}`, `--window-size=${options.width},${options.height}`,
+  '--remote-debugging-pipe', `--user-data-dir=${profile}`,
+  `--window-size=${options.width},${options.height}`,
   '--hide-scrollbars', '--no-first-run', '--no-default-browser-check', 'about:blank',
 ], { stdio: ['ignore', 'ignore', 'pipe', 'pipe', 'pipe'] });
 let browserLog = '';
@@ -81,23 +85,52 @@ async function pageStatus(session) {
 async function waitFor(session, what, done) {
   for (;;) {
     const status = await pageStatus(session);
-    if (status.state === 'error') throw Object.assign(new Error(`page error: ${status.error}`), { status });
+    const failure = status.state === 'error' ? `page error: ${status.error}`
+                  : Date.now() > deadline ? `timed out waiting for ${what}` : null;
     if (done(status)) return status;
-    if (Date.now() > deadline) throw Object.assign(new Error(`timed out waiting for ${what}`), { status });
+    if (failure) throw Object.assign(new Error(failure), { status });
     await sleep(100);
   }
+}
+
+// Moves JOINT's sliders to X, Y, Z degrees in --frames steps, as a person would: each step's
+// pose (PoseByName) is drawn before the next.
+async function turnJoint(session, turn) {
+  const [joint, angles] = turn.split(':');
+  const target = angles.split(',').map(Number);
+  const steps = Number(options.frames);
+  let status = await pageStatus(session);
+  for (let step = 1; step <= steps; ++step) {
+    const drawn = status.figures?.frames ?? 0;
+    const degrees = target.map((angle) => (angle * step) / steps);
+    await send('Runtime.evaluate', { expression: `{
+      const select = document.getElementById('joint');
+      select.value = ${JSON.stringify(joint)};
+      select.dispatchEvent(new Event('change'));
+      ${JSON.stringify(degrees)}.forEach((value, axis) => {
+        const slider = document.getElementById('joint-' + 'xyz'[axis]);
+        slider.value = value;
+        slider.dispatchEvent(new Event('input'));
+      });
+    }` }, session);
+    status = await waitFor(session, `the joint turned, step ${step}`,
+                           (s) => s.state === 'posing' && s.figures?.frames > drawn);
+  }
+  return status;
 }
 
 async function run() {
   const { targetInfos } = await send('Target.getTargets');
   const page = targetInfos.find((target) => target.type === 'page');
-  const { sessionId } = await send('Target.attachToTarget', { targetId: page.targetId, flatten: true });
+  const { sessionId } =
+      await send('Target.attachToTarget', { targetId: page.targetId, flatten: true });
   await send('Page.enable', {}, sessionId);
   await send('Page.navigate', { url: options.url }, sessionId);
   let status = await waitFor(sessionId, 'the rest pose', (s) => s.state === 'ready');
   if (options.bvh) {
     const { root } = await send('DOM.getDocument', {}, sessionId);
-    const { nodeId } = await send('DOM.querySelector', { nodeId: root.nodeId, selector: '#clip-file' }, sessionId);
+    const { nodeId } = await send('DOM.querySelector',
+                                  { nodeId: root.nodeId, selector: '#clip-file' }, sessionId);
     await send('DOM.setFileInputFiles', { nodeId, files: [resolve(options.bvh)] }, sessionId);
     await waitFor(sessionId, 'streaming', (s) => s.state === 'streaming');
     const streamingSince = Date.now();
@@ -105,6 +138,7 @@ async function run() {
       (s.figures?.frames ?? 0) >= Number(options.frames) &&
       Date.now() - streamingSince >= Number(options.seconds) * 1000);
   }
+  if (options.turn) status = await turnJoint(sessionId, options.turn);
   if (options.screenshot) {
     const { data } = await send('Page.captureScreenshot', { format: 'png' }, sessionId);
     writeFileSync(options.screenshot, Buffer.from(data, 'base64'));

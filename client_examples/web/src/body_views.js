@@ -2,7 +2,8 @@
 // viewport each, one camera for all, turned with the mouse), drawn with three.js.
 // setRestMesh(mesh): sweepd's Mesh reply (indices, rest positions) becomes one body per method.
 // showSet(methods, positions): per method a PosedVertices' float16 positions (3 per vertex, a
-// view into the reply: the GPU gets the half floats as they came). setVisible(methods): which viewports.
+// view into the reply: the GPU gets the half floats as they came). setVisible(methods): which
+// viewports.
 // drawIfNeeded(): draws when something changed. viewportRects(): where each viewport is on the
 // page, in CSS pixels (for PageStatus and the headless test).
 import * as THREE from 'three';
@@ -112,8 +113,9 @@ export class BodyViews {
   resize() {
     const { clientWidth, clientHeight } = this.canvas.parentElement;
     this.renderer.setSize(clientWidth, clientHeight, false);
+    const left = this.canvas.getBoundingClientRect().left;
     this.viewportRects().forEach(({ method, x }) => {
-      this.views.get(method).label.style.left = `${x - this.canvas.getBoundingClientRect().left + 6}px`;
+      this.views.get(method).label.style.left = `${x - left + 6}px`;
     });
     for (const [method, view] of this.views) view.label.hidden = !this.visible.includes(method);
     this.dirty = true;

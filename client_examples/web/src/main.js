@@ -55,12 +55,18 @@ async function start() {
   const player = new ClipPlayer();
   let clipId = null;
   let posing = true;  // the sliders' pose is shown (the rest pose at first), not the clip
+  const play = element('play');
+  function pause() {
+    player.pause(performance.now());
+    play.textContent = 'Play';
+  }
 
-  const sliders = new JointSliders(element('joint'),
-                                   ['joint-x', 'joint-y', 'joint-z'].map(element), () => {
-                                     posing = true;
-                                     pause();
-                                   });
+  const sliderInputs = ['joint-x', 'joint-y', 'joint-z'].map(element);
+  const sliders = new JointSliders(element('joint'), sliderInputs, () => {
+    posing = true;
+    pause();
+    status.set('posing', 'posing with the joint sliders');
+  });
   sliders.setJoints(jointNames(info), restRotations(info));
   stream.poseAt = (now) => {
     if (posing) {
@@ -71,19 +77,16 @@ async function start() {
     const frame = player.frameAt(now);
     element('frame').value = frame;
     element('frame-label').textContent = `frame ${frame} / ${player.frameCount}`;
-    return { key: `clip ${clipId} ${frame}`, request: (id, fields) => poseFromClip(id, fields, clipId, frame) };
+    return { key: `clip ${clipId} ${frame}`,
+             request: (id, fields) => poseFromClip(id, fields, clipId, frame) };
   };
 
-  const play = element('play');
-  function pause() {
-    player.pause(performance.now());
-    play.textContent = 'Play';
-  }
   play.addEventListener('click', () => {
     if (player.playing) return pause();
     posing = false;
     player.play(performance.now());
     play.textContent = 'Pause';
+    status.set('streaming', 'playing the clip');
   });
   element('frame').addEventListener('input', (event) => {
     posing = false;
@@ -112,7 +115,6 @@ async function start() {
     play.disabled = false;
     posing = false;
     play.click();
-    status.set('streaming', `streaming ${file.name} (${clip.frameCount()} frames)`);
   }
   element('clip-file').addEventListener('change', (event) => {
     if (event.target.files[0]) upload(event.target.files[0]).catch((error) => status.fail(error));

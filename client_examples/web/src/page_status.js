@@ -1,8 +1,8 @@
 // PageStatus: what the page is doing, for a person (#status's text, #stats) and for scripts
 // (#status's data attributes and the document title; tests/tools/viewer_headless.mjs reads
-// them): data-state is connecting, loading, ready (rest pose shown), streaming or error;
-// data-error the reason; data-figures StreamStats' figures and data-viewports the viewports'
-// rectangles on the page, as JSON.
+// them): data-state is connecting, loading, ready (rest pose shown), uploading, streaming (the
+// clip plays), posing (the joint sliders moved) or error; data-error the reason; data-figures
+// StreamStats' figures and data-viewports the viewports' rectangles on the page, as JSON.
 export class PageStatus {
   constructor(statusElement, statsElement) {
     this.element = statusElement;
@@ -23,7 +23,8 @@ export class PageStatus {
   figures(figures, viewports) {
     this.element.dataset.figures = JSON.stringify(figures);
     this.element.dataset.viewports = JSON.stringify(viewports);
-    this.stats.textContent = `${figures.fps} fps · round trip p50 ${figures.roundTripP50Ms.toFixed(1)}` +
-        ` ms, p99 ${figures.roundTripP99Ms.toFixed(1)} ms · ${(figures.replyBytes / 1024).toFixed(0)} KiB/pose`;
+    const { fps, roundTripP50Ms, roundTripP99Ms, replyBytes } = figures;
+    this.stats.textContent = `${fps} fps · round trip p50 ${roundTripP50Ms.toFixed(1)} ms, ` +
+        `p99 ${roundTripP99Ms.toFixed(1)} ms · ${(replyBytes / 1024).toFixed(0)} KiB/pose`;
   }
 }

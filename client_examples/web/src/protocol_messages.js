@@ -48,7 +48,8 @@ export function loadModel(requestId, name) {
 }
 
 export function meshRequest(requestId, modelId) {
-  return frame(requestId, (b) => [pb.Body.MeshRequest, pb.MeshRequest.createMeshRequest(b, modelId)]);
+  return frame(requestId,
+               (b) => [pb.Body.MeshRequest, pb.MeshRequest.createMeshRequest(b, modelId)]);
 }
 
 export function uploadClip(requestId, name, bvh, lengthScale) {
@@ -87,7 +88,8 @@ export function poseFromClip(requestId, pose, clipId, frameIndex) {
 // Local rotations {x, y, z, w} keyed by joint name; the joints not named keep their rest.
 export function poseByName(requestId, pose, names, rotations) {
   return frame(requestId, (b) => {
-    const nameOffsets = pb.PoseByName.createJointNamesVector(b, names.map((n) => b.createString(n)));
+    const nameOffsets =
+        pb.PoseByName.createJointNamesVector(b, names.map((name) => b.createString(name)));
     pb.PoseByName.startRotationsVector(b, rotations.length);
     for (let i = rotations.length - 1; i >= 0; --i) {
       const q = rotations[i];

@@ -32,8 +32,10 @@ export class SweepdConnection {
     this.waiting = new Map();  // request id -> {resolve, reject}
     this.closedBecause = null;
     socket.onmessage = (event) => this.receive(event.data);
-    socket.onclose = (event) => this.end(new SweepdError(
-        `the connection closed (code ${event.code}${event.reason ? ', ' + event.reason : ''})`, true));
+    socket.onclose = (event) => {
+      const reason = event.reason ? `, ${event.reason}` : '';
+      this.end(new SweepdError(`the connection closed (code ${event.code}${reason})`, true));
+    };
   }
 
   // `build(requestId)` makes the request's frame; the promise settles with its reply.
