@@ -41,7 +41,9 @@ const browser = spawn(options.chromium, [
   '--headless', '--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
   '--remote-debugging-pipe', `--user-data-dir=${profile}`,
   `--window-size=${options.width},${options.height}`,
-  '--hide-scrollbars', '--no-first-run', '--no-default-browser-check', 'about:blank',
+  // Containers often have a small /dev/shm: shared memory goes to /tmp instead.
+  '--hide-scrollbars', '--no-first-run', '--no-default-browser-check', '--disable-dev-shm-usage',
+  'about:blank',
 ], { stdio: ['ignore', 'ignore', 'pipe', 'pipe', 'pipe'] });
 let browserLog = '';
 browser.stderr.on('data', (chunk) => { browserLog = (browserLog + chunk).slice(-4000); });

@@ -9,7 +9,7 @@
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
-export const kMethodColours = { sweep: 0xe07a3f, lbs: 0x3f7ae0, dqs: 0x3fae5a };
+const kMethodColours = { sweep: 0xe07a3f, lbs: 0x3f7ae0, dqs: 0x3fae5a };
 const kMethodLabels = { sweep: 'sweep', lbs: 'LBS', dqs: 'DQS' };
 const kClearColour = 0x202428;
 const kFieldOfViewDegrees = 30;
@@ -131,8 +131,9 @@ export class BodyViews {
   drawIfNeeded() {
     if (!this.dirty) return false;
     this.dirty = false;
-    this.renderer.clear();
     const box = this.canvas.getBoundingClientRect();
+    this.renderer.setScissor(0, 0, box.width, box.height);
+    this.renderer.clear();  // all of it: a viewport just hidden leaves nothing behind
     for (const { method, x, width, height } of this.viewportRects()) {
       const left = x - box.left;
       this.renderer.setViewport(left, 0, width, height);
