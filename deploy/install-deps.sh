@@ -2,7 +2,8 @@
 # Installs every Debian 12 package sweepd needs to build, test and run; idempotent.
 # Runs `apt-get update` once, and only when something is missing. Works as root or via sudo.
 # Where npm is present, also installs into .tools/ (used by tests): the Khronos glTF validator,
-# and kubernetes-models + yaml (the offline schema check of deploy/k8s/).
+# kubernetes-models + yaml (the offline schema check of deploy/k8s/), and into .tools/web/ the
+# browser viewer's packages exactly as client_examples/web/package-lock.json pins them.
 set -euo pipefail
 
 packages=(
@@ -22,6 +23,7 @@ packages=(
   libassimp-dev  # FBX and COLLADA models (io/assimp_load.h): sweepctl MODEL files, tests/io/assimp_load_test
   assimp-utils  # the `assimp` command (assimp export in.glb out.fbx): FBX by hand, as the tests make it
   haproxy  # deploy/haproxy.cfg: checked with haproxy -c and run in front of two daemons (tests/deploy/)
+  chromium  # headless, on SwiftShader: tests/server/browser_viewer_test.cpp and bench/viewer_bench.sh load the viewer
 )
 
 missing=()
@@ -59,6 +61,19 @@ if command -v npm >/dev/null; then
         || echo "install-deps: warning: $specs could not be installed; $skips will skip" >&2
     fi
   done
+  # The viewer's three.js, flatbuffers and esbuild (client_examples/web): `npm ci` from the
+  # committed lock file, again whenever the lock file changes.
+  web="$root/.tools/web"
+  if ! cmp -s "$root/client_examples/web/package-lock.json" "$web/package-lock.json"; then
+    echo "install-deps: installing the viewer's npm packages into .tools/web/"
+    mkdir -p "$web"
+    cp "$root/client_examples/web/package.json" "$root/client_examples/web/package-lock.json" "$web/"
+    # In the directory itself: npm ci --prefix mistakes a .tools that is a symlink for a link.
+    (cd "$web" && npm ci --silent --no-audit --no-fund >/dev/null) || {
+      rm -f "$web/package-lock.json"  # tried again on the next run
+      echo "install-deps: warning: the viewer's npm packages could not be installed; the browser viewer is not built" >&2
+    }
+  fi
 else
-  echo "install-deps: npm not found; the glTF validator tests and the Kubernetes schema check will skip"
+  echo "install-deps: npm not found; the glTF validator tests, the Kubernetes schema check and the browser viewer will skip"
 fi

@@ -94,6 +94,7 @@ const std::vector<Setting>& settings() {
       address_and_port_setting("http_listen", &ServerConfig::http_address,
                                &ServerConfig::http_port),
       text_setting("http_port_file", &ServerConfig::http_port_file),
+      text_setting("viewer_dir", &ServerConfig::viewer_dir),
       address_and_port_setting("ws_listen", &ServerConfig::ws_address, &ServerConfig::ws_port),
       text_setting("ws_port_file", &ServerConfig::ws_port_file),
       list_setting("ws_allowed_origin", &ServerConfig::ws_allowed_origins),
@@ -257,6 +258,10 @@ ServerConfig parse_server_config(std::span<const std::string_view> args) {
     throw ConfigError("--http-listen: port " + std::to_string(config.http_port) +
                       " is the protocol port (--port); the HTTP side port needs its own");
   }
+  if (!config.viewer_dir.empty() && config.http_port < 0) {
+    throw ConfigError(
+        "--viewer-dir: needs --http-listen (the viewer is served on the HTTP side port)");
+  }
   if (config.ws_port > 0 && (config.ws_port == config.port || config.ws_port == config.http_port)) {
     throw ConfigError("--ws-listen: port " + std::to_string(config.ws_port) +
                       " is already the protocol or HTTP side port; the WebSocket listener needs "
@@ -279,6 +284,9 @@ Flags (each also a key of the JSON config file, with '_' for '-'):
                             [V6ADDR]:PORT for IPv6, PORT 0 picks a free one; never the
                             protocol port (default: off)
   --http-port-file FILE     write the bound HTTP side port to FILE once listening
+  --viewer-dir DIR          serve the browser viewer (the build's client_examples/web/viewer)
+                            at /viewer on the HTTP side port; its files are read once, at
+                            start-up (default: off)
   --ws-listen ADDR:PORT     WebSocket listener: the protocol's frames, one per binary message,
                             with the TCP listener's token, limits and TLS (wss with
                             --tls-cert); [V6ADDR]:PORT for IPv6, PORT 0 picks a free one

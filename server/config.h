@@ -4,7 +4,7 @@
 // parse_server_config(args): args are argv[1..] (program name excluded). Throws ConfigError
 // naming the flag, key or file and the reason (unknown flag, missing value, bad number,
 // unreadable or invalid JSON, a --collision other than auto/gpu/cpu, an --http-listen or
-// --ws-listen on another listener's port, --tls-cert without
+// --ws-listen on another listener's port, --viewer-dir without --http-listen, --tls-cert without
 // --tls-key or the reverse, --tls-client-ca without them, a token on a plain TCP listener that
 // is not loopback without --allow-plaintext, the same for --ws-listen). `--help` sets `show_help`.
 // config_usage(): the text `sweepd --help` prints, listing every flag and config key.
@@ -32,6 +32,9 @@ struct ServerConfig {
   std::string http_address;
   int http_port = -1;
   std::filesystem::path http_port_file;  // written (tmp + rename) with the bound HTTP port
+  // The browser viewer's files, read at start-up and served on the HTTP side port at /viewer
+  // (server/http/viewer_files.h); empty: /viewer answers 404.
+  std::filesystem::path viewer_dir;
   // The WebSocket listener (--ws-listen ADDR:PORT): the protocol's frames as binary messages,
   // with the TCP listener's auth, limits and TLS (wss when --tls-cert is given); ws_port -1:
   // off, 0: a free port (see ws_port_file). ws_allowed_origins: the browser Origins allowed

@@ -88,19 +88,23 @@ int main(int argc, char** argv) {
     // Declared before the side port, which reads it from its own thread: it outlives it.
     std::optional<server::Server> server;
     std::atomic<server::Server*> serving{nullptr};
+    // Read before the side port opens: a folder that will not load stops the start.
+    std::optional<server::ViewerFiles> viewer;
+    if (!config.viewer_dir.empty()) viewer.emplace(config.viewer_dir);
     std::optional<server::HttpSidePort> http;
     if (config.http_port >= 0) {
       // Up before the store is restored: /healthz answers and /readyz says what it waits for.
-      http.emplace(config.http_address, config.http_port, readiness,
-                   [&serving, &models]() -> std::optional<server::ServerSnapshot> {
-                     server::Server* running = serving.load();
-                     if (running == nullptr) return std::nullopt;
-                     std::optional<server::ServerSnapshot> snapshot =
-                         running->snapshot(kSnapshotTimeout);
-                     // The store's listing on the side port's thread, not the I/O thread's.
-                     if (snapshot) snapshot->store_bytes = models.store_bytes();
-                     return snapshot;
-                   });
+      http.emplace(
+          config.http_address, config.http_port, readiness,
+          [&serving, &models]() -> std::optional<server::ServerSnapshot> {
+            server::Server* running = serving.load();
+            if (running == nullptr) return std::nullopt;
+            std::optional<server::ServerSnapshot> snapshot = running->snapshot(kSnapshotTimeout);
+            // The store's listing on the side port's thread, not the I/O thread's.
+            if (snapshot) snapshot->store_bytes = models.store_bytes();
+            return snapshot;
+          },
+          viewer ? &*viewer : nullptr);
       if (!config.http_port_file.empty()) write_port_file(config.http_port_file, http->port());
     }
     models.restore();

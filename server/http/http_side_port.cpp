@@ -21,9 +21,10 @@ constexpr int kClientTimeoutSeconds = 5;
 }  // namespace
 
 HttpSidePort::HttpSidePort(const std::string& address, int port, const Readiness& readiness,
-                           SnapshotSource snapshot)
+                           SnapshotSource snapshot, const ViewerFiles* viewer)
     : readiness_(readiness),
       snapshot_(std::move(snapshot)),
+      viewer_(viewer),
       http_(std::make_unique<httplib::Server>()) {
   std::signal(SIGPIPE, SIG_IGN);
   http_->new_task_queue = [] { return new httplib::ThreadPool(kRequestThreads); };
@@ -44,6 +45,25 @@ HttpSidePort::HttpSidePort(const std::string& address, int port, const Readiness
     response.set_content(
         format_metrics(server ? &*server : nullptr, read_process_stats(), readiness_.stage()),
         kMetricsContentType);
+  });
+  // The name is looked up among the files read at start-up; it never reaches the file system.
+  http_->Get(R"(/viewer(?:/([^/]*))?)", [this](const httplib::Request& request,
+                                               httplib::Response& response) {
+    const std::string name =
+        request.matches[1].length() > 0 ? request.matches[1].str() : std::string("index.html");
+    const ViewerFile* file = viewer_ != nullptr ? viewer_->find(name) : nullptr;
+    if (file == nullptr) {
+      response.status = 404;
+      response.set_content(viewer_ == nullptr
+                               ? "no viewer here: sweepd serves /viewer when started with "
+                                 "--viewer-dir DIR (the build's client_examples/web/viewer)\n"
+                               : "no file '" + name + "' in the viewer\n",
+                           "text/plain; charset=utf-8");
+      return;
+    }
+    response.set_header("Cache-Control", "no-cache");
+    response.set_header("X-Content-Type-Options", "nosniff");
+    response.set_content(file->bytes, file->content_type);
   });
   const bool bound = port == 0 ? (port_ = http_->bind_to_any_port(address)) > 0
                                : http_->bind_to_port(address, port);

@@ -121,6 +121,13 @@ TEST(ServerConfig, HttpSidePortIsOffByDefaultAndNeverTheProtocolPort) {
   EXPECT_NE(error_of({"--http-listen", "h:99999"}).find("out of range"), std::string::npos);
 }
 
+TEST(ServerConfig, ViewerDirIsServedOnlyWithTheHttpSidePort) {
+  EXPECT_TRUE(parse({}).viewer_dir.empty());
+  EXPECT_EQ(parse({"--http-listen", "127.0.0.1:0", "--viewer-dir", "web"}).viewer_dir, "web");
+  EXPECT_NE(error_of({"--viewer-dir", "web"}).find("--viewer-dir: needs --http-listen"),
+            std::string::npos);
+}
+
 TEST(ServerConfig, WebSocketListenerIsOffByDefaultAndKeepsTheTokenOffPlainNetworks) {
   EXPECT_EQ(parse({}).ws_port, -1);
   const server::ServerConfig config = parse(
