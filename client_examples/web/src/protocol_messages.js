@@ -7,7 +7,7 @@ import * as pb from '@sweepd/protocol';
 export { pb };
 
 const kVersionMajor = 1;
-const kVersionMinor = 4;
+const kVersionMinor = 5;
 
 export const kMethods = {
   sweep: pb.DeformMethod.Sweep,
@@ -15,19 +15,34 @@ export const kMethods = {
   dqs: pb.DeformMethod.Dqs,
 };
 
+// Tables are built field by field (start, add, end), never with flatc's createX helpers: those
+// take every field positionally, so a field the schema gains (an additive minor version) would
+// be written from an `undefined` argument and break the frame.
+
 // One frame: `body(builder)` writes the body and returns [type, offset].
 function frame(requestId, body) {
   const builder = new flatbuffers.Builder(1024);
   const [type, offset] = body(builder);
-  const message = pb.Message.createMessage(builder, BigInt(requestId), type, offset);
+  pb.Message.startMessage(builder);
+  pb.Message.addRequestId(builder, BigInt(requestId));
+  pb.Message.addBodyType(builder, type);
+  pb.Message.addBody(builder, offset);
+  const message = pb.Message.endMessage(builder);
   builder.finishSizePrefixed(message, 'SWPD');
   return builder.asUint8Array();
 }
 
 export function hello(requestId, token) {
-  return frame(requestId, (b) => [pb.Body.Hello, pb.Hello.createHello(
-      b, kVersionMajor, kVersionMinor, b.createString(token), b.createString('sweepd viewer'),
-      pb.PoseDelivery.InOrder)]);
+  return frame(requestId, (b) => {
+    const tokenOffset = b.createString(token), nameOffset = b.createString('sweepd viewer');
+    pb.Hello.startHello(b);
+    pb.Hello.addVersionMajor(b, kVersionMajor);
+    pb.Hello.addVersionMinor(b, kVersionMinor);
+    pb.Hello.addAuthToken(b, tokenOffset);
+    pb.Hello.addClientName(b, nameOffset);
+    pb.Hello.addDelivery(b, pb.PoseDelivery.InOrder);
+    return [pb.Body.Hello, pb.Hello.endHello(b)];
+  });
 }
 
 export function listModels(requestId) {
@@ -48,13 +63,22 @@ export function loadModel(requestId, name) {
 }
 
 export function meshRequest(requestId, modelId) {
-  return frame(requestId,
-               (b) => [pb.Body.MeshRequest, pb.MeshRequest.createMeshRequest(b, modelId)]);
+  return frame(requestId, (b) => {
+    pb.MeshRequest.startMeshRequest(b);
+    pb.MeshRequest.addModelId(b, modelId);
+    return [pb.Body.MeshRequest, pb.MeshRequest.endMeshRequest(b)];
+  });
 }
 
 export function uploadClip(requestId, name, bvh, lengthScale) {
-  return frame(requestId, (b) => [pb.Body.UploadClip, pb.UploadClip.createUploadClip(
-      b, b.createString(name), b.createString(bvh), lengthScale)]);
+  return frame(requestId, (b) => {
+    const nameOffset = b.createString(name), bvhOffset = b.createString(bvh);
+    pb.UploadClip.startUploadClip(b);
+    pb.UploadClip.addName(b, nameOffset);
+    pb.UploadClip.addBvh(b, bvhOffset);
+    pb.UploadClip.addLengthScale(b, lengthScale);
+    return [pb.Body.UploadClip, pb.UploadClip.endUploadClip(b)];
+  });
 }
 
 // The pose fields both pose requests share: float16 positions, no normals (the page shades
@@ -75,9 +99,13 @@ export function poseFromClip(requestId, pose, clipId, frameIndex) {
     const poseOffset = poseFields(b, pose);
     // flatc 2.0.8's TypeScript writes an optional scalar only when it differs from 0: frame 0
     // would be absent (the server then finds neither frame nor time). Force it out.
+    pb.ClipFrame.startClipFrame(b);
+    pb.ClipFrame.addClipId(b, clipIdOffset);
     b.forceDefaults(true);
-    const clip = pb.ClipFrame.createClipFrame(b, clipIdOffset, frameIndex, null, true, 0);
+    pb.ClipFrame.addFrame(b, frameIndex);
     b.forceDefaults(false);
+    pb.ClipFrame.addLoop(b, true);
+    const clip = pb.ClipFrame.endClipFrame(b);
     pb.PoseFromClip.startPoseFromClip(b);
     pb.PoseFromClip.addPose(b, poseOffset);
     pb.PoseFromClip.addClip(b, clip);
@@ -97,8 +125,11 @@ export function poseByName(requestId, pose, names, rotations) {
     }
     const rotationOffsets = b.endVector();
     const poseOffset = poseFields(b, pose);
-    return [pb.Body.PoseByName,
-            pb.PoseByName.createPoseByName(b, poseOffset, nameOffsets, rotationOffsets)];
+    pb.PoseByName.startPoseByName(b);
+    pb.PoseByName.addPose(b, poseOffset);
+    pb.PoseByName.addJointNames(b, nameOffsets);
+    pb.PoseByName.addRotations(b, rotationOffsets);
+    return [pb.Body.PoseByName, pb.PoseByName.endPoseByName(b)];
   });
 }
 
