@@ -7,7 +7,7 @@
 //   origin the per-axis minimum of the reply's positions and step kMeshoptPositionStep (0.18 mm),
 //   so |decoded − p| ≤ step / 2 = 0.09 mm plus float32 rounding (under 1 µm within 100 m): within
 //   issue 18's 0.1 mm. A finer grid costs bytes: 0.1 mm gives 2.64× fewer than float32 on the 72k
-//   mannequin, 0.18 mm 2.72× (and 2.97× / 3.19× on the 14.5k male).
+//   mannequin, 0.18 mm 2.72× (and 2.97× / 3.17× on the 14.5k male).
 //   Decoded: p = origin + step * q. A non-finite coordinate is encoded as q = 0 (the origin).
 // Normals: q = round(clamp(n, −1, 1) * 127), int8 x, y, z and a 0 per vertex (4-byte vertices);
 //   decoded n = max(q / 127, −1), |decoded − n| ≤ 1/254 per component (not renormalised).
