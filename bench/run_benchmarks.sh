@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Runs the Release benchmarks and prints the README's performance tables: deformation in ns per
 # vertex (sweep, LBS, DQS) with the sweep/LBS ratio measured in the same run (and the sweep's
-# SSE2 loops where the CPU has AVX2), and binding time.
+# SSE2 loops where the CPU has AVX2), binding time, the daemon, the compact vertex streams,
+# the fleet and the Python package.
 set -euo pipefail
 # Usage: run_benchmarks.sh [build dir] [repetitions]
 build=${1:-build/release}
@@ -45,6 +46,10 @@ rm -rf "$out"
 
 # The daemon over loopback: round trip, throughput and overhead against in-process deformation.
 "$build/bench/server_bench"
+
+# Compact vertex streams: bytes and encode / decode time per pose of PosedVertices' float32,
+# float16 and meshopt formats, as ratios against float32 in the same run.
+"$build/bench/vertex_stream_bench"
 
 # The fleet: the HAProxy hop on the pose round trip, and renders on one and two replicas.
 if command -v haproxy >/dev/null; then

@@ -93,13 +93,22 @@ PosedVerticesFrame::PosedVerticesFrame(flatbuffers::FlatBufferBuilder& builder,
   builder.Clear();
   const std::size_t values = 3 * static_cast<std::size_t>(header.vertex_count);
   const bool half = header.format == PositionFormat::Float16;
+  const bool meshopt = header.format == PositionFormat::Meshopt;
   // The pointers CreateUninitializedVector returns move when the builder grows; the spans
   // are taken from the finished buffer below instead.
   float* moving_f32 = nullptr;
   std::uint16_t* moving_f16 = nullptr;
   flatbuffers::Offset<flatbuffers::Vector<float>> positions_f32, normals_f32;
   flatbuffers::Offset<flatbuffers::Vector<std::uint16_t>> positions_f16, normals_f16;
-  if (half) {
+  flatbuffers::Offset<flatbuffers::Vector<std::uint8_t>> positions_meshopt, normals_meshopt;
+  if (meshopt) {
+    std::uint8_t* moving_bytes = nullptr;
+    positions_meshopt =
+        builder.CreateUninitializedVector(header.meshopt_positions_bytes, &moving_bytes);
+    if (header.normals)
+      normals_meshopt =
+          builder.CreateUninitializedVector(header.meshopt_normals_bytes, &moving_bytes);
+  } else if (half) {
     positions_f16 = builder.CreateUninitializedVector(values, &moving_f16);
     if (header.normals) normals_f16 = builder.CreateUninitializedVector(values, &moving_f16);
   } else {
@@ -109,7 +118,9 @@ PosedVerticesFrame::PosedVerticesFrame(flatbuffers::FlatBufferBuilder& builder,
   const ServerTimings no_timings{};
   const auto reply = CreatePosedVertices(
       builder, header.model_id, header.sequence, header.client_time_ns, header.vertex_count,
-      positions_f32, positions_f16, normals_f32, normals_f16, &no_timings, header.dropped_before);
+      positions_f32, positions_f16, normals_f32, normals_f16, &no_timings, header.dropped_before,
+      positions_meshopt, normals_meshopt, meshopt ? &header.grid.origin : nullptr,
+      meshopt ? header.grid.step : 0.0f);
   bytes_ = finish_message(builder, reply, header.request_id);
 
   auto* finished = static_cast<PosedVertices*>(
@@ -118,6 +129,8 @@ PosedVerticesFrame::PosedVerticesFrame(flatbuffers::FlatBufferBuilder& builder,
   positions_f16_ = writable(finished->mutable_positions_f16());
   normals_f32_ = writable(finished->mutable_normals_f32());
   normals_f16_ = writable(finished->mutable_normals_f16());
+  positions_meshopt_ = writable(finished->mutable_positions_meshopt());
+  normals_meshopt_ = writable(finished->mutable_normals_meshopt());
   timings_ = finished->mutable_timings();
 }
 
@@ -138,10 +151,20 @@ PositionMapFrame::PositionMapFrame(flatbuffers::FlatBufferBuilder& builder,
 }
 
 bool copy_positions(const PosedVertices& reply, std::span<float> out) {
+  if (const auto* meshopt = reply.positions_meshopt()) {
+    const Vec3* origin = reply.position_origin();
+    return origin != nullptr && out.size() == 3 * std::size_t{reply.vertex_count()} &&
+           decode_meshopt_positions({meshopt->data(), meshopt->size()},
+                                    {*origin, reply.position_step()}, out);
+  }
   return copy_xyz(reply.positions_f32(), reply.positions_f16(), reply.vertex_count(), out);
 }
 
 bool copy_normals(const PosedVertices& reply, std::span<float> out) {
+  if (const auto* meshopt = reply.normals_meshopt()) {
+    return out.size() == 3 * std::size_t{reply.vertex_count()} &&
+           decode_meshopt_normals({meshopt->data(), meshopt->size()}, out);
+  }
   return copy_xyz(reply.normals_f32(), reply.normals_f16(), reply.vertex_count(), out);
 }
 

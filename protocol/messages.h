@@ -10,7 +10,7 @@
 //   check_pose_enums(pose)                     method, features, format a newer client sent
 //   PosedVerticesFrame, PositionMapFrame       replies with their arrays left for the caller
 //                                              to write straight into the builder's buffer
-//   copy_positions / copy_normals              a reply's arrays as float32, either format
+//   copy_positions / copy_normals              a reply's arrays as float32, any format
 //
 // The wire format is little-endian; arrays are written and read in place, so this code
 // builds only on little-endian hosts (a static_assert says so).
@@ -24,6 +24,7 @@
 #include <string_view>
 
 #include "protocol/framing.h"
+#include "protocol/meshopt_vertices.h"
 #include "protocol/sweepd_generated.h"
 
 namespace sweepd::protocol {
@@ -90,6 +91,11 @@ struct PosedVerticesHeader {
   PositionFormat format = PositionFormat::Float32;
   bool normals = false;
   std::uint32_t dropped_before = 0;
+  // Meshopt only: the encoded streams' sizes (the caller encodes before building the frame)
+  // and the grid the positions were quantised on.
+  std::size_t meshopt_positions_bytes = 0;
+  std::size_t meshopt_normals_bytes = 0;
+  PositionGrid grid{};
 };
 
 // Builds a complete PosedVertices frame in `builder` (cleared first, its memory reused)
@@ -98,6 +104,8 @@ struct PosedVerticesHeader {
 // spans for the chosen format must be written before bytes() is sent.
 //   positions_f32 / normals_f32: 3 * vertex_count floats (empty unless format is Float32)
 //   positions_f16 / normals_f16: 3 * vertex_count halves (empty unless format is Float16)
+//   positions_meshopt / normals_meshopt: header.meshopt_positions_bytes /
+//     meshopt_normals_bytes (empty unless format is Meshopt; the grid is written from the header)
 //   normals_*: empty unless header.normals
 // The spans and bytes() stay valid until the builder changes.
 class PosedVerticesFrame {
@@ -108,6 +116,8 @@ class PosedVerticesFrame {
   std::span<std::uint16_t> positions_f16() const { return positions_f16_; }
   std::span<float> normals_f32() const { return normals_f32_; }
   std::span<std::uint16_t> normals_f16() const { return normals_f16_; }
+  std::span<std::uint8_t> positions_meshopt() const { return positions_meshopt_; }
+  std::span<std::uint8_t> normals_meshopt() const { return normals_meshopt_; }
   // Set the timings in place (e.g. encode_ns, known last) before sending.
   ServerTimings& timings() const { return *timings_; }
   // The whole frame, length prefix included.
@@ -116,6 +126,7 @@ class PosedVerticesFrame {
  private:
   std::span<float> positions_f32_, normals_f32_;
   std::span<std::uint16_t> positions_f16_, normals_f16_;
+  std::span<std::uint8_t> positions_meshopt_, normals_meshopt_;
   ServerTimings* timings_ = nullptr;
   std::span<const std::uint8_t> bytes_;
 };
@@ -146,9 +157,11 @@ class PositionMapFrame {
   std::span<const std::uint8_t> bytes_;
 };
 
-// A reply's positions (or normals) as 3 * vertex_count floats into `out`, decoding float16.
-// False, leaving `out` untouched, when the reply lacks them, their length is not
-// 3 * vertex_count, or `out` is not that size.
+// A reply's positions (or normals) as 3 * vertex_count floats into `out`, decoding float16 or
+// meshopt (meshopt_vertices.h). False when the reply lacks them, their length is not
+// 3 * vertex_count (float formats), the meshopt bytes do not decode to vertex_count vertices,
+// or `out` is not 3 * vertex_count floats; `out` is untouched then, except after meshopt bytes
+// that fail to decode.
 bool copy_positions(const PosedVertices& reply, std::span<float> out);
 bool copy_normals(const PosedVertices& reply, std::span<float> out);
 

@@ -149,14 +149,26 @@ std::uint64_t PosedVerticesWriter::write(PoseRequest& request, std::uint32_t dro
   header.format = request.format;
   header.normals = request.normals;
   header.dropped_before = dropped_before;
-  protocol::PosedVerticesFrame frame(builder, header);
   std::pair<std::uint64_t, std::uint64_t> work_ns;
   if (request.format == protocol::PositionFormat::Float32) {
+    protocol::PosedVerticesFrame frame(builder, header);
     work_ns = deform(request, as_vectors(frame.positions_f32()), as_vectors(frame.normals_f32()));
+    fill_timings(frame.timings(), request, started, work_ns);
+    return work_ns.first + work_ns.second;
+  }
+  positions_scratch_.resize(vertex_count);
+  normals_scratch_.resize(request.normals ? vertex_count : 0);
+  work_ns = deform(request, positions_scratch_, normals_scratch_);
+  if (request.format == protocol::PositionFormat::Meshopt) {
+    header.grid = meshopt_.encode(as_floats(positions_scratch_), as_floats(normals_scratch_));
+    header.meshopt_positions_bytes = meshopt_.positions().size();
+    header.meshopt_normals_bytes = meshopt_.normals().size();
+  }
+  protocol::PosedVerticesFrame frame(builder, header);
+  if (request.format == protocol::PositionFormat::Meshopt) {
+    std::ranges::copy(meshopt_.positions(), frame.positions_meshopt().begin());
+    std::ranges::copy(meshopt_.normals(), frame.normals_meshopt().begin());
   } else {
-    positions_scratch_.resize(vertex_count);
-    normals_scratch_.resize(request.normals ? vertex_count : 0);
-    work_ns = deform(request, positions_scratch_, normals_scratch_);
     protocol::encode_float16(as_floats(positions_scratch_), frame.positions_f16());
     if (request.normals) protocol::encode_float16(as_floats(normals_scratch_), frame.normals_f16());
   }

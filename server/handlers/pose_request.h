@@ -19,9 +19,10 @@
 //   into the given buffers; the worker runs it with run_validated.
 // PosedVerticesWriter::write(request, dropped_before, builder): builds the complete reply
 //   frame in `builder` (protocol::PosedVerticesFrame) — float32 positions/normals are
-//   written by the deformer in place; float16 go through one scratch buffer, kept between
-//   frames. write_position_map: the same pose rendered to an EXR position map instead.
-//   The request runs as one deform::DeformJob on the model's shared ModelRuntime
+//   written by the deformer in place; float16 and meshopt (protocol::MeshoptEncoder) go
+//   through scratch buffers kept between frames, meshopt's encoded bytes copied into the frame
+//   once their size is known. write_position_map: the same pose rendered to an EXR position map
+//   instead. The request runs as one deform::DeformJob on the model's shared ModelRuntime
 //   (RegisteredModel::runtime) with the worker thread's own DeformContext (one per thread,
 //   not per connection), each request standing alone (VolumeChangeSource::kFixedPoint), so
 //   the vertices equal the library's bit for bit; ServerTimings.features_ns times folding and
@@ -101,7 +102,8 @@ class PosedVerticesWriter {
 
   int deform_threads_;
   CollisionPairFinder pair_finder_;
-  std::vector<glm::vec3> positions_scratch_, normals_scratch_;  // float16 and position maps
+  std::vector<glm::vec3> positions_scratch_, normals_scratch_;  // float16, meshopt, maps
+  protocol::MeshoptEncoder meshopt_;
   std::vector<std::uint8_t> exr_scratch_;
 };
 

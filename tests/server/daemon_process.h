@@ -265,6 +265,9 @@ class FrameClient {
     return protocol::GetSizePrefixedMessage(bytes);
   }
 
+  // The whole frame receive() last returned, length prefix included (valid until next call).
+  std::span<const std::uint8_t> last_frame() const { return last_frame_; }
+
   // The next frame's body of type T, failing the test (and returning nullptr) otherwise.
   template <typename T>
   const T* receive_as() {

@@ -10,11 +10,14 @@ exception classes, that a silent server raises Timeout, and that bytes uploaded 
 named by content id afterwards: not sent again to PORT, sent to OTHER_PORT (a daemon with a
 store of its own, which answers the content id with UnknownModel). Clips: a frame kept on the
 server is the same by index, in a stream and by time; named joints pose like rotations; a
-Clip uploaded on one server is uploaded again by the package on the other. Prints "ok" and
+Clip uploaded on one server is uploaded again by the package on the other. The meshopt
+encoding decodes within half its 0.18 mm grid step. Prints "ok" and
 exits 0, or names the failed check and exits 1.
 """
 
+import os
 import socket
+import subprocess
 import sys
 
 import numpy as np
@@ -60,6 +63,24 @@ def main(port, token, glb, rotations_file, out, other_port, clip_file):
         half = sweepd.pose(body, rotations, float16=True)
         # float16 keeps 11 significant bits: 2^-11 relative, under 1 mm on a 2 m body.
         check(np.abs(half.positions - posed.positions).max() < 1e-3, "float16 within 1 mm")
+        # Meshopt through Debian's libmeshoptimizer.so.2d (ctypes): a 0.18 mm grid, so half a
+        # step (0.09 mm) plus float32 rounding; the issue's bound is 0.1 mm. Normals as int8:
+        # half of 1/127 per component.
+        compact = sweepd.pose(body, rotations, encoding="meshopt", normals=True)
+        check(np.abs(compact.positions - posed.positions).max() <= 0.9e-4 + 1e-6,
+              "meshopt within 0.09 mm")
+        check(np.abs(compact.normals - posed.normals).max() <= 0.5 / 127 + 1e-6,
+              "meshopt normals within 1/254")
+        expect_error(errors.SweepdError, lambda: sweepd.pose(body, encoding="float64"))
+        expect_error(errors.SweepdError,
+                     lambda: sweepd.pose(body, float16=True, encoding="meshopt"))
+        # Without meshoptimizer's library the package says what it needs, before sending.
+        missing = subprocess.run(
+            [sys.executable, "-c", "import sweepd_client.meshopt as m\n"
+             "try:\n    m.require()\nexcept m.MeshoptUnavailable as e:\n    print(e)"],
+            env={**os.environ, "SWEEPD_MESHOPTIMIZER": "/nonexistent/libmeshoptimizer.so"},
+            capture_output=True, text=True, check=True).stdout
+        check("libmeshoptimizer2d" in missing, f"MeshoptUnavailable names the package: {missing}")
 
         error = expect_error(errors.WrongJointCount, lambda: sweepd.pose(body, rotations[:3]))
         check(error.code == errors.WrongJointCount.code and not error.fatal, "WrongJointCount")

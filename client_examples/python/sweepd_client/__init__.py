@@ -7,6 +7,7 @@
 
 from .client import Client, Clip, Model, ModelSummary, Posed, RestMesh
 from .errors import ConnectionLost, ServerError, SweepdError, Timeout
+from .meshopt import MeshoptUnavailable
 
 __all__ = ["Client", "Clip", "Model", "ModelSummary", "Posed", "RestMesh", "SweepdError",
-           "ConnectionLost", "Timeout", "ServerError"]
+           "ConnectionLost", "Timeout", "ServerError", "MeshoptUnavailable"]

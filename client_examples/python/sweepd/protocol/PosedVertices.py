@@ -182,7 +182,79 @@ class PosedVertices(object):
             return self._tab.Get(flatbuffers.number_types.Uint32Flags, o + self._tab.Pos)
         return 0
 
-def PosedVerticesStart(builder): builder.StartObject(10)
+    # PosedVertices
+    def PositionsMeshopt(self, j):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(24))
+        if o != 0:
+            a = self._tab.Vector(o)
+            return self._tab.Get(flatbuffers.number_types.Uint8Flags, a + flatbuffers.number_types.UOffsetTFlags.py_type(j * 1))
+        return 0
+
+    # PosedVertices
+    def PositionsMeshoptAsNumpy(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(24))
+        if o != 0:
+            return self._tab.GetVectorAsNumpy(flatbuffers.number_types.Uint8Flags, o)
+        return 0
+
+    # PosedVertices
+    def PositionsMeshoptLength(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(24))
+        if o != 0:
+            return self._tab.VectorLen(o)
+        return 0
+
+    # PosedVertices
+    def PositionsMeshoptIsNone(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(24))
+        return o == 0
+
+    # PosedVertices
+    def NormalsMeshopt(self, j):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(26))
+        if o != 0:
+            a = self._tab.Vector(o)
+            return self._tab.Get(flatbuffers.number_types.Uint8Flags, a + flatbuffers.number_types.UOffsetTFlags.py_type(j * 1))
+        return 0
+
+    # PosedVertices
+    def NormalsMeshoptAsNumpy(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(26))
+        if o != 0:
+            return self._tab.GetVectorAsNumpy(flatbuffers.number_types.Uint8Flags, o)
+        return 0
+
+    # PosedVertices
+    def NormalsMeshoptLength(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(26))
+        if o != 0:
+            return self._tab.VectorLen(o)
+        return 0
+
+    # PosedVertices
+    def NormalsMeshoptIsNone(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(26))
+        return o == 0
+
+    # PosedVertices
+    def PositionOrigin(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(28))
+        if o != 0:
+            x = o + self._tab.Pos
+            from sweepd.protocol.Vec3 import Vec3
+            obj = Vec3()
+            obj.Init(self._tab.Bytes, x)
+            return obj
+        return None
+
+    # PosedVertices
+    def PositionStep(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(30))
+        if o != 0:
+            return self._tab.Get(flatbuffers.number_types.Float32Flags, o + self._tab.Pos)
+        return 0.0
+
+def PosedVerticesStart(builder): builder.StartObject(14)
 def Start(builder):
     return PosedVerticesStart(builder)
 def PosedVerticesAddModelId(builder, modelId): builder.PrependUint32Slot(0, modelId, 0)
@@ -227,6 +299,24 @@ def AddTimings(builder, timings):
 def PosedVerticesAddDroppedBefore(builder, droppedBefore): builder.PrependUint32Slot(9, droppedBefore, 0)
 def AddDroppedBefore(builder, droppedBefore):
     return PosedVerticesAddDroppedBefore(builder, droppedBefore)
+def PosedVerticesAddPositionsMeshopt(builder, positionsMeshopt): builder.PrependUOffsetTRelativeSlot(10, flatbuffers.number_types.UOffsetTFlags.py_type(positionsMeshopt), 0)
+def AddPositionsMeshopt(builder, positionsMeshopt):
+    return PosedVerticesAddPositionsMeshopt(builder, positionsMeshopt)
+def PosedVerticesStartPositionsMeshoptVector(builder, numElems): return builder.StartVector(1, numElems, 1)
+def StartPositionsMeshoptVector(builder, numElems):
+    return PosedVerticesStartPositionsMeshoptVector(builder, numElems)
+def PosedVerticesAddNormalsMeshopt(builder, normalsMeshopt): builder.PrependUOffsetTRelativeSlot(11, flatbuffers.number_types.UOffsetTFlags.py_type(normalsMeshopt), 0)
+def AddNormalsMeshopt(builder, normalsMeshopt):
+    return PosedVerticesAddNormalsMeshopt(builder, normalsMeshopt)
+def PosedVerticesStartNormalsMeshoptVector(builder, numElems): return builder.StartVector(1, numElems, 1)
+def StartNormalsMeshoptVector(builder, numElems):
+    return PosedVerticesStartNormalsMeshoptVector(builder, numElems)
+def PosedVerticesAddPositionOrigin(builder, positionOrigin): builder.PrependStructSlot(12, flatbuffers.number_types.UOffsetTFlags.py_type(positionOrigin), 0)
+def AddPositionOrigin(builder, positionOrigin):
+    return PosedVerticesAddPositionOrigin(builder, positionOrigin)
+def PosedVerticesAddPositionStep(builder, positionStep): builder.PrependFloat32Slot(13, positionStep, 0.0)
+def AddPositionStep(builder, positionStep):
+    return PosedVerticesAddPositionStep(builder, positionStep)
 def PosedVerticesEnd(builder): return builder.EndObject()
 def End(builder):
     return PosedVerticesEnd(builder)

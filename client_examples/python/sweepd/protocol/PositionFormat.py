@@ -5,3 +5,4 @@
 class PositionFormat(object):
     Float32 = 0
     Float16 = 1
+    Meshopt = 2
