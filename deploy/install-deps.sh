@@ -62,7 +62,7 @@ if command -v npm >/dev/null; then
         || echo "install-deps: warning: $specs could not be installed; $skips will skip" >&2
     fi
   done
-  # The viewer's three.js, flatbuffers and esbuild (client_examples/web): `npm ci` from the
+  # The viewer's three.js, flatbuffers, meshoptimizer and esbuild (client_examples/web): `npm ci` from the
   # committed lock file, again whenever the lock file changes.
   web="$root/.tools/web"
   if ! cmp -s "$root/client_examples/web/package-lock.json" "$web/package-lock.json"; then

@@ -1,9 +1,9 @@
 // BodyViews: the posed body once per deformation method, side by side on one canvas (a
 // viewport each, one camera for all, turned with the mouse), drawn with three.js.
 // setRestMesh(mesh): sweepd's Mesh reply (indices, rest positions) becomes one body per method.
-// showSet(methods, positions): per method a PosedVertices' float16 positions (3 per vertex, a
-// view into the reply: the GPU gets the half floats as they came). setVisible(methods): which
-// viewports.
+// showSet(methods, positions): per method a PosedVertices' positions, 3 per vertex: float16
+// (a Uint16Array view into the reply: the GPU gets the half floats as they came) or float32
+// (decoded meshopt, vertex_decoding.js). setVisible(methods): which viewports.
 // drawIfNeeded(): draws when something changed. viewportRects(): where each viewport is on the
 // page, in CSS pixels (for PageStatus and the headless test).
 import * as THREE from 'three';
@@ -80,9 +80,16 @@ export class BodyViews {
 
   showSet(methods, positionsPerMethod) {
     methods.forEach((method, i) => {
-      const attribute = this.views.get(method).body.geometry.getAttribute('position');
-      attribute.array = positionsPerMethod[i];
-      attribute.needsUpdate = true;
+      const { geometry } = this.views.get(method).body;
+      const values = positionsPerMethod[i];
+      const attribute = geometry.getAttribute('position');
+      if (attribute.array.constructor === values.constructor) {
+        attribute.array = values;
+        attribute.needsUpdate = true;
+      } else {  // the first pose of another format: a new attribute of its type
+        geometry.setAttribute('position', values instanceof Float32Array
+            ? new THREE.BufferAttribute(values, 3) : new THREE.Float16BufferAttribute(values, 3));
+      }
     });
     if (methods.length > 0) this.follow(positionsPerMethod[0]);
     this.dirty = true;
@@ -94,9 +101,10 @@ export class BodyViews {
     let x = 0;
     let z = 0;
     let count = 0;
+    const read = positions instanceof Float32Array ? (v) => v : THREE.DataUtils.fromHalfFloat;
     for (let i = 0; i < positions.length; i += 3 * kFollowStride, ++count) {
-      x += THREE.DataUtils.fromHalfFloat(positions[i]);
-      z += THREE.DataUtils.fromHalfFloat(positions[i + 2]);
+      x += read(positions[i]);
+      z += read(positions[i + 2]);
     }
     const shift = new THREE.Vector3(x / count - this.controls.target.x, 0,
                                     z / count - this.controls.target.z);

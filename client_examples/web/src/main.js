@@ -12,6 +12,7 @@ import { bodyAs, listModels, loadModel, meshRequest, pb, poseByName, poseFromCli
 import { StreamStats } from './stream_stats.js';
 import { SweepdConnection } from './sweepd_connection.js';
 import { readUrlOptions } from './url_options.js';
+import { decoderReady } from './vertex_decoding.js';
 
 const element = (id) => document.getElementById(id);
 const status = new PageStatus(element('status'), element('stats'));
@@ -51,7 +52,9 @@ async function start() {
   const views = new BodyViews(element('canvas'));
   views.setRestMesh(mesh);
   const stats = new StreamStats();
-  const stream = new PoseStream(connection, info.modelId(), views, stats, (e) => status.fail(e));
+  if (options.positions === 'meshopt') await decoderReady;
+  const stream = new PoseStream(connection, info.modelId(), options.positions, views, stats,
+                                (e) => status.fail(e));
   const player = new ClipPlayer();
   let clipId = null;
   let posing = true;  // the sliders' pose is shown (the rest pose at first), not the clip

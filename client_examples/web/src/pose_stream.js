@@ -6,14 +6,16 @@
 // pump() sends what is due; drawn() tells it the shown sets are on screen (and returns how many
 // there were). poseAt(now) says what to show: {key, request(requestId, fields)} or null, where
 // `key` names the pose (nothing is sent again while it stays the same: paused) and `request`
-// makes one request's frame for fields {modelId, sequence, method}.
+// makes one request's frame for fields {modelId, sequence, method, positions}; `positions` is the
+// format asked for ("float16" or "meshopt", vertex_decoding.js decodes either).
 import { bodyAs, pb } from './protocol_messages.js';
+import { replyPositions } from './vertex_decoding.js';
 
 const kSetsInFlight = 2;
 
 export class PoseStream {
-  constructor(connection, modelId, views, stats, onError) {
-    Object.assign(this, { connection, modelId, views, stats, onError });
+  constructor(connection, modelId, positions, views, stats, onError) {
+    Object.assign(this, { connection, modelId, positions, views, stats, onError });
     this.poseAt = () => null;
     this.methods = [];
     this.sequence = 0;
@@ -49,13 +51,14 @@ export class PoseStream {
     const sent = performance.now();
     const methods = this.methods;
     const replies = methods.map((method) => this.connection.request((requestId) => pose.request(
-        requestId, { modelId: this.modelId, sequence: ++this.sequence, method }))
+        requestId,
+        { modelId: this.modelId, sequence: ++this.sequence, method, positions: this.positions }))
         .then((message) => {
           this.stats.roundTrip(performance.now() - sent, message.bb.capacity());
           return bodyAs(message, pb.PosedVertices);
         }));
     Promise.all(replies).then((posed) => {
-      this.views.showSet(methods, posed.map((reply) => reply.positionsF16Array()));
+      this.views.showSet(methods, posed.map(replyPositions));
       ++this.setsShown;
     }, (error) => {
       --this.setsInFlight;

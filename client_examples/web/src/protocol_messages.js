@@ -15,6 +15,11 @@ export const kMethods = {
   dqs: pb.DeformMethod.Dqs,
 };
 
+const kPositionFormats = {
+  float16: pb.PositionFormat.Float16,
+  meshopt: pb.PositionFormat.Meshopt,
+};
+
 // Tables are built field by field (start, add, end), never with flatc's createX helpers: those
 // take every field positionally, so a field the schema gains (an additive minor version) would
 // be written from an `undefined` argument and break the frame.
@@ -81,14 +86,14 @@ export function uploadClip(requestId, name, bvh, lengthScale) {
   });
 }
 
-// The pose fields both pose requests share: float16 positions, no normals (the page shades
-// flat), no features.
+// The pose fields both pose requests share: positions in the format asked for (float16 or
+// meshopt), no normals (the page shades flat), no features.
 function poseFields(b, pose) {
   pb.Pose.startPose(b);
   pb.Pose.addModelId(b, pose.modelId);
   pb.Pose.addSequence(b, BigInt(pose.sequence));
   pb.Pose.addMethod(b, kMethods[pose.method]);
-  pb.Pose.addPositions(b, pb.PositionFormat.Float16);
+  pb.Pose.addPositions(b, kPositionFormats[pose.positions]);
   return pb.Pose.endPose(b);
 }
 

@@ -1,7 +1,15 @@
 // The page's settings, from its URL: /viewer?ws=ws://HOST:PORT&token=TOKEN[&model=NAME]
-// [&methods=sweep,lbs,dqs]. ws: sweepd's WebSocket listener (--ws-listen; wss:// with TLS);
-// token: its --token; model: the model's name (default: "mannequin" when held, else the first
-// held); methods: the viewports shown at first (default all three).
+// [&methods=sweep,lbs,dqs][&positions=float16|meshopt]. ws: sweepd's WebSocket listener
+// (--ws-listen; wss:// with TLS); token: its --token; model: the model's name (default:
+// "mannequin" when held, else the first held); methods: the viewports shown at first (default
+// all three); positions: how the vertices travel (default float16, 6 bytes a vertex; meshopt,
+// about 4, costs the server about 2 ms a 72k pose to encode: protocol/README.md).
+function positionFormat(name) {
+  if (name !== 'float16' && name !== 'meshopt')
+    throw new Error(`positions=${name}: expected float16 or meshopt`);
+  return name;
+}
+
 export function readUrlOptions(location) {
   const parameters = new URLSearchParams(location.search);
   const ws = parameters.get('ws');
@@ -11,5 +19,6 @@ export function readUrlOptions(location) {
     token: parameters.get('token') ?? '',
     model: parameters.get('model'),
     methods: (parameters.get('methods') ?? 'sweep,lbs,dqs').split(','),
+    positions: positionFormat(parameters.get('positions') ?? 'float16'),
   };
 }
