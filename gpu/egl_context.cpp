@@ -2,6 +2,8 @@
 
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
+#include <dlfcn.h>
+#include <link.h>
 
 #include <cstdio>
 #include <map>
@@ -66,6 +68,30 @@ void remove_display_user(EGLDisplay display) {
   if (--display_users[display] == 0) {
     display_users.erase(display);
     eglTerminate(display);
+  }
+}
+
+// Mesa's driver (.../dri/*_dri.so, or libgallium-*.so since Mesa 24.1) is loaded by
+// eglInitialize and unloaded by the last eglTerminate. It keeps a buffer from a one-time
+// (pthread_once) initialisation in its globals, so each unload loses that buffer (128 bytes
+// under llvmpipe, a leak report under LeakSanitizer) and the next Context loads and
+// initialises the driver again. Once loaded, the driver stays for the process's life
+// (RTLD_NODELETE on the objects already mapped; dlopen is not called inside dl_iterate_phdr,
+// whose loader lock it would need).
+void keep_drivers_loaded() {
+  std::vector<std::string> drivers;
+  dl_iterate_phdr(
+      [](dl_phdr_info* info, std::size_t, void* found) {
+        const std::string_view path = info->dlpi_name == nullptr ? "" : info->dlpi_name;
+        if ((path.find("/dri/") != std::string_view::npos && path.ends_with("_dri.so")) ||
+            path.find("/libgallium") != std::string_view::npos)
+          static_cast<std::vector<std::string>*>(found)->emplace_back(path);
+        return 0;
+      },
+      &drivers);
+  for (const std::string& driver : drivers) {
+    // The handle is never closed: holding it is the point.
+    static_cast<void>(dlopen(driver.c_str(), RTLD_NOW | RTLD_NOLOAD | RTLD_NODELETE));
   }
 }
 
@@ -191,6 +217,7 @@ Context::Context(const ContextOptions& options) {
       continue;
     }
     add_display_user(candidate.display);
+    keep_drivers_loaded();
     std::string failure;
     const EGLContext context =
         create_core_context(candidate.display, options.debug_output, failure);

@@ -85,10 +85,14 @@ glm::quat shortest_arc(const glm::vec3& u, const glm::vec3& v) {
   return glm::normalize(glm::quat(1.0f + c, axis.x, axis.y, axis.z));
 }
 
-// Pelvis height above the floor on straight legs (see the header), or plain pelvis height.
+// Pelvis height above the floor on straight legs (see the header), or plain pelvis height
+// where there is no map or a leg lacks its hip, knee or ankle (a legless rig).
 float hip_height(const std::optional<deform::RigMap>& map, const std::vector<glm::vec3>& world,
                  int pelvis, float floor) {
-  if (!map) return world[pelvis].y - floor;
+  const auto whole = [](const deform::LegJoints& leg) {
+    return leg.upper >= 0 && leg.lower >= 0 && leg.foot >= 0;
+  };
+  if (!map || !whole(map->left_leg) || !whole(map->right_leg)) return world[pelvis].y - floor;
   float sum = 0.0f;
   for (const deform::LegJoints* leg : {&map->left_leg, &map->right_leg})
     sum += world[pelvis].y - world[leg->upper].y +

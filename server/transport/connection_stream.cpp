@@ -83,7 +83,8 @@ void ConnectionStream::read_messages(asio::mutable_buffer buffer, ReadHandler ha
   const std::size_t available = payload.size() - payload_taken_;
   if (available > 0 || socket_ended_ || websocket_->state() != WebSocketSession::State::kOpen) {
     const std::size_t n = std::min(available, buffer.size());
-    std::memcpy(buffer.data(), payload.data() + payload_taken_, n);
+    // n == 0 where nothing was ever received: payload.data() is null, which memcpy may not take.
+    if (n > 0) std::memcpy(buffer.data(), payload.data() + payload_taken_, n);
     payload_taken_ += n;
     if (payload_taken_ == payload.size()) {
       payload.clear();  // keeps its capacity for the next messages

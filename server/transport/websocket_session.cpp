@@ -130,7 +130,13 @@ WebSocketSession::WebSocketSession(Role role, std::vector<std::string> allowed_o
   e.server_connection->start();
 }
 
-WebSocketSession::~WebSocketSession() = default;
+// websocketpp's iostream transport keeps a waiting read's handler, which holds the connection's
+// own shared_ptr: a session that ends without its last read answered (a peer that vanished, a
+// refused or broken handshake) would keep its connection alive forever (about 20 KiB each).
+// eof() answers that read, and the connection ends and lets go of itself.
+WebSocketSession::~WebSocketSession() {
+  endpoint_->on_connection([](auto& connection) { connection->eof(); });
+}
 
 void WebSocketSession::start_client(const std::string& host, const std::string& origin) {
   Endpoint& e = *endpoint_;

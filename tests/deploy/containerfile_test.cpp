@@ -207,6 +207,10 @@ TEST_F(ContainerfileTest, RuntimeStageInstallsThePackageOfEveryLibraryTheBinarie
     for (const std::string& path : libraries) {
       const auto found = owner.find(path.starts_with("/usr/") ? path.substr(4) : path);
       ASSERT_NE(found, owner.end()) << path << " (loaded by " << binary << ") has no package";
+      // A sanitized build's (make sanitize, make tsan) own runtime: the image builds Release.
+      if (found->second.starts_with("libasan") || found->second.starts_with("libubsan") ||
+          found->second.starts_with("libtsan"))
+        continue;
       EXPECT_NE(runtime_packages.find(" " + found->second + " "), std::string::npos)
           << binary << " loads " << path << " of " << found->second
           << ", which the runtime stage does not install";

@@ -154,6 +154,9 @@ const deform::KeyEllipse& key_of(const deform::BoundModel& bound, const std::str
     if (part == deform::to_string(s.part)) return s.rest_keys.at(key);
   throw std::runtime_error("no sweep " + sweep);
 }
+// The key lives in `bound`: a temporary would leave the reference dangling.
+const deform::KeyEllipse& key_of(deform::BoundModel&& bound, const std::string& sweep,
+                                 std::uint32_t key) = delete;
 
 // What the test knows the store must hold, and checks after every restart.
 class StoreExpectations {
@@ -219,8 +222,8 @@ class StoreExpectations {
     maybe_models_.clear();
     for (auto& [slot, values] : keys_) {
       const auto& [id, sweep, key] = slot;
-      const deform::KeyEllipse& stored =
-          key_of(io::load_sweepbind(stored_binding(store, id)), sweep, key);
+      const deform::BoundModel bound = io::load_sweepbind(stored_binding(store, id));
+      const deform::KeyEllipse& stored = key_of(bound, sweep, key);
       // Exact: a half-axis is sent as a float, set as given and stored bit for bit.
       const auto is_stored = [&](const std::pair<float, float>& v) {
         return v.first == stored.a && v.second == stored.b;
