@@ -2,30 +2,18 @@
 
 #include <chrono>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <stdexcept>
 
 #include "client/clip_upload.h"
 #include "client/mesh_request.h"
 #include "io/bvh_load.h"
+#include "io/file_bytes.h"
 #include "io/pose_json.h"
 
 namespace sweepd::cli {
 namespace {
 
 namespace pb = sweepd::protocol;
-
-std::vector<std::uint8_t> read_bytes(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw std::runtime_error("cannot read " + file.string());
-  return {std::istreambuf_iterator<char>(in), {}};
-}
-
-std::string read_text(const std::filesystem::path& file) {
-  const std::vector<std::uint8_t> bytes = read_bytes(file);
-  return {bytes.begin(), bytes.end()};
-}
 
 pb::DeformMethod wire_method(deform::DeformMethod method) {
   switch (method) {
@@ -82,7 +70,8 @@ const Reply& RemotePosedModel::reply_as() {
   }
 }
 
-RemotePosedModel::RemotePosedModel(const PosingArguments& arguments, const ServerAddress& server)
+RemotePosedModel::RemotePosedModel(const PosingArguments& arguments, const ServerAddress& server,
+                                   ClipPosing clip_posing)
     : arguments_(checked_model(arguments)), connection_(server.address, server.tls) {
   try {
     connection_.hello(server.token, "sweepctl");
@@ -96,12 +85,12 @@ RemotePosedModel::RemotePosedModel(const PosingArguments& arguments, const Serve
       origin_ = "already loaded";
     } else {
       origin_ = "uploaded";
-      upload = read_bytes(file);
+      upload = io::read_file_bytes(file);
     }
     flatbuffers::FlatBufferBuilder& builder = connection_.builder();
     builder.Clear();
     const auto rig_json =
-        arguments.rig.empty() ? 0 : builder.CreateString(read_text(arguments.rig));
+        arguments.rig.empty() ? 0 : builder.CreateString(io::read_file_text(arguments.rig));
     const auto orientation = static_cast<std::uint8_t>(arguments.orientation);
     const auto rig = arguments.rig.empty() && orientation == 0
                          ? 0
@@ -113,10 +102,14 @@ RemotePosedModel::RemotePosedModel(const PosingArguments& arguments, const Serve
     model_id_ = info.model_id();
     model_ = client::served_model(connection_, info);    // `info` is invalid from here on
     if (local_file) model_.name = file.stem().string();  // as the local commands name it
-    if (!arguments.bvh.empty()) {
+    if (!arguments.bvh.empty() && clip_posing == ClipPosing::kHere) {
+      retargeter_.emplace(io::load_bvh(arguments.bvh), model_,
+                          load_joint_name_map(arguments.bvh_map));
+      require_clip_frames(arguments, retargeter_->frame_count());
+    } else if (!arguments.bvh.empty()) {
       const pb::ClipInfo& clip = client::upload_clip(
-          connection_, arguments.bvh.filename().string(), read_text(arguments.bvh), 1.0f,
-          arguments.bvh_map.empty() ? "" : read_text(arguments.bvh_map));
+          connection_, arguments.bvh.filename().string(), io::read_file_text(arguments.bvh), 1.0f,
+          arguments.bvh_map.empty() ? "" : io::read_file_text(arguments.bvh_map));
       clip_id_ = clip.clip_id()->str();
       require_clip_frames(arguments, static_cast<int>(clip.frame_count()));
     }
@@ -136,9 +129,8 @@ RemotePosedModel::~RemotePosedModel() {
 }
 
 deform::Pose RemotePosedModel::pose(int frame) {
-  if (!clip_id_.empty() && !retargeter_)
-    retargeter_.emplace(io::load_bvh(arguments_.bvh), model_,
-                        load_joint_name_map(arguments_.bvh_map));
+  if (!clip_id_.empty())
+    throw std::logic_error("RemotePosedModel::pose: the clip is posed on the server (kOnServer)");
   if (retargeter_) return retargeter_->pose_at_frame(frame);
   if (file_pose_) return *file_pose_;
   return deform::rest_pose(model_.skeleton);

@@ -75,6 +75,7 @@
 #include "console/command_line.h"
 #include "console/progress_bar.h"
 #include "io/bvh_load.h"
+#include "io/file_bytes.h"
 #include "motion/frame_range.h"
 #include "protocol/messages.h"
 
@@ -145,19 +146,6 @@ void describe(CLI::App& app, Options& o) {
   app.add_option("--attempts", o.attempts, "tries per frame before it fails")
       ->check(sweepd::console::whole_number(1, 100))
       ->capture_default_str();
-}
-
-// A model file to upload, whole.
-std::vector<std::uint8_t> file_bytes(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw std::runtime_error("cannot read " + file.string());
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-// The clip's text, whole, for UploadClip.
-std::string text_of(const fs::path& file) {
-  const std::vector<std::uint8_t> bytes = file_bytes(file);
-  return {bytes.begin(), bytes.end()};
 }
 
 // "A-B" (or "A"); a usage error for anything else.
@@ -483,7 +471,7 @@ std::optional<sweepd::motion::FrameRange> own_frames(const Options& options,
 int run(const Options& options) {
   // The clip is read here only for its frame count: the range is checked, and complete frames
   // skipped, before any server is asked.
-  const std::string bvh_text = text_of(options.bvh);
+  const std::string bvh_text = sweepd::io::read_file_text(options.bvh);
   const sweepd::motion::FrameRange range =
       clip_range(options.frames,
                  sweepd::io::parse_bvh(bvh_text, options.bvh, {.length_scale = options.bvh_scale})
@@ -515,7 +503,8 @@ int run(const Options& options) {
     sweepd::client::ModelSource model =
         options.model_file.empty()
             ? sweepd::client::ModelSource(options.model, {})
-            : sweepd::client::ModelSource(options.model_file, file_bytes(options.model_file));
+            : sweepd::client::ModelSource(options.model_file,
+                                          sweepd::io::read_file_bytes(options.model_file));
     Progress progress("rendering " + fs::path(options.bvh).stem().string(), skipped, total);
     const Job job{options, bvh_text, model, queue, progress};
     std::vector<std::thread> threads;

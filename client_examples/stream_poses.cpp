@@ -25,8 +25,6 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <mutex>
 #include <semaphore>
 #include <string>
@@ -38,6 +36,7 @@
 #include "client/connection.h"
 #include "client/token_flags.h"
 #include "console/command_line.h"
+#include "io/file_bytes.h"
 #include "protocol/messages.h"
 
 namespace {
@@ -75,13 +74,6 @@ void describe(CLI::App& app, Options& o) {
   app.add_flag("--float16", o.float16, "positions as float16 on the wire");
 }
 
-// A file's bytes, whole.
-std::string file_bytes(const std::string& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw std::runtime_error("cannot read " + file);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
-
 double percentile_ms(std::vector<double> values, double q) {
   if (values.empty()) return 0.0;
   std::sort(values.begin(), values.end());
@@ -97,17 +89,18 @@ int run(const Options& options) {
           .max_poses_in_flight();
 
   // The model: upload a .glb, or use the server's default mannequin.
-  const std::string glb = options.model_file.empty() ? "" : file_bytes(options.model_file);
+  const std::vector<std::uint8_t> glb = options.model_file.empty()
+                                            ? std::vector<std::uint8_t>{}
+                                            : sweepd::io::read_file_bytes(options.model_file);
   const pb::ModelInfo& info =
-      channel.load_model(options.model_file.empty() ? "mannequin" : options.model_file,
-                         {reinterpret_cast<const std::uint8_t*>(glb.data()), glb.size()});
+      channel.load_model(options.model_file.empty() ? "mannequin" : options.model_file, glb);
   const std::uint32_t model_id = info.model_id();
   std::printf("model %u: %u vertices, %u joints\n", model_id, info.vertex_count(),
               info.joint_names()->size());
   // `info` is invalid from the next receive on.
   const pb::ClipInfo& clip =
       sweepd::client::upload_clip(channel, std::filesystem::path(options.bvh).filename().string(),
-                                  file_bytes(options.bvh), options.bvh_scale);
+                                  sweepd::io::read_file_text(options.bvh), options.bvh_scale);
   const std::string clip_id = clip.clip_id()->str();
   const double frame_time = 1.0 / clip.frames_per_second();
   const int clip_frames = static_cast<int>(clip.frame_count());

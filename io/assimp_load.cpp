@@ -11,8 +11,6 @@
 #include <assimp/IOSystem.hpp>
 #include <assimp/Importer.hpp>
 #include <cmath>
-#include <fstream>
-#include <iterator>
 #include <map>
 #include <set>
 #include <string>
@@ -20,6 +18,7 @@
 #include <vector>
 
 #include "io/bind_pose_vertices.h"
+#include "io/file_bytes.h"
 #include "io/rest_transform.h"
 
 namespace sweepd::io {
@@ -371,11 +370,7 @@ std::string_view assimp_model_suffix(std::span<const std::uint8_t> bytes) {
 }
 
 deform::Model load_assimp(const fs::path& file, LoadReport* report) {
-  std::ifstream stream(file, std::ios::binary);
-  if (!stream) throw LoadError(file, "cannot open the file (missing or unreadable)");
-  const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(stream)),
-                                        std::istreambuf_iterator<char>());
-  return load_assimp(bytes, file, report);
+  return load_assimp(read_file_bytes(file), file, report);
 }
 
 deform::Model load_assimp(std::span<const std::uint8_t> bytes, const fs::path& file,

@@ -6,16 +6,15 @@
 #include <array>
 #include <cmath>
 #include <cstring>
-#include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
-#include <iterator>
 #include <map>
 #include <set>
 #include <string>
 #include <vector>
 
 #include "io/bind_pose_vertices.h"
+#include "io/file_bytes.h"
 #include "io/gltf_guarded_files.h"
 #include "io/rest_transform.h"
 
@@ -239,10 +238,7 @@ bool skip_image(tinygltf::Image*, const int, std::string*, std::string*, int, in
 }
 
 tinygltf::Model parse_file(const fs::path& file, const GltfUriPolicy& uris, LoadReport* report) {
-  std::ifstream stream(file, std::ios::binary);
-  if (!stream) throw LoadError(file, "cannot open the file (missing or unreadable)");
-  const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(stream)),
-                                         std::istreambuf_iterator<char>());
+  const std::vector<unsigned char> bytes = read_file_bytes(file);
   if (bytes.empty()) throw LoadError(file, "the file is empty");
   const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
   if (binary) {

@@ -5,11 +5,10 @@
 #include <cstddef>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 
 #include "io/byte_stream.h"
 #include "io/durable_file.h"
+#include "io/file_bytes.h"
 
 namespace sweepd::io {
 
@@ -322,11 +321,7 @@ void save_sweepbind(const BoundModel& bound, const std::filesystem::path& file) 
 }
 
 BoundModel load_sweepbind(const std::filesystem::path& file, const deform::Model* expected_model) {
-  std::ifstream stream(file, std::ios::binary);
-  if (!stream) throw LoadError(file, "cannot open: " + std::string(std::strerror(errno)));
-  const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(stream)),
-                                        std::istreambuf_iterator<char>());
-  return decode_sweepbind(bytes, file, expected_model);
+  return decode_sweepbind(read_file_bytes(file), file, expected_model);
 }
 
 }  // namespace sweepd::io
