@@ -232,7 +232,7 @@ int metrics(const Options& options, const ServerAddress* server) {
   std::unique_ptr<deform::SweepPoser> served_poser;
   std::function<deform::Pose(int)> pose_of;
   if (server) {
-    remote = std::make_unique<RemotePosedModel>(posing, *server);
+    remote = std::make_unique<RemotePosedModel>(posing, *server, ClipPosing::kHere);
     const deform::Model& model = remote->model();
     served_binding = std::make_unique<deform::BoundModel>(deform::bind(
         model, posing.rig.empty() ? deform::detect_rig_map(model.skeleton)

@@ -6,10 +6,10 @@
 // on the server (e.g. "mannequin"). The model's mesh comes back with MeshRequest, so results
 // are written as the local commands write them. A BVH clip (with its --bvh-map) is uploaded
 // once (UploadClip) and each frame is asked for by number: the server retargets, as
-// `sweepctl pose --bvh` does locally. A pose file is turned into joint rotations here and goes
-// over the wire.
-// Errors (unreachable server, wrong token, unknown model, refused pose) throw with the
-// server's address, the protocol error code and its reason.
+// `sweepctl pose --bvh` does locally (`metrics` retargets here instead: ClipPosing). A pose file is
+// turned into joint rotations here and goes over the wire. Errors (unreachable server, wrong token,
+// unknown model, refused pose) throw with the server's address, the protocol error code and its
+// reason.
 #pragma once
 
 #include <cstdint>
@@ -39,10 +39,17 @@ struct RemoteMapOptions {
   bool half_normals = false;
 };
 
+// Where a BVH clip's frames are posed: by the server (uploaded once, frames asked for by number:
+// pose, positionmap) or here, with the library's Retargeter on the served model, as the server
+// would (metrics, which needs each frame's pose for the section planes it measures).
+enum class ClipPosing { kOnServer, kHere };
+
 class RemotePosedModel {
  public:
-  // Connects, says Hello, loads or uploads the model and fetches its mesh. Throws.
-  RemotePosedModel(const PosingArguments& arguments, const ServerAddress& server);
+  // Connects, says Hello, loads or uploads the model and fetches its mesh; uploads the clip for
+  // kOnServer, reads it for kHere. Throws.
+  RemotePosedModel(const PosingArguments& arguments, const ServerAddress& server,
+                   ClipPosing clip_posing = ClipPosing::kOnServer);
   ~RemotePosedModel();
 
   // The served model (rest pose); named after the local file's stem for an uploaded file,
@@ -51,9 +58,8 @@ class RemotePosedModel {
   const PosingArguments& arguments() const { return arguments_; }
   // How the model was found, for the command's report: "uploaded", "already loaded", "server".
   const std::string& origin() const { return origin_; }
-  // The pose of clip frame `frame` (or the pose file / rest pose without a clip), for
-  // measurements made here (`metrics --server`): a clip is then also retargeted here, with the
-  // library's Retargeter on the served model, as the server retargets it.
+  // The pose of clip frame `frame` (kHere), or the pose file / rest pose without a clip, for
+  // measurements made here (`metrics --server`). Throws std::logic_error for a kOnServer clip.
   deform::Pose pose(int frame);
   // The server deforms `pose` with `method` and `features` (Sweep only): positions and
   // normals, vertex_count() each.
