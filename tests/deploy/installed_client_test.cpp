@@ -43,7 +43,7 @@ float rest_height(int port, const std::string& model) {
 }
 
 TEST(InstalledClient, AnotherProjectBuildsAgainstTheInstalledPackageAndPoses) {
-  const fs::path directory = fresh_directory("installed_client");
+  const ScratchDirectory directory("installed_client");
   const fs::path prefix = directory / "prefix";
   const CommandResult install = run_command("cmake --install " + quoted(SWEEPD_BUILD_DIR) +
                                             " --component client --prefix " + quoted(prefix));

@@ -47,7 +47,7 @@ float largest_distance(const std::vector<glm::vec3>& a, const std::vector<glm::v
 }
 
 TEST(DaemonEditKeyEllipse, AnEditIsPosedStoredAndKeptOverARestart) {
-  const fs::path directory = fresh_directory("edit_key");
+  const ScratchDirectory directory("edit_key");
   std::vector<glm::quat> bent, rest;
   std::vector<glm::vec3> before, after;
   std::uint32_t id = 0;

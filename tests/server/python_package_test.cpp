@@ -25,7 +25,7 @@ const fs::path kClip = fs::path(SWEEPD_SHARED_DATA) / "motion/cmu_01_01.bvh";
 std::string quoted(const fs::path& path) { return "'" + path.string() + "'"; }
 
 TEST(PythonPackage, CommittedProtocolCodeIsWhatFlatcMakesOfTheSchema) {
-  const fs::path directory = fresh_directory("python_package_flatc");
+  const ScratchDirectory directory("python_package_flatc");
   const CommandResult flatc =
       run_command(std::string(SWEEPD_FLATC) + " --python -o " + quoted(directory) + " " +
                   quoted(fs::path(SWEEPD_SOURCE_DIR) / "protocol/sweepd.fbs"));
@@ -49,7 +49,7 @@ TEST(PythonPackage, CommittedProtocolCodeIsWhatFlatcMakesOfTheSchema) {
 
 TEST(PythonPackage, InstallsOfflineIntoAVenvAndPosesLikeTheLibrary) {
   ASSERT_TRUE(fs::exists(kClip)) << kClip << ": the shared data must sit beside the checkout";
-  const fs::path directory = fresh_directory("python_package");
+  const ScratchDirectory directory("python_package");
   const fs::path venv = directory / "venv";
   const CommandResult create =
       run_command("/usr/bin/python3 -m venv --system-site-packages " + quoted(venv));

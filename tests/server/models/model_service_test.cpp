@@ -36,7 +36,8 @@ std::optional<protocol::ErrorCode> refusal(server::ModelService& models, std::ui
 }
 
 TEST(ModelService, KeyEllipseEditsAreCheckedSwappedInAndStored) {
-  const server::ServerConfig config = config_in(fresh_directory("model_service"));
+  const ScratchDirectory directory("model_service");
+  const server::ServerConfig config = config_in(directory);
   server::ModelService models(config);
   models.restore();
   models.add_default_model();
@@ -74,10 +75,12 @@ TEST(ModelService, KeyEllipseEditsAreCheckedSwappedInAndStored) {
 }
 
 TEST(ModelService, BindsAnUploadWithTheOrientationCurveItAsksFor) {
-  const server::ServerConfig config = config_in(fresh_directory("model_service_orientation"));
+  const ScratchDirectory directory("model_service_orientation");
+  const server::ServerConfig config = config_in(directory);
   server::ModelService models(config);
   models.restore();
-  const std::filesystem::path glb = fresh_directory("model_service_glb") / "small.glb";
+  const ScratchDirectory glb_directory("model_service_glb");
+  const std::filesystem::path glb = glb_directory / "small.glb";
   io::save_gltf(mannequin::make_mannequin({.target_vertices = 2000}), glb);
   std::ifstream in(glb, std::ios::binary);
   const std::vector<std::uint8_t> bytes{std::istreambuf_iterator<char>(in),
