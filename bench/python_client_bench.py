@@ -7,8 +7,9 @@ and model in the same run (issue 18's target: >= 1,000 poses/s of the 14.5k male
 
 Installs the package into a temporary venv (offline, as tests/server/python_package_test.cpp
 does), starts sweepd from BUILD_DIR on a free port, uploads the model, streams N poses with
-Client.poses (the server's max_poses_in_flight in flight) and then the clip's first N frames
-with the C++ client. Prints one table row per client and the ratio.
+Client.poses, then with AsyncClient.poses (asyncio; the server's max_poses_in_flight in
+flight each), and then the clip's first N frames with the C++ client. Prints one table row
+per client and the ratios.
 """
 
 import argparse
@@ -38,22 +39,39 @@ def start_daemon(build, directory):
 
 
 PYTHON_STREAM = """
-import sys, time
+import asyncio, sys, time
 import numpy as np
-from sweepd_client import Client
-port, model, count = int(sys.argv[1]), sys.argv[2], int(sys.argv[3])
-with Client("127.0.0.1", port) as sweepd:
-    body = sweepd.upload(model)
-    joints = len(body.joint_names)
+from sweepd_client import AsyncClient, Client
+port, model, count, variant = int(sys.argv[1]), sys.argv[2], int(sys.argv[3]), sys.argv[4]
+
+def bent(joints):
     # Distinct small bends per frame, made before the clock starts.
     angles = np.linspace(0.0, 0.6, count, dtype=np.float32)[:, None] * np.ones(joints, np.float32)
-    frames = [np.stack([np.sin(a / 2), np.zeros(joints), np.zeros(joints), np.cos(a / 2)], 1)
-              for a in angles]
-    sweepd.pose(body)  # warm up the connection and the server's caches
-    start = time.perf_counter()
-    received = sum(p.positions.shape[0] == body.vertex_count for p in sweepd.poses(body, frames))
-    seconds = time.perf_counter() - start
-    print(f"{received} {seconds} {body.vertex_count}")
+    return [np.stack([np.sin(a / 2), np.zeros(joints), np.zeros(joints), np.cos(a / 2)], 1)
+            for a in angles]
+
+def blocking():
+    with Client("127.0.0.1", port) as sweepd:
+        body = sweepd.upload(model)
+        frames = bent(len(body.joint_names))
+        sweepd.pose(body)  # warm up the connection and the server's caches
+        start = time.perf_counter()
+        received = sum(p.positions.shape[0] == body.vertex_count for p in sweepd.poses(body, frames))
+        return received, time.perf_counter() - start, body.vertex_count
+
+async def awaited():
+    async with AsyncClient("127.0.0.1", port) as sweepd:
+        body = await sweepd.upload(model)
+        frames = bent(len(body.joint_names))
+        await sweepd.pose(body)
+        start = time.perf_counter()
+        received = 0
+        async for p in sweepd.poses(body, frames):
+            received += p.positions.shape[0] == body.vertex_count
+        return received, time.perf_counter() - start, body.vertex_count
+
+received, seconds, vertices = blocking() if variant == "blocking" else asyncio.run(awaited())
+print(f"{received} {seconds} {vertices}")
 """
 
 
@@ -76,11 +94,13 @@ def main():
                         "--no-build-isolation", source], check=True)
         daemon, port = start_daemon(options.build, directory)
         try:
-            python = subprocess.run([os.path.join(venv, "bin/python"), "-c", PYTHON_STREAM,
-                                     str(port), options.model, str(options.poses)],
-                                    check=True, capture_output=True, text=True, cwd=directory)
-            received, seconds, vertices = python.stdout.split()
-            python_rate = int(received) / float(seconds)
+            rates = {}
+            for variant in ("blocking", "async"):
+                python = subprocess.run([os.path.join(venv, "bin/python"), "-c", PYTHON_STREAM,
+                                         str(port), options.model, str(options.poses), variant],
+                                        check=True, capture_output=True, text=True, cwd=directory)
+                received, seconds, vertices = python.stdout.split()
+                rates[variant] = int(received) / float(seconds)
             cpp = subprocess.run([os.path.join(options.build, "client_examples/stream_poses"),
                                   "--port", str(port), "--model-file", options.model, "--bvh",
                                   options.bvh, "--frames", str(options.poses), "--flat-out"],
@@ -91,10 +111,13 @@ def main():
             daemon.wait()
     print(f"| client | model vertices | poses | poses/s |")
     print(f"|---|---|---|---|")
-    print(f"| Python package, NumPy arrays | {int(vertices):,} | {received} | {python_rate:.0f} |")
+    print(f"| Python package, Client, NumPy arrays | {int(vertices):,} | {received} | "
+          f"{rates['blocking']:.0f} |")
+    print(f"| Python package, AsyncClient, NumPy arrays | {int(vertices):,} | {received} | "
+          f"{rates['async']:.0f} |")
     print(f"| C++ stream_poses (baseline) | {int(vertices):,} | {options.poses} | {cpp_rate:.0f} |")
-    print(f"Python / C++: {python_rate / cpp_rate:.2f}")
-
+    print(f"Python / C++: {rates['blocking'] / cpp_rate:.2f} (Client), "
+          f"{rates['async'] / cpp_rate:.2f} (AsyncClient)")
 
 if __name__ == "__main__":
     main()

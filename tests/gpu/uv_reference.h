@@ -24,7 +24,9 @@ struct MapView {
 // At each vertex's texel centre c, what the map must hold, found among all UV triangles (a grid
 // of buckets finds the candidates):
 // - c inside exactly one triangle (farther than kEdgeMargin from its edges): covered, and P the
-//   barycentric interpolation there;
+//   barycentric interpolation there, or that of a triangle whose edge passes within kEdgeMargin
+//   of c (where UV charts meet or fold, snapping may put c inside it too, and drawn later it
+//   wins);
 // - c inside two or more triangles: the UV layout overlaps there (the later triangle wins on
 //   the GPU): counted in `overlapping`, not checked;
 // - c within kEdgeMargin of edges only: the fill rule and vertex snapping decide coverage;
@@ -133,7 +135,7 @@ inline VertexCheck check_vertex_texels(std::span<const glm::vec2> uvs,
         note("uncovered inside a triangle", i, texel);
         continue;
       }
-      on_edge = inside;  // the value must match this one
+      on_edge.push_back(inside.front());  // the value must match this one or an edge's
     }
     if (!covered) continue;  // on an edge only: the fill rule decides
     const glm::dvec3 got(map.positions[3 * at], map.positions[3 * at + 1],

@@ -146,10 +146,10 @@ TEST_F(DaemonCompactVertices, WelcomeAdvertisesMeshopt) {
 }
 
 TEST_F(DaemonCompactVertices, MannequinRoundTripsEveryEncodingWithinATenthOfAMillimetre) {
-  // 2.70–2.72× measured: short of the 3×. The procedural mannequin's vertex order
-  // jumps more than the male's (median neighbour step 37 grid units at 0.1 mm), and the codec
-  // spends 8 bits on any byte delta past ±7; 2.6 leaves room for other poses.
-  expect_compact_within_a_tenth_of_a_millimetre(daemon_->model_id(), "mannequin", 2.6);
+  // 3.45× measured (bench/vertex_stream_bench.cpp): the mannequin's vertices follow its
+  // surface (mannequin.cpp), so the codec's deltas between consecutive vertices stay small.
+  // The 3× must hold.
+  expect_compact_within_a_tenth_of_a_millimetre(daemon_->model_id(), "mannequin", 3.0);
 }
 
 TEST_F(DaemonCompactVertices, SharedMaleRoundTripsEveryEncodingWithinATenthOfAMillimetre) {

@@ -11,10 +11,12 @@ named by content id afterwards: not sent again to PORT, sent to OTHER_PORT (a da
 store of its own, which answers the content id with UnknownModel). Clips: a frame kept on the
 server is the same by index, in a stream and by time; named joints pose like rotations; a
 Clip uploaded on one server is uploaded again by the package on the other. The meshopt
-encoding decodes within half its 0.18 mm grid step. Prints "ok" and
-exits 0, or names the failed check and exits 1.
+encoding decodes within half its 0.18 mm grid step. AsyncClient (asyncio) streams the same
+poses and clip frames as the blocking Client, bit for bit, and raises the same exceptions.
+Prints "ok" and exits 0, or names the failed check and exits 1.
 """
 
+import asyncio
 import os
 import socket
 import subprocess
@@ -22,7 +24,7 @@ import sys
 
 import numpy as np
 import sweepd_client
-from sweepd_client import Client, errors
+from sweepd_client import AsyncClient, Client, errors
 
 
 def check(condition, what):
@@ -37,6 +39,54 @@ def expect_error(cls, call):
     except cls as error:
         return error
     check(False, f"{cls.__name__} was not raised")
+
+
+async def expect_async_error(cls, call):
+    try:
+        await call()
+    except cls as error:
+        return error
+    check(False, f"{cls.__name__} was not raised (AsyncClient)")
+
+
+async def check_async_client(port, token, glb, rotations, clip_file, expected):
+    """AsyncClient against what the blocking Client got: `expected` holds its replies."""
+    async with AsyncClient("127.0.0.1", int(port), token=token, timeout=60,
+                           client_name="async") as sweepd:
+        check(any(m.name == "mannequin" for m in await sweepd.models()), "async: models")
+        body = await sweepd.upload(glb, name="uploaded")
+        check(body.content_id == expected["content_id"], "async: the same binding")
+        streamed = [posed async for posed in sweepd.poses(body, [rotations] * 20)]
+        check(len(streamed) == 20, "async: 20 streamed replies")
+        check(all(np.array_equal(p.positions, expected["posed"].positions) for p in streamed),
+              "async: streamed poses equal the blocking client's")
+        single = await sweepd.pose(body, rotations, normals=True)
+        check(np.array_equal(single.normals, expected["posed"].normals), "async: normals")
+        compact = await sweepd.pose(body, rotations, encoding="meshopt", normals=True)
+        check(np.array_equal(compact.positions, expected["compact"].positions) and
+              np.array_equal(compact.normals, expected["compact"].normals),
+              "async: meshopt decodes as the blocking client's")
+        clip = await sweepd.upload_clip(clip_file, length_scale=0.056444)
+        frames = [posed async for posed in sweepd.poses(body, [99, 100, 101], clip=clip)]
+        check(all(np.array_equal(a.positions, b.positions)
+                  for a, b in zip(frames, expected["clip_frames"], strict=True)),
+              "async: streamed clip frames equal the blocking client's")
+        error = await expect_async_error(errors.WrongJointCount,
+                                         lambda: sweepd.pose(body, rotations[:3]))
+        check(not error.fatal, "async: WrongJointCount is not fatal")
+        await expect_async_error(errors.UnknownModel, lambda: sweepd.load("absent"))
+        # The connection goes on after errors.
+        check(np.array_equal((await sweepd.pose(body, rotations)).positions,
+                             expected["posed"].positions), "async: a pose after errors")
+    await expect_async_error(
+        errors.AuthFailed, lambda: AsyncClient("127.0.0.1", int(port), token="wrong").connect())
+    silent = socket.socket()
+    silent.bind(("127.0.0.1", 0))
+    silent.listen()
+    await expect_async_error(
+        errors.Timeout,
+        lambda: AsyncClient("127.0.0.1", silent.getsockname()[1], timeout=0.5).connect())
+    silent.close()
 
 
 def main(port, token, glb, rotations_file, out, other_port, clip_file):
@@ -118,6 +168,10 @@ def main(port, token, glb, rotations_file, out, other_port, clip_file):
                      - frame.positions).max() > 1e-3, "the map changes the pose")
         clip_map = sweepd.position_map(body, clip=clip, frame=100, width=64, height=64)
         check(clip_map[:4] == b"\x76\x2f\x31\x01", "a clip frame's position map")
+
+        asyncio.run(check_async_client(port, token, glb, rotations, clip_file, {
+            "content_id": body.content_id, "posed": posed, "compact": compact,
+            "clip_frames": stream}))
 
         exr = sweepd.position_map(body, rotations, width=128, height=64)
         with open(f"{out}/map.exr", "wb") as file:

@@ -1,13 +1,19 @@
-"""sweepd_client: the Python client of sweepd (see client.py for the API).
+"""sweepd_client: the Python client of sweepd (see exchanges.py for the requests).
 
     from sweepd_client import Client
     with Client("127.0.0.1", 7878, token="SECRET") as sweepd:
         posed = sweepd.pose("mannequin")          # the rest pose; .positions is (n, 3) float32
+
+    from sweepd_client import AsyncClient         # the same requests under asyncio
+    async with AsyncClient("127.0.0.1", 7878, token="SECRET") as sweepd:
+        posed = await sweepd.pose("mannequin")
 """
 
-from .client import Client, Clip, Model, ModelSummary, Posed, RestMesh
+from .async_client import AsyncClient
+from .client import Client
 from .errors import ConnectionLost, ServerError, SweepdError, Timeout
+from .exchanges import Clip, Model, ModelSummary, Posed, RestMesh
 from .meshopt import MeshoptUnavailable
 
-__all__ = ["Client", "Clip", "Model", "ModelSummary", "Posed", "RestMesh", "SweepdError",
-           "ConnectionLost", "Timeout", "ServerError", "MeshoptUnavailable"]
+__all__ = ["Client", "AsyncClient", "Clip", "Model", "ModelSummary", "Posed", "RestMesh",
+           "SweepdError", "ConnectionLost", "Timeout", "ServerError", "MeshoptUnavailable"]

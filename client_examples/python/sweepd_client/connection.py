@@ -1,12 +1,15 @@
-"""Connection: one blocking sweepd session over TCP (plain or TLS) or a Unix socket.
+"""Connection: one blocking sweepd session over TCP (plain or TLS) or a Unix socket, and the
+framing that it shares with AsyncConnection (async_connection.py).
 
 Frames are the protocol's: a little-endian uint32 length, then a FlatBuffers Message with
-the file identifier "SWPD" (protocol/README.md). send() writes one finished builder;
+the file identifier "SWPD" (protocol/README.md). finish_frame() makes one from a builder's
+body; frame_buffer() and parse_frame() read one. send() writes a frame;
 receive() returns the next Message, raising Timeout when nothing arrives within `timeout`
 seconds (None: wait for ever) and ConnectionLost when the socket breaks or the frame is not
 the protocol's.
 """
 
+import contextlib
 import ipaddress
 import socket
 import struct
@@ -17,6 +20,57 @@ from sweepd.protocol import Message
 from .errors import ConnectionLost, Timeout
 
 FRAME_IDENTIFIER = b"SWPD"
+
+
+def finish_frame(builder, body_type, body, request_id=0):
+    """A Message around `body` (of union type `body_type`) finished in `builder` → the frame's
+    bytes, length prefix included."""
+    Message.Start(builder)
+    Message.AddRequestId(builder, request_id)
+    Message.AddBodyType(builder, body_type)
+    Message.AddBody(builder, body)
+    builder.FinishSizePrefixed(Message.End(builder), FRAME_IDENTIFIER)
+    return builder.Output()
+
+
+def frame_buffer(prefix):
+    """The buffer for the frame whose 4-byte length prefix is `prefix`, the prefix in its first
+    bytes: prefix and body share one buffer (FlatBuffers' alignment counts from its first
+    byte), the body to be read into buffer[4:]."""
+    (size,) = struct.unpack("<I", prefix)
+    frame = bytearray(4 + size)
+    frame[:4] = prefix
+    return frame
+
+
+def parse_frame(frame, address):
+    """A whole frame (frame_buffer, filled) → its Message; ConnectionLost when it is not the
+    protocol's."""
+    if len(frame) < 12 or not Message.Message.MessageBufferHasIdentifier(frame, 0, True):
+        raise ConnectionLost(f"{address}: a frame without the SWPD identifier")
+    return Message.Message.GetRootAs(frame, 4)
+
+
+@contextlib.contextmanager
+def sending(address, timeout):
+    """Maps a send's failures to the package's exceptions (blocking or asyncio alike)."""
+    try:
+        yield
+    except TimeoutError as error:
+        raise Timeout(f"{address}: the server took no bytes for {timeout} s") from error
+    except OSError as error:
+        raise ConnectionLost(f"{address}: send failed: {error.strerror or error}") from error
+
+
+@contextlib.contextmanager
+def receiving(address, timeout):
+    """Maps a receive's failures to the package's exceptions (blocking or asyncio alike)."""
+    try:
+        yield
+    except TimeoutError as error:
+        raise Timeout(f"{address}: no reply in {timeout} s") from error
+    except OSError as error:
+        raise ConnectionLost(f"{address}: {error.strerror or error}") from error
 
 
 class Connection:
@@ -32,7 +86,7 @@ class Connection:
             else:
                 raw = socket.create_connection((host, int(port)), timeout=timeout)
                 raw.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
-                self.loopback = ipaddress.ip_address(raw.getpeername()[0]).is_loopback
+                self.loopback = is_loopback(raw)
                 self.socket = tls.wrap_socket(raw, server_hostname=host) if self.tls else raw
         except TimeoutError as error:
             raise Timeout(f"cannot connect to {self.address}: no answer in {timeout} s") from error
@@ -42,49 +96,34 @@ class Connection:
         self.socket.settimeout(timeout)
         self.timeout = timeout
 
-    def send(self, builder, body_type, body, request_id=0):
-        Message.Start(builder)
-        Message.AddRequestId(builder, request_id)
-        Message.AddBodyType(builder, body_type)
-        Message.AddBody(builder, body)
-        builder.FinishSizePrefixed(Message.End(builder), FRAME_IDENTIFIER)
-        try:
-            self.socket.sendall(builder.Output())
-        except TimeoutError as error:
-            raise Timeout(f"{self.address}: the server took no bytes for {self.timeout} s") \
-                from error
-        except OSError as error:
-            raise ConnectionLost(f"{self.address}: send failed: "
-                                 f"{error.strerror or error}") from error
+    def send(self, frame):
+        with sending(self.address, self.timeout):
+            self.socket.sendall(frame)
 
     def _receive_into(self, view):
         got = 0
         while got < len(view):
-            try:
+            with receiving(self.address, self.timeout):
                 n = self.socket.recv_into(view[got:])
-            except TimeoutError as error:
-                raise Timeout(f"{self.address}: no reply in {self.timeout} s") from error
-            except OSError as error:
-                raise ConnectionLost(f"{self.address}: {error.strerror or error}") from error
             if n == 0:
                 raise ConnectionLost(f"{self.address}: the server closed the connection")
             got += n
 
     def receive(self):
-        """The next Message (length prefix and body in one buffer: FlatBuffers' alignment
-        counts from its first byte)."""
+        """The next Message."""
         prefix = bytearray(4)
         self._receive_into(memoryview(prefix))
-        (size,) = struct.unpack("<I", prefix)
-        frame = bytearray(4 + size)
-        frame[:4] = prefix
+        frame = frame_buffer(prefix)
         self._receive_into(memoryview(frame)[4:])
-        if size < 8 or not Message.Message.MessageBufferHasIdentifier(frame, 0, True):
-            raise ConnectionLost(f"{self.address}: a frame without the SWPD identifier")
-        return Message.Message.GetRootAs(frame, 4)
+        return parse_frame(frame, self.address)
 
     def close(self):
         self.socket.close()
+
+
+def is_loopback(sock):
+    """Whether a connected TCP socket's peer is on this host."""
+    return ipaddress.ip_address(sock.getpeername()[0]).is_loopback
 
 
 def body_of(message, table):
