@@ -79,14 +79,10 @@ void add_spine(SkeletonBuilder& joints, MannequinAnatomy& anatomy) {
        at_height(1.36f, 0.165f, 0.110f, 0.005f),
        at_height(1.42f, 0.150f, 0.095f, -0.010f)},  // shoulders
       0.07f, 0.06f));
-  // The neck's lower end and the shoulders' inner ends lie inside the torso. Closed by 2 cm caps
-  // they met the torso's top in blunt fillets, whose smooth-minimum band edges drew a dotted
-  // ring across the upper chest in every method, at rest too; 5 cm caps taper them into the
-  // torso and the ring is gone (issue 17).
   anatomy.parts.push_back(part(
       "neck", kSpineChain, {0.0f, 1.44f, -0.035f}, {0.0f, 1.63f, -0.01f}, kFront,
       {section(0.0f, 0.065f, 0.060f), section(0.4f, 0.054f, 0.055f), section(1.0f, 0.050f, 0.052f)},
-      0.05f, 0.02f));
+      0.02f, 0.02f));
   anatomy.parts.push_back(
       part("head", kSpineChain, {0.0f, 1.595f, 0.0f}, {0.0f, 1.70f, 0.0f}, kFront,
            {section(0.0f, 0.062f, 0.078f, 0.010f), section(0.6f, 0.077f, 0.097f, 0.005f),
@@ -186,8 +182,7 @@ void add_arm(const BodySide& side, SkeletonBuilder& joints, MannequinAnatomy& an
   anatomy.parts.push_back(
       part(n + " shoulder", side.arm_chain, clavicle + side.at(0.005f, -0.01f, 0.0f),
            shoulder - 0.005f * d, kFront,
-           {section(0.0f, 0.050f, 0.050f), section(1.0f, 0.055f, 0.055f)}, 0.05f,
-           0.03f));  // the inner cap: see the neck's
+           {section(0.0f, 0.050f, 0.050f), section(1.0f, 0.055f, 0.055f)}, 0.02f, 0.03f));
   // One part from shoulder to wrist (straight in the A-pose): no crease at the elbow.
   auto on_upper_arm = [](float f) { return f * 0.29f / 0.54f; };
   auto on_forearm = [](float f) { return (0.29f + f * 0.25f) / 0.54f; };
