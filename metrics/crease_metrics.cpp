@@ -138,13 +138,19 @@ CreaseMetrics CreaseMeter::measure(std::span<const glm::vec3> positions,
   for (std::size_t e = 0; e < wings_.size(); ++e) {
     const Wing& w = wings_[e];
     if (w.region < 0) continue;
-    double change = std::abs(dihedral(positions, w.a, w.b, w.left, w.right) - rest_dihedral_[e]);
-    change = degrees(std::min(change, 2.0 * std::numbers::pi - change));
+    const double change = change_from_rest(positions, e);
     RegionCrease& region = metrics.regions[w.region];
     region.dihedral_change = std::max(region.dihedral_change, change);
     if (w.at_key) region.dihedral_change_at_keys = std::max(region.dihedral_change_at_keys, change);
   }
   return metrics;
+}
+
+double CreaseMeter::change_from_rest(std::span<const glm::vec3> positions, std::size_t e) const {
+  const Wing& w = wings_[e];
+  const double change =
+      std::abs(dihedral(positions, w.a, w.b, w.left, w.right) - rest_dihedral_[e]);
+  return degrees(std::min(change, 2.0 * std::numbers::pi - change));
 }
 
 double CreaseMeter::largest_dihedral_change_near(std::span<const glm::vec3> positions,
@@ -155,9 +161,7 @@ double CreaseMeter::largest_dihedral_change_near(std::span<const glm::vec3> posi
     const Wing& w = wings_[e];
     if (glm::distance(rest[w.a], centre) > radius || glm::distance(rest[w.b], centre) > radius)
       continue;
-    const double change =
-        std::abs(dihedral(positions, w.a, w.b, w.left, w.right) - rest_dihedral_[e]);
-    worst = std::max(worst, degrees(std::min(change, 2.0 * std::numbers::pi - change)));
+    worst = std::max(worst, change_from_rest(positions, e));
   }
   return worst;
 }

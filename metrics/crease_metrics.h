@@ -64,6 +64,9 @@ class CreaseMeter {
     std::int16_t region;  // sweep index, -1 for skinned
     bool at_key;
   };
+  // Wing e's dihedral change from rest, degrees in [0, 180].
+  double change_from_rest(std::span<const glm::vec3> positions, std::size_t e) const;
+
   const deform::BoundModel& bound_;
   std::vector<Wing> wings_;
   std::vector<float> rest_dihedral_;  // radians, per wing
