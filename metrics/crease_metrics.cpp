@@ -112,8 +112,10 @@ CreaseMeter::CreaseMeter(const BoundModel& bound) : bound_(bound) {
       open.erase(found);
       wing.right = far;
       const int region = region_of(bound.vertices[wing.a]);
-      if (region < 0) continue;
       wing.region = static_cast<std::int16_t>(region);
+      rest_dihedral_.push_back(dihedral(model.positions, wing.a, wing.b, wing.left, wing.right));
+      wings_.push_back(wing);
+      if (region < 0) continue;  // skinned: no region, measured only near a point
       double lo = 2.0, hi = -1.0;
       for (std::uint32_t v : {wing.a, wing.b, wing.left, wing.right})
         for (int s = 0; s < kSweepsPerVertex; ++s)
@@ -121,9 +123,8 @@ CreaseMeter::CreaseMeter(const BoundModel& bound) : bound_(bound) {
             lo = std::min<double>(lo, bound.vertices[v].coordinate[s].t);
             hi = std::max<double>(hi, bound.vertices[v].coordinate[s].t);
           }
-      for (double t : inner_keys[region]) wing.at_key = wing.at_key || (lo <= t && t <= hi);
-      wings_.push_back(wing);
-      rest_dihedral_.push_back(dihedral(model.positions, wing.a, wing.b, wing.left, wing.right));
+      for (double t : inner_keys[region])
+        wings_.back().at_key = wings_.back().at_key || (lo <= t && t <= hi);
     }
 }
 
@@ -136,13 +137,33 @@ CreaseMetrics CreaseMeter::measure(std::span<const glm::vec3> positions,
   }
   for (std::size_t e = 0; e < wings_.size(); ++e) {
     const Wing& w = wings_[e];
-    double change = std::abs(dihedral(positions, w.a, w.b, w.left, w.right) - rest_dihedral_[e]);
-    change = degrees(std::min(change, 2.0 * std::numbers::pi - change));
+    if (w.region < 0) continue;
+    const double change = change_from_rest(positions, e);
     RegionCrease& region = metrics.regions[w.region];
     region.dihedral_change = std::max(region.dihedral_change, change);
     if (w.at_key) region.dihedral_change_at_keys = std::max(region.dihedral_change_at_keys, change);
   }
   return metrics;
+}
+
+double CreaseMeter::change_from_rest(std::span<const glm::vec3> positions, std::size_t e) const {
+  const Wing& w = wings_[e];
+  const double change =
+      std::abs(dihedral(positions, w.a, w.b, w.left, w.right) - rest_dihedral_[e]);
+  return degrees(std::min(change, 2.0 * std::numbers::pi - change));
+}
+
+double CreaseMeter::largest_dihedral_change_near(std::span<const glm::vec3> positions,
+                                                 glm::vec3 centre, float radius) const {
+  const std::vector<glm::vec3>& rest = bound_.model.positions;
+  double worst = 0.0;
+  for (std::size_t e = 0; e < wings_.size(); ++e) {
+    const Wing& w = wings_[e];
+    if (glm::distance(rest[w.a], centre) > radius || glm::distance(rest[w.b], centre) > radius)
+      continue;
+    worst = std::max(worst, change_from_rest(positions, e));
+  }
+  return worst;
 }
 
 Pose forearm_twist_pose(const BoundModel& bound, float degrees) {

@@ -13,8 +13,8 @@
 // vertex's skinned share is larger (hands, feet, head: no region).
 // Inputs: the BoundModel; per measure: vertex_count() posed positions and, for the kink, the
 // SweepPoser holding the deformation's own sweeps (null for LBS/DQS).
-// Outputs: CreaseMetrics, angles in degrees. Not a per-frame hot path (allocates): ~10 ms for
-// the shared male.
+// Outputs: CreaseMetrics, angles in degrees; or the largest change near a point (a joint's ring).
+// Not a per-frame hot path (allocates): ~10 ms for the shared male.
 #pragma once
 
 #include <cstdint>
@@ -52,13 +52,21 @@ class CreaseMeter {
   // posed: the deformation's own sweeps (kink), or nullptr.
   CreaseMetrics measure(std::span<const glm::vec3> positions,
                         const deform::SweepPoser* posed) const;
+  // The largest dihedral change from rest (degrees) over every welded edge, in a region or
+  // skinned, whose both end vertices lie within `radius` of `centre` at rest: the crease of one
+  // joint's ring (a shoulder, a hip), whichever sweep or skinning moves it.
+  double largest_dihedral_change_near(std::span<const glm::vec3> positions, glm::vec3 centre,
+                                      float radius) const;
 
  private:
   struct Wing {  // a welded edge (a, b) and the far vertices of its two triangles, model ids
     std::uint32_t a, b, left, right;
-    std::int16_t region;  // sweep index
+    std::int16_t region;  // sweep index, -1 for skinned
     bool at_key;
   };
+  // Wing e's dihedral change from rest, degrees in [0, 180].
+  double change_from_rest(std::span<const glm::vec3> positions, std::size_t e) const;
+
   const deform::BoundModel& bound_;
   std::vector<Wing> wings_;
   std::vector<float> rest_dihedral_;  // radians, per wing
