@@ -1,5 +1,6 @@
-// Retargeting: plays a clip (motion/clip.h, e.g. a BVH file read by io/bvh_load.h) on a
-// model's skeleton, as deform::Poses.
+// Retargeting: plays a clip (motion/clip.h: a BVH file read by io/bvh_load.h, or a glTF
+// animation read by io/gltf_clip_load.h) on a model's skeleton, as deform::Poses
+// (motion/clip_poses.h).
 //
 // Joint matching (each BVH joint drives at most one model joint and vice versa), in order:
 //   1. name_map   an optional JointNameMap (motion/joint_name_map.h; from a JSON file
@@ -35,7 +36,8 @@
 //
 // Rotations are retargeted relative to each side's rest pose, in world space. For a model joint
 // m driven by BVH joint b:  W_m(frame) = D_b(frame) * A_m * W_m(rest), where
-//   D_b  the world rotation BVH joint b undergoes from its rest pose (all channels zero),
+//   D_b  the world rotation BVH joint b undergoes from its rest pose (all channels zero; a glTF
+//        clip's rest is its nodes' rest rotations): W_b(frame) * W_b(rest)^-1,
 //   A_m  the rotation taking m's rest bone direction (towards its single matched child) onto
 //        b's rest bone direction (towards that child's BVH joint); joints with no or several
 //        matched children (the root, hands, the chest) take the A of their nearest matched
@@ -65,6 +67,7 @@
 #include "deform/model/skeleton.h"
 #include "deform/rig/rig_map.h"
 #include "motion/clip.h"
+#include "motion/clip_poses.h"
 #include "motion/joint_name_map.h"
 
 namespace sweepd::motion {
@@ -81,7 +84,7 @@ struct JointMatch {
   bool driven = true;
 };
 
-class Retargeter {
+class Retargeter final : public ClipPoses {
  public:
   // Throws std::invalid_argument for a name map naming joints the clip or the model lacks (or
   // pairing a joint twice), when the clip has no joints or frames, or the skeleton no joints.
@@ -104,17 +107,16 @@ class Retargeter {
   const std::vector<std::string>& warnings() const { return warnings_; }
 
   float root_scale() const { return root_scale_; }
-  const Clip& motion() const { return motion_; }
-  int frame_count() const { return motion_.frame_count; }
-  double duration() const { return (motion_.frame_count - 1) * double{motion_.frame_time}; }
+  const Clip& motion() const override { return motion_; }
 
   // Sampling is const and thread-safe; each call allocates a few per-joint scratch vectors
   // (tens of joints: microseconds), which is fine per frame but not per vertex.
   // The model posed as frame `frame`. Throws std::out_of_range outside [0, frame_count()).
-  deform::Pose pose_at_frame(int frame) const;
-  // Between frames: BVH rotations slerped, translations lerped, then retargeted. seconds is
-  // clamped to [0, duration()]; NaN is std::invalid_argument.
-  deform::Pose pose_at_time(double seconds) const;
+  deform::Pose pose_at_frame(int frame) const override;
+  // The clip's local pose at a time (Clip::local_pose_at_time: between a BVH's frames
+  // rotations slerped and translations lerped), then retargeted. seconds is clamped to
+  // [0, duration()]; NaN is std::invalid_argument.
+  deform::Pose pose_at_time(double seconds) const override;
   // The model posed as the BVH's rest pose (every channel zero); root at its rest translation.
   deform::Pose pose_at_bvh_rest() const;
 
@@ -132,11 +134,12 @@ class Retargeter {
   Clip motion_;
   deform::Skeleton skeleton_;
   std::vector<JointMatch> matches_;
-  std::vector<int> bvh_of_model_;      // per model joint
-  std::vector<int> model_of_bvh_;      // per BVH joint
-  std::vector<bool> driven_;           // per model joint: matched and driven
-  std::vector<glm::quat> alignment_;   // A_m per model joint
-  std::vector<glm::quat> world_rest_;  // W_m(rest) per model joint
+  std::vector<int> bvh_of_model_;                   // per model joint
+  std::vector<int> model_of_bvh_;                   // per BVH joint
+  std::vector<bool> driven_;                        // per model joint: matched and driven
+  std::vector<glm::quat> alignment_;                // A_m per model joint
+  std::vector<glm::quat> world_rest_;               // W_m(rest) per model joint
+  std::vector<glm::quat> clip_world_rest_inverse_;  // W_b(rest)^-1 per clip joint
   int bvh_pelvis_ = 0, model_pelvis_ = 0;
   glm::vec3 model_pelvis_rest_{0.0f};
   float root_scale_ = 1.0f;
