@@ -163,7 +163,7 @@ Retargeter::Retargeter(Clip motion, deform::Skeleton skeleton, const JointNameMa
     clip_world_rest[b] = joint.parent < 0 ? rest : clip_world_rest[joint.parent] * rest;
     clip_world_rest_inverse_.push_back(glm::inverse(clip_world_rest[b]));
   }
-  compute_alignments(bvh);
+  compute_alignments(bvh, model_map);
   compute_root_scale(bvh, model_map, bvh_map, model_floor);
 }
 
@@ -262,7 +262,14 @@ void Retargeter::match_joints(const deform::Skeleton& bvh, const OptionalRigMap&
                         "): pair them in a name map to drive them");
 }
 
-void Retargeter::compute_alignments(const deform::Skeleton& bvh) {
+void Retargeter::compute_alignments(const deform::Skeleton& bvh, const OptionalRigMap& model_map) {
+  // The torso and neck chains (pelvis to chest, neck to head) keep their rest angles: a spine
+  // or neck that leans at rest is anatomy, not a pose (see the header).
+  std::vector<bool> keeps_rest(skeleton_.joints.size(), false);
+  if (model_map) {
+    for (int j : model_map->torso.chain) keeps_rest[j] = true;
+    for (int j : model_map->neck.chain) keeps_rest[j] = true;
+  }
   const std::vector<glm::vec3> model_world = world_rest_positions(skeleton_);
   const std::vector<glm::vec3> bvh_world = world_rest_positions(bvh);
   world_rest_.resize(skeleton_.joints.size());
@@ -273,7 +280,8 @@ void Retargeter::compute_alignments(const deform::Skeleton& bvh) {
     world_rest_[m] = parent < 0 ? rest : world_rest_[parent] * rest;
     alignment_[m] = parent < 0 ? glm::identity<glm::quat>() : alignment_[parent];
     const int b = bvh_of_model_[m];
-    if (b < 0) continue;
+    if (keeps_rest[m]) alignment_[m] = glm::identity<glm::quat>();
+    if (b < 0 || keeps_rest[m]) continue;
     // The nearest matched descendants whose BVH joints descend from b.
     std::vector<int> bone_ends, stack = skeleton_.children(m);
     while (!stack.empty()) {

@@ -40,10 +40,16 @@
 //        clip's rest is its nodes' rest rotations): W_b(frame) * W_b(rest)^-1,
 //   A_m  the rotation taking m's rest bone direction (towards its single matched child) onto
 //        b's rest bone direction (towards that child's BVH joint); joints with no or several
-//        matched children (the root, hands, the chest) take the A of their nearest matched
-//        ancestor (the identity at the root).
+//        matched children (the root, hands) take the A of their nearest matched ancestor (the
+//        identity at the root). The model's torso and neck chains (its rig map's pelvis to
+//        chest, neck to head) take the identity: their rest angles are anatomy, not pose.
 // So at the BVH's rest T-pose an A-pose model stands in a T-pose, and in every frame each of
-// its matched bones points where the BVH's bone points; twist about the bone follows the BVH.
+// its matched limb bones points where the BVH's bone points; twist about the bone follows the
+// BVH. A spine or neck that leans at rest turns with the clip's but keeps its lean, and the
+// head turns exactly as the clip's head (aligning the neck's bone to the clip's, as limbs are,
+// turned the male's head up to 19.7° away from the clip's head, the mannequin's 15.7°, and a
+// neck leaning 25° tilted an upright head by 25°: tests/motion/rest_pose_alignment_test.cpp);
+// onto a copy of the clip's own skeleton every driven rotation is the clip's.
 // The local rotations of the Pose are W_parent^-1 * W_m. Joint scale is ignored (rotations only).
 //
 // Root translation: the model's pelvis goes to root_scale() times the BVH pelvis position,
@@ -124,7 +130,7 @@ class Retargeter final : public ClipPoses {
   using OptionalRigMap = std::optional<deform::RigMap>;
   void match_joints(const deform::Skeleton& bvh, const OptionalRigMap& model_map,
                     const OptionalRigMap& bvh_map, const JointNameMap& name_map);
-  void compute_alignments(const deform::Skeleton& bvh);
+  void compute_alignments(const deform::Skeleton& bvh, const OptionalRigMap& model_map);
   void compute_root_scale(const deform::Skeleton& bvh, const OptionalRigMap& model_map,
                           const OptionalRigMap& bvh_map, float model_floor);
   // bvh_local: rotations and translations of every BVH joint (motion_.joints.size()).
