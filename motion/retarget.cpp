@@ -263,13 +263,11 @@ void Retargeter::match_joints(const deform::Skeleton& bvh, const OptionalRigMap&
 }
 
 void Retargeter::compute_alignments(const deform::Skeleton& bvh, const OptionalRigMap& model_map) {
-  // The torso and neck chains (pelvis to chest, neck to head) keep their rest angles: a spine
-  // or neck that leans at rest is anatomy, not a pose (see the header).
+  // The neck chain (neck to head) keeps its rest angles: a neck that leans at rest is anatomy,
+  // not a pose (see the header).
   std::vector<bool> keeps_rest(skeleton_.joints.size(), false);
-  if (model_map) {
-    for (int j : model_map->torso.chain) keeps_rest[j] = true;
+  if (model_map)
     for (int j : model_map->neck.chain) keeps_rest[j] = true;
-  }
   const std::vector<glm::vec3> model_world = world_rest_positions(skeleton_);
   const std::vector<glm::vec3> bvh_world = world_rest_positions(bvh);
   world_rest_.resize(skeleton_.joints.size());
