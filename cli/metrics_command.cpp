@@ -193,7 +193,7 @@ void print_json(const std::vector<MethodReport>& reports, const PosingArguments&
   nlohmann::json out;
   out["model"] = posing.model.string();
   if (!source.empty()) out["source"] = source;
-  if (!posing.bvh.empty()) out["clip"] = posing.bvh.string();
+  if (posing.has_clip()) out["clip"] = posing.clip_file().string();
   out["frames"] = frames;
   for (const MethodReport& r : reports) {
     nlohmann::json method;
@@ -245,11 +245,12 @@ int metrics(const Options& options, const ServerAddress* server) {
   }
   const deform::BoundModel& bound = server ? *served_binding : local->bound();
   std::vector<int> frames;
-  if (posing.bvh.empty()) {
+  if (!posing.has_clip() || posing.time) {
     frames.push_back(0);
   } else {
     const bool whole_clip = !posing.frame_range && !options.one_frame;
-    const int last = whole_clip ? io::load_bvh(posing.bvh).frame_count - 1 : posing.frames.last;
+    const int count = local ? local->frame_count() : io::load_bvh(posing.bvh).frame_count;
+    const int last = whole_clip ? count - 1 : posing.frames.last;
     for (int f = posing.frames.first; f <= last; f += options.step) frames.push_back(f);
   }
   const metrics::QualityMeter meter(bound);

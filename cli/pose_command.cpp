@@ -25,13 +25,17 @@ void write_frames(Posed& posed, const std::filesystem::path& out) {
   };
   if (!posing.frame_range) {
     write_frame(posing.frames.first, out);
-    std::printf("wrote %s (%s, frame %d)\n", out.string().c_str(), deform::to_string(posing.method),
-                posing.frames.first);
+    if (posing.time)
+      std::printf("wrote %s (%s, %g s)\n", out.string().c_str(), deform::to_string(posing.method),
+                  *posing.time);
+    else
+      std::printf("wrote %s (%s, frame %d)\n", out.string().c_str(),
+                  deform::to_string(posing.method), posing.frames.first);
     return;
   }
   std::filesystem::create_directories(out);
   {
-    console::ProgressBar bar("posing " + posing.bvh.filename().string());
+    console::ProgressBar bar("posing " + posing.clip_file().filename().string());
     const int count = posing.frames.count();
     for (int frame = posing.frames.first; frame <= posing.frames.last; ++frame) {
       char name[32];

@@ -1,13 +1,19 @@
 #include "cli/posed_model.h"
 
+#include <cctype>
+#include <cmath>
 #include <stdexcept>
 
 #include "cli/model_loading.h"
 #include "deform/binding/bind.h"
 #include "io/bvh_load.h"
+#include "io/gltf_clip_load.h"
 #include "io/joint_name_map_json.h"
 #include "io/pose_json.h"
 #include "io/sweepbind.h"
+#include "motion/clip_sampling.h"
+#include "motion/own_skeleton_clip.h"
+#include "motion/retarget.h"
 
 namespace sweepd::cli {
 
@@ -18,8 +24,35 @@ motion::JointNameMap load_joint_name_map(const std::filesystem::path& file) {
 void require_clip_frames(const PosingArguments& arguments, int frame_count) {
   if (const std::string problem = motion::frame_range_problem(arguments.frames, frame_count);
       !problem.empty())
-    throw std::invalid_argument(arguments.bvh.string() + ": " + problem);
+    throw std::invalid_argument(arguments.clip_file().string() + ": " + problem);
 }
+
+int clip_frame_count(const PosingArguments& arguments, const motion::ClipPoses& clip) {
+  if (arguments.fps <= 0.0f) return clip.frame_count();
+  return static_cast<int>(std::floor(clip.duration() * arguments.fps + 1e-6)) + 1;
+}
+
+deform::Pose clip_pose(const PosingArguments& arguments, const motion::ClipPoses& clip, int frame) {
+  if (arguments.time) return motion::sample_clip(clip, {.seconds = *arguments.time});
+  if (arguments.fps > 0.0f)
+    return motion::sample_clip(clip, {.seconds = frame / double{arguments.fps}});
+  return clip.pose_at_frame(frame);
+}
+
+namespace {
+
+// The glTF animation --clip names in `file` (its first without a name).
+motion::Clip gltf_clip(const std::filesystem::path& file, const std::string& clip) {
+  return io::load_gltf_clip(file, clip.empty() ? "0" : clip);
+}
+
+bool is_gltf(const std::filesystem::path& file) {
+  std::string extension = file.extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return extension == ".glb" || extension == ".gltf";
+}
+
+}  // namespace
 
 PosedModel::PosedModel(const PosingArguments& arguments) : arguments_(arguments) {
   if (arguments.model.extension() == ".sweepbind") {
@@ -31,10 +64,21 @@ PosedModel::PosedModel(const PosingArguments& arguments) : arguments_(arguments)
   }
   runtime_ = std::make_unique<deform::ModelRuntime>(*bound_);
   if (!arguments.bvh.empty()) {
-    retargeter_.emplace(io::load_bvh(arguments.bvh), bound_->model,
-                        load_joint_name_map(arguments.bvh_map));
-    require_clip_frames(arguments, retargeter_->frame_count());
+    clip_ = std::make_unique<motion::Retargeter>(io::load_bvh(arguments.bvh), bound_->model,
+                                                 load_joint_name_map(arguments.bvh_map));
+  } else if (!arguments.clip_from.empty()) {
+    clip_ =
+        std::make_unique<motion::Retargeter>(gltf_clip(arguments.clip_from, arguments.clip),
+                                             bound_->model, load_joint_name_map(arguments.bvh_map));
+  } else if (!arguments.clip.empty()) {
+    if (!is_gltf(arguments.model))
+      throw std::invalid_argument(arguments.model.string() +
+                                  ": --clip plays an animation of the model's own .glb/.gltf "
+                                  "file; for another file's clip give --clip-from FILE.glb");
+    clip_ = std::make_unique<motion::OwnSkeletonClip>(gltf_clip(arguments.model, arguments.clip),
+                                                      bound_->model.skeleton);
   }
+  if (clip_) require_clip_frames(arguments, frame_count());
   if (!arguments.pose_file.empty())
     file_pose_ = io::load_pose_json(arguments.pose_file, bound_->model.skeleton);
   if (arguments.method == deform::DeformMethod::kSweep && arguments.features.collision())
@@ -42,10 +86,12 @@ PosedModel::PosedModel(const PosingArguments& arguments) : arguments_(arguments)
 }
 
 deform::Pose PosedModel::pose(int frame) const {
-  if (retargeter_) return retargeter_->pose_at_frame(frame);
+  if (clip_) return clip_pose(arguments_, *clip_, frame);
   if (file_pose_) return *file_pose_;
   return deform::rest_pose(bound_->model.skeleton);
 }
+
+int PosedModel::frame_count() const { return clip_ ? clip_frame_count(arguments_, *clip_) : 1; }
 
 void PosedModel::deform(int frame, std::vector<glm::vec3>& positions,
                         std::vector<glm::vec3>& normals) {

@@ -1,7 +1,10 @@
 // PosedModel: what sweepctl's posing commands (pose, render, positionmap, metrics) deform here —
 // a bound model from a .glb/.gltf (bound on the spot) or a .sweepbind file, posed from their
 // PosingArguments (cli/posing_arguments.h) with its deformation method; folding's pairs come
-// from the --collision backend (cli/local_collision.h).
+// from the --collision backend (cli/local_collision.h). Its clip is a BVH or --clip-from's
+// glTF animation retargeted (motion::Retargeter), or --clip's animation of the model's own
+// file played joint for joint (motion::OwnSkeletonClip); frames and times are sampled through
+// motion::sample_clip.
 #pragma once
 
 #include <cstdint>
@@ -15,7 +18,8 @@
 #include "cli/posing_arguments.h"
 #include "deform/binding/bound_model.h"
 #include "deform/job/deform_job.h"
-#include "motion/retarget.h"
+#include "motion/clip_poses.h"
+#include "motion/joint_name_map.h"
 
 namespace sweepd::cli {
 
@@ -23,6 +27,12 @@ namespace sweepd::cli {
 motion::JointNameMap load_joint_name_map(const std::filesystem::path& file);
 // Throws std::invalid_argument naming the clip when the arguments' frames lie past its end.
 void require_clip_frames(const PosingArguments& arguments, int frame_count);
+// The clip's frames as the arguments count them: at --fps (the clip's duration resampled), else
+// the clip's own.
+int clip_frame_count(const PosingArguments& arguments, const motion::ClipPoses& clip);
+// The model posed as the arguments' frame of the clip: at --time, at frame / --fps seconds, or
+// the clip's own frame (motion::sample_clip; std::invalid_argument outside the clip).
+deform::Pose clip_pose(const PosingArguments& arguments, const motion::ClipPoses& clip, int frame);
 
 class PosedModel {
  public:
@@ -34,6 +44,8 @@ class PosedModel {
   const PosingArguments& arguments() const { return arguments_; }
   // The pose of clip frame `frame` (or the pose file / rest pose without a clip).
   deform::Pose pose(int frame) const;
+  // The clip's frame count (clip_frame_count); 1 without a clip.
+  int frame_count() const;
   // Deforms into positions and normals (vertex_count() each), features included: one
   // deform::DeformJob. A clip's frame range is a stream (I_C from the previous frame,
   // VolumeChangeSource::kPreviousFrame); a single frame stands alone (kFixedPoint).
@@ -49,7 +61,7 @@ class PosedModel {
   std::unique_ptr<deform::BoundModel> bound_;
   std::unique_ptr<deform::ModelRuntime> runtime_;
   deform::DeformContext context_;
-  std::optional<motion::Retargeter> retargeter_;
+  std::unique_ptr<motion::ClipPoses> clip_;
   std::optional<deform::Pose> file_pose_;
   deform::FeatureReport feature_report_;
   std::optional<LocalCollision> collision_;

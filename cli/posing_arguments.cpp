@@ -30,11 +30,37 @@ CLI::Option* add_model_and_clip_flags(CLI::App& command, PosingArguments& out) {
 
 void add_posing_flags(CLI::App& command, PosingArguments& out, ClipFrames frames) {
   CLI::Option* bvh = add_model_and_clip_flags(command, out);
-  command.add_option("--frame", "the clip frame (default 0)")
-      ->type_name("N")
-      ->check(console::whole_number(0, 1 << 30))
-      ->each([&out](const std::string& n) { out.frames.first = out.frames.last = std::stoi(n); })
-      ->needs(bvh);
+  CLI::Option* clip =
+      command
+          .add_option("--clip", out.clip,
+                      "a glTF animation (name, or index from 0) of MODEL's file, played on its "
+                      "own joints; with --clip-from, of that file (default 0)")
+          ->type_name("NAME|INDEX")
+          ->excludes(bvh);
+  command
+      .add_option("--clip-from", out.clip_from,
+                  "a .glb/.gltf whose animation (--clip) is retargeted onto the model by joint "
+                  "names and roles, like a BVH")
+      ->type_name("FILE.glb")
+      ->excludes(bvh);
+  CLI::Option* frame = command.add_option("--frame", "the clip frame (default 0)")
+                           ->type_name("N")
+                           ->check(console::whole_number(0, 1 << 30))
+                           ->each([&out](const std::string& n) {
+                             out.frames.first = out.frames.last = std::stoi(n);
+                             out.frame_given = true;
+                           });
+  CLI::Option* time =
+      command.add_option("--time", out.time, "seconds into the clip (from frame 0)")
+          ->type_name("T")
+          ->check(CLI::NonNegativeNumber)
+          ->excludes(frame);
+  command
+      .add_option("--fps", out.fps,
+                  "the frame rate --frame and --frames count at (the clip resampled; default: "
+                  "the clip's own)")
+      ->type_name("F")
+      ->check(CLI::PositiveNumber);
   if (frames == ClipFrames::kOneOrRange) {
     const CLI::Validator range(
         [](std::string& text) -> std::string {
@@ -49,14 +75,17 @@ void add_posing_flags(CLI::App& command, PosingArguments& out, ClipFrames frames
         ->each([&out](const std::string& text) {
           out.frames = *motion::parse_frame_range(text);
           out.frame_range = true;
+          out.frame_given = true;
         })
-        ->needs(bvh);
+        ->excludes(time);
   }
   command
       .add_option("--pose", out.pose_file,
                   "a hand-written pose (format in io/pose_json.h) instead of a clip")
       ->type_name("POSE.json")
-      ->excludes(bvh);
+      ->excludes(bvh)
+      ->excludes(clip)
+      ->excludes("--clip-from");
 }
 
 void add_orientation_flag(CLI::App& command, deform::OrientationCurveKind& out) {
@@ -113,6 +142,13 @@ void check_method_flags(const PosingArguments& arguments, bool on_server) {
     throw CLI::ValidationError(
         "--collision applies where sweepctl deforms; with --server the daemon's own "
         "--collision decides (its Stats say which)");
+  if (!arguments.has_clip() && (arguments.frame_given || arguments.time || arguments.fps > 0.0f))
+    throw CLI::ValidationError(
+        "--frame, --frames, --time and --fps choose frames of a clip: give --bvh, --clip or "
+        "--clip-from");
+  if (arguments.gltf_clip() && on_server)
+    throw CLI::ValidationError(
+        "--clip and --clip-from play glTF animations here; with --server give a --bvh clip");
 }
 
 }  // namespace sweepd::cli

@@ -1,29 +1,38 @@
 // PosingArguments: what sweepctl's posing commands (pose, render, positionmap, metrics, sheet) read
-// from their command line — the model, the pose source (a BVH clip retargeted onto it, a pose
-// JSON file, or the rest pose) and the deformation method — and the flags that fill it,
-// declared here once for all of them:
+// from their command line — the model, the pose source (a BVH clip retargeted onto it, a glTF
+// animation of the model's own file or retargeted from another glTF, a pose JSON file, or the
+// rest pose) and the deformation method — and the flags that fill it, declared here once for
+// all of them:
 //   add_model_and_clip_flags  MODEL, --rig, --orientation (add_orientation_flag's), --bvh,
 //                       --bvh-map (returns --bvh's option); for commands with frames of
 //                       their own (sheet)
-//   add_posing_flags    those, --frame, --pose, and --frames where
-//                       the command takes a frame range (pose, metrics; --frames wins over
-//                       --frame); --bvh and --pose exclude each other, --frame and --frames
-//                       need --bvh
+//   add_posing_flags    those, --clip NAME|INDEX (a glTF animation of MODEL's file, played
+//                       joint for joint), --clip-from FILE (--clip's animation, default 0, of
+//                       another .glb/.gltf, retargeted like a BVH), --frame, --time T (seconds
+//                       into the clip, sampled between frames), --fps F (--frame and --frames
+//                       count frames at F per second), --pose, and --frames where the command
+//                       takes a frame range (pose, metrics; --frames wins over --frame); --bvh,
+//                       --clip and --pose exclude each other, --clip-from excludes --bvh and
+//                       --pose, --time excludes --frame and --frames
 //   add_method_flags    --method sweep|lbs|dqs, --features LIST and add_collision_flag's
 //                       (pose, render, positionmap; metrics has its own --method list)
 //   add_collision_flag  --collision auto|gpu|cpu: where folding finds its pairs
 //                       (cli/local_collision.h) (through add_method_flags, and metrics)
 //   add_orientation_flag  --orientation linear|smooth: the orientation curve Q(t) of a binding
 //                       made here (also sweepctl bind's)
-//   check_method_flags  the rules CLI11 cannot state: --features need --method sweep, and
+//   check_method_flags  the rules CLI11 cannot state: --features need --method sweep,
 //                       --collision applies here, not with --server (the daemon's own
-//                       --collision decides); throws CLI::ValidationError (call it from the
-//                       command's callback with whether --server was given)
+//                       --collision decides), --frame, --frames, --time and --fps need a clip
+//                       (--bvh, --clip or --clip-from), and glTF clips play here, not with
+//                       --server; throws CLI::ValidationError (call it from the command's
+//                       callback with whether --server was given)
 // Bad values ("12x", "5-3", an unknown method or feature) are usage errors naming the flag.
 #pragma once
 
 #include <CLI/CLI.hpp>
 #include <filesystem>
+#include <optional>
+#include <string>
 
 #include "deform/job/anatomical_features.h"
 #include "deform/job/deform_method.h"
@@ -40,6 +49,10 @@ struct PosingArguments {
   deform::OrientationCurveKind orientation = deform::OrientationCurveKind::kLinear;
   std::filesystem::path bvh;        // optional clip
   std::filesystem::path bvh_map;    // optional BVH→model joint name map JSON
+  std::string clip;                 // --clip: a glTF animation's name or index
+  std::filesystem::path clip_from;  // --clip-from: the glTF file holding --clip (else MODEL)
+  std::optional<double> time;       // --time: seconds into the clip
+  float fps = 0.0f;                 // --fps: the rate --frame/--frames count at; 0: the clip's
   std::filesystem::path pose_file;  // optional pose JSON
   motion::FrameRange frames;        // --frame N or --frames A-B (clip frames)
   bool frame_range = false;         // --frames given: a folder of frames
@@ -49,6 +62,14 @@ struct PosingArguments {
   // --collision: where folding finds its pairs when it runs here.
   gpu::CollisionChoice collision = gpu::CollisionChoice::kAuto;
   bool collision_given = false;  // --collision was on the command line
+  bool frame_given = false;      // --frame or --frames was on the command line
+
+  bool gltf_clip() const { return !clip.empty() || !clip_from.empty(); }
+  bool has_clip() const { return !bvh.empty() || gltf_clip(); }
+  // The clip's file, for messages: --bvh's, --clip-from's, or MODEL (--clip alone).
+  const std::filesystem::path& clip_file() const {
+    return !bvh.empty() ? bvh : !clip_from.empty() ? clip_from : model;
+  }
 };
 
 enum class ClipFrames { kOne, kOneOrRange };  // whether the command takes --frames A-B

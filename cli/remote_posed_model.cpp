@@ -105,13 +105,14 @@ RemotePosedModel::RemotePosedModel(const PosingArguments& arguments, const Serve
     if (!arguments.bvh.empty() && clip_posing == ClipPosing::kHere) {
       retargeter_.emplace(io::load_bvh(arguments.bvh), model_,
                           load_joint_name_map(arguments.bvh_map));
-      require_clip_frames(arguments, retargeter_->frame_count());
+      if (arguments.fps <= 0.0f) require_clip_frames(arguments, retargeter_->frame_count());
     } else if (!arguments.bvh.empty()) {
       const pb::ClipInfo& clip = client::upload_clip(
           connection_, arguments.bvh.filename().string(), io::read_file_text(arguments.bvh), 1.0f,
           arguments.bvh_map.empty() ? "" : io::read_file_text(arguments.bvh_map));
       clip_id_ = clip.clip_id()->str();
-      require_clip_frames(arguments, static_cast<int>(clip.frame_count()));
+      if (arguments.fps <= 0.0f)
+        require_clip_frames(arguments, static_cast<int>(clip.frame_count()));
     }
     if (!arguments.pose_file.empty())
       file_pose_ = io::load_pose_json(arguments.pose_file, model_.skeleton);
@@ -131,7 +132,7 @@ RemotePosedModel::~RemotePosedModel() {
 deform::Pose RemotePosedModel::pose(int frame) {
   if (!clip_id_.empty())
     throw std::logic_error("RemotePosedModel::pose: the clip is posed on the server (kOnServer)");
-  if (retargeter_) return retargeter_->pose_at_frame(frame);
+  if (retargeter_) return clip_pose(arguments_, *retargeter_, frame);
   if (file_pose_) return *file_pose_;
   return deform::rest_pose(model_.skeleton);
 }
@@ -200,8 +201,12 @@ pb::PoseFields RemotePosedModel::frame_fields(int frame) {
 flatbuffers::Offset<pb::ClipFrame> RemotePosedModel::clip_frame(
     flatbuffers::FlatBufferBuilder& builder, int frame) const {
   if (clip_id_.empty()) return 0;
-  return pb::CreateClipFrame(builder, builder.CreateString(clip_id_),
-                             static_cast<std::uint32_t>(frame));
+  const auto id = builder.CreateString(clip_id_);
+  // --time, or --fps's frame at its time: the server samples the clip there (own rate).
+  if (arguments_.time || arguments_.fps > 0.0f)
+    return pb::CreateClipFrame(builder, id, flatbuffers::nullopt,
+                               arguments_.time ? *arguments_.time : frame / double{arguments_.fps});
+  return pb::CreateClipFrame(builder, id, static_cast<std::uint32_t>(frame));
 }
 
 void RemotePosedModel::copy_vertices(const pb::PosedVertices& reply,

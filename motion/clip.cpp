@@ -1,7 +1,10 @@
 #include "motion/clip.h"
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstddef>
+#include <stdexcept>
 
 namespace sweepd::motion {
 
@@ -51,7 +54,7 @@ int Clip::find(std::string_view name) const {
 
 glm::quat Clip::local_rotation(int joint, int frame) const {
   const float* row = joint_row(*this, joint, frame);
-  glm::quat rotation = glm::identity<glm::quat>();
+  glm::quat rotation = joints[joint].rest_rotation;
   const std::vector<Channel>& channels = joints[joint].channels;
   for (std::size_t c = 0; c < channels.size(); ++c) {
     if (!is_rotation(channels[c])) continue;
@@ -71,11 +74,48 @@ glm::vec3 Clip::local_translation(int joint, int frame) const {
   return translation;
 }
 
+double Clip::duration() const {
+  return keyframed() ? double{end_time} - start_time : (frame_count - 1) * double{frame_time};
+}
+
 void Clip::local_pose(int frame, std::span<glm::quat> rotations,
                       std::span<glm::vec3> translations) const {
+  if (keyframed()) return local_pose_at_time(frame * double{frame_time}, rotations, translations);
   for (std::size_t j = 0; j < joints.size(); ++j) {
     rotations[j] = local_rotation(static_cast<int>(j), frame);
     translations[j] = local_translation(static_cast<int>(j), frame);
+  }
+}
+
+void Clip::local_pose_at_time(double seconds, std::span<glm::quat> rotations,
+                              std::span<glm::vec3> translations) const {
+  if (std::isnan(seconds)) throw std::invalid_argument("the time to sample is NaN");
+  seconds = std::clamp(seconds, 0.0, duration());
+  if (keyframed()) {
+    for (std::size_t j = 0; j < joints.size(); ++j) {
+      rotations[j] = joints[j].rest_rotation;
+      translations[j] = joints[j].offset;
+    }
+    float value[4];
+    for (const KeyframeTrack& track : tracks) {
+      sample_track(track, start_time + seconds, value);
+      if (track.path == TrackPath::kRotation)
+        rotations[track.joint] = glm::quat(value[3], value[0], value[1], value[2]);
+      else
+        translations[track.joint] = glm::vec3(value[0], value[1], value[2]);
+    }
+    return;
+  }
+  const double frame_position = seconds / frame_time;
+  const int last = frame_count - 1;
+  const int first = std::min(static_cast<int>(std::floor(frame_position)), last);
+  const int second = std::min(first + 1, last);
+  const float alpha = static_cast<float>(frame_position - first);
+  local_pose(first, rotations, translations);
+  for (std::size_t j = 0; j < joints.size(); ++j) {
+    const int joint = static_cast<int>(j);
+    rotations[j] = glm::slerp(rotations[j], local_rotation(joint, second), alpha);
+    translations[j] = glm::mix(translations[j], local_translation(joint, second), alpha);
   }
 }
 

@@ -14,7 +14,7 @@ std::string seconds_text(double seconds) {
 }
 
 // The clip time (its own rate) of a request's seconds, checked and wrapped.
-double clip_seconds(const Retargeter& clip, const ClipSample& sample) {
+double clip_seconds(const ClipPoses& clip, const ClipSample& sample) {
   const double seconds = *sample.seconds;
   if (!std::isfinite(seconds))
     throw std::invalid_argument("the time to sample is " + seconds_text(seconds) +
@@ -39,7 +39,7 @@ double clip_seconds(const Retargeter& clip, const ClipSample& sample) {
 
 }  // namespace
 
-deform::Pose sample_clip(const Retargeter& clip, const ClipSample& sample) {
+deform::Pose sample_clip(const ClipPoses& clip, const ClipSample& sample) {
   if (sample.frame.has_value() == sample.seconds.has_value())
     throw std::invalid_argument("a clip sample needs exactly one of a frame and a time");
   if (sample.seconds) return clip.pose_at_time(clip_seconds(clip, sample));

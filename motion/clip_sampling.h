@@ -1,7 +1,7 @@
-// Clip sampling: which pose of a retargeted clip a request names — a frame index, or a time in
-// seconds (optionally at another frame rate), optionally looping — checked, then taken from
-// motion::Retargeter (so a frame index gives exactly Retargeter::pose_at_frame, as
-// `sweepctl pose --bvh --frame` does).
+// Clip sampling: which pose of a clip played on a model a request names — a frame index, or a
+// time in seconds (optionally at another frame rate), optionally looping — checked, then taken
+// from the player (motion/clip_poses.h: motion::Retargeter or motion::OwnSkeletonClip; so a
+// frame index gives exactly its pose_at_frame, as `sweepctl pose --bvh --frame` does).
 //
 // Input:  ClipSample: exactly one of frame / seconds; loop; frames_per_second (0: the clip's).
 //   frame    without loop must be < frame_count; with loop, taken modulo frame_count.
@@ -16,7 +16,7 @@
 #include <optional>
 
 #include "deform/model/pose.h"
-#include "motion/retarget.h"
+#include "motion/clip_poses.h"
 
 namespace sweepd::motion {
 
@@ -27,6 +27,6 @@ struct ClipSample {
   float frames_per_second = 0.0f;  // with seconds; 0: the clip's own rate
 };
 
-deform::Pose sample_clip(const Retargeter& clip, const ClipSample& sample);
+deform::Pose sample_clip(const ClipPoses& clip, const ClipSample& sample);
 
 }  // namespace sweepd::motion

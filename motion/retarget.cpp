@@ -21,7 +21,7 @@ deform::Skeleton skeleton_of(const Clip& motion) {
     skeleton.joints.push_back({.name = joint.name,
                                .parent = joint.parent,
                                .rest_translation = joint.offset,
-                               .rest_rotation = glm::identity<glm::quat>(),
+                               .rest_rotation = joint.rest_rotation,
                                .rest_scale = glm::vec3(1.0f)});
   return skeleton;
 }
@@ -156,7 +156,14 @@ Retargeter::Retargeter(Clip motion, deform::Skeleton skeleton, const JointNameMa
   const OptionalRigMap model_map = rig_map_or_warning(skeleton_, "model", warnings_);
   const OptionalRigMap bvh_map = rig_map_or_warning(bvh, "BVH clip", warnings_);
   match_joints(bvh, model_map, bvh_map, name_map);
-  compute_alignments(bvh);
+  std::vector<glm::quat> clip_world_rest(motion_.joints.size());
+  for (std::size_t b = 0; b < motion_.joints.size(); ++b) {
+    const ClipJoint& joint = motion_.joints[b];
+    const glm::quat rest = glm::normalize(joint.rest_rotation);
+    clip_world_rest[b] = joint.parent < 0 ? rest : clip_world_rest[joint.parent] * rest;
+    clip_world_rest_inverse_.push_back(glm::inverse(clip_world_rest[b]));
+  }
+  compute_alignments(bvh, model_map);
   compute_root_scale(bvh, model_map, bvh_map, model_floor);
 }
 
@@ -255,7 +262,12 @@ void Retargeter::match_joints(const deform::Skeleton& bvh, const OptionalRigMap&
                         "): pair them in a name map to drive them");
 }
 
-void Retargeter::compute_alignments(const deform::Skeleton& bvh) {
+void Retargeter::compute_alignments(const deform::Skeleton& bvh, const OptionalRigMap& model_map) {
+  // The neck chain (neck to head) keeps its rest angles: a neck that leans at rest is anatomy,
+  // not a pose (see the header).
+  std::vector<bool> keeps_rest(skeleton_.joints.size(), false);
+  if (model_map)
+    for (int j : model_map->neck.chain) keeps_rest[j] = true;
   const std::vector<glm::vec3> model_world = world_rest_positions(skeleton_);
   const std::vector<glm::vec3> bvh_world = world_rest_positions(bvh);
   world_rest_.resize(skeleton_.joints.size());
@@ -266,7 +278,8 @@ void Retargeter::compute_alignments(const deform::Skeleton& bvh) {
     world_rest_[m] = parent < 0 ? rest : world_rest_[parent] * rest;
     alignment_[m] = parent < 0 ? glm::identity<glm::quat>() : alignment_[parent];
     const int b = bvh_of_model_[m];
-    if (b < 0) continue;
+    if (keeps_rest[m]) alignment_[m] = glm::identity<glm::quat>();
+    if (b < 0 || keeps_rest[m]) continue;
     // The nearest matched descendants whose BVH joints descend from b.
     std::vector<int> bone_ends, stack = skeleton_.children(m);
     while (!stack.empty()) {
@@ -342,8 +355,10 @@ deform::Pose Retargeter::retarget(std::span<const glm::quat> bvh_local,
       continue;
     }
     const int b = bvh_of_model_[m];
-    // BVH rest rotations are the identity, so the BVH world rotation is D_b itself.
-    world[m] = glm::normalize(bvh_world[b] * alignment_[m] * world_rest_[m]);
+    // D_b = W_b(frame) * W_b(rest)^-1 (for BVH, whose rest rotations are the identity, exactly
+    // W_b(frame)).
+    world[m] =
+        glm::normalize(bvh_world[b] * clip_world_rest_inverse_[b] * alignment_[m] * world_rest_[m]);
     pose.local_rotations[m] =
         glm::normalize(joint.parent < 0 ? world[m] : glm::inverse(world[joint.parent]) * world[m]);
   }
@@ -365,29 +380,20 @@ deform::Pose Retargeter::pose_at_frame(int frame) const {
 }
 
 deform::Pose Retargeter::pose_at_time(double seconds) const {
-  if (std::isnan(seconds)) throw std::invalid_argument("the time to sample is NaN");
-  const double frame_position = std::clamp(seconds, 0.0, duration()) / motion_.frame_time;
-  const int last = motion_.frame_count - 1;
-  const int first = std::min(static_cast<int>(std::floor(frame_position)), last);
-  const int second = std::min(first + 1, last);
-  const float alpha = static_cast<float>(frame_position - first);
-  const std::size_t count = motion_.joints.size();
-  std::vector<glm::quat> rotations(count), next_rotations(count);
-  std::vector<glm::vec3> translations(count), next_translations(count);
-  motion_.local_pose(first, rotations, translations);
-  motion_.local_pose(second, next_rotations, next_translations);
-  for (std::size_t b = 0; b < count; ++b) {
-    rotations[b] = glm::slerp(rotations[b], next_rotations[b], alpha);
-    translations[b] = glm::mix(translations[b], next_translations[b], alpha);
-  }
+  std::vector<glm::quat> rotations(motion_.joints.size());
+  std::vector<glm::vec3> translations(motion_.joints.size());
+  motion_.local_pose_at_time(seconds, rotations, translations);
   return retarget(rotations, translations, false);
 }
 
 deform::Pose Retargeter::pose_at_bvh_rest() const {
   const std::size_t count = motion_.joints.size();
-  std::vector<glm::quat> rotations(count, glm::identity<glm::quat>());
+  std::vector<glm::quat> rotations(count);
   std::vector<glm::vec3> translations(count);
-  for (std::size_t b = 0; b < count; ++b) translations[b] = motion_.joints[b].offset;
+  for (std::size_t b = 0; b < count; ++b) {
+    rotations[b] = motion_.joints[b].rest_rotation;
+    translations[b] = motion_.joints[b].offset;
+  }
   return retarget(rotations, translations, true);
 }
 

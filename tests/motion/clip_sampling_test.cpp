@@ -10,6 +10,7 @@
 #include <limits>
 
 #include "io/bvh_load.h"
+#include "motion/retarget.h"
 
 namespace sweepd::motion {
 namespace {

@@ -1,0 +1,31 @@
+// ClipPoses: a clip (motion/clip.h) played on a model's skeleton — the deform::Pose of any frame
+// or time. Two players implement it: motion::Retargeter (motion/retarget.h: a clip made for
+// another skeleton, mapped by names and rig roles) and motion::OwnSkeletonClip
+// (motion/own_skeleton_clip.h: a clip that animates the model's own joints, e.g. a glTF
+// animation of the model's file). motion::sample_clip (motion/clip_sampling.h) takes either.
+//
+//   motion()         the clip played
+//   frame_count()    its frames; duration() its seconds from frame 0 to its end
+//   pose_at_frame    the model posed as frame `frame`; std::out_of_range outside
+//                    [0, frame_count())
+//   pose_at_time     the model posed at `seconds` after frame 0, clamped to [0, duration()]
+//                    (Clip::local_pose_at_time); NaN is std::invalid_argument
+// Sampling is const and thread-safe.
+#pragma once
+
+#include "deform/model/pose.h"
+#include "motion/clip.h"
+
+namespace sweepd::motion {
+
+class ClipPoses {
+ public:
+  virtual ~ClipPoses() = default;
+  virtual const Clip& motion() const = 0;
+  int frame_count() const { return motion().frame_count; }
+  double duration() const { return motion().duration(); }
+  virtual deform::Pose pose_at_frame(int frame) const = 0;
+  virtual deform::Pose pose_at_time(double seconds) const = 0;
+};
+
+}  // namespace sweepd::motion

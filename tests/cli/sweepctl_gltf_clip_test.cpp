@@ -1,0 +1,105 @@
+// sweepctl pose --clip / --clip-from as a user runs them, on a glTF made in the test
+// (tests/io/baked_gltf_clip.h: cmu_01_01 retargeted onto the shared male, baked as LINEAR, STEP
+// and CUBICSPLINE animations of the male's own joints):
+// - `--clip NAME|INDEX --frame N` at a key frame poses the model exactly as `--pose` with that
+//   key's rotations and root translation does (the same vertices: the same pose, bit for bit);
+//   so does `--time` at the key's time;
+// - `--clip-from FILE` retargets the file's clip onto another model file;
+// - a bad clip name or index, and frame flags without a clip, exit non-zero naming the problem.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "io/gltf_load.h"
+#include "io/pose_json.h"
+#include "tests/cli/sweepctl_process.h"
+#include "tests/io/baked_gltf_clip.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+using sweepd::test::run_sweepctl;
+using sweepd::test::shared;
+using sweepd::test::SweepctlResult;
+
+constexpr int kKeys = 6;
+constexpr int kKey = 3;
+
+class SweepctlGltfClip : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!fs::exists(shared("models/makehuman_male_cmu.glb")) ||
+        !fs::exists(shared("motion/cmu_01_01.bvh")))
+      GTEST_SKIP() << "shared data absent (see ../shared/data/SOURCES.md)";
+    dir_ = sweepd::test::temp_dir("sweepctl_gltf_clip");
+    model_ = sweepd::io::load_gltf(shared("models/makehuman_male_cmu.glb"));
+    baked_ = sweepd::io::testing::bake_cmu_clip(model_, kKeys);
+    sweepd::io::testing::write_baked_gltf(model_, baked_, dir_ / "baked.glb");
+    sweepd::deform::Pose key;
+    key.local_rotations = baked_.rotations[kKey];
+    key.root_translation = baked_.root[kKey];
+    sweepd::io::save_pose_json(key, model_.skeleton, dir_ / "key.json");
+  }
+  void TearDown() override {
+    if (!dir_.empty()) fs::remove_all(dir_);
+  }
+
+  SweepctlResult pose(const std::string& flags, const std::string& out) const {
+    return run_sweepctl("pose " + (dir_ / "baked.glb").string() + " " + flags + " -o " +
+                        (dir_ / out).string());
+  }
+  std::vector<glm::vec3> positions(const std::string& out) const {
+    return sweepd::io::load_gltf(dir_ / out).positions;
+  }
+
+  fs::path dir_;
+  sweepd::deform::Model model_;
+  sweepd::io::testing::BakedClip baked_;
+};
+
+TEST_F(SweepctlGltfClip, AKeyFramePosesAsItsBakedRotationsDo) {
+  const SweepctlResult reference = pose("--pose " + (dir_ / "key.json").string(), "key.glb");
+  ASSERT_EQ(reference.exit_code, 0) << reference.output;
+  const std::vector<glm::vec3> expected = positions("key.glb");
+  for (const std::string& flags :
+       {std::string("--clip linear --frame 3"), std::string("--clip 1 --frame 3"),
+        std::string("--clip cubic --frames 3-3"),
+        "--clip linear --time " + std::to_string(double{baked_.times[kKey]})}) {
+    const bool range = flags.find("--frames") != std::string::npos;
+    const SweepctlResult r = pose(flags, range ? "frames" : "clip.glb");
+    ASSERT_EQ(r.exit_code, 0) << flags << "\n" << r.output;
+    EXPECT_EQ(positions(range ? "frames/frame_00003.glb" : "clip.glb"), expected) << flags;
+  }
+}
+
+TEST_F(SweepctlGltfClip, ClipFromRetargetsAnotherFilesClip) {
+  const SweepctlResult r =
+      run_sweepctl("pose " + shared("models/makehuman_male_cmu.glb").string() + " --clip-from " +
+                   (dir_ / "baked.glb").string() + " --clip cubic --frame 2 -o " +
+                   (dir_ / "retargeted.glb").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(positions("retargeted.glb").size(), model_.positions.size());
+}
+
+TEST_F(SweepctlGltfClip, BadClipsAndFlagsWithoutAClipAreRefusedNamingTheProblem) {
+  const SweepctlResult name = pose("--clip walk", "x.glb");
+  EXPECT_NE(name.exit_code, 0);
+  EXPECT_NE(name.output.find("no animation named 'walk' (the file's animations: 0 'linear', 1 "
+                             "'step', 2 'cubic')"),
+            std::string::npos)
+      << name.output;
+  const SweepctlResult index = pose("--clip 5", "x.glb");
+  EXPECT_NE(index.exit_code, 0);
+  EXPECT_NE(index.output.find("no animation 5: the file has 3"), std::string::npos) << index.output;
+  const SweepctlResult past = pose("--clip linear --frame 6", "x.glb");
+  EXPECT_NE(past.exit_code, 0);
+  EXPECT_NE(past.output.find("frame 6 does not exist"), std::string::npos) << past.output;
+  const SweepctlResult no_clip = pose("--frame 2", "x.glb");
+  EXPECT_NE(no_clip.exit_code, 0);
+  EXPECT_NE(no_clip.output.find("give --bvh, --clip or --clip-from"), std::string::npos)
+      << no_clip.output;
+}
+
+}  // namespace
