@@ -174,16 +174,6 @@ std::map<std::string, int> add_vertex_attributes(GlbBuilder& builder, tinygltf::
   return attributes;
 }
 
-// The model's meshes: its parts, or the whole model as one part named after it.
-std::vector<deform::MeshPart> meshes_of(const deform::Model& model) {
-  if (!model.parts.empty()) return model.parts;
-  deform::MeshPart whole;
-  whole.name = model.name;
-  whole.vertex_count = static_cast<std::uint32_t>(model.vertex_count());
-  whole.index_count = static_cast<std::uint32_t>(model.indices.size());
-  return {whole};
-}
-
 // One material per distinct part material name, in first-seen order (an unnamed part's is the
 // default "skin"); returns each part's material index.
 std::vector<int> add_materials(tinygltf::Model& gltf, const std::vector<deform::MeshPart>& parts) {
@@ -222,7 +212,7 @@ tinygltf::Model build_gltf(const deform::Model& model, const SaveOptions& option
   const std::vector<int> roots = scene.nodes;
 
   // Parts of one file mesh (one `mesh` value, consecutive) become one mesh's primitives.
-  const std::vector<deform::MeshPart> parts = meshes_of(model);
+  const std::vector<deform::MeshPart> parts = model.meshes();
   const std::vector<int> material_of = add_materials(gltf, parts);
   for (std::size_t k = 0; k < parts.size(); ++k) {
     const deform::MeshPart& part = parts[k];

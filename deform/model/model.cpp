@@ -75,6 +75,15 @@ std::string Model::validate() const {
   return validate_parts(*this);
 }
 
+std::vector<MeshPart> Model::meshes() const {
+  if (!parts.empty()) return parts;
+  MeshPart whole;
+  whole.name = name;
+  whole.vertex_count = static_cast<std::uint32_t>(vertex_count());
+  whole.index_count = static_cast<std::uint32_t>(indices.size());
+  return {whole};
+}
+
 std::vector<glm::vec3> compute_vertex_normals(const std::vector<glm::vec3>& positions,
                                               const std::vector<std::uint32_t>& indices) {
   std::vector<glm::vec3> normals(positions.size(), glm::vec3(0.0f));

@@ -5,9 +5,9 @@
         posed = sweepd.pose("mannequin")          # the rest pose; .positions is (n, 3) float32
 """
 
-from .client import Client, Clip, Model, ModelSummary, Posed, RestMesh
+from .client import Client, Clip, MeshRange, Model, ModelSummary, Posed, RestMesh
 from .errors import ConnectionLost, ServerError, SweepdError, Timeout
 from .meshopt import MeshoptUnavailable
 
-__all__ = ["Client", "Clip", "Model", "ModelSummary", "Posed", "RestMesh", "SweepdError",
+__all__ = ["Client", "Clip", "MeshRange", "Model", "ModelSummary", "Posed", "RestMesh", "SweepdError",
            "ConnectionLost", "Timeout", "ServerError", "MeshoptUnavailable"]
