@@ -9,6 +9,7 @@
 
 #include "cli/commands.h"
 #include "cli/text_format.h"
+#include "deform/binding/mesh_parts_joined.h"
 #include "deform/mesh/mesh_topology.h"
 #include "deform/rig/rig_map.h"
 #include "io/bvh_load.h"
@@ -71,6 +72,31 @@ void print_rig(const deform::Skeleton& skeleton) {
   std::printf("skinned:     %s (with everything below them)\n", skinned.c_str());
 }
 
+// Each mesh node of the file: its vertices, primitives, and whether it is skinned and swept
+// with the body, skinned by LBS alone (a separate piece), rigid to a joint, or ignored and why.
+void print_meshes(const deform::Model& model, const io::LoadReport& report) {
+  if (report.meshes.empty()) return;
+  std::printf("meshes:      %zu\n", report.meshes.size());
+  const std::vector<std::uint8_t> joined = deform::mesh_parts_joined(model);
+  for (const io::MeshHandling& mesh : report.meshes) {
+    std::string handling = "ignored: " + mesh.ignored;
+    int primitives = 0;
+    if (mesh.part >= 0) {
+      const deform::MeshPart& part = model.parts[mesh.part];
+      for (std::size_t k = mesh.part; k < model.parts.size() && model.parts[k].mesh == part.mesh;
+           ++k)
+        ++primitives;
+      handling = part.rigid_joint >= 0
+                     ? "rigid to joint " + model.skeleton.joints[part.rigid_joint].name
+                 : joined[mesh.part]
+                     ? "skinned, swept with the body"
+                     : "skinned, LBS only (a separate piece: it shares no position with the body)";
+    }
+    std::printf("  %s (%zu vertices, %d primitive%s): %s\n", mesh.name.c_str(), mesh.vertex_count,
+                primitives, primitives == 1 ? "" : "s", handling.c_str());
+  }
+}
+
 int inspect_model(const std::filesystem::path& file) {
   io::LoadReport report;
   const deform::Model model = io::load_model(file, &report);
@@ -115,6 +141,7 @@ int inspect_model(const std::filesystem::path& file) {
       "weights:     influences per vertex mean %.2f, max %d; %d renormalised, %d unweighted\n",
       influence_sum / std::max<std::size_t>(1, model.vertex_count()), max_influences,
       report.renormalised_weight_count, report.zero_weight_vertex_count);
+  print_meshes(model, report);
   print_warnings(report.warnings);
   print_rig(skeleton);
   std::printf("joint tree:\n");

@@ -12,6 +12,7 @@
 #include <iterator>
 #include <map>
 #include <set>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -53,24 +54,34 @@ std::vector<glm::dmat4> skinning_matrices(const AccessorReader& reader, const ti
   return result;
 }
 
+// How one mesh node's vertices are bound: through the skin, or rigidly to one joint.
+struct NodeBinding {
+  int joint;                             // rigid: the joint; skinned: for vertices with no weight
+  bool rigid;                            // no skin: weight 1 on `joint`
+  std::span<const glm::dmat4> skinning;  // per joint; rigid: the node's world matrix at `joint`
+};
+
 class ModelAssembler {
  public:
-  ModelAssembler(const AccessorReader& reader, const SkinSkeleton& skeleton,
-                 std::vector<glm::dmat4> skinning, int fallback_joint, LoadReport& report)
-      : reader_(reader),
-        skeleton_(skeleton),
-        skinning_(std::move(skinning)),
-        fallback_joint_(fallback_joint),
-        vertices_(model_, report) {}
+  ModelAssembler(const AccessorReader& reader, const SkinSkeleton& skeleton, LoadReport& report)
+      : reader_(reader), skeleton_(skeleton), vertices_(model_, report) {}
 
-  void add_primitive(const tinygltf::Primitive& primitive, const std::string& what) {
+  // Appends the primitive's vertices and triangles as mesh part `part` (its range filled here).
+  void add_primitive(const tinygltf::Primitive& primitive, const std::string& what,
+                     const NodeBinding& binding, deform::MeshPart part) {
+    part.first_vertex = static_cast<std::uint32_t>(model_.positions.size());
+    part.first_index = static_cast<std::uint32_t>(model_.indices.size());
+    part.rigid_joint = binding.rigid ? binding.joint : -1;
     const auto& attributes = primitive.attributes;
     auto attribute = [&](const std::string& name) {
       const auto it = attributes.find(name);
       return it == attributes.end() ? -1 : it->second;
     };
-    for (const char* required : {"POSITION", "JOINTS_0", "WEIGHTS_0"})
-      if (attribute(required) < 0) reader_.fail(what + " has no " + required + " attribute");
+    const std::vector<const char*> required =
+        binding.rigid ? std::vector<const char*>{"POSITION"}
+                      : std::vector<const char*>{"POSITION", "JOINTS_0", "WEIGHTS_0"};
+    for (const char* name : required)
+      if (attribute(name) < 0) reader_.fail(what + " has no " + name + " attribute");
     SourceVertices source;
     source.positions = reader_.read(attribute("POSITION"),
                                     {"POSITION of " + what, TINYGLTF_TYPE_VEC3, kFloat, false});
@@ -89,7 +100,7 @@ class ModelAssembler {
     if (attribute("TEXCOORD_0") >= 0)
       source.uvs = read_per_vertex(
           "TEXCOORD_0", {"TEXCOORD_0 of " + what, TINYGLTF_TYPE_VEC2, kFloatOrUnorm, true});
-    for (int set = 0;; ++set) {
+    for (int set = 0; !binding.rigid; ++set) {
       const std::string joints_name = "JOINTS_" + std::to_string(set);
       const std::string weights_name = "WEIGHTS_" + std::to_string(set);
       if (attribute(joints_name) < 0 && attribute(weights_name) < 0) break;
@@ -102,8 +113,13 @@ class ModelAssembler {
     }
     const std::size_t base = model_.positions.size();
     append_indices(primitive, what, n, base);
-    append_vertices(source, what, n);
+    append_vertices(source, what, n, binding);
+    part.vertex_count = static_cast<std::uint32_t>(model_.positions.size()) - part.first_vertex;
+    part.index_count = static_cast<std::uint32_t>(model_.indices.size()) - part.first_index;
+    model_.parts.push_back(std::move(part));
   }
+
+  std::size_t part_count() const { return model_.parts.size(); }
 
   deform::Model finish() {
     if (model_.positions.empty()) reader_.fail("the skinned mesh has no vertices");
@@ -159,9 +175,11 @@ class ModelAssembler {
       }
   }
 
-  void append_vertices(const SourceVertices& source, const std::string& what, std::size_t n) {
+  void append_vertices(const SourceVertices& source, const std::string& what, std::size_t n,
+                       const NodeBinding& binding) {
     for (std::size_t v = 0; v < n; ++v) {
       gather_influences(source, what, v);
+      if (binding.rigid) influences_.assign(1, {binding.joint, 1.0});
       const glm::dvec3 position(source.positions[v * 3], source.positions[v * 3 + 1],
                                 source.positions[v * 3 + 2]);
       glm::dvec3 normal;
@@ -170,7 +188,7 @@ class ModelAssembler {
             glm::dvec3(source.normals[v * 3], source.normals[v * 3 + 1], source.normals[v * 3 + 2]);
       glm::vec2 uv;
       if (!source.uvs.empty()) uv = glm::vec2(source.uvs[v * 2], source.uvs[v * 2 + 1]);
-      vertices_.append(influences_, fallback_joint_, skinning_, position,
+      vertices_.append(influences_, binding.joint, binding.skinning, position,
                        source.normals.empty() ? nullptr : &normal,
                        source.uvs.empty() ? nullptr : &uv);
     }
@@ -178,20 +196,57 @@ class ModelAssembler {
 
   const AccessorReader& reader_;
   const SkinSkeleton& skeleton_;
-  std::vector<glm::dmat4> skinning_;
-  int fallback_joint_;
   deform::Model model_;
   BindPoseVertices vertices_;
   std::vector<std::pair<int, double>> influences_;  // scratch for one vertex
 };
 
-// Mesh node's nearest ancestor joint (new index), else joint 0 (the first root).
-int fallback_joint(const NodeGraph& graph, const tinygltf::Skin& skin, const SkinSkeleton& skeleton,
+// Mesh node's nearest ancestor joint (new index), else -1.
+int ancestor_joint(const NodeGraph& graph, const tinygltf::Skin& skin, const SkinSkeleton& skeleton,
                    int mesh_node) {
   for (int v = graph.parent[mesh_node]; v >= 0; v = graph.parent[v])
     for (std::size_t s = 0; s < skin.joints.size(); ++s)
       if (skin.joints[s] == v) return skeleton.new_index[s];
-  return 0;
+  return -1;
+}
+
+// The file's name for a mesh node: its mesh's, else the node's, else mesh_<index>.
+std::string mesh_name(const tinygltf::Model& gltf, int node) {
+  const int mesh = gltf.nodes[node].mesh;
+  if (!gltf.meshes[mesh].name.empty()) return gltf.meshes[mesh].name;
+  if (!gltf.nodes[node].name.empty()) return gltf.nodes[node].name;
+  return "mesh_" + std::to_string(mesh);
+}
+
+// Loads one mesh node's triangle primitives; returns how many (0: none was triangles, and
+// `last_mode` holds the last primitive's mode).
+int add_mesh_node(ModelAssembler& assembler, const tinygltf::Model& gltf, int node,
+                  const NodeBinding& binding, std::uint32_t ordinal, LoadReport& report,
+                  int& last_mode) {
+  const int mesh_index = gltf.nodes[node].mesh;
+  const tinygltf::Mesh& mesh = gltf.meshes[mesh_index];
+  const std::string mesh_what = "mesh " + std::to_string(mesh_index);
+  int added = 0;
+  for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
+    const tinygltf::Primitive& primitive = mesh.primitives[p];
+    const std::string what = mesh_what + " primitive " + std::to_string(p);
+    const int mode = primitive.mode < 0 ? TINYGLTF_MODE_TRIANGLES : primitive.mode;
+    if (mode != TINYGLTF_MODE_TRIANGLES) {
+      last_mode = mode;
+      report.warnings.push_back(what + " has mode " + std::to_string(mode) +
+                                ", not triangles (4); skipped");
+      continue;
+    }
+    deform::MeshPart part;
+    part.name = mesh_name(gltf, node);
+    part.mesh = ordinal;
+    if (primitive.material >= 0 && primitive.material < static_cast<int>(gltf.materials.size()))
+      part.material = gltf.materials[primitive.material].name;
+    assembler.add_primitive(primitive, what, binding, std::move(part));
+    ++added;
+  }
+  report.source_primitive_count += added;
+  return added;
 }
 
 }  // namespace
@@ -213,35 +268,50 @@ deform::Model load_gltf(const fs::path& file, const GltfUriPolicy& uris, LoadRep
   if (mesh_node < 0)
     reader.fail("no skinned mesh: " + std::to_string(gltf.meshes.size()) + " meshes, " +
                 std::to_string(gltf.skins.size()) + " skins, but no node with both mesh and skin");
-  if (out.skinned_mesh_count > 1)
-    out.warnings.push_back(std::to_string(out.skinned_mesh_count) +
-                           " nodes have a skinned mesh; loaded node " + std::to_string(mesh_node) +
-                           " (the most vertices), ignored the others");
-  const tinygltf::Skin& skin = gltf.skins[gltf.nodes[mesh_node].skin];
-  const tinygltf::Mesh& mesh = gltf.meshes[gltf.nodes[mesh_node].mesh];
+  const int skin_index = gltf.nodes[mesh_node].skin;
+  const tinygltf::Skin& skin = gltf.skins[skin_index];
   const SkinSkeleton skeleton = build_skeleton(reader, gltf, skin, graph);
   out.source_joint_count = skeleton.skeleton.size();
-  ModelAssembler assembler(reader, skeleton, skinning_matrices(reader, skin, skeleton),
-                           fallback_joint(graph, skin, skeleton, mesh_node), out);
-  const std::string mesh_what = "mesh " + std::to_string(gltf.nodes[mesh_node].mesh);
-  int last_mode = TINYGLTF_MODE_TRIANGLES;
-  for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
-    const tinygltf::Primitive& primitive = mesh.primitives[p];
-    const std::string what = mesh_what + " primitive " + std::to_string(p);
-    const int mode = primitive.mode < 0 ? TINYGLTF_MODE_TRIANGLES : primitive.mode;
-    if (mode != TINYGLTF_MODE_TRIANGLES) {
-      last_mode = mode;
-      out.warnings.push_back(what + " has mode " + std::to_string(mode) +
-                             ", not triangles (4); skipped");
-      continue;
+  const std::vector<glm::dmat4> skinning = skinning_matrices(reader, skin, skeleton);
+  ModelAssembler assembler(reader, skeleton, out);
+  // Every mesh node in file order: skinned on the character's skin, or under one of its joints.
+  std::uint32_t ordinal = 0;
+  for (int node = 0; node < static_cast<int>(gltf.nodes.size()); ++node) {
+    const int mesh_index = gltf.nodes[node].mesh;
+    if (mesh_index < 0) continue;
+    if (mesh_index >= static_cast<int>(gltf.meshes.size()))
+      reader.fail("node " + std::to_string(node) + " refers to a missing mesh");
+    const tinygltf::Mesh& mesh = gltf.meshes[mesh_index];
+    MeshHandling handling{mesh_name(gltf, node), position_count(reader, mesh), -1, ""};
+    const int skin_of_node = gltf.nodes[node].skin;
+    const int joint = ancestor_joint(graph, skin, skeleton, node);
+    std::vector<glm::dmat4> rigid;
+    if (skin_of_node >= 0 && skin_of_node != skin_index)
+      handling.ignored = "skinned to skin " + std::to_string(skin_of_node) +
+                         ", not the character's skin " + std::to_string(skin_index);
+    else if (skin_of_node < 0 && joint < 0)
+      handling.ignored = "no skin, and not under a joint of the character's skin";
+    else if (skin_of_node < 0)
+      rigid.assign(skinning.size(), glm::dmat4(1.0)), rigid[joint] = graph.world[node];
+    if (handling.ignored.empty()) {
+      const NodeBinding binding = rigid.empty() ? NodeBinding{std::max(joint, 0), false, skinning}
+                                                : NodeBinding{joint, true, rigid};
+      const std::string mesh_what = "mesh " + std::to_string(mesh_index);
+      handling.part = static_cast<int>(assembler.part_count());
+      int last_mode = TINYGLTF_MODE_TRIANGLES;
+      const int added = add_mesh_node(assembler, gltf, node, binding, ordinal, out, last_mode);
+      if (node == mesh_node && mesh.primitives.empty())
+        reader.fail("the skinned " + mesh_what + " has no primitives");
+      if (node == mesh_node && added == 0)
+        reader.fail("the skinned " + mesh_what + " has no triangle primitives (mode " +
+                    std::to_string(last_mode) + "; only triangles, mode 4, are supported)");
+      if (added == 0) handling.part = -1, handling.ignored = "no triangle primitives";
+      ordinal += added > 0;
     }
-    assembler.add_primitive(primitive, what);
-    ++out.source_primitive_count;
+    if (!handling.ignored.empty())
+      out.warnings.push_back("mesh '" + handling.name + "' ignored: " + handling.ignored);
+    out.meshes.push_back(std::move(handling));
   }
-  if (mesh.primitives.empty()) reader.fail("the skinned " + mesh_what + " has no primitives");
-  if (out.source_primitive_count == 0)
-    reader.fail("the skinned " + mesh_what + " has no triangle primitives (mode " +
-                std::to_string(last_mode) + "; only triangles, mode 4, are supported)");
   deform::Model model = assembler.finish();
   model.name = file.stem().string();
   if (std::string why = model.validate(); !why.empty())

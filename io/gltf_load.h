@@ -10,8 +10,14 @@
 //                 GltfUriPolicy::within(model dir).
 //         report  optional; receives warnings and source counts (see io/load_report.h)
 // Output: a Model that satisfies Model::validate():
-//         - the skinned mesh is the node with both mesh and skin (the one with most vertices
-//           when several); all its triangle primitives are merged into one vertex/index list;
+//         - the character's skin is the skin of the node with both mesh and skin (the one with
+//           most vertices when several); every mesh node is then, in file order, skinned (it
+//           uses that skin), rigid (no skin, and a joint of the skin among its ancestors: its
+//           vertices are placed by the node's world matrix and get weight 1 on the nearest such
+//           joint), or ignored (another skin; no skin and no joint above it; no triangles),
+//           which report.meshes lists and a warning names. Each loaded triangle primitive is
+//           one Model::parts entry (name, material name, vertex and index range), appended to
+//           one vertex/index list;
 //         - skin.joints become the Skeleton, reordered parents-first (JOINTS_0 remapped);
 //           unnamed joints are called joint_<node index>, repeated names get _2, _3, ...;
 //           non-joint ancestors of root joints are folded into the root's rest transform;
@@ -20,6 +26,7 @@
 //         - influences from every JOINTS_n/WEIGHTS_n set are merged per joint and the 4 largest
 //           kept; weights are renormalised to sum 1 (both counted in the report); vertices
 //           with no weight are bound to the mesh node's nearest ancestor joint, else joint 0.
+//         A file with one skinned mesh of one primitive loads as before, with one part.
 // Throws io::LoadError (naming the file and the reason) for any unusable input: unreadable or
 // truncated file, a URI the policy refuses (checked before any file is opened; the message
 // names the URI and nothing about the file it would have named), invalid JSON, missing buffers, no

@@ -13,6 +13,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace sweepd::io {
 
@@ -110,28 +111,52 @@ int add_positions(GlbBuilder& builder, tinygltf::Model& gltf,
   return accessor;
 }
 
+// The vertices [first, first + count) of the model, and for a rigid part the matrix that takes
+// them from world space into its joint's (identity otherwise).
+struct VertexRange {
+  std::size_t first, count;
+  glm::mat4 to_local{1.0f};
+  bool rigid = false;
+
+  template <typename T>
+  std::vector<T> of(const std::vector<T>& values) const {
+    return std::vector<T>(values.begin() + first, values.begin() + first + count);
+  }
+};
+
 std::map<std::string, int> add_vertex_attributes(GlbBuilder& builder, tinygltf::Model& gltf,
                                                  const deform::Model& model,
-                                                 const SaveOptions& options) {
+                                                 const SaveOptions& options,
+                                                 const VertexRange& range) {
   std::map<std::string, int> attributes;
-  attributes["POSITION"] = add_positions(builder, gltf, model.positions);
-  std::vector<glm::vec3> normals(model.normals.size());
-  for (std::size_t v = 0; v < normals.size(); ++v) {  // the validator wants unit length
-    const float length = glm::length(model.normals[v]);
-    normals[v] = length > 0.0f ? model.normals[v] / length : glm::vec3(0, 1, 0);
+  std::vector<glm::vec3> positions = range.of(model.positions);
+  std::vector<glm::vec3> normals = range.of(model.normals);
+  if (range.rigid) {
+    const glm::mat3 turn = glm::mat3(range.to_local);
+    for (std::size_t v = 0; v < positions.size(); ++v) {
+      positions[v] = glm::vec3(range.to_local * glm::vec4(positions[v], 1.0f));
+      normals[v] = turn * normals[v];
+    }
+  }
+  attributes["POSITION"] = add_positions(builder, gltf, positions);
+  for (glm::vec3& normal : normals) {  // the validator wants unit length
+    const float length = glm::length(normal);
+    normal = length > 0.0f ? normal / length : glm::vec3(0, 1, 0);
   }
   attributes["NORMAL"] = builder.add_accessor(normals, TINYGLTF_COMPONENT_TYPE_FLOAT,
                                               TINYGLTF_TYPE_VEC3, TINYGLTF_TARGET_ARRAY_BUFFER);
   if (model.has_uvs())
-    attributes["TEXCOORD_0"] = builder.add_accessor(
-        model.uvs, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, TINYGLTF_TARGET_ARRAY_BUFFER);
+    attributes["TEXCOORD_0"] =
+        builder.add_accessor(range.of(model.uvs), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2,
+                             TINYGLTF_TARGET_ARRAY_BUFFER);
   if (!options.vertex_colors.empty())
     attributes["COLOR_0"] =
-        builder.add_accessor(options.vertex_colors, TINYGLTF_COMPONENT_TYPE_FLOAT,
+        builder.add_accessor(range.of(options.vertex_colors), TINYGLTF_COMPONENT_TYPE_FLOAT,
                              TINYGLTF_TYPE_VEC4, TINYGLTF_TARGET_ARRAY_BUFFER);
+  if (range.rigid) return attributes;  // it follows its node, a child of its joint
 
-  std::vector<std::array<std::uint16_t, deform::kInfluences>> joints = model.skin_joints;
-  std::vector<std::array<float, deform::kInfluences>> weights = model.skin_weights;
+  std::vector<std::array<std::uint16_t, deform::kInfluences>> joints = range.of(model.skin_joints);
+  std::vector<std::array<float, deform::kInfluences>> weights = range.of(model.skin_weights);
   for (std::size_t v = 0; v < joints.size(); ++v) normalise_influences(joints[v], weights[v]);
   if (model.skeleton.size() <= 256) {
     std::vector<std::array<std::uint8_t, deform::kInfluences>> narrow(joints.size());
@@ -149,26 +174,28 @@ std::map<std::string, int> add_vertex_attributes(GlbBuilder& builder, tinygltf::
   return attributes;
 }
 
+// One material per distinct part material name, in first-seen order (an unnamed part's is the
+// default "skin"); returns each part's material index.
+std::vector<int> add_materials(tinygltf::Model& gltf, const std::vector<deform::MeshPart>& parts) {
+  std::vector<int> material_of;
+  for (const deform::MeshPart& part : parts) {
+    tinygltf::Material material = default_material();
+    if (!part.material.empty()) material.name = part.material;
+    const auto same = std::find_if(gltf.materials.begin(), gltf.materials.end(),
+                                   [&](const auto& m) { return m.name == material.name; });
+    material_of.push_back(static_cast<int>(same - gltf.materials.begin()));
+    if (same == gltf.materials.end()) gltf.materials.push_back(material);
+  }
+  return material_of;
+}
+
 tinygltf::Model build_gltf(const deform::Model& model, const SaveOptions& options) {
   tinygltf::Model gltf;
   gltf.asset.version = "2.0";
   gltf.asset.generator = "sweepd";
   GlbBuilder builder(gltf);
 
-  tinygltf::Primitive primitive;
-  primitive.mode = TINYGLTF_MODE_TRIANGLES;
-  primitive.material = 0;
-  primitive.attributes = add_vertex_attributes(builder, gltf, model, options);
-  primitive.indices =
-      builder.add_accessor(model.indices, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
-                           TINYGLTF_TYPE_SCALAR, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
-  gltf.materials.push_back(default_material());
-  tinygltf::Mesh mesh;
-  mesh.name = model.name;
-  mesh.primitives.push_back(primitive);
-  gltf.meshes.push_back(mesh);
-
-  // Nodes 0..J-1 are the joints (same order as the skeleton), node J is the skinned mesh.
+  // Nodes 0..J-1 are the joints (same order as the skeleton), then one node per mesh.
   const int joint_count = model.skeleton.size();
   const std::vector<glm::mat4> world = model.skeleton.world_rest_matrices();
   std::vector<glm::mat4> inverse_bind(joint_count);
@@ -181,16 +208,51 @@ tinygltf::Model build_gltf(const deform::Model& model, const SaveOptions& option
     skin.joints.push_back(j);
     inverse_bind[j] = glm::mat4(glm::inverse(glm::dmat4(world[j])));
   }
-  if (scene.nodes.size() == 1) skin.skeleton = scene.nodes.front();
+
+  const std::vector<int> roots = scene.nodes;
+
+  // Parts of one file mesh (one `mesh` value, consecutive) become one mesh's primitives.
+  const std::vector<deform::MeshPart> parts = model.meshes();
+  const std::vector<int> material_of = add_materials(gltf, parts);
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    const deform::MeshPart& part = parts[k];
+    const bool rigid = part.rigid_joint >= 0;
+    VertexRange range{part.first_vertex, part.vertex_count};
+    if (rigid) range.to_local = inverse_bind[part.rigid_joint], range.rigid = true;
+    tinygltf::Primitive primitive;
+    primitive.mode = TINYGLTF_MODE_TRIANGLES;
+    primitive.material = material_of[k];
+    primitive.attributes = add_vertex_attributes(builder, gltf, model, options, range);
+    std::vector<std::uint32_t> indices(model.indices.begin() + part.first_index,
+                                       model.indices.begin() + part.first_index + part.index_count);
+    for (std::uint32_t& index : indices) index -= part.first_vertex;
+    primitive.indices =
+        builder.add_accessor(indices, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR,
+                             TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+    if (k > 0 && parts[k - 1].mesh == part.mesh) {
+      gltf.meshes.back().primitives.push_back(primitive);
+      continue;
+    }
+    tinygltf::Mesh mesh;
+    mesh.name = part.name;
+    mesh.primitives.push_back(primitive);
+    gltf.meshes.push_back(mesh);
+    tinygltf::Node mesh_node;
+    mesh_node.name = part.name;
+    mesh_node.mesh = static_cast<int>(gltf.meshes.size()) - 1;
+    const int node = static_cast<int>(gltf.nodes.size());
+    if (rigid) {
+      gltf.nodes[part.rigid_joint].children.push_back(node);
+    } else {
+      mesh_node.skin = 0;
+      scene.nodes.push_back(node);
+    }
+    gltf.nodes.push_back(mesh_node);
+  }
+  if (roots.size() == 1) skin.skeleton = roots.front();
   skin.inverseBindMatrices =
       builder.add_accessor(inverse_bind, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_MAT4, 0);
   gltf.skins.push_back(skin);
-  tinygltf::Node mesh_node;
-  mesh_node.name = model.name;
-  mesh_node.mesh = 0;
-  mesh_node.skin = 0;
-  gltf.nodes.push_back(mesh_node);
-  scene.nodes.push_back(joint_count);
   if (!options.line_loops.empty()) {  // one unskinned mesh of LINE_LOOP primitives
     tinygltf::Mesh lines;
     lines.name = "line loops";
@@ -204,9 +266,9 @@ tinygltf::Model build_gltf(const deform::Model& model, const SaveOptions& option
     gltf.meshes.push_back(lines);
     tinygltf::Node lines_node;
     lines_node.name = "line loops";
-    lines_node.mesh = 1;
+    lines_node.mesh = static_cast<int>(gltf.meshes.size()) - 1;
+    scene.nodes.push_back(static_cast<int>(gltf.nodes.size()));
     gltf.nodes.push_back(lines_node);
-    scene.nodes.push_back(joint_count + 1);
   }
   gltf.scenes.push_back(scene);
   gltf.defaultScene = 0;

@@ -78,7 +78,14 @@ NodeGraph build_node_graph(const AccessorReader& reader, const tinygltf::Model& 
   return graph;
 }
 
-// The node with mesh and skin whose mesh has the most vertices; -1 when none.
+std::size_t position_count(const AccessorReader& reader, const tinygltf::Mesh& mesh) {
+  std::size_t count = 0;
+  for (const tinygltf::Primitive& primitive : mesh.primitives)
+    if (auto it = primitive.attributes.find("POSITION"); it != primitive.attributes.end())
+      count += reader.accessor(it->second, "POSITION").count;
+  return count;
+}
+
 int choose_skinned_node(const AccessorReader& reader, const tinygltf::Model& gltf,
                         LoadReport& report) {
   int best = -1;
@@ -90,10 +97,7 @@ int choose_skinned_node(const AccessorReader& reader, const tinygltf::Model& glt
         node.skin >= static_cast<int>(gltf.skins.size()))
       reader.fail("node " + std::to_string(i) + " refers to a missing mesh or skin");
     ++report.skinned_mesh_count;
-    std::size_t count = 0;
-    for (const tinygltf::Primitive& primitive : gltf.meshes[node.mesh].primitives)
-      if (auto it = primitive.attributes.find("POSITION"); it != primitive.attributes.end())
-        count += reader.accessor(it->second, "POSITION").count;
+    const std::size_t count = position_count(reader, gltf.meshes[node.mesh]);
     if (best < 0 || count > best_count) best = i, best_count = count;
   }
   return best;

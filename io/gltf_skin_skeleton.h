@@ -4,8 +4,10 @@
 //   node_local_matrix(node)   the node's local matrix (its matrix, or T * R * S)
 //   build_node_graph          each node's parent and world matrix; bad children, two parents and
 //                             cycles are LoadErrors
+//   position_count(mesh)      the mesh's vertices, as its primitives' POSITION accessors count them
 //   choose_skinned_node       the node with both mesh and skin whose mesh has the most vertices
-//                             (-1 when none), counting such nodes in the report
+//                             (-1 when none): its skin is the character's; counts such nodes in
+//                             the report
 //   build_skeleton            the skin's joints as a parents-first deform::Skeleton (see
 //                             io/gltf_load.h for names and folded non-joint ancestors);
 //                             new_index[skin slot] and order[new joint] = skin slot
@@ -29,6 +31,8 @@ struct NodeGraph {
   std::vector<glm::dmat4> world;
 };
 NodeGraph build_node_graph(const AccessorReader& reader, const tinygltf::Model& gltf);
+
+std::size_t position_count(const AccessorReader& reader, const tinygltf::Mesh& mesh);
 
 int choose_skinned_node(const AccessorReader& reader, const tinygltf::Model& gltf,
                         LoadReport& report);

@@ -21,6 +21,7 @@ constexpr std::uint64_t kMaxJoints = 1u << 12;
 constexpr std::uint64_t kMaxKeys = 1u << 10;
 constexpr std::uint64_t kMaxEdits = 1u << 12;
 constexpr std::uint64_t kMaxEditSamples = 1u << 10;
+constexpr std::uint64_t kMaxMeshParts = 1u << 16;
 
 // Records stored as raw bytes: their layout is the file format (io/SWEEPBIND.md). No padding.
 static_assert(sizeof(deform::KeyAnchor) == 12);
@@ -79,6 +80,19 @@ void put_sweep(ByteWriter& out, const deform::BoundSweep& sweep) {
   out.put_array(std::span<const float>(sweep.key_area_ratios));
   out.put_array(std::span<const std::uint8_t>(sweep.key_fallback));
   out.put(sweep.rest_volume);
+}
+
+// Version 8 on: the model's mesh parts (deform/model/mesh_part.h), after the edits.
+void put_mesh_parts(ByteWriter& out, const std::vector<deform::MeshPart>& parts) {
+  out.put<std::uint64_t>(parts.size());
+  for (const deform::MeshPart& part : parts) {
+    out.put_string(part.name);
+    out.put_string(part.material);
+    for (std::uint32_t value :
+         {part.mesh, part.first_vertex, part.vertex_count, part.first_index, part.index_count})
+      out.put<std::uint32_t>(value);
+    out.put<std::int32_t>(part.rigid_joint);
+  }
 }
 
 // --- reading ---------------------------------------------------------------------------------
@@ -140,6 +154,22 @@ deform::BoundSweep get_sweep(ByteReader& in) {
   sweep.key_fallback = in.get_array<std::uint8_t>("key fallbacks", kMaxKeys);
   sweep.rest_volume = in.get<double>("sweep volume");
   return sweep;
+}
+
+std::vector<deform::MeshPart> get_mesh_parts(ByteReader& in) {
+  const auto count = in.get<std::uint64_t>("mesh part count");
+  if (count > kMaxMeshParts)
+    in.fail("mesh part count " + std::to_string(count) + " is out of range");
+  std::vector<deform::MeshPart> parts(count);
+  for (deform::MeshPart& part : parts) {
+    part.name = in.get_string("mesh part name");
+    part.material = in.get_string("mesh part material");
+    for (std::uint32_t* value :
+         {&part.mesh, &part.first_vertex, &part.vertex_count, &part.first_index, &part.index_count})
+      *value = in.get<std::uint32_t>("mesh part range");
+    part.rigid_joint = in.get<std::int32_t>("mesh part joint");
+  }
+  return parts;
 }
 
 bool finite(float x) { return std::isfinite(x); }
@@ -242,6 +272,7 @@ std::vector<std::uint8_t> encode_sweepbind(const BoundModel& bound) {
     for (int value : {edit.sweep, edit.key, edit.joint}) payload.put<std::int32_t>(value);
     payload.put_array(std::span<const deform::KeyEllipseEditSample>(edit.samples));
   }
+  put_mesh_parts(payload, bound.model.parts);
 
   ByteWriter file;
   for (char c : kMagic) file.put(c);
@@ -309,6 +340,7 @@ BoundModel decode_sweepbind(std::span<const std::uint8_t> bytes,
     edit.samples = in.get_array<deform::KeyEllipseEditSample>("edit samples", kMaxEditSamples);
     bound.edits.edits.push_back(std::move(edit));
   }
+  if (version >= 8) bound.model.parts = get_mesh_parts(in);
   if (in.remaining() != 0) in.fail("trailing bytes inside the payload");
   if (std::string why = validate(bound); !why.empty()) in.fail("invalid binding: " + why);
   if (std::string why = deform::validate(bound.edits, bound); !why.empty())

@@ -19,7 +19,7 @@
 
 namespace sweepd::io {
 
-inline constexpr std::uint32_t kSweepbindVersion = 7;  // reads 6 too (as the linear Q(t))
+inline constexpr std::uint32_t kSweepbindVersion = 8;  // reads 6 (as the linear Q(t)) and 7 too
 
 std::vector<std::uint8_t> encode_sweepbind(const deform::BoundModel& bound);
 deform::BoundModel decode_sweepbind(std::span<const std::uint8_t> bytes,

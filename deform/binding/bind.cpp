@@ -1,8 +1,10 @@
 #include "deform/binding/bind.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "deform/binding/chain_key_ellipses.h"
+#include "deform/binding/mesh_parts_joined.h"
 #include "deform/binding/rest_sweep.h"
 #include "deform/binding/sweep_coordinates.h"
 #include "deform/blending/skinned_share_influences.h"
@@ -35,12 +37,70 @@ std::vector<SweepPlan> plan_sweeps(const RigMap& rig, std::span<const glm::mat4>
   return plans;
 }
 
+// The joined vertices of `model` (joined[v] = 1) as a model of their own; body_vertex[b] is the
+// model vertex that body vertex b came from. Parts are dropped: the body binds as one mesh.
+Model body_of(const Model& model, const std::vector<std::uint8_t>& joined,
+              std::vector<std::uint32_t>& body_vertex) {
+  Model body;
+  body.name = model.name;
+  body.skeleton = model.skeleton;
+  std::vector<std::uint32_t> body_index(model.vertex_count(), 0);
+  for (std::uint32_t v = 0; v < model.vertex_count(); ++v) {
+    if (!joined[v]) continue;
+    body_index[v] = static_cast<std::uint32_t>(body_vertex.size());
+    body_vertex.push_back(v);
+    body.positions.push_back(model.positions[v]);
+    body.normals.push_back(model.normals[v]);
+    if (model.has_uvs()) body.uvs.push_back(model.uvs[v]);
+    body.skin_joints.push_back(model.skin_joints[v]);
+    body.skin_weights.push_back(model.skin_weights[v]);
+  }
+  for (std::uint32_t corner : model.indices)  // a triangle lies in one part: all or none joined
+    if (joined[corner]) body.indices.push_back(body_index[corner]);
+  return body;
+}
+
+BoundModel bind_one_body(const Model& model, const RigMap& rig, const BindOptions& options,
+                         const BindProgress& progress);
+
 }  // namespace
 
+// The separate pieces (mesh_parts_joined.h) take no part in the sweeps: the body binds alone,
+// and every other vertex follows the model's own skin weights.
 BoundModel bind(const Model& model, const RigMap& rig, const BindOptions& options,
                 const BindProgress& progress) {
   if (std::string why = model.validate(); !why.empty())
     throw std::invalid_argument("cannot bind an invalid model: " + why);
+  const std::vector<std::uint8_t> joined = vertices_joined(model);
+  if (std::all_of(joined.begin(), joined.end(), [](std::uint8_t j) { return j != 0; }))
+    return bind_one_body(model, rig, options, progress);
+  std::vector<std::uint32_t> body_vertex;
+  BoundModel body = bind_one_body(body_of(model, joined, body_vertex), rig, options, progress);
+  BoundModel bound;
+  bound.model = model;
+  bound.rig = std::move(body.rig);
+  bound.options = body.options;
+  bound.sweeps = std::move(body.sweeps);
+  bound.edits = std::move(body.edits);
+  bound.vertices.assign(model.vertex_count(), VertexBinding{.skin_weight = 1.0f});
+  if (!body.skinned_share_joints.empty()) {
+    bound.skinned_share_joints = model.skin_joints;
+    bound.skinned_share_weights = model.skin_weights;
+  }
+  for (std::size_t b = 0; b < body_vertex.size(); ++b) {
+    bound.vertices[body_vertex[b]] = body.vertices[b];
+    if (!body.skinned_share_joints.empty()) {
+      bound.skinned_share_joints[body_vertex[b]] = body.skinned_share_joints[b];
+      bound.skinned_share_weights[body_vertex[b]] = body.skinned_share_weights[b];
+    }
+  }
+  return bound;
+}
+
+namespace {
+
+BoundModel bind_one_body(const Model& model, const RigMap& rig, const BindOptions& options,
+                         const BindProgress& progress) {
   if (std::string why = validate_rig_map(rig, model.skeleton); !why.empty())
     throw std::invalid_argument("cannot bind with this rig map: " + why);
   if (options.intermediate_keys_per_link < 0 || options.plane_samples_per_span < 1 ||
@@ -94,6 +154,8 @@ BoundModel bind(const Model& model, const RigMap& rig, const BindOptions& option
   report(1.0, "done");
   return bound;
 }
+
+}  // namespace
 
 std::vector<glm::vec3> rest_positions_from_binding(const BoundModel& bound) {
   std::vector<Sweep> sweeps;

@@ -8,6 +8,34 @@ namespace {
 bool finite(const glm::vec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
+
+std::string validate_parts(const Model& model) {
+  std::size_t next_vertex = 0, next_index = 0;
+  for (std::size_t k = 0; k < model.parts.size(); ++k) {
+    const MeshPart& part = model.parts[k];
+    const std::string which = "mesh part " + std::to_string(k) + " ('" + part.name + "')";
+    if (part.first_vertex != next_vertex || part.first_index != next_index)
+      return which + " does not start where the part before it ends";
+    next_vertex += part.vertex_count;
+    next_index += part.index_count;
+    if (next_vertex > model.positions.size() || next_index > model.indices.size() ||
+        part.index_count % 3 != 0)
+      return which + " runs past the model's vertices or triangles";
+    for (std::size_t i = part.first_index; i < next_index; ++i)
+      if (model.indices[i] < part.first_vertex || model.indices[i] >= next_vertex)
+        return which + " has a triangle on another part's vertex";
+    if (part.rigid_joint >= model.skeleton.size())
+      return which + " follows joint " + std::to_string(part.rigid_joint) + " of " +
+             std::to_string(model.skeleton.size());
+  }
+  if (!model.parts.empty() &&
+      (next_vertex != model.positions.size() || next_index != model.indices.size()))
+    return "the mesh parts cover " + std::to_string(next_vertex) + " of " +
+           std::to_string(model.positions.size()) + " vertices and " + std::to_string(next_index) +
+           " of " + std::to_string(model.indices.size()) + " triangle corners";
+  return {};
+}
+
 }  // namespace
 
 std::string Model::validate() const {
@@ -44,7 +72,16 @@ std::string Model::validate() const {
     if (std::abs(sum - 1.0f) > 1e-3f)
       return "vertex " + std::to_string(v) + " has skin weights summing to " + std::to_string(sum);
   }
-  return {};
+  return validate_parts(*this);
+}
+
+std::vector<MeshPart> Model::meshes() const {
+  if (!parts.empty()) return parts;
+  MeshPart whole;
+  whole.name = name;
+  whole.vertex_count = static_cast<std::uint32_t>(vertex_count());
+  whole.index_count = static_cast<std::uint32_t>(indices.size());
+  return {whole};
 }
 
 std::vector<glm::vec3> compute_vertex_normals(const std::vector<glm::vec3>& positions,

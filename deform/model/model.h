@@ -6,7 +6,8 @@
 // - skin_joints/skin_weights hold 4 influences per vertex, weights >= 0 summing to 1,
 //   joint indices < skeleton.size();
 // - the skeleton's world rest matrices are the bind matrices: skinning with the rest pose is
-//   the identity, so no inverse bind matrices are stored (loaders bake the file's ones in).
+//   the identity, so no inverse bind matrices are stored (loaders bake the file's ones in);
+// - parts are empty (one mesh) or cover the vertices and indices in order (mesh_part.h).
 #pragma once
 
 #include <array>
@@ -15,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "deform/model/mesh_part.h"
 #include "deform/model/skeleton.h"
 
 namespace sweepd::deform {
@@ -30,10 +32,13 @@ struct Model {
   Skeleton skeleton;
   std::vector<std::array<std::uint16_t, kInfluences>> skin_joints;
   std::vector<std::array<float, kInfluences>> skin_weights;
+  std::vector<MeshPart> parts;  // the file's meshes, when it had several kinds or pieces
 
   std::size_t vertex_count() const { return positions.size(); }
   std::size_t triangle_count() const { return indices.size() / 3; }
   bool has_uvs() const { return !uvs.empty(); }
+  // Its parts, or without parts one skinned part over the whole model, named after it.
+  std::vector<MeshPart> meshes() const;
   // Empty when every invariant above holds; otherwise the first violation, in words.
   std::string validate() const;
 };

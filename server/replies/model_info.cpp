@@ -4,6 +4,7 @@
 #include <limits>
 #include <vector>
 
+#include "deform/binding/mesh_parts_joined.h"
 #include "protocol/messages.h"
 
 namespace sweepd::server {
@@ -39,11 +40,21 @@ void build_model_info(flatbuffers::FlatBufferBuilder& builder, const RegisteredM
       builder, bound.rig.convention.c_str(), static_cast<std::uint32_t>(bound.sweeps.size()),
       key_count, swept, static_cast<std::uint32_t>(bound.vertices.size()) - swept,
       model.bind_time_ns);
+  // One range per mesh part; a model of one mesh is one range over all of it, swept.
+  const std::vector<deform::MeshPart> parts = bound.model.meshes();
+  std::vector<std::uint8_t> joined = deform::mesh_parts_joined(bound.model);
+  joined.resize(parts.size(), 1);
+  std::vector<flatbuffers::Offset<pb::MeshRange>> meshes;
+  for (std::size_t k = 0; k < parts.size(); ++k)
+    meshes.push_back(pb::CreateMeshRangeDirect(
+        builder, parts[k].name.c_str(), parts[k].first_vertex, parts[k].vertex_count,
+        parts[k].material.c_str(), parts[k].first_index / 3, parts[k].index_count / 3,
+        parts[k].rigid_joint, joined[k] != 0));
   const auto info = pb::CreateModelInfoDirect(
       builder, model.id, model.name.c_str(), &joint_names, &joint_parents,
       static_cast<std::uint32_t>(bound.model.vertex_count()),
       static_cast<std::uint32_t>(bound.model.triangle_count()), bound.model.has_uvs(), summary,
-      &translations, &rotations, &scales, floor, model.content_id.c_str());
+      &translations, &rotations, &scales, floor, model.content_id.c_str(), &meshes);
   pb::finish_message(builder, info, request_id);
 }
 

@@ -335,7 +335,7 @@ TEST(GltfLoad, PrimitivesAreMergedAndNonIndexedOnesAccepted) {
   EXPECT_EQ(model.positions[4], model.positions[0]);
 }
 
-TEST(GltfLoad, OfSeveralSkinnedMeshesTheLargestIsLoaded) {
+TEST(GltfLoad, EverySkinnedMeshOnTheSkinIsLoadedInNodeOrder) {
   ScratchDirectory dir;
   json gltf = CraftedQuad().to_json();
   json small_mesh = json::object();
@@ -347,8 +347,32 @@ TEST(GltfLoad, OfSeveralSkinnedMeshesTheLargestIsLoaded) {
   LoadReport report;
   const deform::Model model = load_gltf(write_gltf(dir, gltf), &report);
   EXPECT_EQ(report.skinned_mesh_count, 2);
+  // Node 1 (the quad, 4 vertices) then node 3 (its first triangle again, 3 vertices).
+  EXPECT_EQ(model.vertex_count(), 7u);
+  ASSERT_EQ(model.parts.size(), 2u);
+  EXPECT_EQ(model.parts[1].first_vertex, 4u);
+  EXPECT_EQ(model.parts[1].vertex_count, 3u);
+  EXPECT_EQ(model.parts[1].mesh, 1u);
+  for (const std::string& warning : report.warnings)
+    EXPECT_EQ(warning.find("ignored"), std::string::npos) << warning;
+}
+
+TEST(GltfLoad, AMeshWithoutSkinOrJointAboveIsIgnoredWithItsReason) {
+  ScratchDirectory dir;
+  json gltf = CraftedQuad().to_json();
+  gltf["meshes"][0]["name"] = "quad";
+  gltf["nodes"].push_back({{"mesh", 0}, {"name", "loose"}});  // no skin, a scene root
+  gltf["scenes"][0]["nodes"].push_back(3);
+  LoadReport report;
+  const deform::Model model = load_gltf(write_gltf(dir, gltf), &report);
   EXPECT_EQ(model.vertex_count(), 4u);
-  EXPECT_FALSE(report.warnings.empty());
+  ASSERT_EQ(report.meshes.size(), 2u);
+  EXPECT_EQ(report.meshes[1].part, -1);
+  EXPECT_EQ(report.meshes[1].ignored, "no skin, and not under a joint of the character's skin");
+  EXPECT_EQ(std::count(report.warnings.begin(), report.warnings.end(),
+                       "mesh 'quad' ignored: no skin, and not under a joint of the character's "
+                       "skin"),
+            1);
 }
 
 TEST(GltfLoad, RepeatedJointNamesGetSuffixes) {

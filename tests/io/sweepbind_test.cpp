@@ -76,7 +76,7 @@ TEST(Sweepbind, RefusesAVersion5FileAskingForARebind) {
   std::vector<std::uint8_t> bytes = encode_sweepbind(bound_mannequin());
   bytes[8] = 5;
   const std::string error = decode_error(bytes);
-  EXPECT_NE(error.find("unsupported .sweepbind version 5 (this sweepd reads 6 to 7; bind the "
+  EXPECT_NE(error.find("unsupported .sweepbind version 5 (this sweepd reads 6 to 8; bind the "
                        "model again to rebuild it)"),
             std::string::npos)
       << error;
@@ -94,6 +94,7 @@ TEST(Sweepbind, CarriesTheOrientationCurveAndReadsVersion6AsLinear) {
       std::search(bytes.begin() + 32, bytes.end(), options, options + sizeof(deform::BindOptions));
   ASSERT_NE(at, bytes.end());
   bytes.erase(at + 24, at + 28);
+  bytes.resize(bytes.size() - 8);  // nor version 8's mesh parts (a count of 0)
   bytes[8] = 6;
   const std::uint64_t payload_size = bytes.size() - 32;
   std::memcpy(bytes.data() + 16, &payload_size, sizeof(payload_size));
@@ -106,6 +107,18 @@ TEST(Sweepbind, CarriesTheOrientationCurveAndReadsVersion6AsLinear) {
   // An orientation curve this reader does not know is refused.
   smooth.options.orientation_curve = static_cast<deform::OrientationCurveKind>(2);
   EXPECT_NE(decode_error(encode_sweepbind(smooth)).find("orientation curve 2"), std::string::npos);
+}
+
+TEST(Sweepbind, CarriesTheMeshPartsAndRefusesOnesThatDoNotFitTheModel) {
+  deform::BoundModel bound = bound_mannequin();
+  const auto n = static_cast<std::uint32_t>(bound.model.vertex_count());
+  const auto corners = static_cast<std::uint32_t>(bound.model.indices.size());
+  bound.model.parts = {
+      {.name = "body", .material = "skin", .vertex_count = n, .index_count = corners}};
+  EXPECT_EQ(decode_sweepbind(encode_sweepbind(bound), "parts.sweepbind").model.parts,
+            bound.model.parts);
+  bound.model.parts[0].vertex_count = n - 1;
+  EXPECT_NE(decode_error(encode_sweepbind(bound)).find("mesh part 0 ('body')"), std::string::npos);
 }
 
 TEST(Sweepbind, RefusesSkinnedShareInfluencesThatDoNotFitTheModel) {

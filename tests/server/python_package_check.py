@@ -98,6 +98,9 @@ def main(port, token, glb, rotations_file, out, other_port, clip_file):
         check(len(rotations) == len(body.joint_names), "one rotation per joint")
         posed = sweepd.pose(body, rotations, normals=True)
         check(posed.positions.shape == (body.vertex_count, 3), "positions shape")
+        # Protocol 1.6: one mesh, one range over every vertex, swept with the body.
+        check([(m.first_vertex, m.vertex_count, m.rigid_joint, m.swept) for m in body.meshes]
+              == [(0, body.vertex_count, -1, True)], "mesh ranges")
         check(posed.normals.shape == (body.vertex_count, 3), "normals shape")
         posed.positions.astype(np.float32).tofile(f"{out}/positions.f32")
 

@@ -37,7 +37,7 @@ from . import meshopt
 from .connection import body_of, finish_frame, new_builder
 from .errors import ConnectionLost, SweepdError, Timeout, UnknownModel, server_error
 
-PROTOCOL_VERSION = (1, 5)
+PROTOCOL_VERSION = (1, 6)
 METHODS = {"sweep": DeformMethod.DeformMethod.Sweep, "lbs": DeformMethod.DeformMethod.Lbs,
            "dqs": DeformMethod.DeformMethod.Dqs}
 FEATURES = {"folding": Features.Features.Folding, "protrusion": Features.Features.Protrusion,
@@ -63,6 +63,20 @@ class ModelSummary:
 
 
 @dataclass(frozen=True)
+class MeshRange:
+    """One mesh of a model made of several (protocol 1.6): positions[first_vertex:
+    first_vertex + vertex_count] of every pose are this mesh's vertices."""
+    name: str
+    first_vertex: int
+    vertex_count: int
+    material: str
+    first_triangle: int
+    triangle_count: int
+    rigid_joint: int              # -1: skinned; else the joint it follows rigidly
+    swept: bool                   # bound to the body's sweeps (else its skin weights alone)
+
+
+@dataclass(frozen=True)
 class Model:
     model_id: int
     name: str
@@ -72,6 +86,7 @@ class Model:
     vertex_count: int
     triangle_count: int
     rig_convention: str
+    meshes: list = ()             # MeshRange per mesh, in vertex order (empty before 1.6)
 
 
 @dataclass(frozen=True)
@@ -113,6 +128,12 @@ class RestMesh:
 
 def _text(value):
     return value.decode() if value is not None else ""
+
+
+def _mesh_range(mesh):
+    return MeshRange(_text(mesh.Name()), mesh.FirstVertex(), mesh.VertexCount(),
+                     _text(mesh.Material()), mesh.FirstTriangle(), mesh.TriangleCount(),
+                     mesh.RigidJoint(), mesh.Swept())
 
 
 @dataclass(frozen=True)
@@ -405,7 +426,8 @@ class Exchanges:
                       [_text(info.JointNames(j)) for j in range(info.JointNamesLength())],
                       [info.JointParents(j) for j in range(info.JointParentsLength())],
                       info.VertexCount(), info.TriangleCount(),
-                      _text(bind.RigConvention()) if bind else "")
+                      _text(bind.RigConvention()) if bind else "",
+                      [_mesh_range(info.Meshes(k)) for k in range(info.MeshesLength())])
         self._models[model.name] = self._models[model.model_id] = model
         return model
 

@@ -207,7 +207,32 @@ class ModelInfo(object):
             return self._tab.String(o + self._tab.Pos)
         return None
 
-def ModelInfoStart(builder): builder.StartObject(13)
+    # ModelInfo
+    def Meshes(self, j):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(30))
+        if o != 0:
+            x = self._tab.Vector(o)
+            x += flatbuffers.number_types.UOffsetTFlags.py_type(j) * 4
+            x = self._tab.Indirect(x)
+            from sweepd.protocol.MeshRange import MeshRange
+            obj = MeshRange()
+            obj.Init(self._tab.Bytes, x)
+            return obj
+        return None
+
+    # ModelInfo
+    def MeshesLength(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(30))
+        if o != 0:
+            return self._tab.VectorLen(o)
+        return 0
+
+    # ModelInfo
+    def MeshesIsNone(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(30))
+        return o == 0
+
+def ModelInfoStart(builder): builder.StartObject(14)
 def Start(builder):
     return ModelInfoStart(builder)
 def ModelInfoAddModelId(builder, modelId): builder.PrependUint32Slot(0, modelId, 0)
@@ -264,6 +289,12 @@ def AddFloorHeight(builder, floorHeight):
 def ModelInfoAddContentId(builder, contentId): builder.PrependUOffsetTRelativeSlot(12, flatbuffers.number_types.UOffsetTFlags.py_type(contentId), 0)
 def AddContentId(builder, contentId):
     return ModelInfoAddContentId(builder, contentId)
+def ModelInfoAddMeshes(builder, meshes): builder.PrependUOffsetTRelativeSlot(13, flatbuffers.number_types.UOffsetTFlags.py_type(meshes), 0)
+def AddMeshes(builder, meshes):
+    return ModelInfoAddMeshes(builder, meshes)
+def ModelInfoStartMeshesVector(builder, numElems): return builder.StartVector(4, numElems, 4)
+def StartMeshesVector(builder, numElems):
+    return ModelInfoStartMeshesVector(builder, numElems)
 def ModelInfoEnd(builder): return builder.EndObject()
 def End(builder):
     return ModelInfoEnd(builder)
