@@ -3,6 +3,7 @@
 #include <cstring>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "client/model_skeleton.h"
 
@@ -24,12 +25,38 @@ void copy_array(const flatbuffers::Vector<Scalar>* values, std::size_t count, co
   if (expected > 0) std::memcpy(out.data(), values->data(), expected * sizeof(Scalar));
 }
 
+// The model's meshes from ModelInfo.meshes (1.6). A single range that is the whole model under
+// the model's own name, with no material and no rigid joint, is what the server sends for a model
+// of one unnamed mesh (deform::Model::meshes): no parts, as the model has none.
+std::vector<deform::MeshPart> mesh_parts(const protocol::ModelInfo& info) {
+  std::vector<deform::MeshPart> parts;
+  if (info.meshes() == nullptr) return parts;
+  for (const protocol::MeshRange* range : *info.meshes()) {
+    deform::MeshPart part;
+    part.name = range->name() ? range->name()->str() : "";
+    part.material = range->material() ? range->material()->str() : "";
+    part.mesh = range->mesh();
+    part.first_vertex = range->first_vertex();
+    part.vertex_count = range->vertex_count();
+    part.first_index = 3 * range->first_triangle();
+    part.index_count = 3 * range->triangle_count();
+    part.rigid_joint = range->rigid_joint();
+    parts.push_back(std::move(part));
+  }
+  const bool whole_model_unnamed = parts.size() == 1 &&
+                                   parts[0].name == (info.name() ? info.name()->str() : "") &&
+                                   parts[0].material.empty() && parts[0].rigid_joint < 0;
+  if (whole_model_unnamed) parts.clear();
+  return parts;
+}
+
 }  // namespace
 
 deform::Model served_model(Connection& connection, const protocol::ModelInfo& info) {
   deform::Model model;
   model.name = info.name() ? info.name()->str() : "";
   model.skeleton = rest_skeleton(info);
+  model.parts = mesh_parts(info);  // read now: `info` is invalid once the Mesh arrives
   const std::uint32_t model_id = info.model_id();
   const std::size_t vertex_count = info.vertex_count();
   const std::size_t triangle_count = info.triangle_count();

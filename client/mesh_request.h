@@ -7,7 +7,7 @@
 // Input: a connection after Hello and the model's ModelInfo (read before the call: the
 // exchange receives a new frame, after which `info` is no longer valid).
 // Output: a deform::Model named as the server names it, with the server's vertex order,
-// triangles, UVs (when the model has them), skin and skeleton; normals are the rest normals
+// triangles, UVs (when the model has them), skin, skeleton and meshes (1.6); normals are the rest normals
 // computed from the mesh. Throws ServerError (e.g. UnknownModel) or std::runtime_error when
 // the Mesh does not match the ModelInfo, naming the array and its size.
 #pragma once

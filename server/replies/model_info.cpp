@@ -49,7 +49,7 @@ void build_model_info(flatbuffers::FlatBufferBuilder& builder, const RegisteredM
     meshes.push_back(pb::CreateMeshRangeDirect(
         builder, parts[k].name.c_str(), parts[k].first_vertex, parts[k].vertex_count,
         parts[k].material.c_str(), parts[k].first_index / 3, parts[k].index_count / 3,
-        parts[k].rigid_joint, joined[k] != 0));
+        parts[k].rigid_joint, joined[k] != 0, parts[k].mesh));
   const auto info = pb::CreateModelInfoDirect(
       builder, model.id, model.name.c_str(), &joint_names, &joint_parents,
       static_cast<std::uint32_t>(bound.model.vertex_count()),

@@ -49,6 +49,7 @@ TEST(ModelInfoMeshes, ACharacterOfSeveralMeshesGivesEachMeshsRange) {
     EXPECT_EQ(range.triangle_count(), part.index_count / 3);
     EXPECT_EQ(range.rigid_joint(), part.rigid_joint);
     EXPECT_EQ(range.swept(), part.rigid_joint < 0);  // the hat alone stays apart
+    EXPECT_EQ(range.mesh(), part.mesh);
     next += range.vertex_count();
   }
   EXPECT_EQ(next, sent.info->vertex_count());

@@ -74,6 +74,7 @@ class MeshRange:
     triangle_count: int
     rigid_joint: int              # -1: skinned; else the joint it follows rigidly
     swept: bool                   # bound to the body's sweeps (else its skin weights alone)
+    mesh: int                     # which of the file's meshes it is a primitive of (0-based)
 
 
 @dataclass(frozen=True)
@@ -133,7 +134,7 @@ def _text(value):
 def _mesh_range(mesh):
     return MeshRange(_text(mesh.Name()), mesh.FirstVertex(), mesh.VertexCount(),
                      _text(mesh.Material()), mesh.FirstTriangle(), mesh.TriangleCount(),
-                     mesh.RigidJoint(), mesh.Swept())
+                     mesh.RigidJoint(), mesh.Swept(), mesh.Mesh())
 
 
 @dataclass(frozen=True)

@@ -84,7 +84,14 @@ class MeshRange(object):
             return bool(self._tab.Get(flatbuffers.number_types.BoolFlags, o + self._tab.Pos))
         return False
 
-def MeshRangeStart(builder): builder.StartObject(8)
+    # MeshRange
+    def Mesh(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(20))
+        if o != 0:
+            return self._tab.Get(flatbuffers.number_types.Uint32Flags, o + self._tab.Pos)
+        return 0
+
+def MeshRangeStart(builder): builder.StartObject(9)
 def Start(builder):
     return MeshRangeStart(builder)
 def MeshRangeAddName(builder, name): builder.PrependUOffsetTRelativeSlot(0, flatbuffers.number_types.UOffsetTFlags.py_type(name), 0)
@@ -111,6 +118,9 @@ def AddRigidJoint(builder, rigidJoint):
 def MeshRangeAddSwept(builder, swept): builder.PrependBoolSlot(7, swept, 0)
 def AddSwept(builder, swept):
     return MeshRangeAddSwept(builder, swept)
+def MeshRangeAddMesh(builder, mesh): builder.PrependUint32Slot(8, mesh, 0)
+def AddMesh(builder, mesh):
+    return MeshRangeAddMesh(builder, mesh)
 def MeshRangeEnd(builder): return builder.EndObject()
 def End(builder):
     return MeshRangeEnd(builder)
