@@ -49,15 +49,27 @@ const server::ModelHandle& model() {
   return handle;
 }
 
-// The loaders that read files get the bytes through one scratch file per process.
-fs::path scratch_file(std::span<const std::uint8_t> bytes, const std::string& extension) {
-  const fs::path file =
-      fs::temp_directory_path() / ("sweepd_fuzz_" + std::to_string(getpid()) + extension);
-  std::ofstream(file, std::ios::binary | std::ios::trunc)
-      .write(reinterpret_cast<const char*>(bytes.data()),
-             static_cast<std::streamsize>(bytes.size()));
-  return file;
-}
+// The loaders that read files get the bytes through a scratch file of this process, removed
+// once the loader is done (the test of this file runs every seed; nothing may stay in /tmp).
+class ScratchFile {
+ public:
+  ScratchFile(std::span<const std::uint8_t> bytes, const std::string& extension)
+      : path_(fs::temp_directory_path() / ("sweepd_fuzz_" + std::to_string(getpid()) + extension)) {
+    std::ofstream(path_, std::ios::binary | std::ios::trunc)
+        .write(reinterpret_cast<const char*>(bytes.data()),
+               static_cast<std::streamsize>(bytes.size()));
+  }
+  ~ScratchFile() {
+    std::error_code ignored;
+    fs::remove(path_, ignored);
+  }
+  ScratchFile(const ScratchFile&) = delete;
+  ScratchFile& operator=(const ScratchFile&) = delete;
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
 
 // Runs `parse`: true when it went through, false for a clean refusal (a std::exception).
 template <typename Parse>
@@ -166,8 +178,8 @@ bool fuzz_frames(std::span<const std::uint8_t> bytes) {
 }
 
 bool fuzz_gltf(std::span<const std::uint8_t> bytes) {
-  const fs::path file = scratch_file(bytes, ".glb");
-  return accepted([&] { io::load_gltf(file, io::GltfUriPolicy::self_contained()); });
+  const ScratchFile file(bytes, ".glb");
+  return accepted([&] { io::load_gltf(file.path(), io::GltfUriPolicy::self_contained()); });
 }
 
 bool fuzz_fbx(std::span<const std::uint8_t> bytes) {
@@ -186,7 +198,8 @@ bool fuzz_sweepbind(std::span<const std::uint8_t> bytes) {
 bool fuzz_json(std::span<const std::uint8_t> bytes) {
   if (bytes.empty()) return false;
   const std::uint8_t kind = bytes[0] % 5;
-  const fs::path file = scratch_file(bytes.subspan(1), ".json");
+  const ScratchFile scratch(bytes.subspan(1), ".json");
+  const fs::path& file = scratch.path();
   const deform::Skeleton& skeleton = model()->bound.model.skeleton;
   return accepted([&] {
     switch (kind) {

@@ -33,7 +33,7 @@ class SweepctlGltfClip : public ::testing::Test {
     if (!fs::exists(shared("models/makehuman_male_cmu.glb")) ||
         !fs::exists(shared("motion/cmu_01_01.bvh")))
       GTEST_SKIP() << "shared data absent (see ../shared/data/SOURCES.md)";
-    dir_ = sweepd::test::temp_dir("sweepctl_gltf_clip");
+    dir_ = sweepd::test::process_scratch("sweepctl_gltf_clip");
     model_ = sweepd::io::load_gltf(shared("models/makehuman_male_cmu.glb"));
     baked_ = sweepd::io::testing::bake_cmu_clip(model_, kKeys);
     sweepd::io::testing::write_baked_gltf(model_, baked_, dir_ / "baked.glb");

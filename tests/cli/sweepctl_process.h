@@ -3,7 +3,7 @@
 //   run_sweepctl(arguments, streams, environment)  streams: the shell redirections ("2>&1":
 //     stdout and stderr together); environment: VAR=value assignments put before the command
 //   shared(relative)   a path under ../shared/data
-//   temp_dir(prefix)   /tmp/<prefix>_<pid>, created
+//   process_scratch(name) (tests/scratch_directory.h): the scratch folder
 #pragma once
 
 #include <sys/wait.h>
@@ -13,6 +13,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <string>
+
+#include "tests/scratch_directory.h"
 
 namespace sweepd::test {
 
@@ -38,13 +40,6 @@ inline SweepctlResult run_sweepctl(const std::string& arguments,
 
 inline std::filesystem::path shared(const std::string& relative) {
   return std::filesystem::path(SWEEPD_SHARED_DATA) / relative;
-}
-
-inline std::filesystem::path temp_dir(const std::string& prefix) {
-  const std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / (prefix + "_" + std::to_string(getpid()));
-  std::filesystem::create_directories(dir);
-  return dir;
 }
 
 }  // namespace sweepd::test

@@ -12,16 +12,13 @@
 #include <string>
 
 #include "io/sweepbind.h"
+#include "tests/scratch_directory.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path scratch() {
-  const fs::path dir = fs::temp_directory_path() / ("sweepctl_quality_" + std::to_string(getpid()));
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path scratch() { return sweepd::test::process_scratch("sweepctl_quality"); }
 
 std::string read_text(const fs::path& file) {
   std::ifstream in(file);

@@ -93,7 +93,7 @@ class SweepctlSheet : public ::testing::Test {
  protected:
   void SetUp() override {
     if (!fs::exists(male_) || !fs::exists(clip_)) GTEST_SKIP() << "shared data absent";
-    dir_ = sweepd::test::temp_dir("sweepctl_sheet_test");
+    dir_ = sweepd::test::process_scratch("sweepctl_sheet_test");
   }
   void TearDown() override {
     if (!dir_.empty()) fs::remove_all(dir_);

@@ -26,7 +26,7 @@ using Result = sweepd::test::SweepctlResult;
 using sweepd::test::run_sweepctl;
 using sweepd::test::shared;
 
-fs::path temp_dir() { return sweepd::test::temp_dir("sweepctl_test"); }
+fs::path temp_dir() { return sweepd::test::process_scratch("sweepctl_test"); }
 
 TEST(SweepctlInspect, ReportsTheSharedMaleCounts) {
   const fs::path male = shared("models/makehuman_male_cmu.glb");

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "tests/io/exr_memory_stream.h"
+#include "tests/scratch_directory.h"
 
 namespace sweepd::io {
 namespace {
@@ -95,11 +96,7 @@ bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
 
 class ExrWriteTest : public ::testing::Test {
  protected:
-  fs::path scratch_ =
-      fs::temp_directory_path() / ("sweepd_exr_test_" + std::to_string(::getpid()) + "_" +
-                                   ::testing::UnitTest::GetInstance()->current_test_info()->name());
-  void SetUp() override { fs::create_directories(scratch_); }
-  void TearDown() override { fs::remove_all(scratch_); }
+  test::ScratchDirectory scratch_{"exr_write"};
 };
 
 class ExrCompressionTest : public ExrWriteTest,

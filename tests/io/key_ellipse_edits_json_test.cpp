@@ -12,6 +12,7 @@
 #include "io/load_error.h"
 #include "io/sweepbind.h"
 #include "tests/deform/shared_male.h"
+#include "tests/scratch_directory.h"
 
 namespace sweepd::io {
 namespace {
@@ -20,7 +21,7 @@ namespace fs = std::filesystem;
 using deform::BodyPart;
 
 fs::path write_temp(const std::string& name, const std::string& text) {
-  const fs::path file = fs::temp_directory_path() / (std::to_string(getpid()) + "_" + name);
+  const fs::path file = sweepd::test::process_scratch("key_ellipse_edits") / name;
   std::ofstream(file) << text;
   return file;
 }
@@ -45,7 +46,7 @@ TEST(KeyEllipseEditsJson, ReadsTheDocumentedFormatAndWritesItBack) {
   const KeyEllipseEdits edits = load_key_ellipse_edits_json(file, male);
   ASSERT_EQ(edits.edits.size(), 1u);
   const KeyEllipseEdit& e = edits.edits[0];
-  EXPECT_EQ(e.sweep, test::sweep_of(male, BodyPart::kLeftArm));
+  EXPECT_EQ(e.sweep, deform::test::sweep_of(male, BodyPart::kLeftArm));
   EXPECT_EQ(e.key, 1);
   EXPECT_EQ(e.joint, male.model.skeleton.find("LeftArm"));
   ASSERT_EQ(e.samples.size(), 2u);
@@ -55,15 +56,13 @@ TEST(KeyEllipseEditsJson, ReadsTheDocumentedFormatAndWritesItBack) {
   EXPECT_EQ(e.samples[1].correction.rotation.z, 30.0f);
   EXPECT_EQ(e.samples[1].correction.scale_a, 1.0f);  // left out: 1
 
-  const fs::path copy = fs::temp_directory_path() / (std::to_string(getpid()) + "_copy.json");
+  const fs::path copy = sweepd::test::process_scratch("key_ellipse_edits") / "copy.json";
   save_key_ellipse_edits_json(edits, male, copy);
   const KeyEllipseEdits again = load_key_ellipse_edits_json(copy, male);
   ASSERT_EQ(again.edits.size(), 1u);
   ASSERT_EQ(again.edits[0].samples.size(), 2u);
   for (int s = 0; s < 2; ++s)
     EXPECT_EQ(0, std::memcmp(&again.edits[0].samples[s], &e.samples[s], sizeof e.samples[s]));
-  fs::remove(file);
-  fs::remove(copy);
 }
 
 TEST(KeyEllipseEditsJson, RefusesBadFilesNamingTheProblem) {
@@ -93,7 +92,7 @@ TEST(KeyEllipseEditsJson, SweepbindFilesKeepTheirEdits) {
   REQUIRE_SHARED_MALE();
   BoundModel bound = male;
   KeyEllipseEdit edit;
-  edit.sweep = test::sweep_of(male, BodyPart::kRightLeg);
+  edit.sweep = deform::test::sweep_of(male, BodyPart::kRightLeg);
   edit.key = 2;
   edit.joint = male.rig.right_leg.lower;
   edit.samples.push_back({90.0f, {{0.0f, 0.0f, 0.01f}, {5.0f, 0.0f, 0.0f}, 1.05f, 0.95f}});

@@ -36,37 +36,11 @@
 #include "protocol/framing.h"
 #include "protocol/messages.h"
 #include "server/transport/websocket_session.h"
+#include "tests/scratch_directory.h"
 
 namespace sweepd::test {
 
 namespace fs = std::filesystem;
-
-inline fs::path fresh_directory(const std::string& name) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("sweepd_server_test_" + std::to_string(getpid()) + "_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-// A fresh_directory(name) that is removed, with everything in it, when the test ends well; a
-// failed test keeps it, with the daemon's log, for a look.
-class ScratchDirectory {
- public:
-  explicit ScratchDirectory(const std::string& name) : path_(fresh_directory(name)) {}
-  ~ScratchDirectory() {
-    if (!::testing::Test::HasFailure()) fs::remove_all(path_);
-  }
-  ScratchDirectory(const ScratchDirectory&) = delete;
-  ScratchDirectory& operator=(const ScratchDirectory&) = delete;
-
-  const fs::path& path() const { return path_; }
-  operator const fs::path&() const { return path_; }
-  fs::path operator/(const fs::path& child) const { return path_ / child; }
-
- private:
-  fs::path path_;
-};
 
 inline std::string read_text(const fs::path& file) {
   std::ifstream in(file);
