@@ -25,9 +25,9 @@ void copy_array(const flatbuffers::Vector<Scalar>* values, std::size_t count, co
   if (expected > 0) std::memcpy(out.data(), values->data(), expected * sizeof(Scalar));
 }
 
-// The model's meshes from ModelInfo.meshes (1.6). A single range that is the whole model under
-// the model's own name, with no material and no rigid joint, is what the server sends for a model
-// of one unnamed mesh (deform::Model::meshes): no parts, as the model has none.
+// The model's meshes from ModelInfo.meshes (1.6), as the server's model has them
+// (deform::Model::meshes: one unnamed whole part for a model of one mesh, which saves as no
+// parts do).
 std::vector<deform::MeshPart> mesh_parts(const protocol::ModelInfo& info) {
   std::vector<deform::MeshPart> parts;
   if (info.meshes() == nullptr) return parts;
@@ -43,10 +43,6 @@ std::vector<deform::MeshPart> mesh_parts(const protocol::ModelInfo& info) {
     part.rigid_joint = range->rigid_joint();
     parts.push_back(std::move(part));
   }
-  const bool whole_model_unnamed = parts.size() == 1 &&
-                                   parts[0].name == (info.name() ? info.name()->str() : "") &&
-                                   parts[0].material.empty() && parts[0].rigid_joint < 0;
-  if (whole_model_unnamed) parts.clear();
   return parts;
 }
 

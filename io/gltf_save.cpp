@@ -234,11 +234,11 @@ tinygltf::Model build_gltf(const deform::Model& model, const SaveOptions& option
       continue;
     }
     tinygltf::Mesh mesh;
-    mesh.name = part.name;
+    mesh.name = part.name.empty() ? model.name : part.name;
     mesh.primitives.push_back(primitive);
     gltf.meshes.push_back(mesh);
     tinygltf::Node mesh_node;
-    mesh_node.name = part.name;
+    mesh_node.name = mesh.name;
     mesh_node.mesh = static_cast<int>(gltf.meshes.size()) - 1;
     const int node = static_cast<int>(gltf.nodes.size());
     if (rigid) {

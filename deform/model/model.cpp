@@ -77,8 +77,7 @@ std::string Model::validate() const {
 
 std::vector<MeshPart> Model::meshes() const {
   if (!parts.empty()) return parts;
-  MeshPart whole;
-  whole.name = name;
+  MeshPart whole;  // unnamed: the model's name is a label (a file stem, a store name), not a mesh's
   whole.vertex_count = static_cast<std::uint32_t>(vertex_count());
   whole.index_count = static_cast<std::uint32_t>(indices.size());
   return {whole};

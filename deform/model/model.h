@@ -37,7 +37,8 @@ struct Model {
   std::size_t vertex_count() const { return positions.size(); }
   std::size_t triangle_count() const { return indices.size() / 3; }
   bool has_uvs() const { return !uvs.empty(); }
-  // Its parts, or without parts one skinned part over the whole model, named after it.
+  // Its parts, or without parts one unnamed skinned part over the whole model (a saver names
+  // that mesh after the model).
   std::vector<MeshPart> meshes() const;
   // Empty when every invariant above holds; otherwise the first violation, in words.
   std::string validate() const;

@@ -63,7 +63,7 @@ TEST(ModelInfoMeshes, AModelOfOneMeshGivesOneRange) {
   ASSERT_NE(sent.info->meshes(), nullptr);
   ASSERT_EQ(sent.info->meshes()->size(), 1u);
   const pb::MeshRange& range = *sent.info->meshes()->Get(0);
-  EXPECT_EQ(range.name()->str(), model.name);
+  EXPECT_EQ(range.name()->str(), "") << "the model's name is a label, not its mesh's";
   EXPECT_EQ(range.first_vertex(), 0u);
   EXPECT_EQ(range.vertex_count(), model.vertex_count());
   EXPECT_EQ(range.triangle_count(), model.triangle_count());
