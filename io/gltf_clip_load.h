@@ -4,7 +4,10 @@
 // plays on it joint for joint (motion::OwnSkeletonClip) or retargets onto another model like a
 // BVH (motion::Retargeter).
 //
-// Input:  file   a .glb or .gltf (external URIs as io::load_gltf allows them)
+// Input:  file   a .glb or .gltf (external URIs as io::load_gltf allows them); or its bytes in
+//                memory (a client's upload, protocol 1.7) with a label naming them in messages:
+//                self-contained, so only the GLB chunk and data: URIs are read and any other URI
+//                is refused before a file is looked at (io/gltf_uri_policy.h), as for models
 //         clip   the animation's name, or its index in the file ("0", "1", ...) when no
 //                animation has that name
 // Output: a Clip with
@@ -27,7 +30,9 @@
 // that do not increase, and everything io::load_gltf refuses in the file's structure.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
+#include <span>
 #include <string>
 
 #include "io/gltf_uri_policy.h"
@@ -38,5 +43,7 @@ namespace sweepd::io {
 motion::Clip load_gltf_clip(const std::filesystem::path& file, const std::string& clip);
 motion::Clip load_gltf_clip(const std::filesystem::path& file, const std::string& clip,
                             const GltfUriPolicy& uris);
+motion::Clip load_gltf_clip(std::span<const std::uint8_t> bytes, const std::filesystem::path& label,
+                            const std::string& clip);
 
 }  // namespace sweepd::io
