@@ -92,7 +92,7 @@ class Model:
 
 @dataclass(frozen=True)
 class Clip:
-    clip_id: str                  # SHA-256 of the BVH text and length scale (or glTF bytes, animation)
+    clip_id: str                  # SHA-256 of the BVH text and scale (or glTF bytes, animation)
     name: str
     frame_count: int
     frames_per_second: float
