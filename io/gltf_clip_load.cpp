@@ -257,6 +257,15 @@ motion::Clip load_gltf_clip(const std::filesystem::path& file, const std::string
   return clip_of(parse_gltf_file(file, uris, &report), file, clip, report);
 }
 
+std::vector<std::string> gltf_animation_names(const std::filesystem::path& file) {
+  LoadReport report;
+  const tinygltf::Model gltf = parse_gltf_file(
+      file, GltfUriPolicy::within(std::filesystem::absolute(file).parent_path()), &report);
+  std::vector<std::string> names;
+  for (const tinygltf::Animation& animation : gltf.animations) names.push_back(animation.name);
+  return names;
+}
+
 motion::Clip load_gltf_clip(std::span<const std::uint8_t> bytes, const std::filesystem::path& label,
                             const std::string& clip) {
   LoadReport report;

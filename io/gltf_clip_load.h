@@ -28,12 +28,17 @@
 // index past the last (listing the file's animations), no skin, a channel or sampler that
 // refers to nothing, an unknown interpolation, accessors of the wrong type or count, key times
 // that do not increase, and everything io::load_gltf refuses in the file's structure.
+//
+// gltf_animation_names(file): the names of the file's animations, in file order ("" for one
+// without a name), for listing them (sweepctl inspect); LoadError as load_gltf_clip's for a file
+// tinygltf cannot read.
 #pragma once
 
 #include <cstdint>
 #include <filesystem>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "io/gltf_uri_policy.h"
 #include "motion/clip.h"
@@ -43,6 +48,7 @@ namespace sweepd::io {
 motion::Clip load_gltf_clip(const std::filesystem::path& file, const std::string& clip);
 motion::Clip load_gltf_clip(const std::filesystem::path& file, const std::string& clip,
                             const GltfUriPolicy& uris);
+std::vector<std::string> gltf_animation_names(const std::filesystem::path& file);
 motion::Clip load_gltf_clip(std::span<const std::uint8_t> bytes, const std::filesystem::path& label,
                             const std::string& clip);
 
