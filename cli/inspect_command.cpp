@@ -120,13 +120,12 @@ void print_animations(const std::filesystem::path& file) {
       driven[track.joint] = true;
       kinds[static_cast<int>(track.interpolation)] = true;
     }
+    // In the order of motion::Interpolation.
+    static constexpr const char* kInterpolations[] = {"STEP", "LINEAR", "CUBICSPLINE"};
     std::string interpolations;
     for (int k = 0; k < 3; ++k)
       if (kinds[k])
-        interpolations +=
-            std::string(interpolations.empty() ? "" : ", ") + (k == 0   ? "STEP"
-                                                               : k == 1 ? "LINEAR"
-                                                                        : "CUBICSPLINE");
+        interpolations += (interpolations.empty() ? "" : ", ") + std::string(kInterpolations[k]);
     std::printf(
         "  %s: %.3f s, %d frames at %.2f fps, %zu channels played, drives %zu of %zu "
         "joints (%s)\n",

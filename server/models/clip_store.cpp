@@ -16,8 +16,8 @@ namespace sweepd::server {
 std::shared_ptr<const motion::ClipPoses> HeldClip::player(const ModelHandle& model) const {
   {
     const std::lock_guard lock(mutex_);
-    std::erase_if(retargeted_, [](const auto& entry) { return entry.second.model.expired(); });
-    if (auto found = retargeted_.find(model.get()); found != retargeted_.end())
+    std::erase_if(players_, [](const auto& entry) { return entry.second.model.expired(); });
+    if (auto found = players_.find(model.get()); found != players_.end())
       return found->second.player;
   }
   // Built outside the lock (milliseconds: rig maps of both skeletons, the model's floor); two
@@ -28,8 +28,20 @@ std::shared_ptr<const motion::ClipPoses> HeldClip::player(const ModelHandle& mod
   else
     built = std::make_shared<const motion::Retargeter>(clip_, model->bound.model, name_map_);
   const std::lock_guard lock(mutex_);
-  return retargeted_.try_emplace(model.get(), Retargeted{model, std::move(built)})
-      .first->second.player;
+  return players_.try_emplace(model.get(), Played{model, std::move(built)}).first->second.player;
+}
+
+ClipUpload ClipUpload::of_message(const protocol::UploadClip& upload) {
+  const auto text = [](const flatbuffers::String* s) { return s ? s->str() : std::string(); };
+  ClipUpload copied;
+  copied.name = text(upload.name());
+  copied.bvh = text(upload.bvh());
+  if (upload.gltf()) copied.gltf.assign(upload.gltf()->begin(), upload.gltf()->end());
+  copied.animation = text(upload.animation());
+  copied.own_skeleton = upload.own_skeleton();
+  copied.length_scale = upload.length_scale();
+  copied.joint_name_map = text(upload.joint_name_map());
+  return copied;
 }
 
 std::variant<ClipHandle, RequestError> ClipStore::add(const ClipUpload& upload) {

@@ -71,7 +71,7 @@ class HeldClip {
   std::shared_ptr<const motion::ClipPoses> player(const ModelHandle& model) const;
 
  private:
-  struct Retargeted {
+  struct Played {
     std::weak_ptr<const RegisteredModel> model;  // the key's model, while it is held
     std::shared_ptr<const motion::ClipPoses> player;
   };
@@ -81,13 +81,16 @@ class HeldClip {
   const bool own_skeleton_;
   const std::size_t bytes_;
   mutable std::mutex mutex_;
-  mutable std::map<const RegisteredModel*, Retargeted> retargeted_;
+  mutable std::map<const RegisteredModel*, Played> players_;
 };
 
 using ClipHandle = std::shared_ptr<const HeldClip>;
 
-// An UploadClip's fields, owned (the frame's storage is reused once the worker has them).
+// An UploadClip's fields, owned (the frame's storage is reused once the worker has them);
+// of_message copies them out of a received message.
 struct ClipUpload {
+  static ClipUpload of_message(const protocol::UploadClip& upload);
+
   std::string name;
   std::string bvh;
   std::vector<std::uint8_t> gltf;  // (1.7) instead of bvh

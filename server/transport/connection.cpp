@@ -448,15 +448,7 @@ void Connection::queue_intake(std::variant<PoseRequest, RequestError> intake,
 
 void Connection::upload_clip(const pb::UploadClip& upload, std::uint64_t request_id) {
   // The fields live in the reader's storage, reused by the next frame: copied for the worker.
-  auto copied = std::make_shared<ClipUpload>();
-  const auto text = [](const flatbuffers::String* s) { return s ? s->str() : std::string(); };
-  copied->name = text(upload.name());
-  copied->bvh = text(upload.bvh());
-  if (upload.gltf()) copied->gltf.assign(upload.gltf()->begin(), upload.gltf()->end());
-  copied->animation = text(upload.animation());
-  copied->own_skeleton = upload.own_skeleton();
-  copied->length_scale = upload.length_scale();
-  copied->joint_name_map = text(upload.joint_name_map());
+  auto copied = std::make_shared<const ClipUpload>(ClipUpload::of_message(upload));
   log_event("clip_upload_start",
             {{"connection", id()},
              {"name", copied->name},
