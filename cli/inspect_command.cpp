@@ -1,5 +1,6 @@
 // sweepctl inspect FILE: what a model (.glb/.gltf/.fbx/.dae) or motion clip (.bvh) holds, for a
-// person; for a model also the detected rig map and what the binding would sweep and skin.
+// person; for a model also the detected rig map and what the binding would sweep and skin, and
+// for a glTF its animations (duration, frames, channels, joints driven).
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -13,6 +14,7 @@
 #include "deform/mesh/mesh_topology.h"
 #include "deform/rig/rig_map.h"
 #include "io/bvh_load.h"
+#include "io/gltf_clip_load.h"
 #include "io/model_load.h"
 
 namespace sweepd::cli {
@@ -97,6 +99,44 @@ void print_meshes(const deform::Model& model, const io::LoadReport& report) {
   }
 }
 
+// A glTF file's animations (what `pose --clip NAME|INDEX` plays): each one's duration, frames,
+// channels played, the skin joints they drive and their interpolations, or why it cannot play.
+void print_animations(const std::filesystem::path& file) {
+  const std::vector<std::string> names = io::gltf_animation_names(file);
+  std::printf("animations:  %zu%s\n", names.size(),
+              names.empty() ? "" : " (pose --clip NAME|INDEX)");
+  for (std::size_t a = 0; a < names.size(); ++a) {
+    const std::string label = std::to_string(a) + " '" + names[a] + "'";
+    motion::Clip clip;
+    try {
+      clip = io::load_gltf_clip(file, std::to_string(a));
+    } catch (const std::exception& error) {
+      std::printf("  %s: cannot play: %s\n", label.c_str(), error.what());
+      continue;
+    }
+    std::vector<bool> driven(clip.joints.size(), false);
+    bool kinds[3] = {false, false, false};
+    for (const motion::KeyframeTrack& track : clip.tracks) {
+      driven[track.joint] = true;
+      kinds[static_cast<int>(track.interpolation)] = true;
+    }
+    // In the order of motion::Interpolation.
+    static constexpr const char* kInterpolations[] = {"STEP", "LINEAR", "CUBICSPLINE"};
+    std::string interpolations;
+    for (int k = 0; k < 3; ++k)
+      if (kinds[k])
+        interpolations += (interpolations.empty() ? "" : ", ") + std::string(kInterpolations[k]);
+    std::printf(
+        "  %s: %.3f s, %d frames at %.2f fps, %zu channels played, drives %zu of %zu "
+        "joints (%s)\n",
+        label.c_str(), clip.duration(), clip.frame_count, clip.frames_per_second(),
+        clip.tracks.size(),
+        static_cast<std::size_t>(std::count(driven.begin(), driven.end(), true)),
+        clip.joints.size(), interpolations.c_str());
+    for (const std::string& warning : clip.warnings) std::printf("    - %s\n", warning.c_str());
+  }
+}
+
 int inspect_model(const std::filesystem::path& file) {
   io::LoadReport report;
   const deform::Model model = io::load_model(file, &report);
@@ -143,6 +183,7 @@ int inspect_model(const std::filesystem::path& file) {
       report.renormalised_weight_count, report.zero_weight_vertex_count);
   print_meshes(model, report);
   print_warnings(report.warnings);
+  if (report.format.rfind("glTF", 0) == 0) print_animations(file);
   print_rig(skeleton);
   std::printf("joint tree:\n");
   for (int j = 0; j < skeleton.size(); ++j)

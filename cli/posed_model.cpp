@@ -46,13 +46,30 @@ motion::Clip gltf_clip(const std::filesystem::path& file, const std::string& cli
   return io::load_gltf_clip(file, clip.empty() ? "0" : clip);
 }
 
+}  // namespace
+
 bool is_gltf(const std::filesystem::path& file) {
   std::string extension = file.extension().string();
   for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return extension == ".glb" || extension == ".gltf";
 }
 
-}  // namespace
+std::unique_ptr<motion::ClipPoses> clip_player(const PosingArguments& arguments,
+                                               const deform::Model& model) {
+  if (!arguments.bvh.empty())
+    return std::make_unique<motion::Retargeter>(io::load_bvh(arguments.bvh), model,
+                                                load_joint_name_map(arguments.bvh_map));
+  if (!arguments.clip_from.empty())
+    return std::make_unique<motion::Retargeter>(gltf_clip(arguments.clip_from, arguments.clip),
+                                                model, load_joint_name_map(arguments.bvh_map));
+  if (arguments.clip.empty()) return nullptr;
+  if (!is_gltf(arguments.model))
+    throw std::invalid_argument(arguments.model.string() +
+                                ": --clip plays an animation of the model's own .glb/.gltf "
+                                "file; for another file's clip give --clip-from FILE.glb");
+  return std::make_unique<motion::OwnSkeletonClip>(gltf_clip(arguments.model, arguments.clip),
+                                                   model.skeleton);
+}
 
 PosedModel::PosedModel(const PosingArguments& arguments) : arguments_(arguments) {
   if (arguments.model.extension() == ".sweepbind") {
@@ -63,21 +80,7 @@ PosedModel::PosedModel(const PosingArguments& arguments) : arguments_(arguments)
         deform::bind(loaded.model, loaded.rig, {.orientation_curve = arguments.orientation}));
   }
   runtime_ = std::make_unique<deform::ModelRuntime>(*bound_);
-  if (!arguments.bvh.empty()) {
-    clip_ = std::make_unique<motion::Retargeter>(io::load_bvh(arguments.bvh), bound_->model,
-                                                 load_joint_name_map(arguments.bvh_map));
-  } else if (!arguments.clip_from.empty()) {
-    clip_ =
-        std::make_unique<motion::Retargeter>(gltf_clip(arguments.clip_from, arguments.clip),
-                                             bound_->model, load_joint_name_map(arguments.bvh_map));
-  } else if (!arguments.clip.empty()) {
-    if (!is_gltf(arguments.model))
-      throw std::invalid_argument(arguments.model.string() +
-                                  ": --clip plays an animation of the model's own .glb/.gltf "
-                                  "file; for another file's clip give --clip-from FILE.glb");
-    clip_ = std::make_unique<motion::OwnSkeletonClip>(gltf_clip(arguments.model, arguments.clip),
-                                                      bound_->model.skeleton);
-  }
+  clip_ = clip_player(arguments, bound_->model);
   if (clip_) require_clip_frames(arguments, frame_count());
   if (!arguments.pose_file.empty())
     file_pose_ = io::load_pose_json(arguments.pose_file, bound_->model.skeleton);

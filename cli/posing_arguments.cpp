@@ -146,9 +146,6 @@ void check_method_flags(const PosingArguments& arguments, bool on_server) {
     throw CLI::ValidationError(
         "--frame, --frames, --time and --fps choose frames of a clip: give --bvh, --clip or "
         "--clip-from");
-  if (arguments.gltf_clip() && on_server)
-    throw CLI::ValidationError(
-        "--clip and --clip-from play glTF animations here; with --server give a --bvh clip");
 }
 
 }  // namespace sweepd::cli

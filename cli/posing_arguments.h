@@ -22,10 +22,9 @@
 //                       made here (also sweepctl bind's)
 //   check_method_flags  the rules CLI11 cannot state: --features need --method sweep,
 //                       --collision applies here, not with --server (the daemon's own
-//                       --collision decides), --frame, --frames, --time and --fps need a clip
-//                       (--bvh, --clip or --clip-from), and glTF clips play here, not with
-//                       --server; throws CLI::ValidationError (call it from the command's
-//                       callback with whether --server was given)
+//                       --collision decides), and --frame, --frames, --time and --fps need a
+//                       clip (--bvh, --clip or --clip-from); throws CLI::ValidationError (call
+//                       it from the command's callback with whether --server was given)
 // Bad values ("12x", "5-3", an unknown method or feature) are usage errors naming the flag.
 #pragma once
 

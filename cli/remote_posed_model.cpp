@@ -6,7 +6,6 @@
 
 #include "client/clip_upload.h"
 #include "client/mesh_request.h"
-#include "io/bvh_load.h"
 #include "io/file_bytes.h"
 #include "io/pose_json.h"
 
@@ -102,14 +101,11 @@ RemotePosedModel::RemotePosedModel(const PosingArguments& arguments, const Serve
     model_id_ = info.model_id();
     model_ = client::served_model(connection_, info);    // `info` is invalid from here on
     if (local_file) model_.name = file.stem().string();  // as the local commands name it
-    if (!arguments.bvh.empty() && clip_posing == ClipPosing::kHere) {
-      retargeter_.emplace(io::load_bvh(arguments.bvh), model_,
-                          load_joint_name_map(arguments.bvh_map));
-      if (arguments.fps <= 0.0f) require_clip_frames(arguments, retargeter_->frame_count());
-    } else if (!arguments.bvh.empty()) {
-      const pb::ClipInfo& clip = client::upload_clip(
-          connection_, arguments.bvh.filename().string(), io::read_file_text(arguments.bvh), 1.0f,
-          arguments.bvh_map.empty() ? "" : io::read_file_text(arguments.bvh_map));
+    if (arguments.has_clip() && clip_posing == ClipPosing::kHere) {
+      player_ = clip_player(arguments, model_);
+      if (arguments.fps <= 0.0f) require_clip_frames(arguments, player_->frame_count());
+    } else if (arguments.has_clip()) {
+      const pb::ClipInfo& clip = upload_clip(arguments, local_file);
       clip_id_ = clip.clip_id()->str();
       if (arguments.fps <= 0.0f)
         require_clip_frames(arguments, static_cast<int>(clip.frame_count()));
@@ -119,6 +115,26 @@ RemotePosedModel::RemotePosedModel(const PosingArguments& arguments, const Serve
   } catch (const client::ServerError& error) {
     throw server_failure(server.address, error);
   }
+}
+
+const pb::ClipInfo& RemotePosedModel::upload_clip(const PosingArguments& arguments,
+                                                  bool local_model_file) {
+  const std::string map = arguments.bvh_map.empty() ? "" : io::read_file_text(arguments.bvh_map);
+  if (!arguments.bvh.empty())
+    return client::upload_clip(connection_, arguments.bvh.filename().string(),
+                               io::read_file_text(arguments.bvh), 1.0f, map);
+  if (!arguments.clip_from.empty())
+    return client::upload_gltf_clip(connection_, arguments.clip_from.filename().string(),
+                                    io::read_file_bytes(arguments.clip_from), arguments.clip, false,
+                                    map);
+  // --clip: an animation of MODEL's own file, played on its joints as they are.
+  if (!local_model_file || !is_gltf(arguments.model))
+    throw std::invalid_argument(arguments.model.string() +
+                                ": --clip plays an animation of the model's own .glb/.gltf "
+                                "file, uploaded from here; for another file's clip give "
+                                "--clip-from FILE.glb");
+  return client::upload_gltf_clip(connection_, arguments.model.filename().string(),
+                                  io::read_file_bytes(arguments.model), arguments.clip, true);
 }
 
 RemotePosedModel::~RemotePosedModel() {
@@ -132,7 +148,7 @@ RemotePosedModel::~RemotePosedModel() {
 deform::Pose RemotePosedModel::pose(int frame) {
   if (!clip_id_.empty())
     throw std::logic_error("RemotePosedModel::pose: the clip is posed on the server (kOnServer)");
-  if (retargeter_) return clip_pose(arguments_, *retargeter_, frame);
+  if (player_) return clip_pose(arguments_, *player_, frame);
   if (file_pose_) return *file_pose_;
   return deform::rest_pose(model_.skeleton);
 }

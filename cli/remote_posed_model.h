@@ -4,15 +4,18 @@
 // MODEL is a local .glb/.gltf (uploaded with LoadModel, named by its file name; a model
 // already loaded under that name is reused) or, when no such file exists, the name of a model
 // on the server (e.g. "mannequin"). The model's mesh comes back with MeshRequest, so results
-// are written as the local commands write them. A BVH clip (with its --bvh-map) is uploaded
-// once (UploadClip) and each frame is asked for by number: the server retargets, as
-// `sweepctl pose --bvh` does locally (`metrics` retargets here instead: ClipPosing). A pose file is
+// are written as the local commands write them. A clip — a BVH (with its --bvh-map), a
+// --clip-from glTF animation, or (protocol 1.7) --clip's animation of MODEL's own file — is
+// uploaded once (UploadClip) and each frame is asked for by number: the server plays it, as
+// `sweepctl pose --bvh|--clip-from|--clip` does locally (`metrics` plays it here instead:
+// ClipPosing). A pose file is
 // turned into joint rotations here and goes over the wire. Errors (unreachable server, wrong token,
 // unknown model, refused pose) throw with the server's address, the protocol error code and its
 // reason.
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -21,7 +24,7 @@
 #include "cli/posed_model.h"
 #include "client/connection.h"
 #include "deform/model/model.h"
-#include "motion/retarget.h"
+#include "motion/clip_poses.h"
 
 namespace sweepd::cli {
 
@@ -39,9 +42,10 @@ struct RemoteMapOptions {
   bool half_normals = false;
 };
 
-// Where a BVH clip's frames are posed: by the server (uploaded once, frames asked for by number:
-// pose, positionmap) or here, with the library's Retargeter on the served model, as the server
-// would (metrics, which needs each frame's pose for the section planes it measures).
+// Where a clip's frames are posed: by the server (uploaded once, frames asked for by number:
+// pose, positionmap) or here, with the library's player (cli/posed_model.h: clip_player) on the
+// served model, as the server would (metrics, which needs each frame's pose for the section
+// planes it measures).
 enum class ClipPosing { kOnServer, kHere };
 
 class RemotePosedModel {
@@ -80,6 +84,10 @@ class RemotePosedModel {
   static protocol::Features features(const PosingArguments& arguments);
   protocol::PoseFields pose_fields(const deform::Pose& pose, deform::DeformMethod method,
                                    protocol::Features features);
+  // Uploads the arguments' clip (UploadClip): --bvh's text, --clip-from's file, or for --clip
+  // alone MODEL's own file (`local_model_file`: MODEL is a file here, a .glb/.gltf) played on
+  // the model's own joints.
+  const protocol::ClipInfo& upload_clip(const PosingArguments& arguments, bool local_model_file);
   // The pose fields of `frame`: with a clip, only the model, method and features (the clip
   // gives the rest); else the pose's rotations.
   protocol::PoseFields frame_fields(int frame);
@@ -98,8 +106,8 @@ class RemotePosedModel {
   std::uint32_t model_id_ = 0;
   std::string origin_;
   deform::Model model_;
-  std::string clip_id_;                           // the server's id for --bvh, else empty
-  std::optional<motion::Retargeter> retargeter_;  // built by pose() for a clip, when asked
+  std::string clip_id_;  // the server's id for the clip (kOnServer), else empty
+  std::unique_ptr<motion::ClipPoses> player_;  // the clip played here (kHere)
   std::optional<deform::Pose> file_pose_;
   std::vector<protocol::Quat> rotations_;  // wire scratch
   std::uint64_t sequence_ = 0;

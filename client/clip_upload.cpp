@@ -18,4 +18,20 @@ const pb::ClipInfo& upload_clip(Connection& connection, std::string_view name, s
   return connection.expect<pb::ClipInfo>();
 }
 
+const pb::ClipInfo& upload_gltf_clip(Connection& connection, std::string_view name,
+                                     std::span<const std::uint8_t> gltf, std::string_view animation,
+                                     bool own_skeleton, std::string_view joint_name_map) {
+  flatbuffers::FlatBufferBuilder& builder = connection.builder();
+  builder.Clear();
+  const auto bytes = builder.CreateVector(gltf.data(), gltf.size());
+  const auto label = builder.CreateString(name.data(), name.size());
+  const auto chosen = builder.CreateString(animation.data(), animation.size());
+  const auto map = joint_name_map.empty()
+                       ? 0
+                       : builder.CreateString(joint_name_map.data(), joint_name_map.size());
+  connection.send(pb::finish_message(
+      builder, pb::CreateUploadClip(builder, label, 0, 1.0f, map, bytes, chosen, own_skeleton)));
+  return connection.expect<pb::ClipInfo>();
+}
+
 }  // namespace sweepd::client

@@ -13,8 +13,20 @@
 // ClipLimit (the server holds as many clips as it may), FrameTooLarge (over max_frame_bytes),
 // InvalidArgument (a joint name map that is not a JSON object of names).
 // A server that later answers UnknownClip (restarted, or another replica) wants it again.
+//
+// upload_gltf_clip (protocol 1.7; Welcome.capabilities has "gltf_clips"): the same for an
+// animation of a glTF file — gltf, the whole .glb (or a .gltf whose buffers are data: URIs: the
+// server reads nothing else); animation, its name or index ("" for the first); own_skeleton,
+// true to play it joint for joint on the model's own joints (a clip of the model's own file, as
+// `sweepctl pose MODEL.glb --clip`), false to retarget it (as `--clip-from`). Throws
+// ServerError: ClipLoadFailed naming the problem (not a glTF, a truncated GLB, an external URI,
+// no animations, an unknown name listing the file's animations, an animation that drives none
+// of the skin's joints), ClipLimit, FrameTooLarge, InvalidArgument; a 1.6 server answers
+// ClipLoadFailed (it reads the absent BVH text).
 #pragma once
 
+#include <cstdint>
+#include <span>
 #include <string_view>
 
 #include "client/connection.h"
@@ -24,5 +36,9 @@ namespace sweepd::client {
 const protocol::ClipInfo& upload_clip(Connection& connection, std::string_view name,
                                       std::string_view bvh, float length_scale = 1.0f,
                                       std::string_view joint_name_map = {});
+const protocol::ClipInfo& upload_gltf_clip(Connection& connection, std::string_view name,
+                                           std::span<const std::uint8_t> gltf,
+                                           std::string_view animation, bool own_skeleton,
+                                           std::string_view joint_name_map = {});
 
 }  // namespace sweepd::client

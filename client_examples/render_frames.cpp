@@ -1,8 +1,9 @@
-// render_frames: a render-farm client — one OpenEXR position map per frame of a BVH clip,
-// rendered by one or more sweepd servers.
+// render_frames: a render-farm client — one OpenEXR position map per frame of a clip (BVH, or
+// a glTF file's animation), rendered by one or more sweepd servers.
 //
 //   render_frames --server HOST:PORT[,HOST:PORT...] [--token T | --token-file FILE]
-//                 [--model NAME | --model-file F.glb] --bvh CLIP [--bvh-scale S]
+//                 [--model NAME | --model-file F.glb]
+//                 (--bvh CLIP [--bvh-scale S] | --clip-from F.glb [--clip NAME|INDEX])
 //                 --frames A-B [--shard I/N] -o DIR [--width W --height H]
 //                 [--compression zip|none|zips|piz] [--normals] [--half-normals]
 //                 [--method sweep|lbs|dqs]
@@ -16,8 +17,9 @@
 //    complete OpenEXR file is skipped; a truncated or corrupt one is removed and rendered again
 //    (said on stderr). With every frame complete no server is contacted.
 // 3. One thread per server (a list, or one address behind HAProxy): connect, Hello, choose the
-//    model (--model NAME, default "mannequin", or upload --model-file), upload the BVH text
-//    once with UploadClip (client/clip_upload.h) so that the server retargets it (each frame
+//    model (--model NAME, default "mannequin", or upload --model-file), upload the clip once
+//    with UploadClip (client/clip_file_flags.h: a BVH's text, or a glTF file's bytes and the
+//    animation's name, protocol 1.7) so that the server retargets it (each frame
 //    is asked for by clip id and frame number, not as a pose), then take frames from one
 //    shared queue
 //    (client/frame_queue.h), up to the server's Welcome.max_poses_in_flight in flight. The
@@ -66,7 +68,7 @@
 #include <vector>
 
 #include "client/client_tls_flags.h"
-#include "client/clip_upload.h"
+#include "client/clip_file_flags.h"
 #include "client/connection.h"
 #include "client/frame_queue.h"
 #include "client/frame_shard.h"
@@ -74,7 +76,6 @@
 #include "client/token_flags.h"
 #include "console/command_line.h"
 #include "console/progress_bar.h"
-#include "io/bvh_load.h"
 #include "io/file_bytes.h"
 #include "motion/frame_range.h"
 #include "protocol/messages.h"
@@ -91,9 +92,9 @@ struct UsageError : std::invalid_argument {
 };
 
 struct Options {
-  std::string server, token, model = "mannequin", model_file, bvh, frames, shard;
+  std::string server, token, model = "mannequin", model_file, frames, shard;
   fs::path out_dir;
-  float bvh_scale = 0.056444f;  // CMU inches to metres
+  sweepd::client::ClipFile clip;
   std::uint32_t width = 1024, height = 1024;
   pb::ExrCompression compression = pb::ExrCompression::Zip;
   pb::DeformMethod method = pb::DeformMethod::Sweep;
@@ -104,7 +105,7 @@ struct Options {
 
 // The command line (console/command_line.h: --help exits 0, a bad flag or value exits 2).
 void describe(CLI::App& app, Options& o) {
-  app.description("One OpenEXR position map per frame of a BVH clip, rendered by sweepd.");
+  app.description("One OpenEXR position map per frame of a clip, rendered by sweepd.");
   app.add_option("--server", o.server,
                  "sweepd's HOST:PORT, or several, comma-separated: HOST:PORT,HOST:PORT")
       ->required();
@@ -112,9 +113,7 @@ void describe(CLI::App& app, Options& o) {
   sweepd::client::add_client_tls_flags(app, o.tls);
   app.add_option("--model", o.model, "a model the server has, by name")->capture_default_str();
   app.add_option("--model-file", o.model_file, "a .glb to upload instead of --model");
-  app.add_option("--bvh", o.bvh, "the clip")->required();
-  app.add_option("--bvh-scale", o.bvh_scale, "metres per clip unit (CMU: 0.056444)")
-      ->capture_default_str();
+  sweepd::client::add_clip_file_flags(app, o.clip);
   app.add_option("--frames", o.frames, "A-B: the clip frames, inclusive, 0-based")->required();
   app.add_option("--shard", o.shard,
                  "I/N: render only the I-th (0-based) of N slices of the range (default: "
@@ -167,7 +166,7 @@ sweepd::motion::FrameRange clip_range(const std::string& text, int frame_count) 
 fs::path frame_file(const Options& options, int frame) {
   char number[16];
   std::snprintf(number, sizeof number, "%05d", frame);
-  return options.out_dir / (fs::path(options.bvh).stem().string() + "." + number + ".exr");
+  return options.out_dir / (fs::path(options.clip.file()).stem().string() + "." + number + ".exr");
 }
 
 // Why `file` is not a complete OpenEXR file, or "" when it is. isComplete() only checks that
@@ -222,7 +221,6 @@ class Progress {
 // What every server thread reads.
 struct Job {
   const Options& options;
-  const std::string& bvh_text;         // the clip file's text, uploaded to each server
   sweepd::client::ModelSource& model;  // uploaded only to servers that lack it
   sweepd::client::FrameQueue& queue;
   Progress& progress;
@@ -301,11 +299,7 @@ class ServerSession {
           std::max(1u, channel_.hello(job.options.token, "render_frames").max_poses_in_flight());
       const pb::ModelInfo& info = job.model.load(channel_);
       model_id_ = info.model_id();
-      clip_id_ =
-          sweepd::client::upload_clip(channel_, fs::path(job.options.bvh).filename().string(),
-                                      job.bvh_text, job.options.bvh_scale)
-              .clip_id()
-              ->str();
+      clip_id_ = sweepd::client::upload_clip_file(channel_, job.options.clip).clip_id()->str();
     } catch (const sweepd::client::ServerError& error) {
       if (meaning_of(error.code()) == ErrorMeaning::kServerBusy) throw;
       throw ServerUnfit(error.what());
@@ -468,14 +462,11 @@ std::optional<sweepd::motion::FrameRange> own_frames(const Options& options,
   return mine;
 }
 
-int run(const Options& options) {
-  // The clip is read here only for its frame count: the range is checked, and complete frames
-  // skipped, before any server is asked.
-  const std::string bvh_text = sweepd::io::read_file_text(options.bvh);
-  const sweepd::motion::FrameRange range =
-      clip_range(options.frames,
-                 sweepd::io::parse_bvh(bvh_text, options.bvh, {.length_scale = options.bvh_scale})
-                     .frame_count);
+int run(Options& options) {
+  // The clip is read once here (each server gets these bytes) and for its frame count: the
+  // range is checked, and complete frames skipped, before any server is asked.
+  options.clip.read();
+  const sweepd::motion::FrameRange range = clip_range(options.frames, options.clip.frame_count());
   const std::vector<std::string> servers = sweepd::console::split_list(options.server);
   if (servers.empty()) throw UsageError("--server: expected HOST:PORT[,HOST:PORT...]");
   const std::optional<sweepd::motion::FrameRange> mine = own_frames(options, range);
@@ -505,8 +496,8 @@ int run(const Options& options) {
             ? sweepd::client::ModelSource(options.model, {})
             : sweepd::client::ModelSource(options.model_file,
                                           sweepd::io::read_file_bytes(options.model_file));
-    Progress progress("rendering " + fs::path(options.bvh).stem().string(), skipped, total);
-    const Job job{options, bvh_text, model, queue, progress};
+    Progress progress("rendering " + fs::path(options.clip.file()).stem().string(), skipped, total);
+    const Job job{options, model, queue, progress};
     std::vector<std::thread> threads;
     for (std::size_t s = 0; s < servers.size(); ++s)
       threads.emplace_back([&, s] { rendered_by[s] = serve(servers[s], job); });

@@ -1,14 +1,16 @@
-// stream_poses: a sweepd client that streams a BVH clip as poses and reports latency.
+// stream_poses: a sweepd client that streams a clip as poses and reports latency.
 //
-//   stream_poses --bvh clip.bvh [--host 127.0.0.1] [--port 7878] [--token T | --token-file FILE]
+//   stream_poses (--bvh clip.bvh [--bvh-scale S] | --clip-from F.glb [--clip NAME|INDEX])
+//                [--host 127.0.0.1] [--port 7878] [--token T | --token-file FILE]
 //                [--tls [--tls-ca CA.pem] [--tls-cert C.pem --tls-key K.pem]]
 //                [--model-file body.glb] [--frames N] [--flat-out] [--latest-wins] [--float16]
 //
 // 1. Connect, Hello (with the token; LatestWins if asked), read Welcome.
 // 2. Choose the model: --model-file uploads a .glb (LoadModel with bytes); otherwise the
 //    server's default "mannequin" (LoadModel by name).
-// 3. Upload the clip's text once (UploadClip, client/clip_upload.h): the server reads it and
-//    retargets it onto the model, so this client needs no skeleton and no retargeter.
+// 3. Upload the clip once (UploadClip, client/clip_file_flags.h): a BVH's text, or a glTF
+//    file's bytes and the animation's name (protocol 1.7); the server reads it and retargets
+//    it onto the model, so this client needs no skeleton and no retargeter.
 // 4. Stream the clip: one PoseFromClip per frame, naming the clip and the frame number, at the
 //    clip's frame rate or --flat-out (as fast as the server answers, up to
 //    Welcome.max_poses_in_flight queued).
@@ -24,7 +26,6 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
-#include <filesystem>
 #include <mutex>
 #include <semaphore>
 #include <string>
@@ -32,7 +33,7 @@
 #include <vector>
 
 #include "client/client_tls_flags.h"
-#include "client/clip_upload.h"
+#include "client/clip_file_flags.h"
 #include "client/connection.h"
 #include "client/token_flags.h"
 #include "console/command_line.h"
@@ -45,9 +46,9 @@ namespace pb = sweepd::protocol;
 using Clock = std::chrono::steady_clock;
 
 struct Options {
-  std::string host = "127.0.0.1", token, bvh, model_file;
+  std::string host = "127.0.0.1", token, model_file;
   int port = 7878;
-  float bvh_scale = 0.056444f;
+  sweepd::client::ClipFile clip;
   int frames = 0;  // 0: the whole clip
   bool flat_out = false, latest_wins = false, float16 = false;
   sweepd::client::ClientTls tls;
@@ -55,8 +56,8 @@ struct Options {
 
 // The command line (console/command_line.h: --help exits 0, a bad flag or value exits 2).
 void describe(CLI::App& app, Options& o) {
-  app.description("Streams a BVH clip to sweepd as poses and reports the round-trip latency.");
-  app.add_option("--bvh", o.bvh, "the clip")->required();
+  app.description("Streams a clip to sweepd as poses and reports the round-trip latency.");
+  sweepd::client::add_clip_file_flags(app, o.clip);
   app.add_option("--host", o.host, "sweepd's host")->capture_default_str();
   app.add_option("--port", o.port, "sweepd's port")
       ->check(sweepd::console::whole_number(1, 65535))
@@ -64,8 +65,6 @@ void describe(CLI::App& app, Options& o) {
   sweepd::client::add_token_flags(app, o.token);
   sweepd::client::add_client_tls_flags(app, o.tls);
   app.add_option("--model-file", o.model_file, "a .glb to upload (default: the mannequin)");
-  app.add_option("--bvh-scale", o.bvh_scale, "metres per clip unit (CMU: 0.056444)")
-      ->capture_default_str();
   app.add_option("--frames", o.frames, "stream the first N frames (0: the whole clip)")
       ->check(sweepd::console::whole_number(0, 1 << 30))
       ->capture_default_str();
@@ -80,7 +79,8 @@ double percentile_ms(std::vector<double> values, double q) {
   return values[static_cast<std::size_t>(q * static_cast<double>(values.size() - 1))];
 }
 
-int run(const Options& options) {
+int run(Options& options) {
+  options.clip.read();
   sweepd::client::Connection channel(options.host, std::to_string(options.port), options.tls);
   const std::uint32_t window =
       channel
@@ -98,9 +98,7 @@ int run(const Options& options) {
   std::printf("model %u: %u vertices, %u joints\n", model_id, info.vertex_count(),
               info.joint_names()->size());
   // `info` is invalid from the next receive on.
-  const pb::ClipInfo& clip =
-      sweepd::client::upload_clip(channel, std::filesystem::path(options.bvh).filename().string(),
-                                  sweepd::io::read_file_text(options.bvh), options.bvh_scale);
+  const pb::ClipInfo& clip = sweepd::client::upload_clip_file(channel, options.clip);
   const std::string clip_id = clip.clip_id()->str();
   const double frame_time = 1.0 / clip.frames_per_second();
   const int clip_frames = static_cast<int>(clip.frame_count());

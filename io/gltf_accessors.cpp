@@ -84,7 +84,11 @@ double decode_component(const unsigned char* bytes, int component_type) {
 
 tinygltf::Model parse_gltf_file(const fs::path& file, const GltfUriPolicy& uris,
                                 LoadReport* report) {
-  const std::vector<unsigned char> bytes = read_file_bytes(file);
+  return parse_gltf_bytes(read_file_bytes(file), file, uris, report);
+}
+
+tinygltf::Model parse_gltf_bytes(std::span<const unsigned char> bytes, const fs::path& file,
+                                 const GltfUriPolicy& uris, LoadReport* report) {
   if (bytes.empty()) throw LoadError(file, "the file is empty");
   const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
   if (binary) {

@@ -3,6 +3,8 @@
 //   parse_gltf_file(file, uris, report)  the file's bytes parsed by tinygltf (.glb or .gltf,
 //                   sniffed from the bytes; images not decoded; external URIs through the policy);
 //                   tinygltf's warnings go to the report
+//   parse_gltf_bytes(bytes, file, uris, report)  the same for bytes already in memory (a client's
+//                   upload); `file` only names them in messages
 //   AccessorReader  an accessor's count × components values as doubles (byteStride, sparse,
 //                   normalised integers), each bound checked, against an AccessorSpec of what the
 //                   caller accepts (type, component types)
@@ -15,6 +17,7 @@
 #include <cmath>
 #include <cstddef>
 #include <filesystem>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -178,5 +181,7 @@ inline const std::vector<int> kIndexTypes = {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BY
 
 tinygltf::Model parse_gltf_file(const fs::path& file, const GltfUriPolicy& uris,
                                 LoadReport* report);
+tinygltf::Model parse_gltf_bytes(std::span<const unsigned char> bytes, const fs::path& file,
+                                 const GltfUriPolicy& uris, LoadReport* report);
 
 }  // namespace sweepd::io::gltf

@@ -149,17 +149,9 @@ void set_frames(motion::Clip& clip) {
   clip.header_frame_count = clip.frame_count;
 }
 
-}  // namespace
-
-motion::Clip load_gltf_clip(const std::filesystem::path& file, const std::string& clip) {
-  return load_gltf_clip(file, clip,
-                        GltfUriPolicy::within(std::filesystem::absolute(file).parent_path()));
-}
-
-motion::Clip load_gltf_clip(const std::filesystem::path& file, const std::string& clip,
-                            const GltfUriPolicy& uris) {
-  LoadReport report;
-  const tinygltf::Model gltf = parse_gltf_file(file, uris, &report);
+// The animation `clip` of a parsed document; `file` names it in messages.
+motion::Clip clip_of(const tinygltf::Model& gltf, const std::filesystem::path& file,
+                     const std::string& clip, LoadReport& report) {
   const AccessorReader reader(file, gltf);
   const int animation_index = choose_animation(reader, gltf, clip);
   const tinygltf::Animation& animation = gltf.animations[animation_index];
@@ -250,6 +242,35 @@ motion::Clip load_gltf_clip(const std::filesystem::path& file, const std::string
                               ": not played (sweepd poses rotations and the root's translation)");
   set_frames(result);
   return result;
+}
+
+}  // namespace
+
+motion::Clip load_gltf_clip(const std::filesystem::path& file, const std::string& clip) {
+  return load_gltf_clip(file, clip,
+                        GltfUriPolicy::within(std::filesystem::absolute(file).parent_path()));
+}
+
+motion::Clip load_gltf_clip(const std::filesystem::path& file, const std::string& clip,
+                            const GltfUriPolicy& uris) {
+  LoadReport report;
+  return clip_of(parse_gltf_file(file, uris, &report), file, clip, report);
+}
+
+std::vector<std::string> gltf_animation_names(const std::filesystem::path& file) {
+  LoadReport report;
+  const tinygltf::Model gltf = parse_gltf_file(
+      file, GltfUriPolicy::within(std::filesystem::absolute(file).parent_path()), &report);
+  std::vector<std::string> names;
+  for (const tinygltf::Animation& animation : gltf.animations) names.push_back(animation.name);
+  return names;
+}
+
+motion::Clip load_gltf_clip(std::span<const std::uint8_t> bytes, const std::filesystem::path& label,
+                            const std::string& clip) {
+  LoadReport report;
+  return clip_of(parse_gltf_bytes(bytes, label, GltfUriPolicy::self_contained(), &report), label,
+                 clip, report);
 }
 
 }  // namespace sweepd::io

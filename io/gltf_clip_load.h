@@ -4,7 +4,10 @@
 // plays on it joint for joint (motion::OwnSkeletonClip) or retargets onto another model like a
 // BVH (motion::Retargeter).
 //
-// Input:  file   a .glb or .gltf (external URIs as io::load_gltf allows them)
+// Input:  file   a .glb or .gltf (external URIs as io::load_gltf allows them); or its bytes in
+//                memory (a client's upload, protocol 1.7) with a label naming them in messages:
+//                self-contained, so only the GLB chunk and data: URIs are read and any other URI
+//                is refused before a file is looked at (io/gltf_uri_policy.h), as for models
 //         clip   the animation's name, or its index in the file ("0", "1", ...) when no
 //                animation has that name
 // Output: a Clip with
@@ -25,10 +28,17 @@
 // index past the last (listing the file's animations), no skin, a channel or sampler that
 // refers to nothing, an unknown interpolation, accessors of the wrong type or count, key times
 // that do not increase, and everything io::load_gltf refuses in the file's structure.
+//
+// gltf_animation_names(file): the names of the file's animations, in file order ("" for one
+// without a name), for listing them (sweepctl inspect); LoadError as load_gltf_clip's for a file
+// tinygltf cannot read.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
+#include <span>
 #include <string>
+#include <vector>
 
 #include "io/gltf_uri_policy.h"
 #include "motion/clip.h"
@@ -38,5 +48,8 @@ namespace sweepd::io {
 motion::Clip load_gltf_clip(const std::filesystem::path& file, const std::string& clip);
 motion::Clip load_gltf_clip(const std::filesystem::path& file, const std::string& clip,
                             const GltfUriPolicy& uris);
+std::vector<std::string> gltf_animation_names(const std::filesystem::path& file);
+motion::Clip load_gltf_clip(std::span<const std::uint8_t> bytes, const std::filesystem::path& label,
+                            const std::string& clip);
 
 }  // namespace sweepd::io

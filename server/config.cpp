@@ -310,7 +310,7 @@ Flags (each also a key of the JSON config file, with '_' for '-'):
   --max-frame-bytes N       largest accepted frame (default 67108864)
   --max-models N            most models held (default 16)
   --max-clips N             most motion clips held, in memory (UploadClip; default 64)
-  --max-clip-bytes N        BVH bytes of all clips held together (default 268435456)
+  --max-clip-bytes N        uploaded bytes (BVH text, glTF files) of all clips held (default 268435456)
   --max-connections N       most simultaneous connections (default 64)
   --max-poses-in-flight N   queued poses per connection before backpressure (default 8)
   --hello-timeout-ms N      close connections that send no Hello in time, the TLS handshake

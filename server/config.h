@@ -57,7 +57,8 @@ struct ServerConfig {
   bool allow_plaintext = false;
   std::uint32_t max_frame_bytes = 64u << 20;
   std::uint32_t max_models = 16;
-  // UploadClip (1.4): clips held in memory, at most this many and this many BVH bytes in all.
+  // UploadClip (1.4): clips held in memory, at most this many and this many uploaded bytes (BVH
+  // text, glTF files) in all.
   std::uint32_t max_clips = 64;
   std::uint64_t max_clip_bytes = 256ull << 20;
   std::uint32_t max_connections = 64;

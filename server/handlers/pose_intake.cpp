@@ -91,7 +91,7 @@ std::variant<PoseRequest, RequestError> read_clip_pose_message(
     sample.loop = clip.loop();
     sample.frames_per_second = clip.frames_per_second();
     try {
-      return motion::sample_clip(*held->retargeter(model), sample);
+      return motion::sample_clip(*held->player(model), sample);
     } catch (const std::exception& error) {
       return invalid(pose, "clip '" + held->name() + "' on model " + std::to_string(model->id) +
                                ": " + error.what());

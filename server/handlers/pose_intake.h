@@ -6,11 +6,12 @@
 //   model with the pose's id), the pose's own problem (read_pose_request; it counts against the
 //   model), or an InvalidArgument position map request (check_position_map_request).
 // read_clip_pose_message (1.4): a PoseFromClip, or a PositionMapRequest with a clip (`map`
-//   set): the pose is that clip frame retargeted onto the model (HeldClip::retargeter,
-//   motion::sample_clip), and `pose` gives only the model, method, features and output.
-//   Beyond read_pose_message's errors: UnknownClip (no clip with that id: upload it again),
-//   InvalidArgument for a pose carrying rotations or a root translation, a frame out of range,
-//   a time that is NaN, infinite or out of range, or a clip that cannot drive the model.
+//   set): the pose is that clip frame played on the model (HeldClip::player: retargeted, or an
+//   own_skeleton glTF clip joint for joint; motion::sample_clip), and `pose` gives only the model,
+//   method, features and output. Beyond read_pose_message's errors: UnknownClip (no clip with that
+//   id: upload it again), InvalidArgument for a pose carrying rotations or a root translation, a
+//   frame out of range, a time that is NaN, infinite or out of range, or a clip that cannot drive
+//   the model.
 // read_named_pose_message (1.4): a PoseByName: rotations keyed by joint name, mapped onto the
 //   model's joints (motion::named_joints), the others at rest. Beyond read_pose_message's
 //   errors: InvalidArgument for names and rotations of different counts, or names matching no

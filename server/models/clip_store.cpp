@@ -4,41 +4,103 @@
 #include <stdexcept>
 
 #include "io/bvh_load.h"
+#include "io/gltf_clip_load.h"
 #include "io/joint_name_map_json.h"
 #include "io/load_error.h"
+#include "motion/own_skeleton_clip.h"
+#include "motion/retarget.h"
 #include "server/models/content_id.h"
 
 namespace sweepd::server {
 
-std::shared_ptr<const motion::Retargeter> HeldClip::retargeter(const ModelHandle& model) const {
+std::shared_ptr<const motion::ClipPoses> HeldClip::player(const ModelHandle& model) const {
   {
     const std::lock_guard lock(mutex_);
-    std::erase_if(retargeted_, [](const auto& entry) { return entry.second.model.expired(); });
-    if (auto found = retargeted_.find(model.get()); found != retargeted_.end())
-      return found->second.retargeter;
+    std::erase_if(players_, [](const auto& entry) { return entry.second.model.expired(); });
+    if (auto found = players_.find(model.get()); found != players_.end())
+      return found->second.player;
   }
   // Built outside the lock (milliseconds: rig maps of both skeletons, the model's floor); two
   // first requests at once build it twice and keep the first.
-  auto built = std::make_shared<const motion::Retargeter>(clip_, model->bound.model, name_map_);
+  std::shared_ptr<const motion::ClipPoses> built;
+  if (own_skeleton_)
+    built = std::make_shared<const motion::OwnSkeletonClip>(clip_, model->bound.model.skeleton);
+  else
+    built = std::make_shared<const motion::Retargeter>(clip_, model->bound.model, name_map_);
   const std::lock_guard lock(mutex_);
-  return retargeted_.try_emplace(model.get(), Retargeted{model, std::move(built)})
-      .first->second.retargeter;
+  return players_.try_emplace(model.get(), Played{model, std::move(built)}).first->second.player;
+}
+
+ClipUpload ClipUpload::of_message(const protocol::UploadClip& upload) {
+  const auto text = [](const flatbuffers::String* s) { return s ? s->str() : std::string(); };
+  ClipUpload copied;
+  copied.name = text(upload.name());
+  copied.bvh = text(upload.bvh());
+  if (upload.gltf()) copied.gltf.assign(upload.gltf()->begin(), upload.gltf()->end());
+  copied.animation = text(upload.animation());
+  copied.own_skeleton = upload.own_skeleton();
+  copied.length_scale = upload.length_scale();
+  copied.joint_name_map = text(upload.joint_name_map());
+  return copied;
+}
+
+std::variant<ClipHandle, RequestError> ClipStore::add(const ClipUpload& upload) {
+  const auto invalid = [&](const std::string& reason) {
+    return RequestError{protocol::ErrorCode::InvalidArgument,
+                        "clip '" + upload.name + "': " + reason};
+  };
+  if (upload.gltf.empty()) {
+    if (!upload.animation.empty() || upload.own_skeleton)
+      return invalid("animation and own_skeleton choose a glTF animation: send the file's bytes");
+    return add(upload.name, upload.bvh, upload.length_scale, upload.joint_name_map);
+  }
+  if (!upload.bvh.empty()) return invalid("both BVH text and glTF bytes: send one clip");
+  if (upload.length_scale != 1.0f)
+    return invalid("length_scale " + std::to_string(upload.length_scale) +
+                   " applies to BVH text; a glTF clip is in metres (send 1)");
+  return add_gltf(upload.name, upload.gltf, upload.animation, upload.own_skeleton,
+                  upload.joint_name_map);
 }
 
 std::variant<ClipHandle, RequestError> ClipStore::add(const std::string& name, std::string_view bvh,
                                                       float length_scale,
                                                       std::string_view joint_name_map) {
-  const std::string id = clip_content_id(bvh, length_scale, joint_name_map);
-  {
-    const std::lock_guard lock(mutex_);
-    if (auto held = clips_.find(id); held != clips_.end()) return held->second;
-    if (std::string problem = room_problem(bvh.size()); !problem.empty())
-      return RequestError{protocol::ErrorCode::ClipLimit, std::move(problem)};
-  }
   if (!std::isfinite(length_scale) || length_scale <= 0.0f)
     return RequestError{protocol::ErrorCode::InvalidArgument, "clip '" + name + "': length_scale " +
                                                                   std::to_string(length_scale) +
                                                                   " must be finite and > 0"};
+  return admit(clip_content_id(bvh, length_scale, joint_name_map), name, bvh.size(), joint_name_map,
+               false, [&] {
+                 motion::Clip clip = io::parse_bvh(bvh, name, {.length_scale = length_scale});
+                 if (clip.joints.empty() || clip.frame_count == 0)
+                   throw std::invalid_argument(name + ": the clip has no " +
+                                               (clip.joints.empty() ? "joints" : "frames"));
+                 return clip;
+               });
+}
+
+std::variant<ClipHandle, RequestError> ClipStore::add_gltf(const std::string& name,
+                                                           std::span<const std::uint8_t> gltf,
+                                                           const std::string& animation,
+                                                           bool own_skeleton,
+                                                           std::string_view joint_name_map) {
+  const std::string chosen = animation.empty() ? "0" : animation;
+  return admit(gltf_clip_content_id(gltf, chosen, own_skeleton, joint_name_map), name, gltf.size(),
+               joint_name_map, own_skeleton,
+               [&] { return io::load_gltf_clip(gltf, name, chosen); });
+}
+
+std::variant<ClipHandle, RequestError> ClipStore::admit(const std::string& id,
+                                                        const std::string& name, std::size_t bytes,
+                                                        std::string_view joint_name_map,
+                                                        bool own_skeleton,
+                                                        const std::function<motion::Clip()>& read) {
+  {
+    const std::lock_guard lock(mutex_);
+    if (auto held = clips_.find(id); held != clips_.end()) return held->second;
+    if (std::string problem = room_problem(bytes); !problem.empty())
+      return RequestError{protocol::ErrorCode::ClipLimit, std::move(problem)};
+  }
   motion::JointNameMap name_map;
   try {
     if (!joint_name_map.empty())
@@ -49,20 +111,17 @@ std::variant<ClipHandle, RequestError> ClipStore::add(const std::string& name, s
   }
   motion::Clip clip;
   try {
-    clip = io::parse_bvh(bvh, name, {.length_scale = length_scale});
-    if (clip.joints.empty() || clip.frame_count == 0)
-      throw std::invalid_argument(name + ": the clip has no " +
-                                  (clip.joints.empty() ? "joints" : "frames"));
+    clip = read();
   } catch (const std::exception& error) {
     return RequestError{protocol::ErrorCode::ClipLoadFailed, error.what()};
   }
-  auto held =
-      std::make_shared<const HeldClip>(id, name, std::move(clip), std::move(name_map), bvh.size());
+  auto held = std::make_shared<const HeldClip>(id, name, std::move(clip), std::move(name_map),
+                                               own_skeleton, bytes);
   const std::lock_guard lock(mutex_);
   if (auto again = clips_.find(id); again != clips_.end()) return again->second;  // raced
-  if (std::string problem = room_problem(bvh.size()); !problem.empty())
+  if (std::string problem = room_problem(bytes); !problem.empty())
     return RequestError{protocol::ErrorCode::ClipLimit, std::move(problem)};
-  bytes_ += bvh.size();
+  bytes_ += bytes;
   clips_.emplace(id, held);
   return held;
 }
@@ -78,7 +137,7 @@ std::string ClipStore::room_problem(std::size_t bytes) const {
     return "the server holds its maximum of " + std::to_string(max_clips_) + " clips (--max-clips)";
   if (bytes_ + bytes > max_bytes_)
     return "a clip of " + std::to_string(bytes) +
-           " BVH bytes does not fit: " + std::to_string(bytes_) + " of the server's " +
+           " uploaded bytes does not fit: " + std::to_string(bytes_) + " of the server's " +
            std::to_string(max_bytes_) + " clip bytes are held (--max-clip-bytes)";
   return {};
 }

@@ -65,6 +65,13 @@ std::string clip_content_id(std::string_view bvh, float length_scale,
                      bytes_of("joint_name_map="), bytes_of(joint_name_map)});
 }
 
+std::string gltf_clip_content_id(std::span<const std::uint8_t> gltf, std::string_view animation,
+                                 bool own_skeleton, std::string_view joint_name_map) {
+  return sha256_hex({bytes_of("sweepd clip v1: glTF animation, options"), gltf, bytes_of(animation),
+                     bytes_of(own_skeleton ? "own_skeleton" : "retargeted"),
+                     bytes_of(joint_name_map)});
+}
+
 std::uint32_t handle_of(std::string_view content_id) {
   const std::uint32_t handle =
       static_cast<std::uint32_t>(std::stoul(std::string(content_id.substr(0, 8)), nullptr, 16));

@@ -13,6 +13,10 @@
 // clip_content_id(bvh, length_scale, joint_name_map): the id of a motion clip (issue 18): the
 //   BVH text and how it is read (scale, and the joint name map's JSON text when not empty), so
 //   the same upload gives the same id on any replica.
+// gltf_clip_content_id(gltf, animation, own_skeleton, joint_name_map): the id of a glTF
+//   animation clip (protocol 1.7): the file's bytes, which animation (as the client named it),
+//   whether it plays on the model's own joints, and the joint name map when not empty. Never
+//   equal to a BVH clip's id (the first hashed part says which kind).
 // handle_of(content_id): the protocol's 32-bit model_id for it — its first 8 hex digits (0 is
 //   never given: it means "not loaded" on the wire). The same on every replica, so a handle a
 //   client got from one replica names the same model on another. Two ids with one handle are
@@ -32,6 +36,8 @@ std::string model_content_id(std::span<const std::uint8_t> source, std::string_v
 std::string described_content_id(std::string_view description);
 std::string clip_content_id(std::string_view bvh, float length_scale,
                             std::string_view joint_name_map = {});
+std::string gltf_clip_content_id(std::span<const std::uint8_t> gltf, std::string_view animation,
+                                 bool own_skeleton, std::string_view joint_name_map);
 std::uint32_t handle_of(std::string_view content_id);
 bool is_content_id(std::string_view text);
 

@@ -447,19 +447,16 @@ void Connection::queue_intake(std::variant<PoseRequest, RequestError> intake,
 }
 
 void Connection::upload_clip(const pb::UploadClip& upload, std::uint64_t request_id) {
-  // The text lives in the reader's storage, reused by the next frame: copied for the worker.
-  auto text = std::make_shared<const std::string>(upload.bvh() ? upload.bvh()->str() : "");
-  std::string name = upload.name() ? upload.name()->str() : "";
-  const float length_scale = upload.length_scale();
-  std::string name_map = upload.joint_name_map() ? upload.joint_name_map()->str() : "";
+  // The fields live in the reader's storage, reused by the next frame: copied for the worker.
+  auto copied = std::make_shared<const ClipUpload>(ClipUpload::of_message(upload));
   log_event("clip_upload_start",
-            {{"connection", id()}, {"name", name}, {"upload_bytes", text->size()}});
+            {{"connection", id()},
+             {"name", copied->name},
+             {"format", copied->gltf.empty() ? "bvh" : "gltf"},
+             {"upload_bytes", copied->gltf.empty() ? copied->bvh.size() : copied->gltf.size()}});
   ++loads_running_;
-  environment_.workers.post(fair_share_, [self = shared_from_this(), text, name = std::move(name),
-                                          length_scale, name_map = std::move(name_map),
-                                          request_id]() {
-    std::variant<ClipHandle, RequestError> outcome =
-        self->environment_.clips.add(name, *text, length_scale, name_map);
+  environment_.workers.post(fair_share_, [self = shared_from_this(), copied, request_id]() {
+    std::variant<ClipHandle, RequestError> outcome = self->environment_.clips.add(*copied);
     asio::post(self->stream_.get_executor(), [self, outcome = std::move(outcome), request_id]() {
       --self->loads_running_;
       if (const ClipHandle* clip = std::get_if<ClipHandle>(&outcome)) {

@@ -5,7 +5,8 @@
 //   key's rotations and root translation does (the same vertices: the same pose, bit for bit);
 //   so does `--time` at the key's time;
 // - `--clip-from FILE` retargets the file's clip onto another model file;
-// - a bad clip name or index, and frame flags without a clip, exit non-zero naming the problem.
+// - a bad clip name or index, and frame flags without a clip, exit non-zero naming the problem;
+// - `inspect` lists the file's animations with their duration, frames, channels and joints.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -100,6 +101,22 @@ TEST_F(SweepctlGltfClip, BadClipsAndFlagsWithoutAClipAreRefusedNamingTheProblem)
   EXPECT_NE(no_clip.exit_code, 0);
   EXPECT_NE(no_clip.output.find("give --bvh, --clip or --clip-from"), std::string::npos)
       << no_clip.output;
+}
+
+TEST_F(SweepctlGltfClip, InspectListsTheFilesAnimations) {
+  const SweepctlResult r = run_sweepctl("inspect " + (dir_ / "baked.glb").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  // Every joint's rotation and the root's translation, 6 keys 1/30 s apart.
+  const std::size_t joints = model_.skeleton.joints.size();
+  const std::string played = std::to_string(joints + 1) + " channels played, drives " +
+                             std::to_string(joints) + " of " + std::to_string(joints) + " joints";
+  EXPECT_NE(r.output.find("animations:  3 (pose --clip NAME|INDEX)"), std::string::npos)
+      << r.output;
+  for (const std::string& line :
+       {"0 'linear': 0.167 s, 6 frames at 30.00 fps, " + played + " (LINEAR)",
+        "1 'step': 0.167 s, 6 frames at 30.00 fps, " + played + " (STEP)",
+        "2 'cubic': 0.167 s, 6 frames at 30.00 fps, " + played + " (CUBICSPLINE)"})
+    EXPECT_NE(r.output.find(line), std::string::npos) << line << "\n" << r.output;
 }
 
 }  // namespace

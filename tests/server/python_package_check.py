@@ -2,6 +2,7 @@
 tests/server/python_package_test.cpp from a fresh venv, outside the source tree).
 
   python_package_check.py PORT TOKEN BODY.glb ROTATIONS.f32 OUT_DIR OTHER_PORT CLIP.bvh
+                          ANIMATED.glb
 
 Uploads BODY.glb (also with the smooth orientation curve), poses it with ROTATIONS (float32 x, y, z, w per joint) and writes
 OUT_DIR/positions.f32 and OUT_DIR/map.exr for the test to compare with the library. Checks on
@@ -10,7 +11,11 @@ exception classes, that a silent server raises Timeout, and that bytes uploaded 
 named by content id afterwards: not sent again to PORT, sent to OTHER_PORT (a daemon with a
 store of its own, which answers the content id with UnknownModel). Clips: a frame kept on the
 server is the same by index, in a stream and by time; named joints pose like rotations; a
-Clip uploaded on one server is uploaded again by the package on the other. The meshopt
+Clip uploaded on one server is uploaded again by the package on the other. ANIMATED.glb is BODY
+with three animations of its own joints ("linear", "step", "cubic", the same keys; protocol
+1.7): uploaded as a clip by name and by index, played on its own joints (at a key every
+interpolation gives the same pose) or retargeted onto BODY; an unknown name raises
+ClipLoadFailed listing the file's animations. The meshopt
 encoding decodes within half its 0.18 mm grid step. AsyncClient (asyncio) streams the same
 poses and clip frames as the blocking Client, bit for bit, and raises the same exceptions.
 Prints "ok" and exits 0, or names the failed check and exits 1.
@@ -89,7 +94,7 @@ async def check_async_client(port, token, glb, rotations, clip_file, expected):
     silent.close()
 
 
-def main(port, token, glb, rotations_file, out, other_port, clip_file):
+def main(port, token, glb, rotations_file, out, other_port, clip_file, animated_file):
     check("site-packages" in sweepd_client.__file__, f"imported from {sweepd_client.__file__}")
     with Client("127.0.0.1", int(port), token=token, timeout=60) as sweepd:
         check(any(m.name == "mannequin" for m in sweepd.models()), "the default model is listed")
@@ -169,6 +174,25 @@ def main(port, token, glb, rotations_file, out, other_port, clip_file):
         check(mapped.clip_id != clip.clip_id, "the map is part of the clip's id")
         check(np.abs(sweepd.pose(body, clip=mapped, frame=100).positions
                      - frame.positions).max() > 1e-3, "the map changes the pose")
+        # Protocol 1.7: a glTF file's animations as clips.
+        animated = sweepd.upload(animated_file, name="animated")
+        linear = sweepd.upload_clip(animated_file, animation="linear", own_skeleton=True)
+        check(linear.frame_count == 6 and linear.clip_id != clip.clip_id, "a glTF clip's info")
+        with open(animated_file, "rb") as file:
+            cubic = sweepd.upload_clip(file.read(), animation=2, own_skeleton=True)
+        key = sweepd.pose(animated, clip=linear, frame=3).positions
+        check(np.array_equal(key, sweepd.pose(animated, clip=cubic, frame=3).positions),
+              "a key frame is the key whatever the interpolation")
+        check(np.abs(key - sweepd.pose(animated).positions).max() > 0.05, "the key is a pose")
+        retargeted = sweepd.upload_clip(animated_file, animation="cubic")
+        check(retargeted.clip_id != cubic.clip_id, "own_skeleton is part of the clip's id")
+        check(np.abs(sweepd.pose(body, clip=retargeted, frame=3).positions
+                     - sweepd.pose(body).positions).max() > 0.05, "a retargeted glTF clip")
+        unknown = expect_error(errors.ClipLoadFailed,
+                               lambda: sweepd.upload_clip(animated_file, animation="walk"))
+        check("0 'linear', 1 'step', 2 'cubic'" in str(unknown), f"names listed: {unknown}")
+        expect_error(ValueError, lambda: sweepd.upload_clip(clip_file, animation="walk"))
+
         clip_map = sweepd.position_map(body, clip=clip, frame=100, width=64, height=64)
         check(clip_map[:4] == b"\x76\x2f\x31\x01", "a clip frame's position map")
 

@@ -1,7 +1,8 @@
 // client_examples/python as a user gets it: `pip install` into a fresh venv, offline (no
 // index, no build isolation; Debian's numpy, flatbuffers and setuptools through
 // --system-site-packages), then tests/server/python_package_check.py drives a real daemon with
-// the installed package only. Its posed vertices must equal the library's DeformJob for the
+// the installed package only (glTF animation clips included, made here with
+// tests/io/baked_gltf_clip.h). Its posed vertices must equal the library's DeformJob for the
 // same bound model. The package's committed protocol code must be what flatc makes of the
 // schema today.
 #include <gtest/gtest.h>
@@ -11,6 +12,7 @@
 #include "io/gltf_save.h"
 #include "io/sweepbind.h"
 #include "mannequin/mannequin.h"
+#include "tests/io/baked_gltf_clip.h"
 #include "tests/deploy/shell_command.h"
 #include "tests/server/daemon_process.h"
 #include "tests/server/pose_frames.h"
@@ -67,6 +69,9 @@ TEST(PythonPackage, InstallsOfflineIntoAVenvAndPosesLikeTheLibrary) {
   const fs::path glb = directory / "body.glb";
   const deform::Model body = mannequin::make_mannequin({.target_vertices = 2500});
   io::save_gltf(body, glb);
+  // The body with three animations of its own joints (cmu_01_01 baked at 6 keys).
+  const fs::path animated = directory / "animated.glb";
+  io::testing::write_baked_gltf(body, io::testing::bake_cmu_clip(body, 6), animated);
   DaemonProcess daemon(directory, {"--token", "t0k", "--mannequin-vertices", "1000"});
   ASSERT_TRUE(daemon.running()) << daemon.log();
   // A second server with a store of its own: the package must upload to it again.
@@ -88,7 +93,7 @@ TEST(PythonPackage, InstallsOfflineIntoAVenvAndPosesLikeTheLibrary) {
                   quoted(fs::path(SWEEPD_SOURCE_DIR) / "tests/server/python_package_check.py") +
                   " " + std::to_string(daemon.port()) + " t0k " + quoted(glb) + " " +
                   quoted(directory / "rotations.f32") + " " + quoted(directory) + " " +
-                  std::to_string(other.port()) + " " + quoted(kClip));
+                  std::to_string(other.port()) + " " + quoted(kClip) + " " + quoted(animated));
   ASSERT_EQ(check.exit_code, 0) << check.output << daemon.log();
   EXPECT_NE(check.output.find("ok"), std::string::npos) << check.output;
 

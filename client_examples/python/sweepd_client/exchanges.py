@@ -37,7 +37,7 @@ from . import meshopt
 from .connection import body_of, finish_frame, new_builder
 from .errors import ConnectionLost, SweepdError, Timeout, UnknownModel, server_error
 
-PROTOCOL_VERSION = (1, 6)
+PROTOCOL_VERSION = (1, 7)
 METHODS = {"sweep": DeformMethod.DeformMethod.Sweep, "lbs": DeformMethod.DeformMethod.Lbs,
            "dqs": DeformMethod.DeformMethod.Dqs}
 FEATURES = {"folding": Features.Features.Folding, "protrusion": Features.Features.Protrusion,
@@ -92,7 +92,7 @@ class Model:
 
 @dataclass(frozen=True)
 class Clip:
-    clip_id: str                  # SHA-256 of the BVH text and length scale
+    clip_id: str                  # SHA-256 of the BVH text and scale (or glTF bytes, animation)
     name: str
     frame_count: int
     frames_per_second: float
@@ -229,36 +229,61 @@ class Exchanges:
                         reply.SkinJointsAsNumpy().reshape(-1, 4),
                         reply.SkinWeightsAsNumpy().reshape(-1, 4))
 
-    def _upload_clip(self, bvh, name=None, length_scale=1.0, joint_name_map=None):
-        """Keeps a BVH clip on the server (a path, or the BVH text itself) and returns its Clip.
-        length_scale multiplies the clip's lengths (CMU's inches to metres: 0.056444).
-        joint_name_map: {clip joint: model joint or None} where names and rig roles do not say
-        (as `sweepctl --bvh-map`; protocol 1.5). The server retargets the clip onto each model
-        it poses (as `sweepctl pose --bvh` does)."""
-        if isinstance(bvh, os.PathLike) or "\n" not in bvh:
-            path = os.fspath(bvh)
-            with open(path, encoding="utf-8") as file:
-                bvh = file.read()
+    def _upload_clip(self, clip, name=None, length_scale=1.0, joint_name_map=None, *,
+                     animation=None, own_skeleton=False):
+        """Keeps a clip on the server and returns its Clip: a BVH clip (a path, or the BVH text
+        itself), or (protocol 1.7) an animation of a glTF file (a .glb/.gltf path, or the file's
+        bytes; self-contained: the server reads only the GLB chunk and data: URIs).
+        length_scale multiplies a BVH's lengths (CMU's inches to metres: 0.056444; glTF is in
+        metres). joint_name_map: {clip joint: model joint or None} where names and rig roles do
+        not say (as `sweepctl --bvh-map`; protocol 1.5). The server retargets the clip onto each
+        model it poses (as `sweepctl pose --bvh` / `--clip-from` do). A glTF clip's `animation`
+        is its name or index (None: the first); own_skeleton=True plays it on the joints of the
+        model whose file it came from, as they are (as `sweepctl pose MODEL.glb --clip`): a
+        model with other joints is an InvalidArgument when posed."""
+        gltf = None
+        if isinstance(clip, (bytes, bytearray, memoryview)):
+            gltf = bytes(clip)
+        elif isinstance(clip, os.PathLike) or "\n" not in clip:
+            path = os.fspath(clip)
             name = name or os.path.basename(path)
-        builder = new_builder(1024 + len(bvh))
-        text = builder.CreateString(bvh)
-        label = builder.CreateString(name or "clip.bvh")
+            if path.lower().endswith((".glb", ".gltf")):
+                with open(path, "rb") as file:
+                    gltf = file.read()
+            else:
+                with open(path, encoding="utf-8") as file:
+                    clip = file.read()
+        if gltf is None and (animation is not None or own_skeleton):
+            raise ValueError("animation and own_skeleton choose an animation of a glTF file "
+                             "(a .glb/.gltf path or its bytes), not of a BVH clip")
+        builder = new_builder(1024 + len(gltf if gltf is not None else clip))
+        source = builder.CreateByteVector(gltf) if gltf is not None else builder.CreateString(clip)
+        label = builder.CreateString(name or ("clip.glb" if gltf is not None else "clip.bvh"))
         name_map = (builder.CreateString(json.dumps(joint_name_map)) if joint_name_map
                     else None)
+        chosen = builder.CreateString(str(animation)) if animation is not None else None
         UploadClip.Start(builder)
         UploadClip.AddName(builder, label)
-        UploadClip.AddBvh(builder, text)
-        UploadClip.AddLengthScale(builder, length_scale)
+        if gltf is None:
+            UploadClip.AddBvh(builder, source)
+            UploadClip.AddLengthScale(builder, length_scale)
+        else:
+            UploadClip.AddGltf(builder, source)
+            if chosen is not None:
+                UploadClip.AddAnimation(builder, chosen)
+            UploadClip.AddOwnSkeleton(builder, own_skeleton)
         if name_map is not None:
             UploadClip.AddJointNameMap(builder, name_map)
         yield Send(finish_frame(builder, Body.Body.UploadClip, UploadClip.End(builder)))
         info = yield Receive(ClipInfo.ClipInfo)
-        clip = Clip(_text(info.ClipId()), _text(info.Name()), info.FrameCount(),
-                    info.FramesPerSecond(), info.JointCount(),
-                    [_text(info.Warnings(i)) for i in range(info.WarningsLength())])
-        self._clips.add(clip.clip_id)
-        Exchanges._clip_sources[clip.clip_id] = (bvh, name, length_scale, joint_name_map)
-        return clip
+        result = Clip(_text(info.ClipId()), _text(info.Name()), info.FrameCount(),
+                      info.FramesPerSecond(), info.JointCount(),
+                      [_text(info.Warnings(i)) for i in range(info.WarningsLength())])
+        self._clips.add(result.clip_id)
+        Exchanges._clip_sources[result.clip_id] = dict(
+            clip=gltf if gltf is not None else clip, name=name, length_scale=length_scale,
+            joint_name_map=joint_name_map, animation=animation, own_skeleton=own_skeleton)
+        return result
 
     def _pose(self, model, rotations=None, root=None, *, clip=None, frame=None, time=None,
               loop=False, fps=0.0, method="sweep", features=(), float16=False, normals=False,
@@ -490,7 +515,7 @@ class Exchanges:
         replica lacks them; the same text gives the same id)."""
         clip_id = clip.clip_id if isinstance(clip, Clip) else str(clip)
         if clip_id not in self._clips and clip_id in Exchanges._clip_sources:
-            yield from self._upload_clip(*Exchanges._clip_sources[clip_id])
+            yield from self._upload_clip(**Exchanges._clip_sources[clip_id])
         return clip_id
 
 

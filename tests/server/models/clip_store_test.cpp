@@ -1,11 +1,19 @@
 // ClipStore: clips are named by their content (text and scale), held once however often they
 // are uploaded, refused past the count or byte limit with the limit named, and text that is
-// not a usable BVH is refused with the reader's reason without taking room.
+// not a usable BVH is refused with the reader's reason without taking room. A glTF clip's
+// file bytes count against the same byte limit (protocol 1.7; the file is made in the test,
+// tests/io/baked_gltf_clip.h).
 #include "server/models/clip_store.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <filesystem>
 #include <string>
+
+#include "io/file_bytes.h"
+#include "io/gltf_load.h"
+#include "tests/io/baked_gltf_clip.h"
 
 namespace sweepd::server {
 namespace {
@@ -81,6 +89,36 @@ TEST(ClipStore, TextThatIsNotAUsableBvhIsRefusedWithoutTakingRoom) {
   EXPECT_EQ(refused(store.add("flat.bvh", tiny_clip(), 0.0f)).code,
             protocol::ErrorCode::InvalidArgument);
   EXPECT_NE(held(store.add("fine.bvh", tiny_clip(), 1.0f)), nullptr) << "nothing was counted";
+}
+
+TEST(ClipStore, ByteLimitCountsAGltfClipsFileBytes) {
+  const std::filesystem::path data(SWEEPD_SHARED_DATA);
+  if (!std::filesystem::exists(data / "models/makehuman_male_cmu.glb"))
+    GTEST_SKIP() << "shared data absent (see ../shared/data/SOURCES.md)";
+  const deform::Model male = io::load_gltf(data / "models/makehuman_male_cmu.glb");
+  const std::filesystem::path file = std::filesystem::temp_directory_path() /
+                                     ("clip_store_test_" + std::to_string(getpid()) + ".glb");
+  io::testing::write_baked_gltf(male, io::testing::bake_cmu_clip(male, 6), file);
+  const std::vector<std::uint8_t> gltf = io::read_file_bytes(file);
+  std::filesystem::remove(file);
+
+  ClipStore tight(8, gltf.size() - 1);
+  const RequestError full = refused(tight.add_gltf("baked.glb", gltf, "linear", false));
+  EXPECT_EQ(full.code, protocol::ErrorCode::ClipLimit);
+  EXPECT_NE(full.message.find("a clip of " + std::to_string(gltf.size()) + " uploaded bytes"),
+            std::string::npos)
+      << full.message;
+
+  ClipStore store(8, gltf.size() + tiny_clip().size());
+  const ClipHandle linear = held(store.add_gltf("baked.glb", gltf, "linear", false));
+  ASSERT_NE(linear, nullptr);
+  EXPECT_EQ(linear->upload_bytes(), gltf.size());
+  EXPECT_EQ(held(store.add_gltf("again.glb", gltf, "linear", false)), linear)
+      << "the same bytes and animation are the held clip, counted once";
+  EXPECT_NE(held(store.add("walk.bvh", tiny_clip(), 1.0f)), nullptr) << "what is left fits";
+  EXPECT_EQ(refused(store.add_gltf("baked.glb", gltf, "cubic", false)).code,
+            protocol::ErrorCode::ClipLimit)
+      << "another animation is another clip of the file's bytes";
 }
 
 }  // namespace

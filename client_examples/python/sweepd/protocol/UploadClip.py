@@ -56,7 +56,48 @@ class UploadClip(object):
             return self._tab.String(o + self._tab.Pos)
         return None
 
-def UploadClipStart(builder): builder.StartObject(4)
+    # UploadClip
+    def Gltf(self, j):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(12))
+        if o != 0:
+            a = self._tab.Vector(o)
+            return self._tab.Get(flatbuffers.number_types.Uint8Flags, a + flatbuffers.number_types.UOffsetTFlags.py_type(j * 1))
+        return 0
+
+    # UploadClip
+    def GltfAsNumpy(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(12))
+        if o != 0:
+            return self._tab.GetVectorAsNumpy(flatbuffers.number_types.Uint8Flags, o)
+        return 0
+
+    # UploadClip
+    def GltfLength(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(12))
+        if o != 0:
+            return self._tab.VectorLen(o)
+        return 0
+
+    # UploadClip
+    def GltfIsNone(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(12))
+        return o == 0
+
+    # UploadClip
+    def Animation(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(14))
+        if o != 0:
+            return self._tab.String(o + self._tab.Pos)
+        return None
+
+    # UploadClip
+    def OwnSkeleton(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(16))
+        if o != 0:
+            return bool(self._tab.Get(flatbuffers.number_types.BoolFlags, o + self._tab.Pos))
+        return False
+
+def UploadClipStart(builder): builder.StartObject(7)
 def Start(builder):
     return UploadClipStart(builder)
 def UploadClipAddName(builder, name): builder.PrependUOffsetTRelativeSlot(0, flatbuffers.number_types.UOffsetTFlags.py_type(name), 0)
@@ -71,6 +112,18 @@ def AddLengthScale(builder, lengthScale):
 def UploadClipAddJointNameMap(builder, jointNameMap): builder.PrependUOffsetTRelativeSlot(3, flatbuffers.number_types.UOffsetTFlags.py_type(jointNameMap), 0)
 def AddJointNameMap(builder, jointNameMap):
     return UploadClipAddJointNameMap(builder, jointNameMap)
+def UploadClipAddGltf(builder, gltf): builder.PrependUOffsetTRelativeSlot(4, flatbuffers.number_types.UOffsetTFlags.py_type(gltf), 0)
+def AddGltf(builder, gltf):
+    return UploadClipAddGltf(builder, gltf)
+def UploadClipStartGltfVector(builder, numElems): return builder.StartVector(1, numElems, 1)
+def StartGltfVector(builder, numElems):
+    return UploadClipStartGltfVector(builder, numElems)
+def UploadClipAddAnimation(builder, animation): builder.PrependUOffsetTRelativeSlot(5, flatbuffers.number_types.UOffsetTFlags.py_type(animation), 0)
+def AddAnimation(builder, animation):
+    return UploadClipAddAnimation(builder, animation)
+def UploadClipAddOwnSkeleton(builder, ownSkeleton): builder.PrependBoolSlot(6, ownSkeleton, 0)
+def AddOwnSkeleton(builder, ownSkeleton):
+    return UploadClipAddOwnSkeleton(builder, ownSkeleton)
 def UploadClipEnd(builder): return builder.EndObject()
 def End(builder):
     return UploadClipEnd(builder)

@@ -1,0 +1,53 @@
+#include "client/clip_file_flags.h"
+
+#include <filesystem>
+#include <string_view>
+
+#include "client/clip_upload.h"
+#include "io/bvh_load.h"
+#include "io/file_bytes.h"
+#include "io/gltf_clip_load.h"
+
+namespace sweepd::client {
+
+void add_clip_file_flags(CLI::App& app, ClipFile& clip) {
+  CLI::Option* bvh = app.add_option("--bvh", clip.bvh, "a BVH clip")->type_name("FILE");
+  CLI::Option* gltf =
+      app.add_option("--clip-from", clip.gltf,
+                     "a .glb/.gltf whose animation (--clip) is the clip (protocol 1.7)")
+          ->type_name("FILE")
+          ->excludes(bvh);
+  app.add_option("--bvh-scale", clip.bvh_scale, "metres per BVH unit (CMU: 0.056444)")
+      ->capture_default_str()
+      ->needs(bvh);
+  app.add_option("--clip", clip.animation,
+                 "the animation of --clip-from: its name or index (default: the first)")
+      ->type_name("NAME|INDEX")
+      ->needs(gltf);
+  // The app's own callback (these examples have none): one of the two is required.
+  app.final_callback([&clip] {
+    if (clip.file().empty()) throw CLI::RequiredError("--bvh or --clip-from");
+  });
+}
+
+void ClipFile::read() { contents = io::read_file_bytes(file()); }
+
+int ClipFile::frame_count() const {
+  if (!gltf.empty())
+    return io::load_gltf_clip(contents, std::filesystem::path(gltf).filename(),
+                              animation.empty() ? "0" : animation)
+        .frame_count;
+  const std::string_view text(reinterpret_cast<const char*>(contents.data()), contents.size());
+  return io::parse_bvh(text, bvh, {.length_scale = bvh_scale}).frame_count;
+}
+
+const protocol::ClipInfo& upload_clip_file(Connection& connection, const ClipFile& clip) {
+  const std::string name = std::filesystem::path(clip.file()).filename().string();
+  if (!clip.gltf.empty())
+    return upload_gltf_clip(connection, name, clip.contents, clip.animation, false);
+  const std::string_view text(reinterpret_cast<const char*>(clip.contents.data()),
+                              clip.contents.size());
+  return upload_clip(connection, name, text, clip.bvh_scale);
+}
+
+}  // namespace sweepd::client

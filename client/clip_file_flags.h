@@ -1,0 +1,42 @@
+// ClipFile: the clip a client example (stream_poses, render_frames) sends to sweepd, from its
+// command line: a BVH file, or (protocol 1.7) an animation of a glTF file, retargeted by the
+// server onto the model either way.
+//   add_clip_file_flags(app, clip)  --bvh FILE [--bvh-scale S] (metres per clip unit; CMU:
+//                     0.056444, the default) or --clip-from FILE.glb [--clip NAME|INDEX] (the
+//                     animation; default the first); exactly one of --bvh and --clip-from (a
+//                     usage error otherwise, naming them: checked in the app's final callback,
+//                     which it sets)
+//   file()            the file given, for messages and output names
+//   read()            the file's contents, read once (throws naming the file)
+//   frame_count()     the clip's frames as the server counts them (io::parse_bvh,
+//                     io::load_gltf_clip: the same readers), after read(); throws naming the
+//                     file and the problem
+//   upload_clip_file(connection, clip)  UploadClip of the contents read (client/clip_upload.h):
+//                     the server's ClipInfo, or its ServerError
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "client/connection.h"
+
+namespace sweepd::client {
+
+struct ClipFile {
+  std::string bvh;  // --bvh
+  float bvh_scale = 0.056444f;
+  std::string gltf;       // --clip-from
+  std::string animation;  // --clip
+  std::vector<std::uint8_t> contents;
+
+  const std::string& file() const { return bvh.empty() ? gltf : bvh; }
+  void read();
+  int frame_count() const;
+};
+
+void add_clip_file_flags(CLI::App& app, ClipFile& clip);
+const protocol::ClipInfo& upload_clip_file(Connection& connection, const ClipFile& clip);
+
+}  // namespace sweepd::client
