@@ -64,8 +64,9 @@ PosedModel::PosedModel(const PosingArguments& arguments) : arguments_(arguments)
   }
   runtime_ = std::make_unique<deform::ModelRuntime>(*bound_);
   if (!arguments.bvh.empty()) {
-    clip_ = std::make_unique<motion::Retargeter>(io::load_bvh(arguments.bvh), bound_->model,
-                                                 load_joint_name_map(arguments.bvh_map));
+    clip_ =
+        std::make_unique<motion::Retargeter>(io::load_bvh(arguments.bvh, {.up = arguments.bvh_up}),
+                                             bound_->model, load_joint_name_map(arguments.bvh_map));
   } else if (!arguments.clip_from.empty()) {
     clip_ =
         std::make_unique<motion::Retargeter>(gltf_clip(arguments.clip_from, arguments.clip),

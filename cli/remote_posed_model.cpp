@@ -103,7 +103,7 @@ RemotePosedModel::RemotePosedModel(const PosingArguments& arguments, const Serve
     model_ = client::served_model(connection_, info);    // `info` is invalid from here on
     if (local_file) model_.name = file.stem().string();  // as the local commands name it
     if (!arguments.bvh.empty() && clip_posing == ClipPosing::kHere) {
-      retargeter_.emplace(io::load_bvh(arguments.bvh), model_,
+      retargeter_.emplace(io::load_bvh(arguments.bvh, {.up = arguments.bvh_up}), model_,
                           load_joint_name_map(arguments.bvh_map));
       if (arguments.fps <= 0.0f) require_clip_frames(arguments, retargeter_->frame_count());
     } else if (!arguments.bvh.empty()) {
