@@ -48,16 +48,17 @@ struct PosingArguments {
   std::filesystem::path rig;    // optional rig map JSON (binding a glTF)
   // The orientation curve when binding a glTF (a .sweepbind keeps the one it was bound with).
   deform::OrientationCurveKind orientation = deform::OrientationCurveKind::kLinear;
-  std::filesystem::path bvh;             // optional clip
-  std::filesystem::path bvh_map;         // optional BVH→model joint name map JSON
-  std::optional<motion::UpAxis> bvh_up;  // --bvh-up: the clip's up axis; nothing: detected
-  std::string clip;                      // --clip: a glTF animation's name or index
-  std::filesystem::path clip_from;       // --clip-from: the glTF file holding --clip (else MODEL)
-  std::optional<double> time;            // --time: seconds into the clip
-  float fps = 0.0f;                      // --fps: the rate --frame/--frames count at; 0: the clip's
-  std::filesystem::path pose_file;       // optional pose JSON
-  motion::FrameRange frames;             // --frame N or --frames A-B (clip frames)
-  bool frame_range = false;              // --frames given: a folder of frames
+  std::filesystem::path bvh;        // optional clip
+  std::filesystem::path bvh_map;    // optional BVH→model joint name map JSON
+  std::string clip;                 // --clip: a glTF animation's name or index
+  std::filesystem::path clip_from;  // --clip-from: the glTF file holding --clip (else MODEL)
+  std::optional<double> time;       // --time: seconds into the clip
+  float fps = 0.0f;                 // --fps: the rate --frame/--frames count at; 0: the clip's
+  std::filesystem::path pose_file;  // optional pose JSON
+  motion::FrameRange frames;        // --frame N or --frames A-B (clip frames)
+  bool frame_range = false;         // --frames given: a folder of frames
+  // --bvh-up: the clip's up axis (--bvh's); nothing: detected from its skeleton.
+  std::optional<motion::UpAxis> bvh_up;
   deform::DeformMethod method = deform::DeformMethod::kSweep;
   // --features: anatomical features on top of the sweep method (paper §4.3, §4.4).
   deform::AnatomicalFeatures features;
