@@ -16,6 +16,7 @@
 #include "io/bvh_load.h"
 #include "io/gltf_clip_load.h"
 #include "io/model_load.h"
+#include "motion/clip_up_axis.h"
 
 namespace sweepd::cli {
 
@@ -194,9 +195,14 @@ int inspect_model(const std::filesystem::path& file) {
 }
 
 int inspect_motion(const std::filesystem::path& file) {
-  const motion::Clip clip = io::load_bvh(file);
+  // As the file has it: channels and offsets in its own axes.
+  const motion::Clip clip = io::load_bvh(file, {.up = motion::UpAxis::kY});
+  const motion::UpAxis up = motion::detect_up_axis(clip);
   std::printf("file:        %s\n", file.string().c_str());
   std::printf("kind:        motion clip (BVH)\n");
+  std::printf("up axis:     %s (detected from the skeleton, feet to head%s)\n",
+              motion::to_string(up),
+              up == motion::UpAxis::kZ ? "; posing turns it Y-up, --bvh-up overrides" : "");
   std::printf("joints:      %zu\n", clip.joints.size());
   std::printf("channels:    %d per frame\n", clip.channel_count);
   std::printf("frames:      %s (header says %s)\n", with_thousands(clip.frame_count).c_str(),

@@ -57,8 +57,9 @@ bool is_gltf(const std::filesystem::path& file) {
 std::unique_ptr<motion::ClipPoses> clip_player(const PosingArguments& arguments,
                                                const deform::Model& model) {
   if (!arguments.bvh.empty())
-    return std::make_unique<motion::Retargeter>(io::load_bvh(arguments.bvh), model,
-                                                load_joint_name_map(arguments.bvh_map));
+    return std::make_unique<motion::Retargeter>(
+        io::load_bvh(arguments.bvh, {.up = arguments.bvh_up}), model,
+        load_joint_name_map(arguments.bvh_map));
   if (!arguments.clip_from.empty())
     return std::make_unique<motion::Retargeter>(gltf_clip(arguments.clip_from, arguments.clip),
                                                 model, load_joint_name_map(arguments.bvh_map));

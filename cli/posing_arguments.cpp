@@ -25,6 +25,14 @@ CLI::Option* add_model_and_clip_flags(CLI::App& command, PosingArguments& out) {
       .add_option("--bvh-map", out.bvh_map,
                   "BVH joint name -> model joint name, for rigs the names do not match")
       ->type_name("MAP.json");
+  command
+      .add_option("--bvh-up",
+                  "the clip's up axis (default: detected from its skeleton, feet to head); a "
+                  "Z-up clip is turned Y-up")
+      ->type_name("y|z")
+      ->check(CLI::IsMember({"y", "z"}))
+      ->each([&out](const std::string& name) { out.bvh_up = motion::up_axis_from_name(name); })
+      ->needs(bvh);
   return bvh;
 }
 
@@ -146,6 +154,10 @@ void check_method_flags(const PosingArguments& arguments, bool on_server) {
     throw CLI::ValidationError(
         "--frame, --frames, --time and --fps choose frames of a clip: give --bvh, --clip or "
         "--clip-from");
+  if (arguments.bvh_up && on_server)
+    throw CLI::ValidationError(
+        "--bvh-up applies where sweepctl reads the clip; with --server the daemon detects the "
+        "clip's up axis from its skeleton");
 }
 
 }  // namespace sweepd::cli

@@ -4,8 +4,8 @@
 // rest pose) and the deformation method — and the flags that fill it, declared here once for
 // all of them:
 //   add_model_and_clip_flags  MODEL, --rig, --orientation (add_orientation_flag's), --bvh,
-//                       --bvh-map (returns --bvh's option); for commands with frames of
-//                       their own (sheet)
+//                       --bvh-map, --bvh-up y|z (returns --bvh's option); for commands with
+//                       frames of their own (sheet)
 //   add_posing_flags    those, --clip NAME|INDEX (a glTF animation of MODEL's file, played
 //                       joint for joint), --clip-from FILE (--clip's animation, default 0, of
 //                       another .glb/.gltf, retargeted like a BVH), --frame, --time T (seconds
@@ -22,9 +22,10 @@
 //                       made here (also sweepctl bind's)
 //   check_method_flags  the rules CLI11 cannot state: --features need --method sweep,
 //                       --collision applies here, not with --server (the daemon's own
-//                       --collision decides), and --frame, --frames, --time and --fps need a
-//                       clip (--bvh, --clip or --clip-from); throws CLI::ValidationError (call
-//                       it from the command's callback with whether --server was given)
+//                       --collision decides), --frame, --frames, --time and --fps need a clip
+//                       (--bvh, --clip or --clip-from), and --bvh-up applies here, not with
+//                       --server; throws CLI::ValidationError (call it from the command's
+//                       callback with whether --server was given)
 // Bad values ("12x", "5-3", an unknown method or feature) are usage errors naming the flag.
 #pragma once
 
@@ -37,6 +38,7 @@
 #include "deform/job/deform_method.h"
 #include "deform/sweep/orientation_curve.h"
 #include "gpu/collision_backend.h"
+#include "motion/clip_up_axis.h"
 #include "motion/frame_range.h"
 
 namespace sweepd::cli {
@@ -55,6 +57,8 @@ struct PosingArguments {
   std::filesystem::path pose_file;  // optional pose JSON
   motion::FrameRange frames;        // --frame N or --frames A-B (clip frames)
   bool frame_range = false;         // --frames given: a folder of frames
+  // --bvh-up: the clip's up axis (--bvh's); nothing: detected from its skeleton.
+  std::optional<motion::UpAxis> bvh_up;
   deform::DeformMethod method = deform::DeformMethod::kSweep;
   // --features: anatomical features on top of the sweep method (paper §4.3, §4.4).
   deform::AnatomicalFeatures features;

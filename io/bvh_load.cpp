@@ -100,7 +100,7 @@ struct OpenBlock {
 class BvhParser {
  public:
   BvhParser(std::string_view text, const std::filesystem::path& source, const BvhOptions& options)
-      : cursor_(text), source_(source), scale_(options.length_scale) {}
+      : cursor_(text), source_(source), scale_(options.length_scale), up_(options.up) {}
 
   motion::Clip parse() {
     if (!(std::isfinite(scale_) && scale_ > 0.0f)) {
@@ -110,6 +110,8 @@ class BvhParser {
     parse_hierarchy();
     parse_motion_header();
     parse_rows();
+    if ((up_ ? *up_ : motion::detect_up_axis(clip_)) == motion::UpAxis::kZ)
+      motion::turn_z_up_to_y_up(clip_);
     return std::move(clip_);
   }
 
@@ -380,6 +382,7 @@ class BvhParser {
   TextCursor cursor_;
   const std::filesystem::path& source_;
   float scale_;
+  std::optional<motion::UpAxis> up_;
   motion::Clip clip_;
   std::unordered_map<std::string, int> joint_by_name_;
   int frames_line_ = 0;

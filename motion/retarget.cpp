@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "deform/rig/rig_map.h"
+#include "motion/clip_up_axis.h"
 
 namespace sweepd::motion {
 
@@ -14,17 +15,6 @@ namespace {
 
 constexpr int kUnmatched = -1;
 constexpr int kLeftOut = -2;  // the name map says: leave this BVH joint unmapped
-
-deform::Skeleton skeleton_of(const Clip& motion) {
-  deform::Skeleton skeleton;
-  for (const ClipJoint& joint : motion.joints)
-    skeleton.joints.push_back({.name = joint.name,
-                               .parent = joint.parent,
-                               .rest_translation = joint.offset,
-                               .rest_rotation = joint.rest_rotation,
-                               .rest_scale = glm::vec3(1.0f)});
-  return skeleton;
-}
 
 std::optional<deform::RigMap> rig_map_or_warning(const deform::Skeleton& skeleton,
                                                  const std::string& side,
@@ -152,7 +142,7 @@ Retargeter::Retargeter(Clip motion, deform::Skeleton skeleton, const JointNameMa
   if (motion_.joints.empty() || motion_.frame_count < 1)
     throw std::invalid_argument("the motion has no joints or no frames to retarget");
   if (skeleton_.joints.empty()) throw std::invalid_argument("the model has no joints");
-  const deform::Skeleton bvh = skeleton_of(motion_);
+  const deform::Skeleton bvh = clip_rest_skeleton(motion_);
   const OptionalRigMap model_map = rig_map_or_warning(skeleton_, "model", warnings_);
   const OptionalRigMap bvh_map = rig_map_or_warning(bvh, "BVH clip", warnings_);
   match_joints(bvh, model_map, bvh_map, name_map);

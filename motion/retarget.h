@@ -60,8 +60,8 @@
 // the legs' splay: the drop from the pelvis to the hip joint, plus thigh and shin lengths, plus
 // the ankle's height above the floor (means of both legs). The floor is the model's lowest
 // vertex (its lowest joint for a bare skeleton) and the clip's lowest joint or End Site. Without
-// a rig map on a side, the pelvis height above the floor. Both sides must be Y-up and in the
-// same length unit (load CMU clips with BvhOptions{.length_scale = 0.056444f}).
+// a rig map on a side, the pelvis height above the floor. Both sides must be Y-up (io::load_bvh
+// turns a Z-up clip upright, motion/clip_up_axis.h); their length units may differ.
 // The shift is applied to the model's root (joint 0), which must carry the pelvis rigidly.
 #pragma once
 

@@ -17,6 +17,7 @@
 #include "mannequin/mannequin.h"
 #include "tests/cli/sweepctl_process.h"
 #include "tests/deform/rig/legless_cut.h"
+#include "tests/motion/z_up_bvh.h"
 
 namespace {
 
@@ -190,6 +191,35 @@ TEST(SweepctlPosing, BindPoseRenderAndPositionMapAClipFrame) {
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("glitter"), std::string::npos) << r.output;
   r = run_sweepctl("pose " + posing + " --method lbs --features volume -o x.glb");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  fs::remove_all(dir);
+}
+
+// A Z-up clip (tests/motion/z_up_bvh.h) is detected and turned upright: the posed file equals
+// the Y-up original's byte for byte, with or without --bvh-up z; --bvh-up y leaves it lying.
+TEST(SweepctlPosing, AZUpClipPosesAsItsYUpOriginal) {
+  const fs::path clip = shared("motion/cmu_01_01.bvh");
+  if (!fs::exists(clip)) GTEST_SKIP() << "shared data absent: " << clip;
+  const fs::path dir = temp_dir();
+  const std::string model = (dir / "m.glb").string(), z_up = (dir / "z_up.bvh").string();
+  ASSERT_EQ(run_sweepctl("mannequin --vertices 3000 -o " + model).exit_code, 0);
+  std::ofstream(z_up, std::ios::binary) << sweepd::test::z_up_bvh(sweepd::test::read_text(clip));
+  Result r = run_sweepctl("inspect " + z_up);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("up axis:     z (detected"), std::string::npos) << r.output;
+  const auto pose = [&](const std::string& bvh, const std::string& flags, const char* out) {
+    const Result posed = run_sweepctl("pose " + model + " --bvh " + bvh + " --frame 700 " + flags +
+                                      " -o " + (dir / out).string());
+    EXPECT_EQ(posed.exit_code, 0) << posed.output;
+    return sweepd::test::read_text(dir / out);
+  };
+  const std::string original = pose(clip.string(), "", "y.glb");
+  EXPECT_EQ(pose(z_up, "", "z.glb"), original);
+  EXPECT_EQ(pose(z_up, "--bvh-up z", "z_named.glb"), original);
+  EXPECT_NE(pose(z_up, "--bvh-up y", "z_lying.glb"), original);
+  r = run_sweepctl("pose " + model + " --bvh " + z_up + " --bvh-up x -o x.glb");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  r = run_sweepctl("pose " + model + " --bvh-up z -o x.glb");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   fs::remove_all(dir);
 }
