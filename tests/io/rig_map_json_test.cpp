@@ -9,6 +9,7 @@
 #include "io/load_error.h"
 #include "tests/deform/rig/same_rig_parts.h"
 #include "tests/deform/synthetic_humanoid.h"
+#include "tests/scratch_directory.h"
 
 namespace sweepd::io {
 namespace {
@@ -17,7 +18,7 @@ using deform::RigMap;
 using nlohmann::json;
 
 std::filesystem::path temp_file(const std::string& name) {
-  return std::filesystem::path(testing::TempDir()) / ("rig_map_json_test_" + name);
+  return sweepd::test::process_scratch("rig_map_json") / name;
 }
 
 void write_text(const std::filesystem::path& path, const std::string& text) {
