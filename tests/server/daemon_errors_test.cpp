@@ -1,5 +1,9 @@
 // sweepd under bad input: every broken frame or request gets a typed Error on its own
-// connection, the connection keeps being served, and a second client never notices.
+// connection, the connection keeps being served, and a second client never notices. Every case
+// runs twice, on the TCP listener and on the WebSocket one (--ws-listen, issue 18: "the
+// WebSocket path has the same bad-input tests as TCP"): the frames are the same bytes, one
+// binary message each. Only a frame past --max-frame-bytes differs by design: TCP skips its
+// declared body and serves on, WebSocket takes a message whole, so it closes with 1009.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -16,13 +20,18 @@ namespace {
 constexpr std::uint32_t kMaxFrameBytes = 64 * 1024;
 constexpr std::uint32_t kMannequinJoints = 31;  // mannequin/mannequin.h: 31 joints
 
-class DaemonErrors : public ::testing::Test {
+constexpr std::uint16_t kCloseMessageTooBig = 1009;  // RFC 6455
+
+enum class Transport { kTcp, kWebSocket };
+
+class DaemonErrors : public ::testing::TestWithParam<Transport> {
  protected:
   static void SetUpTestSuite() {
     directory_ = new fs::path(fresh_directory("errors"));
     daemon_ = new DaemonProcess(
-        *directory_, {"--max-frame-bytes", std::to_string(kMaxFrameBytes), "--max-connections", "3",
-                      "--position-maps", "0", "--hello-timeout-ms", "300"});
+        *directory_, with(DaemonProcess::websocket_flags(*directory_),
+                          {"--max-frame-bytes", std::to_string(kMaxFrameBytes), "--max-connections",
+                           "3", "--position-maps", "0", "--hello-timeout-ms", "300"}));
   }
   static void TearDownTestSuite() {
     delete daemon_;
@@ -30,9 +39,9 @@ class DaemonErrors : public ::testing::Test {
     delete directory_;
   }
   void SetUp() override {
-    ASSERT_TRUE(daemon_->running());
-    broken_ = std::make_unique<FrameClient>(daemon_->port());
-    healthy_ = std::make_unique<FrameClient>(daemon_->port());
+    ASSERT_TRUE(daemon_->running()) << daemon_->log();
+    broken_ = connect();
+    healthy_ = connect();
     ASSERT_NE(broken_->hello(""), nullptr);
     ASSERT_NE(healthy_->hello(""), nullptr);
   }
@@ -56,6 +65,32 @@ class DaemonErrors : public ::testing::Test {
     }
   }
 
+  // A client on the transport under test, not yet greeted.
+  static std::unique_ptr<FrameClient> connect() {
+    if (GetParam() == Transport::kWebSocket)
+      return std::make_unique<FrameClient>(daemon_->websocket_port(), WebSocketUpgrade{});
+    return std::make_unique<FrameClient>(daemon_->port());
+  }
+
+  // `frame` announces more than --max-frame-bytes. TCP: FrameTooLarge naming `message_part`, the
+  // declared bytes skipped, both clients served on. WebSocket: the message is refused from its
+  // header (close code 1009, logged) and the other client is served on.
+  void expect_oversized_frame_refused(std::span<const std::uint8_t> frame,
+                                      const std::string& message_part) {
+    if (GetParam() == Transport::kTcp) {
+      ASSERT_TRUE(broken_->send_bytes(frame));
+      expect_error_then_service(protocol::ErrorCode::FrameTooLarge, message_part);
+      return;
+    }
+    broken_->send_bytes(frame);  // the server may close before it has read the whole message
+    EXPECT_TRUE(broken_->closed_by_server());
+    EXPECT_EQ(broken_->websocket().peer_close_code(), kCloseMessageTooBig);
+    ASSERT_TRUE(send_pose(*healthy_, pose_fields(daemon_->model_id(), 1000 + ++poses_, rotations_)));
+    const protocol::PosedVertices* reply = healthy_->receive_as<protocol::PosedVertices>();
+    ASSERT_NE(reply, nullptr);
+    EXPECT_EQ(reply->sequence(), 1000 + poses_);
+  }
+
   static fs::path* directory_;
   static DaemonProcess* daemon_;
   std::unique_ptr<FrameClient> broken_, healthy_;
@@ -73,19 +108,19 @@ std::vector<std::uint8_t> frame_with_body(std::vector<std::uint8_t> body) {
   return frame;
 }
 
-TEST_F(DaemonErrors, FrameTooShortForAFlatBufferIsABadFrame) {
+TEST_P(DaemonErrors, FrameTooShortForAFlatBufferIsABadFrame) {
   ASSERT_TRUE(broken_->send_bytes(frame_with_body({1, 2, 3, 4})));
   expect_error_then_service(protocol::ErrorCode::BadFrame, "4");
 }
 
-TEST_F(DaemonErrors, GarbageThatFailsVerificationIsABadFrame) {
+TEST_P(DaemonErrors, GarbageThatFailsVerificationIsABadFrame) {
   std::vector<std::uint8_t> body(64, 0xEE);
   std::memcpy(body.data() + 4, "SWPD", 4);  // right identifier, root offset far out of range
   ASSERT_TRUE(broken_->send_bytes(frame_with_body(body)));
   expect_error_then_service(protocol::ErrorCode::BadFrame, "");
 }
 
-TEST_F(DaemonErrors, ABodyTypeWithoutItsBodyIsABadFrame) {
+TEST_P(DaemonErrors, ABodyTypeWithoutItsBodyIsABadFrame) {
   // FlatBuffers' verifier accepts a union whose type is set and whose value is absent; the
   // daemon dereferenced the absent body and died (found by the frames fuzzer). Every body type
   // a client may send is tried; the connection and the server go on.
@@ -105,7 +140,7 @@ TEST_F(DaemonErrors, ABodyTypeWithoutItsBodyIsABadFrame) {
   }
 }
 
-TEST_F(DaemonErrors, WrongIdentifierIsNamed) {
+TEST_P(DaemonErrors, WrongIdentifierIsNamed) {
   flatbuffers::FlatBufferBuilder builder;
   protocol::finish_message(builder, protocol::CreateListModels(builder));
   std::vector<std::uint8_t> frame(builder.GetBufferPointer(),
@@ -115,41 +150,40 @@ TEST_F(DaemonErrors, WrongIdentifierIsNamed) {
   expect_error_then_service(protocol::ErrorCode::WrongIdentifier, "XWPD");
 }
 
-TEST_F(DaemonErrors, OversizedFrameIsRefusedAndItsBodySkipped) {
+TEST_P(DaemonErrors, OversizedFrameIsRefusedAndItsBodySkipped) {
   // Over the limit: the server answers at once and discards the declared bytes unread.
   const std::uint32_t declared = 4 * kMaxFrameBytes;
   std::vector<std::uint8_t> frame(4 + declared, 0x5A);
   std::memcpy(frame.data(), &declared, 4);
-  ASSERT_TRUE(broken_->send_bytes(frame));
-  expect_error_then_service(protocol::ErrorCode::FrameTooLarge, std::to_string(declared));
+  expect_oversized_frame_refused(frame, std::to_string(declared));
 }
 
-TEST_F(DaemonErrors, WrongJointCountNamesThePoseAndBothCounts) {
+TEST_P(DaemonErrors, WrongJointCountNamesThePoseAndBothCounts) {
   const std::span<const protocol::Quat> short_pose(rotations_.data(), kMannequinJoints - 1);
   ASSERT_TRUE(send_pose(*broken_, pose_fields(daemon_->model_id(), 42, short_pose)));
   expect_error_then_service(protocol::ErrorCode::WrongJointCount, "30 rotations", 42);
 }
 
-TEST_F(DaemonErrors, NaNRotationIsAnInvalidPose) {
+TEST_P(DaemonErrors, NaNRotationIsAnInvalidPose) {
   std::vector<protocol::Quat> nan_pose = rotations_;
   nan_pose[7] = protocol::Quat(std::numeric_limits<float>::quiet_NaN(), 0, 0, 1);
   ASSERT_TRUE(send_pose(*broken_, pose_fields(daemon_->model_id(), 43, nan_pose)));
   expect_error_then_service(protocol::ErrorCode::InvalidPose, "joint 7", 43);
 }
 
-TEST_F(DaemonErrors, RotationFarFromUnitLengthIsAnInvalidPose) {
+TEST_P(DaemonErrors, RotationFarFromUnitLengthIsAnInvalidPose) {
   std::vector<protocol::Quat> long_pose = rotations_;
   long_pose[3] = protocol::Quat(0, 0, 0, 1.5f);
   ASSERT_TRUE(send_pose(*broken_, pose_fields(daemon_->model_id(), 44, long_pose)));
   expect_error_then_service(protocol::ErrorCode::InvalidPose, "joint 3", 44);
 }
 
-TEST_F(DaemonErrors, UnknownModelIdIsNamed) {
+TEST_P(DaemonErrors, UnknownModelIdIsNamed) {
   ASSERT_TRUE(send_pose(*broken_, pose_fields(99, 45, rotations_)));
   expect_error_then_service(protocol::ErrorCode::UnknownModel, "99", 45);
 }
 
-TEST_F(DaemonErrors, FeaturesOnASkinningBaselineAreAnInvalidArgument) {
+TEST_P(DaemonErrors, FeaturesOnASkinningBaselineAreAnInvalidArgument) {
   protocol::PoseFields fields = pose_fields(daemon_->model_id(), 46, rotations_);
   fields.method = protocol::DeformMethod::Dqs;
   fields.features = protocol::Features::Folding;
@@ -157,7 +191,7 @@ TEST_F(DaemonErrors, FeaturesOnASkinningBaselineAreAnInvalidArgument) {
   expect_error_then_service(protocol::ErrorCode::InvalidArgument, "sweep method only", 46);
 }
 
-TEST_F(DaemonErrors, PositionMapsSwitchedOffAreNotAvailable) {
+TEST_P(DaemonErrors, PositionMapsSwitchedOffAreNotAvailable) {
   flatbuffers::FlatBufferBuilder builder;
   const auto pose = protocol::add_pose(builder, pose_fields(daemon_->model_id(), 47, rotations_));
   broken_->send_bytes(protocol::finish_message(
@@ -165,7 +199,7 @@ TEST_F(DaemonErrors, PositionMapsSwitchedOffAreNotAvailable) {
   expect_error_then_service(protocol::ErrorCode::NotAvailable, "switched off", 47);
 }
 
-TEST_F(DaemonErrors, BodyTypeFromANewerPeerIsAnUnknownMessage) {
+TEST_P(DaemonErrors, BodyTypeFromANewerPeerIsAnUnknownMessage) {
   flatbuffers::FlatBufferBuilder builder;
   const auto body = protocol::CreateListModels(builder);
   const auto message =
@@ -174,7 +208,7 @@ TEST_F(DaemonErrors, BodyTypeFromANewerPeerIsAnUnknownMessage) {
   expect_error_then_service(protocol::ErrorCode::UnknownMessage, "200");
 }
 
-TEST_F(DaemonErrors, UploadThatIsNotGltfFailsToLoadWithTheReason) {
+TEST_P(DaemonErrors, UploadThatIsNotGltfFailsToLoadWithTheReason) {
   flatbuffers::FlatBufferBuilder builder;
   const std::vector<std::uint8_t> junk(300, 0x42);
   broken_->send_bytes(protocol::finish_message(
@@ -217,24 +251,28 @@ void send_clip_pose(FrameClient& client, std::uint32_t model, std::uint64_t sequ
       protocol::finish_message(builder, protocol::CreatePoseFromClip(builder, pose, clip)));
 }
 
-TEST_F(DaemonErrors, MalformedClipFailsToLoadNamingTheLine) {
+TEST_P(DaemonErrors, MalformedClipFailsToLoadNamingTheLine) {
   upload_clip(*broken_, "HIERARCHY\nROOT Hips\n{\n  OFFSET 0 zero 0\n", 20);
   expect_error_then_service(protocol::ErrorCode::ClipLoadFailed, "short.bvh");
 }
 
-TEST_F(DaemonErrors, OversizedClipIsRefusedLikeAnyLargeFrame) {
-  upload_clip(*broken_, short_clip(2) + std::string(2 * kMaxFrameBytes, ' '), 21);
-  expect_error_then_service(protocol::ErrorCode::FrameTooLarge, "exceeds the limit");
+TEST_P(DaemonErrors, OversizedClipIsRefusedLikeAnyLargeFrame) {
+  const std::string text = short_clip(2) + std::string(2 * kMaxFrameBytes, ' ');
+  flatbuffers::FlatBufferBuilder builder;
+  expect_oversized_frame_refused(
+      protocol::finish_message(
+          builder, protocol::CreateUploadClipDirect(builder, "short.bvh", text.c_str()), 21),
+      "exceeds the limit");
 }
 
-TEST_F(DaemonErrors, UnknownClipIsItsOwnCodeSoClientsUploadAgain) {
+TEST_P(DaemonErrors, UnknownClipIsItsOwnCodeSoClientsUploadAgain) {
   send_clip_pose(*broken_, daemon_->model_id(), 22, [](flatbuffers::FlatBufferBuilder& builder) {
     return protocol::CreateClipFrameDirect(builder, std::string(64, 'a').c_str(), 0u);
   });
   expect_error_then_service(protocol::ErrorCode::UnknownClip, "upload it", 22);
 }
 
-TEST_F(DaemonErrors, ClipFramePastTheEndNaNTimeAndRotationsAreInvalidArguments) {
+TEST_P(DaemonErrors, ClipFramePastTheEndNaNTimeAndRotationsAreInvalidArguments) {
   upload_clip(*broken_, short_clip(3), 23);
   const protocol::ClipInfo* info = broken_->receive_as<protocol::ClipInfo>();
   ASSERT_NE(info, nullptr);
@@ -263,7 +301,7 @@ TEST_F(DaemonErrors, ClipFramePastTheEndNaNTimeAndRotationsAreInvalidArguments) 
   expect_error_then_service(protocol::ErrorCode::InvalidArgument, "the clip gives them", 27);
 }
 
-TEST_F(DaemonErrors, UnknownJointNamesAreNamed) {
+TEST_P(DaemonErrors, UnknownJointNamesAreNamed) {
   flatbuffers::FlatBufferBuilder builder;
   const auto pose = protocol::add_pose(builder, pose_fields(daemon_->model_id(), 28, {}));
   const std::vector<std::string> names = {"LeftArm", "Tail", "upperarm_r"};
@@ -275,9 +313,10 @@ TEST_F(DaemonErrors, UnknownJointNamesAreNamed) {
   expect_error_then_service(protocol::ErrorCode::InvalidArgument, "unknown joint names 'Tail'", 28);
 }
 
-TEST_F(DaemonErrors, ClientVanishingMidFrameLeavesOthersServed) {
+TEST_P(DaemonErrors, ClientVanishingMidFrameLeavesOthersServed) {
   {
-    FrameClient vanishing(daemon_->port());
+    const std::unique_ptr<FrameClient> client = connect();
+    FrameClient& vanishing = *client;
     ASSERT_NE(vanishing.hello(""), nullptr);
     flatbuffers::FlatBufferBuilder builder;
     const auto pose = protocol::add_pose(builder, pose_fields(daemon_->model_id(), 1, rotations_));
@@ -290,8 +329,9 @@ TEST_F(DaemonErrors, ClientVanishingMidFrameLeavesOthersServed) {
   EXPECT_EQ(reply->sequence(), 2u);
 }
 
-TEST_F(DaemonErrors, SilentConnectionIsClosedAfterTheHelloTimeout) {
-  FrameClient silent(daemon_->port());
+TEST_P(DaemonErrors, SilentConnectionIsClosedAfterTheHelloTimeout) {
+  const std::unique_ptr<FrameClient> client = connect();
+  FrameClient& silent = *client;
   const auto connected = std::chrono::steady_clock::now();
   const protocol::Error* error = silent.receive_as<protocol::Error>();
   ASSERT_NE(error, nullptr);
@@ -303,8 +343,11 @@ TEST_F(DaemonErrors, SilentConnectionIsClosedAfterTheHelloTimeout) {
   EXPECT_TRUE(silent.closed_by_server());
 }
 
-TEST_F(DaemonErrors, ConnectionsBeyondTheLimitAreRefused) {
-  FrameClient third(daemon_->port());  // the limit is 3: broken_, healthy_, third
+TEST_P(DaemonErrors, ConnectionsBeyondTheLimitAreRefused) {
+  // The limit is 3 (broken_, healthy_, third), over TCP and WebSocket together: the fourth is
+  // refused on whichever listener it comes.
+  const std::unique_ptr<FrameClient> third_client = connect();
+  FrameClient& third = *third_client;
   ASSERT_NE(third.hello(""), nullptr);
   FrameClient fourth(daemon_->port());
   const protocol::Error* error = fourth.receive_as<protocol::Error>();
@@ -315,6 +358,12 @@ TEST_F(DaemonErrors, ConnectionsBeyondTheLimitAreRefused) {
   ASSERT_TRUE(send_pose(third, pose_fields(daemon_->model_id(), 3, rotations_)));
   EXPECT_NE(third.receive_as<protocol::PosedVertices>(), nullptr);
 }
+
+INSTANTIATE_TEST_SUITE_P(Transports, DaemonErrors,
+                         ::testing::Values(Transport::kTcp, Transport::kWebSocket),
+                         [](const ::testing::TestParamInfo<Transport>& info) {
+                           return info.param == Transport::kTcp ? "Tcp" : "WebSocket";
+                         });
 
 }  // namespace
 }  // namespace sweepd::test
