@@ -14,7 +14,7 @@
 #include "deform/mesh/mesh_topology.h"
 #include "deform/rig/rig_map.h"
 #include "io/bvh_load.h"
-#include "io/gltf_clip_load.h"
+#include "io/model_clip_load.h"
 #include "io/model_load.h"
 #include "motion/clip_up_axis.h"
 
@@ -100,17 +100,17 @@ void print_meshes(const deform::Model& model, const io::LoadReport& report) {
   }
 }
 
-// A glTF file's animations (what `pose --clip NAME|INDEX` plays): each one's duration, frames,
+// A model file's animations (what `pose --clip NAME|INDEX` plays): each one's duration, frames,
 // channels played, the skin joints they drive and their interpolations, or why it cannot play.
 void print_animations(const std::filesystem::path& file) {
-  const std::vector<std::string> names = io::gltf_animation_names(file);
+  const std::vector<std::string> names = io::model_animation_names(file);
   std::printf("animations:  %zu%s\n", names.size(),
               names.empty() ? "" : " (pose --clip NAME|INDEX)");
   for (std::size_t a = 0; a < names.size(); ++a) {
     const std::string label = std::to_string(a) + " '" + names[a] + "'";
     motion::Clip clip;
     try {
-      clip = io::load_gltf_clip(file, std::to_string(a));
+      clip = io::load_model_clip(file, std::to_string(a));
     } catch (const std::exception& error) {
       std::printf("  %s: cannot play: %s\n", label.c_str(), error.what());
       continue;
@@ -184,7 +184,7 @@ int inspect_model(const std::filesystem::path& file) {
       report.renormalised_weight_count, report.zero_weight_vertex_count);
   print_meshes(model, report);
   print_warnings(report.warnings);
-  if (report.format.rfind("glTF", 0) == 0) print_animations(file);
+  print_animations(file);
   print_rig(skeleton);
   std::printf("joint tree:\n");
   for (int j = 0; j < skeleton.size(); ++j)

@@ -1,13 +1,12 @@
 #include "cli/posed_model.h"
 
-#include <cctype>
 #include <cmath>
 #include <stdexcept>
 
 #include "cli/model_loading.h"
 #include "deform/binding/bind.h"
 #include "io/bvh_load.h"
-#include "io/gltf_clip_load.h"
+#include "io/model_clip_load.h"
 #include "io/joint_name_map_json.h"
 #include "io/pose_json.h"
 #include "io/sweepbind.h"
@@ -41,18 +40,12 @@ deform::Pose clip_pose(const PosingArguments& arguments, const motion::ClipPoses
 
 namespace {
 
-// The glTF animation --clip names in `file` (its first without a name).
-motion::Clip gltf_clip(const std::filesystem::path& file, const std::string& clip) {
-  return io::load_gltf_clip(file, clip.empty() ? "0" : clip);
+// The animation --clip names in `file`, a glTF, FBX or COLLADA file (its first without a name).
+motion::Clip file_clip(const std::filesystem::path& file, const std::string& clip) {
+  return io::load_model_clip(file, clip.empty() ? "0" : clip);
 }
 
 }  // namespace
-
-bool is_gltf(const std::filesystem::path& file) {
-  std::string extension = file.extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return extension == ".glb" || extension == ".gltf";
-}
 
 std::unique_ptr<motion::ClipPoses> clip_player(const PosingArguments& arguments,
                                                const deform::Model& model) {
@@ -61,14 +54,15 @@ std::unique_ptr<motion::ClipPoses> clip_player(const PosingArguments& arguments,
         io::load_bvh(arguments.bvh, {.up = arguments.bvh_up}), model,
         load_joint_name_map(arguments.bvh_map));
   if (!arguments.clip_from.empty())
-    return std::make_unique<motion::Retargeter>(gltf_clip(arguments.clip_from, arguments.clip),
+    return std::make_unique<motion::Retargeter>(file_clip(arguments.clip_from, arguments.clip),
                                                 model, load_joint_name_map(arguments.bvh_map));
   if (arguments.clip.empty()) return nullptr;
-  if (!is_gltf(arguments.model))
+  if (arguments.model.extension() == ".sweepbind")
     throw std::invalid_argument(arguments.model.string() +
-                                ": --clip plays an animation of the model's own .glb/.gltf "
-                                "file; for another file's clip give --clip-from FILE.glb");
-  return std::make_unique<motion::OwnSkeletonClip>(gltf_clip(arguments.model, arguments.clip),
+                                ": --clip plays an animation of the model's own glTF, FBX or "
+                                "COLLADA file, and a .sweepbind holds none; for another file's "
+                                "clip give --clip-from FILE");
+  return std::make_unique<motion::OwnSkeletonClip>(file_clip(arguments.model, arguments.clip),
                                                    model.skeleton);
 }
 

@@ -35,12 +35,11 @@ int clip_frame_count(const PosingArguments& arguments, const motion::ClipPoses& 
 deform::Pose clip_pose(const PosingArguments& arguments, const motion::ClipPoses& clip, int frame);
 // The arguments' clip played on `model` (read from the arguments' MODEL file): --bvh or
 // --clip-from's animation retargeted (motion::Retargeter, with --bvh-map), or --clip's animation
-// of MODEL's own file joint for joint (motion::OwnSkeletonClip; MODEL must be a .glb/.gltf);
+// of MODEL's own file joint for joint (motion::OwnSkeletonClip; MODEL must be a glTF, FBX or
+// COLLADA file);
 // null without a clip. Throws naming the file and the problem.
 std::unique_ptr<motion::ClipPoses> clip_player(const PosingArguments& arguments,
                                                const deform::Model& model);
-// Whether `file` is named .glb or .gltf (any case).
-bool is_gltf(const std::filesystem::path& file);
 
 class PosedModel {
  public:

@@ -41,15 +41,15 @@ void add_posing_flags(CLI::App& command, PosingArguments& out, ClipFrames frames
   CLI::Option* clip =
       command
           .add_option("--clip", out.clip,
-                      "a glTF animation (name, or index from 0) of MODEL's file, played on its "
-                      "own joints; with --clip-from, of that file (default 0)")
+                      "an animation (name, or index from 0) of MODEL's glTF, FBX or COLLADA file, "
+                      "played on its own joints; with --clip-from, of that file (default 0)")
           ->type_name("NAME|INDEX")
           ->excludes(bvh);
   command
       .add_option("--clip-from", out.clip_from,
-                  "a .glb/.gltf whose animation (--clip) is retargeted onto the model by joint "
-                  "names and roles, like a BVH")
-      ->type_name("FILE.glb")
+                  "a glTF, FBX or COLLADA file whose animation (--clip) is retargeted onto the "
+                  "model by joint names and roles, like a BVH")
+      ->type_name("FILE")
       ->excludes(bvh);
   CLI::Option* frame = command.add_option("--frame", "the clip frame (default 0)")
                            ->type_name("N")

@@ -128,11 +128,11 @@ const pb::ClipInfo& RemotePosedModel::upload_clip(const PosingArguments& argumen
                                     io::read_file_bytes(arguments.clip_from), arguments.clip, false,
                                     map);
   // --clip: an animation of MODEL's own file, played on its joints as they are.
-  if (!local_model_file || !is_gltf(arguments.model))
+  if (!local_model_file || arguments.model.extension() == ".sweepbind")
     throw std::invalid_argument(arguments.model.string() +
-                                ": --clip plays an animation of the model's own .glb/.gltf "
-                                "file, uploaded from here; for another file's clip give "
-                                "--clip-from FILE.glb");
+                                ": --clip plays an animation of the model's own glTF, FBX or "
+                                "COLLADA file, uploaded from here; for another file's clip give "
+                                "--clip-from FILE");
   return client::upload_gltf_clip(connection_, arguments.model.filename().string(),
                                   io::read_file_bytes(arguments.model), arguments.clip, true);
 }

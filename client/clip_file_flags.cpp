@@ -6,7 +6,7 @@
 #include "client/clip_upload.h"
 #include "io/bvh_load.h"
 #include "io/file_bytes.h"
-#include "io/gltf_clip_load.h"
+#include "io/model_clip_load.h"
 
 namespace sweepd::client {
 
@@ -14,7 +14,8 @@ void add_clip_file_flags(CLI::App& app, ClipFile& clip) {
   CLI::Option* bvh = app.add_option("--bvh", clip.bvh, "a BVH clip")->type_name("FILE");
   CLI::Option* gltf =
       app.add_option("--clip-from", clip.gltf,
-                     "a .glb/.gltf whose animation (--clip) is the clip (protocol 1.7)")
+                     "a glTF (protocol 1.7), FBX or COLLADA (1.8) file whose animation (--clip) "
+                     "is the clip")
           ->type_name("FILE")
           ->excludes(bvh);
   app.add_option("--bvh-scale", clip.bvh_scale, "metres per BVH unit (CMU: 0.056444)")
@@ -34,8 +35,8 @@ void ClipFile::read() { contents = io::read_file_bytes(file()); }
 
 int ClipFile::frame_count() const {
   if (!gltf.empty())
-    return io::load_gltf_clip(contents, std::filesystem::path(gltf).filename(),
-                              animation.empty() ? "0" : animation)
+    return io::load_model_clip(contents, std::filesystem::path(gltf).filename(),
+                               animation.empty() ? "0" : animation)
         .frame_count;
   const std::string_view text(reinterpret_cast<const char*>(contents.data()), contents.size());
   return io::parse_bvh(text, bvh, {.length_scale = bvh_scale}).frame_count;

@@ -1,15 +1,15 @@
 // ClipFile: the clip a client example (stream_poses, render_frames) sends to sweepd, from its
-// command line: a BVH file, or (protocol 1.7) an animation of a glTF file, retargeted by the
-// server onto the model either way.
+// command line: a BVH file, or an animation of a glTF file (protocol 1.7) or of an FBX or COLLADA
+// file (1.8), retargeted by the server onto the model either way.
 //   add_clip_file_flags(app, clip)  --bvh FILE [--bvh-scale S] (metres per clip unit; CMU:
-//                     0.056444, the default) or --clip-from FILE.glb [--clip NAME|INDEX] (the
+//                     0.056444, the default) or --clip-from FILE [--clip NAME|INDEX] (the
 //                     animation; default the first); exactly one of --bvh and --clip-from (a
 //                     usage error otherwise, naming them: checked in the app's final callback,
 //                     which it sets)
 //   file()            the file given, for messages and output names
 //   read()            the file's contents, read once (throws naming the file)
 //   frame_count()     the clip's frames as the server counts them (io::parse_bvh,
-//                     io::load_gltf_clip: the same readers), after read(); throws naming the
+//                     io::load_model_clip: the same readers), after read(); throws naming the
 //                     file and the problem
 //   upload_clip_file(connection, clip)  UploadClip of the contents read (client/clip_upload.h):
 //                     the server's ClipInfo, or its ServerError

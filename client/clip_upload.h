@@ -22,7 +22,9 @@
 // ServerError: ClipLoadFailed naming the problem (not a glTF, a truncated GLB, an external URI,
 // no animations, an unknown name listing the file's animations, an animation that drives none
 // of the skin's joints), ClipLimit, FrameTooLarge, InvalidArgument; a 1.6 server answers
-// ClipLoadFailed (it reads the absent BVH text).
+// ClipLoadFailed (it reads the absent BVH text). Since protocol 1.8 (capability "fbx_clips") the
+// bytes may be an FBX or COLLADA file's instead: its animation stacks, read by the server with
+// io::load_assimp_clip; a 1.7 server answers ClipLoadFailed (not a glTF file).
 #pragma once
 
 #include <cstdint>

@@ -13,6 +13,7 @@
 #include "deform/edits/rest_key_edit.h"
 #include "deform/job/deform_job.h"
 #include "deform/rig/rig_map.h"
+#include "io/assimp_clip_load.h"
 #include "io/assimp_load.h"
 #include "io/bvh_load.h"
 #include "io/gltf_load.h"
@@ -180,7 +181,10 @@ bool fuzz_gltf(std::span<const std::uint8_t> bytes) {
 }
 
 bool fuzz_fbx(std::span<const std::uint8_t> bytes) {
-  return accepted([&] { io::load_assimp(bytes, "fuzz.fbx"); });
+  // The model, then its first animation as a clip (an upload's UploadClip reads the same bytes).
+  const bool model = accepted([&] { io::load_assimp(bytes, "fuzz.fbx"); });
+  const bool clip = accepted([&] { io::load_assimp_clip(bytes, "fuzz.fbx", "0"); });
+  return model || clip;
 }
 
 bool fuzz_bvh(std::span<const std::uint8_t> bytes) {

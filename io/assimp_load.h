@@ -9,9 +9,13 @@
 //                 which reads the file's bytes itself first
 //         report  optional; receives what the importer lost or changed (io/load_report.h)
 // Output: a Model that satisfies Model::validate():
-//         - the skinned mesh is the node whose meshes carry bones (the one with the most vertices
-//           when several; counted in report.skinned_mesh_count and warned about, as glTF does);
-//           all its triangle meshes (assimp splits one per material) are merged;
+//         - every mesh of the character (io/assimp_scene.h find_character): the skinned node
+//           with the most vertices, every other node skinned to the same skeleton, and every
+//           node with meshes but no bones under one of its joints (rigid: weight 1 on that
+//           joint); other mesh nodes are ignored, each named in a warning and in report.meshes
+//           with the reason. One assimp mesh (assimp splits a node's mesh per material) loads as
+//           before, with no parts; several give a deform::MeshPart each: the node's name, the
+//           material's name, which loaded node it is (MeshPart::mesh) and its rigid joint;
 //         - joints: the nodes the bones name plus the nodes between them and their root bone,
 //           parents-first; FBX transform parts that assimp keeps as "<joint>_$AssimpFbx$_<part>"
 //           helper nodes (PreRotation, RotationPivot, ...) are collapsed into their joint's rest

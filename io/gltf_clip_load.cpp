@@ -6,6 +6,7 @@
 #include <limits>
 #include <vector>
 
+#include "io/animation_choice.h"
 #include "io/gltf_accessors.h"
 #include "io/gltf_skin_skeleton.h"
 #include "io/rest_transform.h"
@@ -21,32 +22,6 @@ const std::vector<int> kRotationTypes = {
     TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_BYTE,
     TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_SHORT,
     TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT};
-
-std::string animation_list(const tinygltf::Model& gltf) {
-  std::string list;
-  for (std::size_t a = 0; a < gltf.animations.size(); ++a)
-    list += (a ? ", " : "") + std::to_string(a) + " '" + gltf.animations[a].name + "'";
-  return list;
-}
-
-// The animation `clip` names: its name first, then its index.
-int choose_animation(const AccessorReader& reader, const tinygltf::Model& gltf,
-                     const std::string& clip) {
-  if (gltf.animations.empty()) reader.fail("the file has no animations (no clip '" + clip + "')");
-  for (std::size_t a = 0; a < gltf.animations.size(); ++a)
-    if (gltf.animations[a].name == clip) return static_cast<int>(a);
-  const bool digits =
-      !clip.empty() && clip.size() < 10 &&
-      std::all_of(clip.begin(), clip.end(), [](char c) { return c >= '0' && c <= '9'; });
-  if (!digits)
-    reader.fail("no animation named '" + clip +
-                "' (the file's animations: " + animation_list(gltf) + ")");
-  const int index = std::stoi(clip);
-  if (index >= static_cast<int>(gltf.animations.size()))
-    reader.fail("no animation " + clip + ": the file has " +
-                std::to_string(gltf.animations.size()) + " (" + animation_list(gltf) + ")");
-  return index;
-}
 
 // What carries a joint node's animated local transform into its clip joint's frame: the
 // transform of the non-joint nodes between it and its parent joint (or the scene, for a root),
@@ -133,27 +108,13 @@ bool scale_moves(const std::vector<double>& values, bool cubic, const glm::vec3&
   return false;
 }
 
-void set_frames(motion::Clip& clip) {
-  float start = std::numeric_limits<float>::infinity(), end = -start;
-  double gap = std::numeric_limits<double>::infinity();
-  for (const motion::KeyframeTrack& track : clip.tracks) {
-    start = std::min(start, track.times.front());
-    end = std::max(end, track.times.back());
-    for (std::size_t k = 1; k < track.times.size(); ++k)
-      gap = std::min(gap, double{track.times[k]} - track.times[k - 1]);
-  }
-  clip.start_time = start;
-  clip.end_time = end;
-  clip.frame_time = std::isfinite(gap) ? static_cast<float>(gap) : 1.0f / 30.0f;
-  clip.frame_count = static_cast<int>(std::floor(clip.duration() / clip.frame_time + 1e-3)) + 1;
-  clip.header_frame_count = clip.frame_count;
-}
-
 // The animation `clip` of a parsed document; `file` names it in messages.
 motion::Clip clip_of(const tinygltf::Model& gltf, const std::filesystem::path& file,
                      const std::string& clip, LoadReport& report) {
   const AccessorReader reader(file, gltf);
-  const int animation_index = choose_animation(reader, gltf, clip);
+  std::vector<std::string> names;
+  for (const tinygltf::Animation& animation : gltf.animations) names.push_back(animation.name);
+  const int animation_index = choose_animation(names, clip, file);
   const tinygltf::Animation& animation = gltf.animations[animation_index];
   const NodeGraph graph = build_node_graph(reader, gltf);
   const int mesh_node = choose_skinned_node(reader, gltf, report);
@@ -240,7 +201,7 @@ motion::Clip clip_of(const tinygltf::Model& gltf, const std::filesystem::path& f
   if (!scaled.empty())
     result.warnings.push_back("scale keys on " + scaled +
                               ": not played (sweepd poses rotations and the root's translation)");
-  set_frames(result);
+  result.set_keyframed_timing();
   return result;
 }
 

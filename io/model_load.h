@@ -18,4 +18,8 @@ namespace sweepd::io {
 
 deform::Model load_model(const std::filesystem::path& file, LoadReport* report = nullptr);
 
+// Whether load_model reads `file` through libassimp (FBX or COLLADA by its first KiB) rather than
+// as glTF. LoadError when the file cannot be opened.
+bool is_assimp_file(const std::filesystem::path& file);
+
 }  // namespace sweepd::io

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <stdexcept>
 
 namespace sweepd::motion {
@@ -117,6 +118,22 @@ void Clip::local_pose_at_time(double seconds, std::span<glm::quat> rotations,
     rotations[j] = glm::slerp(rotations[j], local_rotation(joint, second), alpha);
     translations[j] = glm::mix(translations[j], local_translation(joint, second), alpha);
   }
+}
+
+void Clip::set_keyframed_timing() {
+  float start = std::numeric_limits<float>::infinity(), end = -start;
+  double gap = std::numeric_limits<double>::infinity();
+  for (const KeyframeTrack& track : tracks) {
+    start = std::min(start, track.times.front());
+    end = std::max(end, track.times.back());
+    for (std::size_t k = 1; k < track.times.size(); ++k)
+      gap = std::min(gap, double{track.times[k]} - track.times[k - 1]);
+  }
+  start_time = start;
+  end_time = end;
+  frame_time = std::isfinite(gap) ? static_cast<float>(gap) : 1.0f / 30.0f;
+  frame_count = static_cast<int>(std::floor(duration() / frame_time + 1e-3)) + 1;
+  header_frame_count = frame_count;
 }
 
 }  // namespace sweepd::motion

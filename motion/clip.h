@@ -99,6 +99,11 @@ struct Clip {
   // sampled per the glTF spec (motion/keyframe_track.h). NaN is std::invalid_argument.
   void local_pose_at_time(double seconds, std::span<glm::quat> rotations,
                           std::span<glm::vec3> translations) const;
+  // Of a keyframed clip whose tracks are set: start_time and end_time from its first and last
+  // key, frame_time the smallest interval between two keys of one track (a clip baked at every
+  // frame of a 30 fps scene gets 1/30 s; 1/30 s when every track has one key), frame_count
+  // (and header_frame_count) the frames that fit.
+  void set_keyframed_timing();
 };
 
 }  // namespace sweepd::motion

@@ -4,7 +4,7 @@
 #include <stdexcept>
 
 #include "io/bvh_load.h"
-#include "io/gltf_clip_load.h"
+#include "io/model_clip_load.h"
 #include "io/joint_name_map_json.h"
 #include "io/load_error.h"
 #include "motion/own_skeleton_clip.h"
@@ -87,7 +87,7 @@ std::variant<ClipHandle, RequestError> ClipStore::add_gltf(const std::string& na
   const std::string chosen = animation.empty() ? "0" : animation;
   return admit(gltf_clip_content_id(gltf, chosen, own_skeleton, joint_name_map), name, gltf.size(),
                joint_name_map, own_skeleton,
-               [&] { return io::load_gltf_clip(gltf, name, chosen); });
+               [&] { return io::load_model_clip(gltf, name, chosen); });
 }
 
 std::variant<ClipHandle, RequestError> ClipStore::admit(const std::string& id,

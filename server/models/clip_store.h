@@ -14,10 +14,12 @@
 //   full), or the text is not a usable BVH (ClipLoadFailed with the reader's line and reason; a
 //   clip with no joints or no frames too), or the joint name map is not a JSON object of names
 //   (InvalidArgument with the reason). Thread-safe; parses outside the lock.
-// add_gltf(name, gltf, animation, own_skeleton, joint_name_map): the same for a glTF animation
+// add_gltf(name, gltf, animation, own_skeleton, joint_name_map): the same for an animation of a
+//   glTF file — or (1.8) of an FBX or COLLADA file, told apart by its first bytes
 //   (gltf_clip_content_id; animation "" is "0"), read from the bytes alone by
-//   io::load_gltf_clip (self-contained: the GLB chunk and data: URIs; any other URI refused
-//   before a file is looked at, as for model uploads); the file's bytes count against max_bytes.
+//   io::load_model_clip (a glTF self-contained: the GLB chunk and data: URIs; any other URI
+//   refused before a file is looked at, as for model uploads; assimp refuses every other file);
+//   the file's bytes count against max_bytes.
 //   ClipLoadFailed names the problem: bytes that are no glTF (truncated GLB, bad JSON), an
 //   external URI, no animations, an unknown animation name or index (listing the file's), no
 //   skin, an animation that drives none of the skin's joints.

@@ -21,14 +21,20 @@
 #include <string>
 #include <vector>
 
+#include "io/assimp_clip_load.h"
 #include "io/assimp_convert.h"
+#include "io/file_bytes.h"
+#include "io/gltf_clip_load.h"
 #include "io/gltf_load.h"
 #include "io/gltf_save.h"
 #include "io/model_load.h"
 #include "mannequin/mannequin.h"
+#include "motion/own_skeleton_clip.h"
 #include "tests/deform/rig/swept_parts_pose.h"
 #include "tests/deform/shared_male.h"
+#include "tests/io/baked_gltf_clip.h"
 #include "tests/io/gltf_test_files.h"
+#include "tests/io/split_character.h"
 
 namespace sweepd::io {
 namespace {
@@ -100,12 +106,15 @@ std::vector<std::uint32_t> first_use_order(const deform::Model& original) {
   return order;
 }
 
-std::vector<glm::vec3> sweep_posed(const deform::Model& model) {
-  const deform::RigMap rig = deform::detect_rig_map(model.skeleton);
-  const deform::BoundModel bound = deform::bind(model, rig);
+std::vector<glm::vec3> sweep_posed_with(const deform::Model& model, const deform::Pose& pose) {
+  const deform::BoundModel bound = deform::bind(model, deform::detect_rig_map(model.skeleton));
   deform::test::Posing posing(bound);
-  return deform::test::deformed(posing, deform::test::swept_parts_pose(model.skeleton, rig),
-                                deform::DeformMethod::kSweep);
+  return deform::test::deformed(posing, pose, deform::DeformMethod::kSweep);
+}
+
+std::vector<glm::vec3> sweep_posed(const deform::Model& model) {
+  return sweep_posed_with(
+      model, deform::test::swept_parts_pose(model.skeleton, deform::detect_rig_map(model.skeleton)));
 }
 
 struct RoundTripErrors {
@@ -331,6 +340,158 @@ TEST(AssimpLoad, SweepctlInspectsAndPosesAnFbxModel) {
                             .c_str()),
             0);
   EXPECT_EQ(load_gltf(dir / "posed.glb").vertex_count(), load_assimp(fbx).vertex_count());
+}
+
+// An FBX animation stack (issue 15 item 5): 12 keys of cmu_01_01 baked onto the shared male as
+// a glTF "linear" animation, converted to FBX by assimp's exporter. The FBX clip's joints are
+// the FBX model's, its keys are the glTF clip's, and it poses the FBX model as the glTF clip
+// poses the glTF model, at the keys and half-way between them, within the FBX round trip's
+// 1e-4 m (FBX stores rotation curves as Euler angles, assimp turns them back into quaternions).
+TEST(AssimpLoad, AnFbxAnimationPosesTheFbxModelAsItsGltfOriginalPosesTheOriginal) {
+  SWEEPD_REQUIRE_SHARED_MODEL(testing::kMale);
+  ScratchDirectory dir;
+  const deform::Model male = load_gltf(shared_model(testing::kMale));
+  testing::write_baked_gltf(male, testing::bake_cmu_clip(male, 12), dir / "baked.glb");
+  const std::vector<std::uint8_t> fbx =
+      testing::write_baked_fbx(dir / "baked.glb", dir / "baked.fbx");
+  const std::vector<std::string> names = assimp_animation_names(fbx, "baked.fbx");
+  std::string listed;
+  for (const std::string& name : names) listed += " '" + name + "'";
+  std::printf("FBX animations:%s\n", listed.c_str());
+  const auto linear = std::find_if(names.begin(), names.end(), [](const std::string& name) {
+    return name.find("linear") != std::string::npos;
+  });
+  ASSERT_NE(linear, names.end()) << listed;
+  const motion::Clip gltf_clip = load_gltf_clip(dir / "baked.glb", "linear");
+  const motion::Clip fbx_clip = load_assimp_clip(fbx, "baked.fbx", *linear);
+  const deform::Model fbx_model = load_assimp(fbx, "baked.fbx");
+  for (const std::string& warning : fbx_clip.warnings) ADD_FAILURE() << "warning: " << warning;
+  ASSERT_EQ(fbx_clip.joints.size(), fbx_model.skeleton.joints.size());
+  for (std::size_t j = 0; j < fbx_clip.joints.size(); ++j) {
+    EXPECT_EQ(fbx_clip.joints[j].name, fbx_model.skeleton.joints[j].name);
+    EXPECT_EQ(fbx_clip.joints[j].parent, fbx_model.skeleton.joints[j].parent);
+  }
+  EXPECT_EQ(fbx_clip.frame_count, gltf_clip.frame_count);
+  EXPECT_NEAR(fbx_clip.frame_time, gltf_clip.frame_time, 1e-6f);  // 1/30 s, float ticks
+
+  const motion::OwnSkeletonClip gltf_poses(gltf_clip, male.skeleton);
+  const motion::OwnSkeletonClip fbx_poses(fbx_clip, fbx_model.skeleton);
+  const deform::BoundModel gltf_bound = deform::bind(male, deform::detect_rig_map(male.skeleton));
+  const deform::BoundModel fbx_bound =
+      deform::bind(fbx_model, deform::detect_rig_map(fbx_model.skeleton));
+  deform::test::Posing gltf_posing(gltf_bound), fbx_posing(fbx_bound);
+  const std::vector<std::uint32_t> order = first_use_order(male);
+  ASSERT_EQ(order.size(), fbx_model.vertex_count());
+  float worst = 0.0f, moved = 0.0f;
+  for (int half_frames = 0; half_frames <= 2 * (gltf_clip.frame_count - 1); ++half_frames) {
+    const double seconds = 0.5 * half_frames * gltf_clip.frame_time;
+    for (const deform::DeformMethod method :
+         {deform::DeformMethod::kLbs, deform::DeformMethod::kSweep}) {
+      const std::vector<glm::vec3> expected =
+          deform::test::deformed(gltf_posing, gltf_poses.pose_at_time(seconds), method);
+      const std::vector<glm::vec3> got =
+          deform::test::deformed(fbx_posing, fbx_poses.pose_at_time(seconds), method);
+      for (std::size_t k = 0; k < order.size(); ++k) {
+        worst = std::max(worst, glm::distance(got[k], expected[order[k]]));
+        moved = std::max(moved, glm::distance(expected[order[k]], male.positions[order[k]]));
+      }
+    }
+  }
+  std::printf("FBX clip vs glTF clip, %d keys and the half-way times, LBS and sweep: %.3g m "
+              "(vertices moved up to %.3g m from rest)\n",
+              gltf_clip.frame_count, worst, moved);
+  EXPECT_GT(moved, 0.1f) << "the clip must move the body for the comparison to mean anything";
+  EXPECT_LE(worst, 1e-4f);
+
+  // sweepctl: inspect lists the animations; pose plays one on the FBX model (--clip) and
+  // retargets it onto the mannequin (--clip-from), as for a glTF file.
+  const std::string sweepctl = SWEEPD_SWEEPCTL;
+  const std::string fbx_file = (dir / "baked.fbx").string();
+  ASSERT_EQ(std::system((sweepctl + " inspect " + fbx_file + " > " + (dir / "inspect.txt").string())
+                            .c_str()),
+            0);
+  const std::string inspected = read_bytes(dir / "inspect.txt");
+  EXPECT_NE(inspected.find("animations:  " + std::to_string(names.size())), std::string::npos)
+      << inspected;
+  EXPECT_EQ(std::system((sweepctl + " pose " + fbx_file + " --clip '" + *linear +
+                         "' --frame 5 -o " + (dir / "own.glb").string())
+                            .c_str()),
+            0);
+  EXPECT_EQ(load_gltf(dir / "own.glb").vertex_count(), fbx_model.vertex_count());
+  save_gltf(mannequin::make_mannequin({.target_vertices = 3000}), dir / "mannequin.glb");
+  EXPECT_EQ(std::system((sweepctl + " pose " + (dir / "mannequin.glb").string() + " --clip-from " +
+                         fbx_file + " --clip '" + *linear + "' --frame 5 -o " +
+                         (dir / "retargeted.glb").string())
+                            .c_str()),
+            0);
+  EXPECT_EQ(load_gltf(dir / "retargeted.glb").vertex_count(),
+            load_gltf(dir / "mannequin.glb").vertex_count());
+}
+
+TEST(AssimpLoad, AnimationErrorsNameTheFileAndTheProblem) {
+  ScratchDirectory dir;
+  const std::filesystem::path fbx = mannequin_fbx(dir, Variant::kMetres, "still.fbx");
+  const std::vector<std::uint8_t> bytes = read_file_bytes(fbx);
+  EXPECT_TRUE(assimp_animation_names(bytes, fbx).empty());
+  EXPECT_EQ(load_error_reason([&] { load_assimp_clip(bytes, fbx, "walk"); }),
+            "the file has no animations (no clip 'walk')");
+}
+
+// A character of several meshes as FBX (issue 15 item 2): the split male of
+// tests/io/split_character.h (legs; a torso of two primitives with two materials, which assimp's
+// glTF reader makes two meshes "torso-0" and "torso-1", written as two FBX nodes; the head; a
+// rigid hat under the Head joint) written as glTF and converted by assimp. Every mesh loads as a
+// part with its node's name and its material, the hat rigid to the Head joint, and each part
+// poses (sweep) as the glTF split's same part within the FBX round trip's 1e-4 m.
+TEST(AssimpLoad, EveryMeshOfAnFbxCharacterLoadsAndPosesAsTheGltfCharacter) {
+  SWEEPD_REQUIRE_SHARED_MODEL(testing::kMale);
+  ScratchDirectory dir;
+  save_gltf(testing::split_character(load_gltf(shared_model(testing::kMale))).model,
+            dir / "split.glb");
+  export_fbx(dir / "split.glb", dir / "split.fbx", Variant::kMetres);
+  const deform::Model gltf = load_gltf(dir / "split.glb");
+  LoadReport report;
+  const deform::Model fbx = load_assimp(dir / "split.fbx", &report);
+  ASSERT_EQ(fbx.validate(), "");
+  for (const deform::MeshPart& part : fbx.parts)
+    std::printf("FBX part '%s' material '%s' mesh %u: %u vertices, rigid joint %d\n",
+                part.name.c_str(), part.material.c_str(), part.mesh, part.vertex_count,
+                part.rigid_joint);
+  ASSERT_EQ(fbx.parts.size(), gltf.parts.size());
+  EXPECT_EQ(report.meshes.size(), 5u);
+  for (const MeshHandling& mesh : report.meshes) EXPECT_EQ(mesh.ignored, "") << mesh.name;
+  EXPECT_EQ(report.skinned_mesh_count, 4);
+
+  const deform::Pose pose = deform::test::left_elbow_and_knee_flexed(gltf, 90.0f);
+  const std::vector<glm::vec3> gltf_posed = sweep_posed_with(gltf, pose);
+  const std::vector<glm::vec3> fbx_posed = sweep_posed_with(fbx, pose);
+  float worst = 0.0f;
+  std::vector<char> matched(gltf.parts.size(), 0);
+  for (const deform::MeshPart& part : fbx.parts) {
+    // The glTF part of the same material and name ("torso" for "torso-0").
+    const auto same = std::find_if(gltf.parts.begin(), gltf.parts.end(), [&](const auto& other) {
+      return other.material == part.material &&
+             (other.name == part.name || part.name.rfind(other.name + "-", 0) == 0);
+    });
+    ASSERT_NE(same, gltf.parts.end()) << part.name << " / " << part.material;
+    matched[same - gltf.parts.begin()] = 1;
+    ASSERT_EQ(part.vertex_count, same->vertex_count) << part.name;
+    EXPECT_EQ(part.rigid_joint < 0 ? "" : fbx.skeleton.joints[part.rigid_joint].name,
+              same->rigid_joint < 0 ? "" : gltf.skeleton.joints[same->rigid_joint].name);
+    // assimp joins identical vertices in the order the part's triangles first use them.
+    std::vector<char> seen(same->vertex_count, 0);
+    std::uint32_t next = part.first_vertex;
+    for (std::uint32_t i = same->first_index; i < same->first_index + same->index_count; ++i) {
+      const std::uint32_t v = gltf.indices[i];
+      if (seen[v - same->first_vertex]) continue;
+      seen[v - same->first_vertex] = 1;
+      worst = std::max(worst, glm::distance(fbx_posed[next++], gltf_posed[v]));
+    }
+  }
+  EXPECT_TRUE(std::all_of(matched.begin(), matched.end(), [](char m) { return m; }));
+  std::printf("FBX character of %zu parts vs its glTF: posed (sweep) within %.3g m\n",
+              fbx.parts.size(), worst);
+  EXPECT_LE(worst, 1e-4f);
 }
 
 }  // namespace

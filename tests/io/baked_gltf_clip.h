@@ -6,18 +6,23 @@
 // tangents so that the tangent terms matter).
 //   bake_cmu_clip(model, keys)   keys = K keyframes, 1/30 s apart, every 8th frame of the clip
 //   write_baked_gltf(model, baked, file)
+//   write_baked_fbx(glb, fbx)    that .glb as ASCII FBX with its three animation stacks, written
+//                                by assimp's exporter (io/assimp_convert.h); returns its bytes
 #pragma once
 
+#include <assimp/scene.h>
 #include <tiny_gltf.h>
 
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <string>
 #include <vector>
 
 #include "deform/model/model.h"
+#include "io/assimp_convert.h"
 #include "io/bvh_load.h"
 #include "io/gltf_save.h"
 #include "motion/retarget.h"
@@ -152,6 +157,32 @@ inline void write_baked_gltf(const deform::Model& model, const BakedClip& baked,
   for (const char* interpolation : {"LINEAR", "STEP", "CUBICSPLINE"})
     add_baked_animation(gltf, baked, interpolation);
   write_glb(gltf, file);
+}
+
+// assimp 5.2.5's FBX exporter writes key times as if they were seconds, whatever the
+// animation's ticks per second (its glTF importer counts milliseconds): keys go in seconds.
+inline void keys_in_seconds(aiScene& scene) {
+  for (unsigned a = 0; a < scene.mNumAnimations; ++a) {
+    aiAnimation& animation = *scene.mAnimations[a];
+    const double ticks = animation.mTicksPerSecond > 0.0 ? animation.mTicksPerSecond : 25.0;
+    for (unsigned c = 0; c < animation.mNumChannels; ++c) {
+      aiNodeAnim& channel = *animation.mChannels[c];
+      for (unsigned k = 0; k < channel.mNumPositionKeys; ++k) channel.mPositionKeys[k].mTime /= ticks;
+      for (unsigned k = 0; k < channel.mNumRotationKeys; ++k) channel.mRotationKeys[k].mTime /= ticks;
+      for (unsigned k = 0; k < channel.mNumScalingKeys; ++k) channel.mScalingKeys[k].mTime /= ticks;
+    }
+    animation.mDuration /= ticks;
+    animation.mTicksPerSecond = 1.0;
+  }
+}
+
+inline std::vector<std::uint8_t> write_baked_fbx(const std::filesystem::path& glb,
+                                                 const std::filesystem::path& fbx) {
+  const std::vector<std::uint8_t> bytes =
+      io::convert_with_assimp(glb, io::AssimpExport::kFbxMetres, keys_in_seconds);
+  std::ofstream(fbx, std::ios::binary)
+      .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  return bytes;
 }
 
 }  // namespace sweepd::io::testing

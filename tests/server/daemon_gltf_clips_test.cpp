@@ -9,6 +9,8 @@
 //   glTF, BVH and glTF at once) are refused naming the problem, and the server goes on serving;
 // - the id is the content's: the same bytes and animation give the same id, another animation
 //   or own_skeleton another.
+// - (1.8) the same baked file written as FBX by assimp plays the same way: its animation stacks,
+//   retargeted and on the FBX model's own joints, equal the local command's files byte for byte.
 // The clip is made in the test (tests/io/baked_gltf_clip.h: cmu_01_01 retargeted onto the
 // shared male, baked as LINEAR, STEP and CUBICSPLINE animations of its own joints).
 #include <gtest/gtest.h>
@@ -37,6 +39,7 @@ class DaemonGltfClips : public SweepctlRemote {
     SweepctlRemote::SetUpTestSuite();
     const deform::Model male = io::load_gltf(kSharedMale);
     io::testing::write_baked_gltf(male, io::testing::bake_cmu_clip(male, kKeys), path("baked.glb"));
+    io::testing::write_baked_fbx(path("baked.glb"), path("baked.fbx"));
   }
   void SetUp() override {
     SweepctlRemote::SetUp();
@@ -102,6 +105,28 @@ TEST_F(DaemonGltfClips, ServerFramesEqualSweepctlPoseBitForBit) {
   // The model's own animation on its own joints: the baked file is the model, uploaded.
   expect_remote_equals_local(baked + " --clip cubic --time 0.05", "own");
   expect_remote_equals_local(baked + " --clip 1 --frame 4", "own_step");
+}
+
+TEST_F(DaemonGltfClips, FbxAnimationStacksPlayAsSweepctlPoseBitForBit) {
+  client::Connection probe("127.0.0.1:" + std::to_string(port()));
+  const pb::Welcome& welcome = probe.hello(kToken, "daemon_gltf_clips_test");
+  bool fbx_clips = false;
+  for (const auto* capability : *welcome.capabilities())
+    fbx_clips = fbx_clips || capability->str() == "fbx_clips";
+  EXPECT_TRUE(fbx_clips) << "protocol 1.8's capability";
+  const std::string fbx = path("baked.fbx").string();
+  expect_remote_equals_local(kSharedMale.string() + " --clip-from " + fbx + " --clip linear " +
+                                 "--time 0.05",
+                             "fbx_retargeted");
+  // The FBX file is the model, uploaded as FBX; its animation plays on its own joints.
+  expect_remote_equals_local(fbx + " --clip cubic --frame 3", "fbx_own");
+  const client::ServerError unknown = refused(io::read_file_bytes(path("baked.fbx")), "walk");
+  EXPECT_EQ(unknown.code(), pb::ErrorCode::ClipLoadFailed);
+  EXPECT_NE(std::string(unknown.what())
+                .find("no animation named 'walk' (the file's animations: 0 'linear', 1 'step', "
+                      "2 'cubic')"),
+            std::string::npos)
+      << unknown.what();
 }
 
 TEST_F(DaemonGltfClips, HostileUploadsAreRefusedNamingTheProblemAndTheServerGoesOn) {

@@ -233,7 +233,8 @@ class Exchanges:
                      animation=None, own_skeleton=False):
         """Keeps a clip on the server and returns its Clip: a BVH clip (a path, or the BVH text
         itself), or (protocol 1.7) an animation of a glTF file (a .glb/.gltf path, or the file's
-        bytes; self-contained: the server reads only the GLB chunk and data: URIs).
+        bytes; self-contained: the server reads only the GLB chunk and data: URIs), or (1.8) an
+        animation stack of an FBX or COLLADA file (a .fbx/.dae path, or its bytes).
         length_scale multiplies a BVH's lengths (CMU's inches to metres: 0.056444; glTF is in
         metres). joint_name_map: {clip joint: model joint or None} where names and rig roles do
         not say (as `sweepctl --bvh-map`; protocol 1.5). The server retargets the clip onto each
@@ -247,15 +248,15 @@ class Exchanges:
         elif isinstance(clip, os.PathLike) or "\n" not in clip:
             path = os.fspath(clip)
             name = name or os.path.basename(path)
-            if path.lower().endswith((".glb", ".gltf")):
+            if path.lower().endswith((".glb", ".gltf", ".fbx", ".dae")):
                 with open(path, "rb") as file:
                     gltf = file.read()
             else:
                 with open(path, encoding="utf-8") as file:
                     clip = file.read()
         if gltf is None and (animation is not None or own_skeleton):
-            raise ValueError("animation and own_skeleton choose an animation of a glTF file "
-                             "(a .glb/.gltf path or its bytes), not of a BVH clip")
+            raise ValueError("animation and own_skeleton choose an animation of a glTF, FBX or "
+                             "COLLADA file (its path or its bytes), not of a BVH clip")
         builder = new_builder(1024 + len(gltf if gltf is not None else clip))
         source = builder.CreateByteVector(gltf) if gltf is not None else builder.CreateString(clip)
         label = builder.CreateString(name or ("clip.glb" if gltf is not None else "clip.bvh"))

@@ -1,0 +1,23 @@
+// choose_animation: which of a file's animations a user's `--clip NAME|INDEX` means, for every
+// reader of animations in files (io/gltf_clip_load.h, io/assimp_clip_load.h): the first
+// animation with that exact name, else, when the text is a decimal index (at most 9 digits),
+// the animation at that index.
+// Input:  names  the file's animations in file order ("" for one without a name)
+//         clip   the user's text
+//         file   names the file in messages
+// Output: the index. Throws LoadError naming the file: no animations at all, or no animation of
+//         that name or index (listing the file's animations as `0 'walk', 1 'run'`).
+#pragma once
+
+#include <filesystem>
+#include <span>
+#include <string>
+
+#include "io/load_error.h"
+
+namespace sweepd::io {
+
+int choose_animation(std::span<const std::string> names, const std::string& clip,
+                     const std::filesystem::path& file);
+
+}  // namespace sweepd::io

@@ -1,0 +1,27 @@
+#include "io/model_clip_load.h"
+
+#include "io/assimp_clip_load.h"
+#include "io/assimp_load.h"
+#include "io/file_bytes.h"
+#include "io/gltf_clip_load.h"
+#include "io/model_load.h"
+
+namespace sweepd::io {
+
+motion::Clip load_model_clip(const std::filesystem::path& file, const std::string& clip) {
+  if (!is_assimp_file(file)) return load_gltf_clip(file, clip);
+  return load_assimp_clip(read_file_bytes(file), file, clip);
+}
+
+motion::Clip load_model_clip(std::span<const std::uint8_t> bytes,
+                             const std::filesystem::path& label, const std::string& clip) {
+  if (assimp_model_suffix(bytes).empty()) return load_gltf_clip(bytes, label, clip);
+  return load_assimp_clip(bytes, label, clip);
+}
+
+std::vector<std::string> model_animation_names(const std::filesystem::path& file) {
+  if (!is_assimp_file(file)) return gltf_animation_names(file);
+  return assimp_animation_names(read_file_bytes(file), file);
+}
+
+}  // namespace sweepd::io

@@ -1,0 +1,30 @@
+// load_model_clip / model_animation_names: an animation of any model file sweepctl takes —
+// glTF 2.0 (io/gltf_clip_load.h), FBX or COLLADA (io/assimp_clip_load.h) — with the reader chosen
+// from the file's first bytes, as io::load_model chooses the model reader, so the clip's joints
+// are those of the model load_model reads from the same file.
+//
+// Input:  file   the model file (a glTF may use files in its own directory, as load_model's);
+//                or its bytes (a client's upload) with a label naming them in messages: then
+//                self-contained, a glTF's GLB chunk and data: URIs only, as for model uploads
+//         clip   the animation's name, or its index ("0", "1", ...) (io/animation_choice.h)
+// Output: the clip; model_animation_names: the names in file order ("" for one without a name).
+// Throws io::LoadError naming the file and the problem.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "io/load_error.h"
+#include "motion/clip.h"
+
+namespace sweepd::io {
+
+motion::Clip load_model_clip(const std::filesystem::path& file, const std::string& clip);
+motion::Clip load_model_clip(std::span<const std::uint8_t> bytes,
+                             const std::filesystem::path& label, const std::string& clip);
+std::vector<std::string> model_animation_names(const std::filesystem::path& file);
+
+}  // namespace sweepd::io
