@@ -176,6 +176,11 @@ bool stream_on(sweepd::client::Connection& channel, const Options& options, cons
           if (sequence >= 1 && sequence <= stream.settled.size())
             stream.settled[sequence - 1] = 1;
           std::fprintf(stderr, "%s\n", why.c_str());
+        } else {  // a Bye (the server drains, then closes), or else no pose's reply
+          const pb::Bye* bye = message.body_as_Bye();
+          lose(std::string("the server said Bye") +
+               (bye && bye->reason() ? ": " + bye->reason()->str() : ""));
+          break;
         }
       } catch (const std::exception& error) {  // lost, or a frame that is not the protocol's
         lose(error.what());
