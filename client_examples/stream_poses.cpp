@@ -141,9 +141,10 @@ bool stream_on(sweepd::client::Connection& channel, const Options& options, cons
   // InOrder: every pose gets one reply; LatestWins: the newest pose is always answered.
   const std::size_t expected = again.size() + static_cast<std::size_t>(frames - next);
   const std::uint64_t newest = static_cast<std::uint64_t>(frames);  // its sequence
+  // The first frame this connection sends (read here: the sender moves `next` on).
+  const std::size_t first_frame = static_cast<std::size_t>(again.empty() ? next : again.front());
   std::thread reader([&]() {
-    std::size_t oldest = again.empty() ? static_cast<std::size_t>(next)
-                                       : static_cast<std::size_t>(again.front());
+    std::size_t oldest = first_frame;
     for (std::size_t replies = 0; replies < expected && !lost;) {
       std::uint64_t sequence = 0;
       try {
