@@ -3,12 +3,14 @@
 // tests/server/haproxy_process.h), all on loopback, as deploy/README.md runs them.
 //
 //   fleet_bench [--daemon PATH] [--render-frames PATH] [--vertices N] [--poses N] [--rounds N]
-//               [--frames N] [--side N]
+//               [--frames N] [--side N] [--haproxy-config FILE ...] [--no-renders]
 //
 // 1. The proxy hop: one client, one pose at a time (InOrder, float32 positions), directly to a
 //    replica and through HAProxy, in alternating rounds so that drift of the machine's load
 //    falls on both → round trip p50 / p99 each, and through ÷ direct at p50 (the target:
-//    ≤ 1.10 at 72k vertices).
+//    ≤ 1.10 at 72k vertices). --haproxy-config (repeatable; default deploy/haproxy.cfg) starts
+//    one HAProxy per file, each measured in the same rounds against the same direct baseline,
+//    to compare configurations in one run.
 // 2. Render throughput: render_frames over --frames frames of CMU clip 01_01 at --side² (position
 //    and coverage, uncompressed), against one replica; against both (--server A,B); and as two
 //    shards at once through HAProxy → frames per second each, and two ÷ one (target ≥ 0.9: both
@@ -41,6 +43,8 @@ using sweepd::bench::BenchPose;
 struct Options {
   std::string daemon = SWEEPD_DAEMON, render_frames = SWEEPD_RENDER_FRAMES;
   int vertices = 72000, poses = 200, rounds = 3, frames = 40, side = 512;
+  std::vector<std::string> haproxy_configs;
+  bool renders = true;
 };
 
 // Round trips of `poses`, one at a time, on a new connection to `address` (after 10 warm-up
@@ -112,6 +116,27 @@ void describe(CLI::App& app, Options& o) {
   app.add_option("--side", o.side, "position map width and height")
       ->check(sweepd::console::whole_number(16, 8192))
       ->capture_default_str();
+  app.add_option("--haproxy-config", o.haproxy_configs,
+                 "an HAProxy configuration to measure (repeatable; default deploy/haproxy.cfg)")
+      ->check(CLI::ExistingFile);
+  app.add_flag("!--no-renders", o.renders, "only the proxy hop (part 1)");
+}
+
+// Part 2: render_frames on one replica, on both, and as two shards through HAProxy.
+void render_rates(const Options& options,
+                  const std::vector<std::unique_ptr<sweepd::bench::BenchDaemon>>& replicas,
+                  const std::string& proxy, const fs::path& frames) {
+  const std::string a = replicas[0]->address(), b = replicas[1]->address();
+  const double one = render_rate(options, {"--server " + a}, frames);
+  const double both = render_rate(options, {"--server " + a + "," + b}, frames);
+  const double sharded = render_rate(
+      options, {"--server " + proxy + " --shard 0/2", "--server " + proxy + " --shard 1/2"},
+      frames);
+  std::printf("| %d frames at %d², uncompressed | frames/s | ÷ one replica |\n|---|---|---|\n",
+              options.frames, options.side);
+  std::printf("| one replica | %.2f | 1 |\n", one);
+  std::printf("| two replicas (--server A,B) | %.2f | %.3f |\n", both, both / one);
+  std::printf("| two shards through HAProxy | %.2f | %.3f |\n\n", sharded, sharded / one);
 }
 
 int run_bench(const Options& options) {
@@ -131,15 +156,22 @@ int run_bench(const Options& options) {
                                  (home / "http_port").string()}));
     ports.push_back({replicas.back()->port(), replicas.back()->http_port()});
   }
-  sweepd::test::HaproxyProcess haproxy(fs::path(SWEEPD_SOURCE_DIR) / "deploy" / "haproxy.cfg",
-                                       directory, ports);
-  if (!haproxy.running() || !haproxy.wait_for("replica1", "UP", std::chrono::seconds(15)) ||
-      !haproxy.wait_for("replica2", "UP", std::chrono::seconds(15))) {
-    std::fprintf(stderr, "fleet_bench: haproxy did not serve both replicas:\n%s\n",
-                 haproxy.log().c_str());
-    return 1;
+  std::vector<std::string> configs = options.haproxy_configs;
+  if (configs.empty()) configs.push_back(fs::path(SWEEPD_SOURCE_DIR) / "deploy" / "haproxy.cfg");
+  std::vector<std::unique_ptr<sweepd::test::HaproxyProcess>> proxies;
+  for (std::size_t c = 0; c < configs.size(); ++c) {
+    const fs::path home = directory / ("haproxy" + std::to_string(c + 1));
+    fs::create_directories(home);
+    proxies.push_back(std::make_unique<sweepd::test::HaproxyProcess>(configs[c], home, ports));
+    sweepd::test::HaproxyProcess& haproxy = *proxies.back();
+    if (!haproxy.running() || !haproxy.wait_for("replica1", "UP", std::chrono::seconds(15)) ||
+        !haproxy.wait_for("replica2", "UP", std::chrono::seconds(15))) {
+      std::fprintf(stderr, "fleet_bench: haproxy (%s) did not serve both replicas:\n%s\n",
+                   configs[c].c_str(), haproxy.log().c_str());
+      return 1;
+    }
   }
-  const std::string proxy = "127.0.0.1:" + std::to_string(haproxy.port());
+  const std::string proxy = "127.0.0.1:" + std::to_string(proxies.front()->port());
 
   std::vector<BenchPose> poses;
   std::uint32_t vertex_count = 0;
@@ -151,37 +183,32 @@ int run_bench(const Options& options) {
     poses = sweepd::bench::clip_poses(info, options.poses);
     connection.close();
   }
-  std::vector<double> direct, through;
+  std::vector<double> direct;
+  std::vector<std::vector<double>> through(proxies.size());
   for (int round = 0; round < options.rounds; ++round) {
     round_trips(replicas[0]->address(), poses, direct);
-    round_trips(proxy, poses, through);
+    for (std::size_t c = 0; c < proxies.size(); ++c)
+      round_trips("127.0.0.1:" + std::to_string(proxies[c]->port()), poses, through[c]);
   }
   using sweepd::bench::percentile;
   std::printf(
       "| %u vertices, %d × %d poses | direct p50 ms | p99 ms | through HAProxy p50 ms | "
       "p99 ms | through ÷ direct p50 |\n|---|---|---|---|---|---|\n",
       vertex_count, options.rounds, options.poses);
-  std::printf("| one at a time | %.3f | %.3f | %.3f | %.3f | %.3f |\n\n", percentile(direct, 0.5),
-              percentile(direct, 0.99), percentile(through, 0.5), percentile(through, 0.99),
-              percentile(through, 0.5) / percentile(direct, 0.5));
+  for (std::size_t c = 0; c < proxies.size(); ++c) {
+    std::printf("| %s | %.3f | %.3f | %.3f | %.3f | %.3f |\n",
+                configs.size() == 1 ? "one at a time" : configs[c].c_str(),
+                percentile(direct, 0.5), percentile(direct, 0.99), percentile(through[c], 0.5),
+                percentile(through[c], 0.99), percentile(through[c], 0.5) / percentile(direct, 0.5));
+  }
+  std::printf("\n");
   std::fflush(stdout);
-
-  const std::string a = replicas[0]->address(), b = replicas[1]->address();
-  const fs::path frames = directory / "frames";
-  const double one = render_rate(options, {"--server " + a}, frames);
-  const double both = render_rate(options, {"--server " + a + "," + b}, frames);
-  const double sharded = render_rate(
-      options, {"--server " + proxy + " --shard 0/2", "--server " + proxy + " --shard 1/2"},
-      frames);
-  std::printf("| %d frames at %d², uncompressed | frames/s | ÷ one replica |\n|---|---|---|\n",
-              options.frames, options.side);
-  std::printf("| one replica | %.2f | 1 |\n", one);
-  std::printf("| two replicas (--server A,B) | %.2f | %.3f |\n", both, both / one);
-  std::printf("| two shards through HAProxy | %.2f | %.3f |\n", sharded, sharded / one);
-  std::printf("\n%u cores; load average at the end: ", std::thread::hardware_concurrency());
+  if (options.renders) render_rates(options, replicas, proxy, directory / "frames");
+  std::printf("%u cores; load average at the end: ", std::thread::hardware_concurrency());
   double load = 0.0;
   std::ifstream("/proc/loadavg") >> load;
   std::printf("%.2f\n", load);
+  proxies.clear();
   replicas.clear();
   fs::remove_all(directory);
   return 0;

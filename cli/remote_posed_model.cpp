@@ -1,11 +1,13 @@
 #include "cli/remote_posed_model.h"
 
 #include <chrono>
+#include <cstdio>
 #include <filesystem>
 #include <stdexcept>
 
 #include "client/clip_upload.h"
 #include "client/mesh_request.h"
+#include "client/reconnect.h"
 #include "io/file_bytes.h"
 #include "io/pose_json.h"
 
@@ -60,52 +62,77 @@ const PosingArguments& checked_model(const PosingArguments& arguments) {
 
 }  // namespace
 
-template <typename Reply>
-const Reply& RemotePosedModel::reply_as() {
+template <typename Reply, typename Send>
+const Reply& RemotePosedModel::ask(const Send& send) {
+  for (bool again = false;; again = true) {
+    try {
+      send();
+      return connection_->expect<Reply>();
+    } catch (const client::ServerError& error) {
+      const bool lost_model = error.code() == pb::ErrorCode::UnknownModel ||
+                              error.code() == pb::ErrorCode::UnknownClip;
+      if (again || !lost_model) throw server_failure(connection_->address(), error);
+      std::fprintf(stderr, "sweepctl: sweepd at %s: %s; loading the model again\n",
+                   connection_->address().c_str(), error.what());
+      set_up_again(*connection_);
+    } catch (const client::ConnectionLost& error) {
+      if (again) throw;
+      std::fprintf(stderr, "sweepctl: %s; connecting again\n", error.what());
+      connection_ = client::reconnect(server_.address, server_.tls, [this](client::Connection& c) {
+        c.hello(server_.token, "sweepctl");
+        set_up_again(c);
+      });
+    }
+  }
+}
+
+void RemotePosedModel::set_up_again(client::Connection& connection) {
   try {
-    return connection_.expect<Reply>();
+    const int uploads = source_->uploads();
+    model_id_ = source_->load(connection).model_id();
+    if (source_->uploads() > uploads)
+      std::fprintf(stderr, "sweepctl: uploaded %s again to sweepd at %s\n",
+                   source_->name().c_str(), connection.address().c_str());
+    if (!clip_id_.empty()) clip_id_ = upload_clip(connection, local_model_file_).clip_id()->str();
   } catch (const client::ServerError& error) {
-    throw server_failure(connection_.address(), error);
+    throw server_failure(connection.address(), error);
   }
 }
 
 RemotePosedModel::RemotePosedModel(const PosingArguments& arguments, const ServerAddress& server,
                                    ClipPosing clip_posing)
-    : arguments_(checked_model(arguments)), connection_(server.address, server.tls) {
+    : arguments_(checked_model(arguments)),
+      server_(server),
+      connection_(std::make_unique<client::Connection>(server.address, server.tls)) {
   try {
-    connection_.hello(server.token, "sweepctl");
+    connection_->hello(server.token, "sweepctl");
     const std::filesystem::path& file = arguments.model;
-    const bool local_file = std::filesystem::is_regular_file(file);
-    const std::string name = local_file ? file.filename().string() : file.string();
-    std::vector<std::uint8_t> upload;
-    if (!local_file) {
+    local_model_file_ = std::filesystem::is_regular_file(file);
+    const std::string name = local_model_file_ ? file.filename().string() : file.string();
+    const std::string rig = arguments.rig.empty() ? "" : io::read_file_text(arguments.rig);
+    // The bytes are kept for a server that lacks the model later (restarted, another replica).
+    source_ = std::make_unique<client::ModelSource>(
+        name, local_model_file_ ? io::read_file_bytes(file) : std::vector<std::uint8_t>{}, rig,
+        static_cast<std::uint8_t>(arguments.orientation));
+    bool loaded = false;
+    if (!local_model_file_) {
       origin_ = "server";
-    } else if (loaded_on_server(connection_, name)) {
+    } else if (loaded_on_server(*connection_, name)) {
       origin_ = "already loaded";
+      loaded = true;
     } else {
       origin_ = "uploaded";
-      upload = io::read_file_bytes(file);
     }
-    flatbuffers::FlatBufferBuilder& builder = connection_.builder();
-    builder.Clear();
-    const auto rig_json =
-        arguments.rig.empty() ? 0 : builder.CreateString(io::read_file_text(arguments.rig));
-    const auto orientation = static_cast<std::uint8_t>(arguments.orientation);
-    const auto rig = arguments.rig.empty() && orientation == 0
-                         ? 0
-                         : pb::CreateBindOptions(builder, rig_json, 0, orientation);
-    const auto bytes = upload.empty() ? 0 : builder.CreateVector(upload);
-    connection_.send(pb::finish_message(
-        builder, pb::CreateLoadModel(builder, builder.CreateString(name), bytes, rig)));
-    const pb::ModelInfo& info = connection_.expect<pb::ModelInfo>();
+    const pb::ModelInfo& info = loaded ? source_->load_named(*connection_)
+                                       : source_->load(*connection_);
     model_id_ = info.model_id();
-    model_ = client::served_model(connection_, info);    // `info` is invalid from here on
-    if (local_file) model_.name = file.stem().string();  // as the local commands name it
+    model_ = client::served_model(*connection_, info);          // `info` is invalid from here on
+    if (local_model_file_) model_.name = file.stem().string();  // as the local commands name it
     if (arguments.has_clip() && clip_posing == ClipPosing::kHere) {
       player_ = clip_player(arguments, model_);
       if (arguments.fps <= 0.0f) require_clip_frames(arguments, player_->frame_count());
     } else if (arguments.has_clip()) {
-      const pb::ClipInfo& clip = upload_clip(arguments, local_file);
+      const pb::ClipInfo& clip = upload_clip(*connection_, local_model_file_);
       clip_id_ = clip.clip_id()->str();
       if (arguments.fps <= 0.0f)
         require_clip_frames(arguments, static_cast<int>(clip.frame_count()));
@@ -117,14 +144,15 @@ RemotePosedModel::RemotePosedModel(const PosingArguments& arguments, const Serve
   }
 }
 
-const pb::ClipInfo& RemotePosedModel::upload_clip(const PosingArguments& arguments,
+const pb::ClipInfo& RemotePosedModel::upload_clip(client::Connection& connection,
                                                   bool local_model_file) {
+  const PosingArguments& arguments = arguments_;
   const std::string map = arguments.bvh_map.empty() ? "" : io::read_file_text(arguments.bvh_map);
   if (!arguments.bvh.empty())
-    return client::upload_clip(connection_, arguments.bvh.filename().string(),
+    return client::upload_clip(connection, arguments.bvh.filename().string(),
                                io::read_file_text(arguments.bvh), 1.0f, map);
   if (!arguments.clip_from.empty())
-    return client::upload_gltf_clip(connection_, arguments.clip_from.filename().string(),
+    return client::upload_gltf_clip(connection, arguments.clip_from.filename().string(),
                                     io::read_file_bytes(arguments.clip_from), arguments.clip, false,
                                     map);
   // --clip: an animation of MODEL's own file, played on its joints as they are.
@@ -133,13 +161,13 @@ const pb::ClipInfo& RemotePosedModel::upload_clip(const PosingArguments& argumen
                                 ": --clip plays an animation of the model's own glTF, FBX or "
                                 "COLLADA file, uploaded from here; for another file's clip give "
                                 "--clip-from FILE");
-  return client::upload_gltf_clip(connection_, arguments.model.filename().string(),
+  return client::upload_gltf_clip(connection, arguments.model.filename().string(),
                                   io::read_file_bytes(arguments.model), arguments.clip, true);
 }
 
 RemotePosedModel::~RemotePosedModel() {
   try {
-    connection_.close("sweepctl done");
+    connection_->close("sweepctl done");
   } catch (const std::exception&) {
     // The server may already have closed the connection (e.g. after a fatal error).
   }
@@ -180,12 +208,14 @@ pb::PoseFields RemotePosedModel::pose_fields(const deform::Pose& pose, deform::D
 void RemotePosedModel::deform_pose(const deform::Pose& pose, deform::DeformMethod method,
                                    pb::Features features, std::vector<glm::vec3>& positions,
                                    std::vector<glm::vec3>& normals) {
-  pb::PoseFields fields = pose_fields(pose, method, features);
-  fields.normals = true;
-  flatbuffers::FlatBufferBuilder& builder = connection_.builder();
-  builder.Clear();
-  connection_.send(pb::finish_message(builder, pb::add_pose(builder, fields)));
-  copy_vertices(reply_as<pb::PosedVertices>(), positions, normals);
+  const auto send = [&] {
+    pb::PoseFields fields = pose_fields(pose, method, features);
+    fields.normals = true;
+    flatbuffers::FlatBufferBuilder& builder = connection_->builder();
+    builder.Clear();
+    connection_->send(pb::finish_message(builder, pb::add_pose(builder, fields)));
+  };
+  copy_vertices(ask<pb::PosedVertices>(send), positions, normals);
 }
 
 void RemotePosedModel::deform(int frame, std::vector<glm::vec3>& positions,
@@ -194,14 +224,16 @@ void RemotePosedModel::deform(int frame, std::vector<glm::vec3>& positions,
     deform_pose(pose(frame), arguments_.method, features(arguments_), positions, normals);
     return;
   }
-  pb::PoseFields fields = frame_fields(frame);
-  fields.normals = true;
-  flatbuffers::FlatBufferBuilder& builder = connection_.builder();
-  builder.Clear();
-  const auto request =
-      pb::CreatePoseFromClip(builder, pb::add_pose(builder, fields), clip_frame(builder, frame));
-  connection_.send(pb::finish_message(builder, request));
-  copy_vertices(reply_as<pb::PosedVertices>(), positions, normals);
+  const auto send = [&] {
+    pb::PoseFields fields = frame_fields(frame);
+    fields.normals = true;
+    flatbuffers::FlatBufferBuilder& builder = connection_->builder();
+    builder.Clear();
+    const auto request =
+        pb::CreatePoseFromClip(builder, pb::add_pose(builder, fields), clip_frame(builder, frame));
+    connection_->send(pb::finish_message(builder, request));
+  };
+  copy_vertices(ask<pb::PosedVertices>(send), positions, normals);
 }
 
 pb::PoseFields RemotePosedModel::frame_fields(int frame) {
@@ -233,41 +265,45 @@ void RemotePosedModel::copy_vertices(const pb::PosedVertices& reply,
   if (reply.vertex_count() != model_.vertex_count() ||
       !pb::copy_positions(reply, as_floats(positions)) ||
       !pb::copy_normals(reply, as_floats(normals)))
-    throw std::runtime_error("sweepd at " + connection_.address() +
+    throw std::runtime_error("sweepd at " + connection_->address() +
                              ": PosedVertices do not match the model's " +
                              std::to_string(model_.vertex_count()) + " vertices");
 }
 
 std::vector<std::uint8_t> RemotePosedModel::position_map(int frame,
                                                          const RemoteMapOptions& options) {
-  pb::PoseFields fields = frame_fields(frame);
-  fields.sequence = static_cast<std::uint64_t>(frame);  // the EXR header's "frame"
-  const pb::MapLayers layers = pb::MapLayers::Position | pb::MapLayers::Coverage |
-                               (options.normals ? pb::MapLayers::Normal : pb::MapLayers::NONE);
-  const auto side = static_cast<std::uint32_t>(options.size);
-  flatbuffers::FlatBufferBuilder& builder = connection_.builder();
-  builder.Clear();
-  const auto pose = pb::add_pose(builder, fields);
-  const auto request =
-      pb::CreatePositionMapRequest(builder, pose, side, side, options.compression, layers,
-                                   options.half_normals, clip_frame(builder, frame));
-  connection_.send(pb::finish_message(builder, request));
-  const pb::PositionMap& reply = reply_as<pb::PositionMap>();
+  const auto send = [&] {
+    pb::PoseFields fields = frame_fields(frame);
+    fields.sequence = static_cast<std::uint64_t>(frame);  // the EXR header's "frame"
+    const pb::MapLayers layers = pb::MapLayers::Position | pb::MapLayers::Coverage |
+                                 (options.normals ? pb::MapLayers::Normal : pb::MapLayers::NONE);
+    const auto side = static_cast<std::uint32_t>(options.size);
+    flatbuffers::FlatBufferBuilder& builder = connection_->builder();
+    builder.Clear();
+    const auto pose = pb::add_pose(builder, fields);
+    const auto request =
+        pb::CreatePositionMapRequest(builder, pose, side, side, options.compression, layers,
+                                     options.half_normals, clip_frame(builder, frame));
+    connection_->send(pb::finish_message(builder, request));
+  };
+  const pb::PositionMap& reply = ask<pb::PositionMap>(send);
   return {reply.exr()->begin(), reply.exr()->end()};
 }
 
 std::string RemotePosedModel::collision_summary() {
-  flatbuffers::FlatBufferBuilder& builder = connection_.builder();
-  builder.Clear();
-  connection_.send(pb::finish_message(builder, pb::CreateStatsRequest(builder)));
-  const pb::CollisionStats* collision = reply_as<pb::Stats>().collision();
+  const auto send = [&] {
+    flatbuffers::FlatBufferBuilder& builder = connection_->builder();
+    builder.Clear();
+    connection_->send(pb::finish_message(builder, pb::CreateStatsRequest(builder)));
+  };
+  const pb::CollisionStats* collision = ask<pb::Stats>(send).collision();
   if (collision == nullptr) return "";
   using std::chrono::nanoseconds;
   const auto text = [](const flatbuffers::String* s) { return s == nullptr ? "" : s->str(); };
   return describe_collision(
       text(collision->backend()) == "gpu" ? gpu::CollisionBackend::kGpu
                                           : gpu::CollisionBackend::kCpu,
-      " on sweepd at " + connection_.address(), text(collision->reason()),
+      " on sweepd at " + connection_->address(), text(collision->reason()),
       std::to_string(collision->requests()) + " poses since it started, " +
           std::to_string(collision->gpu_fallbacks()) + " GPU fallbacks",
       {nanoseconds(collision->detect_ns()), nanoseconds(collision->fold_ns()),

@@ -12,6 +12,12 @@
 // turned into joint rotations here and goes over the wire. Errors (unreachable server, wrong token,
 // unknown model, refused pose) throw with the server's address, the protocol error code and its
 // reason.
+//
+// A request the server answers with UnknownModel or UnknownClip (a daemon that restarted with a
+// store of its own, another replica behind HAProxy), or whose connection is lost, is asked again
+// once, transparently: on a new connection for a lost one (client/reconnect.h), after the model
+// is loaded again by its content id — its bytes uploaded again only to a server that lacks it
+// (client/model_source.h) — and the clip uploaded again. Each such recovery is said on stderr.
 #pragma once
 
 #include <cstdint>
@@ -23,6 +29,7 @@
 
 #include "cli/posed_model.h"
 #include "client/connection.h"
+#include "client/model_source.h"
 #include "deform/model/model.h"
 #include "motion/clip_poses.h"
 
@@ -87,7 +94,7 @@ class RemotePosedModel {
   // Uploads the arguments' clip (UploadClip): --bvh's text, --clip-from's file, or for --clip
   // alone MODEL's own file (`local_model_file`: MODEL is a file here, a .glb/.gltf) played on
   // the model's own joints.
-  const protocol::ClipInfo& upload_clip(const PosingArguments& arguments, bool local_model_file);
+  const protocol::ClipInfo& upload_clip(client::Connection& connection, bool local_model_file);
   // The pose fields of `frame`: with a clip, only the model, method and features (the clip
   // gives the rest); else the pose's rotations.
   protocol::PoseFields frame_fields(int frame);
@@ -97,12 +104,19 @@ class RemotePosedModel {
   // `reply`'s positions and normals into the caller's arrays; throws when they do not match.
   void copy_vertices(const protocol::PosedVertices& reply, std::vector<glm::vec3>& positions,
                      std::vector<glm::vec3>& normals) const;
-  // The next reply as a Reply; a server Error throws with the address, code and reason.
-  template <typename Reply>
-  const Reply& reply_as();
+  // Sends what `send()` builds on connection_ and returns the reply as a Reply, asking once
+  // more after set_up_again() (on a new connection when it was lost) for UnknownModel,
+  // UnknownClip or a lost connection; a server Error throws with the address, code and reason.
+  template <typename Reply, typename Send>
+  const Reply& ask(const Send& send);
+  // The model (by content id, uploaded again where missing) and the clip, on `connection`.
+  void set_up_again(client::Connection& connection);
 
   PosingArguments arguments_;
-  client::Connection connection_;
+  ServerAddress server_;
+  std::unique_ptr<client::Connection> connection_;
+  std::unique_ptr<client::ModelSource> source_;  // the model as every server gets it
+  bool local_model_file_ = false;
   std::uint32_t model_id_ = 0;
   std::string origin_;
   deform::Model model_;

@@ -1,5 +1,7 @@
 #include "client/connection.h"
 
+#include <sys/socket.h>
+
 #include <cstring>
 #include <optional>
 
@@ -36,7 +38,7 @@ Connection::Connection(const std::string& host, const std::string& port, const C
   try {
     asio::connect(socket_, asio::ip::tcp::resolver(io_).resolve(host, port));
   } catch (const std::system_error& error) {
-    throw std::runtime_error("cannot connect to sweepd at " + address_ + ": " + error.what());
+    throw ConnectionLost("cannot connect to sweepd at " + address_ + ": " + error.what());
   }
   socket_.set_option(asio::ip::tcp::no_delay(true));
   if (tls.enabled)
@@ -59,10 +61,10 @@ const pb::Welcome& Connection::hello(std::string_view token, std::string_view cl
     return expect<pb::Welcome>();
   } catch (const ServerError&) {
     throw;
-  } catch (const std::runtime_error& error) {
+  } catch (const ConnectionLost& error) {
     if (tls_) throw;
     // A TLS listener drops a plaintext Hello without a reply.
-    throw std::runtime_error(
+    throw ConnectionLost(
         std::string(error.what()) +
         " (closed before Welcome: if sweepd has --tls-cert, connect with --tls)");
   }
@@ -85,7 +87,7 @@ void Connection::send(std::span<const std::uint8_t> frame) {
   try {
     asio::write(socket_, asio::buffer(frame.data(), frame.size()));
   } catch (const std::system_error& error) {
-    throw std::runtime_error("sending to sweepd at " + address_ + ": " + error.what());
+    throw ConnectionLost("sending to sweepd at " + address_ + ": " + error.what());
   }
 }
 
@@ -130,7 +132,7 @@ void Connection::read_exactly(std::span<std::uint8_t> bytes) {
     }
     if (*result) throw std::system_error(*result);
   } catch (const std::system_error& error) {
-    throw std::runtime_error("reading from sweepd at " + address_ + ": " + error.what());
+    throw ConnectionLost("reading from sweepd at " + address_ + ": " + error.what());
   }
 }
 
@@ -141,6 +143,11 @@ void Connection::close(std::string_view reason) {
   std::error_code ignored;
   socket_.shutdown(asio::ip::tcp::socket::shutdown_both, ignored);
   socket_.close(ignored);
+}
+
+void Connection::abort() {
+  // shutdown(2), not asio's: asio's socket object is not for use by two threads at once.
+  ::shutdown(socket_.native_handle(), SHUT_RDWR);
 }
 
 void Connection::throw_if_error(const pb::Message& message) {

@@ -9,9 +9,11 @@
 //   const PosedVertices& reply = connection.expect<PosedVertices>();
 //
 // A reply is valid until the next receive. Server errors become ServerError exceptions
-// (with the code); socket, TLS and framing problems std::runtime_error naming the address; a
-// receive that waits longer than set_receive_timeout() allows ReceiveTimeout (the connection
-// is unusable then: a late reply must not be taken for the next request's).
+// (with the code); a connection that cannot be made or breaks (closed, reset, a failed send or
+// receive) ConnectionLost naming the address (client/connection_lost.h: the caller may connect
+// again); frames that are not the protocol's std::runtime_error; a receive that waits longer
+// than set_receive_timeout() allows ReceiveTimeout, a ConnectionLost (the connection is
+// unusable then: a late reply must not be taken for the next request's).
 // One thread may receive while another sends. hello() with a token over plain TCP to a peer
 // that is not loopback throws (the token would cross the network in clear) unless
 // tls.allow_plaintext.
@@ -74,6 +76,9 @@ class Connection {
   }
   // Bye, then the socket is closed.
   void close(std::string_view reason = "done");
+  // Shuts the socket down without a Bye, from any thread: a receive or send blocked in another
+  // thread ends with ConnectionLost (a client giving up on a connection it found broken).
+  void abort();
 
   // A builder for the caller's requests (cleared before each use by the caller).
   flatbuffers::FlatBufferBuilder& builder() { return builder_; }

@@ -4,16 +4,21 @@ namespace sweepd::client {
 
 namespace pb = sweepd::protocol;
 
-ModelSource::ModelSource(std::string name, std::vector<std::uint8_t> glb, std::string rig_map_json)
-    : name_(std::move(name)), rig_map_json_(std::move(rig_map_json)), glb_(std::move(glb)) {}
+ModelSource::ModelSource(std::string name, std::vector<std::uint8_t> glb, std::string rig_map_json,
+                         std::uint8_t orientation)
+    : name_(std::move(name)),
+      rig_map_json_(std::move(rig_map_json)),
+      glb_(std::move(glb)),
+      orientation_(orientation) {}
 
 const pb::ModelInfo& ModelSource::request(Connection& connection, const std::string& content_id,
                                           bool with_bytes) {
   flatbuffers::FlatBufferBuilder& builder = connection.builder();
   builder.Clear();
-  const auto options = rig_map_json_.empty()
+  const auto rig_map = rig_map_json_.empty() ? 0 : builder.CreateString(rig_map_json_);
+  const auto options = rig_map_json_.empty() && orientation_ == 0
                            ? 0
-                           : pb::CreateBindOptions(builder, builder.CreateString(rig_map_json_));
+                           : pb::CreateBindOptions(builder, rig_map, 0, orientation_);
   const auto bytes = with_bytes && !glb_.empty() ? builder.CreateVector(glb_) : 0;
   const auto id = content_id.empty() ? 0 : builder.CreateString(content_id);
   connection.send(pb::finish_message(
@@ -37,8 +42,19 @@ const pb::ModelInfo& ModelSource::load(Connection& connection) {
   const pb::ModelInfo& info = request(connection, "", /*with_bytes=*/true);
   std::lock_guard lock(mutex_);
   if (!glb_.empty()) ++uploads_;
-  if (content_id_.empty() && info.content_id()) content_id_ = info.content_id()->str();
+  remember(info);
   return info;
+}
+
+const pb::ModelInfo& ModelSource::load_named(Connection& connection) {
+  const pb::ModelInfo& info = request(connection, "", /*with_bytes=*/false);
+  std::lock_guard lock(mutex_);
+  remember(info);
+  return info;
+}
+
+void ModelSource::remember(const pb::ModelInfo& info) {
+  if (content_id_.empty() && info.content_id()) content_id_ = info.content_id()->str();
 }
 
 int ModelSource::uploads() const {

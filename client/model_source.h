@@ -3,7 +3,9 @@
 // bytes only to a server that lacks them (issue 14 item 2).
 //
 // The first load() is the client's request as given: an upload (name + .glb bytes, and a rig
-// map if any) or a name the server knows (its default model, a model directory file). The
+// map and orientation curve if any) or a name the server knows (its default model, a model
+// directory file); load_named() instead asks for an upload's name alone, for a caller that
+// knows the server holds a model of that name (sweepctl lists the models first). The
 // ModelInfo answering it carries the model's content id (protocol 1.3). Every later load(), on
 // any connection, asks for that content id first (LoadModel{content_id}, no bytes: the server
 // holds the model, or adopts it from a store it shares with the replica that bound it); only a
@@ -12,6 +14,10 @@
 //
 //   ModelSource source("body.glb", bytes);             // or ModelSource("mannequin", {})
 //   const protocol::ModelInfo& info = source.load(connection);   // on each new connection
+//
+// A client that gets UnknownModel (or loses its connection: client/reconnect.h) for a request
+// naming the model calls load() again — on the same connection or a new one — and asks again,
+// once: stream_poses, render_frames and `sweepctl --server` do.
 //
 // uploads(): how many times the bytes were sent (1 in a fleet sharing a store). Thread-safe:
 // render_frames' server threads share one. Throws what Connection throws (ServerError with
@@ -29,9 +35,14 @@ namespace sweepd::client {
 
 class ModelSource {
  public:
-  ModelSource(std::string name, std::vector<std::uint8_t> glb, std::string rig_map_json = {});
+  // orientation: BindOptions.orientation (0 the paper's linear curve, 1 the smooth one).
+  ModelSource(std::string name, std::vector<std::uint8_t> glb, std::string rig_map_json = {},
+              std::uint8_t orientation = 0);
 
   const protocol::ModelInfo& load(Connection& connection);
+  // LoadModel{name} without the bytes (the rig map and orientation as given); its content id is
+  // remembered as load()'s is, so that a later load() of a server lacking it gets the bytes.
+  const protocol::ModelInfo& load_named(Connection& connection);
   int uploads() const;
   const std::string& name() const { return name_; }
 
@@ -39,9 +50,12 @@ class ModelSource {
   // LoadModel{name, bytes, rig map, content id}; an empty content id asks as given.
   const protocol::ModelInfo& request(Connection& connection, const std::string& content_id,
                                      bool with_bytes);
+  // Keeps the content id of the first answer.
+  void remember(const protocol::ModelInfo& info);
 
   const std::string name_, rig_map_json_;
   const std::vector<std::uint8_t> glb_;
+  const std::uint8_t orientation_;
   mutable std::mutex mutex_;
   std::string content_id_;  // from the first ModelInfo; empty before it, or from an old server
   int uploads_ = 0;

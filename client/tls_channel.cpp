@@ -132,10 +132,10 @@ int TlsChannel::run(Call call, const char* what, std::chrono::milliseconds timeo
         events = POLLOUT;
         break;
       case SSL_ERROR_ZERO_RETURN:
-        throw std::runtime_error(std::string(what) + " sweepd at " + address_ +
-                                 ": the server closed the connection");
+        throw ConnectionLost(std::string(what) + " sweepd at " + address_ +
+                             ": the server closed the connection");
       default:
-        throw std::runtime_error(std::string(what) + " sweepd at " + address_ + ": TLS: " + reason);
+        throw ConnectionLost(std::string(what) + " sweepd at " + address_ + ": TLS: " + reason);
     }
     pollfd wait{fd_, events, 0};
     if (::poll(&wait, 1, timeout.count() > 0 ? static_cast<int>(timeout.count()) : -1) == 0) {

@@ -11,7 +11,8 @@
 //                                        server sends nothing for tls.handshake_timeout.
 //                                        Makes `fd` non-blocking.
 //   write_all(bytes), read_exactly(bytes, timeout)
-//                                        the whole span, or std::runtime_error; a read that
+//                                        the whole span, or ConnectionLost (closed, a TLS
+//                                        error: client/connection_lost.h); a read that
 //                                        waits `timeout` (zero: for ever) for the socket
 //                                        throws ReceiveTimeout
 //   close()                              close_notify, best effort (the socket stays open)

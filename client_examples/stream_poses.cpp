@@ -6,15 +6,21 @@
 //                [--model-file body.glb] [--frames N] [--flat-out] [--latest-wins] [--float16]
 //
 // 1. Connect, Hello (with the token; LatestWins if asked), read Welcome.
-// 2. Choose the model: --model-file uploads a .glb (LoadModel with bytes); otherwise the
-//    server's default "mannequin" (LoadModel by name).
+// 2. Choose the model (client/model_source.h): --model-file uploads a .glb (LoadModel with
+//    bytes); otherwise the server's default "mannequin" (LoadModel by name).
 // 3. Upload the clip once (UploadClip, client/clip_file_flags.h): a BVH's text, or a glTF
 //    file's bytes and the animation's name (protocol 1.7); the server reads it and retargets
 //    it onto the model, so this client needs no skeleton and no retargeter.
 // 4. Stream the clip: one PoseFromClip per frame, naming the clip and the frame number, at the
 //    clip's frame rate or --flat-out (as fast as the server answers, up to
 //    Welcome.max_poses_in_flight queued).
-// 5. Print poses sent/answered/dropped/errors, round-trip latency percentiles, and the
+// 5. A lost connection (the daemon restarted, HAProxy moved to another replica; or the server
+//    answers a pose with UnknownModel/UnknownClip) is made again (client/reconnect.h) and set
+//    up again: the model goes by its content id and is uploaded again only to a server that
+//    lacks it (client/model_source.h), the clip is uploaded again. InOrder, each pose it left
+//    unanswered is asked for again, once (a pose unanswered twice is an error); LatestWins, they
+//    count as dropped. The report then says how many times it connected again.
+// 6. Print poses sent/answered/dropped/errors, round-trip latency percentiles, and the
 //    server's own deformation time for the model (from Stats), to show the overhead.
 //
 // The wire is the protocol alone (protocol/, with the blocking connection of client/).
@@ -23,9 +29,11 @@
 // the flag: --port 12x) or a failure (unreachable server, refused, unreadable clip).
 #include <algorithm>
 #include <asio.hpp>
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <memory>
 #include <mutex>
 #include <semaphore>
 #include <string>
@@ -35,6 +43,8 @@
 #include "client/client_tls_flags.h"
 #include "client/clip_file_flags.h"
 #include "client/connection.h"
+#include "client/model_source.h"
+#include "client/reconnect.h"
 #include "client/token_flags.h"
 #include "console/command_line.h"
 #include "io/file_bytes.h"
@@ -79,104 +89,257 @@ double percentile_ms(std::vector<double> values, double q) {
   return values[static_cast<std::size_t>(q * static_cast<double>(values.size() - 1))];
 }
 
-int run(Options& options) {
-  options.clip.read();
-  sweepd::client::Connection channel(options.host, std::to_string(options.port), options.tls);
-  const std::uint32_t window =
-      channel
-          .hello(options.token, "stream_poses",
-                 options.latest_wins ? pb::PoseDelivery::LatestWins : pb::PoseDelivery::InOrder)
-          .max_poses_in_flight();
+// What a connection is set up with, and what its set-up answered (the same on every server:
+// handles and clip ids come from content).
+struct Session {
+  std::uint32_t window = 1, model_id = 0;
+  std::string clip_id;
+  double frame_time = 0.0;
+  int clip_frames = 0;
+};
 
-  // The model: upload a .glb, or use the server's default mannequin.
-  const std::vector<std::uint8_t> glb = options.model_file.empty()
-                                            ? std::vector<std::uint8_t>{}
-                                            : sweepd::io::read_file_bytes(options.model_file);
-  const pb::ModelInfo& info =
-      channel.load_model(options.model_file.empty() ? "mannequin" : options.model_file, glb);
-  const std::uint32_t model_id = info.model_id();
-  std::printf("model %u: %u vertices, %u joints\n", model_id, info.vertex_count(),
-              info.joint_names()->size());
-  // `info` is invalid from the next receive on.
-  const pb::ClipInfo& clip = sweepd::client::upload_clip_file(channel, options.clip);
-  const std::string clip_id = clip.clip_id()->str();
-  const double frame_time = 1.0 / clip.frames_per_second();
-  const int clip_frames = static_cast<int>(clip.frame_count());
-  std::printf("clip %s: %d frames at %.0f fps\n", clip.name()->c_str(), clip_frames,
-              clip.frames_per_second());
-
-  const int frames = options.frames > 0 ? std::min(options.frames, clip_frames) : clip_frames;
-
-  // Replies are read on their own thread; `slots` bounds the poses in flight.
-  std::counting_semaphore<1 << 16> slots(static_cast<std::ptrdiff_t>(window));
-  std::vector<Clock::time_point> sent_at(static_cast<std::size_t>(frames) + 1);
+// The stream across connections: when each frame was sent, how often, whether it is settled
+// (answered, dropped or failed), and the counts for the report.
+struct Stream {
+  explicit Stream(int frames)
+      : sent_at(static_cast<std::size_t>(frames)),
+        tries(static_cast<std::size_t>(frames), 0),
+        settled(static_cast<std::size_t>(frames), 0) {}
+  std::mutex mutex;
+  std::vector<Clock::time_point> sent_at;
+  std::vector<int> tries;
+  std::vector<char> settled;
   std::vector<double> latencies_ms;
   std::uint64_t answered = 0, dropped = 0, errors = 0;
-  std::thread reader([&]() {
-    for (std::uint64_t last = 0; last < static_cast<std::uint64_t>(frames);) {
-      const pb::Message& message = channel.receive();
-      std::uint64_t sequence = 0;
-      if (const pb::PosedVertices* reply = message.body_as_PosedVertices()) {
-        sequence = reply->sequence();
-        latencies_ms.push_back(
-            std::chrono::duration<double, std::milli>(Clock::now() - sent_at[sequence]).count());
-        ++answered;
-        dropped += reply->dropped_before();
+};
 
-      } else if (const pb::Error* error = message.body_as_Error()) {
-        sequence = error->sequence();
-        ++errors;
-        std::fprintf(stderr, "error %s: %s\n", pb::EnumNameErrorCode(error->code()),
-                     error->message()->c_str());
+// Whether an Error for a pose means this connection cannot go on: the server no longer has
+// the model or clip (a restarted daemon, a replica with a store of its own; set up again, the
+// model is uploaded again) or closes.
+bool ends_connection(const pb::Error& error) {
+  return error.fatal() || error.code() == pb::ErrorCode::UnknownModel ||
+         error.code() == pb::ErrorCode::UnknownClip;
+}
+
+// One connection's part of the stream: `again` (frames a lost connection left unanswered, sent
+// at once), then frames from `next` on at the clip's rate (or --flat-out). Returns true when
+// every frame it sent was settled; false when the connection was lost (or ended by the
+// server, ends_connection), with `next` at the first frame it did not send.
+bool stream_on(sweepd::client::Connection& channel, const Options& options, const Session& session,
+               Stream& stream, const std::vector<int>& again, int& next, int frames,
+               Clock::time_point start) {
+  const bool in_order = !options.latest_wins;
+  // Replies are read on their own thread; `slots` bounds the poses in flight (InOrder).
+  std::counting_semaphore<1 << 16> slots(static_cast<std::ptrdiff_t>(session.window));
+  std::atomic<bool> lost = false;
+  const auto lose = [&](const std::string& why) {
+    if (lost.exchange(true)) return;
+    std::fprintf(stderr, "stream_poses: %s\n", why.c_str());
+    channel.abort();  // ends a receive or send blocked in the other thread
+    slots.release(static_cast<std::ptrdiff_t>(session.window));
+  };
+  // InOrder: every pose gets one reply; LatestWins: the newest pose is always answered.
+  const std::size_t expected = again.size() + static_cast<std::size_t>(frames - next);
+  const std::uint64_t newest = static_cast<std::uint64_t>(frames);  // its sequence
+  // The first frame this connection sends (read here: the sender moves `next` on).
+  const std::size_t first_frame = static_cast<std::size_t>(again.empty() ? next : again.front());
+  std::thread reader([&]() {
+    std::size_t oldest = first_frame;
+    for (std::size_t replies = 0; replies < expected && !lost;) {
+      std::uint64_t sequence = 0;
+      try {
+        const pb::Message& message = channel.receive();
+        const std::lock_guard lock(stream.mutex);
+        if (const pb::PosedVertices* reply = message.body_as_PosedVertices()) {
+          sequence = reply->sequence();
+          if (sequence < 1 || sequence > stream.settled.size())
+            throw std::runtime_error("a reply to pose " + std::to_string(sequence) +
+                                     ", which was not sent");
+          const std::size_t frame = sequence - 1;
+          stream.latencies_ms.push_back(
+              std::chrono::duration<double, std::milli>(Clock::now() - stream.sent_at[frame])
+                  .count());
+          ++stream.answered;
+          stream.dropped += reply->dropped_before();
+          // Replies come in the order sent (frames ascending on a connection): LatestWins, the
+          // poses before this one that were not answered were dropped, and are counted.
+          for (; !in_order && oldest < frame; ++oldest) stream.settled[oldest] = 1;
+          stream.settled[frame] = 1;
+        } else if (const pb::Error* error = message.body_as_Error()) {
+          sequence = error->sequence();
+          const std::string why = std::string("error ") + pb::EnumNameErrorCode(error->code()) +
+                                  ": " + (error->message() ? error->message()->str() : "");
+          if (ends_connection(*error)) {
+            lose(why);
+            break;
+          }
+          ++stream.errors;
+          if (sequence >= 1 && sequence <= stream.settled.size())
+            stream.settled[sequence - 1] = 1;
+          std::fprintf(stderr, "%s\n", why.c_str());
+        } else {  // a Bye (the server drains, then closes), or else no pose's reply
+          const pb::Bye* bye = message.body_as_Bye();
+          lose(std::string("the server said Bye") +
+               (bye && bye->reason() ? ": " + bye->reason()->str() : ""));
+          break;
+        }
+      } catch (const std::exception& error) {  // lost, or a frame that is not the protocol's
+        lose(error.what());
+        break;
       }
-      last = std::max(last, sequence);
-      if (!options.latest_wins) slots.release();  // InOrder: every pose gets one reply
+      ++replies;
+      if (in_order) slots.release();
+      if (!in_order && sequence == newest) break;
     }
   });
 
   flatbuffers::FlatBufferBuilder& builder = channel.builder();
-  const Clock::time_point start = Clock::now();
-  for (int frame = 0; frame < frames; ++frame) {
-    if (!options.flat_out) {
-      std::this_thread::sleep_until(start + std::chrono::duration_cast<Clock::duration>(
-                                                std::chrono::duration<double>(frame * frame_time)));
-    }
+  const auto send = [&](int frame) {
     pb::PoseFields fields;
-    fields.model_id = model_id;
+    fields.model_id = session.model_id;
     fields.sequence = static_cast<std::uint64_t>(frame) + 1;
     fields.positions = options.float16 ? pb::PositionFormat::Float16 : pb::PositionFormat::Float32;
-    if (!options.latest_wins) slots.acquire();  // LatestWins: the server drops, we never wait
     builder.Clear();
     const auto pose = pb::add_pose(builder, fields);
-    const auto clip_frame = pb::CreateClipFrame(builder, builder.CreateString(clip_id),
+    const auto clip_frame = pb::CreateClipFrame(builder, builder.CreateString(session.clip_id),
                                                 static_cast<std::uint32_t>(frame));
     const auto frame_bytes =
         pb::finish_message(builder, pb::CreatePoseFromClip(builder, pose, clip_frame));
-    sent_at[fields.sequence] = Clock::now();
-    channel.send(frame_bytes);
+    {
+      const std::lock_guard lock(stream.mutex);
+      stream.sent_at[static_cast<std::size_t>(frame)] = Clock::now();
+      ++stream.tries[static_cast<std::size_t>(frame)];
+    }
+    try {
+      channel.send(frame_bytes);
+    } catch (const sweepd::client::ConnectionLost& error) {
+      lose(error.what());
+    }
+  };
+  for (const int frame : again) {
+    if (in_order) slots.acquire();  // LatestWins: the server drops, we never wait
+    if (lost) break;
+    send(frame);
+  }
+  for (; next < frames && !lost; ++next) {
+    if (!options.flat_out) {
+      std::this_thread::sleep_until(
+          start + std::chrono::duration_cast<Clock::duration>(
+                      std::chrono::duration<double>(next * session.frame_time)));
+    }
+    if (in_order) slots.acquire();
+    if (lost) break;
+    send(next);
   }
   reader.join();
+  return !lost;
+}
+
+// The frames sent and not settled when a connection was lost: InOrder, each is asked for again
+// once on the next connection (returned), and a frame lost twice is an error; LatestWins, newer
+// poses replace them, so they count as dropped.
+std::vector<int> unsettled(Stream& stream, const Options& options, int next) {
+  std::vector<int> again;
+  for (int frame = 0; frame < next; ++frame) {
+    const auto f = static_cast<std::size_t>(frame);
+    if (stream.settled[f]) continue;
+    if (!options.latest_wins && stream.tries[f] < 2) {
+      again.push_back(frame);
+      continue;
+    }
+    stream.settled[f] = 1;
+    if (options.latest_wins) {
+      ++stream.dropped;
+    } else {
+      ++stream.errors;
+      std::fprintf(stderr, "frame %d: unanswered on two connections\n", frame);
+    }
+  }
+  return again;
+}
+
+int run(Options& options) {
+  options.clip.read();
+  const std::string address = options.host + ":" + std::to_string(options.port);
+  // The model: a .glb uploaded, or the server's default mannequin; asked for by content id
+  // after the first answer, so a server that lacks it (restarted, another replica) gets it
+  // again (client/model_source.h).
+  sweepd::client::ModelSource model =
+      options.model_file.empty()
+          ? sweepd::client::ModelSource("mannequin", {})
+          : sweepd::client::ModelSource(options.model_file,
+                                        sweepd::io::read_file_bytes(options.model_file));
+  Session session;
+  bool first = true;
+  const auto set_up = [&](sweepd::client::Connection& channel) {
+    session.window =
+        std::max(1u, channel
+                         .hello(options.token, "stream_poses",
+                                options.latest_wins ? pb::PoseDelivery::LatestWins
+                                                    : pb::PoseDelivery::InOrder)
+                         .max_poses_in_flight());
+    const pb::ModelInfo& info = model.load(channel);
+    session.model_id = info.model_id();
+    if (first) {
+      std::printf("model %u: %u vertices, %u joints\n", session.model_id, info.vertex_count(),
+                  info.joint_names()->size());
+    }
+    // `info` is invalid from the next receive on.
+    const pb::ClipInfo& clip = sweepd::client::upload_clip_file(channel, options.clip);
+    session.clip_id = clip.clip_id()->str();
+    session.frame_time = 1.0 / clip.frames_per_second();
+    session.clip_frames = static_cast<int>(clip.frame_count());
+    if (first) {
+      std::printf("clip %s: %d frames at %.0f fps\n", clip.name()->c_str(), session.clip_frames,
+                  clip.frames_per_second());
+    }
+    first = false;
+  };
+  auto channel = std::make_unique<sweepd::client::Connection>(address, options.tls);
+  set_up(*channel);
+
+  const int frames =
+      options.frames > 0 ? std::min(options.frames, session.clip_frames) : session.clip_frames;
+  Stream stream(frames);
+  std::vector<int> again;
+  int next = 0, reconnections = 0;
+  const Clock::time_point start = Clock::now();
+  // A lost connection (the daemon restarted, HAProxy moved us): connect again and go on with
+  // the frames not answered (client/reconnect.h).
+  while (!stream_on(*channel, options, session, stream, again, next, frames, start)) {
+    again = unsettled(stream, options, next);
+    ++reconnections;
+    channel = sweepd::client::reconnect(address, options.tls, set_up);
+  }
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   // The server's own deformation time for this model: round trip ÷ deformation = overhead.
+  flatbuffers::FlatBufferBuilder& builder = channel->builder();
   builder.Clear();
-  channel.send(pb::finish_message(builder, pb::CreateStatsRequest(builder)));
+  channel->send(pb::finish_message(builder, pb::CreateStatsRequest(builder)));
   double deform_p50_ms = 0.0;
-  for (const pb::ModelStats* model : *channel.expect<pb::Stats>().models()) {
-    if (model->model_id() == model_id) deform_p50_ms = model->deform_latency()->p50_ns() * 1e-6;
+  for (const pb::ModelStats* stats : *channel->expect<pb::Stats>().models()) {
+    if (stats->model_id() == session.model_id)
+      deform_p50_ms = stats->deform_latency()->p50_ns() * 1e-6;
   }
-  channel.close("clip finished");
+  channel->close("clip finished");
 
+  if (reconnections > 0) {
+    std::printf("reconnected %d times, model uploaded %d times\n", reconnections,
+                model.uploads());
+  }
+  const std::vector<double>& latencies_ms = stream.latencies_ms;
   std::printf("poses: sent %d, answered %llu, dropped %llu, errors %llu in %.2f s (%.0f/s)\n",
-              frames, static_cast<unsigned long long>(answered),
-              static_cast<unsigned long long>(dropped), static_cast<unsigned long long>(errors),
-              seconds, static_cast<double>(answered) / seconds);
+              frames, static_cast<unsigned long long>(stream.answered),
+              static_cast<unsigned long long>(stream.dropped),
+              static_cast<unsigned long long>(stream.errors), seconds,
+              static_cast<double>(stream.answered) / seconds);
   std::printf("round trip ms: p50 %.3f  p90 %.3f  p99 %.3f  max %.3f\n",
               percentile_ms(latencies_ms, 0.5), percentile_ms(latencies_ms, 0.9),
               percentile_ms(latencies_ms, 0.99), percentile_ms(latencies_ms, 1.0));
   std::printf("server deformation ms: p50 %.3f (round trip p50 / deformation p50 = %.2f)\n",
               deform_p50_ms,
               deform_p50_ms > 0.0 ? percentile_ms(latencies_ms, 0.5) / deform_p50_ms : 0.0);
-  return errors == 0 ? 0 : 1;
+  return stream.errors == 0 ? 0 : 1;
 }
 
 }  // namespace

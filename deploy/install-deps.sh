@@ -12,6 +12,7 @@ packages=(
   libegl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri mesa-utils-bin
   nlohmann-json3-dev libstb-dev libgtest-dev libgmock-dev libbenchmark-dev
   flatbuffers-compiler libflatbuffers-dev python3 python3-flatbuffers zlib1g-dev libcli11-dev
+  libdeflate-dev  # deflate of ZIP position maps (io/exr_zip_encode.h): 0.52-0.63x zlib's time
   libmeshoptimizer-dev  # the protocol's Meshopt position format (protocol/meshopt_vertices.h); Python's sweepd-client loads its libmeshoptimizer.so.2d
   strace  # tests/server/daemon_upload_confinement_test.cpp traces the daemon's file calls
   libcpp-httplib-dev  # sweepd's HTTP side port (server/http/): /healthz, /readyz, /metrics

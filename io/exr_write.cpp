@@ -15,6 +15,7 @@
 #include <stdexcept>
 #include <type_traits>
 
+#include "io/exr_zip_encode.h"
 #include "io/write_whole_file.h"
 
 namespace sweepd::io {
@@ -113,6 +114,10 @@ void encode_exr(const ExrLayers& layers, const ExrOptions& options,
                 std::vector<std::uint8_t>& bytes) {
   if (const std::string problem = validate_exr(layers, options); !problem.empty()) {
     throw std::invalid_argument("EXR position map: " + problem);
+  }
+  if (options.compression == ExrCompression::kZip && !options.openexr_zip) {  // libdeflate
+    encode_zip_exr(layers, options, bytes);
+    return;
   }
   Imf::Header header(layers.width, layers.height);
   header.compression() = to_imf(options.compression);

@@ -8,9 +8,10 @@
 //           normals    W·H·3 floats → channels N.X, N.Y, N.Z (optional: empty span)
 //           coverage   W·H   floats → channel  A            (optional: empty span)
 //         ExrOptions: compression (ZIP by default; NONE, ZIPS, PIZ — all lossless for FLOAT),
-//         zip_level (zlib's, 1-9, for ZIP and ZIPS; default 1: on the 72k mannequin's 1024²
-//         maps it encodes in about 0.6× the time of zlib's default 6 for 3 % more bytes —
-//         float positions' low mantissa bits barely compress at any level) and header
+//         zip_level (deflate's, 1-9, for ZIP and ZIPS; default 1: on the 72k mannequin's 1024²
+//         maps zlib encodes in about 0.6× the time of its default 6 for 3 % more bytes —
+//         float positions' low mantissa bits barely compress at any level; ZIP is deflated by
+//         libdeflate, io/exr_zip_encode.h, in 0.52–0.63× zlib level 1's time) and header
 //         attributes: "model" (string), "frame" (int), "poseHash" (string, 16 hex
 //         digits), "space" ("object" or "camera"), "units" (string, "metres").
 // Output: a scan-line EXR, every channel FLOAT (32-bit) — the normals HALF with
@@ -43,6 +44,9 @@ struct ExrOptions {
   ExrCompression compression = ExrCompression::kZip;
   int zip_level = 1;
   bool half_normals = false;
+  // ZIP compressed by OpenEXR's own writer (zlib, about 1.8× the time) instead of
+  // io/exr_zip_encode.h's libdeflate: the same format, for comparisons.
+  bool openexr_zip = false;
   std::string model;
   int frame = 0;
   std::uint64_t pose_hash = 0;

@@ -215,6 +215,14 @@ def main(port, token, glb, rotations_file, out, other_port, clip_file, animated_
         check(again.content_id == body.content_id, "the same content id again")
         check(bytes_in(sweepd, "again") < glb_bytes / 10, "the bytes are not sent again")
     with Client("127.0.0.1", int(other_port), token=token, client_name="other") as sweepd:
+        # The Model of the first server, posed on a server with a store of its own (as a daemon
+        # restarted on an empty store is): named by its content id, answered UnknownModel, the
+        # bytes uploaded again, then posed as there, streamed poses and position maps too.
+        check(np.array_equal(sweepd.pose(body, rotations).positions, posed.positions),
+              "a Model posed on a server that lacked it")
+        check(all(np.array_equal(p.positions, posed.positions)
+                  for p in sweepd.poses(body, [rotations] * 3)), "streamed there too")
+        check(bytes_in(sweepd, "other") > glb_bytes, "the other server got the bytes once")
         other = sweepd.upload(glb, name="uploaded")
         check(other.content_id == body.content_id, "the same content id on the other server")
         check(bytes_in(sweepd, "other") > glb_bytes, "the other server got the bytes")

@@ -1,12 +1,16 @@
 // client_examples/stream_poses against the real daemon: a CMU clip streamed InOrder is
 // answered pose for pose; streamed LatestWins every pose is answered or counted as dropped; a
 // glTF file's animation (--clip-from, --clip; protocol 1.7) streams like a BVH, and an unknown
-// animation name ends the client naming the file's animations.
+// animation name ends the client naming the file's animations; a daemon restarted on an empty
+// store mid-stream gets the model uploaded again and every pose is answered once.
 #include <gtest/gtest.h>
 
 #include <array>
+#include <future>
 
 #include "io/gltf_load.h"
+#include "io/gltf_save.h"
+#include "mannequin/mannequin.h"
 #include "tests/io/baked_gltf_clip.h"
 #include "tests/server/client_run.h"
 #include "tests/server/daemon_process.h"
@@ -73,6 +77,48 @@ TEST_F(StreamPoses, AGltfAnimationStreamsLikeABvh) {
   const ClientRun both =
       run_stream_poses(port + " --bvh " + clip_.string() + " --clip-from " + baked.string());
   EXPECT_EQ(both.exit_code, 2) << both.output;
+}
+
+// Waits (30 s at most) until `daemon`'s log has `text`.
+bool wait_for_log(const DaemonProcess& daemon, const std::string& text) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (daemon.log().find(text) == std::string::npos) {
+    if (std::chrono::steady_clock::now() > deadline) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return true;
+}
+
+TEST_F(StreamPoses, ADaemonRestartedOnAnEmptyStoreMidStreamGetsTheModelAgain) {
+  const fs::path glb = directory_ / "body.glb";
+  io::save_gltf(mannequin::make_mannequin({.target_vertices = 2500}), glb);
+  // 480 frames at the clip's 120 fps: 4 s, of which the first 0.3 s go to the first daemon.
+  std::future<ClientRun> run = std::async(std::launch::async, [&] {
+    return run_stream_poses(common_arguments() + " --model-file " + glb.string() + " --frames 480");
+  });
+  ASSERT_TRUE(wait_for_log(*daemon_, "\"event\":\"clip_uploaded\"")) << daemon_->log();
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  ASSERT_EQ(run.wait_for(std::chrono::seconds(0)), std::future_status::timeout)
+      << "the stream ended before the restart";
+  const int port = daemon_->port();
+  daemon_->signal(SIGKILL);
+  ASSERT_TRUE(daemon_->wait().has_value());
+  // Another store: the model's content id is unknown there (UnknownModel), as on a replica
+  // without the shared volume.
+  fs::create_directories(directory_ / "restarted");
+  DaemonProcess restarted(directory_ / "restarted", {"--token", "t0k", "--port",
+                                                     std::to_string(port), "--mannequin-vertices",
+                                                     "1000"});
+  ASSERT_TRUE(restarted.running()) << restarted.log();
+
+  const ClientRun result = run.get();
+  ASSERT_EQ(result.exit_code, 0) << result.output << restarted.log();
+  EXPECT_EQ(pose_counts(result.output), (std::array<int, 4>{480, 480, 0, 0})) << result.output;
+  EXPECT_NE(result.output.find("reconnected 1 times, model uploaded 2 times"), std::string::npos)
+      << result.output;
+  // The restarted daemon bound the upload (its start-up log names only the mannequin).
+  EXPECT_NE(restarted.model_id(glb.string()), 0u) << restarted.log();
+  EXPECT_TRUE(wait_for_log(restarted, "\"event\":\"clip_uploaded\"")) << restarted.log();
 }
 
 }  // namespace

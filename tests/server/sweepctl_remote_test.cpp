@@ -1,12 +1,15 @@
 // sweepctl --server against the real daemon on localhost: a remote pose of the uploaded shared
 // male equals the local `sweepctl pose` output byte for byte; a server-only model (the default
 // mannequin) is written from MeshRequest's mesh; remote metrics equal the local ones; wrong
-// token, unknown model and an unreachable server exit non-zero with the reason.
+// token, unknown model and an unreachable server exit non-zero with the reason; a daemon
+// restarted on an empty store in the middle of a frame range gets the model uploaded again and
+// every frame still equals the local one.
 #include "tests/server/sweepctl_remote.h"
 
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <future>
 #include <nlohmann/json.hpp>
 
 #include "client/connection.h"
@@ -16,6 +19,7 @@
 #include "io/gltf_load.h"
 #include "io/gltf_save.h"
 #include "io/sweepbind.h"
+#include "mannequin/mannequin.h"
 #include "metrics/quality_metrics.h"
 #include "motion/retarget.h"
 #include "tests/server/pose_frames.h"
@@ -286,6 +290,58 @@ TEST_F(SweepctlRemote, LocalOnlyCommandsRefuseServer) {
   EXPECT_NE(result.output.find("--server applies to pose, positionmap and metrics"),
             std::string::npos)
       << result.output;
+}
+
+// kill -9 and a restart on the same port with a store of its own between two requests of one
+// `pose --frames` run: the request that found its connection lost is asked again on a new
+// connection, where the model's content id gets UnknownModel and its bytes (and the clip) are
+// uploaded again. Every frame equals the local command's byte for byte.
+TEST(SweepctlRemoteRestart, ADaemonRestartedOnAnEmptyStoreMidRangeGetsTheModelAgain) {
+  using namespace std::chrono_literals;
+  const fs::path directory = fresh_directory("sweepctl_remote_restart");
+  const fs::path glb = directory / "body.glb";
+  io::save_gltf(mannequin::make_mannequin({.target_vertices = 2500}), glb);
+  const std::vector<std::string> flags = {"--token", kToken, "--mannequin-vertices", "1000"};
+  fs::create_directories(directory / "first");
+  DaemonProcess first(directory / "first", flags);
+  ASSERT_TRUE(first.running()) << first.log();
+  const int port = first.port();
+  const std::string pose =
+      "pose " + glb.string() + " --bvh " + kClip.string() + " --frames 100-399 -o ";
+  std::future<ClientRun> remote = std::async(std::launch::async, [&] {
+    return run_sweepctl("--server 127.0.0.1:" + std::to_string(port) + " --token " + kToken +
+                        " " + pose + (directory / "remote").string());
+  });
+  // Killed once the first frame is written: 299 requests come after it.
+  while (!fs::exists(directory / "remote/frame_00100.glb") &&
+         remote.wait_for(5ms) != std::future_status::ready) {
+  }
+  ASSERT_EQ(remote.wait_for(0s), std::future_status::timeout) << "the run ended before the kill";
+  first.signal(SIGKILL);
+  ASSERT_TRUE(first.wait().has_value());
+  fs::create_directories(directory / "restarted");
+  DaemonProcess restarted(directory / "restarted",
+                          with(flags, {"--port", std::to_string(port)}));
+  ASSERT_TRUE(restarted.running()) << restarted.log();
+
+  const ClientRun run = remote.get();
+  ASSERT_EQ(run.exit_code, 0) << run.output << restarted.log();
+  EXPECT_NE(run.output.find("; connecting again"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("uploaded body.glb again to sweepd at 127.0.0.1:" +
+                            std::to_string(port)),
+            std::string::npos)
+      << run.output;
+  EXPECT_NE(restarted.model_id("body.glb"), 0u) << "bound there; log:\n" << restarted.log();
+  const ClientRun local = run_sweepctl(pose + (directory / "local").string());
+  ASSERT_EQ(local.exit_code, 0) << local.output;
+  for (int frame = 100; frame <= 399; ++frame) {
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%05d.glb", frame);
+    const std::vector<char> bytes = file_bytes(directory / "local" / name);
+    ASSERT_FALSE(bytes.empty()) << name;
+    ASSERT_TRUE(bytes == file_bytes(directory / "remote" / name)) << name;
+  }
+  fs::remove_all(directory);
 }
 
 }  // namespace

@@ -158,6 +158,9 @@ class Exchanges:
     _uploaded = {}
     # clip id → (BVH text, name, length scale) of every clip this process uploaded.
     _clip_sources = {}
+    # content id → (name, .glb bytes or None for a model loaded by name, orientation curve) of
+    # every model this process loaded: a Model used on a server that lacks it gets it again.
+    _model_sources = {}
 
     def __init__(self, host="127.0.0.1", port=7878, token="", *, unix=None, tls=None,
                  timeout=30.0, client_name="sweepd-client", latest_wins=False,
@@ -187,7 +190,10 @@ class Exchanges:
 
     def _load(self, name):
         """A model the server holds or finds in its store or model directory, by name."""
-        return (yield from self._load_model(name, b""))
+        model = yield from self._load_model(name, b"")
+        if model.content_id:
+            Exchanges._model_sources.setdefault(model.content_id, (name, None, 0))
+        return model
 
     def _upload(self, glb, name=None, orientation="linear"):
         """Uploads a .glb (a path or its bytes) and returns the bound Model; orientation: the
@@ -212,7 +218,24 @@ class Exchanges:
         model = yield from self._load_model(name, glb, orientation=curve)
         if model.content_id:
             Exchanges._uploaded[key] = model.content_id
+            Exchanges._model_sources[model.content_id] = (name, glb, curve)
         return model
+
+    def _present(self, model):
+        """A Model from another connection made present on this one before a request names it:
+        asked for by its content id (answered at once by a server that holds it or shares a
+        store with one that does); a server that answers UnknownModel (a replica with a store
+        of its own, a daemon restarted on an empty store) gets the bytes this process uploaded
+        again, or the name it was loaded by (as client/model_source.h does)."""
+        source = Exchanges._model_sources.get(model.content_id)
+        if model.content_id:
+            try:
+                return (yield from self._load_model(model.name, b"", content_id=model.content_id))
+            except UnknownModel:
+                if source is None:
+                    raise
+        name, glb, curve = source or (model.name, None, 0)
+        return (yield from self._load_model(name, glb or b"", orientation=curve))
 
     def _mesh(self, model):
         """The model's rest mesh (in the order of every Posed's vertices)."""
@@ -460,7 +483,8 @@ class Exchanges:
 
     def _model_id(self, model):
         if isinstance(model, Model):
-            self._models.setdefault(model.model_id, model)
+            if model.model_id not in self._models:  # loaded on another connection
+                return (yield from self._present(model)).model_id
             return model.model_id
         if model not in self._models:
             if not isinstance(model, str):
