@@ -139,6 +139,14 @@ PosedFrames* posed_frames(int model) {
   return made[model].get();
 }
 
+// The frame a model's next benchmark starts from: the alternation goes on from its last run, so
+// a run's first frame is never the positions the GPU detector saw last (those it would answer
+// with no GPU work).
+std::size_t& next_frame(int model) {
+  static std::size_t next[2] = {0, 0};
+  return next[model];
+}
+
 // Pairs over every collision region per frame. Arguments: model (0 male, 1 mannequin 72k),
 // detector (0 CPU reference on one core, 1 GPU called region by region, 2 GPU detect_all).
 void BM_RegionsPerFrame(benchmark::State& state) {
@@ -152,10 +160,14 @@ void BM_RegionsPerFrame(benchmark::State& state) {
   for (const deform::CollisionRegion& region : regions.regions) lists.push_back(region.triangles);
   std::vector<std::vector<deform::TrianglePair>> pairs(lists.size());
   std::size_t found = 0, triangles = 0, frames = 0, submissions = 0, undecided = 0;
+  std::size_t entries = 0, candidates = 0;
+  std::size_t& frame_index = next_frame(static_cast<int>(state.range(0)));
   gpu::CollisionTimings spent;  // the GPU calls' stages, summed
   auto count = [&] {
     submissions += static_cast<std::size_t>(detector->last_stats().submissions);
     undecided += detector->last_stats().undecided;
+    entries += detector->last_stats().entries;
+    candidates += detector->last_stats().candidates;
     spent.upload += detector->last_timings().upload;
     spent.dispatch += detector->last_timings().dispatch;
     spent.readback += detector->last_timings().readback;
@@ -163,7 +175,8 @@ void BM_RegionsPerFrame(benchmark::State& state) {
   // One buffer the frames are copied into (as a deformation job writes its output), for both.
   std::vector<glm::vec3> positions(f->posed[0].size());
   for (auto _ : state) {
-    const std::vector<glm::vec3>& frame = f->posed[frames++ % 2];
+    const std::vector<glm::vec3>& frame = f->posed[frame_index++ % 2];
+    ++frames;
     std::copy(frame.begin(), frame.end(), positions.begin());
     if (state.range(1) == 2) {
       detector->detect_all(positions, regions.welded_indices, lists, pairs);
@@ -192,6 +205,8 @@ void BM_RegionsPerFrame(benchmark::State& state) {
     return std::chrono::duration<double, std::milli>(t).count() / static_cast<double>(frames);
   };
   if (detector) {
+    state.counters["entries"] = static_cast<double>(entries) / static_cast<double>(frames);
+    state.counters["candidates"] = static_cast<double>(candidates) / static_cast<double>(frames);
     state.counters["upload_ms"] = per_frame_ms(spent.upload);
     state.counters["dispatch_ms"] = per_frame_ms(spent.dispatch);
     state.counters["readback_ms"] = per_frame_ms(spent.readback);
@@ -209,9 +224,8 @@ void BM_CollisionFeatures(benchmark::State& state) {
   const deform::DetectPairs hook = detector ? gpu_hook(*detector) : deform::DetectPairs{};
   std::vector<glm::vec3> positions = f->posed[0];
   deform::FeatureReport report;
-  std::size_t frames = 0;
   for (auto _ : state) {
-    const int frame = static_cast<int>(frames++ % 2);
+    const int frame = static_cast<int>(next_frame(0)++ % 2);
     state.PauseTiming();
     positions = f->posed[frame];
     state.ResumeTiming();

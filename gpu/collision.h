@@ -51,6 +51,17 @@
 // frame's first detection, and one per fold round after it. Up to 64 lists are kept (then the
 // cache starts over).
 //
+// Measured (bench/collision_bench, BM_RegionsPerFrame, the 8 regions per frame at 150° elbow and
+// knee flexion; llvmpipe on a 2-core machine shared with other builds, load average 8-10): on
+// the shared male (6,647 region triangles) 10.0 ms of one core's time with llvmpipe kept to
+// the calling thread (LP_NUM_THREADS=0) against 5.5 ms for the CPU reference (1.8×; the old
+// one-dispatch-per-region detector: 227 ms, 38×), 23 ms wall with llvmpipe's 2 threads
+// against 9.9 ms (2.4×; before 504 ms, 34×); on the 72k mannequin (96k region triangles)
+// 174 ms against 81 ms one core (2.1×), 462 ms wall against 144 ms (3.2×). The time goes to
+// the cell-pair pass (about 60%: 5.5 same-bucket entries met per entry), then the boxes and
+// scatter passes; the CPU side (topology checks, positions, the undecided pairs) is 0.2 ms
+// (2.4 ms on the mannequin). README.md ("The GPU pipeline") has the table.
+//
 // Construct, call and destroy on the context's thread (gpu::Worker jobs); the Context must
 // outlive the detector. last_timings(): the last call's upload (checking and uploading, CPU
 // clock), readback (from the first dispatch to the pairs in hand, CPU exact tests included)
