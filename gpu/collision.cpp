@@ -196,10 +196,12 @@ bool CollisionDetector::refresh(List& list, std::span<const glm::vec3> positions
     extent_max = std::max(extent_max, extent);
   }
   list.finite = finite;
-  // About one triangle per cell, and no box over 17 cells along an axis.
-  const float cell =
-      std::max({static_cast<float>(extent_sum / static_cast<double>(list.triangles.size())),
-                extent_max / 16.0f, 1e-20f});
+  // Twice the mean of the boxes' largest extents (measured on llvmpipe: against the mean, half
+  // the (triangle, cell) entries for a few more pairs per cell, 30% less time), and no box over
+  // 17 cells along an axis.
+  const float cell = std::max(
+      {2.0f * static_cast<float>(extent_sum / static_cast<double>(list.triangles.size())),
+       extent_max / 16.0f, 1e-20f});
   list.inverse_cell = 1.0f / cell;
   return true;
 }

@@ -19,9 +19,9 @@
 // positions go up once, every stale list is processed by the same six dispatches, and the pairs
 // of all of them come back in one read (counters and pairs in one buffer). No allocation, no
 // shader compilation per call once warm (programs are compiled by the constructor).
-//   Broad phase: a spatial hash built by counting sort. Per list a cell size (the mean of its
-//   triangles' largest box extents, at least 1/16 of the largest — the CPU computes it while
-//   it checks the list's positions); each triangle's box enters every cell it covers; bucket
+//   Broad phase: a spatial hash built by counting sort. Per list a cell size (twice the mean of
+//   its triangles' largest box extents, at least 1/16 of the largest — the CPU computes it
+//   while it checks the list's positions); each triangle's box enters every cell it covers; bucket
 //   counts -> one scan per workgroup with one atomic per group -> scatter; then every entry
 //   meets the later entries of its bucket with the same cell and list, and a box pair counts
 //   only in the cell holding its overlap's lower corner (the CPU reference's rule), so each
@@ -52,15 +52,14 @@
 // cache starts over).
 //
 // Measured (bench/collision_bench, BM_RegionsPerFrame, the 8 regions per frame at 150° elbow and
-// knee flexion; llvmpipe on a 2-core machine shared with other builds, load average 8-10): on
-// the shared male (6,647 region triangles) 10.0 ms of one core's time with llvmpipe kept to
-// the calling thread (LP_NUM_THREADS=0) against 5.5 ms for the CPU reference (1.8×; the old
-// one-dispatch-per-region detector: 227 ms, 38×), 23 ms wall with llvmpipe's 2 threads
-// against 9.9 ms (2.4×; before 504 ms, 34×); on the 72k mannequin (96k region triangles)
-// 174 ms against 81 ms one core (2.1×), 462 ms wall against 144 ms (3.2×). The time goes to
-// the cell-pair pass (about 60%: 5.5 same-bucket entries met per entry), then the boxes and
-// scatter passes; the CPU side (topology checks, positions, the undecided pairs) is 0.2 ms
-// (2.4 ms on the mannequin). README.md ("The GPU pipeline") has the table.
+// knee flexion; llvmpipe on a 2-core machine shared with other builds, load average 5-10): on
+// the shared male (6,647 region triangles) 7.9 ms of one core's time with llvmpipe kept on the
+// calling thread (LP_NUM_THREADS=0) against 5.3 ms for the CPU reference (1.5×; the detector
+// this replaces, one dispatch and one wait per region, all in double: 239 ms, 37×), 9.0 ms
+// wall with llvmpipe's 2 threads against 9.8 ms; on the 72k mannequin (96k region triangles)
+// 118-141 ms against 78 ms one core (1.5-1.8×), 137 ms wall against 142 ms. Most of it is the
+// cell-pair pass; the CPU side (topology checks, positions, the undecided pairs) is 0.1 ms
+// (1.5-2.5 ms on the mannequin). README.md ("The GPU pipeline") has the table.
 //
 // Construct, call and destroy on the context's thread (gpu::Worker jobs); the Context must
 // outlive the detector. last_timings(): the last call's upload (checking and uploading, CPU
