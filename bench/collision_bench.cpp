@@ -1,11 +1,15 @@
-// Collision + anatomical features per frame on the shared male, left elbow and knee flexed 150°
-// (the angle between their links, tests/deform/shared_male.h):
-// the CPU reference (grid broad phase) and gpu::CollisionDetector (llvmpipe here, a real GPU
-// where one is lent), for pair detection over all 8 regions and for the whole feature pass
-// (per region: detect, then fold/relax rounds each followed by a detection; protrusion). The
-// sweep deformation itself is timed alongside, and the whole deformation job with folding,
-// protrusion and volume preservation (deform/job/deform_job.h: a standalone frame, I_C from its
-// fixed-point loop, and a stream frame, I_C from the previous frame).
+// Collision + anatomical features per frame, left elbow and knee flexed 150° (the angle between
+// their links, tests/deform/shared_male.h), frames alternating with 149° so that every frame
+// brings new positions (the GPU detector answers unchanged positions from its last submission):
+// the CPU reference (grid broad phase, one core) and gpu::CollisionDetector (llvmpipe here, a
+// real GPU where one is lent), for pair detection over all 8 regions per frame — on the shared
+// male (14.5k vertices) and the 72k procedural mannequin; on the GPU as CollisionFeatures calls
+// it (region by region: the first call sends every stale region in one submission) and through
+// detect_all — and for the whole feature pass on the male (per region: detect, then fold/relax
+// rounds each followed by a detection; protrusion). The sweep deformation itself is timed
+// alongside, and the whole deformation job with folding, protrusion and volume preservation
+// (deform/job/deform_job.h: a standalone frame, I_C from its fixed-point loop, and a stream
+// frame, I_C from the previous frame).
 #include <benchmark/benchmark.h>
 
 #include <cstdio>
@@ -18,6 +22,7 @@
 #include "deform/job/deform_job.h"
 #include "deform/rig/rig_map.h"
 #include "gpu/collision.h"
+#include "bench/bench_models.h"
 #include "io/gltf_load.h"
 #include "tests/deform/shared_male.h"
 
@@ -56,13 +61,7 @@ gpu::CollisionDetector* gpu_detector() {
     try {
       context = std::make_unique<gpu::Context>();
       std::fprintf(stderr, "GL_RENDERER: %s\n", context->renderer().c_str());
-      auto made = std::make_unique<gpu::CollisionDetector>(*context);
-      // Warm up: the driver compiles the shader on its first dispatch.
-      const std::vector<glm::vec3> corners = {{0, 0, 0},  {1, 0, 0},       {0, 1, 0},
-                                              {0, 0, -1}, {0.2f, 0.2f, 1}, {0.3f, 0.2f, 1}};
-      const std::vector<std::uint32_t> indices = {0, 1, 2, 3, 4, 5}, ids = {0, 1};
-      std::vector<deform::TrianglePair> pairs;
-      made->detect(corners, indices, ids, pairs);
+      auto made = std::make_unique<gpu::CollisionDetector>(*context);  // compiles, warms up
       return made;
     } catch (const std::exception& e) {
       std::fprintf(stderr, "no GPU collision: %s\n", e.what());
@@ -110,47 +109,127 @@ void BM_VolumeAndFeatures(benchmark::State& state) {
   state.counters["pairs_after"] = report.features.pairs_after;
 }
 
-// Pairs over all 8 collision regions, CPU (0) or GPU (1).
-void BM_DetectAllRegions(benchmark::State& state) {
-  Scene* s = scene();
-  if (s == nullptr) return state.SkipWithError("shared male absent");
-  const deform::CollisionModel& features = s->runtime->collision();
-  gpu::CollisionDetector* detector = state.range(0) ? gpu_detector() : nullptr;
-  if (state.range(0) && detector == nullptr) return state.SkipWithError("no GL context");
+// A model bound once and posed twice (elbow and knee flexed 150° and 149°): the frames the
+// detection benchmarks alternate between.
+struct PosedFrames {
+  deform::BoundModel bound;
+  std::unique_ptr<deform::ModelRuntime> runtime;
+  deform::DeformContext contexts[2];
+  std::vector<glm::vec3> posed[2];
+};
+
+// 0: the shared male (nullptr without ../shared/data), 1: the 72k mannequin.
+PosedFrames* posed_frames(int model) {
+  static std::unique_ptr<PosedFrames> made[2];
+  if (made[model]) return made[model].get();
+  const deform::Model* source = model == 0 ? bench::shared_male() : &bench::mannequin_72k();
+  if (source == nullptr) return nullptr;
+  made[model] = std::make_unique<PosedFrames>();
+  PosedFrames& f = *made[model];
+  f.bound = deform::bind(*source, deform::detect_rig_map(source->skeleton));
+  f.runtime = std::make_unique<deform::ModelRuntime>(f.bound);
+  for (int frame = 0; frame < 2; ++frame) {
+    f.posed[frame].resize(source->vertex_count());
+    deform::Pose pose = deform::test::left_elbow_and_knee_flexed(*source, 150.0f - frame);
+    // The second frame also moves the whole body 1 mm, so that every region changes.
+    pose.root_translation += glm::vec3(0.0f, 1e-3f * frame, 0.0f);
+    deform::DeformJob{.runtime = *f.runtime, .pose = pose, .positions = f.posed[frame]}.run(
+        f.contexts[frame]);
+  }
+  return made[model].get();
+}
+
+// The frame a model's next benchmark starts from: the alternation goes on from its last run, so
+// a run's first frame is never the positions the GPU detector saw last (those it would answer
+// with no GPU work).
+std::size_t& next_frame(int model) {
+  static std::size_t next[2] = {0, 0};
+  return next[model];
+}
+
+// Pairs over every collision region per frame. Arguments: model (0 male, 1 mannequin 72k),
+// detector (0 CPU reference on one core, 1 GPU called region by region, 2 GPU detect_all).
+void BM_RegionsPerFrame(benchmark::State& state) {
+  PosedFrames* f = posed_frames(static_cast<int>(state.range(0)));
+  if (f == nullptr) return state.SkipWithError("shared male absent");
+  const deform::CollisionRegions& regions = f->runtime->collision().regions;
+  gpu::CollisionDetector* detector = state.range(1) ? gpu_detector() : nullptr;
+  if (state.range(1) && detector == nullptr) return state.SkipWithError("no GL context");
   deform::SelfIntersectionDetector cpu;
-  std::vector<deform::TrianglePair> pairs;
-  std::size_t found = 0, triangles = 0;
+  std::vector<std::span<const std::uint32_t>> lists;
+  for (const deform::CollisionRegion& region : regions.regions) lists.push_back(region.triangles);
+  std::vector<std::vector<deform::TrianglePair>> pairs(lists.size());
+  std::size_t found = 0, triangles = 0, frames = 0, submissions = 0, undecided = 0;
+  std::size_t entries = 0, candidates = 0;
+  std::size_t& frame_index = next_frame(static_cast<int>(state.range(0)));
+  gpu::CollisionTimings spent;  // the GPU calls' stages, summed
+  auto count = [&] {
+    submissions += static_cast<std::size_t>(detector->last_stats().submissions);
+    undecided += detector->last_stats().undecided;
+    entries += detector->last_stats().entries;
+    candidates += detector->last_stats().candidates;
+    spent.upload += detector->last_timings().upload;
+    spent.dispatch += detector->last_timings().dispatch;
+    spent.readback += detector->last_timings().readback;
+  };
+  // One buffer the frames are copied into (as a deformation job writes its output), for both.
+  std::vector<glm::vec3> positions(f->posed[0].size());
   for (auto _ : state) {
-    found = triangles = 0;
-    for (const deform::CollisionRegion& region : features.regions.regions) {
-      if (detector) {
-        detector->detect(s->posed, features.regions.welded_indices, region.triangles, pairs);
-      } else {
-        cpu.detect(s->posed, features.regions.welded_indices, region.triangles, pairs);
+    const std::vector<glm::vec3>& frame = f->posed[frame_index++ % 2];
+    ++frames;
+    std::copy(frame.begin(), frame.end(), positions.begin());
+    if (state.range(1) == 2) {
+      detector->detect_all(positions, regions.welded_indices, lists, pairs);
+      count();
+    } else {
+      for (std::size_t l = 0; l < lists.size(); ++l) {
+        if (detector) {
+          detector->detect(positions, regions.welded_indices, lists[l], pairs[l]);
+          count();
+        } else {
+          cpu.detect(positions, regions.welded_indices, lists[l], pairs[l]);
+        }
       }
-      found += pairs.size();
-      triangles += region.triangles.size();
+    }
+    found = triangles = 0;
+    for (std::size_t l = 0; l < lists.size(); ++l) {
+      found += pairs[l].size();
+      triangles += lists[l].size();
     }
   }
   state.counters["pairs"] = static_cast<double>(found);
   state.counters["triangles"] = static_cast<double>(triangles);
+  state.counters["submissions"] = static_cast<double>(submissions) / static_cast<double>(frames);
+  state.counters["undecided"] = static_cast<double>(undecided) / static_cast<double>(frames);
+  auto per_frame_ms = [&](std::chrono::nanoseconds t) {
+    return std::chrono::duration<double, std::milli>(t).count() / static_cast<double>(frames);
+  };
+  if (detector) {
+    state.counters["entries"] = static_cast<double>(entries) / static_cast<double>(frames);
+    state.counters["candidates"] = static_cast<double>(candidates) / static_cast<double>(frames);
+    state.counters["upload_ms"] = per_frame_ms(spent.upload);
+    state.counters["dispatch_ms"] = per_frame_ms(spent.dispatch);
+    state.counters["readback_ms"] = per_frame_ms(spent.readback);
+  }
 }
 
-// The whole feature pass per frame (detect, fold/relax rounds, protrusion), CPU or GPU pairs.
+// The whole feature pass per frame on the male (detect, fold/relax rounds, protrusion), CPU or
+// GPU pairs, frames alternating between 150° and 149°.
 void BM_CollisionFeatures(benchmark::State& state) {
-  Scene* s = scene();
-  if (s == nullptr) return state.SkipWithError("shared male absent");
+  PosedFrames* f = posed_frames(0);
+  if (f == nullptr) return state.SkipWithError("shared male absent");
   gpu::CollisionDetector* detector = state.range(0) ? gpu_detector() : nullptr;
   if (state.range(0) && detector == nullptr) return state.SkipWithError("no GL context");
-  deform::CollisionFeatures features(s->runtime->collision());
+  deform::CollisionFeatures features(f->runtime->collision());
   const deform::DetectPairs hook = detector ? gpu_hook(*detector) : deform::DetectPairs{};
-  std::vector<glm::vec3> positions = s->posed;
+  std::vector<glm::vec3> positions = f->posed[0];
   deform::FeatureReport report;
   for (auto _ : state) {
+    const int frame = static_cast<int>(next_frame(0)++ % 2);
     state.PauseTiming();
-    positions = s->posed;
+    positions = f->posed[frame];
     state.ResumeTiming();
-    report = features.apply(s->context.skinning(), positions, hook);
+    report = features.apply(f->contexts[frame].skinning(), positions, hook);
   }
   state.counters["pairs_before"] = report.pairs_before;
   state.counters["pairs_after"] = report.pairs_after;
@@ -159,7 +238,10 @@ void BM_CollisionFeatures(benchmark::State& state) {
 
 BENCHMARK(BM_SweepDeform)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_VolumeAndFeatures)->ArgName("stream")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_DetectAllRegions)->ArgName("gpu")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_RegionsPerFrame)
+    ->ArgNames({"model", "gpu"})
+    ->ArgsProduct({{0, 1}, {0, 1, 2}})
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CollisionFeatures)->ArgName("gpu")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 }  // namespace

@@ -45,6 +45,7 @@ namespace sweepd::gpu {
   X(PFNGLGETUNIFORMLOCATIONPROC, GetUniformLocation)                         \
   X(PFNGLUNIFORM1FPROC, Uniform1f)                                           \
   X(PFNGLUNIFORM1IPROC, Uniform1i)                                           \
+  X(PFNGLUNIFORM1UIPROC, Uniform1ui)                                         \
   X(PFNGLUNIFORM3FVPROC, Uniform3fv)                                         \
   X(PFNGLUNIFORM4FVPROC, Uniform4fv)                                         \
   X(PFNGLUNIFORMMATRIX3FVPROC, UniformMatrix3fv)                             \
@@ -81,6 +82,7 @@ namespace sweepd::gpu {
   X(PFNGLDEBUGMESSAGECALLBACKPROC, DebugMessageCallback)                     \
   X(PFNGLDEBUGMESSAGECONTROLPROC, DebugMessageControl)                       \
   X(PFNGLDISPATCHCOMPUTEPROC, DispatchCompute)                               \
+  X(PFNGLDISPATCHCOMPUTEINDIRECTPROC, DispatchComputeIndirect)               \
   X(PFNGLMEMORYBARRIERPROC, MemoryBarrier)                                   \
   X(PFNGLBINDBUFFERBASEPROC, BindBufferBase)                                 \
   X(PFNGLBUFFERSUBDATAPROC, BufferSubData)                                   \

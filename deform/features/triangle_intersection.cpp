@@ -7,7 +7,7 @@ using glm::dvec2;
 using glm::dvec3;
 
 // Sign of the volume spanned by (b - a, c - a, d - a) in the form Guigue–Devillers use:
-// dot(d - a, cross(b - a, c - a)). gpu/collision.cpp repeats these operations in this order.
+// dot(d - a, cross(b - a, c - a)). gpu/collision_shaders.cpp certifies its sign in float.
 double orient3d(const dvec3& a, const dvec3& b, const dvec3& c, const dvec3& d) {
   const dvec3 u = b - a, v = c - a, w = d - a;
   const double x = u.y * v.z - u.z * v.y;

@@ -7,8 +7,9 @@
 // The test is Guigue–Devillers (2003): signs of 3D orientation determinants decide everything;
 // coplanar pairs fall back to 2D edge/edge and vertex-in-triangle tests in the plane that the
 // normal's largest component drops. Every determinant is evaluated in double from the float
-// corners (differences and two-factor products are then exact; only the final sums round), in
-// a fixed order that gpu/collision.cpp's shader repeats, so CPU and GPU agree bit for bit.
+// corners (differences and two-factor products are then exact; only the final sums round).
+// gpu/collision_shaders.cpp evaluates the same determinants in float with a certified error
+// bound and hands the pairs it cannot decide to this test, so CPU and GPU give the same pairs.
 // Degenerate (zero-area) triangles intersect nothing.
 //
 // Mesh neighbours that share a vertex or an edge always touch; the callers
