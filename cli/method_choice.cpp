@@ -20,7 +20,10 @@ const deform::SweepPoser& deform_with(const MethodChoice& m, const deform::Model
       .runtime = runtime,
       .pose = pose,
       .method = m.method,
-      .features = {.folding = m.collision, .protrusion = m.collision, .volume = m.preserve_volume},
+      .features = {.folding = m.collision,
+                   .protrusion = m.collision,
+                   .volume = m.preserve_volume,
+                   .contact = m.collision},
       .positions = positions,
       .normals = normals};
   if (m.collision && collision != nullptr) job.options.detect = collision->detect();

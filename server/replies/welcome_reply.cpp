@@ -13,7 +13,8 @@ void build_welcome(flatbuffers::FlatBufferBuilder& builder, const ServerConfig& 
   std::vector<std::string> capabilities = {"sweep",        "lbs",         "dqs",       "folding",
                                            "protrusion",   "volume",      "bulge",     "float16",
                                            "normals",      "latest_wins", "upload",    "clips",
-                                           "pose_by_name", "meshopt",     "gltf_clips"};
+                                           "pose_by_name", "meshopt",     "gltf_clips",
+                                           "contact"};
   if (position_maps) capabilities.push_back("position_map");
   const auto welcome =
       pb::CreateWelcome(builder, pb::kProtocolVersionMajor, pb::kProtocolVersionMinor,
