@@ -7,6 +7,7 @@ const std::map<std::string, MethodChoice>& methods_by_name() {
       {"sweep", {"sweep", deform::DeformMethod::kSweep, false}},
       {"sweep+volume", {"sweep+volume", deform::DeformMethod::kSweep, true}},
       {"sweep+features", {"sweep+features", deform::DeformMethod::kSweep, false, true}},
+      {"sweep+contact", {"sweep+contact", deform::DeformMethod::kSweep, false, true, true}},
       {"lbs", {"lbs", deform::DeformMethod::kLbs, false}},
       {"dqs", {"dqs", deform::DeformMethod::kDqs, false}}};
   return methods;
@@ -23,7 +24,7 @@ const deform::SweepPoser& deform_with(const MethodChoice& m, const deform::Model
       .features = {.folding = m.collision,
                    .protrusion = m.collision,
                    .volume = m.preserve_volume,
-                   .contact = m.collision},
+                   .contact = m.contact},
       .positions = positions,
       .normals = normals};
   if (m.collision && collision != nullptr) job.options.detect = collision->detect();

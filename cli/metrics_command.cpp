@@ -115,8 +115,9 @@ PoseDeformer server_deformer(const Method& m, RemotePosedModel& remote, deform::
     std::vector<glm::vec3> normals;
     remote.deform_pose(pose, m.method,
                        m.preserve_volume ? protocol::Features::Volume
-                       : m.collision ? protocol::Features::Folding | protocol::Features::Protrusion |
+                       : m.contact   ? protocol::Features::Folding | protocol::Features::Protrusion |
                                            protocol::Features::Contact
+                       : m.collision ? protocol::Features::Folding | protocol::Features::Protrusion
                                      : protocol::Features::NONE,
                        positions, normals);
     const deform::Skeleton& skeleton = remote.model().skeleton;
@@ -362,8 +363,9 @@ Command add_metrics_command(CLI::App& sweepctl, const ServerAddress& server) {
       *command, "--method", methods_by_name(),
       [options](const Method& method) { options->methods.push_back(method); },
       "comma-separated methods (default: sweep,sweep+volume,lbs,dqs); sweep+volume is the "
-      "sweep method with volume preservation (arms, legs, torso), sweep+features with folding, "
-      "protrusion and whole-body contact (pairs from --collision's backend)")
+      "sweep method with volume preservation (arms, legs, torso), sweep+features with folding "
+      "and protrusion, sweep+contact with those and whole-body contact (pairs from "
+      "--collision's backend)")
       ->type_name("LIST");
   command->add_option("--step", options->step, "with a clip: every Nth frame")
       ->type_name("N")
