@@ -188,8 +188,8 @@ BodyScene* body_scene(int model) {
   if (!std::filesystem::exists(clip) || (model == 0 && !std::filesystem::exists(male)))
     return nullptr;
   auto* s = new BodyScene;
-  const deform::Model mesh = model == 0 ? io::load_gltf(male)
-                                        : mannequin::make_mannequin({.target_vertices = 72000});
+  const deform::Model mesh =
+      model == 0 ? io::load_gltf(male) : mannequin::make_mannequin({.target_vertices = 72000});
   s->bound = std::make_unique<deform::BoundModel>(
       deform::bind(mesh, deform::detect_rig_map(mesh.skeleton)));
   s->runtime = std::make_unique<deform::ModelRuntime>(*s->bound);

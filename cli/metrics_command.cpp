@@ -1,8 +1,8 @@
 // sweepctl metrics: how well each deformation method keeps the body's shape — per body part
 // volume change (closed mesh region and sweep integral), smallest limb section ratio,
 // crossing triangle pairs, whole-body contact pairs (skin through skin, less the rest pose's own:
-// deform/features/skin_contact.h), largest edge stretch, per body part the crease (largest dihedral change
-// from rest, anywhere and at the sweep's keys; the posed sweep's kink at its keys for sweep
+// deform/features/skin_contact.h), largest edge stretch, per body part the crease (largest dihedral
+// change from rest, anywhere and at the sweep's keys; the posed sweep's kink at its keys for sweep
 // methods; metrics/crease_metrics.h) and the rest-pose error — for one pose or over a clip
 // (worst, mean and the frame of the worst) — and the candy wrapper (smallest limb section ratio
 // with both forearms twisted 90° and 180°), as a table, JSON or CSV.
@@ -115,8 +115,8 @@ PoseDeformer server_deformer(const Method& m, RemotePosedModel& remote, deform::
     std::vector<glm::vec3> normals;
     remote.deform_pose(pose, m.method,
                        m.preserve_volume ? protocol::Features::Volume
-                       : m.contact   ? protocol::Features::Folding | protocol::Features::Protrusion |
-                                           protocol::Features::Contact
+                       : m.contact ? protocol::Features::Folding | protocol::Features::Protrusion |
+                                         protocol::Features::Contact
                        : m.collision ? protocol::Features::Folding | protocol::Features::Protrusion
                                      : protocol::Features::NONE,
                        positions, normals);
@@ -300,8 +300,9 @@ int metrics(const Options& options, const ServerAddress* server) {
   const metrics::CreaseMeter crease_meter(bound);
   // Whole-body contact: the local runtime's contact model, else one of the served binding.
   std::unique_ptr<deform::CollisionModel> served_collision;
-  if (server) served_collision = std::make_unique<deform::CollisionModel>(
-      deform::make_collision_model(bound));
+  if (server)
+    served_collision =
+        std::make_unique<deform::CollisionModel>(deform::make_collision_model(bound));
   ContactCounter contact(server ? *served_collision : local->runtime().collision());
   // sweep+features here: folding's pairs from the --collision backend.
   std::optional<LocalCollision> collision;

@@ -132,9 +132,10 @@ void add_method_flags(CLI::App& command, PosingArguments& out) {
 
 void add_collision_flag(CLI::App& command, PosingArguments& out) {
   command
-      .add_option("--collision",
-                  "where folding and contact find intersecting triangles: gpu (EGL compute; llvmpipe "
-                  "allowed), cpu (the reference), auto (default: gpu on a hardware GPU, else cpu)")
+      .add_option(
+          "--collision",
+          "where folding and contact find intersecting triangles: gpu (EGL compute; llvmpipe "
+          "allowed), cpu (the reference), auto (default: gpu on a hardware GPU, else cpu)")
       ->type_name("auto|gpu|cpu")
       ->check(CLI::IsMember({"auto", "gpu", "cpu"}))
       ->each([&out](const std::string& name) {

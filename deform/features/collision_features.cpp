@@ -88,7 +88,8 @@ int CollisionFeatures::restore_worse_groups(std::span<glm::vec3> positions) {
   const std::size_t groups = resolver_.moved_groups();
   groups_of_vertex_.resize(positions.size(), 0);
   for (std::size_t g = 0; g < groups; ++g)
-    for (std::uint32_t v : resolver_.moved_group(g)) groups_of_vertex_[v] |= std::uint64_t{1} << (g % 64);
+    for (std::uint32_t v : resolver_.moved_group(g))
+      groups_of_vertex_[v] |= std::uint64_t{1} << (g % 64);
   const std::span<const std::uint32_t> indices = model_.regions.welded_indices;
   auto count = [&](std::span<const TrianglePair> pairs, std::array<int, 64>& per_bit) {
     per_bit.fill(0);

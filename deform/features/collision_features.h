@@ -1,7 +1,7 @@
 // CollisionFeatures: the per-frame anatomical features of paper §4.3 on a posed mesh — skin
 // folding where a bent joint makes the skin pass through itself, then elbow/knee protrusion
-// over the bone proxies, then whole-body contact (skin_contact.h, beyond the paper) — in one call, on the CPU reference or with the pairs found elsewhere
-// (gpu::CollisionDetector).
+// over the bone proxies, then whole-body contact (skin_contact.h, beyond the paper) — in one call,
+// on the CPU reference or with the pairs found elsewhere (gpu::CollisionDetector).
 //
 // apply
 //   Inputs:  skinning   J skinning matrices of the pose
@@ -78,10 +78,10 @@ struct FeatureTimes {
 };
 
 struct FeatureReport {
-  int pairs_before = 0;  // intersecting pairs over all regions, before folding
-  int pairs_after = 0;   // ... after folding (regions that had none are not re-tested)
-  int folded = 0;        // vertices pulled back by folding, summed over rounds
-  int protruded = 0;     // vertices pushed out by bone proxies
+  int pairs_before = 0;          // intersecting pairs over all regions, before folding
+  int pairs_after = 0;           // ... after folding (regions that had none are not re-tested)
+  int folded = 0;                // vertices pulled back by folding, summed over rounds
+  int protruded = 0;             // vertices pushed out by bone proxies
   int contact_pairs_before = 0;  // whole-skin pairs (less the rest pose's), before contact
   int contact_pairs_after = 0;   // ... after contact's rounds
   int contact_moved = 0;         // vertices pulled back by contact, summed over rounds
@@ -140,10 +140,10 @@ class CollisionFeatures {
   WholeBodyDetector body_detector_;
   ContactResolver resolver_;
   std::vector<TrianglePair> contact_pairs_, saved_contact_pairs_;
-  std::vector<glm::vec3> saved_body_;   // every position before a contact round
-  std::vector<glm::vec3> saved_group_;  // every position before one group's step
+  std::vector<glm::vec3> saved_body_;                 // every position before a contact round
+  std::vector<glm::vec3> saved_group_;                // every position before one group's step
   std::vector<double> volume_before_, volume_after_;  // per sweep, of the skin
-  std::vector<std::uint64_t> groups_of_vertex_;  // per vertex: the moved groups, one bit each
+  std::vector<std::uint64_t> groups_of_vertex_;       // per vertex: the moved groups, one bit each
   std::array<int, 64> group_pairs_before_{}, group_pairs_after_{};
 };
 

@@ -129,8 +129,7 @@ ContactResult ContactResolver::resolve(const ContactModel& model,
     if (!find_sides(triangles, indices, positions, normal)) continue;
     ++result.separated;
     const float extent = in_plane_extent(points_, centre, normal);
-    const float reach_in_plane = 2.0f * extent,
-                reach_across = extent + 4.0f * gap;
+    const float reach_in_plane = 2.0f * extent, reach_across = extent + 4.0f * gap;
     // The moving skin: grown breadth-first from every patch at once.
     grown_.clear();
     grown_side_.clear();
@@ -148,8 +147,7 @@ ContactResult ContactResolver::resolve(const ContactModel& model,
         if (label_[u] != 0) continue;
         const glm::vec3 d = positions[u] - centre;
         const float across = glm::dot(d, normal);
-        if (std::abs(across) >= reach_across ||
-            glm::length(d - across * normal) >= reach_in_plane)
+        if (std::abs(across) >= reach_across || glm::length(d - across * normal) >= reach_in_plane)
           continue;
         label_[u] = label_[v];
         grown_.push_back(u);

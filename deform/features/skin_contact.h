@@ -37,10 +37,11 @@
 // inside the group), each triangle is judged by its own normal instead; when still one-sided,
 // the group is left alone. The moving skin: every vertex mesh-connected to a patch within
 // reach of the plane (in-plane distance < 2 extents, distance to the plane < 1 extent + 4
-// gaps: wider, the grown skin wraps round limbs and counts their far side as gone through), grown breadth-first from all patches at once, so each vertex follows the nearest
-// patch. Then pull_back_to_plane as folding does. Buffers are kept between calls.
-// moved_group(i), i < moved_groups(): the vertices the last resolve moved for its i-th
-// separated group (a caller restores those of a group that made things worse).
+// gaps: wider, the grown skin wraps round limbs and counts their far side as gone through), grown
+// breadth-first from all patches at once, so each vertex follows the nearest patch. Then
+// pull_back_to_plane as folding does. Buffers are kept between calls. moved_group(i), i <
+// moved_groups(): the vertices the last resolve moved for its i-th separated group (a caller
+// restores those of a group that made things worse).
 #pragma once
 
 #include <cstdint>
@@ -95,12 +96,12 @@ class ContactResolver {
 
   IntersectingGroups groups_;
   std::vector<glm::vec3> points_;
-  std::vector<std::uint32_t> parent_;             // per group triangle: patch union-find
-  std::vector<std::int32_t> owner_;               // per vertex: a group triangle using it, -1
-  std::vector<glm::vec3> patch_normal_;           // per group triangle (at its patch root)
-  std::vector<std::int8_t> triangle_side_;        // per group triangle
-  std::vector<std::int8_t> label_;                // per vertex: 0, or the side it moves to
-  std::vector<std::uint32_t> grown_;              // the moving skin, in breadth-first order
+  std::vector<std::uint32_t> parent_;       // per group triangle: patch union-find
+  std::vector<std::int32_t> owner_;         // per vertex: a group triangle using it, -1
+  std::vector<glm::vec3> patch_normal_;     // per group triangle (at its patch root)
+  std::vector<std::int8_t> triangle_side_;  // per group triangle
+  std::vector<std::int8_t> label_;          // per vertex: 0, or the side it moves to
+  std::vector<std::uint32_t> grown_;        // the moving skin, in breadth-first order
   std::vector<std::int8_t> grown_side_;
   std::vector<std::uint32_t> moved_, moved_start_{0};
   int debug_mode_ = 0;  // per separated group, its grown_

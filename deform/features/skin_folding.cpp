@@ -117,9 +117,8 @@ float in_plane_extent(std::span<const glm::vec3> points, const glm::vec3& centre
 }
 
 void pull_back_to_plane(const glm::vec3& centre, const glm::vec3& normal, float extent,
-                        std::span<const std::uint32_t> vertices,
-                        std::span<const std::int8_t> sides, float gap,
-                        std::span<glm::vec3> positions, FoldingResult& result) {
+                        std::span<const std::uint32_t> vertices, std::span<const std::int8_t> sides,
+                        float gap, std::span<glm::vec3> positions, FoldingResult& result) {
   // Per side, the deepest penetration past the plane among the vertices within reach
   // (own-side distance o = d * side; o < 0 went through).
   float deepest[2] = {-INFINITY, -INFINITY};

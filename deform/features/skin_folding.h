@@ -4,7 +4,8 @@
 // and a fold forms.
 //
 // SkinFolder::fold
-//   Inputs:  region     a collision region (deform/features/collision_regions.h): its vertices and the
+//   Inputs:  region     a collision region (deform/features/collision_regions.h): its vertices and
+//   the
 //                       side of the joint each lies on
 //            indices    the welded indices the pairs were found with
 //            pairs      intersecting triangle pairs of the region (SelfIntersectionDetector)
@@ -69,7 +70,8 @@ class IntersectingGroups {
              std::size_t vertex_count);
   std::size_t size() const { return group_start_.size() - 1; }
   std::span<const std::uint32_t> triangles(std::size_t g) const {
-    return std::span(group_triangles_).subspan(group_start_[g], group_start_[g + 1] - group_start_[g]);
+    return std::span(group_triangles_)
+        .subspan(group_start_[g], group_start_[g + 1] - group_start_[g]);
   }
   std::span<const std::uint32_t> vertices(std::size_t g) const {
     return std::span(group_vertices_)
@@ -79,7 +81,7 @@ class IntersectingGroups {
  private:
   std::uint32_t find(std::uint32_t slot);
   std::vector<std::uint32_t> triangles_, parent_;
-  std::vector<std::int32_t> slot_of_vertex_;  // per mesh vertex, -1 when unused
+  std::vector<std::int32_t> slot_of_vertex_;                    // per mesh vertex, -1 when unused
   std::vector<std::pair<std::uint32_t, std::uint32_t>> order_;  // (group root, slot)
   std::vector<std::uint32_t> group_start_{0}, group_triangles_, vertex_start_{0}, group_vertices_;
 };
@@ -94,9 +96,8 @@ float in_plane_extent(std::span<const glm::vec3> points, const glm::vec3& centre
 // [-deepest, band] onto [gap, band] of own-side distance, band = 2 deepest + 4 gap (see above).
 // Counts into result: moved, max_depth.
 void pull_back_to_plane(const glm::vec3& centre, const glm::vec3& normal, float extent,
-                        std::span<const std::uint32_t> vertices,
-                        std::span<const std::int8_t> sides, float gap,
-                        std::span<glm::vec3> positions, FoldingResult& result);
+                        std::span<const std::uint32_t> vertices, std::span<const std::int8_t> sides,
+                        float gap, std::span<glm::vec3> positions, FoldingResult& result);
 
 class SkinFolder {
  public:

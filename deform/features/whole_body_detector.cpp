@@ -71,7 +71,8 @@ void WholeBodyDetector::refit(std::span<const glm::vec3> positions,
       nodes_[leaf_base_ + leaf] = box;
     }
   });
-  for (std::uint32_t n = leaf_base_ - 1; n >= 1; --n) nodes_[n] = merged(nodes_[2 * n], nodes_[2 * n + 1]);
+  for (std::uint32_t n = leaf_base_ - 1; n >= 1; --n)
+    nodes_[n] = merged(nodes_[2 * n], nodes_[2 * n + 1]);
 }
 
 void WholeBodyDetector::query_leaf(std::span<const glm::vec3> positions,
@@ -134,7 +135,8 @@ void WholeBodyDetector::detect(std::span<const glm::vec3> positions,
         query_leaf(positions, indices, leaf, out);
     }
   });
-  for (std::size_t b = 0; b < blocks; ++b) pairs.insert(pairs.end(), found_[b].begin(), found_[b].end());
+  for (std::size_t b = 0; b < blocks; ++b)
+    pairs.insert(pairs.end(), found_[b].begin(), found_[b].end());
   std::sort(pairs.begin(), pairs.end());
   pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
 }

@@ -52,11 +52,11 @@ class WholeBodyDetector {
   const std::uint32_t* built_triangles_ = nullptr;  // the list the layout was built for
   std::size_t built_size_ = 0;
   const std::uint32_t* built_indices_ = nullptr;
-  std::vector<std::uint32_t> order_;      // triangle ids in leaf order (Morton)
-  std::vector<TriangleBox> boxes_;        // per entry of order_
-  std::vector<TriangleBox> nodes_;        // implicit tree: root 1, children 2n and 2n + 1
+  std::vector<std::uint32_t> order_;  // triangle ids in leaf order (Morton)
+  std::vector<TriangleBox> boxes_;    // per entry of order_
+  std::vector<TriangleBox> nodes_;    // implicit tree: root 1, children 2n and 2n + 1
   std::uint32_t leaf_count_ = 0, leaf_base_ = 1, height_ = 0;  // leaves at [leaf_base_, 2 ×)
-  std::vector<std::vector<TrianglePair>> found_;  // per thread block
+  std::vector<std::vector<TrianglePair>> found_;               // per thread block
 };
 
 }  // namespace sweepd::deform

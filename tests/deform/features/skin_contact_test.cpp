@@ -3,6 +3,8 @@
 // resolver separating two interpenetrating closed spheres, and the contact feature on the shared
 // male (rest pose and every 50th frame of both shared clips, printed next to LBS) and on the
 // procedural mannequin.
+#include "deform/features/skin_contact.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -13,7 +15,6 @@
 #include "deform/binding/bind.h"
 #include "deform/features/collision_features.h"
 #include "deform/features/self_intersection.h"
-#include "deform/features/skin_contact.h"
 #include "deform/features/whole_body_detector.h"
 #include "deform/mesh/enclosed_volume.h"
 #include "deform/rig/rig_map.h"
@@ -169,8 +170,8 @@ void add_sphere(SoupMesh& mesh, glm::vec3 centre, float radius, int rings, int s
   }
   for (int r = 1; r + 1 < rings; ++r) {
     for (int s = 0; s < segments; ++s) {
-      for (std::uint32_t k : {at(r, s), at(r + 1, s), at(r + 1, s + 1), at(r, s), at(r + 1, s + 1),
-                              at(r, s + 1)})
+      for (std::uint32_t k :
+           {at(r, s), at(r + 1, s), at(r + 1, s + 1), at(r, s), at(r + 1, s + 1), at(r, s + 1)})
         mesh.indices.push_back(k);
     }
   }
