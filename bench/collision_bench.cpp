@@ -10,20 +10,29 @@
 // alongside, and the whole deformation job with folding, protrusion and volume preservation
 // (deform/job/deform_job.h: a standalone frame, I_C from its fixed-point loop, and a stream
 // frame, I_C from the previous frame).
+// Whole body (the `contact` feature, deform/features/skin_contact.h): detection over the whole
+// skin on the shared male and the 72k mannequin, at 150° elbow and knee flexion and at the
+// worst contact frame of cmu_01_03 (frame 1100: the most whole-body pairs among its every 50th
+// frame on the male), CPU one core, CPU all cores, GPU; and the contact pass per frame.
 #include <benchmark/benchmark.h>
 
 #include <cstdio>
 #include <filesystem>
 #include <glm/gtc/quaternion.hpp>
 #include <memory>
+#include <thread>
 
 #include "deform/binding/bind.h"
 #include "deform/features/collision_features.h"
+#include "deform/features/whole_body_detector.h"
 #include "deform/job/deform_job.h"
 #include "deform/rig/rig_map.h"
 #include "gpu/collision.h"
 #include "bench/bench_models.h"
+#include "io/bvh_load.h"
 #include "io/gltf_load.h"
+#include "mannequin/mannequin.h"
+#include "motion/retarget.h"
 #include "tests/deform/shared_male.h"
 
 namespace {
@@ -235,6 +244,105 @@ void BM_CollisionFeatures(benchmark::State& state) {
   state.counters["pairs_after"] = report.pairs_after;
   state.counters["folded"] = report.folded;
 }
+
+// ---- Whole body (contact) ----
+
+constexpr int kWorstContactFrame = 1100;  // of cmu_01_03, see the header comment
+
+// A model posed for whole-body detection: 0 the shared male, 1 the 72k mannequin; pose 0 the
+// left elbow and knee at 150°, 1 cmu_01_03's worst contact frame.
+struct BodyScene {
+  std::unique_ptr<deform::BoundModel> bound;
+  std::unique_ptr<deform::ModelRuntime> runtime;
+  deform::DeformContext context;
+  std::vector<glm::vec3> posed[2];
+};
+
+BodyScene* body_scene(int model) {
+  static BodyScene* scenes[2] = {nullptr, nullptr};
+  if (scenes[model] != nullptr) return scenes[model];
+  const std::filesystem::path data(SWEEPD_SHARED_DATA);
+  const auto male = data / "models/makehuman_male_cmu.glb";
+  const auto clip = data / "motion/cmu_01_03.bvh";
+  if (!std::filesystem::exists(clip) || (model == 0 && !std::filesystem::exists(male)))
+    return nullptr;
+  auto* s = new BodyScene;
+  const deform::Model mesh =
+      model == 0 ? io::load_gltf(male) : mannequin::make_mannequin({.target_vertices = 72000});
+  s->bound = std::make_unique<deform::BoundModel>(
+      deform::bind(mesh, deform::detect_rig_map(mesh.skeleton)));
+  s->runtime = std::make_unique<deform::ModelRuntime>(*s->bound);
+  const motion::Retargeter retargeter(io::load_bvh(clip), s->bound->model);
+  deform::Pose poses[2] = {deform::test::left_elbow_and_knee_flexed(mesh, 150.0f),
+                           retargeter.pose_at_frame(kWorstContactFrame)};
+  for (int p = 0; p < 2; ++p) {
+    s->posed[p].resize(mesh.vertex_count());
+    deform::DeformJob{.runtime = *s->runtime, .pose = poses[p], .positions = s->posed[p]}.run(
+        s->context);
+  }
+  std::fprintf(stderr, "%s: %zu vertices, %zu skin triangles\n",
+               model == 0 ? "shared male" : "mannequin 72k", mesh.vertex_count(),
+               s->runtime->collision().contact.skin_triangles.size());
+  return scenes[model] = s;
+}
+
+// Whole-skin pairs: args model, pose, backend (0 CPU one core, 1 CPU all cores, 2 GPU, 3 the
+// region detector's grid on one core, SelfIntersectionDetector: the broad phase not chosen).
+void BM_DetectWholeBody(benchmark::State& state) {
+  BodyScene* s = body_scene(static_cast<int>(state.range(0)));
+  if (s == nullptr) return state.SkipWithError("shared data absent");
+  const std::vector<glm::vec3>& positions = s->posed[state.range(1)];
+  const deform::CollisionModel& model = s->runtime->collision();
+  const int backend = static_cast<int>(state.range(2));
+  gpu::CollisionDetector* detector = backend == 2 ? gpu_detector() : nullptr;
+  if (backend == 2 && detector == nullptr) return state.SkipWithError("no GL context");
+  const int threads = backend == 0 ? 1 : static_cast<int>(std::thread::hardware_concurrency());
+  deform::WholeBodyDetector cpu;
+  deform::SelfIntersectionDetector grid;
+  std::vector<deform::TrianglePair> pairs;
+  for (auto _ : state) {
+    if (backend == 3) {
+      grid.detect(positions, model.regions.welded_indices, model.contact.skin_triangles, pairs);
+    } else if (detector) {
+      detector->detect(positions, model.regions.welded_indices, model.contact.skin_triangles,
+                       pairs);
+    } else {
+      cpu.detect(positions, model.regions.welded_indices, model.contact.skin_triangles, pairs,
+                 threads);
+    }
+  }
+  deform::remove_rest_pairs(model.contact.rest_pairs, pairs);
+  state.counters["contact_pairs"] = static_cast<double>(pairs.size());
+  state.counters["threads"] = detector ? 0 : backend == 3 ? 1 : threads;
+}
+
+// The contact pass alone (CPU all cores): args model, pose.
+void BM_ContactFeature(benchmark::State& state) {
+  BodyScene* s = body_scene(static_cast<int>(state.range(0)));
+  if (s == nullptr) return state.SkipWithError("shared data absent");
+  const std::vector<glm::vec3>& posed = s->posed[state.range(1)];
+  deform::CollisionFeatures features(s->runtime->collision(),
+                                     {.folding = false, .protrusion = false, .contact = true});
+  std::vector<glm::vec3> positions = posed;
+  deform::FeatureReport report;
+  for (auto _ : state) {
+    state.PauseTiming();
+    positions = posed;
+    state.ResumeTiming();
+    report = features.apply(s->context.skinning(), positions);
+  }
+  state.counters["pairs_before"] = report.contact_pairs_before;
+  state.counters["pairs_after"] = report.contact_pairs_after;
+}
+
+BENCHMARK(BM_DetectWholeBody)
+    ->ArgNames({"mannequin", "worst_frame", "backend"})
+    ->ArgsProduct({{0, 1}, {0, 1}, {0, 1, 2, 3}})
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ContactFeature)
+    ->ArgNames({"mannequin", "worst_frame"})
+    ->ArgsProduct({{0, 1}, {0, 1}})
+    ->Unit(benchmark::kMillisecond);
 
 BENCHMARK(BM_SweepDeform)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_VolumeAndFeatures)->ArgName("stream")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);

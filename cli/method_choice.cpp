@@ -7,6 +7,7 @@ const std::map<std::string, MethodChoice>& methods_by_name() {
       {"sweep", {"sweep", deform::DeformMethod::kSweep, false}},
       {"sweep+volume", {"sweep+volume", deform::DeformMethod::kSweep, true}},
       {"sweep+features", {"sweep+features", deform::DeformMethod::kSweep, false, true}},
+      {"sweep+contact", {"sweep+contact", deform::DeformMethod::kSweep, false, true, true}},
       {"lbs", {"lbs", deform::DeformMethod::kLbs, false}},
       {"dqs", {"dqs", deform::DeformMethod::kDqs, false}}};
   return methods;
@@ -16,13 +17,15 @@ const deform::SweepPoser& deform_with(const MethodChoice& m, const deform::Model
                                       deform::DeformContext& context, LocalCollision* collision,
                                       deform::Pose pose, std::span<glm::vec3> positions,
                                       std::span<glm::vec3> normals) {
-  deform::DeformJob job{
-      .runtime = runtime,
-      .pose = pose,
-      .method = m.method,
-      .features = {.folding = m.collision, .protrusion = m.collision, .volume = m.preserve_volume},
-      .positions = positions,
-      .normals = normals};
+  deform::DeformJob job{.runtime = runtime,
+                        .pose = pose,
+                        .method = m.method,
+                        .features = {.folding = m.collision,
+                                     .protrusion = m.collision,
+                                     .volume = m.preserve_volume,
+                                     .contact = m.contact},
+                        .positions = positions,
+                        .normals = normals};
   if (m.collision && collision != nullptr) job.options.detect = collision->detect();
   const deform::DeformReport report = job.run(context);
   if (m.collision && collision != nullptr) collision->add(report.features);

@@ -1,7 +1,8 @@
 // MethodChoice: the deformation methods that sweepctl's comparing commands (metrics, sheet) take
 // by name in their --method(s) list, and one deformation of a pose with such a method here.
 //   methods_by_name   "sweep", "sweep+volume" (volume preservation), "sweep+features" (folding
-//                     and protrusion), "lbs", "dqs"
+//                     and protrusion), "sweep+contact" (those and whole-body contact), "lbs",
+//                     "dqs"
 //   deform_with       runs one deform::DeformJob of `pose` with the method into positions
 //                     (vertex_count() each) and, when not empty, normals; folding's pairs from
 //                     `collision` (null: the CPU reference). Returns the context's SweepPoser
@@ -24,6 +25,7 @@ struct MethodChoice {
   deform::DeformMethod method;
   bool preserve_volume;
   bool collision = false;  // folding and protrusion, their pairs from --collision's backend
+  bool contact = false;    // whole-body contact too (with collision), the same backend
 };
 
 const std::map<std::string, MethodChoice>& methods_by_name();

@@ -1,7 +1,8 @@
 // sweepctl metrics: how well each deformation method keeps the body's shape — per body part
 // volume change (closed mesh region and sweep integral), smallest limb section ratio,
-// crossing triangle pairs, largest edge stretch, per body part the crease (largest dihedral change
-// from rest, anywhere and at the sweep's keys; the posed sweep's kink at its keys for sweep
+// crossing triangle pairs, whole-body contact pairs (skin through skin, less the rest pose's own:
+// deform/features/skin_contact.h), largest edge stretch, per body part the crease (largest dihedral
+// change from rest, anywhere and at the sweep's keys; the posed sweep's kink at its keys for sweep
 // methods; metrics/crease_metrics.h) and the rest-pose error — for one pose or over a clip
 // (worst, mean and the frame of the worst) — and the candy wrapper (smallest limb section ratio
 // with both forearms twisted 90° and 180°), as a table, JSON or CSV.
@@ -16,6 +17,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <thread>
 
 #include "cli/commands.h"
 #include "cli/method_choice.h"
@@ -24,6 +26,8 @@
 #include "console/command_line.h"
 #include "console/progress_bar.h"
 #include "deform/binding/bind.h"
+#include "deform/features/collision_model.h"
+#include "deform/features/whole_body_detector.h"
 #include "deform/job/deform_job.h"
 #include "deform/model/forward_kinematics.h"
 #include "io/bvh_load.h"
@@ -49,6 +53,25 @@ struct Options {
   int step = 1;
   bool json = false, csv = false;
   bool one_frame = false;  // --frame given (else a clip is measured whole or by --frames)
+  bool per_frame = false;  // --per-frame: whole-body contact pairs of every frame, per method
+};
+
+// Whole-body contact pairs of posed positions: the skin's intersecting pairs (WholeBodyDetector,
+// every hardware thread) less those the rest mesh has itself.
+class ContactCounter {
+ public:
+  explicit ContactCounter(const deform::CollisionModel& model) : model_(model) {}
+  int count(std::span<const glm::vec3> positions) {
+    detector_.detect(positions, model_.regions.welded_indices, model_.contact.skin_triangles,
+                     pairs_, static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
+    deform::remove_rest_pairs(model_.contact.rest_pairs, pairs_);
+    return static_cast<int>(pairs_.size());
+  }
+
+ private:
+  const deform::CollisionModel& model_;
+  deform::WholeBodyDetector detector_;
+  std::vector<deform::TrianglePair> pairs_;
 };
 
 // One metric over the measured frames: the worst value (by `badness`), its frame, the mean.
@@ -68,6 +91,7 @@ struct MethodReport {
   std::string method;
   double rest_error_m = 0.0;
   std::vector<Series> series;
+  std::vector<int> contact_pairs;  // per measured frame
 };
 
 // Deforms a pose with one method into positions; returns a SweepPoser posed to that pose (its
@@ -91,6 +115,8 @@ PoseDeformer server_deformer(const Method& m, RemotePosedModel& remote, deform::
     std::vector<glm::vec3> normals;
     remote.deform_pose(pose, m.method,
                        m.preserve_volume ? protocol::Features::Volume
+                       : m.contact ? protocol::Features::Folding | protocol::Features::Protrusion |
+                                         protocol::Features::Contact
                        : m.collision ? protocol::Features::Folding | protocol::Features::Protrusion
                                      : protocol::Features::NONE,
                        positions, normals);
@@ -111,7 +137,7 @@ MethodReport measure_method(const Method& m, const deform::BoundModel& bound,
                             const PoseDeformer& deform, bool sweep_state,
                             const std::function<deform::Pose(int)>& pose_of,
                             const metrics::QualityMeter& meter,
-                            const metrics::CreaseMeter& crease_meter,
+                            const metrics::CreaseMeter& crease_meter, ContactCounter& contact,
                             const std::vector<int>& frames, console::ProgressBar* bar, int done,
                             int total) {
   MethodReport report;
@@ -126,7 +152,8 @@ MethodReport measure_method(const Method& m, const deform::BoundModel& bound,
   if (sweep)
     for (const deform::BoundSweep& s : bound.sweeps)
       report.series.push_back({std::string(deform::to_string(s.part)) + " sweep integral %"});
-  for (const char* name : {"smallest section ratio", "crossing triangle pairs", "edge stretch %"})
+  for (const char* name : {"smallest section ratio", "crossing triangle pairs",
+                           "whole-body contact pairs", "edge stretch %"})
     report.series.push_back({name});
   for (const deform::BoundSweep& s : bound.sweeps) {
     const std::string part = deform::to_string(s.part);
@@ -150,6 +177,8 @@ MethodReport measure_method(const Method& m, const deform::BoundModel& bound,
       }
     report.series[k++].add(q.smallest_section_ratio, -q.smallest_section_ratio, frames[i]);
     report.series[k++].add(q.self_intersections, q.self_intersections, frames[i]);
+    report.contact_pairs.push_back(contact.count(positions));
+    report.series[k++].add(report.contact_pairs.back(), report.contact_pairs.back(), frames[i]);
     report.series[k++].add(100.0 * q.largest_edge_stretch, q.largest_edge_stretch, frames[i]);
     for (const metrics::RegionCrease& region : crease.regions) {
       report.series[k++].add(region.dihedral_change, region.dihedral_change, frames[i]);
@@ -188,6 +217,19 @@ void print_table(const std::vector<MethodReport>& reports, std::size_t frames,
   }
 }
 
+// Whole-body contact pairs frame by frame, a column per method.
+void print_contact_per_frame(const std::vector<MethodReport>& reports,
+                             const std::vector<int>& frames) {
+  std::printf("\nwhole-body contact pairs per frame\n  %8s", "frame");
+  for (const MethodReport& r : reports) std::printf(" %14s", r.method.c_str());
+  std::printf("\n");
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    std::printf("  %8d", frames[i]);
+    for (const MethodReport& r : reports) std::printf(" %14d", r.contact_pairs[i]);
+    std::printf("\n");
+  }
+}
+
 void print_json(const std::vector<MethodReport>& reports, const PosingArguments& posing,
                 std::size_t frames, const std::string& source) {
   nlohmann::json out;
@@ -204,6 +246,7 @@ void print_json(const std::vector<MethodReport>& reports, const PosingArguments&
                                    {"worst", s.worst},
                                    {"mean", s.mean()},
                                    {"worst_frame", s.worst_frame}});
+    method["contact_pairs_per_frame"] = r.contact_pairs;
     out["methods"].push_back(method);
   }
   std::printf("%s\n", out.dump(2).c_str());
@@ -255,6 +298,12 @@ int metrics(const Options& options, const ServerAddress* server) {
   }
   const metrics::QualityMeter meter(bound);
   const metrics::CreaseMeter crease_meter(bound);
+  // Whole-body contact: the local runtime's contact model, else one of the served binding.
+  std::unique_ptr<deform::CollisionModel> served_collision;
+  if (server)
+    served_collision =
+        std::make_unique<deform::CollisionModel>(deform::make_collision_model(bound));
+  ContactCounter contact(server ? *served_collision : local->runtime().collision());
   // sweep+features here: folding's pairs from the --collision backend.
   std::optional<LocalCollision> collision;
   if (!server &&
@@ -273,7 +322,7 @@ int metrics(const Options& options, const ServerAddress* server) {
           server ? server_deformer(methods[m], *remote, *served_poser)
                  : local_deformer(methods[m], *runtime, context, collision ? &*collision : nullptr);
       reports.push_back(measure_method(methods[m], bound, deform, !server, pose_of, meter,
-                                       crease_meter, frames, bar.get(),
+                                       crease_meter, contact, frames, bar.get(),
                                        static_cast<int>(m * frames.size()), total));
     }
   }
@@ -285,6 +334,7 @@ int metrics(const Options& options, const ServerAddress* server) {
     print_csv(reports);
   } else {
     print_table(reports, frames.size(), source);
+    if (options.per_frame) print_contact_per_frame(reports, frames);
     if (collision) std::printf("%s\n", collision->summary().c_str());
   }
   return 0;
@@ -297,7 +347,9 @@ Command add_metrics_command(CLI::App& sweepctl, const ServerAddress& server) {
       "metrics", "volume, section, crossing and stretch metrics per method");
   command->footer(
       "Per body part the volume change (closed mesh region and sweep integral), the smallest\n"
-      "limb section ratio, crossing triangle pairs, the largest edge stretch, per body part the\n"
+      "limb section ratio, crossing triangle pairs, whole-body contact pairs (skin through\n"
+      "skin anywhere, less the rest mesh's own; --per-frame lists them frame by frame), the\n"
+      "largest edge stretch, per body part the\n"
       "crease (largest change of dihedral angle from rest, anywhere and at the sweep's keys, and\n"
       "for sweep methods the posed sweep's kink at its keys, in degrees) and the rest-pose\n"
       "error, for one pose or over a clip (worst, mean and the frame of the worst; without\n"
@@ -313,12 +365,16 @@ Command add_metrics_command(CLI::App& sweepctl, const ServerAddress& server) {
       [options](const Method& method) { options->methods.push_back(method); },
       "comma-separated methods (default: sweep,sweep+volume,lbs,dqs); sweep+volume is the "
       "sweep method with volume preservation (arms, legs, torso), sweep+features with folding "
-      "and protrusion (pairs from --collision's backend)")
+      "and protrusion, sweep+contact with those and whole-body contact (pairs from "
+      "--collision's backend)")
       ->type_name("LIST");
   command->add_option("--step", options->step, "with a clip: every Nth frame")
       ->type_name("N")
       ->check(console::whole_number(1, 1 << 20))
       ->capture_default_str();
+  command->add_flag("--per-frame", options->per_frame,
+                    "after the table, the whole-body contact pairs of every measured frame per "
+                    "method (JSON always has them: contact_pairs_per_frame)");
   command->add_flag("--json", options->json, "machine-readable JSON instead of the table");
   command->add_flag("--csv", options->csv, "machine-readable CSV instead of the table");
   command->callback([options, command, &server] {

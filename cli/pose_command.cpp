@@ -75,6 +75,9 @@ int pose(const Options& options, const ServerAddress& server) {
         "features: %d intersecting pairs before folding, %d after; %d vertices folded, "
         "%d pushed out of bone proxies; volume change %.1f cm3\n",
         r.pairs_before, r.pairs_after, r.folded, r.protruded, r.volume_change * 1e6);
+    if (posing.features.contact)
+      std::printf("contact: %d whole-body pairs before, %d after; %d vertices pulled back\n",
+                  r.contact_pairs_before, r.contact_pairs_after, r.contact_moved);
   }
   if (const LocalCollision* collision = posed.collision())
     std::printf("%s\n", collision->summary().c_str());

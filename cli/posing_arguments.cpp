@@ -121,19 +121,21 @@ void add_method_flags(CLI::App& command, PosingArguments& out) {
       std::map<std::string, Feature>{{"folding", &deform::AnatomicalFeatures::folding},
                                      {"protrusion", &deform::AnatomicalFeatures::protrusion},
                                      {"volume", &deform::AnatomicalFeatures::volume},
-                                     {"bulge", &deform::AnatomicalFeatures::bulge}},
+                                     {"bulge", &deform::AnatomicalFeatures::bulge},
+                                     {"contact", &deform::AnatomicalFeatures::contact}},
       [&out](const Feature& feature) { out.features.*feature = true; },
       "with sweep: any of folding,protrusion (collision, paper 4.3), volume (preservation, "
-      "4.4), bulge (biceps, 4.3)")
+      "4.4), bulge (biceps, 4.3), contact (whole-body skin through skin, beyond the paper)")
       ->type_name("LIST");
   add_collision_flag(command, out);
 }
 
 void add_collision_flag(CLI::App& command, PosingArguments& out) {
   command
-      .add_option("--collision",
-                  "where folding finds intersecting triangles: gpu (EGL compute; llvmpipe "
-                  "allowed), cpu (the reference), auto (default: gpu on a hardware GPU, else cpu)")
+      .add_option(
+          "--collision",
+          "where folding and contact find intersecting triangles: gpu (EGL compute; llvmpipe "
+          "allowed), cpu (the reference), auto (default: gpu on a hardware GPU, else cpu)")
       ->type_name("auto|gpu|cpu")
       ->check(CLI::IsMember({"auto", "gpu", "cpu"}))
       ->each([&out](const std::string& name) {

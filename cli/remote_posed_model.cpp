@@ -187,6 +187,7 @@ pb::Features RemotePosedModel::features(const PosingArguments& arguments) {
   if (arguments.features.protrusion) features = features | pb::Features::Protrusion;
   if (arguments.features.bulge) features = features | pb::Features::Bulge;
   if (arguments.features.volume) features = features | pb::Features::Volume;
+  if (arguments.features.contact) features = features | pb::Features::Contact;
   return features;
 }
 

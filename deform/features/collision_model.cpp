@@ -7,6 +7,7 @@ CollisionModel make_collision_model(const BoundModel& bound, const CollisionRegi
   CollisionModel model;
   model.regions = find_collision_regions(bound, regions);
   model.proxies = make_bone_proxies(bound, model.regions, proxies);
+  model.contact = make_contact_model(bound, model.regions.welded_indices);
   model.sweep_count = static_cast<int>(bound.sweeps.size());
   return model;
 }

@@ -7,20 +7,6 @@
 
 namespace sweepd::deform {
 
-bool boxes_overlap(const TriangleBox& a, const TriangleBox& b) {
-  return a.lo.x <= b.hi.x && b.lo.x <= a.hi.x && a.lo.y <= b.hi.y && b.lo.y <= a.hi.y &&
-         a.lo.z <= b.hi.z && b.lo.z <= a.hi.z;
-}
-
-bool share_a_vertex(std::span<const std::uint32_t> indices, std::uint32_t a, std::uint32_t b) {
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) {
-      if (indices[3 * a + i] == indices[3 * b + j]) return true;
-    }
-  }
-  return false;
-}
-
 TriangleBox triangle_box(std::span<const glm::vec3> positions,
                          std::span<const std::uint32_t> indices, std::uint32_t triangle) {
   const glm::vec3& p = positions[indices[3 * triangle]];

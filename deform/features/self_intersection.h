@@ -35,8 +35,20 @@ struct TriangleBox {
 
 // The filters every detector applies before the exact test: the closed boxes overlap and the
 // triangles share no vertex index.
-bool boxes_overlap(const TriangleBox& a, const TriangleBox& b);
-bool share_a_vertex(std::span<const std::uint32_t> indices, std::uint32_t a, std::uint32_t b);
+// Inline: the broad phases call them per candidate, in their innermost loops.
+inline bool boxes_overlap(const TriangleBox& a, const TriangleBox& b) {
+  return a.lo.x <= b.hi.x && b.lo.x <= a.hi.x && a.lo.y <= b.hi.y && b.lo.y <= a.hi.y &&
+         a.lo.z <= b.hi.z && b.lo.z <= a.hi.z;
+}
+inline bool share_a_vertex(std::span<const std::uint32_t> indices, std::uint32_t a,
+                           std::uint32_t b) {
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      if (indices[3 * a + i] == indices[3 * b + j]) return true;
+    }
+  }
+  return false;
+}
 TriangleBox triangle_box(std::span<const glm::vec3> positions,
                          std::span<const std::uint32_t> indices, std::uint32_t triangle);
 // The exact test of mesh triangles a and b.

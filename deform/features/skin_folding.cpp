@@ -50,81 +50,14 @@ glm::vec3 fit_plane(std::span<const glm::vec3> points, glm::vec3& centroid) {
   return glm::vec3(smallest_eigenvector(covariance));
 }
 
-std::uint32_t SkinFolder::find(std::uint32_t slot) {
+std::uint32_t IntersectingGroups::find(std::uint32_t slot) {
   while (parent_[slot] != slot) slot = parent_[slot] = parent_[parent_[slot]];
   return slot;
 }
 
-void SkinFolder::pull_back(const CollisionRegion& region, float gap, std::span<glm::vec3> positions,
-                           FoldingResult& result) {
-  glm::vec3 centre;
-  glm::vec3 normal = fit_plane(points_, centre);
-  // Orient the normal from the "before" side to the "past" side of the joint, judged by all
-  // region vertices (the intersecting ones alone straddle the plane from both sides).
-  double before = 0.0, past = 0.0;
-  int before_count = 0, past_count = 0;
-  for (std::size_t i = 0; i < region.vertices.size(); ++i) {
-    const double d = glm::dot(positions[region.vertices[i]] - centre, normal);
-    if (region.sides[i] < 0) before += d, ++before_count;
-    if (region.sides[i] > 0) past += d, ++past_count;
-  }
-  if (before_count == 0 || past_count == 0) return;  // one skin only: nothing to separate
-  if (before / before_count > past / past_count) normal = -normal;
-  float extent = 0.0f;
-  for (const glm::vec3& p : points_) {
-    const glm::vec3 d = p - centre;
-    extent = std::max(extent, glm::length(d - glm::dot(d, normal) * normal));
-  }
-
-  // Per side, the deepest penetration past the plane among the region's vertices within reach
-  // (own-side distance o = d * side; o < 0 went through).
-  float deepest[2] = {-INFINITY, -INFINITY};
-  // Full effect within one extent of the centre (in the plane), fading out by two.
-  auto reach = [&](const glm::vec3& p, float d) {
-    const float r = glm::length(p - centre - d * normal) / std::max(extent, 1e-12f);
-    const float x = std::clamp(2.0f - r, 0.0f, 1.0f);
-    return x * x * (3.0f - 2.0f * x);
-  };
-  for (std::size_t i = 0; i < region.vertices.size(); ++i) {
-    const glm::vec3& p = positions[region.vertices[i]];
-    const float d = glm::dot(p - centre, normal);
-    if (reach(p, d) > 0.0f) {
-      float& depth = deepest[region.sides[i] > 0];
-      depth = std::max(depth, -d * region.sides[i]);
-    }
-  }
-  for (int side_index = 0; side_index < 2; ++side_index) {
-    const float depth = deepest[side_index];
-    if (!(depth > -gap)) continue;  // every vertex at least `gap` on its own side
-    result.max_depth = std::max(result.max_depth, depth);
-    // Own-side distances in [-depth, band] map linearly onto [gap, band]: pulled back behind
-    // the plane, layers kept in order (onto the plane itself they would overlap, coplanar).
-    const float band = 2.0f * std::max(depth, 0.0f) + 4.0f * gap;
-    const float scale = (band - gap) / (band + depth);
-    const std::int8_t side = side_index ? 1 : -1;
-    for (std::size_t i = 0; i < region.vertices.size(); ++i) {
-      if (region.sides[i] != side) continue;
-      glm::vec3& p = positions[region.vertices[i]];
-      const float d = glm::dot(p - centre, normal);
-      const float own = d * side;
-      const float weight = reach(p, d);
-      if (own >= band || weight <= 0.0f) continue;
-      const float moved = gap + (own + depth) * scale;
-      p += normal * (static_cast<float>(side) * weight * (moved - own));
-      result.moved += own < 0.0f;
-    }
-  }
-}
-
-FoldingResult SkinFolder::fold(const CollisionRegion& region,
-                               std::span<const std::uint32_t> indices,
-                               std::span<const TrianglePair> pairs, float gap,
-                               std::span<glm::vec3> positions) {
-  FoldingResult result;
-  if (pairs.empty()) return result;
-  slot_of_vertex_.resize(positions.size(), -1);
-
-  // The intersecting triangles, and groups joined by pairs and by shared vertices.
+void IntersectingGroups::build(std::span<const std::uint32_t> indices,
+                               std::span<const TrianglePair> pairs, std::size_t vertex_count) {
+  slot_of_vertex_.resize(std::max(slot_of_vertex_.size(), vertex_count), -1);
   triangles_.clear();
   for (const TrianglePair& p : pairs) triangles_.push_back(p.first), triangles_.push_back(p.second);
   std::sort(triangles_.begin(), triangles_.end());
@@ -146,31 +79,121 @@ FoldingResult SkinFolder::fold(const CollisionRegion& region,
         owner = static_cast<std::int32_t>(s);
     }
   }
-
-  // Slots grouped by their root; one plane per group, through the group's distinct vertices
-  // (each claimed by exactly one slot above).
+  // Slots grouped by their root; a group's distinct vertices are those its slots claimed above.
   order_.resize(triangles_.size());
   for (std::uint32_t slot = 0; slot < triangles_.size(); ++slot) order_[slot] = {find(slot), slot};
   std::sort(order_.begin(), order_.end());
-  const double volume_before = enclosed_volume(positions, indices, region.triangles);
+  group_start_.assign(1, 0);
+  vertex_start_.assign(1, 0);
+  group_triangles_.clear();
+  group_vertices_.clear();
   for (std::size_t begin = 0; begin < order_.size();) {
     std::size_t end = begin;
-    points_.clear();
     for (; end < order_.size() && order_[end].first == order_[begin].first; ++end) {
       const std::uint32_t slot = order_[end].second;
+      group_triangles_.push_back(triangles_[slot]);
       for (int k = 0; k < 3; ++k) {
         const std::uint32_t v = indices[3 * triangles_[slot] + k];
-        if (slot_of_vertex_[v] == static_cast<std::int32_t>(slot)) points_.push_back(positions[v]);
+        if (slot_of_vertex_[v] == static_cast<std::int32_t>(slot)) group_vertices_.push_back(v);
       }
     }
-    ++result.groups;
-    pull_back(region, gap, positions, result);
+    group_start_.push_back(static_cast<std::uint32_t>(group_triangles_.size()));
+    vertex_start_.push_back(static_cast<std::uint32_t>(group_vertices_.size()));
     begin = end;
   }
-  result.volume_change = enclosed_volume(positions, indices, region.triangles) - volume_before;
   for (std::uint32_t t : triangles_) {
     for (int k = 0; k < 3; ++k) slot_of_vertex_[indices[3 * t + k]] = -1;
   }
+}
+
+float in_plane_extent(std::span<const glm::vec3> points, const glm::vec3& centre,
+                      const glm::vec3& normal) {
+  float extent = 0.0f;
+  for (const glm::vec3& p : points) {
+    const glm::vec3 d = p - centre;
+    extent = std::max(extent, glm::length(d - glm::dot(d, normal) * normal));
+  }
+  return extent;
+}
+
+void pull_back_to_plane(const glm::vec3& centre, const glm::vec3& normal, float extent,
+                        std::span<const std::uint32_t> vertices, std::span<const std::int8_t> sides,
+                        float gap, std::span<glm::vec3> positions, FoldingResult& result) {
+  // Per side, the deepest penetration past the plane among the vertices within reach
+  // (own-side distance o = d * side; o < 0 went through).
+  float deepest[2] = {-INFINITY, -INFINITY};
+  // Full effect within one extent of the centre (in the plane), fading out by two.
+  auto reach = [&](const glm::vec3& p, float d) {
+    const float r = glm::length(p - centre - d * normal) / std::max(extent, 1e-12f);
+    const float x = std::clamp(2.0f - r, 0.0f, 1.0f);
+    return x * x * (3.0f - 2.0f * x);
+  };
+  for (std::size_t i = 0; i < vertices.size(); ++i) {
+    const glm::vec3& p = positions[vertices[i]];
+    const float d = glm::dot(p - centre, normal);
+    if (reach(p, d) > 0.0f) {
+      float& depth = deepest[sides[i] > 0];
+      depth = std::max(depth, -d * sides[i]);
+    }
+  }
+  for (int side_index = 0; side_index < 2; ++side_index) {
+    const float depth = deepest[side_index];
+    if (!(depth > -gap)) continue;  // every vertex at least `gap` on its own side
+    result.max_depth = std::max(result.max_depth, depth);
+    // Own-side distances in [-depth, band] map linearly onto [gap, band]: pulled back behind
+    // the plane, layers kept in order (onto the plane itself they would overlap, coplanar).
+    const float band = 2.0f * std::max(depth, 0.0f) + 4.0f * gap;
+    const float scale = (band - gap) / (band + depth);
+    const std::int8_t side = side_index ? 1 : -1;
+    for (std::size_t i = 0; i < vertices.size(); ++i) {
+      if (sides[i] != side) continue;
+      glm::vec3& p = positions[vertices[i]];
+      const float d = glm::dot(p - centre, normal);
+      const float own = d * side;
+      const float weight = reach(p, d);
+      if (own >= band || weight <= 0.0f) continue;
+      const float moved = gap + (own + depth) * scale;
+      p += normal * (static_cast<float>(side) * weight * (moved - own));
+      result.moved += own < 0.0f;
+    }
+  }
+}
+
+void SkinFolder::pull_back(const CollisionRegion& region, float gap, std::span<glm::vec3> positions,
+                           FoldingResult& result) {
+  glm::vec3 centre;
+  glm::vec3 normal = fit_plane(points_, centre);
+  // Orient the normal from the "before" side to the "past" side of the joint, judged by all
+  // region vertices (the intersecting ones alone straddle the plane from both sides).
+  double before = 0.0, past = 0.0;
+  int before_count = 0, past_count = 0;
+  for (std::size_t i = 0; i < region.vertices.size(); ++i) {
+    const double d = glm::dot(positions[region.vertices[i]] - centre, normal);
+    if (region.sides[i] < 0) before += d, ++before_count;
+    if (region.sides[i] > 0) past += d, ++past_count;
+  }
+  if (before_count == 0 || past_count == 0) return;  // one skin only: nothing to separate
+  if (before / before_count > past / past_count) normal = -normal;
+  pull_back_to_plane(centre, normal, in_plane_extent(points_, centre, normal), region.vertices,
+                     region.sides, gap, positions, result);
+}
+
+FoldingResult SkinFolder::fold(const CollisionRegion& region,
+                               std::span<const std::uint32_t> indices,
+                               std::span<const TrianglePair> pairs, float gap,
+                               std::span<glm::vec3> positions) {
+  FoldingResult result;
+  if (pairs.empty()) return result;
+  // One plane per group, through the group's distinct vertices.
+  groups_.build(indices, pairs, positions.size());
+  const double volume_before = enclosed_volume(positions, indices, region.triangles);
+  for (std::size_t g = 0; g < groups_.size(); ++g) {
+    points_.clear();
+    for (std::uint32_t v : groups_.vertices(g)) points_.push_back(positions[v]);
+    ++result.groups;
+    pull_back(region, gap, positions, result);
+  }
+  result.volume_change = enclosed_volume(positions, indices, region.triangles) - volume_before;
   return result;
 }
 

@@ -4,7 +4,8 @@
 // and a fold forms.
 //
 // SkinFolder::fold
-//   Inputs:  region     a collision region (deform/features/collision_regions.h): its vertices and the
+//   Inputs:  region     a collision region (deform/features/collision_regions.h): its vertices and
+//   the
 //                       side of the joint each lies on
 //            indices    the welded indices the pairs were found with
 //            pairs      intersecting triangle pairs of the region (SelfIntersectionDetector)
@@ -59,6 +60,45 @@ struct FoldingResult {
 // direction) and writes the centroid. Points must not be empty.
 glm::vec3 fit_plane(std::span<const glm::vec3> points, glm::vec3& centroid);
 
+// Connected groups of intersecting triangles: joined through pairs and through shared vertex
+// indices (pass the welded indices the pairs were found with). build(): #V = vertex_count
+// (scratch), then per group g < size(): triangles(g) and its distinct corners vertices(g), each
+// once. Buffers are kept between calls.
+class IntersectingGroups {
+ public:
+  void build(std::span<const std::uint32_t> indices, std::span<const TrianglePair> pairs,
+             std::size_t vertex_count);
+  std::size_t size() const { return group_start_.size() - 1; }
+  std::span<const std::uint32_t> triangles(std::size_t g) const {
+    return std::span(group_triangles_)
+        .subspan(group_start_[g], group_start_[g + 1] - group_start_[g]);
+  }
+  std::span<const std::uint32_t> vertices(std::size_t g) const {
+    return std::span(group_vertices_)
+        .subspan(vertex_start_[g], vertex_start_[g + 1] - vertex_start_[g]);
+  }
+
+ private:
+  std::uint32_t find(std::uint32_t slot);
+  std::vector<std::uint32_t> triangles_, parent_;
+  std::vector<std::int32_t> slot_of_vertex_;                    // per mesh vertex, -1 when unused
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> order_;  // (group root, slot)
+  std::vector<std::uint32_t> group_start_{0}, group_triangles_, vertex_start_{0}, group_vertices_;
+};
+
+// The largest in-plane distance of points from centre (normal: unit).
+float in_plane_extent(std::span<const glm::vec3> points, const glm::vec3& centre,
+                      const glm::vec3& normal);
+
+// The pull-back of fold(), for any skin split in two: vertices[i] belongs on side sides[i]
+// (-1: behind the plane, against normal; +1: in front). Within reach of the centre (full
+// within one `extent` in the plane, fading out by two) each side's vertices are mapped from
+// [-deepest, band] onto [gap, band] of own-side distance, band = 2 deepest + 4 gap (see above).
+// Counts into result: moved, max_depth.
+void pull_back_to_plane(const glm::vec3& centre, const glm::vec3& normal, float extent,
+                        std::span<const std::uint32_t> vertices, std::span<const std::int8_t> sides,
+                        float gap, std::span<glm::vec3> positions, FoldingResult& result);
+
 class SkinFolder {
  public:
   FoldingResult fold(const CollisionRegion& region, std::span<const std::uint32_t> indices,
@@ -69,13 +109,10 @@ class SkinFolder {
              std::span<const TrianglePair> pairs, std::span<glm::vec3> positions);
 
  private:
-  std::uint32_t find(std::uint32_t slot);
   void pull_back(const CollisionRegion& region, float gap, std::span<glm::vec3> positions,
                  FoldingResult& result);
-  std::vector<std::uint32_t> triangles_, parent_;
-  std::vector<std::int32_t> slot_of_vertex_;  // per mesh vertex, -1 when unused
+  IntersectingGroups groups_;
   std::vector<glm::vec3> points_;
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> order_;  // (group root, slot)
   std::vector<std::uint8_t> mark_;
   std::vector<glm::vec3> sum_;
   std::vector<int> count_;

@@ -13,6 +13,7 @@ std::string to_string(const AnatomicalFeatures& features) {
   add(features.protrusion, "protrusion");
   add(features.volume, "volume");
   add(features.bulge, "bulge");
+  add(features.contact, "contact");
   return list;
 }
 

@@ -96,7 +96,7 @@ void DeformJob::run_sweep(DeformContext& context, DeformReport& report) {
   const bool collide = features.collision();
   if (collide) {
     collision.set_options(options.collision);
-    collision.select(features.folding, features.protrusion);
+    collision.select(features.folding, features.protrusion, features.contact);
   }
   std::vector<double>& change = context.volume_change_;  // I_C targeted
   const bool from_stream =

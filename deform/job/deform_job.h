@@ -4,7 +4,8 @@
 // Inputs:  runtime    the model's ModelRuntime (model_runtime.h), shared read-only
 //          pose       J local rotations and the root translation (normalised in place)
 //          method     sweep (the paper) or the LBS/DQS baselines
-//          features   AnatomicalFeatures (sweep only): folding, protrusion, volume, bulge
+//          features   AnatomicalFeatures (sweep only): folding, protrusion, volume, bulge,
+//                     contact
 //          options    edits on/off, volume/bulge options, where I_C comes from, the pair
 //                     finder for folding (empty: the CPU reference; gpu::CollisionDetector
 //                     plugs in here), threads
@@ -23,9 +24,10 @@
 //   sizes that guard memory — joint count, output buffers of #V — in O(1), and throws
 //   std::invalid_argument naming them.
 // run(), in one direction: forward kinematics → posed keys (edits, bulge; §4.1–4.3) → volume
-//   (§4.4: towards I0 − I_C) → vertices and blending (§3.3–3.5) → folding, protrusion (§4.3) →
+//   (§4.4: towards I0 − I_C) → vertices and blending (§3.3–3.5) → folding, protrusion (§4.3),
+//   contact (whole body) →
 //   normals (WeldedNormals, after the features, so they see the moved skin).
-// One I_C (§4.4): the volume folding and protrusion add, per sweep, as CollisionFeatures
+// One I_C (§4.4): the volume folding, protrusion and contact add, per sweep, as CollisionFeatures
 //   measures it (sweep_volume_change). In a stream (kPreviousFrame) it is the previous frame's,
 //   kept in the context; a frame that stands alone (kFixedPoint, or a stream's first frame)
 //   runs a short fixed-point loop instead — deform, measure, re-target — for at most
@@ -62,7 +64,7 @@ struct DeformJobOptions {
   bool edits = true;  // §4.2: the model's key-ellipse edits (ModelRuntime::edits)
   VolumePreservationOptions volume{};
   MuscleBulgeOptions bulge{};
-  CollisionFeatureOptions collision{};  // rounds and gaps; `features` selects folding/protrusion
+  CollisionFeatureOptions collision{};  // rounds and gaps; `features` selects what runs
   VolumeChangeSource volume_change = VolumeChangeSource::kFixedPoint;
   int fixed_point_rounds = 3;  // deformations per frame at most, when volume meets folding
   // A rotation whose length differs from 1 by more is refused, not normalised (default: any
@@ -70,7 +72,7 @@ struct DeformJobOptions {
   double rotation_length_tolerance = std::numeric_limits<double>::infinity();
   // Volume added elsewhere, per sweep (bound.sweeps.size() values, or empty): added to I_C.
   std::span<const double> added_volume{};
-  DetectPairs detect{};  // folding's pair finder; empty: the CPU reference
+  DetectPairs detect{};  // folding's and contact's pair finder; empty: the CPU reference
   int threads = 1;
 };
 

@@ -41,7 +41,8 @@ deform::AnatomicalFeatures features_of(protocol::Features bits) {
   return {.folding = has(protocol::Features::Folding),
           .protrusion = has(protocol::Features::Protrusion),
           .volume = has(protocol::Features::Volume),
-          .bulge = has(protocol::Features::Bulge)};
+          .bulge = has(protocol::Features::Bulge),
+          .contact = has(protocol::Features::Contact)};
 }
 
 }  // namespace

@@ -96,9 +96,10 @@ TEST(SweepctlMetrics, ClipFramesGiveWorstMeanAndFrameAsCsvAndTable) {
     EXPECT_TRUE(frame == 0 || frame == 10 || frame == 20) << line;  // a measured frame
     ++rows;
   }
-  // Six part volumes, section ratio, crossings, edge stretch, and per part the crease anywhere
-  // and at keys (no kink: DQS has no sweep); the candy wrapper at 90 and 180 degrees.
-  EXPECT_EQ(rows, 6 + 3 + 2 * 6);
+  // Six part volumes, section ratio, crossings, whole-body contact pairs, edge stretch, and per
+  // part the crease anywhere and at keys (no kink: DQS has no sweep); the candy wrapper at 90
+  // and 180 degrees.
+  EXPECT_EQ(rows, 6 + 4 + 2 * 6);
   EXPECT_EQ(twists, 2);
   ASSERT_EQ(sweepctl(common, table), 0) << table;
   EXPECT_NE(table.find("at frame"), std::string::npos) << table;

@@ -231,10 +231,12 @@ TEST(SweepctlPosing, FeaturesFoldTheSharedMalesBentElbow) {
   if (!fs::exists(male) || !fs::exists(clip)) GTEST_SKIP() << "shared data absent";
   const fs::path dir = temp_dir();
   const Result r = run_sweepctl("pose " + male.string() + " --bvh " + clip.string() +
-                                " --frame 1257 --features folding,protrusion,volume,bulge -o " +
+                                " --frame 1257 --features folding,protrusion,volume,bulge,contact "
+                                "--collision cpu -o " +
                                 (dir / "f.glb").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("features: "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("contact: "), std::string::npos) << r.output;
   const sweepd::deform::Model posed = sweepd::io::load_gltf(dir / "f.glb");
   for (const glm::vec3& p : posed.positions) ASSERT_TRUE(std::isfinite(p.x + p.y + p.z));
   fs::remove_all(dir);

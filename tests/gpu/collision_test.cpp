@@ -4,6 +4,8 @@
 // batched in one submission and answered again from it, and the shared male's and the
 // mannequin's collision regions and whole body, elbow and knee flexed 150°, before and after
 // folding (one fold, and the whole detect -> fold/relax feature pass with either detector).
+// And whole-body contact on the procedural mannequin: the GPU's pairs over the whole skin equal
+// deform::WholeBodyDetector's, and the contact feature moves the same vertices with either.
 #include "gpu/collision.h"
 
 #include <gtest/gtest.h>
@@ -16,6 +18,7 @@
 #include "deform/features/collision_features.h"
 #include "deform/features/collision_regions.h"
 #include "deform/features/skin_folding.h"
+#include "deform/features/whole_body_detector.h"
 #include "deform/job/deform_job.h"
 #include "deform/rig/rig_map.h"
 #include "io/gltf_load.h"
@@ -368,6 +371,37 @@ TEST_F(CollisionTest, BentMannequinRegionsAndWholeBodyMatchTheCpu) {
       << "the bent mannequin must give pairs to compare";
   for (glm::vec3& p : positions) p = glm::vec3(-0.1f, 0.1f, 0.1f) * p;
   EXPECT_GT(expect_regions_and_body_match(positions, regions), 0u);
+}
+
+TEST_F(CollisionTest, WholeBodyContactMatchesTheCpuOnTheMannequin) {
+  const deform::Model model = mannequin::make_mannequin({.target_vertices = 6000});
+  const deform::BoundModel bound = deform::bind(model, deform::detect_rig_map(model.skeleton));
+  deform::test::Posing deformer(bound);
+  const deform::CollisionModel& collision = deformer.runtime.collision();
+  deform::Pose pose = deform::test::left_elbow_and_knee_flexed(model, 150.0f);
+  std::vector<glm::vec3> positions(model.vertex_count()), with_gpu(model.vertex_count());
+  deformer.deform(pose, deform::DeformMethod::kSweep, positions);
+  std::vector<TrianglePair> cpu, gpu;
+  deform::WholeBodyDetector whole_body;
+  whole_body.detect(positions, collision.regions.welded_indices, collision.contact.skin_triangles,
+                    cpu, 2);
+  gpu_.detect(positions, collision.regions.welded_indices, collision.contact.skin_triangles, gpu);
+  EXPECT_GT(cpu.size(), 0u) << "the bent elbow and knee must give pairs to compare";
+  EXPECT_EQ(gpu, cpu);
+  // The contact feature with the GPU's pairs (the same hook as folding's) moves every vertex
+  // exactly as with the CPU's.
+  deformer.features = {.contact = true};
+  deformer.deform(pose, deform::DeformMethod::kSweep, positions);
+  const deform::FeatureReport on_cpu = deformer.report.features;
+  deformer.options.detect = [&](auto p, auto i, auto t, std::vector<TrianglePair>& out) {
+    gpu_.detect(p, i, t, out);
+  };
+  deformer.deform(pose, deform::DeformMethod::kSweep, with_gpu);
+  const deform::FeatureReport on_gpu = deformer.report.features;
+  EXPECT_GT(on_cpu.contact_pairs_before, on_cpu.contact_pairs_after);
+  EXPECT_EQ(on_gpu.contact_pairs_before, on_cpu.contact_pairs_before);
+  EXPECT_EQ(on_gpu.contact_pairs_after, on_cpu.contact_pairs_after);
+  EXPECT_EQ(with_gpu, positions);
 }
 
 }  // namespace

@@ -59,11 +59,13 @@ TEST(DaemonFeatures, RepliesEqualTheLibrarysFeaturesBitForBitAndSwitchPerPose) {
   using F = protocol::Features;
   const deform::AnatomicalFeatures all{true, true, true, true}, none{};
   // All four, then none (the connection's deformer must drop volume and bulge again), then
-  // folding and protrusion alone.
+  // folding and protrusion alone, then with whole-body contact (protocol 1.8).
   const std::pair<F, deform::AnatomicalFeatures> requests[] = {
       {F::Folding | F::Protrusion | F::Volume | F::Bulge, all},
       {F::NONE, none},
-      {F::Folding | F::Protrusion, {true, true, false, false}}};
+      {F::Folding | F::Protrusion, {true, true, false, false}},
+      {F::Folding | F::Protrusion | F::Contact,
+       {.folding = true, .protrusion = true, .contact = true}}};
   std::uint64_t sequence = 0;
   for (const auto& [bits, features] : requests) {
     const std::string what = "features '" + deform::to_string(features) + "'";
@@ -83,6 +85,11 @@ TEST(DaemonFeatures, RepliesEqualTheLibrarysFeaturesBitForBitAndSwitchPerPose) {
     if (features.folding) {
       std::printf("mannequin bent 140°: %d pairs -> %d, %d folded, %d protruded\n",
                   report.pairs_before, report.pairs_after, report.folded, report.protruded);
+      if (features.contact) {
+        std::printf("  contact: %d whole-body pairs -> %d\n", report.contact_pairs_before,
+                    report.contact_pairs_after);
+        EXPECT_LT(report.contact_pairs_after, report.contact_pairs_before);
+      }
       // Folding and protrusion take measurable time; without them nothing is spent.
       EXPECT_GT(reply->timings()->features_ns(), 0u);
     } else {

@@ -211,9 +211,9 @@ TEST_F(SweepctlRemote, RemoteMetricsEqualTheLocalOnesWithoutTheSweepIntegral) {
           << l["method"] << " " << name;
       ++compared;
     }
-    EXPECT_EQ(compared, 9 + 2 * 6 + 2)
-        << "6 part volumes, section, crossings, stretch, 6 parts' crease anywhere and at keys, "
-           "the candy wrapper at 90 and 180 degrees";
+    EXPECT_EQ(compared, 10 + 2 * 6 + 2)
+        << "6 part volumes, section, crossings, whole-body contact pairs, stretch, 6 parts' "
+           "crease anywhere and at keys, the candy wrapper at 90 and 180 degrees";
   }
 }
 

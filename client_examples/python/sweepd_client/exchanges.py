@@ -41,7 +41,8 @@ PROTOCOL_VERSION = (1, 7)
 METHODS = {"sweep": DeformMethod.DeformMethod.Sweep, "lbs": DeformMethod.DeformMethod.Lbs,
            "dqs": DeformMethod.DeformMethod.Dqs}
 FEATURES = {"folding": Features.Features.Folding, "protrusion": Features.Features.Protrusion,
-            "bulge": Features.Features.Bulge, "volume": Features.Features.Volume}
+            "bulge": Features.Features.Bulge, "volume": Features.Features.Volume,
+            "contact": Features.Features.Contact}
 ENCODINGS = {"float32": PositionFormat.PositionFormat.Float32,
              "float16": PositionFormat.PositionFormat.Float16,
              "meshopt": PositionFormat.PositionFormat.Meshopt}

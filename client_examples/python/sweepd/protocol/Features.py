@@ -7,3 +7,4 @@ class Features(object):
     Protrusion = 2
     Bulge = 4
     Volume = 8
+    Contact = 16
