@@ -291,9 +291,14 @@ BodyScene* body_scene(int model) {
 void BM_DetectWholeBody(benchmark::State& state) {
   BodyScene* s = body_scene(static_cast<int>(state.range(0)));
   if (s == nullptr) return state.SkipWithError("shared data absent");
-  const std::vector<glm::vec3>& positions = s->posed[state.range(1)];
+  // Frames alternate with a copy moved 1 mm sideways (the same pairs): the GPU detector answers
+  // unchanged positions from its last submission, which would time nothing.
+  const std::vector<glm::vec3>& posed = s->posed[state.range(1)];
+  std::vector<glm::vec3> moved = posed;
+  for (glm::vec3& p : moved) p.x += 1e-3f;
   const deform::CollisionModel& model = s->runtime->collision();
   const int backend = static_cast<int>(state.range(2));
+  int frame = 0;
   gpu::CollisionDetector* detector = backend == 2 ? gpu_detector() : nullptr;
   if (backend == 2 && detector == nullptr) return state.SkipWithError("no GL context");
   const int threads = backend == 0 ? 1 : static_cast<int>(std::thread::hardware_concurrency());
@@ -301,6 +306,7 @@ void BM_DetectWholeBody(benchmark::State& state) {
   deform::SelfIntersectionDetector grid;
   std::vector<deform::TrianglePair> pairs;
   for (auto _ : state) {
+    const std::vector<glm::vec3>& positions = ++frame % 2 ? moved : posed;
     if (backend == 3) {
       grid.detect(positions, model.regions.welded_indices, model.contact.skin_triangles, pairs);
     } else if (detector) {
