@@ -11,6 +11,7 @@
 #include <set>
 #include <string_view>
 
+#include "io/assimp_crash_guard.h"
 #include "io/load_error.h"
 #include "io/rest_transform.h"
 
@@ -24,21 +25,6 @@ constexpr std::string_view kFbxBinaryMagic = "Kaydara FBX Binary";
 // assimp names the nodes that hold an FBX joint's transform parts "<joint>_$AssimpFbx$_<part>".
 constexpr std::string_view kHelperMarker = "_$AssimpFbx$_";
 constexpr std::size_t kSniffBytes = 1024;
-
-// Refuses every file, so assimp reads only the bytes it was handed (which its MemoryIOSystem
-// serves before asking this one); remembers what it refused, for the report.
-class RefusingFileSystem : public Assimp::IOSystem {
- public:
-  bool Exists(const char*) const override { return false; }
-  char getOsSeparator() const override { return '/'; }
-  Assimp::IOStream* Open(const char* file, const char*) override {
-    refused.emplace_back(file);
-    return nullptr;
-  }
-  void Close(Assimp::IOStream* stream) override { delete stream; }
-
-  std::vector<std::string> refused;
-};
 
 // A metadata number of any numeric type; `fallback` when absent.
 double metadata_number(const aiMetadata* metadata, const char* key, double fallback) {
@@ -109,6 +95,17 @@ void report_collapsed_helpers(const SceneNodes& nodes, const std::vector<int>& j
 
 }  // namespace
 
+RefusingFileSystem* configure_importer(Assimp::Importer& importer, bool animations) {
+  auto* files = new RefusingFileSystem;  // the importer owns it
+  importer.SetIOHandler(files);
+  importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_READ_TEXTURES, false);
+  importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_READ_CAMERAS, false);
+  importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_READ_LIGHTS, false);
+  importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_READ_ANIMATIONS, animations);
+  importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_PRESERVE_PIVOTS, true);
+  return files;
+}
+
 Format sniff(std::span<const std::uint8_t> bytes) {
   const std::string_view head(reinterpret_cast<const char*>(bytes.data()),
                               std::min(bytes.size(), kSniffBytes));
@@ -131,19 +128,15 @@ ImportedScene import_assimp_scene(std::span<const std::uint8_t> bytes, const fs:
   imported.format = sniff(bytes);
   if (imported.format == Format::kUnknown)
     throw LoadError(file, "not an FBX (binary or ASCII) or COLLADA file");
+  // libassimp can crash on a malformed file: tried in a child process first.
+  if (const std::string crash = assimp_import_crash(bytes); !crash.empty())
+    throw LoadError(file, crash);
   imported.importer = std::make_unique<Assimp::Importer>();
   Assimp::Importer& importer = *imported.importer;
-  auto* files = new RefusingFileSystem;  // the importer owns it
-  importer.SetIOHandler(files);
-  importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_READ_TEXTURES, false);
-  importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_READ_CAMERAS, false);
-  importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_READ_LIGHTS, false);
-  importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_READ_ANIMATIONS, animations);
-  importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_PRESERVE_PIVOTS, true);
+  auto* files = configure_importer(importer, animations);
   const bool fbx = imported.format == Format::kFbx;
-  imported.scene = importer.ReadFileFromMemory(
-      bytes.data(), bytes.size(), aiProcess_JoinIdenticalVertices | aiProcess_ValidateDataStructure,
-      fbx ? "fbx" : "dae");
+  imported.scene =
+      importer.ReadFileFromMemory(bytes.data(), bytes.size(), kImportSteps, fbx ? "fbx" : "dae");
   const aiScene* scene = imported.scene;
   if (!scene || !scene->mRootNode || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE)) {
     std::string reason = importer.GetErrorString();

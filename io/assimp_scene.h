@@ -8,6 +8,8 @@
 //                       no other file: every other path it asks for is refused and named in a
 //                       report warning
 //           animations  whether FBX animation stacks are read (the model reader skips them)
+//   The bytes are first tried in a child process (io/assimp_crash_guard.h): an importer crash is
+//   a LoadError naming it, not the caller's death.
 //   Output: the importer (which owns the scene), the scene, its format and, for FBX, its unit as
 //           metres per file unit (UnitScaleFactor / 100, reported when not 1; an up axis other
 //           than +Y reported, not converted). Throws LoadError naming the file: empty, not FBX or
@@ -32,7 +34,11 @@
 //   transform, more than 65535 joints.
 #pragma once
 
+#include <assimp/postprocess.h>
 #include <assimp/scene.h>
+
+#include <assimp/IOStream.hpp>
+#include <assimp/IOSystem.hpp>
 
 #include <assimp/Importer.hpp>
 #include <cstdint>
@@ -54,6 +60,30 @@ enum class Format { kFbx, kCollada, kUnknown };
 // What the bytes start like (the first KiB).
 Format sniff(std::span<const std::uint8_t> bytes);
 const char* format_name(Format format);
+
+// Refuses every file, so assimp reads only the bytes it was handed (which its MemoryIOSystem
+// serves before asking this one); remembers what it refused, for the report.
+class RefusingFileSystem : public Assimp::IOSystem {
+ public:
+  bool Exists(const char*) const override { return false; }
+  char getOsSeparator() const override { return '/'; }
+  Assimp::IOStream* Open(const char* file, const char*) override {
+    refused.emplace_back(file);
+    return nullptr;
+  }
+  void Close(Assimp::IOStream* stream) override { delete stream; }
+
+  std::vector<std::string> refused;
+};
+
+// The post-processing steps of every import: vertices joined, the structure validated.
+inline constexpr unsigned kImportSteps =
+    aiProcess_JoinIdenticalVertices | aiProcess_ValidateDataStructure;
+
+// The importer set up as every import here runs it: no other file read (the returned file
+// system, which the importer owns, lists what was refused), no textures, cameras or lights,
+// FBX pivots kept as helper nodes, animations read or not.
+RefusingFileSystem* configure_importer(Assimp::Importer& importer, bool animations);
 
 struct ImportedScene {
   std::unique_ptr<Assimp::Importer> importer;

@@ -127,6 +127,16 @@ TEST_F(DaemonGltfClips, FbxAnimationStacksPlayAsSweepctlPoseBitForBit) {
                       "2 'cubic')"),
             std::string::npos)
       << unknown.what();
+  // An FBX on which libassimp's importer crashes (fuzz/regressions/fbx) is refused naming the
+  // crash, and the server goes on: the clip that follows still plays.
+  const client::ServerError crashed = refused(
+      io::read_file_bytes(fs::path(SWEEPD_SOURCE_DIR) / "fuzz/regressions/fbx/assimp_double_free.fbx"),
+      "0");
+  EXPECT_EQ(crashed.code(), pb::ErrorCode::ClipLoadFailed);
+  EXPECT_NE(std::string(crashed.what()).find("the importer crashed on this file"),
+            std::string::npos)
+      << crashed.what();
+  expect_remote_equals_local(fbx + " --clip step --frame 2", "fbx_after_crash");
 }
 
 TEST_F(DaemonGltfClips, HostileUploadsAreRefusedNamingTheProblemAndTheServerGoesOn) {
