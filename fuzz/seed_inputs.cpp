@@ -105,7 +105,7 @@ Input session(const deform::BoundModel& bound, const Input& glb, const std::stri
   return stream;
 }
 
-// The mannequin's skeleton as a BVH clip of two frames (rest, then every joint turned a little).
+// A skeleton (the mannequin's, or a short chain) as a BVH clip of two frames (rest, then every joint turned a little).
 std::string bvh_of(const deform::Skeleton& skeleton) {
   std::ostringstream text;
   text << "HIERARCHY\n";
@@ -159,7 +159,16 @@ std::map<std::string, std::vector<Input>> seed_inputs() {
   // The smallest mannequin as ASCII FBX (about 0.3 MB; made here, never committed).
   io::save_gltf(mannequin::make_mannequin({.target_vertices = mannequin::kMannequinMinVertices}),
                 directory / "small.glb");
-  seeds["fbx"] = {io::convert_with_assimp(directory / "small.glb", io::AssimpExport::kFbxMetres)};
+  // And a four-joint animation stack without a mesh (about 35 kB; the mannequin's FBX is
+  // 0.3 MB, which libFuzzer runs about once a second): assimp's own BVH import, exported.
+  deform::Skeleton chain;
+  chain.joints = {{.name = "Hips", .rest_translation = {0.0f, 1.0f, 0.0f}},
+                  {.name = "Spine", .parent = 0, .rest_translation = {0.0f, 0.3f, 0.0f}},
+                  {.name = "Head", .parent = 1, .rest_translation = {0.0f, 0.3f, 0.0f}},
+                  {.name = "LeftUpLeg", .parent = 0, .rest_translation = {0.1f, 0.0f, 0.0f}}};
+  std::ofstream(directory / "chain.bvh") << bvh_of(chain);
+  seeds["fbx"] = {io::convert_with_assimp(directory / "small.glb", io::AssimpExport::kFbxMetres),
+                  io::convert_with_assimp(directory / "chain.bvh", io::AssimpExport::kFbxMetres)};
   seeds["bvh"] = {as_input(bvh)};
   seeds["sweepbind"] = {io::encode_sweepbind(bound)};
   const Input rig_bytes = read_bytes(directory / "rig.json");
