@@ -4,7 +4,8 @@
 //   ScratchDirectory(name)  a fresh_directory removed with everything in it when the object goes,
 //                           unless a test failed (kept, with any daemon log, for a look)
 //   process_scratch(name)   one ScratchDirectory per name for the whole test process, made on
-//                           first use and removed at exit unless a test of the process failed
+//                           first use (and again after a test removed it) and removed at exit
+//                           unless a test of the process failed
 #pragma once
 
 #include <gtest/gtest.h>
@@ -52,6 +53,8 @@ inline const std::filesystem::path& process_scratch(const std::string& name) {
   static std::map<std::string, std::unique_ptr<ScratchDirectory>> directories;
   std::unique_ptr<ScratchDirectory>& directory = directories[name];
   if (!directory) directory = std::make_unique<ScratchDirectory>(name);
+  // Made again when a test of the process removed it, so the next test can still write there.
+  std::filesystem::create_directories(directory->path());
   return directory->path();
 }
 

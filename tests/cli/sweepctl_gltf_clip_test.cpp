@@ -43,9 +43,6 @@ class SweepctlGltfClip : public ::testing::Test {
     key.root_translation = baked_.root[kKey];
     sweepd::io::save_pose_json(key, model_.skeleton, dir_ / "key.json");
   }
-  void TearDown() override {
-    if (!dir_.empty()) fs::remove_all(dir_);
-  }
 
   SweepctlResult pose(const std::string& flags, const std::string& out) const {
     return run_sweepctl("pose " + (dir_ / "baked.glb").string() + " " + flags + " -o " +

@@ -95,9 +95,6 @@ class SweepctlSheet : public ::testing::Test {
     if (!fs::exists(male_) || !fs::exists(clip_)) GTEST_SKIP() << "shared data absent";
     dir_ = sweepd::test::process_scratch("sweepctl_sheet_test");
   }
-  void TearDown() override {
-    if (!dir_.empty()) fs::remove_all(dir_);
-  }
   std::string model_and_clip() const { return male_.string() + " --bvh " + clip_.string(); }
 
   fs::path male_ = shared("models/makehuman_male_cmu.glb");
