@@ -103,18 +103,16 @@ void print_meshes(const deform::Model& model, const io::LoadReport& report) {
 // A model file's animations (what `pose --clip NAME|INDEX` plays): each one's duration, frames,
 // channels played, the skin joints they drive and their interpolations, or why it cannot play.
 void print_animations(const std::filesystem::path& file) {
-  const std::vector<std::string> names = io::model_animation_names(file);
-  std::printf("animations:  %zu%s\n", names.size(),
-              names.empty() ? "" : " (pose --clip NAME|INDEX)");
-  for (std::size_t a = 0; a < names.size(); ++a) {
-    const std::string label = std::to_string(a) + " '" + names[a] + "'";
-    motion::Clip clip;
-    try {
-      clip = io::load_model_clip(file, std::to_string(a));
-    } catch (const std::exception& error) {
-      std::printf("  %s: cannot play: %s\n", label.c_str(), error.what());
+  const std::vector<io::FileAnimation> animations = io::load_model_animations(file);
+  std::printf("animations:  %zu%s\n", animations.size(),
+              animations.empty() ? "" : " (pose --clip NAME|INDEX)");
+  for (std::size_t a = 0; a < animations.size(); ++a) {
+    const std::string label = std::to_string(a) + " '" + animations[a].name + "'";
+    if (!animations[a].clip) {
+      std::printf("  %s: cannot play: %s\n", label.c_str(), animations[a].error.c_str());
       continue;
     }
+    const motion::Clip& clip = *animations[a].clip;
     std::vector<bool> driven(clip.joints.size(), false);
     bool kinds[3] = {false, false, false};
     for (const motion::KeyframeTrack& track : clip.tracks) {

@@ -33,4 +33,19 @@ int choose_animation(std::span<const std::string> names, const std::string& clip
   return index;
 }
 
+std::vector<FileAnimation> every_animation(std::span<const std::string> names,
+                                           const std::function<motion::Clip(int index)>& read) {
+  std::vector<FileAnimation> all;
+  for (std::size_t a = 0; a < names.size(); ++a) {
+    FileAnimation& animation = all.emplace_back();
+    animation.name = names[a];
+    try {
+      animation.clip = read(static_cast<int>(a));
+    } catch (const LoadError& error) {
+      animation.error = error.what();
+    }
+  }
+  return all;
+}
+
 }  // namespace sweepd::io

@@ -114,11 +114,9 @@ bool finite_keys(const aiNodeAnim& channel) {
   return true;
 }
 
-motion::Clip clip_of(const ImportedScene& imported, const fs::path& file,
-                     const std::string& clip) {
+motion::Clip clip_of(const ImportedScene& imported, const fs::path& file, int index) {
   const aiScene& scene = *imported.scene;
   const std::vector<std::string> names = animation_names(scene);
-  const int index = choose_animation(names, clip, file);
   const aiAnimation& animation = *scene.mAnimations[index];
   const std::string name = "animation " + std::to_string(index) + " ('" + names[index] + "')";
   auto fail = [&](const std::string& reason) { throw LoadError(file, name + ": " + reason); };
@@ -238,13 +236,16 @@ motion::Clip clip_of(const ImportedScene& imported, const fs::path& file,
 motion::Clip load_assimp_clip(std::span<const std::uint8_t> bytes, const fs::path& label,
                               const std::string& clip) {
   LoadReport report;
-  return clip_of(import_assimp_scene(bytes, label, true, report), label, clip);
+  const ImportedScene imported = import_assimp_scene(bytes, label, true, report);
+  return clip_of(imported, label, choose_animation(animation_names(*imported.scene), clip, label));
 }
 
-std::vector<std::string> assimp_animation_names(std::span<const std::uint8_t> bytes,
-                                                const fs::path& label) {
+std::vector<FileAnimation> load_assimp_animations(std::span<const std::uint8_t> bytes,
+                                                  const fs::path& label) {
   LoadReport report;
-  return animation_names(*import_assimp_scene(bytes, label, true, report).scene);
+  const ImportedScene imported = import_assimp_scene(bytes, label, true, report);
+  return every_animation(animation_names(*imported.scene),
+                         [&](int index) { return clip_of(imported, label, index); });
 }
 
 }  // namespace sweepd::io

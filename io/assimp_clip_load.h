@@ -29,8 +29,9 @@
 // lacks (listing its animations), an animation that moves no joint, a key that is not finite, key
 // times that do not increase, and everything io::load_assimp refuses in the scene.
 //
-// assimp_animation_names(bytes, label): the file's animations' names in file order ("" for one
-// without a name); LoadError as load_assimp_clip's for a file assimp cannot read.
+// load_assimp_animations(bytes, label): every animation of the file from one import, each with its
+// name (file order, "" for one without) and its clip or why it cannot play (io/animation_choice.h);
+// LoadError as load_assimp_clip's for a file assimp cannot read.
 #pragma once
 
 #include <cstdint>
@@ -39,6 +40,7 @@
 #include <string>
 #include <vector>
 
+#include "io/animation_choice.h"
 #include "io/load_error.h"
 #include "motion/clip.h"
 
@@ -46,7 +48,7 @@ namespace sweepd::io {
 
 motion::Clip load_assimp_clip(std::span<const std::uint8_t> bytes,
                               const std::filesystem::path& label, const std::string& clip);
-std::vector<std::string> assimp_animation_names(std::span<const std::uint8_t> bytes,
-                                                const std::filesystem::path& label);
+std::vector<FileAnimation> load_assimp_animations(std::span<const std::uint8_t> bytes,
+                                                  const std::filesystem::path& label);
 
 }  // namespace sweepd::io

@@ -110,11 +110,8 @@ bool scale_moves(const std::vector<double>& values, bool cubic, const glm::vec3&
 
 // The animation `clip` of a parsed document; `file` names it in messages.
 motion::Clip clip_of(const tinygltf::Model& gltf, const std::filesystem::path& file,
-                     const std::string& clip, LoadReport& report) {
+                     int animation_index, LoadReport& report) {
   const AccessorReader reader(file, gltf);
-  std::vector<std::string> names;
-  for (const tinygltf::Animation& animation : gltf.animations) names.push_back(animation.name);
-  const int animation_index = choose_animation(names, clip, file);
   const tinygltf::Animation& animation = gltf.animations[animation_index];
   const NodeGraph graph = build_node_graph(reader, gltf);
   const int mesh_node = choose_skinned_node(reader, gltf, report);
@@ -205,6 +202,18 @@ motion::Clip clip_of(const tinygltf::Model& gltf, const std::filesystem::path& f
   return result;
 }
 
+std::vector<std::string> animation_names(const tinygltf::Model& gltf) {
+  std::vector<std::string> names;
+  for (const tinygltf::Animation& animation : gltf.animations) names.push_back(animation.name);
+  return names;
+}
+
+// The animation a user's `clip` names (io/animation_choice.h).
+motion::Clip chosen_clip(const tinygltf::Model& gltf, const std::filesystem::path& file,
+                         const std::string& clip, LoadReport& report) {
+  return clip_of(gltf, file, choose_animation(animation_names(gltf), clip, file), report);
+}
+
 }  // namespace
 
 motion::Clip load_gltf_clip(const std::filesystem::path& file, const std::string& clip) {
@@ -215,23 +224,22 @@ motion::Clip load_gltf_clip(const std::filesystem::path& file, const std::string
 motion::Clip load_gltf_clip(const std::filesystem::path& file, const std::string& clip,
                             const GltfUriPolicy& uris) {
   LoadReport report;
-  return clip_of(parse_gltf_file(file, uris, &report), file, clip, report);
+  return chosen_clip(parse_gltf_file(file, uris, &report), file, clip, report);
 }
 
-std::vector<std::string> gltf_animation_names(const std::filesystem::path& file) {
+std::vector<FileAnimation> load_gltf_animations(const std::filesystem::path& file) {
   LoadReport report;
   const tinygltf::Model gltf = parse_gltf_file(
       file, GltfUriPolicy::within(std::filesystem::absolute(file).parent_path()), &report);
-  std::vector<std::string> names;
-  for (const tinygltf::Animation& animation : gltf.animations) names.push_back(animation.name);
-  return names;
+  return every_animation(animation_names(gltf),
+                         [&](int index) { return clip_of(gltf, file, index, report); });
 }
 
 motion::Clip load_gltf_clip(std::span<const std::uint8_t> bytes, const std::filesystem::path& label,
                             const std::string& clip) {
   LoadReport report;
-  return clip_of(parse_gltf_bytes(bytes, label, GltfUriPolicy::self_contained(), &report), label,
-                 clip, report);
+  return chosen_clip(parse_gltf_bytes(bytes, label, GltfUriPolicy::self_contained(), &report),
+                     label, clip, report);
 }
 
 }  // namespace sweepd::io

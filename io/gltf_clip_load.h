@@ -29,9 +29,9 @@
 // refers to nothing, an unknown interpolation, accessors of the wrong type or count, key times
 // that do not increase, and everything io::load_gltf refuses in the file's structure.
 //
-// gltf_animation_names(file): the names of the file's animations, in file order ("" for one
-// without a name), for listing them (sweepctl inspect); LoadError as load_gltf_clip's for a file
-// tinygltf cannot read.
+// load_gltf_animations(file): every animation of the file from one parse, each with its name
+// (file order, "" for one without) and its clip or why it cannot play (io/animation_choice.h), for
+// listing them (sweepctl inspect); LoadError as load_gltf_clip's for a file tinygltf cannot read.
 #pragma once
 
 #include <cstdint>
@@ -40,6 +40,7 @@
 #include <string>
 #include <vector>
 
+#include "io/animation_choice.h"
 #include "io/gltf_uri_policy.h"
 #include "motion/clip.h"
 
@@ -48,7 +49,7 @@ namespace sweepd::io {
 motion::Clip load_gltf_clip(const std::filesystem::path& file, const std::string& clip);
 motion::Clip load_gltf_clip(const std::filesystem::path& file, const std::string& clip,
                             const GltfUriPolicy& uris);
-std::vector<std::string> gltf_animation_names(const std::filesystem::path& file);
+std::vector<FileAnimation> load_gltf_animations(const std::filesystem::path& file);
 motion::Clip load_gltf_clip(std::span<const std::uint8_t> bytes, const std::filesystem::path& label,
                             const std::string& clip);
 

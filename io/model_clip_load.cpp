@@ -19,9 +19,9 @@ motion::Clip load_model_clip(std::span<const std::uint8_t> bytes,
   return load_assimp_clip(bytes, label, clip);
 }
 
-std::vector<std::string> model_animation_names(const std::filesystem::path& file) {
-  if (!is_assimp_file(file)) return gltf_animation_names(file);
-  return assimp_animation_names(read_file_bytes(file), file);
+std::vector<FileAnimation> load_model_animations(const std::filesystem::path& file) {
+  if (!is_assimp_file(file)) return load_gltf_animations(file);
+  return load_assimp_animations(read_file_bytes(file), file);
 }
 
 }  // namespace sweepd::io

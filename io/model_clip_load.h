@@ -1,4 +1,4 @@
-// load_model_clip / model_animation_names: an animation of any model file sweepctl takes —
+// load_model_clip / load_model_animations: an animation of any model file sweepctl takes —
 // glTF 2.0 (io/gltf_clip_load.h), FBX or COLLADA (io/assimp_clip_load.h) — with the reader chosen
 // from the file's first bytes, as io::load_model chooses the model reader, so the clip's joints
 // are those of the model load_model reads from the same file.
@@ -7,7 +7,8 @@
 //                or its bytes (a client's upload) with a label naming them in messages: then
 //                self-contained, a glTF's GLB chunk and data: URIs only, as for model uploads
 //         clip   the animation's name, or its index ("0", "1", ...) (io/animation_choice.h)
-// Output: the clip; model_animation_names: the names in file order ("" for one without a name).
+// Output: the clip; load_model_animations: every animation from one parse of the file, each with
+//         its name (file order, "" for one without) and its clip or why it cannot play.
 // Throws io::LoadError naming the file and the problem.
 #pragma once
 
@@ -17,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "io/animation_choice.h"
 #include "io/load_error.h"
 #include "motion/clip.h"
 
@@ -25,6 +27,6 @@ namespace sweepd::io {
 motion::Clip load_model_clip(const std::filesystem::path& file, const std::string& clip);
 motion::Clip load_model_clip(std::span<const std::uint8_t> bytes,
                              const std::filesystem::path& label, const std::string& clip);
-std::vector<std::string> model_animation_names(const std::filesystem::path& file);
+std::vector<FileAnimation> load_model_animations(const std::filesystem::path& file);
 
 }  // namespace sweepd::io
