@@ -87,6 +87,13 @@ class DaemonGltfClips : public SweepctlRemote {
                              builder.CreateVector(gltf), builder.CreateString(animation))));
     return error_reply<pb::ClipInfo>("the upload was held");
   }
+  // An upload refused as ClipLoadFailed with `reason` in its message.
+  void expect_clip_refused(const std::vector<std::uint8_t>& gltf, const std::string& animation,
+                           const std::string& reason) {
+    const client::ServerError error = refused(gltf, animation);
+    EXPECT_EQ(error.code(), pb::ErrorCode::ClipLoadFailed) << error.what();
+    EXPECT_NE(std::string(error.what()).find(reason), std::string::npos) << error.what();
+  }
 
   static std::vector<std::uint8_t> baked_bytes() { return io::read_file_bytes(path("baked.glb")); }
 
@@ -115,59 +122,38 @@ TEST_F(DaemonGltfClips, FbxAnimationStacksPlayAsSweepctlPoseBitForBit) {
     fbx_clips = fbx_clips || capability->str() == "fbx_clips";
   EXPECT_TRUE(fbx_clips) << "protocol 1.8's capability";
   const std::string fbx = path("baked.fbx").string();
-  expect_remote_equals_local(kSharedMale.string() + " --clip-from " + fbx + " --clip linear " +
-                                 "--time 0.05",
-                             "fbx_retargeted");
+  expect_remote_equals_local(
+      kSharedMale.string() + " --clip-from " + fbx + " --clip linear " + "--time 0.05",
+      "fbx_retargeted");
   // The FBX file is the model, uploaded as FBX; its animation plays on its own joints.
   expect_remote_equals_local(fbx + " --clip cubic --frame 3", "fbx_own");
-  const client::ServerError unknown = refused(io::read_file_bytes(path("baked.fbx")), "walk");
-  EXPECT_EQ(unknown.code(), pb::ErrorCode::ClipLoadFailed);
-  EXPECT_NE(std::string(unknown.what())
-                .find("no animation named 'walk' (the file's animations: 0 'linear', 1 'step', "
-                      "2 'cubic')"),
-            std::string::npos)
-      << unknown.what();
+  expect_clip_refused(io::read_file_bytes(path("baked.fbx")), "walk",
+                      "no animation named 'walk' (the file's animations: 0 'linear', 1 'step', "
+                      "2 'cubic')");
   // An FBX on which libassimp's importer crashes (fuzz/regressions/fbx) is refused naming the
   // crash, and the server goes on: the clip that follows still plays.
-  const client::ServerError crashed = refused(
-      io::read_file_bytes(fs::path(SWEEPD_SOURCE_DIR) / "fuzz/regressions/fbx/assimp_double_free.fbx"),
-      "0");
-  EXPECT_EQ(crashed.code(), pb::ErrorCode::ClipLoadFailed);
-  EXPECT_NE(std::string(crashed.what()).find("the importer crashed on this file"),
-            std::string::npos)
-      << crashed.what();
+  expect_clip_refused(io::read_file_bytes(fs::path(SWEEPD_SOURCE_DIR) /
+                                          "fuzz/regressions/fbx/assimp_double_free.fbx"),
+                      "0", "the importer crashed on this file");
   expect_remote_equals_local(fbx + " --clip step --frame 2", "fbx_after_crash");
 }
 
 TEST_F(DaemonGltfClips, HostileUploadsAreRefusedNamingTheProblemAndTheServerGoesOn) {
   const std::vector<std::uint8_t> bytes = baked_bytes();
 
-  const client::ServerError truncated =
-      refused({bytes.begin(), bytes.begin() + bytes.size() / 2}, "linear");
-  EXPECT_EQ(truncated.code(), pb::ErrorCode::ClipLoadFailed);
-  EXPECT_NE(std::string(truncated.what()).find("truncated"), std::string::npos) << truncated.what();
+  expect_clip_refused({bytes.begin(), bytes.begin() + bytes.size() / 2}, "linear", "truncated");
 
   // A .gltf whose buffer names a file beside the server: refused before any file is opened.
   const std::string external =
       R"({"asset":{"version":"2.0"},"buffers":[{"uri":"../secret.bin","byteLength":64}]})";
-  const client::ServerError uri = refused({external.begin(), external.end()}, "0");
-  EXPECT_EQ(uri.code(), pb::ErrorCode::ClipLoadFailed);
-  EXPECT_NE(std::string(uri.what()).find("external URI \"../secret.bin\" refused"),
-            std::string::npos)
-      << uri.what();
+  expect_clip_refused({external.begin(), external.end()}, "0",
+                      "external URI \"../secret.bin\" refused");
 
-  const client::ServerError unknown = refused(bytes, "walk");
-  EXPECT_EQ(unknown.code(), pb::ErrorCode::ClipLoadFailed);
-  EXPECT_NE(std::string(unknown.what())
-                .find("no animation named 'walk' (the file's animations: 0 'linear', 1 'step', "
-                      "2 'cubic')"),
-            std::string::npos)
-      << unknown.what();
+  expect_clip_refused(bytes, "walk",
+                      "no animation named 'walk' (the file's animations: 0 'linear', 1 'step', "
+                      "2 'cubic')");
 
-  const client::ServerError none = refused(io::read_file_bytes(kSharedMale), "0");
-  EXPECT_EQ(none.code(), pb::ErrorCode::ClipLoadFailed);
-  EXPECT_NE(std::string(none.what()).find("the file has no animations"), std::string::npos)
-      << none.what();
+  expect_clip_refused(io::read_file_bytes(kSharedMale), "0", "the file has no animations");
 
   // An animation whose every channel drives a node that is not one of the skin's joints (the
   // mesh's node).
@@ -179,15 +165,11 @@ TEST_F(DaemonGltfClips, HostileUploadsAreRefusedNamingTheProblemAndTheServerGoes
   for (tinygltf::AnimationChannel& channel : aimless.animations[0].channels)
     channel.target_node = mesh_node;
   io::testing::write_glb(aimless, path("aimless.glb"));
-  const client::ServerError idle = refused(io::read_file_bytes(path("aimless.glb")), "linear");
-  EXPECT_EQ(idle.code(), pb::ErrorCode::ClipLoadFailed);
-  EXPECT_NE(std::string(idle.what()).find("moves none of the skin's joints"), std::string::npos)
-      << idle.what();
+  expect_clip_refused(io::read_file_bytes(path("aimless.glb")), "linear",
+                      "moves none of the skin's joints");
 
   const std::string garbage = "this is not a glTF file";
-  const client::ServerError junk = refused({garbage.begin(), garbage.end()}, "0");
-  EXPECT_EQ(junk.code(), pb::ErrorCode::ClipLoadFailed);
-  EXPECT_NE(std::string(junk.what()).find("not a valid .gltf"), std::string::npos) << junk.what();
+  expect_clip_refused({garbage.begin(), garbage.end()}, "0", "not a valid .gltf");
 
   // BVH text and glTF bytes in one upload: which clip is meant is unclear.
   flatbuffers::FlatBufferBuilder& builder = connection_->builder();
