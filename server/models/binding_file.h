@@ -9,8 +9,8 @@
 //   (missing, unreadable).
 // bytes(): the whole file, read from the open descriptor — the very version open() found, even
 //   if a rename replaced the name since (no window between the check and the read).
-// replaced(): true when the name now gives another version (one stat(), 2.5 µs on this
-//   machine's disk under load: server_bench); false when it gives this one, or none (missing
+// replaced(): true when the name now gives another version (one stat(), 0.8–2.5 µs on this
+//   machine under load: server_bench); false when it gives this one, or none (missing
 //   or unreadable: keep serving what is held). On NFS the answer is as fresh as the client's
 //   attribute cache (actimeo: deploy/README.md).
 #pragma once

@@ -71,7 +71,7 @@ class ModelService : public ModelLookup {
   // `held` as the store now has it: its binding loaded again when another replica sharing the
   // store edited it (ModelRegistry::current: one stat(); a replaced file that does not load is
   // logged as store_binding_damaged and the held copy returned). Called by a pose's worker
-  // before it deforms, so that a reload (0.6 s at 72k vertices) never stalls the I/O thread.
+  // before it deforms, so that a reload (0.4–0.6 s at 72k vertices) never stalls the I/O thread.
   ModelHandle current(const ModelHandle& held);
   std::vector<ModelHandle> models() const { return registry_.models(); }
   std::vector<std::string> directory_entries() const;
