@@ -18,11 +18,16 @@
 //      frames, clients that never read, garbage) → the honest round trip p50 / p99 and the
 //      ratio with / without (issue 16's target: p99 ≤ 2×). The daemon runs with
 //      --max-connections 96 so that this scene measures service, not admission.
+//   5. shared store: what a replica sharing its store adds (server/models/binding_file.h): one
+//      stat() of the model's binding per pose → µs and its share of the in-process p50; and
+//      re-reading a binding another replica's edit replaced (decode and runtime tables, what
+//      the next pose for that model waits for, once per edit) → median ms of 5.
 // The poses are frames of CMU clip 01_01 retargeted by the bench (bench_poses.h).
 // Prints a Markdown table for the README; the issue's targets are p50 ≤ 2 ms, p99 ≤ 5 ms,
 // ≥ 1000 poses/s, ratio ≤ 2. Exit code 1 when the daemon or the data cannot be had, 2 for a
 // bad command line (--help lists the flags).
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -273,6 +278,28 @@ std::vector<double> in_process_ms(const fs::path& binding, std::vector<BenchPose
   return times;
 }
 
+struct SharedStoreCost {
+  double stat_us = 0.0;    // one stat() of the binding: the check before each pose
+  double reload_ms = 0.0;  // decode + ModelRuntime: the reload after another replica's edit
+};
+SharedStoreCost shared_store_cost(const fs::path& binding) {
+  SharedStoreCost cost;
+  constexpr int kStats = 100'000;
+  struct stat status {};
+  Clock::time_point start = Clock::now();
+  for (int i = 0; i < kStats; ++i) ::stat(binding.c_str(), &status);
+  cost.stat_us = 1000.0 * milliseconds_since(start) / kStats;
+  std::vector<double> reloads;
+  for (int i = 0; i < 5; ++i) {
+    start = Clock::now();
+    const sweepd::deform::BoundModel bound = sweepd::io::load_sweepbind(binding);
+    const sweepd::deform::ModelRuntime runtime(bound);
+    reloads.push_back(milliseconds_since(start));
+  }
+  cost.reload_ms = percentile(std::move(reloads), 0.5);
+  return cost;
+}
+
 double load_average() {
   double one_minute = 0.0;
   std::ifstream("/proc/loadavg") >> one_minute;
@@ -304,6 +331,7 @@ int run(const Options& options) {
   std::vector<Throughput> rates;
   std::uint32_t vertex_count = 0, model_id = 0;
   AttackScene attack;
+  SharedStoreCost shared_store;
   {
     const Daemon daemon(options, directory);
     {
@@ -320,6 +348,7 @@ int run(const Options& options) {
       rates.push_back(throughput(daemon, poses, clients, options.seconds));
     }
     in_process = in_process_ms(daemon.binding(), poses);
+    shared_store = shared_store_cost(daemon.binding());
     attack = under_attack(daemon, poses, model_id, options.seconds);
   }
   fs::remove_all(directory);
@@ -366,6 +395,12 @@ int run(const Options& options) {
       "\nhonest p99 beside the hostile ones / alone: %.2f (target <= 2); honest clients that "
       "failed: %d alone, %d beside them\n",
       percentile(attacked, 0.99) / percentile(alone, 0.99), failed_alone, failed_attacked);
+  std::printf(
+      "\nshared store: one stat() of the binding per pose %.2f us (%.2f %% of the in-process "
+      "p50); a binding replaced by another replica's edit is read again in %.0f ms (median of "
+      "5), once, before the next pose of that model\n",
+      shared_store.stat_us, 0.1 * shared_store.stat_us / percentile(in_process, 0.5),
+      shared_store.reload_ms);
   std::printf(
       "\n%d poses of cmu_01_01, float32 positions, loopback, %u hardware threads, load "
       "average %.1f; targets: p50 <= 2 ms, p99 <= 5 ms, >= 1000 poses/s, ratio <= 2\n",

@@ -7,6 +7,7 @@
 
 #include "io/durable_file.h"
 #include "io/sweepbind.h"
+#include "server/models/store_edit_lock.h"
 #include "server/models/store_quarantine.h"
 
 namespace sweepd::server {
@@ -89,7 +90,9 @@ std::shared_ptr<RegisteredModel> ModelRegistry::read_stored(const std::string& c
   auto model = std::make_shared<RegisteredModel>();
   model->content_id = content_id;
   model->id = handle_of(content_id);
-  model->bound = io::load_sweepbind(store_dir_ / (content_id + ".sweepbind"));
+  const fs::path file = store_dir_ / (content_id + ".sweepbind");
+  model->file = BindingFile::open(file);
+  model->bound = io::decode_sweepbind(model->file->bytes(), file);
   const Label label = read_label(store_dir_ / (content_id + ".json"));
   model->name = label.name.empty() ? model->bound.model.name : label.name;
   if (model->name.empty()) model->name = "model-" + content_id.substr(0, 8);
@@ -166,6 +169,46 @@ ModelHandle ModelRegistry::find(std::uint32_t id) const {
     if (model->id == id) return model;
   }
   return nullptr;
+}
+
+ModelHandle ModelRegistry::current(std::uint32_t id, std::optional<StoreProblem>* problem) {
+  const auto replaced = [](const ModelHandle& model) {
+    return model && model->file && model->file->replaced();
+  };
+  ModelHandle held = find(id);
+  if (!replaced(held)) return held;
+  // One reload at a time: requests that see the same change wait for it, then find it held.
+  std::lock_guard reload_lock(reload_mutex_);
+  held = find(id);
+  if (!replaced(held)) return held;
+  std::shared_ptr<RegisteredModel> fresh;
+  try {
+    fresh = read_stored(held->content_id);
+  } catch (const std::exception& error) {
+    // Renames make every version whole, so this file was damaged in the store: set aside as
+    // adopt() does, and the copy held serves on.
+    StoreProblem found{held->file->path(),
+                       "the binding another replica stored does not load: " +
+                           std::string(error.what()),
+                       {}};
+    try {
+      found.quarantined_to = quarantine_model(store_dir_, held->content_id);
+    } catch (const std::exception&) {
+      // Moved already (another replica quarantined it) or not movable: the next stat decides.
+    }
+    if (problem != nullptr) *problem = std::move(found);
+    return held;
+  }
+  return swap_in(held, std::move(fresh));
+}
+
+ModelHandle ModelRegistry::swap_in(const ModelHandle& stale, ModelHandle fresh) {
+  std::lock_guard lock(mutex_);
+  const auto held = std::find_if(models_.begin(), models_.end(),
+                                 [&](const ModelHandle& m) { return m->id == stale->id; });
+  if (held == models_.end() || *held != stale) return held == models_.end() ? stale : *held;
+  *held = fresh;
+  return fresh;
 }
 
 ModelHandle ModelRegistry::find(std::string_view name) const {
@@ -276,6 +319,7 @@ ModelHandle ModelRegistry::add(StoreSlot slot, const std::string& name, deform::
   try {
     write_label(slot.file(".json"), *model);
     io::save_sweepbind(model->bound, slot.file(".sweepbind"));
+    model->file = BindingFile::open(slot.file(".sweepbind"));
   } catch (const std::exception& error) {
     throw ModelError(ErrorCode::Internal,
                      "model '" + name + "' could not be stored: " + std::string(error.what()));
@@ -289,23 +333,33 @@ ModelHandle ModelRegistry::add(StoreSlot slot, const std::string& name, deform::
 ModelHandle ModelRegistry::replace(std::uint32_t id,
                                    const std::function<void(deform::BoundModel&)>& change) {
   // Held from reading the current binding to swapping in the edited one: a concurrent edit
-  // starts from this one's result instead of overwriting it.
+  // starts from this one's result instead of overwriting it — edit_mutex_ on this replica, the
+  // store's lock file on every replica sharing the store.
   std::lock_guard edit_lock(edit_mutex_);
-  const ModelHandle old = find(id);
-  if (!old) throw ModelError(ErrorCode::UnknownModel, "no model with id " + std::to_string(id));
-  auto model = std::make_shared<RegisteredModel>(*old);
-  change(model->bound);
-  model->runtime = std::make_shared<const deform::ModelRuntime>(model->bound);
-  // Stored before it is swapped in, and outside the lookups' lock: poses do not wait for fsync.
+  const ModelHandle held = find(id);
+  if (!held) throw ModelError(ErrorCode::UnknownModel, "no model with id " + std::to_string(id));
+  const fs::path file = store_dir_ / (held->content_id + ".sweepbind");
+  std::shared_ptr<RegisteredModel> model;
   try {
-    io::save_sweepbind(model->bound, store_dir_ / (model->content_id + ".sweepbind"));
+    StoreEditLock store_lock(store_dir_ / (held->content_id + ".lock"));
+    // Another replica's edit since this one loaded the model is where this edit starts.
+    model = held->file && held->file->replaced() ? read_stored(held->content_id)
+                                                 : std::make_shared<RegisteredModel>(*held);
+    change(model->bound);
+    model->runtime = std::make_shared<const deform::ModelRuntime>(model->bound);
+    // Stored before it is swapped in, and outside the lookups' lock: poses do not wait for
+    // fsync. Opened again under the lock, so the version held is this edit's.
+    io::save_sweepbind(model->bound, file);
+    model->file = BindingFile::open(file);
+  } catch (const ModelError&) {
+    throw;
   } catch (const std::exception& error) {
-    throw ModelError(ErrorCode::Internal, "model '" + model->name + "' could not be stored: " +
+    throw ModelError(ErrorCode::Internal, "model '" + held->name + "' could not be stored: " +
                                               std::string(error.what()));
   }
+  // Unconditionally: a reload by current() that finished meanwhile holds an older version.
   std::lock_guard lock(mutex_);
-  *std::find_if(models_.begin(), models_.end(),
-                [id](const ModelHandle& m) { return m->id == id; }) = model;
+  hold(model);
   return model;
 }
 

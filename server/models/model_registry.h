@@ -30,8 +30,18 @@
 // models change, loads and binds a model while it holds a StoreSlot (the right to store one
 // content id), then adds the bound model. Thread-safe: a bind holds only the slot, never the
 // lock lookups take, so lookups never wait for a bind; edits of a model apply one after the
-// other, each to the binding the last one stored (an edit rewrites <cid>.sweepbind in place:
-// replicas sharing the store see it from their next restart or adopt).
+// other, each to the binding the last one stored.
+//
+// Edits on a shared store: an edit renames a new <cid>.sweepbind over the old one (the content
+// id stays: it names the upload, and a new id per edit would fork concurrent editors). It runs
+// under the model's StoreEditLock (<cid>.lock, store_edit_lock.h), which every replica's edits
+// of that model take, and starts from the file as it is then, so concurrent edits on several
+// replicas are all kept; it is acknowledged after the rename and the directory's fsync. Each
+// held model keeps the version of the file it came from open (binding_file.h); current(id),
+// which every pose's worker calls before it deforms, stats the file once and, when another
+// replica replaced it, loads the new version first: new requests get it, requests in flight
+// finish with the copy they hold. A replaced file that does not load is quarantined and the held copy
+// served on.
 // Errors a client causes throw ModelError with the protocol code to answer and a message
 // naming the model and the reason.
 #pragma once
@@ -41,6 +51,7 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -50,6 +61,7 @@
 #include "deform/binding/bound_model.h"
 #include "deform/job/model_runtime.h"
 #include "protocol/sweepd_generated.h"
+#include "server/models/binding_file.h"
 #include "server/models/content_id.h"
 
 namespace sweepd::server {
@@ -62,6 +74,8 @@ struct RegisteredModel {
   std::uint64_t bind_time_ns = 0;  // as stored; 0 for a store migrated from the first layout
   // Built from `bound` once it is final, shared read-only by every worker's DeformContext.
   std::shared_ptr<const deform::ModelRuntime> runtime{};
+  // The version of store_dir/<content_id>.sweepbind `bound` was read from or written as.
+  std::shared_ptr<const BindingFile> file{};
 };
 using ModelHandle = std::shared_ptr<const RegisteredModel>;
 
@@ -118,6 +132,10 @@ class ModelRegistry {
   RestoreReport restore();
 
   ModelHandle find(std::uint32_t id) const;
+  // find(id), first loading the model's binding again when another replica replaced it in the
+  // store (the header). A replaced file that does not load is quarantined, described in
+  // `*problem` (when given), and the held model returned.
+  ModelHandle current(std::uint32_t id, std::optional<StoreProblem>* problem = nullptr);
   ModelHandle find(std::string_view name) const;
   ModelHandle find_content(std::string_view content_id) const;
   std::vector<ModelHandle> models() const;  // by handle
@@ -137,10 +155,12 @@ class ModelRegistry {
   // .sweepbind). Throws ModelError (the claim's codes again, or Internal: the store failed).
   ModelHandle add(StoreSlot slot, const std::string& name, deform::BoundModel bound,
                   std::uint64_t bind_time_ns);
-  // Edits model `id`'s binding: `change` gets a copy of the current one (it may throw
+  // Edits model `id`'s binding: `change` gets a copy of the current one — the store's, read
+  // under the model's StoreEditLock when another replica replaced it — (it may throw
   // ModelError to refuse, changing nothing); the result is stored durably, then swapped in and
-  // returned. One edit at a time, so concurrent edits of a model are all kept; connections
-  // holding the old handle finish with it. ModelError{UnknownModel / Internal / change's}.
+  // returned. One edit at a time across every replica of the store, so concurrent edits of a
+  // model are all kept; connections holding the old handle finish with it.
+  // ModelError{UnknownModel / Internal: the store failed / change's}.
   ModelHandle replace(std::uint32_t id, const std::function<void(deform::BoundModel&)>& change);
 
   const std::filesystem::path& store_dir() const { return store_dir_; }
@@ -157,6 +177,9 @@ class ModelRegistry {
   void hold(ModelHandle model);
   // Reads <cid>.sweepbind and its label into a model (not yet held); throws what load throws.
   std::shared_ptr<RegisteredModel> read_stored(const std::string& content_id) const;
+  // Holds `fresh` in place of `stale` unless another change replaced `stale` meanwhile (then
+  // the held one, newer, stays and is returned).
+  ModelHandle swap_in(const ModelHandle& stale, ModelHandle fresh);
   void migrate_numbered_store(RestoreReport& report);
 
   std::filesystem::path store_dir_;
@@ -164,6 +187,7 @@ class ModelRegistry {
   mutable std::mutex mutex_;
   std::mutex store_mutex_;  // held by the StoreSlot of the one load in progress, and by adopt
   std::mutex edit_mutex_;   // held by the one replace() in progress
+  std::mutex reload_mutex_; // held by the one current() loading a replaced binding
   std::vector<ModelHandle> models_;
 };
 

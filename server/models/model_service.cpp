@@ -33,10 +33,29 @@ std::uint64_t nanoseconds_since(std::chrono::steady_clock::time_point start) {
           .count());
 }
 
+// A store problem's log fields: file, reason, and quarantined_to when it was moved.
+nlohmann::json problem_fields(const StoreProblem& problem) {
+  nlohmann::json fields = {{"file", problem.file.string()}, {"reason", problem.reason}};
+  if (!problem.quarantined_to.empty()) fields["quarantined_to"] = problem.quarantined_to.string();
+  return fields;
+}
+
 }  // namespace
 
 ModelService::ModelService(const ServerConfig& config)
     : config_(config), registry_(config.store_dir, config.max_models) {}
+
+ModelHandle ModelService::current(const ModelHandle& held) {
+  std::optional<StoreProblem> problem;
+  ModelHandle model = registry_.current(held->id, &problem);
+  if (!model) return held;  // not a registry model (none is ever removed)
+  if (problem) {
+    nlohmann::json fields = problem_fields(*problem);
+    fields["model"] = held->id;
+    log_event("store_binding_damaged", std::move(fields));
+  }
+  return model;
+}
 
 std::vector<std::string> ModelService::directory_entries() const {
   std::vector<std::string> names;
@@ -200,11 +219,8 @@ void ModelService::restore() {
   for (const fs::path& file : report.removed_temporaries) {
     log_event("store_temporary_removed", {{"file", file.string()}});
   }
-  for (const StoreProblem& problem : report.problems) {
-    nlohmann::json fields = {{"file", problem.file.string()}, {"reason", problem.reason}};
-    if (!problem.quarantined_to.empty()) fields["quarantined_to"] = problem.quarantined_to.string();
-    log_event("restore_problem", std::move(fields));
-  }
+  for (const StoreProblem& problem : report.problems)
+    log_event("restore_problem", problem_fields(problem));
   if (report.migrated > 0) log_event("store_migrated", {{"models", report.migrated}});
   for (const ModelHandle& model : registry_.models()) {
     log_event("model_restored", {{"model", model->id},

@@ -29,8 +29,9 @@
 //   name, sorted.
 // edit_key_ellipse(model_id, edit): a copy of the model's binding with one rest key replaced
 //   (deform::apply_rest_key_edit), stored durably, then swapped in (ModelRegistry::replace:
-//   concurrent edits of a model are all kept); connections holding the old handle finish
-//   with it.
+//   concurrent edits of a model are all kept, also across replicas sharing the store, which
+//   see the edit from their next pose of the model: current()); connections holding the old
+//   handle finish with it.
 // Both throw ModelError: UnknownModel (no such id), InvalidArgument (an edit the binding
 // refuses, with its reason), or the registry's codes. Thread-safe (the registry's lock);
 // load and edit take milliseconds to seconds: call them on a worker.
@@ -67,6 +68,11 @@ class ModelService : public ModelLookup {
   void add_default_model();
 
   ModelHandle find(std::uint32_t id) const override { return registry_.find(id); }
+  // `held` as the store now has it: its binding loaded again when another replica sharing the
+  // store edited it (ModelRegistry::current: one stat(); a replaced file that does not load is
+  // logged as store_binding_damaged and the held copy returned). Called by a pose's worker
+  // before it deforms, so that a reload (0.4–0.6 s at 72k vertices) never stalls the I/O thread.
+  ModelHandle current(const ModelHandle& held);
   std::vector<ModelHandle> models() const { return registry_.models(); }
   std::vector<std::string> directory_entries() const;
   // Bytes of the regular files in the store directory (models, sources, index; not the

@@ -523,6 +523,8 @@ void Connection::start_next_pose() {
     pb::ErrorCode code = pb::ErrorCode::Internal;
     std::uint64_t deform_ns = 0;
     try {
+      // Another replica's edit of the model on a shared store: posed from here on (one stat).
+      request->model = self->environment_.models.current(request->model);
       if (request->position_map) {
         deform_ns =
             self->writer_.write_position_map(*request, self->environment_.position_maps, *builder);

@@ -3,7 +3,8 @@
 // layout migrated to content ids, two registries sharing one store (as replicas on a shared
 // volume: a model stored by one is adopted by the other; concurrent writers never tear a file),
 // a StoreSlot keeping a second load out until the first is stored, and concurrent edits of one
-// model all kept.
+// model all kept — by threads of one registry and by two registries on one store, each of
+// which serves the other's edits from its next current() and never loads a damaged file.
 #include "server/models/model_registry.h"
 
 #include <gtest/gtest.h>
@@ -11,6 +12,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <fstream>
 #include <map>
@@ -292,20 +294,20 @@ TEST(ModelRegistry, ASlotKeepsTheNextLoadOutUntilItsModelIsStored) {
 
 // Two threads edit different keys of one model at once: every edit is in the stored model (an
 // edit that copied the binding before another was swapped in would drop that one).
-TEST(ModelRegistry, ConcurrentEditsOfOneModelAreAllKept) {
-  const fs::path directory = fresh_directory("registry_edits");
-  server::ModelRegistry registry(directory, 16);
-  const std::uint32_t id = add(registry, "edited")->id;
-  const std::size_t sweeps = small_bound_mannequin().sweeps.size();
-  ASSERT_GE(sweeps, 2u);
-  constexpr int kEdits = 12;
-  // Thread t sets sweep t's key k to a = 0.01 (k + 1) + t / 1000: each value distinct.
+// Two threads edit model `id` at once, thread t through editors[t], `edits` times each: edit k
+// sets sweep t's key k (mod the key count) to a = 0.01 (k + 1) + t / 1000, each value distinct.
+// Then every last edit of each thread (one per key) is in the stored binding and in what each
+// editor's current() serves — exactly: the value is set as a float and stored bit for bit. An
+// edit that started from a copy older than another's would drop that one.
+void expect_concurrent_edits_kept(const fs::path& directory,
+                                  std::array<server::ModelRegistry*, 2> editors, std::uint32_t id,
+                                  int edits) {
   const auto value = [](int t, int k) { return 0.01f * static_cast<float>(k + 1) + 0.001f * t; };
   std::vector<std::thread> threads;
   for (int t = 0; t < 2; ++t) {
     threads.emplace_back([&, t] {
-      for (int k = 0; k < kEdits; ++k) {
-        registry.replace(id, [&](deform::BoundModel& bound) {
+      for (int k = 0; k < edits; ++k) {
+        editors[t]->replace(id, [&](deform::BoundModel& bound) {
           auto& keys = bound.sweeps[t].rest_keys;
           keys[k % keys.size()].a = value(t, k);
         });
@@ -316,14 +318,60 @@ TEST(ModelRegistry, ConcurrentEditsOfOneModelAreAllKept) {
   const deform::BoundModel stored_model =
       io::load_sweepbind(stored(directory, "edited", ".sweepbind"));
   for (int t = 0; t < 2; ++t) {
-    const auto& keys = stored_model.sweeps[t].rest_keys;
-    for (int k = kEdits - static_cast<int>(std::min<std::size_t>(keys.size(), kEdits)); k < kEdits;
-         ++k) {
-      // Exact: the value is set as a float and stored bit for bit.
-      EXPECT_EQ(keys[k % keys.size()].a, value(t, k)) << "sweep " << t << " edit " << k;
-      EXPECT_EQ(registry.find(id)->bound.sweeps[t].rest_keys[k % keys.size()].a, value(t, k));
+    const std::size_t keys = stored_model.sweeps[t].rest_keys.size();
+    for (int k = edits - static_cast<int>(std::min<std::size_t>(keys, edits)); k < edits; ++k) {
+      EXPECT_EQ(stored_model.sweeps[t].rest_keys[k % keys].a, value(t, k))
+          << "sweep " << t << " edit " << k;
+      for (server::ModelRegistry* editor : editors)
+        EXPECT_EQ(editor->current(id)->bound.sweeps[t].rest_keys[k % keys].a, value(t, k));
     }
   }
+}
+
+TEST(ModelRegistry, ConcurrentEditsOfOneModelAreAllKept) {
+  const fs::path directory = fresh_directory("registry_edits");
+  server::ModelRegistry registry(directory, 16);
+  const std::uint32_t id = add(registry, "edited")->id;
+  ASSERT_GE(small_bound_mannequin().sweeps.size(), 2u);
+  expect_concurrent_edits_kept(directory, {&registry, &registry}, id, 12);
+  fs::remove_all(directory);
+}
+
+// Two replicas on one store edit one model at once, each its own sweep: every edit of both is
+// in the store, and each replica's current() serves it — without a restart, reading the file
+// once per change. A held model is brought up to date only by current(); find() answers from
+// memory.
+TEST(ModelRegistry, ReplicasSharingAStoreServeAndKeepEachOthersEdits) {
+  const fs::path directory = fresh_directory("registry_shared_edits");
+  server::ModelRegistry first(directory, 16), second(directory, 16);
+  const std::uint32_t id = add(first, "edited")->id;
+  ASSERT_NE(second.adopt(id_for("edited")), nullptr);
+  const float original = second.find(id)->bound.sweeps[0].rest_keys[0].a;
+
+  first.replace(id, [](deform::BoundModel& bound) { bound.sweeps[0].rest_keys[0].a = 0.123f; });
+  EXPECT_EQ(second.find(id)->bound.sweeps[0].rest_keys[0].a, original) << "find: as held";
+  const server::ModelHandle reloaded = second.current(id);
+  EXPECT_EQ(reloaded->bound.sweeps[0].rest_keys[0].a, 0.123f);  // stored bit for bit
+  EXPECT_EQ(second.current(id), reloaded) << "read once per change";
+  EXPECT_EQ(first.current(id), first.find(id)) << "its own edit is not read back";
+
+  expect_concurrent_edits_kept(directory, {&first, &second}, id, 8);
+
+  // A damaged file renamed over the binding (as no sweepd writes one) is never loaded: it is
+  // quarantined, and the copy held serves on.
+  const fs::path file = stored(directory, "edited", ".sweepbind");
+  std::vector<std::uint8_t> damaged = read_bytes(file);
+  damaged[100] ^= 0x7f;
+  io::write_file_durably(file, damaged);
+  const server::ModelHandle held = second.find(id);
+  std::optional<server::StoreProblem> problem;
+  EXPECT_EQ(second.current(id, &problem), held);
+  ASSERT_TRUE(problem.has_value());
+  EXPECT_NE(problem->reason.find("checksum"), std::string::npos) << problem->reason;
+  EXPECT_EQ(problem->quarantined_to.parent_path(), directory / "quarantine");
+  EXPECT_EQ(read_bytes(problem->quarantined_to), damaged);
+  EXPECT_FALSE(fs::exists(file));
+  EXPECT_EQ(second.current(id), held) << "nothing in the store: the held copy";
   fs::remove_all(directory);
 }
 
