@@ -14,6 +14,7 @@
 #include "mannequin/mannequin_anatomy.h"
 #include "mannequin/marching_tetrahedra.h"
 #include "mannequin/shortest_edge_decimation.h"
+#include "mannequin/uv_atlas.h"
 
 namespace sweepd::mannequin {
 
@@ -187,71 +188,16 @@ void skin_vertex(const MannequinAnatomy& anatomy, const BodyShape& body, const g
   }
 }
 
-// Where a welded vertex appears in the model: one copy per (chart, wrapped side) it is used with.
-struct ChartCorner {
-  std::uint32_t welded;
-  int chart;
-  bool wrapped;  // the copy right of the cylinder seam (u + 1 before packing)
-};
-
-// The mannequin's UV layout: chart c fills tile (c % columns, c / columns) of a square atlas.
-glm::vec2 atlas_uv(int chart, int chart_count, const PartCoordinates& coordinates, bool wrapped) {
-  const int columns = static_cast<int>(std::ceil(std::sqrt(static_cast<float>(chart_count))));
-  const float tile = 1.0f / static_cast<float>(columns);
-  constexpr float kMargin = 0.02f;  // of a tile, between charts
-  constexpr float kUSpan = 1.5f;    // room right of u = 1 for seam-crossing triangles
-  const float u = std::min((coordinates.angle + (wrapped ? 1.0f : 0.0f)) / kUSpan, 1.0f);
-  const float v = coordinates.axial;
-  return {tile * (static_cast<float>(chart % columns) + kMargin + (1.0f - 2.0f * kMargin) * u),
-          tile * (static_cast<float>(chart / columns) + kMargin + (1.0f - 2.0f * kMargin) * v)};
-}
-
-// Splits the welded mesh into UV charts: every triangle takes the chart most of its corners
-// belong to; a corner used by triangles of several charts, or on both sides of a chart's
-// cylinder seam, is stored once per use. Returns the model's corners and triangles.
-void split_into_charts(const BodyShape& body, const WeldedSurface& surface,
-                       const std::vector<int>& owner, std::vector<ChartCorner>& corners,
-                       std::vector<glm::vec2>& uvs, std::vector<std::uint32_t>& indices) {
-  std::unordered_map<std::uint64_t, std::uint32_t> corner_of_key;
-  corner_of_key.reserve(surface.positions.size() * 5 / 4);
-  corners.clear();
-  uvs.clear();
-  indices.clear();
-  for (std::size_t t = 0; t < surface.indices.size(); t += 3) {
-    const std::uint32_t* tri = &surface.indices[t];
-    const int a = owner[tri[0]], b = owner[tri[1]], c = owner[tri[2]];
-    const int chart = (a == b || a == c) ? a : (b == c ? b : std::min({a, b, c}));
-    PartCoordinates coordinates[3];
-    float lowest = 1.0f, highest = 0.0f;
-    for (int k = 0; k < 3; ++k) {
-      coordinates[k] = body.part_coordinates(chart, surface.positions[tri[k]]);
-      lowest = std::min(lowest, coordinates[k].angle);
-      highest = std::max(highest, coordinates[k].angle);
-    }
-    const bool crosses_seam = highest - lowest > 0.5f;
-    for (int k = 0; k < 3; ++k) {
-      const bool wrapped = crosses_seam && coordinates[k].angle < 0.5f;
-      const std::uint64_t key = (static_cast<std::uint64_t>(tri[k]) << 8) |
-                                (static_cast<std::uint64_t>(chart) << 1) | (wrapped ? 1u : 0u);
-      const auto [it, inserted] =
-          corner_of_key.try_emplace(key, static_cast<std::uint32_t>(corners.size()));
-      if (inserted) {
-        corners.push_back({tri[k], chart, wrapped});
-        uvs.push_back(atlas_uv(chart, body.part_count(), coordinates[k], wrapped));
-      }
-      indices.push_back(it->second);
-    }
-  }
-}
-
 // Renumbers the model's corners so that consecutive vertices are neighbours on the surface:
 // the triangles in meshoptimizer's vertex-cache order, then the corners in the order those
 // triangles first use them. The marched triangles come in grid-scan order, where a quarter of
 // consecutive corners lie centimetres apart; compact vertex streams (protocol/README.md) store
 // deltas between consecutive vertices, and the 72k mannequin's positions take about 20% fewer
 // bytes in this order (bench/vertex_stream_bench.cpp). Only the numbering changes.
-void order_corners_along_the_surface(std::vector<ChartCorner>& corners, std::vector<glm::vec2>& uvs,
-                                     std::vector<std::uint32_t>& indices) {
+void order_corners_along_the_surface(UvAtlas& atlas) {
+  std::vector<ChartCorner>& corners = atlas.corners;
+  std::vector<glm::vec2>& uvs = atlas.uvs;
+  std::vector<std::uint32_t>& indices = atlas.indices;
   std::vector<std::uint32_t> ordered(indices.size());
   meshopt_optimizeVertexCache(ordered.data(), indices.data(), indices.size(), corners.size());
   std::vector<std::uint32_t> new_index(corners.size());
@@ -292,28 +238,28 @@ Model make_mannequin(const MannequinOptions& options) {
   };
   float welded_target = target / (1.0f + kSeamVerticesPerSqrtVertex / std::sqrt(target));
   WeldedSurface surface;
-  std::vector<ChartCorner> corners;
-  std::vector<glm::vec2> uvs;
-  std::vector<std::uint32_t> indices;
+  UvAtlas atlas;
   for (int attempt = 0; attempt < 3; ++attempt) {
     surface = marched;
     decimate_shortest_edges(surface.positions, surface.indices,
                             static_cast<std::size_t>(welded_target), place);
     relax_on_surface(body, spacing, surface);
-    split_into_charts(body, surface, owning_parts(body, surface.positions), corners, uvs, indices);
-    const auto count = static_cast<float>(corners.size());
+    atlas = make_uv_atlas(body, surface.positions, surface.indices,
+                          owning_parts(body, surface.positions));
+    const auto count = static_cast<float>(atlas.corners.size());
     if (std::abs(count / target - 1.0f) < 0.03f) break;
     welded_target *= target / count;
   }
-  order_corners_along_the_surface(corners, uvs, indices);
+  order_corners_along_the_surface(atlas);
+  const std::vector<ChartCorner>& corners = atlas.corners;
 
   const std::vector<glm::vec3> welded_normals =
       compute_vertex_normals(surface.positions, surface.indices);
   Model model;
   model.name = "mannequin";
   model.skeleton = anatomy.skeleton;
-  model.indices = std::move(indices);
-  model.uvs = std::move(uvs);
+  model.indices = std::move(atlas.indices);
+  model.uvs = std::move(atlas.uvs);
   const std::size_t n = corners.size();
   model.positions.resize(n);
   model.normals.resize(n);

@@ -8,7 +8,8 @@
 // - 31 joints with the CMU MotionBuilder names of the shared MakeHuman male and the CMU BVH
 //   clips (Hips root, ..., LeftHandFinger1, LThumb, ...), parents first, identity rest
 //   rotations; A-pose, Y up, facing +Z, feet on y = 0, about 1.75 m tall;
-// - smooth skin weights (4 influences, summing to 1), one UV chart per body part in [0, 1]^2.
+// - smooth skin weights (4 influences, summing to 1); UVs in [0, 1]^2: one chart per body part
+//   and one tile of loose triangles, none folded or overlapping another (uv_atlas.h).
 // The result depends only on the options: two calls give bit-identical models.
 #pragma once
 
