@@ -178,13 +178,21 @@ void WholeBodyDetector::self(std::uint32_t node, std::uint32_t height, Context& 
 void WholeBodyDetector::cross(std::uint32_t a, std::uint32_t b, std::uint32_t height,
                               Context& context) const {
   if (height == 0) return leaf_pairs(a - leaf_base_, b - leaf_base_, context);
-  // Tested before descending (no call for the pairs that miss); a child of a that misses b
-  // misses both of b's children, so one test saves two.
-  for (std::uint32_t child = 2 * a; child <= 2 * a + 1; ++child) {
-    if (!nodes_overlap(nodes_[child], nodes_[b])) continue;
-    if (nodes_overlap(nodes_[child], nodes_[2 * b])) cross(child, 2 * b, height - 1, context);
-    if (nodes_overlap(nodes_[child], nodes_[2 * b + 1]))
-      cross(child, 2 * b + 1, height - 1, context);
+  // The four child pairs tested before descending, without a branch per test (their outcomes
+  // are unpredictable); then one call per overlapping pair.
+  const NodeBox* as = &nodes_[2 * a];
+  const NodeBox* bs = &nodes_[2 * b];
+  unsigned bits = static_cast<unsigned>(nodes_overlap(as[0], bs[0])) |
+                  static_cast<unsigned>(nodes_overlap(as[0], bs[1])) << 1 |
+                  static_cast<unsigned>(nodes_overlap(as[1], bs[0])) << 2 |
+                  static_cast<unsigned>(nodes_overlap(as[1], bs[1])) << 3;
+  for (; bits != 0; bits &= bits - 1) {
+    const unsigned k = static_cast<unsigned>(__builtin_ctz(bits));
+    const std::uint32_t child_a = 2 * a + (k >> 1), child_b = 2 * b + (k & 1);
+    if (height == 1)
+      leaf_pairs(child_a - leaf_base_, child_b - leaf_base_, context);
+    else
+      cross(child_a, child_b, height - 1, context);
   }
 }
 

@@ -18,9 +18,9 @@
 // of their centroids (at that call's positions), 4 per leaf, an implicit complete binary tree
 // over the leaves; every later call only refits the boxes bottom-up. Posing moves skin
 // patches mostly rigidly, so the rest-time layout keeps tight boxes. The tree is tested against
-// itself top-down (self(n) = self(left) + self(right) + cross(left, right), cross descending
-// both sides while the boxes overlap), so each pair of overlapping leaves is reached once with
-// no per-leaf query from the root. A leaf pair tests one triangle against the other leaf's four
+// itself top-down (self(n) = self(left) + self(right) + cross(left, right), cross testing its
+// four child pairs at once and descending into those that overlap), so each pair of
+// overlapping leaves is reached once with no per-leaf query from the root. A leaf pair tests one triangle against the other leaf's four
 // in SIMD lanes: the four box tests and the nine welded-vertex comparisons that drop mesh
 // neighbours (most overlapping boxes on a skin are neighbours') at once, before the exact test.
 // The top of the descent is cut into tasks taken by `threads` threads as they finish.
