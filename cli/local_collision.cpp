@@ -34,6 +34,7 @@ LocalCollision::LocalCollision(gpu::CollisionChoice choice) {
     detector_->detect(positions, indices, triangles, pairs);
     frame_gpu_times_.upload += detector_->last_timings().upload;
     frame_gpu_times_.readback += detector_->last_timings().readback;
+    frame_gpu_times_.dispatch += detector_->last_timings().dispatch;
   };
 }
 
@@ -49,6 +50,7 @@ void LocalCollision::add(const deform::FeatureReport& report) {
   times_ += report.times;
   gpu_times_.upload += frame_gpu_times_.upload;
   gpu_times_.readback += frame_gpu_times_.readback;
+  gpu_times_.dispatch += frame_gpu_times_.dispatch;
   frame_gpu_times_ = {};
 }
 
@@ -58,13 +60,15 @@ std::string describe_collision(gpu::CollisionBackend backend, const std::string&
                                const gpu::CollisionTimings& gpu_times) {
   char gpu_part[96] = "";
   if (backend == gpu::CollisionBackend::kGpu) {
-    std::snprintf(gpu_part, sizeof gpu_part, " (upload %.1f, readback %.1f)",
-                  milliseconds(gpu_times.upload), milliseconds(gpu_times.readback));
+    std::snprintf(gpu_part, sizeof gpu_part, " (upload %.1f, readback %.1f of which dispatch %.1f)",
+                  milliseconds(gpu_times.upload), milliseconds(gpu_times.readback),
+                  milliseconds(gpu_times.dispatch));
   }
-  char stages[192];
-  std::snprintf(stages, sizeof stages, ": detect %.1f ms%s, fold %.1f ms, protrude %.1f ms",
+  char stages[256];
+  std::snprintf(stages, sizeof stages,
+                ": detect %.1f ms%s, fold %.1f ms, protrude %.1f ms, contact %.1f ms",
                 milliseconds(times.detect), gpu_part, milliseconds(times.fold),
-                milliseconds(times.protrude));
+                milliseconds(times.protrude), milliseconds(times.contact));
   return std::string("collision") + where + ": " + gpu::to_string(backend) + " (" + reason + "); " +
          counted + stages;
 }

@@ -9,8 +9,9 @@
 //   for gpu without a usable EGL context (naming the problem).
 // detect(): the DeformJob's pair finder (makes the context current first; empty on cpu).
 // add(report): one deformation's stage times (FeatureReport::times, and the GPU detector's
-//   upload and readback). summary(): "collision: gpu (why); N frames: detect ... ms (upload
-//   ..., readback ...), fold ... ms, protrude ... ms" — totals over the frames added.
+//   upload, readback and dispatch). summary(): "collision: gpu (why); N frames: detect ... ms
+//   (upload ..., readback ... of which dispatch ...), fold ... ms, protrude ... ms, contact ...
+//   ms" — totals over the frames added (contact: its resolve steps; its detection is in detect).
 // describe_collision: that line from its parts (also for a daemon's Stats.collision, where
 //   `where` is " on sweepd at HOST:PORT" and `counted` "N poses since it started").
 #pragma once

@@ -69,8 +69,8 @@ const Reply& RemotePosedModel::ask(const Send& send) {
       send();
       return connection_->expect<Reply>();
     } catch (const client::ServerError& error) {
-      const bool lost_model = error.code() == pb::ErrorCode::UnknownModel ||
-                              error.code() == pb::ErrorCode::UnknownClip;
+      const bool lost_model =
+          error.code() == pb::ErrorCode::UnknownModel || error.code() == pb::ErrorCode::UnknownClip;
       if (again || !lost_model) throw server_failure(connection_->address(), error);
       std::fprintf(stderr, "sweepctl: sweepd at %s: %s; loading the model again\n",
                    connection_->address().c_str(), error.what());
@@ -91,8 +91,8 @@ void RemotePosedModel::set_up_again(client::Connection& connection) {
     const int uploads = source_->uploads();
     model_id_ = source_->load(connection).model_id();
     if (source_->uploads() > uploads)
-      std::fprintf(stderr, "sweepctl: uploaded %s again to sweepd at %s\n",
-                   source_->name().c_str(), connection.address().c_str());
+      std::fprintf(stderr, "sweepctl: uploaded %s again to sweepd at %s\n", source_->name().c_str(),
+                   connection.address().c_str());
     if (!clip_id_.empty()) clip_id_ = upload_clip(connection, local_model_file_).clip_id()->str();
   } catch (const client::ServerError& error) {
     throw server_failure(connection.address(), error);
@@ -123,8 +123,8 @@ RemotePosedModel::RemotePosedModel(const PosingArguments& arguments, const Serve
     } else {
       origin_ = "uploaded";
     }
-    const pb::ModelInfo& info = loaded ? source_->load_named(*connection_)
-                                       : source_->load(*connection_);
+    const pb::ModelInfo& info =
+        loaded ? source_->load_named(*connection_) : source_->load(*connection_);
     model_id_ = info.model_id();
     model_ = client::served_model(*connection_, info);          // `info` is invalid from here on
     if (local_model_file_) model_.name = file.stem().string();  // as the local commands name it
@@ -308,8 +308,9 @@ std::string RemotePosedModel::collision_summary() {
       std::to_string(collision->requests()) + " poses since it started, " +
           std::to_string(collision->gpu_fallbacks()) + " GPU fallbacks",
       {nanoseconds(collision->detect_ns()), nanoseconds(collision->fold_ns()),
-       nanoseconds(collision->protrude_ns())},
-      {nanoseconds(collision->upload_ns()), nanoseconds(collision->readback_ns())});
+       nanoseconds(collision->protrude_ns()), nanoseconds(collision->contact_ns())},
+      {nanoseconds(collision->upload_ns()), nanoseconds(collision->readback_ns()),
+       nanoseconds(collision->dispatch_ns())});
 }
 
 }  // namespace sweepd::cli

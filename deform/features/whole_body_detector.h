@@ -17,10 +17,14 @@
 // the triangle list changes (another span than the last call's): the triangles in Morton order
 // of their centroids (at that call's positions), 4 per leaf, an implicit complete binary tree
 // over the leaves; every later call only refits the boxes bottom-up. Posing moves skin
-// patches mostly rigidly, so the rest-time layout keeps tight boxes. Each leaf is tested
-// against the leaves at or after it (each leaf pair once), blocks of leaves on `threads`
-// threads (deform/simd/vertex_blocks.h). Buffers are kept between calls: once warm, starting
-// the threads is the only allocation.
+// patches mostly rigidly, so the rest-time layout keeps tight boxes. The tree is tested against
+// itself top-down (self(n) = self(left) + self(right) + cross(left, right), cross testing its
+// four child pairs at once and descending into those that overlap), so each pair of
+// overlapping leaves is reached once with no per-leaf query from the root. A leaf pair tests one triangle against the other leaf's four
+// in SIMD lanes: the four box tests and the nine welded-vertex comparisons that drop mesh
+// neighbours (most overlapping boxes on a skin are neighbours') at once, before the exact test.
+// The top of the descent is cut into tasks taken by `threads` threads as they finish.
+// Buffers are kept between calls: once warm, starting the threads is the only allocation.
 #pragma once
 
 #include <cstdint>
@@ -35,28 +39,56 @@ namespace sweepd::deform {
 class WholeBodyDetector {
  public:
   static constexpr std::uint32_t kLeafSize = 4;
+  // A tree node's box in SIMD lanes: x, y, z and a fourth lane that always overlaps (0).
+  struct alignas(16) NodeBox {
+    float lo[4], hi[4];
+  };
 
   void detect(std::span<const glm::vec3> positions, std::span<const std::uint32_t> indices,
               std::span<const std::uint32_t> triangles, std::vector<TrianglePair>& pairs,
               int threads = 1);
 
  private:
+  // One leaf's triangles in SIMD lanes: their boxes and welded vertex ids (lanes past the list's
+  // end hold an empty box, which overlaps nothing).
+  struct alignas(16) LeafLanes {
+    float lo[3][kLeafSize], hi[3][kLeafSize];
+    std::uint32_t vertex[3][kLeafSize];
+  };
+  // A piece of the descent: self(a) when a == b, else cross(a, b) of two overlapping nodes;
+  // both `height` levels above the leaves.
+  struct Task {
+    std::uint32_t a, b, height;
+  };
+  // What the descent reads and where one thread's pairs go.
+  struct Context {
+    std::span<const glm::vec3> positions;
+    std::span<const std::uint32_t> indices;
+    std::vector<TrianglePair>& out;
+  };
+
   void build_layout(std::span<const glm::vec3> positions, std::span<const std::uint32_t> indices,
                     std::span<const std::uint32_t> triangles);
   void refit(std::span<const glm::vec3> positions, std::span<const std::uint32_t> indices,
              int threads);
-  // Pairs of leaf `leaf` against the leaves at or after it, appended to out.
-  void query_leaf(std::span<const glm::vec3> positions, std::span<const std::uint32_t> indices,
-                  std::uint32_t leaf, std::vector<TrianglePair>& out) const;
+  // The descent (cross: of nodes whose boxes overlap); pairs appended to context.out, each
+  // pair once, in no order.
+  void self(std::uint32_t node, std::uint32_t height, Context& context) const;
+  void cross(std::uint32_t a, std::uint32_t b, std::uint32_t height, Context& context) const;
+  // Leaf a's triangles against leaf b's (a == b: the leaf's own pairs).
+  void leaf_pairs(std::uint32_t a, std::uint32_t b, Context& context) const;
+  // Splits the top of the descent into at least `wanted` tasks (fewer when the tree is small).
+  void split_tasks(std::size_t wanted);
 
   const std::uint32_t* built_triangles_ = nullptr;  // the list the layout was built for
   std::size_t built_size_ = 0;
   const std::uint32_t* built_indices_ = nullptr;
   std::vector<std::uint32_t> order_;  // triangle ids in leaf order (Morton)
-  std::vector<TriangleBox> boxes_;    // per entry of order_
-  std::vector<TriangleBox> nodes_;    // implicit tree: root 1, children 2n and 2n + 1
+  std::vector<LeafLanes> leaves_;     // per leaf
+  std::vector<NodeBox> nodes_;        // implicit tree: root 1, children 2n and 2n + 1
   std::uint32_t leaf_count_ = 0, leaf_base_ = 1, height_ = 0;  // leaves at [leaf_base_, 2 ×)
-  std::vector<std::vector<TrianglePair>> found_;               // per thread block
+  std::vector<Task> tasks_, next_tasks_;
+  std::vector<std::vector<TrianglePair>> found_;  // per thread
 };
 
 }  // namespace sweepd::deform

@@ -46,7 +46,9 @@ CollisionSnapshot CollisionService::snapshot() const {
           .fold_ns = fold_ns_.load(),
           .protrude_ns = protrude_ns_.load(),
           .upload_ns = upload_ns_.load(),
-          .readback_ns = readback_ns_.load()};
+          .readback_ns = readback_ns_.load(),
+          .contact_ns = contact_ns_.load(),
+          .dispatch_ns = dispatch_ns_.load()};
 }
 
 gpu::CollisionTimings CollisionService::detect_on_gpu(std::span<const glm::vec3> positions,
@@ -83,6 +85,8 @@ void CollisionService::count_request(const deform::FeatureTimes& times,
   protrude_ns_ += count_ns(times.protrude);
   upload_ns_ += count_ns(gpu.upload);
   readback_ns_ += count_ns(gpu.readback);
+  contact_ns_ += count_ns(times.contact);
+  dispatch_ns_ += count_ns(gpu.dispatch);
 }
 
 CollisionPairFinder::CollisionPairFinder(CollisionService& service) : service_(service) {
@@ -115,6 +119,7 @@ void CollisionPairFinder::detect(std::span<const glm::vec3> positions,
           service_.detect_on_gpu(positions, indices, triangles, pairs);
       gpu_timings_.upload += timings.upload;
       gpu_timings_.readback += timings.readback;
+      gpu_timings_.dispatch += timings.dispatch;
       return;
     } catch (const std::exception& error) {
       fell_back_ = true;

@@ -9,7 +9,8 @@
 // CPU work: poses whose features go to the GPU run on their own thread pool (Server), so the
 // deformation workers stay free for every other request while they wait.
 // A GPU job that throws: that pose's pairs come from the CPU reference from then on (the same
-// pairs: gpu::CollisionDetector is bit-identical to it, so the reply equals the CPU backend's),
+// pairs: gpu::CollisionDetector finds exactly the CPU reference's pairs, tested pair for pair,
+// so the reply equals the CPU backend's),
 // the failure is counted (gpu_fallbacks) and logged once per distinct reason
 // (`collision_gpu_fallback`). On the CPU backend the pair finder is empty (CollisionFeatures'
 // own CPU reference).
@@ -19,7 +20,8 @@
 // snapshot(): thread-safe copy of the backend, its reason and device, and the counters:
 //   requests with folding or protrusion, GPU fallbacks, and per-stage totals (ns): detect
 //   (the pair finder as the pose saw it: queueing on the GPU thread included), fold, protrude,
-//   upload and readback (gpu::CollisionTimings; GPU backend only).
+//   contact (its resolve steps; its detection is in detect), upload, readback and dispatch
+//   (gpu::CollisionTimings, dispatch a part of readback; GPU backend only).
 // CollisionPairFinder::begin(): the DeformJob's pair finder for one pose (empty on the CPU
 //   backend); finish(report): counts the pose. One per connection, used by one pose at a time;
 //   no allocation per pose once warm.
@@ -53,6 +55,7 @@ struct CollisionSnapshot {
   std::string device;  // GL_RENDERER of the GPU thread; empty without one
   std::uint64_t requests = 0, gpu_fallbacks = 0;
   std::uint64_t detect_ns = 0, fold_ns = 0, protrude_ns = 0, upload_ns = 0, readback_ns = 0;
+  std::uint64_t contact_ns = 0, dispatch_ns = 0;
 };
 
 class CollisionService {
@@ -84,7 +87,7 @@ class CollisionService {
   std::unique_ptr<gpu::CollisionDetector> detector_;  // touched only on the GPU thread
   std::atomic<std::uint64_t> requests_{0}, gpu_fallbacks_{0};
   std::atomic<std::uint64_t> detect_ns_{0}, fold_ns_{0}, protrude_ns_{0}, upload_ns_{0},
-      readback_ns_{0};
+      readback_ns_{0}, contact_ns_{0}, dispatch_ns_{0};
   std::mutex logged_mutex_;
   std::set<std::string> logged_reasons_;
 };

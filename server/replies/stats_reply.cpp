@@ -31,7 +31,8 @@ void build_stats(flatbuffers::FlatBufferBuilder& builder, std::uint64_t uptime_n
   const auto collision_stats = pb::CreateCollisionStatsDirect(
       builder, gpu::to_string(collision.backend), collision.reason.c_str(),
       collision.device.c_str(), collision.requests, collision.gpu_fallbacks, collision.detect_ns,
-      collision.fold_ns, collision.protrude_ns, collision.upload_ns, collision.readback_ns);
+      collision.fold_ns, collision.protrude_ns, collision.upload_ns, collision.readback_ns,
+      collision.contact_ns, collision.dispatch_ns);
   pb::finish_message(
       builder,
       pb::CreateStatsDirect(builder, uptime_ns, &model_stats, &connection_stats, collision_stats),

@@ -255,9 +255,13 @@ TEST(SweepctlPosing, CollisionOnTheGpuAndTheCpuGiveTheSameFoldedMale) {
       << gpu.output;
   EXPECT_NE(gpu.output.find("1 frame: detect "), std::string::npos) << gpu.output;
   EXPECT_NE(gpu.output.find("(upload "), std::string::npos) << gpu.output;
+  EXPECT_NE(gpu.output.find(" of which dispatch "), std::string::npos) << gpu.output;
+  EXPECT_NE(gpu.output.find(", contact "), std::string::npos) << gpu.output;
   const Result cpu = run_sweepctl(posing + (dir / "cpu.glb").string() + " --collision cpu");
   ASSERT_EQ(cpu.exit_code, 0) << cpu.output;
   EXPECT_NE(cpu.output.find("collision: cpu (--collision cpu"), std::string::npos) << cpu.output;
+  EXPECT_NE(cpu.output.find(", contact "), std::string::npos) << cpu.output;
+  EXPECT_EQ(cpu.output.find(" of which dispatch "), std::string::npos) << "GPU only";
   // The same pairs, so the same vertices (1e-6 m: the bound; they are bit-identical).
   const sweepd::deform::Model on_gpu = sweepd::io::load_gltf(dir / "gpu.glb");
   const sweepd::deform::Model on_cpu = sweepd::io::load_gltf(dir / "cpu.glb");

@@ -146,7 +146,7 @@ TEST(DaemonCollisionBackend, GpuAndCpuGiveTheSameVerticesOnTheMaleAndItsClips) {
     const std::vector<float> on_gpu = receive_positions(gpu), on_cpu = receive_positions(cpu);
     ASSERT_EQ(on_gpu.size(), 3 * male.vertex_count()) << gpu.daemon.log();
     ASSERT_EQ(on_cpu.size(), on_gpu.size()) << cpu.daemon.log();
-    // 1e-6 m, the bound; the pairs are bit-identical, so the vertices should be too.
+    // 1e-6 m, the bound; the pairs are identical, so the vertices should be too.
     const float difference = largest_difference(on_gpu, on_cpu);
     EXPECT_LE(difference, 1e-6f);
     largest = std::max(largest, difference);
@@ -190,6 +190,9 @@ TEST(DaemonCollisionBackend, GpuAndCpuGiveTheSameVerticesOnTheMaleAndItsClips) {
   EXPECT_GE(on_gpu.detect_ns(), on_gpu.upload_ns() + on_gpu.readback_ns());
   EXPECT_GT(on_gpu.fold_ns(), 0u);
   EXPECT_GT(on_gpu.protrude_ns(), 0u);
+  EXPECT_GT(on_gpu.contact_ns(), 0u) << "cmu_01_03 frame 1100 has whole-body contact";
+  EXPECT_GT(on_gpu.dispatch_ns(), 0u);
+  EXPECT_LE(on_gpu.dispatch_ns(), on_gpu.readback_ns()) << "dispatch is part of readback";
   std::printf(
       "gpu backend, %llu poses: detect %.1f ms (upload %.1f, readback %.1f), fold %.1f, "
       "protrude %.1f ms per pose\n",
@@ -241,6 +244,8 @@ TEST(DaemonCollisionBackend, GpuAndCpuGiveTheSameVerticesOnTheMaleAndItsClips) {
   EXPECT_GT(on_cpu.detect_ns(), 0u);
   EXPECT_EQ(on_cpu.upload_ns(), 0u);  // nothing goes to a GPU
   EXPECT_EQ(on_cpu.readback_ns(), 0u);
+  EXPECT_EQ(on_cpu.dispatch_ns(), 0u);
+  EXPECT_GT(on_cpu.contact_ns(), 0u) << "cmu_01_03 frame 1100 has whole-body contact";
   std::printf("cpu backend, %llu poses: detect %.1f ms, fold %.1f, protrude %.1f ms per pose\n",
               static_cast<unsigned long long>(on_cpu.requests()),
               on_cpu.detect_ns() * 1e-6 / on_cpu.requests(),

@@ -7,13 +7,16 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <set>
+#include <string>
 
 #include "deform/binding/bind.h"
 #include "deform/features/collision_features.h"
+#include "deform/features/collision_model.h"
 #include "deform/features/self_intersection.h"
 #include "deform/features/whole_body_detector.h"
 #include "deform/mesh/enclosed_volume.h"
@@ -145,6 +148,58 @@ TEST(WholeBodyDetector, RefitsWhenTheSameListMoves) {
   detector.detect(mesh.positions, mesh.indices, ids, pairs, 2);
   EXPECT_FALSE(pairs.empty());
   EXPECT_EQ(pairs, testing::all_pairs_reference(mesh, ids));
+}
+
+// The tree's pairs of `ids` on `mesh` equal the all-pairs reference's, with 1 and 2 threads, and
+// after a refit of a layout built for other positions (`layout_from`, same indices and list).
+void expect_all_pairs(const SoupMesh& mesh, const std::vector<std::uint32_t>& ids,
+                      const std::vector<glm::vec3>& layout_from, const std::string& what) {
+  SCOPED_TRACE(what);
+  const std::vector<TrianglePair> reference = testing::all_pairs_reference(mesh, ids);
+  std::printf("%s: %zu triangles, %zu intersecting pairs\n", what.c_str(), ids.size(),
+              reference.size());
+  EXPECT_GE(reference.size(), 10u) << "too few pairs to compare";
+  EXPECT_EQ(whole_body(mesh, ids, 1), reference);
+  EXPECT_EQ(whole_body(mesh, ids, 2), reference);
+  WholeBodyDetector detector;
+  std::vector<TrianglePair> pairs;
+  detector.detect(layout_from, mesh.indices, ids, pairs, 2);
+  detector.detect(mesh.positions, mesh.indices, ids, pairs, 2);
+  EXPECT_EQ(pairs, reference) << "refitted layout";
+}
+
+// Posed skin (LBS at 150° elbow and knee flexion: the skin crosses itself in the bends) with
+// seam-welded indices, as the contact feature passes it; then mirrored (x -> -x: every
+// triangle's orientation flips) and rescaled (x 0.37: the exact test's rounding differs).
+void expect_all_pairs_on_posed(const BoundModel& bound, const std::vector<std::uint32_t>& ids,
+                               const std::string& what) {
+  test::Posing posing(bound);
+  SoupMesh mesh{test::deformed(posing, test::left_elbow_and_knee_flexed(bound.model, 150.0f),
+                               DeformMethod::kLbs),
+                posing.runtime.collision().regions.welded_indices};
+  const std::vector<glm::vec3> posed = mesh.positions;
+  expect_all_pairs(mesh, ids, posed, what);
+  for (glm::vec3& p : mesh.positions) p.x = -p.x;
+  expect_all_pairs(mesh, ids, posed, what + ", mirrored");
+  for (std::size_t v = 0; v < posed.size(); ++v) mesh.positions[v] = posed[v] * 0.37f;
+  expect_all_pairs(mesh, ids, posed, what + ", rescaled x0.37");
+}
+
+TEST(WholeBodyDetector, MatchesAllPairsOnPosedMannequinAndMaleRegions) {
+  const Model model = mannequin::make_mannequin({.target_vertices = 3000});
+  const BoundModel mannequin = bind(model, detect_rig_map(model.skeleton));
+  const CollisionModel collision = make_collision_model(mannequin);
+  expect_all_pairs_on_posed(mannequin, collision.contact.skin_triangles,
+                            "mannequin 3k, whole skin");
+  REQUIRE_SHARED_MALE();
+  // The male's whole skin is too large for the O(n^2) reference: its elbow and knee regions.
+  std::vector<std::uint32_t> region;
+  for (const CollisionRegion& r : make_collision_model(male).regions.regions)
+    if (is_elbow_or_knee(r.site))
+      region.insert(region.end(), r.triangles.begin(), r.triangles.end());
+  std::sort(region.begin(), region.end());
+  region.erase(std::unique(region.begin(), region.end()), region.end());
+  expect_all_pairs_on_posed(male, region, "shared male, elbow and knee regions");
 }
 
 // A closed, outward-facing UV sphere.
