@@ -98,7 +98,21 @@ class CollisionStats(object):
             return self._tab.Get(flatbuffers.number_types.Uint64Flags, o + self._tab.Pos)
         return 0
 
-def CollisionStatsStart(builder): builder.StartObject(10)
+    # CollisionStats
+    def ContactNs(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(24))
+        if o != 0:
+            return self._tab.Get(flatbuffers.number_types.Uint64Flags, o + self._tab.Pos)
+        return 0
+
+    # CollisionStats
+    def DispatchNs(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(26))
+        if o != 0:
+            return self._tab.Get(flatbuffers.number_types.Uint64Flags, o + self._tab.Pos)
+        return 0
+
+def CollisionStatsStart(builder): builder.StartObject(12)
 def Start(builder):
     return CollisionStatsStart(builder)
 def CollisionStatsAddBackend(builder, backend): builder.PrependUOffsetTRelativeSlot(0, flatbuffers.number_types.UOffsetTFlags.py_type(backend), 0)
@@ -131,6 +145,12 @@ def AddUploadNs(builder, uploadNs):
 def CollisionStatsAddReadbackNs(builder, readbackNs): builder.PrependUint64Slot(9, readbackNs, 0)
 def AddReadbackNs(builder, readbackNs):
     return CollisionStatsAddReadbackNs(builder, readbackNs)
+def CollisionStatsAddContactNs(builder, contactNs): builder.PrependUint64Slot(10, contactNs, 0)
+def AddContactNs(builder, contactNs):
+    return CollisionStatsAddContactNs(builder, contactNs)
+def CollisionStatsAddDispatchNs(builder, dispatchNs): builder.PrependUint64Slot(11, dispatchNs, 0)
+def AddDispatchNs(builder, dispatchNs):
+    return CollisionStatsAddDispatchNs(builder, dispatchNs)
 def CollisionStatsEnd(builder): return builder.EndObject()
 def End(builder):
     return CollisionStatsEnd(builder)
