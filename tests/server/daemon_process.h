@@ -20,9 +20,11 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstring>
 #include <filesystem>
+#include <initializer_list>
 #include <fstream>
 #include <iterator>
 #include <memory>
@@ -121,6 +123,20 @@ class DaemonProcess {
   pid_t pid() const { return pid_; }  // -1 once it has ended
   bool running() const { return pid_ > 0 && port_ > 0; }
   std::string log() const { return read_text(log_file_); }
+  // The log once it holds every one of `texts`, or as it is after 30 s. The daemon writes some
+  // lines after the client has seen what they record (a TLS alert is sent before the handshake
+  // failure is logged; a cut socket closes before its line is written).
+  std::string log_with(std::initializer_list<std::string> texts) const {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    for (;;) {
+      std::string text = log();
+      const bool all = std::all_of(texts.begin(), texts.end(), [&](const std::string& needle) {
+        return text.find(needle) != std::string::npos;
+      });
+      if (all || std::chrono::steady_clock::now() > deadline) return text;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+  }
   // The handle (protocol model_id) of the model called `name` the daemon holds since start-up
   // (the default "mannequin"), from its start-up log: handles come from content ids
   // (server/models/content_id.h), so a test cannot know them beforehand. 0 when not logged.

@@ -79,16 +79,6 @@ TEST_F(StreamPoses, AGltfAnimationStreamsLikeABvh) {
   EXPECT_EQ(both.exit_code, 2) << both.output;
 }
 
-// Waits (30 s at most) until `daemon`'s log has `text`.
-bool wait_for_log(const DaemonProcess& daemon, const std::string& text) {
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
-  while (daemon.log().find(text) == std::string::npos) {
-    if (std::chrono::steady_clock::now() > deadline) return false;
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
-  return true;
-}
-
 TEST_F(StreamPoses, ADaemonRestartedOnAnEmptyStoreMidStreamGetsTheModelAgain) {
   const fs::path glb = directory_ / "body.glb";
   io::save_gltf(mannequin::make_mannequin({.target_vertices = 2500}), glb);
@@ -96,7 +86,8 @@ TEST_F(StreamPoses, ADaemonRestartedOnAnEmptyStoreMidStreamGetsTheModelAgain) {
   std::future<ClientRun> run = std::async(std::launch::async, [&] {
     return run_stream_poses(common_arguments() + " --model-file " + glb.string() + " --frames 480");
   });
-  ASSERT_TRUE(wait_for_log(*daemon_, "\"event\":\"clip_uploaded\"")) << daemon_->log();
+  const std::string log = daemon_->log_with({"\"event\":\"clip_uploaded\""});
+  ASSERT_NE(log.find("\"event\":\"clip_uploaded\""), std::string::npos) << log;
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
   ASSERT_EQ(run.wait_for(std::chrono::seconds(0)), std::future_status::timeout)
       << "the stream ended before the restart";
@@ -118,7 +109,8 @@ TEST_F(StreamPoses, ADaemonRestartedOnAnEmptyStoreMidStreamGetsTheModelAgain) {
       << result.output;
   // The restarted daemon bound the upload (its start-up log names only the mannequin).
   EXPECT_NE(restarted.model_id(glb.string()), 0u) << restarted.log();
-  EXPECT_TRUE(wait_for_log(restarted, "\"event\":\"clip_uploaded\"")) << restarted.log();
+  const std::string restarted_log = restarted.log_with({"\"event\":\"clip_uploaded\""});
+  EXPECT_NE(restarted_log.find("\"event\":\"clip_uploaded\""), std::string::npos) << restarted_log;
 }
 
 }  // namespace
