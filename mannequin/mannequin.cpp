@@ -9,6 +9,7 @@
 #include <string>
 #include <unordered_map>
 
+#include "deform/mesh/disjoint_sets.h"
 #include "deform/mesh/vertex_adjacency.h"
 #include "mannequin/body_shape.h"
 #include "mannequin/mannequin_anatomy.h"
@@ -52,20 +53,10 @@ struct WeldedSurface {
 // Keeps the connected piece with the most triangles (a coarse grid can cut off a fingertip).
 void keep_largest_component(WeldedSurface& surface) {
   const std::size_t n = surface.positions.size();
-  std::vector<std::uint32_t> parent(n);
-  std::iota(parent.begin(), parent.end(), 0u);
-  auto find = [&](std::uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
-  for (std::size_t t = 0; t < surface.indices.size(); t += 3)
-    for (int k = 1; k < 3; ++k) {
-      const std::uint32_t a = find(surface.indices[t]), b = find(surface.indices[t + k]);
-      if (a != b) parent[std::max(a, b)] = std::min(a, b);
-    }
+  const std::vector<std::uint32_t> component = deform::vertex_components(surface.indices, n);
   std::vector<std::size_t> triangles_of_root(n, 0);
   for (std::size_t t = 0; t < surface.indices.size(); t += 3)
-    ++triangles_of_root[find(surface.indices[t])];
+    ++triangles_of_root[component[surface.indices[t]]];
   const auto largest = static_cast<std::uint32_t>(
       std::max_element(triangles_of_root.begin(), triangles_of_root.end()) -
       triangles_of_root.begin());
@@ -73,7 +64,7 @@ void keep_largest_component(WeldedSurface& surface) {
   std::vector<std::uint32_t> new_index(n, UINT32_MAX);
   WeldedSurface kept;
   for (std::size_t t = 0; t < surface.indices.size(); t += 3) {
-    if (find(surface.indices[t]) != largest) continue;
+    if (component[surface.indices[t]] != largest) continue;
     for (int k = 0; k < 3; ++k) {
       std::uint32_t& mapped = new_index[surface.indices[t + k]];
       if (mapped == UINT32_MAX) {

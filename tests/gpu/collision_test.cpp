@@ -374,13 +374,12 @@ TEST_F(CollisionTest, BentMannequinRegionsAndWholeBodyMatchTheCpu) {
 }
 
 TEST_F(CollisionTest, WholeBodyContactMatchesTheCpuOnTheMannequin) {
-  const deform::Model model = mannequin::make_mannequin({.target_vertices = 6000});
-  const deform::BoundModel bound = deform::bind(model, deform::detect_rig_map(model.skeleton));
-  deform::test::Posing deformer(bound);
+  BentModel bent(mannequin::make_mannequin({.target_vertices = 6000}));
+  deform::test::Posing& deformer = bent.deformer;
+  deform::Pose& pose = bent.pose;
+  std::vector<glm::vec3>& positions = bent.positions;
+  std::vector<glm::vec3> with_gpu(positions.size());
   const deform::CollisionModel& collision = deformer.runtime.collision();
-  deform::Pose pose = deform::test::left_elbow_and_knee_flexed(model, 150.0f);
-  std::vector<glm::vec3> positions(model.vertex_count()), with_gpu(model.vertex_count());
-  deformer.deform(pose, deform::DeformMethod::kSweep, positions);
   std::vector<TrianglePair> cpu, gpu;
   deform::WholeBodyDetector whole_body;
   whole_body.detect(positions, collision.regions.welded_indices, collision.contact.skin_triangles,

@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "deform/mesh/disjoint_sets.h"
 #include "deform/mesh/mesh_topology.h"
 #include "deform/mesh/welded_mesh.h"
 #include "tests/mirrored_model.h"
@@ -61,19 +62,10 @@ float cross_section_radius(const Model& model, const glm::vec3& a, const glm::ve
 // The model's UV islands: triangles joined through shared vertices (a seam's copies split
 // them). Returns each triangle's island id.
 std::vector<std::uint32_t> uv_islands(const Model& model) {
-  std::vector<std::uint32_t> parent(model.vertex_count());
-  for (std::uint32_t v = 0; v < parent.size(); ++v) parent[v] = v;
-  auto find = [&](std::uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
-  for (std::size_t t = 0; t < model.indices.size(); t += 3)
-    for (int k = 1; k < 3; ++k) {
-      const std::uint32_t a = find(model.indices[t]), b = find(model.indices[t + k]);
-      if (a != b) parent[std::max(a, b)] = std::min(a, b);
-    }
+  const std::vector<std::uint32_t> component =
+      deform::vertex_components(model.indices, model.vertex_count());
   std::vector<std::uint32_t> island(model.triangle_count());
-  for (std::size_t t = 0; t < island.size(); ++t) island[t] = find(model.indices[3 * t]);
+  for (std::size_t t = 0; t < island.size(); ++t) island[t] = component[model.indices[3 * t]];
   return island;
 }
 
