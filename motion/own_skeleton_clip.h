@@ -9,6 +9,8 @@
 //         joint that differs when the clip's joints are not the skeleton's.
 #pragma once
 
+#include <memory>
+
 #include "deform/model/skeleton.h"
 #include "motion/clip_poses.h"
 
@@ -17,12 +19,14 @@ namespace sweepd::motion {
 class OwnSkeletonClip final : public ClipPoses {
  public:
   OwnSkeletonClip(Clip clip, const deform::Skeleton& skeleton);
-  const Clip& motion() const override { return clip_; }
+  // A clip shared with other players: the frames are not copied.
+  OwnSkeletonClip(std::shared_ptr<const Clip> clip, const deform::Skeleton& skeleton);
+  const Clip& motion() const override { return *clip_; }
   deform::Pose pose_at_frame(int frame) const override;
   deform::Pose pose_at_time(double seconds) const override;
 
  private:
-  Clip clip_;
+  std::shared_ptr<const Clip> clip_;  // never null
 };
 
 }  // namespace sweepd::motion

@@ -131,6 +131,10 @@ const char* to_string(JointMatchReason reason) {
 }
 
 Retargeter::Retargeter(Clip motion, const deform::Model& model, const JointNameMap& name_map)
+    : Retargeter(std::make_shared<const Clip>(std::move(motion)), model, name_map) {}
+
+Retargeter::Retargeter(std::shared_ptr<const Clip> motion, const deform::Model& model,
+                       const JointNameMap& name_map)
     : Retargeter(std::move(motion), model.skeleton, name_map, lowest_vertex_height(model)) {}
 
 Retargeter::Retargeter(Clip motion, deform::Skeleton skeleton, const JointNameMap& name_map)
@@ -138,17 +142,22 @@ Retargeter::Retargeter(Clip motion, deform::Skeleton skeleton, const JointNameMa
 
 Retargeter::Retargeter(Clip motion, deform::Skeleton skeleton, const JointNameMap& name_map,
                        float model_floor)
+    : Retargeter(std::make_shared<const Clip>(std::move(motion)), std::move(skeleton), name_map,
+                 model_floor) {}
+
+Retargeter::Retargeter(std::shared_ptr<const Clip> motion, deform::Skeleton skeleton,
+                       const JointNameMap& name_map, float model_floor)
     : motion_(std::move(motion)), skeleton_(std::move(skeleton)) {
-  if (motion_.joints.empty() || motion_.frame_count < 1)
+  if (motion_->joints.empty() || motion_->frame_count < 1)
     throw std::invalid_argument("the motion has no joints or no frames to retarget");
   if (skeleton_.joints.empty()) throw std::invalid_argument("the model has no joints");
-  const deform::Skeleton bvh = clip_rest_skeleton(motion_);
+  const deform::Skeleton bvh = clip_rest_skeleton(*motion_);
   const OptionalRigMap model_map = rig_map_or_warning(skeleton_, "model", warnings_);
   const OptionalRigMap bvh_map = rig_map_or_warning(bvh, "BVH clip", warnings_);
   match_joints(bvh, model_map, bvh_map, name_map);
-  std::vector<glm::quat> clip_world_rest(motion_.joints.size());
-  for (std::size_t b = 0; b < motion_.joints.size(); ++b) {
-    const ClipJoint& joint = motion_.joints[b];
+  std::vector<glm::quat> clip_world_rest(motion_->joints.size());
+  for (std::size_t b = 0; b < motion_->joints.size(); ++b) {
+    const ClipJoint& joint = motion_->joints[b];
     const glm::quat rest = glm::normalize(joint.rest_rotation);
     clip_world_rest[b] = joint.parent < 0 ? rest : clip_world_rest[joint.parent] * rest;
     clip_world_rest_inverse_.push_back(glm::inverse(clip_world_rest[b]));
@@ -299,7 +308,7 @@ void Retargeter::compute_root_scale(const deform::Skeleton& bvh, const OptionalR
   const std::vector<glm::vec3> bvh_world = world_rest_positions(bvh);
   model_pelvis_rest_ = model_world[model_pelvis_];
   const float bvh_height =
-      hip_height(bvh_map, bvh_world, bvh_pelvis_, lowest_clip_height(motion_, bvh_world));
+      hip_height(bvh_map, bvh_world, bvh_pelvis_, lowest_clip_height(*motion_, bvh_world));
   const float model_height = hip_height(model_map, model_world, model_pelvis_, model_floor);
   if (bvh_height > 0.0f && model_height > 0.0f) {
     root_scale_ = model_height / bvh_height;
@@ -310,8 +319,8 @@ void Retargeter::compute_root_scale(const deform::Skeleton& bvh, const OptionalR
 
 std::vector<std::string> Retargeter::unmapped_bvh_joints() const {
   std::vector<std::string> names;
-  for (std::size_t b = 0; b < motion_.joints.size(); ++b)
-    if (model_of_bvh_[b] < 0) names.push_back(motion_.joints[b].name);
+  for (std::size_t b = 0; b < motion_->joints.size(); ++b)
+    if (model_of_bvh_[b] < 0) names.push_back(motion_->joints[b].name);
   return names;
 }
 
@@ -325,11 +334,11 @@ std::vector<std::string> Retargeter::unmapped_model_joints() const {
 deform::Pose Retargeter::retarget(std::span<const glm::quat> bvh_local,
                                   std::span<const glm::vec3> bvh_translation,
                                   bool keep_root_rest) const {
-  const std::size_t bvh_count = motion_.joints.size();
+  const std::size_t bvh_count = motion_->joints.size();
   std::vector<glm::quat> bvh_world(bvh_count);
   std::vector<glm::vec3> bvh_position(bvh_count);
   for (std::size_t b = 0; b < bvh_count; ++b) {
-    const int parent = motion_.joints[b].parent;
+    const int parent = motion_->joints[b].parent;
     bvh_world[b] = parent < 0 ? bvh_local[b] : bvh_world[parent] * bvh_local[b];
     bvh_position[b] = parent < 0 ? bvh_translation[b]
                                  : bvh_position[parent] + bvh_world[parent] * bvh_translation[b];
@@ -360,29 +369,29 @@ deform::Pose Retargeter::retarget(std::span<const glm::quat> bvh_local,
 }
 
 deform::Pose Retargeter::pose_at_frame(int frame) const {
-  if (frame < 0 || frame >= motion_.frame_count)
+  if (frame < 0 || frame >= motion_->frame_count)
     throw std::out_of_range("frame " + std::to_string(frame) + " is outside the clip's " +
-                            std::to_string(motion_.frame_count) + " frames");
-  std::vector<glm::quat> rotations(motion_.joints.size());
-  std::vector<glm::vec3> translations(motion_.joints.size());
-  motion_.local_pose(frame, rotations, translations);
+                            std::to_string(motion_->frame_count) + " frames");
+  std::vector<glm::quat> rotations(motion_->joints.size());
+  std::vector<glm::vec3> translations(motion_->joints.size());
+  motion_->local_pose(frame, rotations, translations);
   return retarget(rotations, translations, false);
 }
 
 deform::Pose Retargeter::pose_at_time(double seconds) const {
-  std::vector<glm::quat> rotations(motion_.joints.size());
-  std::vector<glm::vec3> translations(motion_.joints.size());
-  motion_.local_pose_at_time(seconds, rotations, translations);
+  std::vector<glm::quat> rotations(motion_->joints.size());
+  std::vector<glm::vec3> translations(motion_->joints.size());
+  motion_->local_pose_at_time(seconds, rotations, translations);
   return retarget(rotations, translations, false);
 }
 
 deform::Pose Retargeter::pose_at_bvh_rest() const {
-  const std::size_t count = motion_.joints.size();
+  const std::size_t count = motion_->joints.size();
   std::vector<glm::quat> rotations(count);
   std::vector<glm::vec3> translations(count);
   for (std::size_t b = 0; b < count; ++b) {
-    rotations[b] = motion_.joints[b].rest_rotation;
-    translations[b] = motion_.joints[b].offset;
+    rotations[b] = motion_->joints[b].rest_rotation;
+    translations[b] = motion_->joints[b].offset;
   }
   return retarget(rotations, translations, true);
 }

@@ -65,6 +65,7 @@
 // The shift is applied to the model's root (joint 0), which must carry the pelvis rigidly.
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -104,6 +105,10 @@ class Retargeter final : public ClipPoses {
   // retargeting as from the model itself.
   Retargeter(Clip motion, deform::Skeleton skeleton, const JointNameMap& name_map,
              float model_floor);
+  // A clip shared with other players (sweepd plays one uploaded clip on many models): the
+  // frames are not copied.
+  Retargeter(std::shared_ptr<const Clip> motion, const deform::Model& model,
+             const JointNameMap& name_map = {});
 
   // Matched pairs, ordered by model joint.
   const std::vector<JointMatch>& matches() const { return matches_; }
@@ -115,7 +120,7 @@ class Retargeter final : public ClipPoses {
   const std::vector<std::string>& warnings() const { return warnings_; }
 
   float root_scale() const { return root_scale_; }
-  const Clip& motion() const override { return motion_; }
+  const Clip& motion() const override { return *motion_; }
 
   // Sampling is const and thread-safe; each call allocates a few per-joint scratch vectors
   // (tens of joints: microseconds), which is fine per frame but not per vertex.
@@ -135,11 +140,14 @@ class Retargeter final : public ClipPoses {
   void compute_alignments(const deform::Skeleton& bvh, const OptionalRigMap& model_map);
   void compute_root_scale(const deform::Skeleton& bvh, const OptionalRigMap& model_map,
                           const OptionalRigMap& bvh_map, float model_floor);
-  // bvh_local: rotations and translations of every BVH joint (motion_.joints.size()).
+  // bvh_local: rotations and translations of every BVH joint (motion_->joints.size()).
   deform::Pose retarget(std::span<const glm::quat> bvh_local,
                         std::span<const glm::vec3> bvh_translation, bool keep_root_rest) const;
 
-  Clip motion_;
+  Retargeter(std::shared_ptr<const Clip> motion, deform::Skeleton skeleton,
+             const JointNameMap& name_map, float model_floor);
+
+  std::shared_ptr<const Clip> motion_;  // never null
   deform::Skeleton skeleton_;
   std::vector<JointMatch> matches_;
   std::vector<int> bvh_of_model_;                   // per model joint

@@ -29,8 +29,8 @@
 //   `--clip-from` build it, or for an own_skeleton glTF clip motion::OwnSkeletonClip on the
 //   model's skeleton, as `sweepctl pose MODEL.glb --clip` builds it — so a frame of it equals
 //   that command's frame bit for bit. Built on first use per model and kept while the model
-//   is (an edited model is a new one). Thread-safe. Each player keeps its own copy of the
-//   clip: memory is about (1 + models posed with it) × the clip's floats.
+//   is (an edited model is a new one). Thread-safe. The players share the held clip's frames:
+//   memory is the clip's floats once, plus a few per-joint tables per model.
 #pragma once
 
 #include <cstddef>
@@ -59,14 +59,14 @@ class HeldClip {
            bool own_skeleton, std::size_t upload_bytes)
       : id_(std::move(id)),
         name_(std::move(name)),
-        clip_(std::move(clip)),
+        clip_(std::make_shared<const motion::Clip>(std::move(clip))),
         name_map_(std::move(name_map)),
         own_skeleton_(own_skeleton),
         bytes_(upload_bytes) {}
 
   const std::string& id() const { return id_; }
   const std::string& name() const { return name_; }
-  const motion::Clip& clip() const { return clip_; }
+  const motion::Clip& clip() const { return *clip_; }
   std::size_t upload_bytes() const { return bytes_; }
   // Throws std::invalid_argument when the clip cannot drive the model (the Retargeter's or
   // OwnSkeletonClip's reasons).
@@ -78,7 +78,7 @@ class HeldClip {
     std::shared_ptr<const motion::ClipPoses> player;
   };
   const std::string id_, name_;
-  const motion::Clip clip_;
+  const std::shared_ptr<const motion::Clip> clip_;  // shared by the players, never copied
   const motion::JointNameMap name_map_;
   const bool own_skeleton_;
   const std::size_t bytes_;

@@ -2,13 +2,14 @@
 // are uploaded, refused past the count or byte limit with the limit named, and text that is
 // not a usable BVH is refused with the reader's reason without taking room. A glTF clip's
 // file bytes count against the same byte limit (protocol 1.7; the file is made in the test,
-// tests/io/baked_gltf_clip.h).
+// tests/io/baked_gltf_clip.h), and its players on several models share its frames.
 #include "server/models/clip_store.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <filesystem>
+#include <memory>
 #include <string>
 
 #include "io/file_bytes.h"
@@ -116,6 +117,14 @@ TEST(ClipStore, ByteLimitCountsAGltfClipsFileBytes) {
   EXPECT_EQ(held(store.add_gltf("again.glb", gltf, "linear", false)), linear)
       << "the same bytes and animation are the held clip, counted once";
   EXPECT_NE(held(store.add("walk.bvh", tiny_clip(), 1.0f)), nullptr) << "what is left fits";
+  // Played on two models, the clip is not copied: --max-clip-bytes bounds what players hold.
+  auto model = std::make_shared<RegisteredModel>();
+  model->bound.model = male;
+  const ModelHandle first = model, second = std::make_shared<RegisteredModel>(*model);
+  EXPECT_EQ(&linear->player(first)->motion(), &linear->clip());
+  EXPECT_EQ(&linear->player(second)->motion(), &linear->clip());
+  EXPECT_EQ(linear->player(first)->pose_at_frame(3).local_rotations,
+            linear->player(second)->pose_at_frame(3).local_rotations);
   EXPECT_EQ(refused(store.add_gltf("baked.glb", gltf, "cubic", false)).code,
             protocol::ErrorCode::ClipLimit)
       << "another animation is another clip of the file's bytes";
