@@ -9,7 +9,8 @@
 // Input:  bytes    the file's content (only these are read, as io::load_assimp reads them)
 //         seconds  how long the child may take; past it the child is killed
 // Output: "" when the child returned (the import may still have failed cleanly: the real read
-//         says why), else the reason in words: "the importer crashed on this file (signal 6)",
+//         says why), else the reason in words: "the importer crashed on this file (signal 6)"
+//         (or "(exit status N)" where a sanitizer's handler ended the child),
 //         "the importer took more than N s on this file", or that no child could be started.
 // The child runs the import with animations read (a superset of a model's read), then exits
 // without running the parent's exit handlers.

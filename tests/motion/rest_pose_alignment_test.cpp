@@ -159,7 +159,12 @@ TEST(RestPoseAlignment, OnEveryModelTheHeadTurnsAsTheClipsHead) {
       // What aligning the neck like a limb turned the head by: the rest neck's angle to the
       // clip's (model neck base to head, clip likewise).
       const std::vector<glm::mat4> world_rest = model.skeleton.world_rest_matrices();
-      const int neck = rig.neck.chain.front(), clip_neck = retargeter.bvh_joint_for(neck);
+      // A model neck joint the clip has no match for (-1) is measured from the clip head's
+      // parent instead.
+      const int neck = rig.neck.chain.front();
+      const int clip_neck = retargeter.bvh_joint_for(neck) >= 0 ? retargeter.bvh_joint_for(neck)
+                                                                : clip.joints[clip_head].parent;
+      ASSERT_GE(clip_neck, 0) << model_name << ", " << name;
       std::vector<glm::vec3> clip_rest(clip.joints.size());
       for (std::size_t b = 0; b < clip.joints.size(); ++b)
         clip_rest[b] =
