@@ -7,6 +7,8 @@
 #include <cstring>
 #include <memory>
 
+#include "server/transport/lingering_close.h"
+
 namespace sweepd::server {
 namespace {
 
@@ -184,9 +186,11 @@ TlsSession ConnectionStream::tls_session() {
 }
 
 void ConnectionStream::close() {
+  // Outstanding reads and writes end now (their handlers see operation_aborted); the socket
+  // lingers on its own until the peer has read what was sent.
   std::error_code ignored;
-  socket().shutdown(asio::socket_base::shutdown_both, ignored);
-  socket().close(ignored);
+  socket().cancel(ignored);
+  close_lingering(std::move(socket()));
 }
 
 }  // namespace sweepd::server

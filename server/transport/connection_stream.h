@@ -24,8 +24,9 @@
 //   send_close_frame(done)              WebSocket: a close frame (1000) unless one went out
 //                                       already, then done() once the queue is written; plain
 //                                       or TLS: done() at once
-//   close()                             shuts the socket down and closes it, no TLS close_notify
-//                                       (a peer may read the last reply, then sees the end)
+//   close()                             ends outstanding operations and hands the socket to
+//                                       close_lingering (the peer reads the last reply, then
+//                                       sees the end); no TLS close_notify
 // All calls on the connection's I/O thread; one read and one write may be outstanding at once.
 #pragma once
 

@@ -10,8 +10,10 @@
 #include <cstring>
 #include <fstream>
 #include <limits>
+#include <thread>
 
 #include "tests/server/daemon_process.h"
+#include "tests/server/hostile_input.h"
 #include "tests/server/pose_frames.h"
 
 namespace sweepd::test {
@@ -327,6 +329,38 @@ TEST_P(DaemonErrors, ClientVanishingMidFrameLeavesOthersServed) {
   const protocol::PosedVertices* reply = healthy_->receive_as<protocol::PosedVertices>();
   ASSERT_NE(reply, nullptr);
   EXPECT_EQ(reply->sequence(), 2u);
+}
+
+// A client that sends 40 bad frames and reads slowly (a 1 KiB receive buffer): the daemon
+// cuts it at the 16th with the other 24 unread and most of its answers still in its own send
+// buffer. Closed outright, the kernel would reset the connection and drop those answers, the
+// fatal Error among them (CI saw a WebSocket client read only the non-fatal ones). The daemon
+// lingers instead: the client reads every answer, the fatal BadFrame last.
+TEST_P(DaemonErrors, AClientSendingPastTheSixteenthBadFrameStillReadsWhyItWasCut) {
+  constexpr int kReceiveBufferBytes = 1024;
+  const std::unique_ptr<FrameClient> client =
+      GetParam() == Transport::kWebSocket
+          ? std::make_unique<FrameClient>(daemon_->websocket_port(),
+                                          WebSocketUpgrade{"", kReceiveBufferBytes, ""})
+          : std::make_unique<FrameClient>(daemon_->port(), kReceiveBufferBytes);
+  ASSERT_NE(client->hello(""), nullptr);
+  std::vector<std::uint8_t> junk = length_prefix(24);
+  junk.resize(28, 0xee);
+  for (int f = 0; f < 40; ++f) client->send_bytes(junk);
+  // Time for the daemon to read, answer 16 frames and close before the client reads.
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  std::size_t errors = 0;
+  std::optional<protocol::ErrorCode> last;
+  while (const protocol::Message* message = client->receive()) {
+    if (const protocol::Error* error = message->body_as_Error()) {
+      ++errors;
+      last = error->code();
+    }
+  }
+  EXPECT_EQ(errors, 17u);  // an answer to each of the 16, then the fatal one; nothing after
+  EXPECT_EQ(last, protocol::ErrorCode::BadFrame);
+  ASSERT_TRUE(send_pose(*healthy_, pose_fields(daemon_->model_id(), 4, rotations_)));
+  EXPECT_NE(healthy_->receive_as<protocol::PosedVertices>(), nullptr);
 }
 
 TEST_P(DaemonErrors, SilentConnectionIsClosedAfterTheHelloTimeout) {
