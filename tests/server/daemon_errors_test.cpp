@@ -87,7 +87,8 @@ class DaemonErrors : public ::testing::TestWithParam<Transport> {
     broken_->send_bytes(frame);  // the server may close before it has read the whole message
     EXPECT_TRUE(broken_->closed_by_server());
     EXPECT_EQ(broken_->websocket().peer_close_code(), kCloseMessageTooBig);
-    ASSERT_TRUE(send_pose(*healthy_, pose_fields(daemon_->model_id(), 1000 + ++poses_, rotations_)));
+    ASSERT_TRUE(
+        send_pose(*healthy_, pose_fields(daemon_->model_id(), 1000 + ++poses_, rotations_)));
     const protocol::PosedVertices* reply = healthy_->receive_as<protocol::PosedVertices>();
     ASSERT_NE(reply, nullptr);
     EXPECT_EQ(reply->sequence(), 1000 + poses_);
