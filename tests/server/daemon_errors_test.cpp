@@ -345,8 +345,7 @@ TEST_P(DaemonErrors, AClientSendingPastTheSixteenthBadFrameStillReadsWhyItWasCut
                                           WebSocketUpgrade{"", kReceiveBufferBytes, ""})
           : std::make_unique<FrameClient>(daemon_->port(), kReceiveBufferBytes);
   ASSERT_NE(client->hello(""), nullptr);
-  std::vector<std::uint8_t> junk = length_prefix(24);
-  junk.resize(28, 0xee);
+  const std::vector<std::uint8_t> junk = garbage_frame();
   for (int f = 0; f < 40; ++f) client->send_bytes(junk);
   // Time for the daemon to read, answer 16 frames and close before the client reads.
   std::this_thread::sleep_for(std::chrono::milliseconds(300));

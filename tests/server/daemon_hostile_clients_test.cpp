@@ -87,8 +87,7 @@ TEST(DaemonHostileClients, HonestClientsAreServedWhileSixtyFourHostileOnesAreCut
       ASSERT_TRUE(send_pose(*non_readers.back(), pose_fields(daemon.model_id(), p, wire)));
   }
   // Hostile 4: Hello, then 20 frames of garbage (16 bad frames close a connection).
-  std::vector<std::uint8_t> junk = length_prefix(24);
-  junk.resize(28, 0xee);
+  const std::vector<std::uint8_t> junk = garbage_frame();
   for (int i = 0; i < kHostileEach; ++i) {
     garbage.push_back(std::make_unique<FrameClient>(daemon.port()));
     ASSERT_NE(garbage.back()->hello(""), nullptr);

@@ -165,8 +165,7 @@ TEST_F(DaemonWebSocket, AWrongTokenAndARequestBeforeHelloAreRefusedAsOnTcp) {
 
 TEST_F(DaemonWebSocket, MalformedFramesAreAnsweredAndSixteenCloseTheSession) {
   std::unique_ptr<FrameClient> garbage = greeted();
-  std::vector<std::uint8_t> junk = length_prefix(24);
-  junk.resize(28, 0xee);
+  const std::vector<std::uint8_t> junk = garbage_frame();
   for (int f = 0; f < 20; ++f) garbage->send_bytes(junk);
   EXPECT_EQ(last_error_before_close(*garbage), protocol::ErrorCode::BadFrame);
   EXPECT_GE(cuts_logged("16 bad frames"), 1u);

@@ -20,6 +20,14 @@ inline std::vector<std::uint8_t> length_prefix(std::uint32_t length) {
           static_cast<std::uint8_t>(length >> 16), static_cast<std::uint8_t>(length >> 24)};
 }
 
+// A whole frame of 24 bytes that is no message (its file identifier is not "SWPD"): each one
+// is answered with a non-fatal Error until 16 of them close the connection.
+inline std::vector<std::uint8_t> garbage_frame() {
+  std::vector<std::uint8_t> frame = length_prefix(24);
+  frame.resize(28, 0xee);
+  return frame;
+}
+
 // Log lines of `event` (the daemon logs one JSON object per line) that contain `part`.
 inline std::size_t log_lines(const std::string& log, const std::string& event,
                              const std::string& part) {
