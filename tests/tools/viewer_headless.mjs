@@ -128,7 +128,10 @@ async function run() {
       await send('Target.attachToTarget', { targetId: page.targetId, flatten: true });
   await send('Page.enable', {}, sessionId);
   await send('Page.navigate', { url: options.url }, sessionId);
-  let status = await waitFor(sessionId, 'the rest pose', (s) => s.state === 'ready');
+  // Ready, and the rest pose drawn: the page says 'ready' before its first reply arrives, and
+  // --turn counts each step's frame after the rest pose's.
+  let status = await waitFor(sessionId, 'the rest pose',
+                             (s) => s.state === 'ready' && (s.figures?.frames ?? 0) >= 1);
   if (options.bvh) {
     const { root } = await send('DOM.getDocument', {}, sessionId);
     const { nodeId } = await send('DOM.querySelector',
