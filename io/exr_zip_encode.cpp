@@ -5,6 +5,7 @@
 #include <libdeflate.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstdio>
 #include <cstring>
 #include <memory>
@@ -151,9 +152,10 @@ class BlockTask : public IlmThread::Task {
  public:
   BlockTask(IlmThread::TaskGroup* group, const std::vector<Channel>& channels, int width,
             int height, int level, int first, int last, std::vector<std::vector<std::uint8_t>>& chunks,
-            std::string& failure)
+            std::string& failure, std::atomic<int>& finished)
       : IlmThread::Task(group), channels_(channels), width_(width), height_(height),
-        level_(level), first_(first), last_(last), chunks_(chunks), failure_(failure) {}
+        level_(level), first_(first), last_(last), chunks_(chunks), failure_(failure),
+        finished_(finished) {}
   void execute() override {
     try {
       for (int block = first_; block < last_; ++block) {
@@ -165,6 +167,7 @@ class BlockTask : public IlmThread::Task {
     } catch (const std::exception& error) {
       failure_ = error.what();  // one task at most writes it: the others' blocks differ
     }
+    finished_.fetch_add(1, std::memory_order_release);
   }
 
  private:
@@ -172,6 +175,7 @@ class BlockTask : public IlmThread::Task {
   int width_, height_, level_, first_, last_;
   std::vector<std::vector<std::uint8_t>>& chunks_;
   std::string& failure_;
+  std::atomic<int>& finished_;
 };
 
 }  // namespace
@@ -190,19 +194,25 @@ void encode_zip_exr(const ExrLayers& layers, const ExrOptions& options,
   const int blocks = (layers.height + kLinesPerBlock - 1) / kLinesPerBlock;
   thread_local std::vector<std::vector<std::uint8_t>> chunks;
   chunks.resize(static_cast<std::size_t>(blocks));
-  std::vector<std::string> failures;
+  // As many tasks as the pool has threads (none: all here, at once), each a run of blocks.
+  const int tasks =
+      std::clamp(IlmThread::ThreadPool::globalThreadPool().numThreads(), 1, blocks);
+  std::vector<std::string> failures(static_cast<std::size_t>(tasks));
+  // The TaskGroup waits for its tasks through atomics inside libIlmThread, which is not built
+  // with ThreadSanitizer: it cannot see that this wait orders the tasks' writes before the
+  // reads below, and reported a race (make tsan, render_frames_test). Each task also publishes
+  // its end here, in code TSan sees; the count checks that every task ran.
+  std::atomic<int> finished{0};
   {
-    // As many tasks as the pool has threads (none: all here, at once), each a run of blocks.
-    const int tasks =
-        std::clamp(IlmThread::ThreadPool::globalThreadPool().numThreads(), 1, blocks);
-    failures.resize(static_cast<std::size_t>(tasks));
     IlmThread::TaskGroup group;  // waits for its tasks when it goes
     for (int t = 0; t < tasks; ++t) {
       IlmThread::ThreadPool::addGlobalTask(new BlockTask(
           &group, channels, layers.width, layers.height, options.zip_level, blocks * t / tasks,
-          blocks * (t + 1) / tasks, chunks, failures[static_cast<std::size_t>(t)]));
+          blocks * (t + 1) / tasks, chunks, failures[static_cast<std::size_t>(t)], finished));
     }
   }
+  if (finished.load(std::memory_order_acquire) != tasks)
+    throw std::logic_error("ZIP EXR encoding: a block task did not run");
   for (const std::string& failure : failures)
     if (!failure.empty()) throw std::runtime_error(failure);
 
