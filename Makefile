@@ -1,7 +1,8 @@
 # The two commands of the README: `make demo` (the main job) and `make test`.
 # Each installs what is missing, configures and builds as needed.
 # `make sanitize`: the whole suite under AddressSanitizer + UndefinedBehaviorSanitizer (build/asan);
-# `make tsan`: the tests labelled "threads" under ThreadSanitizer (build/tsan, only their targets).
+# `make tsan`: the tests of sweepd's own threads under ThreadSanitizer (label "threads", build/tsan,
+# only their targets).
 # Both fail on any sanitizer report of any process a test ran (.ci/sanitized_ctest).
 BUILD := build/release
 JOBS ?= $(shell nproc)
