@@ -11,7 +11,13 @@ flatbuffers::FlatBufferBuilder ReplyBuilderPool::take() {
 }
 
 void ReplyBuilderPool::give_back(flatbuffers::FlatBufferBuilder builder) {
-  if (idle_.size() < capacity_) idle_.push_back(std::move(builder));
+  if (idle_.size() < cap()) idle_.push_back(std::move(builder));
+}
+
+void ReplyBuilderPool::set_connections(std::size_t count) {
+  connections_ = count;
+  if (idle_.size() > cap())
+    idle_.erase(idle_.begin() + static_cast<std::ptrdiff_t>(cap()), idle_.end());
 }
 
 }  // namespace sweepd::server

@@ -33,7 +33,8 @@ Server::Server(const ServerConfig& config, ModelService& models, Readiness& read
       position_maps_(config.position_maps != 0, gpu),
       clips_(config.max_clips, config.max_clip_bytes),
       buffer_budget_(config.max_buffered_bytes),
-      // Enough idle builders for every worker's reply and the I/O thread's.
+      // Enough idle builders for every worker's reply and the I/O thread's, and (added as
+      // connections open) one for each connection's queued replies.
       builders_(2 * static_cast<std::size_t>(worker_count(config)) + 4),
       signals_(io_, SIGTERM, SIGINT),
       tls_(std::move(tls)),
@@ -61,6 +62,7 @@ Server::Server(const ServerConfig& config, ModelService& models, Readiness& read
       if (found == connections_.end()) return;
       environment_.traffic.closed_connections.add(found->second->counters());
       connections_.erase(found);
+      builders_.set_connections(connections_.size());
     });
   };
   environment_.all_counters = [this]() {
@@ -167,6 +169,7 @@ void Server::admit(ConnectionStream stream, std::string peer) {
     return;
   }
   connections_.emplace(id, connection);
+  builders_.set_connections(connections_.size());
   connection->start();
 }
 
