@@ -7,12 +7,13 @@
 //   1. round trip: one client, InOrder, one pose at a time → p50 / p99 per pose;
 //   2. throughput: 1, 8 and 32 clients, each keeping Welcome.max_poses_in_flight poses in
 //      flight for S seconds → poses answered per second, all clients together, the daemon's
-//      resident memory (VmRSS) at the end, each connection's first round trip, and that of one
-//      more connection opened halfway through while the others stream;
+//      resident memory (VmRSS) at the end, each connection's first round trip, and the median
+//      first round trip (with its server stages) of 5 more connections opened one after
+//      another while the others stream;
 //   3. in-process: the same poses on the same binding (the daemon's stored <content id>.sweepbind)
-//   with
-//      one deform::DeformJob per pose (one ModelRuntime, one DeformContext), one thread, positions
-//      only → p50 / p99, and round trip ÷ in-process;
+//      with one deform::DeformJob per pose (one ModelRuntime, one DeformContext), one thread,
+//      positions only → p50 / p99, and round trip ÷ in-process; beside it the wire alone, a
+//      bare loopback round trip of a reply's bytes answered from memory (bare_loopback_ms);
 //   4. under attack: 4 honest clients, one pose at a time for S seconds, alone and then beside
 //      64 hostile connections (bench/hostile_peers.h: oversized prefixes before Hello, trickled
 //      frames, clients that never read, garbage) → the honest round trip p50 / p99 and the
@@ -31,6 +32,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <asio.hpp>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
@@ -128,9 +130,11 @@ struct Throughput {
   double server_cpu_ms = 0.0, client_cpu_ms = 0.0;  // per pose answered
   double server_mib = 0.0;                          // resident, at the end
   double first_pose_ms = 0.0;                       // a new connection's first round trip, mean
-  // A further connection opened halfway through, while the others stream: its first round trip.
-  double late_first_pose_ms = 0.0;
+  // Further connections opened while the others stream: the median first round trip.
+  RoundTrip late_first_pose;
 };
+
+constexpr int kLateConnections = 5;
 
 // `clients` connections, each keeping its window of poses full for `seconds`.
 Throughput throughput(const Daemon& daemon, const std::vector<BenchPose>& poses, int clients,
@@ -174,18 +178,24 @@ Throughput throughput(const Daemon& daemon, const std::vector<BenchPose>& poses,
   const Clock::time_point start = Clock::now();
   end = start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
   go = true;
-  std::this_thread::sleep_for(std::chrono::duration<double>(seconds / 2));
-  double late_first_pose_ms = 0.0;
-  {
+  // Five more connections, one after another from a quarter of the way in: the median first
+  // round trip and its server stages (one sample swung 6-24 ms with the scheduler).
+  std::this_thread::sleep_for(std::chrono::duration<double>(seconds / 4));
+  std::vector<RoundTrip> late;
+  for (int i = 0; i < kLateConnections; ++i) {
     sweepd::client::Connection connection(daemon.address());
     connection.hello("", "server_bench");
     const std::uint32_t model_id = connection.load_model("mannequin").model_id();
     const Clock::time_point first_sent = Clock::now();
     send_pose(connection, model_id, 1, poses[0]);
-    connection.expect<pb::PosedVertices>();
-    late_first_pose_ms = milliseconds_since(first_sent);
+    const pb::ServerTimings& server = *connection.expect<pb::PosedVertices>().timings();
+    late.push_back({milliseconds_since(first_sent), server.queued_ns() * 1e-6,
+                    server.deform_ns() * 1e-6, server.encode_ns() * 1e-6});
     connection.close();
+    std::this_thread::sleep_for(std::chrono::duration<double>(seconds / 10));
   }
+  std::sort(late.begin(), late.end(),
+            [](const RoundTrip& a, const RoundTrip& b) { return a.total < b.total; });
   for (std::thread& thread : threads) thread.join();
   const double count = static_cast<double>(answered);
   return {
@@ -195,7 +205,7 @@ Throughput throughput(const Daemon& daemon, const std::vector<BenchPose>& poses,
       .client_cpu_ms = (process_cpu_ms() - client_cpu) / count,
       .server_mib = daemon.resident_mib(),
       .first_pose_ms = std::accumulate(first_pose_ms.begin(), first_pose_ms.end(), 0.0) / clients,
-      .late_first_pose_ms = late_first_pose_ms};
+      .late_first_pose = late[late.size() / 2]};
 }
 
 // `clients` honest connections, each one pose at a time for `seconds`: every round trip, in ms.
@@ -278,6 +288,40 @@ std::vector<double> in_process_ms(const fs::path& binding, std::vector<BenchPose
   return times;
 }
 
+// The wire alone: a bare TCP round trip over loopback, a 200-byte request answered with
+// `reply_bytes` from memory by a thread that does nothing else (send buffer and no-delay as
+// sweepd sets them) → p50 ms of 400: what TCP itself costs a reply of that size here.
+double bare_loopback_ms(std::size_t reply_bytes) {
+  using asio::ip::tcp;
+  asio::io_context io;
+  tcp::acceptor acceptor(io, tcp::endpoint(asio::ip::make_address("127.0.0.1"), 0));
+  constexpr int kTrips = 400, kWarmUp = 20;
+  constexpr std::size_t kRequestBytes = 200;
+  std::thread server([&] {
+    tcp::socket socket = acceptor.accept();
+    socket.set_option(asio::socket_base::send_buffer_size(4 << 20));
+    socket.set_option(tcp::no_delay(true));
+    std::vector<std::uint8_t> request(kRequestBytes), reply(reply_bytes, 1);
+    for (int i = 0; i < kTrips + kWarmUp; ++i) {
+      asio::read(socket, asio::buffer(request));
+      asio::write(socket, asio::buffer(reply));
+    }
+  });
+  tcp::socket socket(io);
+  socket.connect(acceptor.local_endpoint());
+  socket.set_option(tcp::no_delay(true));
+  std::vector<std::uint8_t> request(kRequestBytes, 2), reply(reply_bytes);
+  std::vector<double> times;
+  for (int i = 0; i < kTrips + kWarmUp; ++i) {
+    const Clock::time_point start = Clock::now();
+    asio::write(socket, asio::buffer(request));
+    asio::read(socket, asio::buffer(reply));
+    if (i >= kWarmUp) times.push_back(milliseconds_since(start));
+  }
+  server.join();
+  return percentile(std::move(times), 0.5);
+}
+
 struct SharedStoreCost {
   double stat_us = 0.0;    // one stat() of the binding: the check before each pose
   double reload_ms = 0.0;  // decode + ModelRuntime: the reload after another replica's edit
@@ -330,6 +374,7 @@ int run(const Options& options) {
   std::vector<double> in_process;
   std::vector<Throughput> rates;
   std::uint32_t vertex_count = 0, model_id = 0;
+  double bare_ms = 0.0;
   AttackScene attack;
   SharedStoreCost shared_store;
   {
@@ -344,6 +389,8 @@ int run(const Options& options) {
       connection.close();
     }
     round_trip = round_trips(daemon.address(), poses);
+    // A reply's size: float32 positions and a header far under 256 bytes.
+    bare_ms = bare_loopback_ms(std::size_t{vertex_count} * 12 + 256);
     for (int clients : {1, 8, 32}) {
       rates.push_back(throughput(daemon, poses, clients, options.seconds));
     }
@@ -372,6 +419,13 @@ int run(const Options& options) {
       percentile_of(round_trip, &RoundTrip::encode, 0.99),
       percentile_of(round_trip, &RoundTrip::rest, 0.5),
       percentile_of(round_trip, &RoundTrip::rest, 0.99));
+  const double in_process_p50 = percentile(in_process, 0.5);
+  std::printf(
+      "the wire alone: a bare loopback round trip of the same bytes, answered from memory by "
+      "a blocking thread, p50 %.3f ms (sweepd's wire and wake-ups above: %.3f); in-process + "
+      "that, / in-process: %.2f\n\n",
+      bare_ms, percentile_of(round_trip, &RoundTrip::rest, 0.5),
+      (in_process_p50 + bare_ms) / in_process_p50);
   std::printf(
       "| clients | poses/s | server CPU ms/pose | client CPU ms/pose | server RSS MiB | "
       "first pose on a new connection, ms | ... opened while the others stream, ms |\n");
@@ -379,7 +433,15 @@ int run(const Options& options) {
   for (const Throughput& r : rates) {
     std::printf("| %d | %.0f | %.3f | %.3f | %.0f | %.1f | %.1f |\n", r.clients, r.poses_per_second,
                 r.server_cpu_ms, r.client_cpu_ms, r.server_mib, r.first_pose_ms,
-                r.late_first_pose_ms);
+                r.late_first_pose.total);
+  }
+  for (const Throughput& r : rates) {
+    const RoundTrip& late = r.late_first_pose;
+    std::printf(
+        "%s%d clients: a connection opened while they stream, median first round trip of %d: "
+        "%.2f ms = queued %.2f + deform %.2f + encode %.2f + wire and wake-ups %.2f\n",
+        &r == &rates.front() ? "\n" : "", r.clients, kLateConnections, late.total, late.queued,
+        late.deform, late.encode, late.rest());
   }
   std::printf("\nserver RSS, %d clients / 1 client: %.2f\n", rates.back().clients,
               rates.back().server_mib / rates.front().server_mib);
