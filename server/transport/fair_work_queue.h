@@ -1,16 +1,22 @@
 // FairWorkQueue: the deformation workers' queue, fair between connections (start-time fair
-// queuing, Goyal et al. 1996, with every job costing one unit). A FIFO queue made a connection
-// opened while 32 others stream wait behind one queued pose of each (tens of milliseconds);
-// here each connection's next job is tagged max(virtual time, that connection's last tag + 1),
-// and a worker always runs the smallest tag (ties: arrival order). A new or idle connection
-// starts at the virtual time, so its first pose runs next; busy connections take turns.
+// queuing, Goyal et al. 1996, charged by the worker time each job took, as Linux's CFS charges
+// a task's run time). A FIFO queue made a connection opened while 32 others stream wait behind
+// one queued pose of each (tens of milliseconds); here each connection's next job is tagged
+// max(virtual time, that connection's next tag), and a worker always runs the smallest tag
+// (ties: arrival order). A new or idle connection starts at the virtual time, so its first pose
+// runs next; busy connections take turns in proportion to the worker time they use. A job
+// that took microseconds (a model already loaded, looked up) costs microseconds: with one
+// unit per job, a new connection's LoadModel cost it a whole turn of 32 others before its first
+// pose.
 //
 //   FairShare share;                              // one per connection, owned by it
 //   queue.post(share, [] { ... });                // from any thread; runs on the pool
 //
 // post() puts one job in the queue and one token on the pool: each token runs whichever job
-// is smallest then, so every job runs once, in fair order. The pool must be joined before the
-// queue is destroyed (tokens hold the queue).
+// is smallest then, so every job runs once, in fair order. A job is charged when it ends; jobs
+// of one connection queued before then are spaced by its last job's cost. The pool must be
+// joined before the queue is destroyed (tokens hold the queue), and a share must outlive its
+// jobs.
 #pragma once
 
 #include <asio/thread_pool.hpp>
@@ -22,23 +28,34 @@
 
 namespace sweepd::server {
 
-struct FairShare {
-  std::uint64_t last_tag = 0;  // the tag of the connection's latest job (guarded by the queue)
+struct FairShare {              // guarded by the queue
+  std::uint64_t next_tag = 0;   // where the connection's next job starts, in worker nanoseconds
+  std::uint64_t last_cost = 0;  // what its latest finished job took
 };
 
 class FairWorkQueue {
  public:
-  explicit FairWorkQueue(asio::thread_pool& pool) : pool_(pool) {}
+  using Clock = std::function<std::uint64_t()>;  // nanoseconds, monotonic
+
+  // `clock` measures what each job costs: the steady clock, or a test's own.
+  explicit FairWorkQueue(asio::thread_pool& pool, Clock clock = steady_nanoseconds);
 
   void post(FairShare& share, std::function<void()> job);
 
+  static std::uint64_t steady_nanoseconds();
+
  private:
+  struct Job {
+    FairShare* share;
+    std::function<void()> run;
+  };
   void run_one();
 
   asio::thread_pool& pool_;
+  Clock clock_;
   std::mutex mutex_;
-  std::map<std::pair<std::uint64_t, std::uint64_t>, std::function<void()>> jobs_;  // (tag, arrival)
-  std::uint64_t virtual_time_ = 0;  // the tag of the job started last
+  std::map<std::pair<std::uint64_t, std::uint64_t>, Job> jobs_;  // (tag, arrival)
+  std::uint64_t virtual_time_ = 0;                               // the largest tag started yet
   std::uint64_t arrivals_ = 0;
 };
 

@@ -1,11 +1,15 @@
 // FairWorkQueue: a connection that arrives behind another's backlog runs next, busy connections
-// take turns, and each connection's own jobs keep their order. One worker thread, held by a
-// first job until every job is queued, so the order is the queue's alone.
+// take turns, each connection's own jobs keep their order, and a job is charged the worker time
+// it took. One worker thread, held by a first job until every job is queued, so the order is
+// the queue's alone; the queue's clock is the test's, moved by the jobs (1 unless a test says).
 #include "server/transport/fair_work_queue.h"
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <chrono>
+#include <cstdint>
+#include <functional>
 #include <future>
 #include <mutex>
 #include <string>
@@ -25,10 +29,16 @@ class FairWorkQueueTest : public ::testing::Test {
     release_.set_value();
     pool_.join();
   }
-  void post(FairShare& share, std::string name) {
-    queue_.post(share, [this, name] {
-      const std::lock_guard lock(mutex_);
-      order_.push_back(name);
+  // A job that records its name, takes `cost` on the test's clock, then runs `then`.
+  void post(FairShare& share, std::string name, std::uint64_t cost = 1,
+            std::function<void()> then = {}) {
+    queue_.post(share, [this, name, cost, then] {
+      {
+        const std::lock_guard lock(mutex_);
+        order_.push_back(name);
+      }
+      now_ += cost;
+      if (then) then();
     });
   }
 
@@ -38,7 +48,8 @@ class FairWorkQueueTest : public ::testing::Test {
   }
 
   asio::thread_pool pool_{1};
-  FairWorkQueue queue_{pool_};
+  std::atomic<std::uint64_t> now_{0};
+  FairWorkQueue queue_{pool_, [this] { return now_.load(); }};
   FairShare holder_;
   std::promise<void> release_;
   std::mutex mutex_;
@@ -83,6 +94,24 @@ TEST_F(FairWorkQueueTest, AConnectionIdleForLongStartsAtTheVirtualTimeNotBehindI
   release();
   const std::vector<std::string> expected = {"e0", "x0", "x1", "x2", "x3", "x4",
                                              "e1", "y0", "e2", "y1", "e3", "y2"};
+  EXPECT_EQ(order_, expected);
+}
+
+TEST_F(FairWorkQueueTest, ACheapJobCostsItsConnectionLittle) {
+  // `a` and `b` have each used 10 units; `fresh` loads a model already loaded (0 units) and then
+  // asks for its first pose. Charged by the job, each of a and b would have used one turn like
+  // fresh's load, and the pose would queue behind both of their next jobs; charged by the time
+  // taken, it runs first.
+  FairShare a, b, fresh;
+  post(a, "a0", 10);
+  post(b, "b0", 10);
+  while (ran() < 2) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  hold_worker();
+  post(a, "a1", 10);
+  post(b, "b1", 10);
+  post(fresh, "load", 0, [this, &fresh] { post(fresh, "pose", 10); });
+  release();
+  const std::vector<std::string> expected = {"a0", "b0", "load", "pose", "a1", "b1"};
   EXPECT_EQ(order_, expected);
 }
 
