@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <nlohmann/json.hpp>
+#include <utility>
 #include <variant>
 
 #include "protocol/messages.h"
@@ -47,6 +48,7 @@ Connection::Connection(ConnectionStream stream, std::uint64_t id, std::string pe
           std::min(environment.config.max_hello_frame_bytes, environment.config.max_frame_bytes),
           &environment.buffer_budget),
       read_buffer_(kReadChunkBytes),
+      gate_(stream_.plain_socket_handle()),
       writer_(environment.config.deform_threads, environment.collision) {
   counters_.connection_id = id;
   counters_.peer = std::move(peer);
@@ -229,6 +231,10 @@ bool Connection::reading_paused() const {
 }
 
 void Connection::process_input() {
+  if (deferred_ != nullptr) {
+    if (reply_uncounted_.load(std::memory_order_acquire) || closed_) return;
+    dispatch(*std::exchange(deferred_, nullptr));
+  }
   while (!input_.empty() && !closed_ && !reading_paused()) {
     if (draining_ && !shutting_down_) {
       input_ = {};  // after Bye or a fatal error nothing more is read
@@ -257,6 +263,11 @@ void Connection::process_input() {
             std::to_string(frame_errors_) + " bad frames on this connection; closing");
       }
       continue;
+    }
+    if (event.message->body_type() != pb::Body::Pose &&
+        reply_uncounted_.load(std::memory_order_acquire)) {
+      deferred_ = event.message;  // valid until the reader's next read: none until dispatched
+      return;
     }
     dispatch(*event.message);
   }
@@ -540,11 +551,21 @@ void Connection::start_next_pose() {
     } catch (const std::exception& error) {
       failure = error.what();
     }
+    std::optional<std::size_t> sent;
+    if (failure.empty()) {
+      // Set before the client can see the reply: a request other than a pose that it sends
+      // after reading it (a Stats) waits until the I/O thread has counted this pose.
+      self->reply_uncounted_.store(true, std::memory_order_release);
+      sent = self->gate_.try_send({builder->GetBufferPointer(), builder->GetSize()});
+      if (!sent) self->reply_uncounted_.store(false, std::memory_order_relaxed);
+    }
     asio::post(self->stream_.get_executor(), [self, request, builder, failure, code, dropped,
-                                              deform_ns]() {
+                                              deform_ns, sent]() {
       self->pose_running_ = false;
       if (failure.empty()) {
-        self->finish_pose(std::move(*builder), *request, deform_ns);
+        self->count_pose(*request, deform_ns);
+        self->reply_uncounted_.store(false, std::memory_order_relaxed);
+        self->deliver_pose(std::move(*builder), sent);
       } else {
         ++self->environment_.model_counters[request->model->id].errors;
         self->dropped_since_reply_ += dropped;  // still owed to the next reply
@@ -563,8 +584,7 @@ void Connection::start_next_pose() {
   }
 }
 
-void Connection::finish_pose(flatbuffers::FlatBufferBuilder builder, const PoseRequest& request,
-                             std::uint64_t deform_ns) {
+void Connection::count_pose(const PoseRequest& request, std::uint64_t deform_ns) {
   ++counters_.poses_answered;
   const std::uint64_t latency_ns = nanoseconds_since(request.received);
   counters_.latency.add(latency_ns);
@@ -574,7 +594,21 @@ void Connection::finish_pose(flatbuffers::FlatBufferBuilder builder, const PoseR
   ModelCounters& model = environment_.model_counters[request.model->id];
   ++model.poses;
   model.deform_latency.add(deform_ns);
-  send(std::move(builder));
+}
+
+void Connection::deliver_pose(flatbuffers::FlatBufferBuilder builder,
+                              std::optional<std::size_t> sent) {
+  if (!sent) {
+    send(std::move(builder));
+    return;
+  }
+  counters_.bytes_out += *sent;
+  if (*sent == builder.GetSize()) {
+    environment_.builders.give_back(std::move(builder));
+  } else {
+    gate_.take_remainder();
+    send(std::move(builder), *sent);
+  }
 }
 
 // ---------------------------------------------------------------------------------------
@@ -582,12 +616,18 @@ void Connection::finish_pose(flatbuffers::FlatBufferBuilder builder, const PoseR
 
 flatbuffers::FlatBufferBuilder Connection::take_builder() { return environment_.builders.take(); }
 
-void Connection::send(flatbuffers::FlatBufferBuilder builder) {
+void Connection::send(flatbuffers::FlatBufferBuilder builder, std::size_t already_sent) {
   if (closed_) return;
   // The reply is built: its bytes are in use whatever the budget says.
   environment_.buffer_budget.take_anyway(builder.GetSize());
   queued_reply_bytes_ += builder.GetSize();
-  outgoing_.push_back(std::move(builder));
+  if (already_sent > 0) {
+    // Nothing else can be under way: the worker's send held the socket (ReplySendGate).
+    outgoing_.push_front(std::move(builder));
+    front_sent_ = already_sent;
+  } else {
+    outgoing_.push_back(std::move(builder));
+  }
   if (queued_reply_bytes_ > environment_.config.max_send_queue_bytes) {
     log_event(
         "connection_cut",
@@ -625,17 +665,20 @@ void Connection::send_error(const RequestError& error, std::uint64_t request_id)
 void Connection::write_next() {
   if (writing_ || closed_) return;
   if (outgoing_.empty()) {
+    gate_.release();
     close_if_done();
     return;
   }
+  if (!gate_.acquire()) return;  // a worker's short send: its rest goes first (deliver_pose)
   writing_ = true;
   last_send_progress_ = Clock::now();
   arm_send_deadline();
   const flatbuffers::FlatBufferBuilder& front = outgoing_.front();
   const std::size_t size = front.GetSize();
+  const std::size_t from = std::exchange(front_sent_, 0);
   // Each partial send is progress for the send deadline.
   stream_.async_write(
-      asio::buffer(front.GetBufferPointer(), size),
+      asio::buffer(front.GetBufferPointer() + from, size - from),
       [this]() { last_send_progress_ = Clock::now(); },
       [self = shared_from_this(), size](std::error_code error, std::size_t n) {
         self->writing_ = false;
@@ -698,6 +741,7 @@ void Connection::close_now() {
   send_deadline_.cancel();
   environment_.buffer_budget.give_back(queued_reply_bytes_);
   queued_reply_bytes_ = 0;
+  gate_.close();  // no worker sends on the socket from here on
   stream_.close();
   log_event("connection_closed", {{"connection", id()},
                                   {"poses_received", counters_.poses_received},

@@ -6,7 +6,10 @@
 //
 // Runs on the server's single I/O thread; only deformation and model loading go to the
 // worker pool (poses whose folding runs on the GPU thread to the pool of GPU waiters, see
-// CollisionService). On a TLS or WebSocket stream (ConnectionStream) the handshakes come first:
+// CollisionService). On a plain socket the worker sends its pose reply itself when nothing is
+// queued before it (ReplySendGate); the I/O thread counts the pose before it reads another
+// request of that client than a pose, and writes what the socket did not take at once.
+// On a TLS or WebSocket stream (ConnectionStream) the handshakes come first:
 // they must be done, like Hello, within config.hello_timeout_ms, or the connection is cut
 // (`connection_cut`, no reply: there is no channel to send it on); a failed handshake (a
 // plaintext client on the TLS port, a missing or untrusted client certificate, an HTTP request
@@ -37,12 +40,14 @@
 #pragma once
 
 #include <asio.hpp>
+#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <deque>
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -57,6 +62,7 @@
 #include "server/transport/connection_stream.h"
 #include "server/transport/fair_work_queue.h"
 #include "server/transport/reply_builder_pool.h"
+#include "server/transport/reply_send_gate.h"
 #include "server/transport/traffic_counters.h"
 
 namespace sweepd::server {
@@ -119,9 +125,13 @@ class Connection : public std::enable_shared_from_this<Connection> {
                     LogModelChange log_outcome);
 
   void start_next_pose();
-  void finish_pose(flatbuffers::FlatBufferBuilder builder, const PoseRequest& request,
-                   std::uint64_t deform_ns);
-  void send(flatbuffers::FlatBufferBuilder builder);
+  // A pose answered: the connection's, the traffic's and the model's counters.
+  void count_pose(const PoseRequest& request, std::uint64_t deform_ns);
+  // Its reply: `sent` is what its worker sent itself (ReplySendGate), nullopt if nothing.
+  void deliver_pose(flatbuffers::FlatBufferBuilder builder, std::optional<std::size_t> sent);
+  // Queues a reply to be written, or (`already_sent` > 0: a worker's short send) the rest of
+  // one, ahead of the queue.
+  void send(flatbuffers::FlatBufferBuilder builder, std::size_t already_sent = 0);
   void send_error(protocol::ErrorCode code, const std::string& message, std::uint64_t sequence,
                   std::uint64_t request_id, bool fatal = false);
   void send_error(const RequestError& error, std::uint64_t request_id);
@@ -171,7 +181,13 @@ class Connection : public std::enable_shared_from_this<Connection> {
   FairShare fair_share_;  // this connection's turn on environment_.workers
   std::uint32_t dropped_since_reply_ = 0;
   std::deque<flatbuffers::FlatBufferBuilder> outgoing_;
+  std::size_t front_sent_ = 0;  // bytes of outgoing_.front() a worker sent
   bool writing_ = false;
+  // A worker sent a pose reply the I/O thread has not counted yet; a request other than a pose
+  // read meanwhile waits in `deferred_` until it has (process_input).
+  std::atomic<bool> reply_uncounted_{false};
+  const protocol::Message* deferred_ = nullptr;
+  ReplySendGate gate_;          // the socket: the I/O thread's writes or a worker's own send
   PosedVerticesWriter writer_;  // used by one worker job at a time
   ConnectionCounters counters_;
 };

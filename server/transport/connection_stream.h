@@ -64,6 +64,11 @@ class ConnectionStream {
   ~ConnectionStream();
 
   bool tls() const { return tls_.has_value(); }
+  // A plain socket's handle, for a worker's own sends (ReplySendGate); -1 on TLS or WebSocket,
+  // whose bytes only the I/O thread may produce.
+  int plain_socket_handle() {
+    return tls_ || websocket_ ? -1 : static_cast<int>(plain_->native_handle());
+  }
   bool websocket() const { return websocket_ != nullptr; }
   std::string pending_handshake() const;
   Socket::executor_type get_executor() { return socket().get_executor(); }
