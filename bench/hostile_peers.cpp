@@ -6,6 +6,7 @@
 
 #include <chrono>
 
+#include "protocol/hostile_frames.h"
 #include "protocol/messages.h"
 
 namespace sweepd::bench {
@@ -20,11 +21,6 @@ void send_all(int socket, std::span<const std::uint8_t> bytes) {
     if (n <= 0) return;
     sent += static_cast<std::size_t>(n);
   }
-}
-
-std::vector<std::uint8_t> length_prefix(std::uint32_t length) {
-  return {static_cast<std::uint8_t>(length), static_cast<std::uint8_t>(length >> 8),
-          static_cast<std::uint8_t>(length >> 16), static_cast<std::uint8_t>(length >> 24)};
 }
 
 }  // namespace
@@ -47,13 +43,12 @@ HostilePeers::HostilePeers(int port, std::span<const std::uint8_t> pose_frame, i
   flatbuffers::FlatBufferBuilder builder;
   const std::span<const std::uint8_t> hello_frame = protocol::build_hello(builder, "", "hostile");
   const std::vector<std::uint8_t> hello(hello_frame.begin(), hello_frame.end());
-  std::vector<std::uint8_t> junk = length_prefix(24);
-  junk.resize(28, 0xee);
+  const std::vector<std::uint8_t> junk = protocol::garbage_frame();
   for (int i = 0; i < per_kind; ++i) {
-    send_all(open(), length_prefix(1u << 20));
+    send_all(open(), protocol::length_prefix(1u << 20));
     const int trickler = open();
     send_all(trickler, hello);
-    send_all(trickler, length_prefix(16u << 20));
+    send_all(trickler, protocol::length_prefix(16u << 20));
     tricklers_.push_back(trickler);
     const int non_reader = open(4096);
     send_all(non_reader, hello);

@@ -9,6 +9,7 @@
 #include <span>
 #include <vector>
 
+#include "protocol/hostile_frames.h"
 #include "protocol/messages.h"
 
 namespace sweepd::protocol {
@@ -20,11 +21,6 @@ Bytes hello_frame(std::string_view client_name = "framing-test") {
   flatbuffers::FlatBufferBuilder builder;
   const auto frame = build_hello(builder, "token", client_name);
   return {frame.begin(), frame.end()};
-}
-
-Bytes length_prefix(std::uint32_t length) {
-  return {static_cast<std::uint8_t>(length), static_cast<std::uint8_t>(length >> 8),
-          static_cast<std::uint8_t>(length >> 16), static_cast<std::uint8_t>(length >> 24)};
 }
 
 // One event with a copy of its frame: an event's own span lasts only until the next read().

@@ -1,5 +1,5 @@
 // What the hostile-client tests send and look for, on TCP and WebSocket alike: a bare length
-// prefix (a frame announced, its body never or slowly sent), the daemon's JSON log lines of an
+// prefix and a garbage frame (protocol/hostile_frames.h), the daemon's JSON log lines of an
 // event, the last Error a client reads before the server closes the connection, and a frame
 // past the shared buffer budget.
 #pragma once
@@ -10,23 +10,14 @@
 #include <string>
 #include <vector>
 
+#include "protocol/hostile_frames.h"
 #include "tests/server/daemon_process.h"
 #include "tests/server/pose_frames.h"
 
 namespace sweepd::test {
 
-inline std::vector<std::uint8_t> length_prefix(std::uint32_t length) {
-  return {static_cast<std::uint8_t>(length), static_cast<std::uint8_t>(length >> 8),
-          static_cast<std::uint8_t>(length >> 16), static_cast<std::uint8_t>(length >> 24)};
-}
-
-// A whole frame of 24 bytes that is no message (its file identifier is not "SWPD"): each one
-// is answered with a non-fatal Error until 16 of them close the connection.
-inline std::vector<std::uint8_t> garbage_frame() {
-  std::vector<std::uint8_t> frame = length_prefix(24);
-  frame.resize(28, 0xee);
-  return frame;
-}
+using protocol::garbage_frame;
+using protocol::length_prefix;
 
 // Log lines of `event` (the daemon logs one JSON object per line) that contain `part`.
 inline std::size_t log_lines(const std::string& log, const std::string& event,
