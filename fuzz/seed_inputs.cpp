@@ -18,6 +18,7 @@
 #include "mannequin/mannequin.h"
 #include "protocol/messages.h"
 #include "server/models/content_id.h"
+#include "tests/io/fbx_binary.h"
 
 namespace sweepd::fuzz {
 namespace {
@@ -167,8 +168,13 @@ std::map<std::string, std::vector<Input>> seed_inputs() {
                   {.name = "Head", .parent = 1, .rest_translation = {0.0f, 0.3f, 0.0f}},
                   {.name = "LeftUpLeg", .parent = 0, .rest_translation = {0.1f, 0.0f, 0.0f}}};
   std::ofstream(directory / "chain.bvh") << bvh_of(chain);
-  seeds["fbx"] = {io::convert_with_assimp(directory / "small.glb", io::AssimpExport::kFbxMetres),
-                  io::convert_with_assimp(directory / "chain.bvh", io::AssimpExport::kFbxMetres)};
+  // Each also as binary FBX (tests/io/fbx_binary.h), for assimp's other tokenizer and parser.
+  for (const char* source : {"small.glb", "chain.bvh"}) {
+    const Input ascii = io::convert_with_assimp(directory / source, io::AssimpExport::kFbxMetres);
+    seeds["fbx"].push_back(
+        io::testing::binary_fbx_of({reinterpret_cast<const char*>(ascii.data()), ascii.size()}));
+    seeds["fbx"].push_back(ascii);
+  }
   seeds["bvh"] = {as_input(bvh)};
   seeds["sweepbind"] = {io::encode_sweepbind(bound)};
   const Input rig_bytes = read_bytes(directory / "rig.json");
