@@ -106,7 +106,8 @@ Input session(const deform::BoundModel& bound, const Input& glb, const std::stri
   return stream;
 }
 
-// A skeleton (the mannequin's, or a short chain) as a BVH clip of two frames (rest, then every joint turned a little).
+// A skeleton (the mannequin's, or a short chain) as a BVH clip of two frames (rest, then every
+// joint turned a little).
 std::string bvh_of(const deform::Skeleton& skeleton) {
   std::ostringstream text;
   text << "HIERARCHY\n";
