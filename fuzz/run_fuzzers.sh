@@ -35,7 +35,8 @@ for target in "${targets[@]}"; do
       -rss_limit_mb=2048 -max_len=1048576 -artifact_prefix="$crashes/" -print_final_stats=1 \
       >"$log" 2>&1; } 2>"$build/$target.cpu"; then status=ok; else status=CRASH; failed=1; fi
   cpu=$(awk '{printf "%.0f", $1 + $2}' "$build/$target.cpu")
-  runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo 0)
+  # The fuzzer's own final stats are the last (a forked child that died may print its own).
+  runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | tail -1 | grep -o '[0-9]*$' || echo 0)
   size=$(find "$corpus" -type f | wc -l)
   found=$(find "$crashes" -type f | wc -l)
   printf '%s\t%s\t%s\t%s\t%s\t%s\n' "$target" "$seconds" "$runs" "$size" "$found" "$cpu" \
