@@ -5,8 +5,8 @@
 #include <unistd.h>
 
 #include <cerrno>
-#include <cstdint>
 #include <chrono>
+#include <cstdint>
 #include <cstring>
 #include <thread>
 
@@ -62,7 +62,8 @@ std::string assimp_import_crash(std::span<const std::uint8_t> bytes, int seconds
   }
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(seconds);
   int status = 0;
-  for (auto pause = std::chrono::microseconds(200);; pause = std::min(2 * pause, decltype(pause)(20000))) {
+  for (auto pause = std::chrono::microseconds(200);;
+       pause = std::min(2 * pause, decltype(pause)(20000))) {
     const pid_t done = waitpid(child, &status, WNOHANG);
     if (done == child) break;
     if (done < 0 && errno != EINTR)
@@ -79,8 +80,8 @@ std::string assimp_import_crash(std::span<const std::uint8_t> bytes, int seconds
   // The child exits 0 after any import; another status is a crash reported by a handler that
   // exits instead of dying of the signal (a sanitizer's, or a fuzzer's).
   if (WEXITSTATUS(status) != 0)
-    return "the importer crashed on this file (exit status " +
-           std::to_string(WEXITSTATUS(status)) + ")";
+    return "the importer crashed on this file (exit status " + std::to_string(WEXITSTATUS(status)) +
+           ")";
   return "";
 }
 
