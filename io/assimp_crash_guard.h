@@ -2,9 +2,10 @@
 // forked child process first, so that a crash inside the importer kills the child and not the
 // caller. Debian 12's assimp 5.2.5 frees memory twice on some malformed FBX files and fails an
 // ai_assert (abort) on others (found by fuzz/fbx: fuzz/regressions/fbx/assimp_double_free.fbx
-// and assimp_assert_out_idx.fbx, each of which kills any process that imports it); sweepd reads uploads from strangers, so every import (io/assimp_scene.h, under
-// io::load_assimp and io::load_assimp_clip) tries the bytes here before reading them in its own
-// process — the daemon's uploads, sweepctl's files and the fuzzers alike.
+// and assimp_assert_out_idx.fbx, each of which kills any process that imports it); sweepd reads
+// uploads from strangers, so every import (io/assimp_scene.h, under io::load_assimp and
+// io::load_assimp_clip) tries the bytes here before reading them in its own process — the daemon's
+// uploads, sweepctl's files and the fuzzers alike.
 //
 // Input:  bytes    the file's content (only these are read, as io::load_assimp reads them)
 //         seconds  how long the child may take; past it the child is killed

@@ -402,9 +402,8 @@ TEST(AssimpLoad, CorruptFilesAreRefusedWithTheReason) {
   // A binary FBX the fuzzer made from its binary seed, on which libassimp 5.2.5 aborts (an
   // ai_assert in its FBX converter): the import's child process dies (io/assimp_crash_guard.h),
   // this one refuses the file naming the crash.
-  const std::string aborting =
-      bytes_error(read_bytes(std::filesystem::path(SWEEPD_SOURCE_DIR) /
-                             "fuzz/regressions/fbx/assimp_assert_out_idx.fbx"));
+  const std::string aborting = bytes_error(read_bytes(
+      std::filesystem::path(SWEEPD_SOURCE_DIR) / "fuzz/regressions/fbx/assimp_assert_out_idx.fbx"));
   EXPECT_NE(aborting.find("the importer crashed on this file (signal 6)"), std::string::npos)
       << aborting;
 }
