@@ -8,6 +8,7 @@
 
 #include "deform/rig/rig_map.h"
 #include "motion/clip_up_axis.h"
+#include "motion/shortest_arc.h"
 
 namespace sweepd::motion {
 
@@ -61,18 +62,6 @@ bool is_strict_descendant(const deform::Skeleton& skeleton, int joint, int ances
   for (int j = skeleton.joints[joint].parent; j >= 0; j = skeleton.joints[j].parent)
     if (j == ancestor) return true;
   return false;
-}
-
-// The rotation taking unit vector u onto unit vector v by the shortest arc.
-glm::quat shortest_arc(const glm::vec3& u, const glm::vec3& v) {
-  const float c = glm::dot(u, v);
-  if (c < -1.0f + 1e-6f) {  // opposite: half a turn about any axis orthogonal to u
-    glm::vec3 axis = glm::cross(u, glm::vec3(1, 0, 0));
-    if (glm::dot(axis, axis) < 1e-6f) axis = glm::cross(u, glm::vec3(0, 1, 0));
-    return glm::angleAxis(static_cast<float>(M_PI), glm::normalize(axis));
-  }
-  const glm::vec3 axis = glm::cross(u, v);
-  return glm::normalize(glm::quat(1.0f + c, axis.x, axis.y, axis.z));
 }
 
 // Pelvis height above the floor on straight legs (see the header), or plain pelvis height

@@ -40,6 +40,7 @@
 #include "tests/deform/posed_section.h"
 #include "tests/deform/shared_male.h"
 #include "tests/mirrored_model.h"
+#include "tests/rescaled_model.h"
 
 namespace sweepd::metrics {
 
@@ -49,12 +50,7 @@ namespace {
 namespace fs = std::filesystem;
 
 using test_models::mirrored;
-
-Model rescaled(Model model, float scale) {
-  for (glm::vec3& p : model.positions) p *= scale;
-  for (Joint& joint : model.skeleton.joints) joint.rest_translation *= scale;
-  return model;
-}
+using test_models::rescaled;
 
 glm::vec3 position(std::span<const glm::mat4> world, int joint) {
   return glm::vec3(world[joint][3]);
