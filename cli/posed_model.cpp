@@ -6,8 +6,8 @@
 #include "cli/model_loading.h"
 #include "deform/binding/bind.h"
 #include "io/bvh_load.h"
-#include "io/model_clip_load.h"
 #include "io/joint_name_map_json.h"
+#include "io/model_clip_load.h"
 #include "io/pose_json.h"
 #include "io/sweepbind.h"
 #include "motion/clip_sampling.h"
@@ -52,10 +52,11 @@ std::unique_ptr<motion::ClipPoses> clip_player(const PosingArguments& arguments,
   if (!arguments.bvh.empty())
     return std::make_unique<motion::Retargeter>(
         io::load_bvh(arguments.bvh, {.up = arguments.bvh_up}), model,
-        load_joint_name_map(arguments.bvh_map));
+        load_joint_name_map(arguments.bvh_map), arguments.feet);
   if (!arguments.clip_from.empty())
     return std::make_unique<motion::Retargeter>(file_clip(arguments.clip_from, arguments.clip),
-                                                model, load_joint_name_map(arguments.bvh_map));
+                                                model, load_joint_name_map(arguments.bvh_map),
+                                                arguments.feet);
   if (arguments.clip.empty()) return nullptr;
   if (arguments.model.extension() == ".sweepbind")
     throw std::invalid_argument(arguments.model.string() +

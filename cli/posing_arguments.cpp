@@ -33,6 +33,16 @@ CLI::Option* add_model_and_clip_flags(CLI::App& command, PosingArguments& out) {
       ->check(CLI::IsMember({"y", "z"}))
       ->each([&out](const std::string& name) { out.bvh_up = motion::up_axis_from_name(name); })
       ->needs(bvh);
+  command
+      .add_option("--feet",
+                  "a retargeted clip's feet: planted (default: put on the floor by leg IK where "
+                  "the clip sets them down) or free (where the retargeted rotations put them)")
+      ->type_name("planted|free")
+      ->check(CLI::IsMember({"planted", "free"}))
+      ->each([&out](const std::string& feet) {
+        out.feet = feet == "free" ? motion::Feet::kFree : motion::Feet::kPlanted;
+        out.feet_given = true;
+      });
   return bvh;
 }
 
@@ -156,6 +166,14 @@ void check_method_flags(const PosingArguments& arguments, bool on_server) {
     throw CLI::ValidationError(
         "--frame, --frames, --time and --fps choose frames of a clip: give --bvh, --clip or "
         "--clip-from");
+  if (arguments.feet_given && arguments.bvh.empty() && arguments.clip_from.empty())
+    throw CLI::ValidationError(
+        "--feet applies to a retargeted clip (--bvh or --clip-from); --clip plays the model's "
+        "own animation as it is");
+  if (arguments.feet == motion::Feet::kFree && on_server)
+    throw CLI::ValidationError(
+        "--feet free applies where sweepctl retargets the clip; with --server the daemon plants "
+        "the feet");
   if (arguments.bvh_up && on_server)
     throw CLI::ValidationError(
         "--bvh-up applies where sweepctl reads the clip; with --server the daemon detects the "

@@ -4,8 +4,8 @@
 // rest pose) and the deformation method — and the flags that fill it, declared here once for
 // all of them:
 //   add_model_and_clip_flags  MODEL, --rig, --orientation (add_orientation_flag's), --bvh,
-//                       --bvh-map, --bvh-up y|z (returns --bvh's option); for commands with
-//                       frames of their own (sheet)
+//                       --bvh-map, --bvh-up y|z, --feet planted|free (returns --bvh's option);
+//                       for commands with frames of their own (sheet)
 //   add_posing_flags    those, --clip NAME|INDEX (a glTF animation of MODEL's file, played
 //                       joint for joint), --clip-from FILE (--clip's animation, default 0, of
 //                       another .glb/.gltf, retargeted like a BVH), --frame, --time T (seconds
@@ -23,9 +23,11 @@
 //   check_method_flags  the rules CLI11 cannot state: --features need --method sweep,
 //                       --collision applies here, not with --server (the daemon's own
 //                       --collision decides), --frame, --frames, --time and --fps need a clip
-//                       (--bvh, --clip or --clip-from), and --bvh-up applies here, not with
-//                       --server; throws CLI::ValidationError (call it from the command's
-//                       callback with whether --server was given)
+//                       (--bvh, --clip or --clip-from), --bvh-up applies here, not with
+//                       --server, and --feet needs a retargeted clip (--bvh or --clip-from),
+//                       and --feet free applies here, not with --server (the daemon plants);
+//                       throws CLI::ValidationError (call it from the command's callback with
+//                       whether --server was given)
 // Bad values ("12x", "5-3", an unknown method or feature) are usage errors naming the flag.
 #pragma once
 
@@ -40,6 +42,7 @@
 #include "gpu/collision_backend.h"
 #include "motion/clip_up_axis.h"
 #include "motion/frame_range.h"
+#include "motion/retarget.h"
 
 namespace sweepd::cli {
 
@@ -59,6 +62,9 @@ struct PosingArguments {
   bool frame_range = false;         // --frames given: a folder of frames
   // --bvh-up: the clip's up axis (--bvh's); nothing: detected from its skeleton.
   std::optional<motion::UpAxis> bvh_up;
+  // --feet: a retargeted clip's feet planted on the floor (default) or left free.
+  motion::Feet feet = motion::Feet::kPlanted;
+  bool feet_given = false;
   deform::DeformMethod method = deform::DeformMethod::kSweep;
   // --features: anatomical features on top of the sweep method (paper §4.3, §4.4).
   deform::AnatomicalFeatures features;

@@ -119,12 +119,18 @@ const char* to_string(JointMatchReason reason) {
   return "?";
 }
 
-Retargeter::Retargeter(Clip motion, const deform::Model& model, const JointNameMap& name_map)
-    : Retargeter(std::make_shared<const Clip>(std::move(motion)), model, name_map) {}
+Retargeter::Retargeter(Clip motion, const deform::Model& model, const JointNameMap& name_map,
+                       Feet feet)
+    : Retargeter(std::make_shared<const Clip>(std::move(motion)), model, name_map, feet) {}
 
 Retargeter::Retargeter(std::shared_ptr<const Clip> motion, const deform::Model& model,
-                       const JointNameMap& name_map)
-    : Retargeter(std::move(motion), model.skeleton, name_map, lowest_vertex_height(model)) {}
+                       const JointNameMap& name_map, Feet feet)
+    : Retargeter(std::move(motion), model.skeleton, name_map, lowest_vertex_height(model)) {
+  if (feet == Feet::kFree || !model_map_) return;
+  planting_ = FootPlanting::build(model, *model_map_, model_hip_height_, motion_->frame_count,
+                                  motion_->frame_time,
+                                  [this](int frame) { return unplanted_pose_at_frame(frame); });
+}
 
 Retargeter::Retargeter(Clip motion, deform::Skeleton skeleton, const JointNameMap& name_map)
     : Retargeter(std::move(motion), skeleton, name_map, lowest_joint_height(skeleton)) {}
@@ -141,7 +147,8 @@ Retargeter::Retargeter(std::shared_ptr<const Clip> motion, deform::Skeleton skel
     throw std::invalid_argument("the motion has no joints or no frames to retarget");
   if (skeleton_.joints.empty()) throw std::invalid_argument("the model has no joints");
   const deform::Skeleton bvh = clip_rest_skeleton(*motion_);
-  const OptionalRigMap model_map = rig_map_or_warning(skeleton_, "model", warnings_);
+  model_map_ = rig_map_or_warning(skeleton_, "model", warnings_);
+  const OptionalRigMap& model_map = model_map_;
   const OptionalRigMap bvh_map = rig_map_or_warning(bvh, "BVH clip", warnings_);
   match_joints(bvh, model_map, bvh_map, name_map);
   std::vector<glm::quat> clip_world_rest(motion_->joints.size());
@@ -298,9 +305,9 @@ void Retargeter::compute_root_scale(const deform::Skeleton& bvh, const OptionalR
   model_pelvis_rest_ = model_world[model_pelvis_];
   const float bvh_height =
       hip_height(bvh_map, bvh_world, bvh_pelvis_, lowest_clip_height(*motion_, bvh_world));
-  const float model_height = hip_height(model_map, model_world, model_pelvis_, model_floor);
-  if (bvh_height > 0.0f && model_height > 0.0f) {
-    root_scale_ = model_height / bvh_height;
+  model_hip_height_ = hip_height(model_map, model_world, model_pelvis_, model_floor);
+  if (bvh_height > 0.0f && model_hip_height_ > 0.0f) {
+    root_scale_ = model_hip_height_ / bvh_height;
   } else {
     warnings_.push_back("no hip height on one side: root translation not scaled");
   }
@@ -357,21 +364,29 @@ deform::Pose Retargeter::retarget(std::span<const glm::quat> bvh_local,
   return pose;
 }
 
-deform::Pose Retargeter::pose_at_frame(int frame) const {
-  if (frame < 0 || frame >= motion_->frame_count)
-    throw std::out_of_range("frame " + std::to_string(frame) + " is outside the clip's " +
-                            std::to_string(motion_->frame_count) + " frames");
+deform::Pose Retargeter::unplanted_pose_at_frame(int frame) const {
   std::vector<glm::quat> rotations(motion_->joints.size());
   std::vector<glm::vec3> translations(motion_->joints.size());
   motion_->local_pose(frame, rotations, translations);
   return retarget(rotations, translations, false);
 }
 
+deform::Pose Retargeter::pose_at_frame(int frame) const {
+  if (frame < 0 || frame >= motion_->frame_count)
+    throw std::out_of_range("frame " + std::to_string(frame) + " is outside the clip's " +
+                            std::to_string(motion_->frame_count) + " frames");
+  deform::Pose pose = unplanted_pose_at_frame(frame);
+  if (planting_) planting_->apply(frame * double{motion_->frame_time}, pose);
+  return pose;
+}
+
 deform::Pose Retargeter::pose_at_time(double seconds) const {
   std::vector<glm::quat> rotations(motion_->joints.size());
   std::vector<glm::vec3> translations(motion_->joints.size());
   motion_->local_pose_at_time(seconds, rotations, translations);
-  return retarget(rotations, translations, false);
+  deform::Pose pose = retarget(rotations, translations, false);
+  if (planting_) planting_->apply(seconds, pose);
+  return pose;
 }
 
 deform::Pose Retargeter::pose_at_bvh_rest() const {

@@ -63,6 +63,14 @@
 // a rig map on a side, the pelvis height above the floor. Both sides must be Y-up (io::load_bvh
 // turns a Z-up clip upright, motion/clip_up_axis.h); their length units may differ.
 // The shift is applied to the model's root (joint 0), which must carry the pelvis rigidly.
+//
+// Feet (Feet::kPlanted, the default, on a model with a mesh and a leg the rig map found whole):
+// the poses above, then the feet put on the floor where the clip plants them, by leg IK and,
+// where a straightened leg cannot reach, by bringing the body down (motion/foot_planting.h).
+// Only the legs' hip, knee and ankle rotations and the root's height change; ankles move
+// straight up or down, so strides and the feet's world rotations are the clip's. Feet::kFree
+// (and a bare skeleton, which has no soles) keeps every rotation above: onto a copy of the
+// clip's own skeleton the clip's rotations come back.
 #pragma once
 
 #include <memory>
@@ -77,6 +85,7 @@
 #include "deform/rig/rig_map.h"
 #include "motion/clip.h"
 #include "motion/clip_poses.h"
+#include "motion/foot_planting.h"
 #include "motion/joint_name_map.h"
 
 namespace sweepd::motion {
@@ -93,13 +102,20 @@ struct JointMatch {
   bool driven = true;
 };
 
+// What a model's feet do where the clip plants its feet.
+enum class Feet {
+  kPlanted,  // put on the floor by leg IK (motion/foot_planting.h)
+  kFree,     // where the retargeted rotations and root put them
+};
+
 class Retargeter final : public ClipPoses {
  public:
   // Throws std::invalid_argument for a name map naming joints the clip or the model lacks (or
   // pairing a joint twice), when the clip has no joints or frames, or the skeleton no joints.
   // The model's floor is its lowest vertex.
-  Retargeter(Clip motion, const deform::Model& model, const JointNameMap& name_map = {});
-  // A bare skeleton: its floor is its lowest joint.
+  Retargeter(Clip motion, const deform::Model& model, const JointNameMap& name_map = {},
+             Feet feet = Feet::kPlanted);
+  // A bare skeleton (no soles to plant: Feet::kFree): its floor is its lowest joint.
   Retargeter(Clip motion, deform::Skeleton skeleton, const JointNameMap& name_map = {});
   // A bare skeleton whose mesh's lowest point is known (e.g. from sweepd's ModelInfo): the same
   // retargeting as from the model itself.
@@ -108,7 +124,7 @@ class Retargeter final : public ClipPoses {
   // A clip shared with other players (sweepd plays one uploaded clip on many models): the
   // frames are not copied.
   Retargeter(std::shared_ptr<const Clip> motion, const deform::Model& model,
-             const JointNameMap& name_map = {});
+             const JointNameMap& name_map = {}, Feet feet = Feet::kPlanted);
 
   // Matched pairs, ordered by model joint.
   const std::vector<JointMatch>& matches() const { return matches_; }
@@ -118,6 +134,9 @@ class Retargeter final : public ClipPoses {
   std::vector<std::string> unmapped_model_joints() const;
   // Problems that did not stop retargeting (e.g. no rig map on one side: no role matching).
   const std::vector<std::string>& warnings() const { return warnings_; }
+  // Feet planted on the floor (motion/foot_planting.h), or null: a bare skeleton, or a model
+  // without a leg the rig map found whole.
+  const FootPlanting* foot_planting() const { return planting_ ? &*planting_ : nullptr; }
 
   float root_scale() const { return root_scale_; }
   const Clip& motion() const override { return *motion_; }
@@ -143,6 +162,7 @@ class Retargeter final : public ClipPoses {
   // bvh_local: rotations and translations of every BVH joint (motion_->joints.size()).
   deform::Pose retarget(std::span<const glm::quat> bvh_local,
                         std::span<const glm::vec3> bvh_translation, bool keep_root_rest) const;
+  deform::Pose unplanted_pose_at_frame(int frame) const;
 
   Retargeter(std::shared_ptr<const Clip> motion, deform::Skeleton skeleton,
              const JointNameMap& name_map, float model_floor);
@@ -159,6 +179,9 @@ class Retargeter final : public ClipPoses {
   int bvh_pelvis_ = 0, model_pelvis_ = 0;
   glm::vec3 model_pelvis_rest_{0.0f};
   float root_scale_ = 1.0f;
+  float model_hip_height_ = 0.0f;
+  OptionalRigMap model_map_;
+  std::optional<FootPlanting> planting_;
   std::vector<std::string> warnings_;
 };
 

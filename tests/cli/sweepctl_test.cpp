@@ -224,6 +224,35 @@ TEST(SweepctlPosing, AZUpClipPosesAsItsYUpOriginal) {
   fs::remove_all(dir);
 }
 
+// A retargeted clip's feet are planted unless --feet free (motion/foot_planting.h): the
+// mannequin floats a few centimetres on the free retarget, so the two differ on any frame.
+TEST(SweepctlPosing, FeetArePlantedUnlessFree) {
+  const fs::path clip = shared("motion/cmu_01_01.bvh");
+  if (!fs::exists(clip)) GTEST_SKIP() << "shared data absent: " << clip;
+  const fs::path dir = temp_dir();
+  const std::string model = (dir / "m.glb").string();
+  ASSERT_EQ(run_sweepctl("mannequin --vertices 3000 -o " + model).exit_code, 0);
+  const auto pose = [&](const std::string& flags, const char* out) {
+    const Result posed = run_sweepctl("pose " + model + " --bvh " + clip.string() +
+                                      " --frame 700 " + flags + " -o " + (dir / out).string());
+    EXPECT_EQ(posed.exit_code, 0) << posed.output;
+    return sweepd::test::read_text(dir / out);
+  };
+  const std::string planted = pose("", "planted.glb");
+  EXPECT_EQ(pose("--feet planted", "named.glb"), planted);
+  EXPECT_NE(pose("--feet free", "free.glb"), planted);
+  Result r = run_sweepctl("pose " + model + " --bvh " + clip.string() + " --feet up -o x.glb");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  r = run_sweepctl("pose " + model + " --feet free -o x.glb");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--feet applies to a retargeted clip"), std::string::npos) << r.output;
+  r = run_sweepctl("--server 127.0.0.1:1 pose mannequin --bvh " + clip.string() +
+                   " --feet free -o x.glb");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("the daemon plants the feet"), std::string::npos) << r.output;
+  fs::remove_all(dir);
+}
+
 TEST(SweepctlPosing, FeaturesFoldTheSharedMalesBentElbow) {
   // Frame 1257 of cmu_01_01 bends the male's left elbow most (sweepctl metrics, left arm).
   const fs::path male = shared("models/makehuman_male_cmu.glb");

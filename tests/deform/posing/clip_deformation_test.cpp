@@ -1,10 +1,12 @@
-// Every frame of both shared CMU clips, retargeted onto the shared male and deformed with
-// sweeps and with LBS: finite everywhere, and each region's largest edge stretch (posed length
-// over rest length) reported with its frame and edge.
+// Every frame of both shared CMU clips, retargeted onto each shared model (the MakeHuman male
+// and Khronos' RiggedFigure) and deformed with sweeps and with LBS: finite everywhere, and each
+// region's largest edge stretch (posed length over rest length) reported with its frame and
+// edge.
 // Regions: the hips (an end shares both leg sweeps: the crotch, the buttocks, the lower back),
 // else the body part of the joint that weighs most on the edge's first vertex.
-// The bound, 3x on every edge, holds in every region (asserted; measured worst 2.87x
-// on cmu_01_01 and 2.99x on cmu_01_03, behind the left armpit with the arm overhead). What
+// The bound, 3x on every edge, holds in every region (asserted; measured worst on the
+// male 2.87x on cmu_01_01 and 2.99x on cmu_01_03, behind the left armpit with the arm
+// overhead; on the RiggedFigure 1.50x and 1.67x, below LBS's 1.67x and 1.76x). What
 // brought it there: length-weighted share smoothing at the crotch (4.3x / 6.1x before), the
 // clip's fingers, thumbs and toes left undriven (CMU noise: thumb webbing 10.7x, toe crease
 // 4.1x), the neck handing over to the head along the surface (throat 3.4x), and smoothed
@@ -15,6 +17,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <string>
 
 #include "deform/binding/bind.h"
 #include "deform/job/deform_job.h"
@@ -72,17 +75,15 @@ std::vector<Edge> edges_by_region(const BoundModel& bound) {
   return edges;
 }
 
-TEST(ClipDeformation, EveryCmuFrameOnTheMaleIsFiniteAndEachRegionsStretchIsReported) {
+void expect_every_frame_within_the_bound(const fs::path& file) {
   const fs::path data(SWEEPD_SHARED_DATA);
-  const fs::path male = data / "models/makehuman_male_cmu.glb";
-  if (!fs::exists(male)) GTEST_SKIP() << "shared data absent: " << male;
-  const Model model = io::load_gltf(male);
+  const Model model = io::load_gltf(file);
   const BoundModel bound = bind(model, detect_rig_map(model.skeleton));
   test::Posing deformer(bound);
   const std::vector<Edge> edges = edges_by_region(bound);
 
   std::vector<glm::vec3> positions(model.vertex_count());
-  for (const char* clip : {"motion/cmu_01_01.bvh", "motion/cmu_01_03.bvh"}) {
+  for (const std::string clip : {"motion/cmu_01_01.bvh", "motion/cmu_01_03.bvh"}) {
     const motion::Retargeter retargeter(io::load_bvh(data / clip), model);
     std::array<std::array<Worst, kRegions>, 2> worst{};  // [sweep, lbs][region]
     for (DeformMethod method : {DeformMethod::kSweep, DeformMethod::kLbs}) {
@@ -102,8 +103,8 @@ TEST(ClipDeformation, EveryCmuFrameOnTheMaleIsFiniteAndEachRegionsStretchIsRepor
       }
       EXPECT_EQ(non_finite_frames, 0) << clip << " " << to_string(method);
     }
-    std::printf("%s, %d frames, largest edge stretch per region, sweep | lbs:\n", clip,
-                retargeter.frame_count());
+    std::printf("%s on %s, %d frames, largest edge stretch per region, sweep | lbs:\n",
+                clip.c_str(), file.filename().c_str(), retargeter.frame_count());
     float sweep_overall = 0.0f, lbs_overall = 0.0f;
     for (int r = 0; r < kRegions; ++r) {
       const Worst& s = worst[0][r];
@@ -122,6 +123,18 @@ TEST(ClipDeformation, EveryCmuFrameOnTheMaleIsFiniteAndEachRegionsStretchIsRepor
     // Overall the sweeps tear the skin less than LBS does.
     EXPECT_LT(sweep_overall, lbs_overall) << clip;
   }
+}
+
+TEST(ClipDeformation, EveryCmuFrameOnTheMaleIsFiniteAndEachRegionsStretchIsReported) {
+  const fs::path male = fs::path(SWEEPD_SHARED_DATA) / "models/makehuman_male_cmu.glb";
+  if (!fs::exists(male)) GTEST_SKIP() << "shared data absent: " << male;
+  expect_every_frame_within_the_bound(male);
+}
+
+TEST(ClipDeformation, EveryCmuFrameOnTheRiggedFigureIsFiniteAndWithinTheBound) {
+  const fs::path figure = fs::path(SWEEPD_SHARED_DATA) / "models/RiggedFigure/RiggedFigure.gltf";
+  if (!fs::exists(figure)) GTEST_SKIP() << "shared data absent: " << figure;
+  expect_every_frame_within_the_bound(figure);
 }
 
 }  // namespace

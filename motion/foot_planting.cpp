@@ -1,0 +1,281 @@
+#include "motion/foot_planting.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "deform/model/forward_kinematics.h"
+#include "motion/shortest_arc.h"
+
+namespace sweepd::motion {
+
+namespace {
+
+// Fractions of the hip height (see the header): a 0.9 m hip gives 6.3 cm and 0.36 m/s.
+constexpr float kContactHeight = 0.07f;
+constexpr float kContactSpeed = 0.4f;     // per second
+constexpr float kMostFloat = 0.1f;        // a body floating higher has no floor to come down to
+constexpr double kFade = 0.15;            // s: an offset fades to zero this far from a contact
+constexpr double kSpeedWindow = 0.05;     // s: a contact's speed is measured this far each side
+constexpr double kStanceQuantile = 0.02;  // of a foot's heights over the clip: where it stands
+
+bool is_at_or_below(const deform::Skeleton& skeleton, int joint, int ancestor) {
+  for (int j = joint; j >= 0; j = skeleton.joints[j].parent)
+    if (j == ancestor) return true;
+  return false;
+}
+
+std::vector<glm::quat> world_rotations(const deform::Skeleton& skeleton, const deform::Pose& pose) {
+  std::vector<glm::quat> world(skeleton.joints.size());
+  for (int j = 0; j < skeleton.size(); ++j) {
+    const int parent = skeleton.joints[j].parent;
+    world[j] = parent < 0 ? pose.local_rotations[j] : world[parent] * pose.local_rotations[j];
+  }
+  return world;
+}
+
+}  // namespace
+
+FootPlanting::FootPlanting(const deform::Model& model, float floor, double frame_time)
+    : skeleton_(model.skeleton),
+      rest_inverse_(deform::world_rest_inverse_matrices(model.skeleton)),
+      floor_(floor),
+      frame_time_(frame_time) {}
+
+std::optional<FootPlanting> FootPlanting::build(
+    const deform::Model& model, const deform::RigMap& map, float hip_height, int frame_count,
+    double frame_time, const std::function<deform::Pose(int)>& frame_pose) {
+  if (model.positions.empty() || frame_count < 1 || !(frame_time > 0.0) || !(hip_height > 0.0f))
+    return std::nullopt;
+  float floor = std::numeric_limits<float>::infinity();
+  for (const glm::vec3& p : model.positions) floor = std::min(floor, p.y);
+  FootPlanting planting(model, floor, frame_time);
+  planting.frame_count_ = frame_count;
+  const std::vector<glm::mat4> rest = model.skeleton.world_rest_matrices();
+  for (int side = 0; side < 2; ++side) {
+    const deform::LegJoints& leg = side == 0 ? map.left_leg : map.right_leg;
+    if (leg.upper < 0 || leg.lower < 0 || leg.foot < 0) continue;
+    Foot foot{leg, {}, glm::vec4(0.0f), {}, {}};
+    glm::vec3 centre(0.0f);
+    const float ankle_height = rest[leg.foot][3].y;
+    for (std::size_t v = 0; v < model.positions.size(); ++v) {
+      const auto& weights = model.skin_weights[v];
+      const int strongest =
+          static_cast<int>(std::max_element(weights.begin(), weights.end()) - weights.begin());
+      const int joint = model.skin_joints[v][strongest];
+      if (model.positions[v].y > ankle_height || !is_at_or_below(model.skeleton, joint, leg.foot))
+        continue;
+      foot.sole.push_back(
+          {joint, planting.rest_inverse_[joint] * glm::vec4(model.positions[v], 1.0f)});
+      centre += model.positions[v];
+    }
+    if (foot.sole.empty()) continue;
+    centre /= static_cast<float>(foot.sole.size());
+    foot.centre = planting.rest_inverse_[leg.foot] * glm::vec4(centre, 1.0f);
+    planting.feet_.push_back(std::move(foot));
+  }
+  if (planting.feet_.empty()) return std::nullopt;
+
+  // Each frame's soles, with the speed of each one's lowest point: that point of the foot,
+  // kSpeedWindow before and after (not the lowest point of those frames, which jumps between
+  // heel and toes while the foot rolls, and can stand still under a foot that swings), in
+  // three dimensions (a foot coming down to land is not planted yet), over a window wide
+  // enough that marker noise (a landing foot jittering 2-3 cm between 120 Hz frames in
+  // cmu_01_03) does not decide it.
+  const int reach = std::max(1, static_cast<int>(std::lround(kSpeedWindow / frame_time)));
+  const int ring = 2 * reach + 1;
+  std::vector<std::vector<glm::mat4>> world(ring,
+                                            std::vector<glm::mat4>(model.skeleton.joints.size()));
+  const auto posed = [&](int f) -> const std::vector<glm::mat4>& { return world[f % ring]; };
+  for (int f = 0; f < std::min(reach, frame_count); ++f)
+    deform::forward_kinematics(model.skeleton, frame_pose(f), world[f % ring]);
+  std::vector<std::vector<Sole>> soles(planting.feet_.size());
+  for (int f = 0; f < frame_count; ++f) {
+    if (f + reach < frame_count)
+      deform::forward_kinematics(model.skeleton, frame_pose(f + reach), world[(f + reach) % ring]);
+    const int a = std::max(f - reach, 0), b = std::min(f + reach, frame_count - 1);
+    for (std::size_t i = 0; i < planting.feet_.size(); ++i) {
+      const Foot& foot = planting.feet_[i];
+      Sole sole = planting.sole_of(foot, posed(f));
+      const SolePoint& point = foot.sole[sole.lowest];
+      const glm::vec3 moved(posed(b)[point.joint] * point.local -
+                            posed(a)[point.joint] * point.local);
+      sole.speed = b > a ? glm::length(moved) / static_cast<float>((b - a) * frame_time) : 0.0f;
+      soles[i].push_back(sole);
+    }
+  }
+  planting.plan(soles, hip_height);
+  return planting;
+}
+
+FootPlanting::Sole FootPlanting::sole_of(const Foot& foot,
+                                         const std::vector<glm::mat4>& world) const {
+  Sole lowest{std::numeric_limits<float>::infinity(), 0, 0.0f, 0.0f};
+  for (std::size_t k = 0; k < foot.sole.size(); ++k) {
+    const float y = (world[foot.sole[k].joint] * foot.sole[k].local).y;
+    if (y < lowest.height) lowest = {y, k, 0.0f, 0.0f};
+  }
+  lowest.height -= floor_;
+  // How far the hip must come down for the leg, straightened, to put the sole on the floor.
+  const glm::vec3 hip(world[foot.leg.upper][3]), knee(world[foot.leg.lower][3]),
+      ankle(world[foot.leg.foot][3]);
+  const float leg = glm::distance(hip, knee) + glm::distance(knee, ankle);
+  const glm::vec3 to_target = ankle - glm::vec3(0.0f, lowest.height, 0.0f) - hip;
+  const float across = glm::length(glm::vec2(to_target.x, to_target.z));
+  lowest.hip_drop =
+      std::max(0.0f, -to_target.y - std::sqrt(std::max(0.0f, leg * leg - across * across)));
+  return lowest;
+}
+
+void FootPlanting::spread(std::vector<float>& values,
+                          const std::vector<std::uint8_t>& known) const {
+  const int n = static_cast<int>(values.size());
+  std::vector<int> previous(n, -1), next(n, -1);
+  for (int f = 0, last = -1; f < n; ++f) previous[f] = last = known[f] ? f : last;
+  for (int f = n - 1, last = -1; f >= 0; --f) next[f] = last = known[f] ? f : last;
+  for (int f = 0; f < n; ++f) {
+    if (known[f]) continue;
+    const int p = previous[f], q = next[f];
+    if (p >= 0 && q >= 0 && (q - p) * frame_time_ < 2.0 * kFade) {
+      values[f] =
+          glm::mix(values[p], values[q], static_cast<float>(f - p) / static_cast<float>(q - p));
+      continue;
+    }
+    const auto fade = [&](int contact) {
+      if (contact < 0) return 0.0f;
+      const double seconds = std::abs(f - contact) * frame_time_;
+      return values[contact] * static_cast<float>(std::max(0.0, 1.0 - seconds / kFade));
+    };
+    values[f] = fade(p) + fade(q);
+  }
+}
+
+float FootPlanting::stance(const std::vector<Sole>& soles) {
+  std::vector<float> heights;
+  for (const Sole& sole : soles) heights.push_back(sole.height);
+  const std::size_t at = static_cast<std::size_t>(kStanceQuantile * (heights.size() - 1));
+  std::nth_element(heights.begin(), heights.begin() + at, heights.end());
+  return heights[at];
+}
+
+void FootPlanting::plan(const std::vector<std::vector<Sole>>& soles, float hip_height) {
+  const int n = frame_count_;
+  // A body the retargeting floats (its proportions are not the clip's) comes down on every
+  // frame by the lower foot's stance; one that floats higher than kMostFloat never stands.
+  float lower = std::numeric_limits<float>::infinity();
+  for (const std::vector<Sole>& sole : soles) lower = std::min(lower, stance(sole));
+  const float settle = lower > 0.0f && lower <= kMostFloat * hip_height ? lower : 0.0f;
+  // Contacts, then how far the hip comes down on each frame: settle, or more where a leg too
+  // short to reach needs it, eased in and out (a foot's need at frame f asks for need *
+  // (1 - |t - t_f| / kFade) around it, so the body never drops faster than the largest need
+  // per kFade). Dropping the body can bring a slow foot into contact, so contacts are found
+  // again until none is added (twice at most in practice).
+  hip_drop_.assign(n, settle);
+  for (std::size_t i = 0; i < feet_.size(); ++i) feet_[i].contact.assign(n, 0);
+  const int fade_frames = static_cast<int>(kFade / frame_time_);
+  for (int round = 0; round < 4; ++round) {
+    bool added = false;
+    std::vector<float> need(n, 0.0f);
+    for (std::size_t i = 0; i < feet_.size(); ++i) {
+      const std::vector<Sole>& sole = soles[i];
+      for (int f = 0; f < n; ++f) {
+        if (!feet_[i].contact[f] && sole[f].height - hip_drop_[f] <= kContactHeight * hip_height &&
+            sole[f].speed < kContactSpeed * hip_height) {
+          feet_[i].contact[f] = 1;
+          added = true;
+        }
+        if (feet_[i].contact[f]) need[f] = std::max(need[f], sole[f].hip_drop - settle);
+      }
+    }
+    if (!added) break;
+    for (int f = 0; f < n; ++f) {
+      if (need[f] <= 0.0f) continue;
+      for (int g = std::max(0, f - fade_frames); g <= std::min(n - 1, f + fade_frames); ++g) {
+        const float ease = 1.0f - static_cast<float>(std::abs(g - f)) / (fade_frames + 1);
+        hip_drop_[g] = std::max(hip_drop_[g], settle + need[f] * ease);
+      }
+    }
+  }
+  for (std::size_t i = 0; i < feet_.size(); ++i) {
+    Foot& foot = feet_[i];
+    foot.offset.assign(n, 0.0f);
+    for (int f = 0; f < n; ++f)
+      if (foot.contact[f]) foot.offset[f] = hip_drop_[f] - soles[i][f].height;
+    spread(foot.offset, foot.contact);
+  }
+}
+
+void FootPlanting::apply(double seconds, deform::Pose& pose) const {
+  const double position =
+      std::clamp(seconds / frame_time_, 0.0, static_cast<double>(frame_count_ - 1));
+  const int f0 = static_cast<int>(std::floor(position));
+  const int f1 = std::min(f0 + 1, frame_count_ - 1);
+  const float alpha = static_cast<float>(position - f0);
+  // The pelvis first: every joint comes down with it.
+  const float drop = glm::mix(hip_drop_[f0], hip_drop_[f1], alpha);
+  pose.root_translation.y -= drop;
+  std::vector<glm::mat4> world(skeleton_.joints.size());
+  deform::forward_kinematics(skeleton_, pose, world);
+  const std::vector<glm::quat> rotation = world_rotations(skeleton_, pose);
+  for (const Foot& foot : feet_) {
+    const float height = sole_of(foot, world).height;
+    float rise = foot.contact[f0] && foot.contact[f1]
+                     ? -height
+                     : glm::mix(foot.offset[f0], foot.offset[f1], alpha);
+    rise = std::max(rise, -height);  // never below the floor
+    if (rise != 0.0f) move_ankle(foot, rise, world, rotation, pose);
+  }
+}
+
+void FootPlanting::move_ankle(const Foot& foot, float rise, const std::vector<glm::mat4>& world,
+                              const std::vector<glm::quat>& rotation, deform::Pose& pose) const {
+  const deform::LegJoints& leg = foot.leg;
+  const glm::vec3 hip(world[leg.upper][3]), knee(world[leg.lower][3]), ankle(world[leg.foot][3]);
+  const float thigh = glm::distance(hip, knee), shin = glm::distance(knee, ankle);
+  if (thigh < 1e-6f || shin < 1e-6f) return;
+  // The ankle moves straight up or down, as far towards `rise` as the leg reaches (so strides
+  // never change): the heights where the hip-to-ankle distance lies within the leg's range.
+  const float longest = (thigh + shin) * (1.0f - 1e-6f), shortest = std::abs(thigh - shin);
+  const glm::vec3 from_hip = ankle - hip;
+  const float across =
+      glm::dot(glm::vec2(from_hip.x, from_hip.z), glm::vec2(from_hip.x, from_hip.z));
+  if (across >= longest * longest) return;
+  const float deepest = std::sqrt(longest * longest - across);
+  rise = std::clamp(rise, -from_hip.y - deepest, -from_hip.y + deepest);
+  if (across < shortest * shortest) {  // not through the hip's blind spot around it
+    const float blind = std::sqrt(shortest * shortest - across);
+    if (from_hip.y + rise > -blind && from_hip.y + rise < blind) rise = -from_hip.y - blind;
+  }
+  const glm::vec3 target = ankle + glm::vec3(0.0f, rise, 0.0f);
+  const glm::vec3 u = (knee - hip) / thigh, s = (ankle - knee) / shin;
+  glm::vec3 axis = glm::cross(u, s);
+  const float bend = std::atan2(glm::length(axis), glm::dot(u, s));
+  if (glm::length(axis) < 1e-4f) {
+    // A straight leg: the knee bends forward, so the shin turns away from the toes (the sole's
+    // centre lies ahead of the ankle).
+    axis = glm::cross(glm::vec3(world[leg.foot] * foot.centre) - ankle, u);
+    if (glm::length(axis) < 1e-6f) return;
+  }
+  axis = glm::normalize(axis);
+  const float reach = std::clamp(glm::distance(hip, target), shortest, longest);
+  const float inner = std::acos(std::clamp(
+      (thigh * thigh + shin * shin - reach * reach) / (2.0f * thigh * shin), -1.0f, 1.0f));
+  const glm::quat knee_turn = glm::angleAxis(static_cast<float>(M_PI) - inner - bend, axis);
+  const glm::vec3 moved = knee + knee_turn * (ankle - knee);
+  if (glm::length(moved - hip) < 1e-6f || glm::length(target - hip) < 1e-6f) return;
+  const glm::quat swing = shortest_arc(glm::normalize(moved - hip), glm::normalize(target - hip));
+  const auto parent_rotation = [&](int j) {
+    const int parent = skeleton_.joints[j].parent;
+    return parent < 0 ? glm::identity<glm::quat>() : rotation[parent];
+  };
+  // Joints between these follow their parents: the thigh swings, the shin turns about the knee
+  // in the swung frame, and the foot keeps its world rotation.
+  pose.local_rotations[leg.upper] =
+      glm::normalize(glm::inverse(parent_rotation(leg.upper)) * swing * rotation[leg.upper]);
+  pose.local_rotations[leg.lower] =
+      glm::normalize(glm::inverse(parent_rotation(leg.lower)) * knee_turn * rotation[leg.lower]);
+  pose.local_rotations[leg.foot] = glm::normalize(
+      glm::inverse(swing * knee_turn * parent_rotation(leg.foot)) * rotation[leg.foot]);
+}
+
+}  // namespace sweepd::motion

@@ -1,0 +1,108 @@
+// Foot planting: a retargeted clip's feet put on the model's floor where the clip plants them.
+//
+// Rotations retargeted bone by bone (motion/retarget.h) land the clip's feet where the model's
+// proportions put them: the male's soles sank up to 5 cm below the floor in CMU's walks, since
+// its legs, ankles and feet are not the clip's. Production retargeters correct this with leg
+// IK on the frames where a foot is planted (MotionBuilder's floor contact, Unreal's IK
+// retargeter); so does this.
+//
+// Definitions (the model in metres, Y up; L its hip height on straight legs, about 0.9 m):
+//   sole     the rest mesh's vertices at or below the ankle whose strongest influence is the
+//            foot's joint or a joint below it (toes), each carried rigidly by that joint; its
+//            height is its lowest point's, above the floor (the rest mesh's lowest vertex).
+//   settle   a body the retargeting floats (its legs, ankles and feet are not the clip's: the
+//            20k mannequin's soles stood 2.5-5.7 cm up in cmu_01_01) comes down on every frame
+//            by its lower foot's stance, the 2nd percentile of that foot's heights over the
+//            clip, when that lies between 0 and 0.1 L (a clip whose feet stay higher, sitting
+//            or hanging, has no floor to come down to).
+//   contact  a clip frame where a foot is planted, found on the retargeted clip: the sole
+//            within 0.07 L of the floor once the body has come down (or below it), and the
+//            sole's lowest point (that point of the foot, not the lowest of other frames, which
+//            jumps between heel and toes as the foot rolls and can stand still under a foot
+//            that swings) moving under 0.4 L per second, in three dimensions (a foot coming
+//            down to land is not planted yet), over 0.05 s each side (a landing foot's marker
+//            noise jitters it 2-3 cm between 120 Hz frames in cmu_01_03). A standing foot's
+//            roll and noise stay under both; a foot lifted for the next step passes them
+//            within a frame or two. The window is wider than a viewer's (tests/motion/
+//            foot_tracks.h: 5 cm and 0.25 m/s), so what a viewer calls planted is planted.
+// On a contact frame the ankle moves straight up or down by the sole's height, so the sole
+// touches the floor; the foot keeps its world orientation (heel-to-toe roll is the clip's) and
+// the ankle its horizontal position (strides are unchanged). The hip stays; the knee bends or
+// straightens in its own plane (two-bone IK). Where a straightened leg cannot reach the floor,
+// the whole body comes down as far as that foot needs, eased in and out over 0.15 s around the
+// frame (so it never drops faster than its deepest need per 0.15 s); dropping it may bring a
+// slow foot into contact, so contacts are found again until none is added. Between contacts a
+// foot's offset fades linearly to zero within 0.15 s of each, or, across a gap shorter than
+// 0.3 s, goes linearly from one contact's to the next's, so nothing pops. On no frame does a
+// sole go below the floor. An ankle that cannot reach its height moves as far as the leg
+// reaches, still straight up or down.
+// A clip sampled between frames (pose_at_time) plants exactly where both frames are contact
+// frames and interpolates the frames' offsets and the body's drop elsewhere.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include "deform/model/model.h"
+#include "deform/model/pose.h"
+#include "deform/rig/rig_map.h"
+
+namespace sweepd::motion {
+
+class FootPlanting {
+ public:
+  // nullopt when no foot can be planted: no leg with its hip, knee and ankle joints in the
+  // model's rig map, or no sole vertices (a bare skeleton).
+  //   frame_pose  the retargeted, uncorrected pose of clip frame f, for 0 <= f < frame_count
+  //   frame_time  seconds between clip frames
+  //   hip_height  the model's pelvis height above its floor on straight legs (L above)
+  static std::optional<FootPlanting> build(const deform::Model& model, const deform::RigMap& map,
+                                           float hip_height, int frame_count, double frame_time,
+                                           const std::function<deform::Pose(int)>& frame_pose);
+
+  // Corrects `pose`, the uncorrected pose of the clip at `seconds` (clamped to the clip).
+  void apply(double seconds, deform::Pose& pose) const;
+
+ private:
+  struct SolePoint {
+    int joint;
+    glm::vec4 local;  // the rest position in the joint's rest frame
+  };
+  struct Foot {
+    deform::LegJoints leg;
+    std::vector<SolePoint> sole;
+    glm::vec4 centre;                   // the sole's centroid in the foot's rest frame
+    std::vector<float> offset;          // the ankle's vertical move, per clip frame
+    std::vector<std::uint8_t> contact;  // per clip frame
+  };
+  struct Sole {
+    float height;        // above the floor
+    std::size_t lowest;  // its lowest point, an index into Foot::sole
+    float speed;         // that point's horizontal speed
+    float hip_drop;      // how far the hip must come down for a straight leg to reach the floor
+  };
+
+  FootPlanting(const deform::Model& model, float floor, double frame_time);
+  Sole sole_of(const Foot& foot, const std::vector<glm::mat4>& world) const;
+  // Where the uncorrected foot stands over the clip, above the model's floor (see the header).
+  static float stance(const std::vector<Sole>& soles);
+  // Contacts, the pelvis's drop and the feet's offsets from the uncorrected soles per frame.
+  void plan(const std::vector<std::vector<Sole>>& soles, float hip_height);
+  // Fills the frames not `known` from the known ones: a fade or a bridge (see the header).
+  void spread(std::vector<float>& values, const std::vector<std::uint8_t>& known) const;
+  void move_ankle(const Foot& foot, float rise, const std::vector<glm::mat4>& world,
+                  const std::vector<glm::quat>& rotation, deform::Pose& pose) const;
+
+  deform::Skeleton skeleton_;
+  std::vector<glm::mat4> rest_inverse_;
+  float floor_ = 0.0f;
+  double frame_time_ = 0.0;
+  int frame_count_ = 0;
+  std::vector<Foot> feet_;       // at most two
+  std::vector<float> hip_drop_;  // per clip frame: the root's move down
+};
+
+}  // namespace sweepd::motion
