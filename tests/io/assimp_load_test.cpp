@@ -545,7 +545,8 @@ TEST(AssimpLoad, AnimationErrorsNameTheFileAndTheProblem) {
 // glTF reader makes two meshes "torso-0" and "torso-1", written as two FBX nodes; the head; a
 // rigid hat under the Head joint) written as glTF and converted by assimp. Every mesh loads as a
 // part with its node's name and its material, the hat rigid to the Head joint, and each part
-// poses (sweep) as the glTF split's same part within the FBX round trip's 1e-4 m.
+// poses (sweep) as the glTF split's same part within the FBX round trip's 1e-4 m. As binary
+// FBX, each character loads as its ASCII twin.
 void expect_fbx_split_poses_as_gltf_split(const deform::Model& original, const char* body) {
   SCOPED_TRACE(body);
   ScratchDirectory dir;
@@ -594,6 +595,26 @@ void expect_fbx_split_poses_as_gltf_split(const deform::Model& original, const c
   std::printf("%s: FBX character of %zu parts vs its glTF: posed (sweep) within %.3g m\n", body,
               fbx.parts.size(), worst);
   EXPECT_LE(worst, 1e-4f);
+
+  // The same character as binary FBX (tests/io/fbx_binary.h) loads as its ASCII twin: every
+  // part with its name, material, vertices and rigid joint, the vertices within 1e-6 m (the
+  // ASCII reader's fast_atof may round a float's last bit the other way, as for the male).
+  const std::string ascii = read_bytes(dir / "split.fbx");
+  const deform::Model binary = load_assimp(testing::binary_fbx_of(ascii), "split.fbx");
+  ASSERT_EQ(binary.parts.size(), fbx.parts.size());
+  for (std::size_t p = 0; p < fbx.parts.size(); ++p) {
+    EXPECT_EQ(binary.parts[p].name, fbx.parts[p].name);
+    EXPECT_EQ(binary.parts[p].material, fbx.parts[p].material);
+    EXPECT_EQ(binary.parts[p].vertex_count, fbx.parts[p].vertex_count);
+    EXPECT_EQ(binary.parts[p].rigid_joint, fbx.parts[p].rigid_joint);
+  }
+  ASSERT_EQ(binary.vertex_count(), fbx.vertex_count());
+  EXPECT_EQ(binary.indices, fbx.indices);
+  float apart = 0.0f;
+  for (std::size_t v = 0; v < fbx.vertex_count(); ++v)
+    apart = std::max(apart, glm::distance(binary.positions[v], fbx.positions[v]));
+  std::printf("%s: the binary FBX character against its ASCII twin: within %.3g m\n", body, apart);
+  EXPECT_LE(apart, 1e-6f);
 }
 
 TEST(AssimpLoad, EveryMeshOfAnFbxCharacterLoadsAndPosesAsTheGltfCharacter) {
