@@ -20,7 +20,8 @@ std::shared_ptr<const motion::ClipPoses> HeldClip::player(const ModelHandle& mod
     if (auto found = players_.find(model.get()); found != players_.end())
       return found->second.player;
   }
-  // Built outside the lock (milliseconds: rig maps of both skeletons, the model's floor); two
+  // Built outside the lock (rig maps of both skeletons, the model's floor, and foot planting's
+  // pass over every clip frame: 40 ms for cmu_01_03's 4,511 frames on the 72k mannequin); two
   // first requests at once build it twice and keep the first.
   std::shared_ptr<const motion::ClipPoses> built;
   if (own_skeleton_)
