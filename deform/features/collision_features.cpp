@@ -48,7 +48,10 @@ int CollisionFeatures::fold_region(const CollisionRegion& region, int pairs,
       } else {
         folder_.relax(region, model_.regions.welded_indices, saved_pairs_, positions);
       }
-      const int now = find_pairs(region, positions, detect, report.times);
+      // A relax step can tear the skin too (a fold step eases itself, skin_folding.h).
+      const bool torn =
+          step == 1 && tears_skin(region, model_.regions.welded_indices, saved_, positions);
+      const int now = torn ? pairs : find_pairs(region, positions, detect, report.times);
       reduced = now < pairs;
       if (!reduced) {  // never keep a step that does not help
         for (std::size_t i = 0; i < region.vertices.size(); ++i)
@@ -103,10 +106,24 @@ int CollisionFeatures::restore_worse_groups(std::span<glm::vec3> positions) {
   count(saved_contact_pairs_, group_pairs_before_);
   count(contact_pairs_, group_pairs_after_);
   int restored = 0;
-  for (std::size_t g = 0; g < groups; ++g) {
-    if (group_pairs_after_[g % 64] < group_pairs_before_[g % 64]) continue;
+  undone_.assign(groups, 0);
+  const auto undo = [&](std::size_t g) {
     for (std::uint32_t v : resolver_.moved_group(g)) positions[v] = saved_body_[v];
+    undone_[g] = 1;
     ++restored;
+  };
+  for (std::size_t g = 0; g < groups; ++g)
+    if (group_pairs_after_[g % 64] >= group_pairs_before_[g % 64]) undo(g);
+  // Then every group that tore the skin; undoing one can tear the skin at a neighbour's edge,
+  // so until none does.
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (std::size_t g = 0; g < groups; ++g)
+      if (!undone_[g] &&
+          tears_around(model_.contact, resolver_.moved_group(g), saved_body_, positions)) {
+        undo(g);
+        changed = true;
+      }
   }
   for (std::size_t g = 0; g < groups; ++g)
     for (std::uint32_t v : resolver_.moved_group(g)) groups_of_vertex_[v] = 0;
@@ -149,6 +166,10 @@ void CollisionFeatures::apply_contact(std::span<glm::vec3> positions, const Dete
         const ContactResult one = resolver_.resolve(model_.contact, indices, saved_contact_pairs_,
                                                     options_.contact_gap, positions, g);
         if (one.separated == 0) continue;
+        if (tears_around(model_.contact, resolver_.moved_group(0), saved_group_, positions)) {
+          std::copy(saved_group_.begin(), saved_group_.end(), positions.begin());
+          continue;
+        }
         now = find_contact_pairs(positions, detect, report.times);
         if (now < pairs) {
           pairs = now;

@@ -144,6 +144,7 @@ class CollisionFeatures {
   std::vector<glm::vec3> saved_group_;                // every position before one group's step
   std::vector<double> volume_before_, volume_after_;  // per sweep, of the skin
   std::vector<std::uint64_t> groups_of_vertex_;       // per vertex: the moved groups, one bit each
+  std::vector<std::uint8_t> undone_;                  // per moved group: restored
   std::array<int, 64> group_pairs_before_{}, group_pairs_after_{};
 };
 

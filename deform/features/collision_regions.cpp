@@ -159,9 +159,26 @@ CollisionRegions find_collision_regions(const BoundModel& bound,
       if (inside[corner[0]] || inside[corner[1]] || inside[corner[2]])
         region.triangles.push_back(t);
     }
+    measure_rest_edges(region, model.positions, out.welded_indices);
     if (!region.triangles.empty()) out.regions.push_back(std::move(region));
   }
   return out;
+}
+
+void measure_rest_edges(CollisionRegion& region, std::span<const glm::vec3> rest,
+                        std::span<const std::uint32_t> welded_indices) {
+  region.rest_edges.clear();
+  region.corner_slots.clear();
+  for (std::uint32_t t : region.triangles) {
+    const std::uint32_t* corner = &welded_indices[3 * t];
+    for (int k = 0; k < 3; ++k) {
+      region.rest_edges.push_back(glm::distance(rest[corner[k]], rest[corner[(k + 1) % 3]]));
+      const auto at = std::lower_bound(region.vertices.begin(), region.vertices.end(), corner[k]);
+      region.corner_slots.push_back(at != region.vertices.end() && *at == corner[k]
+                                        ? static_cast<std::int32_t>(at - region.vertices.begin())
+                                        : -1);
+    }
+  }
 }
 
 void copy_to_seam_copies(const CollisionRegions& regions, std::span<glm::vec3> positions) {

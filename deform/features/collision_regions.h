@@ -56,6 +56,10 @@ struct CollisionRegion {
   std::vector<std::uint32_t> vertices;
   std::vector<std::int8_t> sides;
   std::vector<std::uint32_t> triangles;
+  // Per triangle of `triangles`, 3 each: its edges' rest lengths (corner k to corner k + 1,
+  // welded), and its corners' indices into `vertices` (-1 for a corner outside the region).
+  std::vector<float> rest_edges;
+  std::vector<std::int32_t> corner_slots;
 };
 
 struct CollisionRegions {
@@ -74,5 +78,10 @@ CollisionRegions find_collision_regions(const BoundModel& bound,
                                         const CollisionRegionOptions& options = {});
 
 void copy_to_seam_copies(const CollisionRegions& regions, std::span<glm::vec3> positions);
+
+// Fills region.rest_edges and region.corner_slots from the rest positions and the welded
+// indices region.triangles index (region.vertices ascending).
+void measure_rest_edges(CollisionRegion& region, std::span<const glm::vec3> rest,
+                        std::span<const std::uint32_t> welded_indices);
 
 }  // namespace sweepd::deform

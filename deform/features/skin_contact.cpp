@@ -45,6 +45,21 @@ void remove_rest_pairs(std::span<const TrianglePair> rest, std::vector<TriangleP
   pairs.resize(kept);
 }
 
+bool tears_around(const ContactModel& model, std::span<const std::uint32_t> moved,
+                  std::span<const glm::vec3> before, std::span<const glm::vec3> positions) {
+  for (std::uint32_t v : moved) {
+    const std::span<const std::uint32_t> neighbours = model.adjacency.neighbours(v);
+    const std::span<const float> rest = model.adjacency.lengths(v);
+    for (std::size_t i = 0; i < neighbours.size(); ++i) {
+      const std::uint32_t u = neighbours[i];
+      const float now = glm::distance(positions[v], positions[u]);
+      if (now > kMostFoldStretch * rest[i] && now > glm::distance(before[v], before[u]))
+        return true;
+    }
+  }
+  return false;
+}
+
 void skin_sweep_volumes(const ContactModel& model, std::span<const std::uint32_t> indices,
                         std::span<const glm::vec3> positions, std::span<double> volumes) {
   std::fill(volumes.begin(), volumes.end(), 0.0);

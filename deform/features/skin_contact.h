@@ -78,6 +78,12 @@ struct ContactResult {
   float max_depth = 0.0f;  // largest penetration depth (m)
 };
 
+// Whether moving `moved` from `before` to `positions` (both #V) stretched an edge at one of
+// them past kMostFoldStretch times its rest length and past its length before: a tear, which
+// contact never keeps.
+bool tears_around(const ContactModel& model, std::span<const std::uint32_t> moved,
+                  std::span<const glm::vec3> before, std::span<const glm::vec3> positions);
+
 class ContactResolver {
  public:
   ContactResult resolve(const ContactModel& model, std::span<const std::uint32_t> indices,

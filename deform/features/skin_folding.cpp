@@ -159,6 +159,24 @@ void pull_back_to_plane(const glm::vec3& centre, const glm::vec3& normal, float 
   }
 }
 
+bool tears_skin(const CollisionRegion& region, std::span<const std::uint32_t> indices,
+                std::span<const glm::vec3> before, std::span<const glm::vec3> positions) {
+  for (std::size_t i = 0; i < region.triangles.size(); ++i) {
+    const std::uint32_t t = region.triangles[i];
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = indices[3 * t + k], b = indices[3 * t + (k + 1) % 3];
+      const float now = glm::distance(positions[a], positions[b]);
+      if (now <= kMostFoldStretch * region.rest_edges[3 * i + k]) continue;
+      const auto was = [&](int corner, std::uint32_t v) {
+        const std::int32_t slot = region.corner_slots[3 * i + corner];
+        return slot >= 0 ? before[slot] : positions[v];
+      };
+      if (now > glm::distance(was(k, a), was((k + 1) % 3, b))) return true;
+    }
+  }
+  return false;
+}
+
 void SkinFolder::pull_back(const CollisionRegion& region, float gap, std::span<glm::vec3> positions,
                            FoldingResult& result) {
   glm::vec3 centre;
@@ -191,7 +209,31 @@ FoldingResult SkinFolder::fold(const CollisionRegion& region,
     points_.clear();
     for (std::uint32_t v : groups_.vertices(g)) points_.push_back(positions[v]);
     ++result.groups;
+    before_.resize(region.vertices.size());
+    for (std::size_t i = 0; i < region.vertices.size(); ++i)
+      before_[i] = positions[region.vertices[i]];
+    const FoldingResult counted = result;
     pull_back(region, gap, positions, result);
+    // As far as the skin allows: the whole pull-back, else a half, a quarter, an eighth of it,
+    // else none (see the header).
+    after_.resize(region.vertices.size());
+    for (std::size_t i = 0; i < region.vertices.size(); ++i)
+      after_[i] = positions[region.vertices[i]];
+    bool kept = false;
+    for (float share = 1.0f; share >= kSmallestShare && !kept; share *= 0.5f) {
+      for (std::size_t i = 0; i < region.vertices.size(); ++i)
+        positions[region.vertices[i]] = glm::mix(before_[i], after_[i], share);
+      kept = !tears_skin(region, indices, before_, positions);
+      if (kept && share < 1.0f) ++result.eased;
+    }
+    if (!kept) {
+      for (std::size_t i = 0; i < region.vertices.size(); ++i)
+        positions[region.vertices[i]] = before_[i];
+      const int eased = result.eased;
+      result = counted;
+      result.eased = eased;
+      ++result.refused;
+    }
   }
   result.volume_change = enclosed_volume(positions, indices, region.triangles) - volume_before;
   return result;

@@ -30,13 +30,19 @@
 // iterations moving each region corner of the intersecting triangles half-way to the mean of
 // its mesh neighbours: it unfolds small in-plane crumples that moving along a normal cannot.
 // Buffers are kept between calls (no allocation once warm).
-// Measured on the shared male (tests/deform/features/collision_features_test.cpp), one fold call:
-// elbow at 90°: 85 pairs -> 0; elbow at 150°: 167 -> 129; knee at 150°: 95 -> 19; every pair
-// between a triangle wholly before and one wholly past the joint goes. With CollisionFeatures'
-// rounds (fold, else relax, kept only when the pairs drop): knee 95 -> 0, elbow 167 -> 108.
-// The elbow's remainder: crease triangles (corners on both sides of the joint) standing across
-// the fold plane inside the contact patch, where the pinched sweep has folded the skin's
-// in-plane layout, and pairs along the region's border (skin outside the region cannot move).
+// No tears: a group's pull-back is kept only if it stretches no edge of the region past
+// kMostFoldStretch times its rest length (unless the edge was stretched so far already); else
+// a half, a quarter, an eighth of it, else none (FoldingResult::eased, refused). Without that
+// check a hanging arm's armpit (the fold plane of skin that lies against the chest rather than
+// bends across a joint, pulled back by up to 21 cm) and even the 150° elbow stretched edges
+// 10-34 times their rest length.
+// Measured on the shared male (tests/deform/features/collision_features_test.cpp), one fold call
+// (pairs, and pairs of skin through skin: a triangle wholly before the joint and one wholly
+// past it): elbow at 135° 77 -> 27 (52 -> 19), knee at 135° 57 -> 9 (48 -> 0), elbow at 150°
+// 92 -> 78 (68 -> 58), knee at 150° 78 -> 79 (71 -> 68); the elbow's region stretched 2.84x and
+// 3.38x by the sweep ends at 2.38x and 2.80x. With CollisionFeatures' rounds (fold, else relax,
+// kept only when the pairs drop and nothing tears): the elbow and knee at 135° and 150° -> 0;
+// at 160° elbow 97 -> 79, knee 97 -> 97.
 #pragma once
 
 #include <cstdint>
@@ -49,8 +55,16 @@
 
 namespace sweepd::deform {
 
+// A group's pull-back may stretch a region edge to this many times its rest length (or keep
+// it as stretched as it was), no further; the bound on every edge is 3x.
+inline constexpr float kMostFoldStretch = 2.5f;
+// The smallest share of a pull-back tried before the group is left as it was.
+inline constexpr float kSmallestShare = 0.125f;
+
 struct FoldingResult {
   int groups = 0;              // connected groups of intersecting triangles
+  int eased = 0;               // groups pulled back only part of the way (a tear otherwise)
+  int refused = 0;             // groups left as they were (even an eighth tore the skin)
   int moved = 0;               // vertices that had gone through the plane and were pulled back
   float max_depth = 0.0f;      // largest penetration depth (m)
   double volume_change = 0.0;  // enclosed volume after − before, over the region (m³)
@@ -99,6 +113,12 @@ void pull_back_to_plane(const glm::vec3& centre, const glm::vec3& normal, float 
                         std::span<const std::uint32_t> vertices, std::span<const std::int8_t> sides,
                         float gap, std::span<glm::vec3> positions, FoldingResult& result);
 
+// Whether moving the region's vertices from `before` (one per region vertex, in its order) to
+// `positions` stretched an edge of its triangles past kMostFoldStretch times its rest length
+// and past its length before: a tear, which folding never keeps.
+bool tears_skin(const CollisionRegion& region, std::span<const std::uint32_t> indices,
+                std::span<const glm::vec3> before, std::span<const glm::vec3> positions);
+
 class SkinFolder {
  public:
   FoldingResult fold(const CollisionRegion& region, std::span<const std::uint32_t> indices,
@@ -111,8 +131,9 @@ class SkinFolder {
  private:
   void pull_back(const CollisionRegion& region, float gap, std::span<glm::vec3> positions,
                  FoldingResult& result);
+
   IntersectingGroups groups_;
-  std::vector<glm::vec3> points_;
+  std::vector<glm::vec3> points_, before_, after_;
   std::vector<std::uint8_t> mark_;
   std::vector<glm::vec3> sum_;
   std::vector<int> count_;

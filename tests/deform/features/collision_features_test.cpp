@@ -20,6 +20,7 @@
 #include "deform/rig/rig_map.h"
 #include "io/bvh_load.h"
 #include "io/gltf_load.h"
+#include "mannequin/mannequin.h"
 #include "motion/retarget.h"
 #include "tests/deform/shared_male.h"
 
@@ -137,6 +138,20 @@ TEST(CollisionFeatures, RestPoseHasNoSelfIntersections) {
   }
 }
 
+// The largest edge stretch (posed over rest length) over a region's triangles.
+float largest_stretch(const CollisionRegions& regions, const CollisionRegion& region,
+                      const std::vector<glm::vec3>& positions) {
+  float largest = 0.0f;
+  for (std::size_t i = 0; i < region.triangles.size(); ++i)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t* corner = &regions.welded_indices[3 * region.triangles[i]];
+      largest =
+          std::max(largest, glm::distance(positions[corner[k]], positions[corner[(k + 1) % 3]]) /
+                                region.rest_edges[3 * i + k]);
+    }
+  return largest;
+}
+
 TEST(CollisionFeatures, FoldingRemovesSkinThroughSkinAtBentElbowAndKnee) {
   REQUIRE_MALE();
   test::Posing deformer(fx.bound);
@@ -151,18 +166,27 @@ TEST(CollisionFeatures, FoldingRemovesSkinThroughSkinAtBentElbowAndKnee) {
       detector.detect(positions, fx.regions.welded_indices, region.triangles, pairs);
       const std::size_t before = pairs.size();
       const int crossing_before = skin_through_skin(fx.regions, region, pairs);
+      const float stretch_before = largest_stretch(fx.regions, region, positions);
       const FoldingResult result =
           folder.fold(region, fx.regions.welded_indices, pairs, 5e-4f, positions);
       detector.detect(positions, fx.regions.welded_indices, region.triangles, pairs);
       std::printf(
           "%s %.0f°: %zu pairs (%d skin through skin) -> %zu after folding (%d); "
-          "%d groups, %d vertices pulled back, deepest %.1f mm, volume %+.1f cm³\n",
+          "%d groups (%d eased, %d refused), %d vertices pulled back, deepest %.1f mm, volume "
+          "%+.1f cm³, largest edge stretch %.2fx -> %.2fx\n",
           to_string(site), degrees, before, crossing_before, pairs.size(),
-          skin_through_skin(fx.regions, region, pairs), result.groups, result.moved,
-          result.max_depth * 1e3f, result.volume_change * 1e6);
+          skin_through_skin(fx.regions, region, pairs), result.groups, result.eased, result.refused,
+          result.moved, result.max_depth * 1e3f, result.volume_change * 1e6, stretch_before,
+          largest_stretch(fx.regions, region, positions));
+      // One call pulls back as far as the skin allows (a fold that would stretch an edge past
+      // kMostFoldStretch times its rest length is eased or refused): fewer crossings, not none
+      // (measured 52 -> 19, 48 -> 0, 68 -> 58, 71 -> 68); the rounds below clear them.
       EXPECT_GT(crossing_before, 0);
-      EXPECT_EQ(skin_through_skin(fx.regions, region, pairs), 0);
-      EXPECT_LT(pairs.size(), before);
+      EXPECT_LT(skin_through_skin(fx.regions, region, pairs), crossing_before);
+      // No tear: no edge past kMostFoldStretch times its rest length that was not already
+      // (float rounding of the lengths: 1e-5).
+      EXPECT_LE(largest_stretch(fx.regions, region, positions),
+                std::max(kMostFoldStretch, stretch_before) * (1.0f + 1e-5f));
       EXPECT_GT(result.moved, 0);
       // Pulling skin back behind the plane removes the doubly covered volume.
       EXPECT_LT(result.volume_change, 0.0);
@@ -205,6 +229,10 @@ TEST(CollisionFeatures, FoldingRoundsClearTheElbowAndKneeAt150) {
         std::printf("%s %.0f°: %d pairs -> %d after folding rounds\n", to_string(region.site),
                     degrees, before, after);
       EXPECT_LE(after, before) << "a round that adds pairs is never kept";
+      EXPECT_LE(largest_stretch(fx.regions, region, positions),
+                std::max(kMostFoldStretch, largest_stretch(fx.regions, region, unfolded)) *
+                    (1.0f + 1e-5f))
+          << "a round that tears the skin is never kept";
       const bool bent =
           region.site == CollisionSite::kLeftElbow || region.site == CollisionSite::kLeftKnee;
       if (bent && degrees == 150.0f) {  // the acceptance: some before, none after
@@ -395,6 +423,52 @@ TEST(CollisionFeatures, FoldingNeverAddsPairsOnClipFrames) {
                 report.pairs_before, report.pairs_after, report.folded);
     EXPECT_GT(report.pairs_before, 0);
     EXPECT_LE(report.pairs_after, report.pairs_before);
+  }
+}
+
+// Every feature that moves skin (folding, protrusion, whole-body contact) on every 100th frame
+// of both clips, on the male and the 20k mannequin: no edge stretched past 2.5 times its rest
+// length (kMostFoldStretch, written out so that raising it fails here) that the sweep did not
+// stretch so far already (float rounding: 1e-5).
+// Before folding and contact checked for tears, cmu_01_01 frame 1200 (the male's arm hanging
+// against his chest) stretched an armpit edge 33.9x, and contact tore the skin up to 94x.
+TEST(CollisionFeatures, NoFeatureTearsTheSkinOnClipFrames) {
+  REQUIRE_MALE();
+  const fs::path data = fs::path(SWEEPD_SHARED_DATA);
+  const Model mannequin = mannequin::make_mannequin({.target_vertices = 20000});
+  const BoundModel mannequin_bound = bind(mannequin, detect_rig_map(mannequin.skeleton));
+  for (const BoundModel* bound : {&fx.bound, &mannequin_bound}) {
+    test::Posing sweep(*bound), featured(*bound);
+    featured.features = {.folding = true, .protrusion = true, .contact = true};
+    const ContactModel& skin = featured.runtime.collision().contact;
+    const auto largest_stretch = [&](std::span<const glm::vec3> positions) {
+      float largest = 0.0f;
+      for (std::uint32_t v = 0; v < skin.adjacency.vertex_count(); ++v)
+        for (std::size_t i = 0; i < skin.adjacency.neighbours(v).size(); ++i)
+          largest = std::max(
+              largest, glm::distance(positions[v], positions[skin.adjacency.neighbours(v)[i]]) /
+                           skin.adjacency.lengths(v)[i]);
+      return largest;
+    };
+    float worst_sweep = 0.0f, worst_featured = 0.0f;
+    for (const char* clip : {"motion/cmu_01_01.bvh", "motion/cmu_01_03.bvh"}) {
+      const motion::Retargeter retargeter(io::load_bvh(data / clip), bound->model);
+      std::vector<glm::vec3> plain(bound->model.vertex_count()), moved(plain.size());
+      for (int frame = 0; frame < retargeter.frame_count(); frame += 100) {
+        SCOPED_TRACE(std::string(clip) + " frame " + std::to_string(frame));
+        Pose a = retargeter.pose_at_frame(frame), b = a;
+        sweep.deform(a, DeformMethod::kSweep, plain);
+        featured.deform(b, DeformMethod::kSweep, moved);
+        const float before = largest_stretch(plain), after = largest_stretch(moved);
+        EXPECT_LE(after, std::max(2.5f, before) * (1.0f + 1e-5f));
+        worst_sweep = std::max(worst_sweep, before);
+        worst_featured = std::max(worst_featured, after);
+      }
+    }
+    std::printf(
+        "%s, every 100th frame of both clips: largest edge stretch %.2fx, with the "
+        "features %.2fx\n",
+        bound->model.name.c_str(), worst_sweep, worst_featured);
   }
 }
 

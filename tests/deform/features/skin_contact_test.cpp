@@ -307,16 +307,33 @@ int contact_pairs(const ContactModel& model, std::span<const std::uint32_t> weld
 // The body's contact before and after the contact feature (sweep), and LBS's pairs, on `pose`.
 struct FrameContact {
   int before = 0, after = 0, lbs = 0;
+  float stretch_before = 0.0f, stretch_after = 0.0f;  // largest edge stretch over the skin
 };
+
+// The largest edge stretch (posed over rest length) over the skin's welded edges.
+float largest_stretch(const ContactModel& model, std::span<const glm::vec3> positions) {
+  float largest = 0.0f;
+  for (std::uint32_t v = 0; v < model.adjacency.vertex_count(); ++v) {
+    const std::span<const std::uint32_t> neighbours = model.adjacency.neighbours(v);
+    const std::span<const float> rest = model.adjacency.lengths(v);
+    for (std::size_t i = 0; i < neighbours.size(); ++i)
+      largest = std::max(largest, glm::distance(positions[v], positions[neighbours[i]]) / rest[i]);
+  }
+  return largest;
+}
 
 FrameContact contact_of(test::Posing& posing, Pose pose) {
   const ModelRuntime& runtime = posing.runtime;
   const CollisionModel& collision = runtime.collision();
   std::vector<glm::vec3> positions(runtime.bound().model.vertex_count());
   FrameContact out;
-  Pose lbs_pose = pose;
+  Pose lbs_pose = pose, sweep_pose = pose;
+  posing.features = {};
+  posing.deform(sweep_pose, DeformMethod::kSweep, positions);
+  out.stretch_before = largest_stretch(collision.contact, positions);
   posing.features = {.contact = true};
   posing.deform(pose, DeformMethod::kSweep, positions);
+  out.stretch_after = largest_stretch(collision.contact, positions);
   out.before = posing.report.features.contact_pairs_before;
   out.after = posing.report.features.contact_pairs_after;
   // The feature's own count, measured again on its output.
@@ -328,12 +345,13 @@ FrameContact contact_of(test::Posing& posing, Pose pose) {
   return out;
 }
 
-// After <= before always, and < wherever there was contact.
-void expect_no_worse_and_fewer(const FrameContact& c) {
+// After <= before always, and the skin never torn: no edge stretched past kMostFoldStretch
+// times its rest length unless the sweep had it there (float rounding: 1e-5). A group whose
+// pull-back would tear is undone, so a pose can keep all its pairs; the tests count the pairs
+// over all their poses instead.
+void expect_no_worse_and_not_torn(const FrameContact& c) {
   EXPECT_LE(c.after, c.before);
-  if (c.before > 0) {
-    EXPECT_LT(c.after, c.before);
-  }
+  EXPECT_LE(c.stretch_after, std::max(kMostFoldStretch, c.stretch_before) * (1.0f + 1e-5f));
 }
 
 void expect_rest_has_no_contact(test::Posing& posing) {
@@ -352,19 +370,24 @@ TEST(SkinContact, SharedMaleRestPoseHasNoContactAndClipFramesNeverGetWorse) {
               contact.skin_triangles.size(), contact.rest_pairs.size());
   expect_rest_has_no_contact(posing);
   const fs::path data = fs::path(SWEEPD_SHARED_DATA) / "motion";
-  int frames_with_contact = 0;
+  int frames_with_contact = 0, before_total = 0, after_total = 0;
   for (const char* clip : {"cmu_01_01.bvh", "cmu_01_03.bvh"}) {
     const motion::Retargeter retargeter(io::load_bvh(data / clip), male.model);
     for (int frame = 0; frame < retargeter.frame_count(); frame += 50) {
       SCOPED_TRACE(std::string(clip) + " frame " + std::to_string(frame));
       const FrameContact c = contact_of(posing, retargeter.pose_at_frame(frame));
-      std::printf("%s frame %4d: sweep %3d -> %3d with contact; LBS %3d\n", clip, frame, c.before,
-                  c.after, c.lbs);
-      expect_no_worse_and_fewer(c);
+      std::printf("%s frame %4d: sweep %3d -> %3d with contact; LBS %3d; stretch %.2fx -> %.2fx\n",
+                  clip, frame, c.before, c.after, c.lbs, c.stretch_before, c.stretch_after);
+      expect_no_worse_and_not_torn(c);
+      before_total += c.before, after_total += c.after;
       frames_with_contact += c.before > 0;
     }
   }
   EXPECT_GT(frames_with_contact, 0) << "no tested frame had contact: the test proves nothing";
+  std::printf("shared male, every 50th frame of both clips: %d pairs -> %d\n", before_total,
+              after_total);
+  // Measured 28,190 -> 23,396 (0.83): fewer by a tenth at least.
+  EXPECT_LT(after_total, 0.9 * before_total);
 }
 
 TEST(SkinContact, MannequinRestPoseHasNoContactAndFlexedLimbsImprove) {
@@ -372,13 +395,16 @@ TEST(SkinContact, MannequinRestPoseHasNoContactAndFlexedLimbsImprove) {
   const BoundModel bound = bind(model, detect_rig_map(model.skeleton));
   test::Posing posing(bound);
   expect_rest_has_no_contact(posing);
-  int with_contact = 0;
+  int with_contact = 0, before_total = 0, after_total = 0;
   for (const float degrees : {120.0f, 150.0f, 165.0f}) {
     SCOPED_TRACE(std::to_string(degrees) + " degrees");
     const FrameContact c = contact_of(posing, test::left_elbow_and_knee_flexed(model, degrees));
-    std::printf("mannequin 8k, elbow and knee at %.0f deg: sweep %d -> %d; LBS %d\n", degrees,
-                c.before, c.after, c.lbs);
-    expect_no_worse_and_fewer(c);
+    std::printf(
+        "mannequin 8k, elbow and knee at %.0f deg: sweep %d -> %d; LBS %d; stretch %.2fx -> "
+        "%.2fx\n",
+        degrees, c.before, c.after, c.lbs, c.stretch_before, c.stretch_after);
+    expect_no_worse_and_not_torn(c);
+    before_total += c.before, after_total += c.after;
     with_contact += c.before > 0;
   }
   const fs::path clip = fs::path(SWEEPD_SHARED_DATA) / "motion/cmu_01_01.bvh";
@@ -389,11 +415,15 @@ TEST(SkinContact, MannequinRestPoseHasNoContactAndFlexedLimbsImprove) {
       const FrameContact c = contact_of(posing, retargeter.pose_at_frame(frame));
       std::printf("mannequin 8k, cmu_01_01 frame %4d: sweep %d -> %d; LBS %d\n", frame, c.before,
                   c.after, c.lbs);
-      expect_no_worse_and_fewer(c);
+      expect_no_worse_and_not_torn(c);
+      before_total += c.before, after_total += c.after;
       with_contact += c.before > 0;
     }
   }
   EXPECT_GT(with_contact, 0) << "no tested pose had contact: the test proves nothing";
+  std::printf("mannequin 8k, every pose above: %d pairs -> %d\n", before_total, after_total);
+  // Measured 1,999 -> 1,657 (0.83): fewer by a tenth at least.
+  EXPECT_LT(after_total, 0.9 * before_total);
 }
 
 }  // namespace

@@ -29,6 +29,7 @@ TwoBoxes interpenetrating_boxes() {
     boxes.region.sides.push_back(v < boxes.first_past ? -1 : 1);
   }
   boxes.region.triangles = boxes.mesh.all_triangles();
+  measure_rest_edges(boxes.region, boxes.mesh.positions, boxes.mesh.indices);
   return boxes;
 }
 
@@ -109,6 +110,7 @@ TEST(SkinFolding, SeparateGroupsEachGetTheirOwnPlane) {
     boxes.region.sides.push_back(v < second_past ? -1 : 1);
   }
   boxes.region.triangles = mesh.all_triangles();
+  measure_rest_edges(boxes.region, mesh.positions, mesh.indices);
   SelfIntersectionDetector detector;
   std::vector<TrianglePair> pairs;
   detector.detect(mesh.positions, mesh.indices, boxes.region.triangles, pairs);
@@ -147,6 +149,7 @@ TEST(SkinFolding, RelaxSmoothsOnlyTheIntersectingTrianglesCorners) {
   for (std::uint32_t v = 0; v < grid_vertices; ++v)
     region.vertices.push_back(v), region.sides.push_back(-1);
   region.triangles = mesh.all_triangles();
+  measure_rest_edges(region, mesh.positions, mesh.indices);
   SelfIntersectionDetector detector;
   std::vector<TrianglePair> pairs;
   detector.detect(mesh.positions, mesh.indices, region.triangles, pairs);
