@@ -157,7 +157,13 @@ void add_arm(const BodySide& side, SkeletonBuilder& joints, MannequinAnatomy& an
   const glm::vec3 d = side.arm_direction();
   const glm::vec3 palm = side.palm_normal();
   const glm::vec3 clavicle = side.at(0.025f, 1.44f, -0.045f);
-  const glm::vec3 shoulder = side.at(0.175f, 1.435f, -0.05f);
+  // The shoulder joint sits far enough out that the arm hangs beside the chest, not in it
+  // (20 cm from the midline beside a 16.5 cm half-chest and a 5 cm upper arm: 50 cm across the
+  // deltoids, about an adult man's), and low enough that the shoulders slope down from the
+  // neck. At 17.5 cm and 1.435 m the hanging arm went 4 cm into the chest, which every method
+  // drew as skin through skin, and the shoulders stood level with the chin: epaulettes with the
+  // arms down (issue 17).
+  const glm::vec3 shoulder = side.at(0.20f, 1.40f, -0.05f);
   const glm::vec3 elbow = shoulder + 0.29f * d;  // upper arm 29 cm, forearm 25 cm
   const glm::vec3 wrist = elbow + 0.25f * d;
   const glm::vec3 knuckles = wrist + 0.095f * d;
@@ -189,7 +195,9 @@ void add_arm(const BodySide& side, SkeletonBuilder& joints, MannequinAnatomy& an
   anatomy.parts.push_back(
       part(n + " shoulder", side.arm_chain, clavicle + side.at(0.005f, -0.01f, 0.0f),
            shoulder - 0.005f * d, kFront,
-           {section(0.0f, 0.050f, 0.050f), section(1.0f, 0.055f, 0.055f)}, 0.05f,
+           // Flatter towards the joint (4 cm high where the arm's root is 4.2 cm above it) so
+           // that its end does not stand above the arm as a knob.
+           {section(0.0f, 0.048f, 0.050f), section(1.0f, 0.040f, 0.052f)}, 0.05f,
            0.03f));  // the inner cap: see the neck's
   // One part from shoulder to wrist (straight in the A-pose): no crease at the elbow.
   auto on_upper_arm = [](float f) { return f * 0.29f / 0.54f; };
