@@ -273,8 +273,8 @@ TEST(ShoulderHip, NoBindAddsACreaseAtRest) {
 
 // Measured (degrees, sweep / LBS / DQS): arms 0 45.3 / 68.4 / 62.6, arms 45 3.2 / 6.4 / 6.2,
 // arms 90 19.8 / 29.6 / 36.1, arms 150 123.9 / 175.6 / 174.7, overhead 168.4 / 178.5 / 180.0.
-// Not below: thighs 90 174.1 / 178.7 / 168.2 (the skin behind the raised thigh folds through
-// itself in every method). Before
+// Thighs 90 166.9 / 178.7 / 168.2 is below both by 1.3°, the skin behind the raised thigh
+// folding through itself in every method: not asserted. Before
 // the shoulder joint moved out from 17.5 to 20 cm (the hanging arm went 4 cm into the chest,
 // which the sweep kept whole and folded the armpit through itself) arms 0 measured 175.8 / 57.2
 // / 69.1 and arms 90 37.4 / 35.5 / 42.1.
@@ -300,7 +300,7 @@ TEST(ShoulderHip, MannequinSweepBelowBaselinesAtSmallerSizes) {
 // 101.0. Not below: arms 90 51.5 / 51.5 / 64.0 (the worst edge is on the side of the neck, 10 cm
 // above the shoulder joint, which the sweeps leave wholly to the model's skinning: above the
 // torso's chest key, outside the arm's transition; LBS moves it alike), overhead 144.7 / 177.3
-// / 119.5 and thighs 90 178.5 / 146.6 / 160.1.
+// / 119.5 and thighs 90 179.4 / 146.6 / 160.1.
 TEST(ShoulderHip, SharedMaleSweepBelowBaselines) {
   REQUIRE_SHARED_MALE();
   expect_sweep_below_baselines({"male", male.model}, {"arms 0", "arms 45", "arms 150"});
