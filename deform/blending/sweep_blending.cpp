@@ -75,7 +75,7 @@ float chain_length(std::span<const glm::mat4> world_rest, std::span<const int> c
 // could still fall 0.16 across one 8.7 mm edge: at the back of the mannequin's crotch a vertex
 // of the raised thigh's sweep alone, beside one with 9 % of the other leg's, stretched 3.63x
 // at cmu_01_03's high knee (frame 3249); with the border spread over the skin around the
-// crotch, 2.44x (the mannequin's worst over that clip is now 2.79x, in its torso).
+// crotch, 2.44x.
 // Skin weights may jump between neighbouring vertices (the shared male's gluteal cleft, the
 // crotch midline), and a share jump between two sweeps that disagree in a deep pose tears the
 // skin (14x edge stretch in a CMU crouch). Weighting by inverse length spreads a jump over a

@@ -131,14 +131,16 @@ void pose_key_ellipses(const BoundSweep& sweep, std::span<const std::array<float
     const KeyEllipse& rest = sweep.rest_keys[k];
     const glm::quat turn =
         anchor.is_joint_key() ? joint_key_turn(skeleton, joint_rotation, j) : joint_rotation[j];
-    glm::quat orientation_turn = turn;
-    if (sweep.part == BodyPart::kNeck && !anchor.is_joint_key()) {
+    glm::quat orientation_turn = turn, centre_turn = turn;
+    const bool column = sweep.part == BodyPart::kNeck || sweep.part == BodyPart::kTorso;
+    if (column && !anchor.is_joint_key() && anchor.next_joint >= 0) {
       const glm::quat from = joint_key_turn(skeleton, joint_rotation, j);
       const glm::quat to = joint_key_turn(skeleton, joint_rotation, anchor.next_joint);
       orientation_turn = glm::slerp(from, glm::dot(from, to) < 0.0f ? -to : to, anchor.fraction);
+      if (sweep.part == BodyPart::kTorso) centre_turn = orientation_turn;
     }
     KeyEllipse& posed = keys[k];
-    posed.centre = pose_joint[j] + turn * (rest.centre - rest_joint[j]);
+    posed.centre = pose_joint[j] + centre_turn * (rest.centre - rest_joint[j]);
     posed.orientation = glm::normalize(orientation_turn * rest.orientation);
     posed.a = rest.a;
     posed.b = rest.b;

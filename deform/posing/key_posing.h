@@ -4,12 +4,21 @@
 // section centroid attached to it) and turns by the rotation halfway (slerp 0.5) between the
 // world rotations of the joint's upper link (its parent joint) and its lower link (the joint),
 // so a bend or a twist is shared between the two sides of the joint. A link key follows its
-// link rigidly, except on the neck: there a link key's centre follows its link, but it turns
-// by the slerp, at its fraction along the link, between the turns of the joint keys at the
-// link's two ends. The rig's two or three neck joints stand for seven vertebrae that share a
-// head turn, so the twist spreads along the neck instead of stepping at each joint (the CMU
-// clips put 66° of an 88° head turn on Neck1, which twisted the throat through 66° within
-// 3.5 cm around that joint).
+// link rigidly, except on the neck and the torso: there a link key turns by the slerp, at its
+// fraction along the link, between the turns of the joint keys at the link's two ends. The
+// rig's two or three neck joints stand for seven vertebrae that share a head turn, so the twist
+// spreads along the neck instead of stepping at each joint (the CMU clips put 66° of an 88°
+// head turn on Neck1, which twisted the throat through 66° within 3.5 cm around that joint).
+// The torso's three or four spine joints stand for seventeen vertebrae, and its link keys also
+// carry their centres round their joint by that turn: a spine joint sits near the back (the
+// shared male's LowerBack 16 cm behind the belly), so its 30° forward bend in cmu_01_01
+// (frames 197, 1257) turned the keys on either side of it 15° apart, 3-4 cm apart on the
+// spine, so their planes crossed inside the belly, which folded through itself in a dark band
+// across the waist (docs/contact_sheet.png). Spread, the torso's worst edge over cmu_01_03
+// fell 2.99 -> 2.88x (male) and 2.79 -> 2.43x (20k mannequin). The male's belly still folds
+// at frame 1257 (crease 179°) one row higher, where the torso's sections, tilted with the
+// lumbar curve, crowd its front (t 0.10 to 0.30 within 3 cm of skin). The neck's link keys
+// keep their centres on their links.
 // An inner joint key (elbow, knee, spine and neck joints: both links on the sweep) then lies
 // in the plane halfway between two links bent by φ, which cuts a tube in an ellipse stretched
 // by 1/cos(φ/2) along the bend (a mitre). Its ellipse reaches as far as that plane's on the

@@ -4,9 +4,10 @@
 // reported with its frame and edge. Regions: the hips (an end shares both leg sweeps: the crotch,
 // the buttocks, the lower back), else the body part of the joint that weighs most on the edge's
 // first vertex. The bound, 3x on every edge, holds in every region (asserted; measured
-// worst on the male 2.87x on cmu_01_01 and 2.99x on cmu_01_03, behind the left armpit with the arm
-// overhead; on the RiggedFigure 1.50x and 1.67x, below LBS's 1.67x and 1.76x). What
-// brought it there: length-weighted share smoothing at the crotch (4.3x / 6.1x before), the
+// worst on the male 2.87x on cmu_01_01 and 2.88x on cmu_01_03, in the torso (2.99x behind the
+// left armpit with the arm overhead before the torso's link keys spread the spine's bend); on
+// the RiggedFigure 1.51x and 1.66x, below LBS's 1.67x and 1.76x). What brought it there:
+// length-weighted share smoothing at the crotch (4.3x / 6.1x before), the
 // clip's fingers, thumbs and toes left undriven (CMU noise: thumb webbing 10.7x, toe crease
 // 4.1x), the neck handing over to the head along the surface (throat 3.4x), and smoothed
 // skinned weights around the arm's root (armpit 3.5x).
@@ -137,7 +138,7 @@ TEST(ClipDeformation, EveryCmuFrameOnTheRiggedFigureIsFiniteAndWithinTheBound) {
 }
 
 // The product's default model at its default size and at 3k. Measured: 20k 2.43x (cmu_01_01,
-// the neck) and 2.79x (cmu_01_03, the torso), LBS 5.67x and 6.70x; 3k 2.18x and 2.33x. The back
+// the neck) and 2.56x (cmu_01_03, the left arm), LBS 5.67x and 6.70x; 3k 2.18x and 2.25x. The back
 // of the 20k mannequin's crotch stretched 3.63x at cmu_01_03's high knee (frame 3249) before the
 // leg shares were smoothed over the skin around the crotch (deform/blending/sweep_blending.cpp).
 // Not at 72k: an edge at the side of the chest, where the arm sweep's share falls 0.11 across
