@@ -88,7 +88,11 @@ int VolumePreserver::choose_controls(int s, std::span<const glm::quat> joint_rot
   int most = -1;
   for (int k = 0; k < keys; ++k) {
     if (!sweep.anchors[k].is_joint_key()) continue;
-    turn_[k] = joint_turn_from_rest(bound_.model.skeleton, joint_rotation, sweep.anchors[k].joint);
+    // The skeleton's root turns the whole body, which bends nothing: at rest on the sweep.
+    const int joint = sweep.anchors[k].joint;
+    turn_[k] = bound_.model.skeleton.joints[joint].parent < 0
+                   ? 0.0f
+                   : joint_turn_from_rest(bound_.model.skeleton, joint_rotation, joint);
     if (most < 0 || turn_[k] > turn_[most]) most = k;
   }
   if (most < 0) most = keys / 2;  // no joint key: start in the middle

@@ -6,7 +6,8 @@
 // (volume_correction_step) towards the target I0 − I_C (I_C: the net volume that folding and
 // protrusion add outside the integral — CollisionFeatures::sweep_volume_change, which DeformJob
 // passes here — plus any the caller adds; 0 by default) on the joint key(s) that turned most
-// (every joint key whose turn is at least half the largest one) and, after
+// from rest against their parent (every joint key whose turn is at least half the largest one;
+// the skeleton's root counts as unturned: its turn is the whole body's) and, after
 // `joint_key_iterations` steps (none by default), on their neighbouring keys as well, until
 // |I − target| / I0 < tolerance or max_iterations; at a key where the sweep bends, only the
 // half-axis across the bend plane (bend_plane_degrees). Then it refreshes the poser's sample
