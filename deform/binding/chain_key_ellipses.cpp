@@ -31,6 +31,18 @@ glm::vec3 project_to_plane(glm::vec3 reference, glm::vec3 normal, glm::vec3 fall
   return glm::normalize(p);
 }
 
+// The torso's key planes turn gradually along its chain: the bisector of the two links at each
+// inner joint, the link itself at the chain's ends, mixed by the key's fraction along its link.
+glm::vec3 torso_key_normal(std::span<const glm::vec3> link_direction, int joint, float fraction) {
+  const int joints = static_cast<int>(link_direction.size());
+  auto at_joint = [&](int j) {
+    if (j <= 0 || j >= joints - 1) return link_direction[j];
+    return glm::normalize(link_direction[j - 1] + link_direction[j]);
+  };
+  if (joint + 1 >= joints) return at_joint(joint);
+  return glm::normalize(glm::mix(at_joint(joint), at_joint(joint + 1), fraction));
+}
+
 int nearest_usable(const std::vector<RawKey>& keys, int k) {
   int best = -1;
   for (int i = 0; i < static_cast<int>(keys.size()); ++i) {
@@ -82,7 +94,9 @@ BoundSweep fit_chain_key_ellipses(std::span<const glm::vec3> positions,
                        ? start
                        : glm::mix(start, joint_position(world_rest, key.anchor.next_joint),
                                   key.anchor.fraction);
-      key.normal = link_direction[i];
+      key.normal = part == BodyPart::kTorso
+                       ? torso_key_normal(link_direction, i, key.anchor.fraction)
+                       : link_direction[i];
       key.frame = make_plane_frame(key.origin, key.normal, x_hint);
       key.fit = fit_key_ellipse(positions, indices, key.frame, key.origin);
       key.at_joint = key.anchor.is_joint_key() && centre_rule == JointKeyCentre::kAtJoint;

@@ -9,6 +9,15 @@
 // `intermediate_keys_per_link` link keys evenly along each link, centred at their section's
 // centroid. Each section keeps only the loop around the link (cross_section) and is fitted by
 // its area moments with the area matched (fit_polygon_ellipse).
+// On the torso the planes turn gradually instead (beyond the paper): a joint key's plane is
+// orthogonal to the bisector of its two links, a link key's to the mix of its link's two end
+// joints' normals at its fraction. A spine bends at its joints, and the spine joints sit near
+// the back: the shared male's links lean 20° apart at LowerBack, 16 cm behind the belly, so
+// the planes of the keys 3 cm either side of it, orthogonal to their own links, crossed inside
+// the belly, whose front rows then spanned a fifth of the torso's parameter in 3 cm of skin;
+// a forward bend of the spine folded it through itself (cmu_01_01 frames 197 and 1257, torso
+// crease at keys 179°; 58° and 72° now). Limbs keep the paper's rule: their joint keys'
+// mitres (deform/posing/key_posing.h) are measured against it.
 // A joint key whose cut is unusable — no closed loop, or a loop that takes in the neighbouring
 // body (a shoulder plane cutting the torso: area over kMaxJointKeyAreaRatio times the nearest
 // link key's) — copies the half-axes of the nearest usable key and is marked as a fallback.

@@ -15,11 +15,11 @@
 // (frames 197, 1257) turned the keys on either side of it 15° apart, 3-4 cm apart on the
 // spine, so their planes crossed inside the belly, which folded through itself in a dark band
 // across the waist (docs/contact_sheet.png). Spread, the torso's worst edge over cmu_01_03
-// fell 2.99 -> 2.88x (male) and 2.79 -> 2.43x (20k mannequin); spine_bend_test bends the
-// spine alone (the mannequin's torso crease 178.8° -> 96.7° at 30°). The male's belly still
-// folds (169.4° there; 179° at frame 1257) one row higher, where the torso's sections, tilted
-// with the lumbar curve, crowd its front (t 0.10 to 0.30 within 3 cm of skin). The neck's
-// link keys keep their centres on their links.
+// fell 2.99 -> 2.88x (male) and 2.79 -> 2.43x (20k mannequin). Spreading alone does not undo
+// the fold where the rest planes already crowd the belly (the male's torso crease with the
+// spine bent 30°: 179.9° -> 169.4°); with the torso's rest planes turning gradually too
+// (deform/binding/chain_key_ellipses.h) it is 80.9° (tests/deform/posing/spine_bend_test.cpp).
+// The neck's link keys keep their centres on their links.
 // An inner joint key (elbow, knee, spine and neck joints: both links on the sweep) then lies
 // in the plane halfway between two links bent by φ, which cuts a tube in an ellipse stretched
 // by 1/cos(φ/2) along the bend (a mitre). Its ellipse reaches as far as that plane's on the

@@ -1,11 +1,12 @@
 // A forward bend of the spine (issue 17): the torso's second joint (the male's LowerBack) turned
 // forward about the body's left axis, every other joint at rest, on the shared male, the
 // mannequin and the RiggedFigure, each also mirrored and at 0.6x its size. The spine joints sit
-// near the back, so with the torso's link keys rigid on their links the keys on either side of
-// the bent joint turned 15° apart 3-4 cm apart on the spine, and their planes crossed inside
-// the belly: the skin folded through itself in a band across the waist (cmu_01_01 frames 197
-// and 1257 in docs/contact_sheet.png). Measured: the torso's largest dihedral change from rest
-// at its keys (CreaseMeter), which reads near 180° where skin folds through itself.
+// near the back, so with each torso key's plane orthogonal to its own link and the link keys
+// rigid on their links, the planes of the keys on either side of a bent joint, 3-4 cm apart on
+// the spine, crossed inside the belly: the skin folded through itself in a band across the
+// waist (cmu_01_01 frames 197 and 1257 in docs/contact_sheet.png). Measured: the torso's largest
+// dihedral change from rest at its keys (CreaseMeter), which reads near 180° where skin folds
+// through itself.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -31,18 +32,7 @@ double torso_crease_bent_forward(const Model& model, float degrees) {
   const BoundModel bound = bind(model, detect_rig_map(model.skeleton));
   test::Posing posing(bound);
   const metrics::CreaseMeter crease(bound);
-  const std::vector<glm::mat4> world = model.skeleton.world_rest_matrices();
-  const BodyAxes axes = rest_body_axes(bound.rig, world);
-  const int joint = bound.rig.torso.chain.at(1);
-  const int parent = model.skeleton.joints[joint].parent;
-  // Forward: the turn that takes the body's up towards its front, expressed in the parent's
-  // frame and applied before the joint's rest rotation.
-  const glm::vec3 axis = glm::normalize(glm::cross(axes.up, axes.forward));
-  const glm::quat parent_world = unit_rotation_of(world[parent]);
-  Pose pose = rest_pose(model.skeleton);
-  pose.local_rotations[joint] =
-      glm::normalize(glm::angleAxis(glm::radians(degrees), glm::inverse(parent_world) * axis) *
-                     model.skeleton.joints[joint].rest_rotation);
+  const Pose pose = test::spine_bent_forward(bound, degrees);
   const std::vector<glm::vec3> positions = test::deformed(posing, pose, DeformMethod::kSweep);
   const metrics::CreaseMetrics figures = crease.measure(positions, &posing.sweep_poser());
   for (const metrics::RegionCrease& region : figures.regions)
@@ -70,21 +60,21 @@ std::vector<Body> bodies() {
   return all;
 }
 
-// Measured (degrees at 30° / 45°), the same mirrored and at 0.6x: the mannequin 96.7 / 117.2,
-// the RiggedFigure 25.7 / 39.4; with the torso's link keys rigid on their links (before) 178.8 /
-// 179.6 and 18.2 / 28.1. Asserted below 150°: bent, not folded back through itself. Not on the
-// male: 169.4 / 178.4 (179.9 / 180.0 before). His belly still folds one row above the bent
-// joint, where the torso's sections, tilted with his lumbar curve, crowd the belly's front
-// (their parameter runs 0.10 to 0.30 over 3 cm of skin there), which spreading the bend along
-// the spine does not undo.
+// Measured (degrees at 30° / 45°, the same mirrored and at 0.6x): the mannequin 38.6 / 66.5,
+// the male 80.9 / 148.6, the RiggedFigure 25.9 / 39.7. Before, with each key's plane orthogonal
+// to its own link and the link keys rigid on their links: 178.8 / 179.6, 179.9 / 180.0 and
+// 18.2 / 28.1; with the link keys spread alone 96.7 / 117.2, 169.4 / 178.4, 25.7 / 39.4; with
+// the planes turning gradually alone 151.8 / 179.8, 179.3 / 178.1, 18.2 / 28.1. Asserted below
+// 90°, bent rather than folded back through itself, at 30° on every body and at 45° on all but
+// the male, whose belly at 45° still nearly folds (148.6°): not asserted there.
 TEST(SpineBend, AForwardBendDoesNotFoldTheBelly) {
   for (const Body& body : bodies())
     for (float degrees : {30.0f, 45.0f}) {
       const double crease = torso_crease_bent_forward(body.model, degrees);
       std::printf("%-18s spine bent %2.0f deg forward: torso crease at keys %.1f deg\n",
                   body.name.c_str(), degrees, crease);
-      if (body.name.rfind("male", 0) != 0) {
-        EXPECT_LT(crease, 150.0) << body.name << " " << degrees;
+      if (degrees < 40.0f || body.name.rfind("male", 0) != 0) {
+        EXPECT_LT(crease, 90.0) << body.name << " " << degrees;
       }
     }
 }
