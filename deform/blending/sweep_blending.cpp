@@ -90,24 +90,21 @@ float chain_length(std::span<const glm::mat4> world_rest, std::span<const int> c
 void smooth_over_mesh(const VertexAdjacency& adjacency, const std::vector<bool>& leg_column,
                       float reach, std::vector<float>& shares) {
   const int columns = static_cast<int>(leg_column.size()) + 1;  // the sweeps', then skinning's
-  std::vector<bool> junction(adjacency.vertex_count(), false), at_legs(junction);
+  std::vector<int> sweeps(adjacency.vertex_count(), 0);         // how many sweeps share each vertex
+  std::vector<bool> at_legs(adjacency.vertex_count(), false);
   for (std::uint32_t v = 0; v < adjacency.vertex_count(); ++v) {
-    int sweeps = 0;
     bool leg = false;
     for (int c = 0; c + 1 < columns; ++c) {
-      sweeps += shares[v * columns + c] > 0.0f;
+      sweeps[v] += shares[v * columns + c] > 0.0f;
       leg |= leg_column[c] && shares[v * columns + c] > 0.0f;
     }
-    junction[v] = sweeps >= 2;
-    at_legs[v] = junction[v] && leg;
+    at_legs[v] = sweeps[v] >= 2 && leg;
   }
   const std::vector<float> from_legs = distance_along_edges(adjacency, at_legs);
   LengthWeightedSmoothing near_junctions;
   for (std::uint32_t v = 0; v < adjacency.vertex_count(); ++v) {
-    bool swept = false;
-    for (int c = 0; c + 1 < columns; ++c) swept |= shares[v * columns + c] > 0.0f;
-    const bool near_legs = swept && from_legs[v] <= reach;
-    if (!(junction[v] || near_legs) || adjacency.neighbours(v).empty()) continue;
+    const bool near_legs = sweeps[v] >= 1 && from_legs[v] <= reach;
+    if (!(sweeps[v] >= 2 || near_legs) || adjacency.neighbours(v).empty()) continue;
     near_junctions.add(v, adjacency.neighbours(v), adjacency.lengths(v),
                        [](std::uint32_t u) { return u; });
   }

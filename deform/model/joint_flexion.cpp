@@ -10,7 +10,6 @@ namespace {
 
 struct Links {
   glm::vec3 upper, lower;
-  glm::quat parent_world_rotation;
 };
 
 Links rest_links(const Skeleton& skeleton, int joint) {
@@ -21,10 +20,16 @@ Links rest_links(const Skeleton& skeleton, int joint) {
                                 "' needs a parent and a child to have a flexion");
   const std::vector<glm::mat4> world = skeleton.world_rest_matrices();
   auto position = [&](int k) { return glm::vec3(world[k][3]); };
-  glm::mat3 parent(world[j.parent]);
-  for (int c = 0; c < 3; ++c) parent[c] = glm::normalize(parent[c]);  // drop any rest scale
-  return {position(joint) - position(j.parent), position(children.front()) - position(joint),
-          glm::quat_cast(parent)};
+  return {position(joint) - position(j.parent), position(children.front()) - position(joint)};
+}
+
+// The world rest rotation of the joint's parent (identity for a root), any rest scale dropped.
+glm::quat parent_rest_rotation(const Skeleton& skeleton, int joint) {
+  const int parent = skeleton.joints.at(joint).parent;
+  if (parent < 0) return glm::quat(1, 0, 0, 0);
+  glm::mat3 rotation(skeleton.world_rest_matrices()[parent]);
+  for (int c = 0; c < 3; ++c) rotation[c] = glm::normalize(rotation[c]);
+  return glm::quat_cast(rotation);
 }
 
 // The links' flexion about `axis` (unit), in degrees: only their components orthogonal to the
@@ -43,13 +48,18 @@ float rest_flexion_degrees(const Skeleton& skeleton, int joint, glm::vec3 world_
 
 void flex_joint(const Skeleton& skeleton, Pose& pose, int joint, glm::vec3 world_axis,
                 float degrees) {
-  const Links links = rest_links(skeleton, joint);
   const glm::vec3 axis = glm::normalize(world_axis);
-  const float turn = degrees - flexion_degrees(links, axis);
+  turn_joint(skeleton, pose, joint, axis,
+             degrees - flexion_degrees(rest_links(skeleton, joint), axis));
+}
+
+void turn_joint(const Skeleton& skeleton, Pose& pose, int joint, glm::vec3 world_axis,
+                float degrees) {
   // The world turn expressed in the parent's frame, applied before the rest rotation.
-  const glm::vec3 local_axis = glm::inverse(glm::normalize(links.parent_world_rotation)) * axis;
-  pose.local_rotations.at(joint) = glm::normalize(glm::angleAxis(glm::radians(turn), local_axis) *
-                                                  skeleton.joints[joint].rest_rotation);
+  const glm::vec3 local_axis = glm::inverse(glm::normalize(parent_rest_rotation(skeleton, joint))) *
+                               glm::normalize(world_axis);
+  pose.local_rotations.at(joint) = glm::normalize(
+      glm::angleAxis(glm::radians(degrees), local_axis) * skeleton.joints[joint].rest_rotation);
 }
 
 }  // namespace sweepd::deform

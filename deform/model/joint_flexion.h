@@ -24,4 +24,10 @@ float rest_flexion_degrees(const Skeleton& skeleton, int joint, glm::vec3 world_
 void flex_joint(const Skeleton& skeleton, Pose& pose, int joint, glm::vec3 world_axis,
                 float degrees);
 
+// Sets the joint's local rotation in `pose` to its rest rotation turned `degrees` about
+// `world_axis` (the turn expressed in the parent's rest frame, so the joint's ancestors are
+// assumed at rest; a root turns about the world axis itself). Any joint; no flexion measured.
+void turn_joint(const Skeleton& skeleton, Pose& pose, int joint, glm::vec3 world_axis,
+                float degrees);
+
 }  // namespace sweepd::deform

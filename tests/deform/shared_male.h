@@ -76,27 +76,14 @@ inline int sweep_of(const BoundModel& bound, BodyPart part) {
   return -1;
 }
 
-// `joint` turned `degrees` about the world axis `axis` from its rest rotation (for any rig: the
-// turn is expressed in the parent's rest frame and applied before the joint's rest rotation).
-inline void turn_from_rest(const Skeleton& skeleton, Pose& pose, int joint, glm::vec3 axis,
-                           float degrees) {
-  const std::vector<glm::mat4> world = skeleton.world_rest_matrices();
-  const int parent = skeleton.joints[joint].parent;
-  const glm::quat parent_world =
-      parent >= 0 ? unit_rotation_of(world[parent]) : glm::quat(1, 0, 0, 0);
-  pose.local_rotations[joint] = glm::normalize(
-      glm::angleAxis(glm::radians(degrees), glm::inverse(parent_world) * glm::normalize(axis)) *
-      skeleton.joints[joint].rest_rotation);
-}
-
 // The spine bent forward at the torso's second joint (the male's LowerBack): turned `degrees`
 // about the body's left axis, which takes its up towards its front.
 inline Pose spine_bent_forward(const BoundModel& bound, float degrees) {
   const Skeleton& skeleton = bound.model.skeleton;
   const BodyAxes axes = rest_body_axes(bound.rig, skeleton.world_rest_matrices());
   Pose pose = rest_pose(skeleton);
-  turn_from_rest(skeleton, pose, bound.rig.torso.chain.at(1), glm::cross(axes.up, axes.forward),
-                 degrees);
+  turn_joint(skeleton, pose, bound.rig.torso.chain.at(1), glm::cross(axes.up, axes.forward),
+             degrees);
   return pose;
 }
 

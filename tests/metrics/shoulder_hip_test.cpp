@@ -34,7 +34,6 @@
 #include <string>
 
 #include "deform/model/forward_kinematics.h"
-#include "deform/posing/sweep_poser_tables.h"
 #include "mannequin/mannequin.h"
 #include "metrics/crease_metrics.h"
 #include "metrics/quality_metrics.h"
@@ -57,25 +56,17 @@ glm::vec3 position(std::span<const glm::mat4> world, int joint) {
   return glm::vec3(world[joint][3]);
 }
 
-// The rotation by the shortest arc from unit `from` to unit `to`.
-glm::quat shortest_arc(glm::vec3 from, glm::vec3 to) {
-  const glm::vec3 axis = glm::cross(from, to);
-  const float angle = std::atan2(glm::length(axis), glm::dot(from, to));
-  if (glm::length(axis) < 1e-6f) return glm::quat(1, 0, 0, 0);
-  return glm::angleAxis(angle, glm::normalize(axis));
-}
-
-// `joint` turned so that its link to `next` points `degrees` from `down` towards `towards`.
+// `joint` turned by the shortest arc that points its link to `next` `degrees` from `down`
+// towards `towards`.
 void raise_link(const Skeleton& skeleton, std::span<const glm::mat4> world_rest, Pose& pose,
                 int joint, int next, glm::vec3 down, glm::vec3 towards, float degrees) {
   const float a = glm::radians(degrees);
   const glm::vec3 link = glm::normalize(position(world_rest, next) - position(world_rest, joint));
-  const glm::quat turn = shortest_arc(link, std::cos(a) * down + std::sin(a) * towards);
-  const int parent = skeleton.joints[joint].parent;
-  const glm::quat parent_rotation =
-      parent >= 0 ? unit_rotation_of(world_rest[parent]) : glm::quat(1, 0, 0, 0);
-  pose.local_rotations[joint] = glm::normalize(glm::inverse(parent_rotation) * turn *
-                                               parent_rotation * pose.local_rotations[joint]);
+  const glm::vec3 target = std::cos(a) * down + std::sin(a) * towards;
+  const glm::vec3 axis = glm::cross(link, target);
+  if (glm::length(axis) < 1e-6f) return;  // already pointing there
+  turn_joint(skeleton, pose, joint, axis,
+             glm::degrees(std::atan2(glm::length(axis), glm::dot(link, target))));
 }
 
 struct Limb {
@@ -274,10 +265,10 @@ TEST(ShoulderHip, NoBindAddsACreaseAtRest) {
 // Measured (degrees, sweep / LBS / DQS): arms 0 45.3 / 68.4 / 62.6, arms 45 3.2 / 6.4 / 6.2,
 // arms 90 19.8 / 29.6 / 36.1, arms 150 123.9 / 175.6 / 174.7, overhead 168.4 / 178.5 / 180.0.
 // Thighs 90 166.9 / 178.7 / 168.2 is below both by 1.3°, the skin behind the raised thigh
-// folding through itself in every method: not asserted. Before
-// the shoulder joint moved out from 17.5 to 20 cm (the hanging arm went 4 cm into the chest,
-// which the sweep kept whole and folded the armpit through itself) arms 0 measured 175.8 / 57.2
-// / 69.1 and arms 90 37.4 / 35.5 / 42.1.
+// folding through itself in every method: not asserted. Before the shoulder joint moved out
+// from 17.5 to 20 cm (the hanging arm went 4 cm into the chest, which the sweep kept whole and
+// folded the armpit through itself) arms 0 measured 175.8 / 57.2 / 69.1 and arms 90 37.4 /
+// 35.5 / 42.1.
 TEST(ShoulderHip, MannequinSweepBelowBaselines) {
   expect_sweep_below_baselines({"mannequin", mannequin::make_mannequin({})},
                                {"arms 0", "arms 45", "arms 90", "arms 150", "arms overhead"});

@@ -63,6 +63,24 @@ TEST(JointFlexion, RestBendIsMeasuredAndTheTargetAngleReached) {
   }
 }
 
+// turn_joint turns any joint, a root too, by the stated angle about a world axis: the link below
+// it turns by that much in world space (exact up to float round-off).
+TEST(JointFlexion, TurnJointTurnsTheLinkBelowAboutTheWorldAxis) {
+  const Skeleton arm = bent_arm();
+  std::vector<glm::mat4> rest(arm.size()), posed(arm.size());
+  forward_kinematics(arm, rest_pose(arm), rest);
+  const glm::vec3 axis = glm::normalize(glm::vec3(1, 1, 0));
+  for (int joint : {0, 1}) {
+    Pose pose = rest_pose(arm);
+    turn_joint(arm, pose, joint, axis, 40.0f);
+    forward_kinematics(arm, pose, posed);
+    const glm::vec3 link_rest = glm::vec3(rest[joint + 1][3]) - glm::vec3(rest[joint][3]);
+    const glm::vec3 link_posed = glm::vec3(posed[joint + 1][3]) - glm::vec3(posed[joint][3]);
+    const glm::vec3 expected = glm::angleAxis(glm::radians(40.0f), axis) * link_rest;
+    EXPECT_NEAR(glm::distance(link_posed, expected), 0.0f, 1e-6f) << joint;
+  }
+}
+
 TEST(JointFlexion, NeedsAParentAndAChild) {
   const Skeleton arm = bent_arm();
   Pose pose = rest_pose(arm);

@@ -165,7 +165,7 @@ TEST(VolumePreservation, TurningTheWholeBodyChangesNoCorrection) {
     preserving(turned);
     const Pose bent = test::spine_bent_forward(bound, 30.0f);
     Pose bent_and_turned = bent;
-    test::turn_from_rest(skeleton, bent_and_turned, 0, axes.up, 90.0f);
+    turn_joint(skeleton, bent_and_turned, 0, axes.up, 90.0f);
     const std::vector<glm::vec3> a = test::deformed(upright, bent, DeformMethod::kSweep);
     const std::vector<glm::vec3> b = test::deformed(turned, bent_and_turned, DeformMethod::kSweep);
     const VolumeCorrection& ca = upright.context.volume_corrections()[torso];
