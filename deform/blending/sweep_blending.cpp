@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 
 #include "deform/mesh/length_weighted_smoothing.h"
@@ -13,6 +14,15 @@ namespace {
 
 constexpr int kPartCount = static_cast<int>(BodyPart::kRightFoot) + 1;
 constexpr int kShareSmoothingPasses = 150;
+// kShareSmoothingPasses were measured on meshes whose edges where the shares are smoothed have a
+// median length of at least kMeasuredEdgeOfReach of the reach below (the 20k mannequin 0.238,
+// the shared male 0.50, the 3k mannequin 0.68). Each pass spreads a share's jump about one edge
+// further, and a diffusion's spread grows with the square root of its passes, so a finer mesh
+// gets passes in proportion to (kMeasuredEdgeOfReach · reach / median edge)² (the 72k mannequin,
+// 0.125: 511), up to kMostShareSmoothingPasses. With 150 there the arm's share fell 0.11 across
+// one 8 mm edge on the side of the chest, 4.29x edge stretch over cmu_01_03 (every 20th frame).
+constexpr float kMeasuredEdgeOfReach = 0.23f;
+constexpr int kMostShareSmoothingPasses = 2000;
 // How far from where a leg meets another sweep the share smoothing reaches over the swept skin,
 // as a fraction of the longest sweep's chain (the leg's, hip to ankle: 4.2 cm on the mannequin,
 // 4.3 cm on the male). The worst hips edge over cmu_01_03, male / mannequin: 0 2.83 / 3.63x,
@@ -67,6 +77,17 @@ float chain_length(std::span<const glm::mat4> world_rest, std::span<const int> c
   return length;
 }
 
+// kShareSmoothingPasses, or more on a mesh finer than those they were measured on.
+int share_smoothing_passes(std::vector<float>& edge_lengths, float reach) {
+  if (edge_lengths.empty() || !(reach > 0.0f)) return kShareSmoothingPasses;
+  const auto middle = edge_lengths.begin() + edge_lengths.size() / 2;
+  std::nth_element(edge_lengths.begin(), middle, edge_lengths.end());
+  const float finer = kMeasuredEdgeOfReach * reach / std::max(*middle, 1e-9f);
+  if (!(finer > 1.0f)) return kShareSmoothingPasses;
+  return static_cast<int>(
+      std::min<float>(std::ceil(kShareSmoothingPasses * finer * finer), kMostShareSmoothingPasses));
+}
+
 // Where sweeps meet (a vertex with shares of two sweeps or more), and on the swept skin within
 // `reach` along the surface of where a leg meets another sweep, replaces each vertex's row of
 // shares by half its own plus half its mesh neighbours' mean, kShareSmoothingPasses times, each
@@ -102,13 +123,16 @@ void smooth_over_mesh(const VertexAdjacency& adjacency, const std::vector<bool>&
   }
   const std::vector<float> from_legs = distance_along_edges(adjacency, at_legs);
   LengthWeightedSmoothing near_junctions;
+  std::vector<float> edge_lengths;
   for (std::uint32_t v = 0; v < adjacency.vertex_count(); ++v) {
     const bool near_legs = sweeps[v] >= 1 && from_legs[v] <= reach;
     if (!(sweeps[v] >= 2 || near_legs) || adjacency.neighbours(v).empty()) continue;
     near_junctions.add(v, adjacency.neighbours(v), adjacency.lengths(v),
                        [](std::uint32_t u) { return u; });
+    edge_lengths.insert(edge_lengths.end(), adjacency.lengths(v).begin(),
+                        adjacency.lengths(v).end());
   }
-  near_junctions.smooth(columns, kShareSmoothingPasses, shares);
+  near_junctions.smooth(columns, share_smoothing_passes(edge_lengths, reach), shares);
 }
 
 // The neck's hand-over to the head's skinning, per welded vertex: 0 up to where the head's skin
