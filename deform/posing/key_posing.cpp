@@ -75,6 +75,31 @@ void grow_outside_of_bend(std::span<const KeyEllipse> rest, int k, const Mitre& 
   }
 }
 
+// The torso's key centres laid along its own centre line (key_posing.h): each key its rest
+// spacing on from the one before, turned halfway between the two keys' turns, then the gap left
+// at the last key (where its joint carries it) shared out by rest length.
+void lay_centres_along_the_column(std::span<const KeyEllipse> rest, std::span<KeyEllipse> keys) {
+  const int count = static_cast<int>(keys.size());
+  float total = 0.0f;
+  for (int k = 1; k < count; ++k) total += glm::length(rest[k].centre - rest[k - 1].centre);
+  if (count < 2 || !(total > 0.0f)) return;
+  const glm::vec3 end = keys[count - 1].centre;
+  auto turn_of = [&](int k) { return keys[k].orientation * glm::conjugate(rest[k].orientation); };
+  glm::quat previous = turn_of(0);
+  for (int k = 1; k < count; ++k) {
+    const glm::quat turn = turn_of(k);
+    keys[k].centre =
+        keys[k - 1].centre + halfway(previous, turn) * (rest[k].centre - rest[k - 1].centre);
+    previous = turn;
+  }
+  const glm::vec3 gap = end - keys[count - 1].centre;
+  float run = 0.0f;
+  for (int k = 1; k < count; ++k) {
+    run += glm::length(rest[k].centre - rest[k - 1].centre);
+    keys[k].centre += (run / total) * gap;
+  }
+}
+
 // The turn of the joint key at joint j: halfway between its upper and its lower link.
 glm::quat joint_key_turn(const Skeleton& skeleton, std::span<const glm::quat> joint_rotation,
                          int j) {
@@ -131,21 +156,21 @@ void pose_key_ellipses(const BoundSweep& sweep, std::span<const std::array<float
     const KeyEllipse& rest = sweep.rest_keys[k];
     const glm::quat turn =
         anchor.is_joint_key() ? joint_key_turn(skeleton, joint_rotation, j) : joint_rotation[j];
-    glm::quat orientation_turn = turn, centre_turn = turn;
+    glm::quat orientation_turn = turn;
     const bool column = sweep.part == BodyPart::kNeck || sweep.part == BodyPart::kTorso;
     if (column && !anchor.is_joint_key() && anchor.next_joint >= 0) {
       const glm::quat from = joint_key_turn(skeleton, joint_rotation, j);
       const glm::quat to = joint_key_turn(skeleton, joint_rotation, anchor.next_joint);
       orientation_turn = glm::slerp(from, glm::dot(from, to) < 0.0f ? -to : to, anchor.fraction);
-      if (sweep.part == BodyPart::kTorso) centre_turn = orientation_turn;
     }
     KeyEllipse& posed = keys[k];
-    posed.centre = pose_joint[j] + centre_turn * (rest.centre - rest_joint[j]);
+    posed.centre = pose_joint[j] + turn * (rest.centre - rest_joint[j]);
     posed.orientation = glm::normalize(orientation_turn * rest.orientation);
     posed.a = rest.a;
     posed.b = rest.b;
     posed.offset = rest.offset;  // in the key's own frame: it turns with the key
   }
+  if (sweep.part == BodyPart::kTorso) lay_centres_along_the_column(sweep.rest_keys, keys);
   // Mitres, once every key is posed: each spreads into its neighbours.
   for (int k = 0; k < count; ++k) {
     const KeyAnchor& anchor = sweep.anchors[k];

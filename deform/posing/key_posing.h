@@ -9,16 +9,23 @@
 // rig's two or three neck joints stand for seven vertebrae that share a head turn, so the twist
 // spreads along the neck instead of stepping at each joint (the CMU clips put 66° of an 88°
 // head turn on Neck1, which twisted the throat through 66° within 3.5 cm around that joint).
-// The torso's three or four spine joints stand for seventeen vertebrae, and its link keys also
-// carry their centres round their joint by that turn: a spine joint sits near the back (the
-// shared male's LowerBack 16 cm behind the belly), so its 30° forward bend in cmu_01_01
-// (frames 197, 1257) turned the keys on either side of it 15° apart, 3-4 cm apart on the
-// spine, so their planes crossed inside the belly, which folded through itself in a dark band
-// across the waist (docs/contact_sheet.png). Spread, the torso's worst edge over cmu_01_03
+// The torso's three or four spine joints stand for seventeen vertebrae: a spine joint sits
+// near the back (the shared male's LowerBack 16 cm behind the belly), so its 30° forward bend
+// in cmu_01_01 (frames 197, 1257) turned the keys on either side of it 15° apart, 3-4 cm apart
+// on the spine, so their planes crossed inside the belly, which folded through itself in a dark
+// band across the waist (docs/contact_sheet.png). Spread, the torso's worst edge over cmu_01_03
 // fell 2.99 -> 2.88x (male) and 2.79 -> 2.43x (20k mannequin). Spreading alone does not undo
 // the fold where the rest planes already crowd the belly (the male's torso crease with the
 // spine bent 30°: 179.9° -> 169.4°); with the torso's rest planes turning gradually too
-// (deform/binding/chain_key_ellipses.h) it is 80.9° (tests/deform/posing/spine_bend_test.cpp).
+// (deform/binding/chain_key_ellipses.h) it was 80.9°. The torso's key centres are then laid
+// along its own centre line rather than carried round the joints: from the first key, each
+// next key sits its rest spacing further on, turned halfway between the two keys' turns, and
+// the gap this leaves at the last key (which its joint carries, so the shoulders and neck stay
+// on the chest) is shared out along the chain by rest length. Carried round a joint 6 cm
+// behind it, a key beside the bent joint swung towards its neighbour (3.1 -> 1.7 cm apart at a
+// 45° bend), their planes crossed 9 cm in front, inside the belly, and a crease line stayed
+// (80.9° at 30°, 148.6° at 45°); laid along the centre line 21.1° and 41.1°
+// (tests/deform/posing/spine_bend_test.cpp).
 // The neck's link keys keep their centres on their links.
 // An inner joint key (elbow, knee, spine and neck joints: both links on the sweep) then lies
 // in the plane halfway between two links bent by φ, which cuts a tube in an ellipse stretched

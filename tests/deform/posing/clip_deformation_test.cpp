@@ -4,8 +4,9 @@
 // reported with its frame and edge. Regions: the hips (an end shares both leg sweeps: the crotch,
 // the buttocks, the lower back), else the body part of the joint that weighs most on the edge's
 // first vertex. The bound, 3x on every edge, holds in every region (asserted; measured
-// worst on the male 2.87x on cmu_01_01 and 2.88x on cmu_01_03, in the torso (2.99x behind the
-// left armpit with the arm overhead before the torso's link keys spread the spine's bend); on
+// worst on the male 2.87x on cmu_01_01 and 2.86x on cmu_01_03, both in the left arm; the torso
+// 2.75x behind the left armpit with the arm overhead, 2.88x before the torso's key centres were
+// laid along its centre line and 2.99x before its link keys spread the spine's bend); on
 // the RiggedFigure 1.51x and 1.66x, below LBS's 1.67x and 1.76x). What brought it there:
 // length-weighted share smoothing at the crotch (4.3x / 6.1x before), the
 // clip's fingers, thumbs and toes left undriven (CMU noise: thumb webbing 10.7x, toe crease
