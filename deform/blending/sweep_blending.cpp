@@ -90,7 +90,7 @@ int share_smoothing_passes(std::vector<float>& edge_lengths, float reach) {
 
 // Where sweeps meet (a vertex with shares of two sweeps or more), and on the swept skin within
 // `reach` along the surface of where a leg meets another sweep, replaces each vertex's row of
-// shares by half its own plus half its mesh neighbours' mean, kShareSmoothingPasses times, each
+// shares by half its own plus half its mesh neighbours' mean, share_smoothing_passes() times, each
 // neighbour weighted by 1 / edge length (the other vertices' rows stay as they are and hold the
 // border). Smoothing the meeting vertices alone left the border where they end, so a share
 // could still fall 0.16 across one 8.7 mm edge: at the back of the mannequin's crotch a vertex
