@@ -66,7 +66,8 @@ flatbuffers::Offset<Pose> add_pose(flatbuffers::FlatBufferBuilder& builder,
       builder.CreateVectorOfStructs(fields.rotations.data(), fields.rotations.size());
   const Vec3* root = fields.root_translation ? &*fields.root_translation : nullptr;
   return CreatePose(builder, fields.model_id, fields.sequence, fields.client_time_ns, rotations,
-                    root, fields.method, fields.features, fields.positions, fields.normals);
+                    root, fields.method, fields.features, fields.positions, fields.normals,
+                    fields.shared_offset.has_value(), fields.shared_offset.value_or(0));
 }
 
 std::optional<PoseProblem> check_pose_enums(const Pose& pose) {
@@ -94,6 +95,7 @@ PosedVerticesFrame::PosedVerticesFrame(flatbuffers::FlatBufferBuilder& builder,
   const std::size_t values = 3 * static_cast<std::size_t>(header.vertex_count);
   const bool half = header.format == PositionFormat::Float16;
   const bool meshopt = header.format == PositionFormat::Meshopt;
+  const bool shared = header.shared_offset.has_value();
   // The pointers CreateUninitializedVector returns move when the builder grows; the spans
   // are taken from the finished buffer below instead.
   float* moving_f32 = nullptr;
@@ -101,7 +103,9 @@ PosedVerticesFrame::PosedVerticesFrame(flatbuffers::FlatBufferBuilder& builder,
   flatbuffers::Offset<flatbuffers::Vector<float>> positions_f32, normals_f32;
   flatbuffers::Offset<flatbuffers::Vector<std::uint16_t>> positions_f16, normals_f16;
   flatbuffers::Offset<flatbuffers::Vector<std::uint8_t>> positions_meshopt, normals_meshopt;
-  if (meshopt) {
+  if (shared) {
+    // Nothing to carry: the vertices are in the shared region.
+  } else if (meshopt) {
     std::uint8_t* moving_bytes = nullptr;
     positions_meshopt =
         builder.CreateUninitializedVector(header.meshopt_positions_bytes, &moving_bytes);
@@ -120,7 +124,7 @@ PosedVerticesFrame::PosedVerticesFrame(flatbuffers::FlatBufferBuilder& builder,
       builder, header.model_id, header.sequence, header.client_time_ns, header.vertex_count,
       positions_f32, positions_f16, normals_f32, normals_f16, &no_timings, header.dropped_before,
       positions_meshopt, normals_meshopt, meshopt ? &header.grid.origin : nullptr,
-      meshopt ? header.grid.step : 0.0f);
+      meshopt ? header.grid.step : 0.0f, shared, header.shared_offset.value_or(0));
   bytes_ = finish_message(builder, reply, header.request_id);
 
   auto* finished = static_cast<PosedVertices*>(

@@ -31,7 +31,7 @@ namespace sweepd::protocol {
 
 // Hello.version_major must equal the server's; minor versions only add (README.md).
 inline constexpr std::uint16_t kProtocolVersionMajor = 1;
-inline constexpr std::uint16_t kProtocolVersionMinor = 9;
+inline constexpr std::uint16_t kProtocolVersionMinor = 10;
 
 // Wraps `body` in a Message (with `request_id`) and finishes the builder as one frame.
 template <typename BodyTable>
@@ -63,6 +63,9 @@ struct PoseFields {
   Features features = Features::NONE;
   PositionFormat positions = PositionFormat::Float32;
   bool normals = false;
+  // Since 1.10: the reply's positions (and normals) written into the connection's shared
+  // region (MapSharedMemory) at this byte offset; nullopt: in the reply.
+  std::optional<std::uint64_t> shared_offset = std::nullopt;
 };
 
 flatbuffers::Offset<Pose> add_pose(flatbuffers::FlatBufferBuilder& builder,
@@ -96,6 +99,8 @@ struct PosedVerticesHeader {
   std::size_t meshopt_positions_bytes = 0;
   std::size_t meshopt_normals_bytes = 0;
   PositionGrid grid{};
+  // Float32 into the shared region (1.10): the frame holds no arrays, only where they are.
+  std::optional<std::uint64_t> shared_offset = std::nullopt;
 };
 
 // Builds a complete PosedVertices frame in `builder` (cleared first, its memory reused)
@@ -107,6 +112,7 @@ struct PosedVerticesHeader {
 //   positions_meshopt / normals_meshopt: header.meshopt_positions_bytes /
 //     meshopt_normals_bytes (empty unless format is Meshopt; the grid is written from the header)
 //   normals_*: empty unless header.normals
+//   all empty when header.shared_offset is set (the vertices are in the shared region)
 // The spans and bytes() stay valid until the builder changes.
 class PosedVerticesFrame {
  public:

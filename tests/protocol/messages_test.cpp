@@ -341,6 +341,17 @@ std::vector<Sample> one_of_each_body() {
          EXPECT_EQ(request->joint_names()->Get(0)->str(), "upperarm_l");
          EXPECT_EQ(request->rotations()->Get(0)->z(), 0.6f);
        }},
+      {Body::MapSharedMemory,
+       [](FlatBufferBuilder& b) {
+         return finish_message(b, CreateMapSharedMemory(b, 1703040), 16);
+       },
+       [](const Message& m) {
+         EXPECT_EQ(m.body_as_MapSharedMemory()->bytes(), 1703040u);
+         EXPECT_EQ(m.request_id(), 16u);
+       }},
+      {Body::SharedMemory,
+       [](FlatBufferBuilder& b) { return finish_message(b, CreateSharedMemory(b, 1703040), 16); },
+       [](const Message& m) { EXPECT_EQ(m.body_as_SharedMemory()->bytes(), 1703040u); }},
   };
 }
 
@@ -494,6 +505,39 @@ TEST(PosedVerticesFrame, CopyRefusesAWrongSizedOutputOrMissingArrays) {
   EXPECT_FALSE(copy_normals(*reply, out));
   EXPECT_TRUE(copy_positions(*reply, out));
   EXPECT_EQ(out[29], 1.0f);
+}
+
+// 1.10: a pose that asks for its reply in shared memory says where; the reply carries no arrays,
+// only that offset — a frame of a few dozen bytes whatever the vertex count.
+TEST(PosedVerticesFrame, SharedMemoryPosesAndRepliesCarryTheOffsetAndNoArrays) {
+  FlatBufferBuilder builder;
+  PoseFields fields;
+  fields.model_id = 3;
+  fields.shared_offset = 851520;
+  const Pose* pose =
+      GetSizePrefixedMessage(finish_message(builder, add_pose(builder, fields)).data())
+          ->body_as_Pose();
+  EXPECT_TRUE(pose->into_shared_memory());
+  EXPECT_EQ(pose->shared_offset(), 851520u);
+  fields.shared_offset = std::nullopt;
+  pose = GetSizePrefixedMessage(finish_message(builder, add_pose(builder, fields)).data())
+             ->body_as_Pose();
+  EXPECT_FALSE(pose->into_shared_memory());
+
+  PosedVerticesHeader header = header_for(70000, PositionFormat::Float32);
+  header.shared_offset = 851520;
+  const PosedVerticesFrame frame(builder, header);
+  EXPECT_TRUE(frame.positions_f32().empty());
+  EXPECT_TRUE(frame.normals_f32().empty());
+  EXPECT_LT(frame.bytes().size(), 200u);
+  const PosedVertices* reply =
+      GetSizePrefixedMessage(frame.bytes().data())->body_as_PosedVertices();
+  EXPECT_TRUE(reply->in_shared_memory());
+  EXPECT_EQ(reply->shared_offset(), 851520u);
+  EXPECT_EQ(reply->vertex_count(), 70000u);
+  EXPECT_EQ(reply->positions_f32(), nullptr);
+  std::vector<float> out(3 * 70000);
+  EXPECT_FALSE(copy_positions(*reply, out)) << "the vertices are not in the frame";
 }
 
 TEST(PositionMapFrame, ExrBytesWrittenInPlaceArriveIntact) {

@@ -25,3 +25,5 @@ class Body(object):
     ClipInfo = 19
     PoseFromClip = 20
     PoseByName = 21
+    MapSharedMemory = 22
+    SharedMemory = 23

@@ -112,7 +112,21 @@ class Pose(object):
             return bool(self._tab.Get(flatbuffers.number_types.BoolFlags, o + self._tab.Pos))
         return False
 
-def PoseStart(builder): builder.StartObject(9)
+    # Pose
+    def IntoSharedMemory(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(22))
+        if o != 0:
+            return bool(self._tab.Get(flatbuffers.number_types.BoolFlags, o + self._tab.Pos))
+        return False
+
+    # Pose
+    def SharedOffset(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(24))
+        if o != 0:
+            return self._tab.Get(flatbuffers.number_types.Uint64Flags, o + self._tab.Pos)
+        return 0
+
+def PoseStart(builder): builder.StartObject(11)
 def Start(builder):
     return PoseStart(builder)
 def PoseAddModelId(builder, modelId): builder.PrependUint32Slot(0, modelId, 0)
@@ -145,6 +159,12 @@ def AddPositions(builder, positions):
 def PoseAddNormals(builder, normals): builder.PrependBoolSlot(8, normals, 0)
 def AddNormals(builder, normals):
     return PoseAddNormals(builder, normals)
+def PoseAddIntoSharedMemory(builder, intoSharedMemory): builder.PrependBoolSlot(9, intoSharedMemory, 0)
+def AddIntoSharedMemory(builder, intoSharedMemory):
+    return PoseAddIntoSharedMemory(builder, intoSharedMemory)
+def PoseAddSharedOffset(builder, sharedOffset): builder.PrependUint64Slot(10, sharedOffset, 0)
+def AddSharedOffset(builder, sharedOffset):
+    return PoseAddSharedOffset(builder, sharedOffset)
 def PoseEnd(builder): return builder.EndObject()
 def End(builder):
     return PoseEnd(builder)

@@ -254,7 +254,21 @@ class PosedVertices(object):
             return self._tab.Get(flatbuffers.number_types.Float32Flags, o + self._tab.Pos)
         return 0.0
 
-def PosedVerticesStart(builder): builder.StartObject(14)
+    # PosedVertices
+    def InSharedMemory(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(32))
+        if o != 0:
+            return bool(self._tab.Get(flatbuffers.number_types.BoolFlags, o + self._tab.Pos))
+        return False
+
+    # PosedVertices
+    def SharedOffset(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(34))
+        if o != 0:
+            return self._tab.Get(flatbuffers.number_types.Uint64Flags, o + self._tab.Pos)
+        return 0
+
+def PosedVerticesStart(builder): builder.StartObject(16)
 def Start(builder):
     return PosedVerticesStart(builder)
 def PosedVerticesAddModelId(builder, modelId): builder.PrependUint32Slot(0, modelId, 0)
@@ -317,6 +331,12 @@ def AddPositionOrigin(builder, positionOrigin):
 def PosedVerticesAddPositionStep(builder, positionStep): builder.PrependFloat32Slot(13, positionStep, 0.0)
 def AddPositionStep(builder, positionStep):
     return PosedVerticesAddPositionStep(builder, positionStep)
+def PosedVerticesAddInSharedMemory(builder, inSharedMemory): builder.PrependBoolSlot(14, inSharedMemory, 0)
+def AddInSharedMemory(builder, inSharedMemory):
+    return PosedVerticesAddInSharedMemory(builder, inSharedMemory)
+def PosedVerticesAddSharedOffset(builder, sharedOffset): builder.PrependUint64Slot(15, sharedOffset, 0)
+def AddSharedOffset(builder, sharedOffset):
+    return PosedVerticesAddSharedOffset(builder, sharedOffset)
 def PosedVerticesEnd(builder): return builder.EndObject()
 def End(builder):
     return PosedVerticesEnd(builder)
