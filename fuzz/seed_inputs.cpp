@@ -60,6 +60,11 @@ Input session(const deform::BoundModel& bound, const Input& glb, const std::stri
   fields.features = pb::Features::Folding | pb::Features::Volume;
   builder.Clear();
   append(stream, pb::finish_message(builder, pb::add_pose(builder, fields), 1));
+  // The same pose into shared memory (1.10), at an offset inside the fuzz target's region.
+  pb::PoseFields shared = fields;
+  shared.shared_offset = 4096;
+  builder.Clear();
+  append(stream, pb::finish_message(builder, pb::add_pose(builder, shared), 1));
   builder.Clear();
   append(stream, pb::finish_message(builder, pb::CreateLoadModelDirect(builder, "seed", &glb), 2));
   const pb::Vec3 offset(0.001f, 0.0f, 0.0f);

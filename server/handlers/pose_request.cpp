@@ -81,6 +81,7 @@ std::optional<protocol::PoseProblem> read_posed_request(const protocol::Pose& po
   out.client_time_ns = pose.client_time_ns();
   out.format = pose.positions();
   out.normals = pose.normals();
+  if (pose.into_shared_memory()) out.shared_offset = pose.shared_offset();
   out.features = features_of(pose.features());
   switch (pose.method()) {
     case protocol::DeformMethod::Lbs:
@@ -102,6 +103,34 @@ std::optional<protocol::PoseProblem> read_posed_request(const protocol::Pose& po
                                                           : protocol::ErrorCode::InvalidArgument;
   return protocol::PoseProblem{code, "pose " + std::to_string(pose.sequence()) + " for model " +
                                          std::to_string(model->id) + ": " + problem.message};
+}
+
+std::optional<RequestError> place_in_shared_region(PoseRequest& request,
+                                                   std::shared_ptr<const SharedRegion> region) {
+  if (!request.shared_offset) return std::nullopt;
+  const std::string pose = "pose " + std::to_string(request.sequence);
+  auto refuse = [&](const std::string& why) {
+    return RequestError{protocol::ErrorCode::InvalidArgument, pose + ": " + why, request.sequence,
+                        request.model->id};
+  };
+  if (region == nullptr) {
+    return refuse(
+        "asks for its reply in shared memory, but this connection has mapped none "
+        "(MapSharedMemory, on a Unix socket)");
+  }
+  if (request.position_map) return refuse("a position map is not written into shared memory");
+  if (request.format != protocol::PositionFormat::Float32) {
+    return refuse("replies in shared memory are Float32 only");
+  }
+  const std::size_t values = 3 * request.model->bound.model.vertex_count();
+  const std::size_t floats = request.normals ? 2 * values : values;
+  if (!region->floats(*request.shared_offset, floats)) {
+    return refuse(std::to_string(floats * sizeof(float)) + " bytes at offset " +
+                  std::to_string(*request.shared_offset) + " do not fit the shared region of " +
+                  std::to_string(region->size()) + " bytes, or the offset is not a multiple of 4");
+  }
+  request.shared_region = std::move(region);
+  return std::nullopt;
 }
 
 deform::DeformJob PoseRequest::job(int threads, std::span<glm::vec3> positions,
@@ -151,6 +180,20 @@ std::uint64_t PosedVerticesWriter::write(PoseRequest& request, std::uint32_t dro
   header.normals = request.normals;
   header.dropped_before = dropped_before;
   std::pair<std::uint64_t, std::uint64_t> work_ns;
+  if (request.shared_region) {
+    // Placed and checked when queued (place_in_shared_region).
+    const std::size_t values = 3 * vertex_count;
+    const std::uint64_t offset = *request.shared_offset;
+    const std::span<float> positions = *request.shared_region->floats(offset, values);
+    const std::span<float> normals =
+        request.normals ? *request.shared_region->floats(offset + values * sizeof(float), values)
+                        : std::span<float>();
+    work_ns = deform(request, as_vectors(positions), as_vectors(normals));
+    header.shared_offset = offset;
+    protocol::PosedVerticesFrame frame(builder, header);
+    fill_timings(frame.timings(), request, started, work_ns);
+    return work_ns.first + work_ns.second;
+  }
   if (request.format == protocol::PositionFormat::Float32) {
     protocol::PosedVerticesFrame frame(builder, header);
     work_ns = deform(request, as_vectors(frame.positions_f32()), as_vectors(frame.normals_f32()));

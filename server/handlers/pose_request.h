@@ -19,21 +19,22 @@
 //   into the given buffers; the worker runs it with run_validated.
 // PosedVerticesWriter::write(request, dropped_before, builder): builds the complete reply
 //   frame in `builder` (protocol::PosedVerticesFrame) — float32 positions/normals are
-//   written by the deformer in place; float16 and meshopt (protocol::MeshoptEncoder) go
-//   through scratch buffers kept between frames, meshopt's encoded bytes copied into the frame
-//   once their size is known. write_position_map: the same pose rendered to an EXR position map
-//   instead. The request runs as one deform::DeformJob on the model's shared ModelRuntime
-//   (RegisteredModel::runtime) with the worker thread's own DeformContext (one per thread,
-//   not per connection), each request standing alone (VolumeChangeSource::kFixedPoint), so
-//   the vertices equal the library's bit for bit; ServerTimings.features_ns times folding and
-//   protrusion (DeformReport::features_time). Folding's pairs come from the server's collision
-//   backend (CollisionService: the CPU reference, or jobs on the GPU thread), which counts the
-//   pose and its stage times. One writer per connection (its encoding scratch and pair finder
-//   are not shared between threads).
+//   written by the deformer in place (in the frame, or in the shared region); float16 and meshopt
+//   (protocol::MeshoptEncoder) go through scratch buffers kept between frames, meshopt's encoded
+//   bytes copied into the frame once their size is known. write_position_map: the same pose
+//   rendered to an EXR position map instead. The request runs as one deform::DeformJob on the
+//   model's shared ModelRuntime (RegisteredModel::runtime) with the worker thread's own
+//   DeformContext (one per thread, not per connection), each request standing alone
+//   (VolumeChangeSource::kFixedPoint), so the vertices equal the library's bit for bit;
+//   ServerTimings.features_ns times folding and protrusion (DeformReport::features_time). Folding's
+//   pairs come from the server's collision backend (CollisionService: the CPU reference, or jobs on
+//   the GPU thread), which counts the pose and its stage times. One writer per connection (its
+//   encoding scratch and pair finder are not shared between threads).
 #pragma once
 
 #include <chrono>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -44,7 +45,9 @@
 #include "protocol/messages.h"
 #include "server/handlers/collision_service.h"
 #include "server/handlers/position_map_service.h"
+#include "server/handlers/request_error.h"
 #include "server/models/model_registry.h"
+#include "server/transport/shared_region.h"
 
 namespace sweepd::server {
 
@@ -68,6 +71,10 @@ struct PoseRequest {
   bool normals = false;
   std::optional<PositionMapParams> position_map;  // set: answer with a PositionMap
   std::chrono::steady_clock::time_point received;
+  // Pose.into_shared_memory (1.10): where in the connection's region the reply's vertices go,
+  // and the region (held by the request: the connection may close while it runs).
+  std::optional<std::uint64_t> shared_offset = std::nullopt;
+  std::shared_ptr<const SharedRegion> shared_region;
 
   deform::DeformJob job(int threads, std::span<glm::vec3> positions, std::span<glm::vec3> normals);
 };
@@ -80,6 +87,13 @@ std::optional<protocol::PoseProblem> read_posed_request(const protocol::Pose& po
                                                         deform::Pose posed,
                                                         const ModelHandle& model,
                                                         std::uint64_t request_id, PoseRequest& out);
+
+// A request with shared_offset given the connection's region (null: none mapped), after
+// checking that its vertices fit there: Float32 only, no position map, [offset, offset + the
+// positions and normals' bytes) inside the region, offset a multiple of 4. The InvalidArgument
+// that names what does not hold otherwise.
+std::optional<RequestError> place_in_shared_region(PoseRequest& request,
+                                                   std::shared_ptr<const SharedRegion> region);
 
 class PosedVerticesWriter {
  public:

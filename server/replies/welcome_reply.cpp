@@ -8,14 +8,15 @@
 namespace sweepd::server {
 
 void build_welcome(flatbuffers::FlatBufferBuilder& builder, const ServerConfig& config,
-                   bool position_maps, std::uint64_t connection_id, std::uint64_t request_id) {
+                   bool position_maps, bool shared_memory, std::uint64_t connection_id,
+                   std::uint64_t request_id) {
   namespace pb = sweepd::protocol;
-  std::vector<std::string> capabilities = {"sweep",        "lbs",         "dqs",        "folding",
-                                           "protrusion",   "volume",      "bulge",      "float16",
-                                           "normals",      "latest_wins", "upload",     "clips",
-                                           "pose_by_name", "meshopt",     "gltf_clips", "contact",
-                                           "fbx_clips"};
+  std::vector<std::string> capabilities = {
+      "sweep",        "lbs",     "dqs",        "folding",     "protrusion", "volume",
+      "bulge",        "float16", "normals",    "latest_wins", "upload",     "clips",
+      "pose_by_name", "meshopt", "gltf_clips", "contact",     "fbx_clips"};
   if (position_maps) capabilities.push_back("position_map");
+  if (shared_memory) capabilities.push_back("shared_memory");
   const auto welcome =
       pb::CreateWelcome(builder, pb::kProtocolVersionMajor, pb::kProtocolVersionMinor,
                         builder.CreateString("sweepd"), builder.CreateVectorOfStrings(capabilities),

@@ -1,5 +1,6 @@
 // build_welcome: the Welcome reply to an accepted Hello — the protocol version, the server's
-// name and capabilities ("position_map" only when position maps are enabled), its frame and
+// name and capabilities ("position_map" only when position maps are enabled, "shared_memory"
+// (1.10) only on a Unix socket, where MapSharedMemory works), its frame and
 // in-flight limits and the connection's id. Finishes `builder` as one frame carrying
 // `request_id`.
 #pragma once
@@ -12,6 +13,7 @@
 namespace sweepd::server {
 
 void build_welcome(flatbuffers::FlatBufferBuilder& builder, const ServerConfig& config,
-                   bool position_maps, std::uint64_t connection_id, std::uint64_t request_id);
+                   bool position_maps, bool shared_memory, std::uint64_t connection_id,
+                   std::uint64_t request_id);
 
 }  // namespace sweepd::server

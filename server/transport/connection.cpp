@@ -5,6 +5,7 @@
 #include <utility>
 #include <variant>
 
+#include "protocol/descriptor_passing.h"
 #include "protocol/messages.h"
 #include "server/handlers/pose_intake.h"
 #include "server/log_event.h"
@@ -380,6 +381,9 @@ void Connection::dispatch(const pb::Message& message) {
       }
       break;
     }
+    case pb::Body::MapSharedMemory:
+      map_shared_memory(*message.body_as_MapSharedMemory(), request_id);
+      break;
     case pb::Body::Hello:
       send_error(pb::ErrorCode::InvalidArgument, "Hello was already received on this connection", 0,
                  request_id);
@@ -421,8 +425,8 @@ void Connection::authenticate(const pb::Hello& hello, std::uint64_t request_id) 
                       {"client", counters_.client_name},
                       {"delivery", pb::EnumNamePoseDelivery(delivery_)}});
   flatbuffers::FlatBufferBuilder builder = take_builder();
-  build_welcome(builder, environment_.config, environment_.position_maps.enabled(), id(),
-                request_id);
+  build_welcome(builder, environment_.config, environment_.position_maps.enabled(),
+                stream_.unix_socket(), id(), request_id);
   send(std::move(builder));
 }
 
@@ -445,6 +449,10 @@ void Connection::queue_intake(std::variant<PoseRequest, RequestError> intake,
     return;
   }
   PoseRequest& request = std::get<PoseRequest>(intake);
+  if (auto error = place_in_shared_region(request, shared_region_)) {
+    send_error(*error, request_id);
+    return;
+  }
   request.received = Clock::now();
   if (delivery_ == pb::PoseDelivery::LatestWins) {
     // Only plain poses go stale; a requested position map is always rendered.
@@ -455,6 +463,48 @@ void Connection::queue_intake(std::variant<PoseRequest, RequestError> intake,
   }
   waiting_poses_.push_back(std::move(request));
   start_next_pose();
+}
+
+void Connection::map_shared_memory(const pb::MapSharedMemory& request, std::uint64_t request_id) {
+  const std::uint64_t bytes = request.bytes();
+  const std::size_t limit = environment_.config.max_frame_bytes;
+  if (!stream_.unix_socket()) {
+    send_error(pb::ErrorCode::NotAvailable,
+               "MapSharedMemory needs a Unix socket connection: a descriptor cannot cross TCP, TLS "
+               "or WebSocket",
+               0, request_id);
+  } else if (shared_region_) {
+    send_error(pb::ErrorCode::InvalidArgument,
+               "this connection has a shared region already (" +
+                   std::to_string(shared_region_->size()) + " bytes); it maps one",
+               0, request_id);
+  } else if (bytes == 0 || bytes > limit) {
+    send_error(pb::ErrorCode::InvalidArgument,
+               "MapSharedMemory asks for " + std::to_string(bytes) + " bytes; a region has 1 to " +
+                   std::to_string(limit) + " (max_frame_bytes)",
+               0, request_id);
+  } else if (!environment_.buffer_budget.take(bytes)) {
+    send_error(pb::ErrorCode::ResourceExhausted,
+               "the server's buffer budget has no room for a shared region of " +
+                   std::to_string(bytes) + " bytes now",
+               0, request_id);
+  } else {
+    try {
+      shared_region_ = SharedRegion::create(bytes);
+    } catch (const std::system_error& error) {
+      environment_.buffer_budget.give_back(bytes);
+      send_error(
+          pb::ErrorCode::ResourceExhausted,
+          "cannot make a shared region of " + std::to_string(bytes) + " bytes: " + error.what(), 0,
+          request_id);
+      return;
+    }
+    log_event("shared_memory_mapped", {{"connection", id()}, {"bytes", bytes}});
+    flatbuffers::FlatBufferBuilder builder = take_builder();
+    pb::finish_message(builder, pb::CreateSharedMemory(builder, bytes), request_id);
+    descriptor_frame_ = builder.GetBufferPointer();
+    send(std::move(builder));
+  }
 }
 
 void Connection::upload_clip(const pb::UploadClip& upload, std::uint64_t request_id) {
@@ -673,6 +723,7 @@ void Connection::write_next() {
   writing_ = true;
   last_send_progress_ = Clock::now();
   arm_send_deadline();
+  if (!write_descriptor()) return;
   const flatbuffers::FlatBufferBuilder& front = outgoing_.front();
   const std::size_t size = front.GetSize();
   const std::size_t from = std::exchange(front_sent_, 0);
@@ -697,6 +748,40 @@ void Connection::write_next() {
         self->start_next_pose();
         self->process_input();
       });
+}
+
+bool Connection::write_descriptor() {
+  // A builder's buffer stays where it is when the builder is moved into the queue.
+  const flatbuffers::FlatBufferBuilder& front = outgoing_.front();
+  if (descriptor_frame_ == nullptr || front.GetBufferPointer() != descriptor_frame_) return true;
+  std::optional<std::size_t> sent;
+  try {
+    sent =
+        pb::send_with_descriptor(stream_.plain_socket_handle(),
+                                 {front.GetBufferPointer(), front.GetSize()}, shared_region_->fd());
+  } catch (const std::system_error&) {
+    writing_ = false;
+    close_now();
+    return false;
+  }
+  if (!sent) {
+    stream_.async_wait_writable([self = shared_from_this()](std::error_code error) {
+      self->writing_ = false;
+      self->send_deadline_.cancel();
+      if (self->closed_) return;
+      if (error) {
+        self->close_now();
+        return;
+      }
+      self->write_next();
+    });
+    return false;
+  }
+  descriptor_frame_ = nullptr;
+  front_sent_ = *sent;
+  counters_.bytes_out += *sent;
+  last_send_progress_ = Clock::now();
+  return true;
 }
 
 void Connection::drain() {
@@ -741,6 +826,8 @@ void Connection::close_now() {
   send_deadline_.cancel();
   environment_.buffer_budget.give_back(queued_reply_bytes_);
   queued_reply_bytes_ = 0;
+  // Poses still running hold the region itself until they end.
+  if (shared_region_) environment_.buffer_budget.give_back(shared_region_->size());
   gate_.close();  // no worker sends on the socket from here on
   stream_.close();
   log_event("connection_closed", {{"connection", id()},

@@ -63,6 +63,7 @@
 #include "server/transport/fair_work_queue.h"
 #include "server/transport/reply_builder_pool.h"
 #include "server/transport/reply_send_gate.h"
+#include "server/transport/shared_region.h"
 #include "server/transport/traffic_counters.h"
 
 namespace sweepd::server {
@@ -123,6 +124,8 @@ class Connection : public std::enable_shared_from_this<Connection> {
   // error) is queued, so replies stay in request order. `log_outcome` runs on the I/O thread.
   void change_model(std::uint64_t request_id, std::function<ModelChange()> change,
                     LogModelChange log_outcome);
+  // MapSharedMemory (1.10): the connection's SharedRegion, its descriptor sent with the reply.
+  void map_shared_memory(const protocol::MapSharedMemory& request, std::uint64_t request_id);
 
   void start_next_pose();
   // A pose answered: the connection's, the traffic's and the model's counters.
@@ -136,6 +139,9 @@ class Connection : public std::enable_shared_from_this<Connection> {
                   std::uint64_t request_id, bool fatal = false);
   void send_error(const RequestError& error, std::uint64_t request_id);
   void write_next();
+  // The SharedMemory reply's first bytes with the region's descriptor; false while the socket
+  // takes nothing (write_next runs again once it does).
+  bool write_descriptor();
   void drain();  // stop taking work; close once in-flight work is answered
   void close_if_done();
   void close_now();
@@ -187,6 +193,10 @@ class Connection : public std::enable_shared_from_this<Connection> {
   // read meanwhile waits in `deferred_` until it has (process_input).
   std::atomic<bool> reply_uncounted_{false};
   const protocol::Message* deferred_ = nullptr;
+  // MapSharedMemory's region (its bytes taken from the buffer budget until close), and the
+  // SharedMemory reply, queued in outgoing_, that carries its descriptor until it is sent.
+  std::shared_ptr<const SharedRegion> shared_region_;
+  const std::uint8_t* descriptor_frame_ = nullptr;
   ReplySendGate gate_;          // the socket: the I/O thread's writes or a worker's own send
   PosedVerticesWriter writer_;  // used by one worker job at a time
   ConnectionCounters counters_;

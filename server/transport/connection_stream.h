@@ -15,6 +15,8 @@
 //                                       it completes, with 0 bytes when no message was whole
 //   async_write(buffer, on_progress, handler)  all of `buffer` (one frame: on WebSocket, one
 //                                       binary message); on_progress() after each partial send
+//   unix_socket()                       a plain Unix socket (descriptors can be passed on it)
+//   async_wait_writable(handler)        plain socket: handler(error) once it takes bytes again
 //   mid_message()                       WebSocket: part of a message received, the rest not yet
 //   failure()                           WebSocket: why this side ended the session (a text
 //                                       message, a message too big, a protocol violation); ""
@@ -70,6 +72,18 @@ class ConnectionStream {
     return tls_ || websocket_ ? -1 : static_cast<int>(plain_->native_handle());
   }
   bool websocket() const { return websocket_ != nullptr; }
+  // A plain Unix socket: the only stream a file descriptor can cross (SharedRegion).
+  bool unix_socket() {
+    if (plain_socket_handle() < 0) return false;
+    std::error_code error;
+    const auto endpoint = plain_->local_endpoint(error);
+    return !error && endpoint.protocol().family() == AF_UNIX;
+  }
+  // Plain socket: handler(error) once the socket takes bytes again (a send that found it full).
+  template <typename Handler>
+  void async_wait_writable(Handler&& handler) {
+    plain_->async_wait(Socket::wait_write, std::forward<Handler>(handler));
+  }
   std::string pending_handshake() const;
   Socket::executor_type get_executor() { return socket().get_executor(); }
 

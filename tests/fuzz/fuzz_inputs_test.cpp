@@ -58,8 +58,9 @@ TEST(FuzzInputs, TheFramesSeedIsAWholeSession) {
     EXPECT_EQ(event.status, protocol::FrameStatus::kFrame) << event.reason;
     ++whole;
   }
-  EXPECT_EQ(whole, 9) << "Hello, Pose, LoadModel, EditKeyEllipse, PositionMapRequest, UploadClip, "
-                         "PoseFromClip, PositionMapRequest of a clip frame, PoseByName";
+  EXPECT_EQ(whole, 10) << "Hello, Pose, Pose into shared memory, LoadModel, EditKeyEllipse, "
+                          "PositionMapRequest, UploadClip, PoseFromClip, PositionMapRequest of a "
+                          "clip frame, PoseByName";
 }
 
 TEST(FuzzInputs, EveryRegressionStillPasses) {

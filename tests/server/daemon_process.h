@@ -24,8 +24,8 @@
 #include <chrono>
 #include <cstring>
 #include <filesystem>
-#include <initializer_list>
 #include <fstream>
+#include <initializer_list>
 #include <iterator>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -225,6 +225,8 @@ class FrameClient {
   FrameClient& operator=(const FrameClient&) = delete;
 
   bool connected() const { return connected_; }
+  // The socket, for a test's own recvmsg (a descriptor passed with a reply).
+  int fd() const { return fd_; }
 
   // On WebSocket: one binary message.
   bool send_bytes(std::span<const std::uint8_t> bytes) {
