@@ -10,6 +10,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "client/connection.h"
@@ -25,8 +26,9 @@ struct BenchPose {
 };
 
 std::vector<BenchPose> clip_poses(const protocol::ModelInfo& info, int count);
+// `shared_offset`: the reply's vertices go into the connection's shared region there (1.10).
 void send_pose(client::Connection& connection, std::uint32_t model_id, std::uint64_t sequence,
-               const BenchPose& pose);
+               const BenchPose& pose, std::optional<std::uint64_t> shared_offset = std::nullopt);
 double percentile(std::vector<double> values, double q);
 double milliseconds_since(std::chrono::steady_clock::time_point start);
 

@@ -4,7 +4,9 @@
 //
 // Starts the real sweepd (the built binary, --port 0, its own store in a temporary folder,
 // --mannequin-vertices N, default 72000) and, over loopback with float32 positions:
-//   1. round trip: one client, InOrder, one pose at a time → p50 / p99 per pose;
+//   1. round trip: one client, InOrder, one pose at a time → p50 / p99 per pose; then the same
+//      on the daemon's Unix socket with the replies written into a shared region (protocol
+//      1.10, MapSharedMemory: two slots used in turn), what a same-host client can use;
 //   2. throughput: 1, 8 and 32 clients, each keeping Welcome.max_poses_in_flight poses in
 //      flight for S seconds → poses answered per second, all clients together, the daemon's
 //      resident memory (VmRSS) at the end, each connection's first round trip, and the median
@@ -77,9 +79,13 @@ using sweepd::bench::send_pose;
 class Daemon : public sweepd::bench::BenchDaemon {
  public:
   Daemon(const Options& options, const fs::path& directory)
-      : BenchDaemon(options.daemon, directory,
-                    {"--mannequin-vertices", std::to_string(options.vertices), "--position-maps",
-                     "0", "--max-connections", "96"}) {}
+      : BenchDaemon(
+            options.daemon, directory,
+            {"--mannequin-vertices", std::to_string(options.vertices), "--position-maps", "0",
+             "--max-connections", "96", "--unix-socket", (directory / "sweepd.sock").string()}),
+        unix_address("unix:" + (directory / "sweepd.sock").string()) {}
+
+  const std::string unix_address;  // the same daemon on its Unix socket
 };
 
 // One pose's round trip and the server's share of it (ServerTimings), in milliseconds.
@@ -88,19 +94,30 @@ struct RoundTrip {
   double rest() const { return total - queued - deform - encode; }  // wire and wake-ups
 };
 
-// Round trips, one pose at a time (after a few warm-up poses).
-std::vector<RoundTrip> round_trips(const std::string& address,
-                                   const std::vector<BenchPose>& poses) {
+// Round trips, one pose at a time (after a few warm-up poses). `shared_memory` (a Unix socket's
+// address): the replies go into a shared region of two slots, used in turn.
+std::vector<RoundTrip> round_trips(const std::string& address, const std::vector<BenchPose>& poses,
+                                   bool shared_memory = false,
+                                   std::chrono::microseconds spin = {}) {
   sweepd::client::Connection connection(address);
+  connection.set_receive_spin(spin);
   connection.hello("", "server_bench latency");
-  const std::uint32_t model_id = connection.load_model("mannequin").model_id();
+  const pb::ModelInfo& info = connection.load_model("mannequin");
+  const std::uint32_t model_id = info.model_id();
+  const std::size_t slot = std::size_t{info.vertex_count()} * 3 * sizeof(float);
+  if (shared_memory) connection.map_shared_memory(2 * slot);
   std::vector<RoundTrip> times;
   constexpr int kWarmUp = 20;
   for (int i = -kWarmUp; i < static_cast<int>(poses.size()); ++i) {
     const Clock::time_point start = Clock::now();
-    send_pose(connection, model_id, static_cast<std::uint64_t>(i + kWarmUp + 1),
-              poses[static_cast<std::size_t>(std::max(i, 0))]);
-    const pb::ServerTimings& server = *connection.expect<pb::PosedVertices>().timings();
+    const auto sequence = static_cast<std::uint64_t>(i + kWarmUp + 1);
+    send_pose(connection, model_id, sequence, poses[static_cast<std::size_t>(std::max(i, 0))],
+              shared_memory ? std::optional<std::uint64_t>(sequence % 2 * slot) : std::nullopt);
+    const pb::PosedVertices& reply = connection.expect<pb::PosedVertices>();
+    if (shared_memory && connection.shared_positions(reply).empty()) {
+      throw std::runtime_error("a shared-memory reply without its positions in the region");
+    }
+    const pb::ServerTimings& server = *reply.timings();
     if (i >= 0) {
       times.push_back({milliseconds_since(start), server.queued_ns() * 1e-6,
                        server.deform_ns() * 1e-6, server.encode_ns() * 1e-6});
@@ -270,22 +287,38 @@ AttackScene under_attack(const Daemon& daemon, const std::vector<BenchPose>& pos
 }
 
 // The library's own time for the same poses: one thread, positions only.
-std::vector<double> in_process_ms(const fs::path& binding, std::vector<BenchPose> poses) {
-  const sweepd::deform::BoundModel bound = sweepd::io::load_sweepbind(binding);
-  const sweepd::deform::ModelRuntime runtime(bound);
-  sweepd::deform::DeformContext context;
-  std::vector<glm::vec3> positions(bound.model.vertex_count());
-  std::vector<double> times;
-  for (int round = 0; round < 2; ++round) {  // the first round warms the caches
-    times.clear();
-    for (BenchPose& pose : poses) {
-      const Clock::time_point start = Clock::now();
-      sweepd::deform::DeformJob{.runtime = runtime, .pose = pose.pose, .positions = positions}.run(
-          context);
-      times.push_back(milliseconds_since(start));
+class InProcess {
+ public:
+  explicit InProcess(const fs::path& binding)
+      : bound_(sweepd::io::load_sweepbind(binding)),
+        runtime_(bound_),
+        positions_(bound_.model.vertex_count()) {}
+
+  // Each pose once, after one untimed pass that warms the caches: ms per pose.
+  std::vector<double> time(std::vector<BenchPose> poses) {
+    std::vector<double> times;
+    for (int pass = 0; pass < 2; ++pass) {
+      times.clear();
+      for (BenchPose& pose : poses) {
+        const Clock::time_point start = Clock::now();
+        sweepd::deform::DeformJob{.runtime = runtime_, .pose = pose.pose, .positions = positions_}
+            .run(context_);
+        times.push_back(milliseconds_since(start));
+      }
     }
+    return times;
   }
-  return times;
+
+ private:
+  const sweepd::deform::BoundModel bound_;
+  const sweepd::deform::ModelRuntime runtime_;
+  sweepd::deform::DeformContext context_;
+  std::vector<glm::vec3> positions_;
+};
+
+template <typename T>
+void append(std::vector<T>& to, const std::vector<T>& more) {
+  to.insert(to.end(), more.begin(), more.end());
 }
 
 // The wire alone: a bare TCP round trip over loopback, a 200-byte request answered with
@@ -370,7 +403,9 @@ int run(const Options& options) {
       fs::temp_directory_path() / ("sweepd_server_bench_" + std::to_string(getpid()));
   fs::create_directories(directory);
   std::vector<BenchPose> poses;
-  std::vector<RoundTrip> round_trip;
+  std::vector<RoundTrip> round_trip, polling_round_trip, shared_round_trip, spinning_round_trip;
+  // A client that polls its socket this long before it sleeps (Connection::set_receive_spin).
+  constexpr std::chrono::microseconds kPolling(2000);
   std::vector<double> in_process;
   std::vector<Throughput> rates;
   std::uint32_t vertex_count = 0, model_id = 0;
@@ -388,37 +423,59 @@ int run(const Options& options) {
       poses = clip_poses(info, options.poses);
       connection.close();
     }
-    round_trip = round_trips(daemon.address(), poses);
+    // In rounds, each timing the library in-process and then every transport, so that the
+    // machine's drift (load, clock) falls on both sides of each ratio.
+    InProcess library(daemon.binding());
+    for (int round = 0; round < 3; ++round) {
+      append(in_process, library.time(poses));
+      append(round_trip, round_trips(daemon.address(), poses));
+      append(polling_round_trip, round_trips(daemon.address(), poses, false, kPolling));
+      append(shared_round_trip, round_trips(daemon.unix_address, poses, true));
+      append(spinning_round_trip, round_trips(daemon.unix_address, poses, true, kPolling));
+    }
     // A reply's size: float32 positions and a header far under 256 bytes.
     bare_ms = bare_loopback_ms(std::size_t{vertex_count} * 12 + 256);
     for (int clients : {1, 8, 32}) {
       rates.push_back(throughput(daemon, poses, clients, options.seconds));
     }
-    in_process = in_process_ms(daemon.binding(), poses);
     shared_store = shared_store_cost(daemon.binding());
     attack = under_attack(daemon, poses, model_id, options.seconds);
   }
   fs::remove_all(directory);
 
-  const double round_trip_p50 = percentile_of(round_trip, &RoundTrip::total, 0.5);
   std::printf(
-      "| mannequin | round trip p50 ms | p99 ms | in-process p50 ms | p99 ms | ratio p50 |\n");
-  std::printf("|---|---|---|---|---|---|\n");
-  std::printf("| %u vertices | %.3f | %.3f | %.3f | %.3f | %.2f |\n\n", vertex_count,
-              round_trip_p50, percentile_of(round_trip, &RoundTrip::total, 0.99),
-              percentile(in_process, 0.5), percentile(in_process, 0.99),
-              round_trip_p50 / percentile(in_process, 0.5));
-  std::printf(
-      "round trip p50 / p99, ms: queued %.3f / %.3f, deform %.3f / %.3f, encode %.3f / "
-      "%.3f, wire and wake-ups %.3f / %.3f\n\n",
-      percentile_of(round_trip, &RoundTrip::queued, 0.5),
-      percentile_of(round_trip, &RoundTrip::queued, 0.99),
-      percentile_of(round_trip, &RoundTrip::deform, 0.5),
-      percentile_of(round_trip, &RoundTrip::deform, 0.99),
-      percentile_of(round_trip, &RoundTrip::encode, 0.5),
-      percentile_of(round_trip, &RoundTrip::encode, 0.99),
-      percentile_of(round_trip, &RoundTrip::rest, 0.5),
-      percentile_of(round_trip, &RoundTrip::rest, 0.99));
+      "| mannequin, transport | round trip p50 ms | p99 ms | in-process p50 ms | p99 ms | ratio "
+      "p50 | wire and wake-ups p50 ms |\n");
+  std::printf("|---|---|---|---|---|---|---|\n");
+  const auto row = [&](const char* transport, const std::vector<RoundTrip>& trips) {
+    std::printf("| %u vertices, %s | %.3f | %.3f | %.3f | %.3f | %.2f | %.3f |\n", vertex_count,
+                transport, percentile_of(trips, &RoundTrip::total, 0.5),
+                percentile_of(trips, &RoundTrip::total, 0.99), percentile(in_process, 0.5),
+                percentile(in_process, 0.99),
+                percentile_of(trips, &RoundTrip::total, 0.5) / percentile(in_process, 0.5),
+                percentile_of(trips, &RoundTrip::rest, 0.5));
+  };
+  const std::pair<const char*, const std::vector<RoundTrip>*> transports[] = {
+      {"TCP, float32 replies", &round_trip},
+      {"TCP, the client polling for 2 ms before it sleeps", &polling_round_trip},
+      {"Unix socket, replies in shared memory", &shared_round_trip},
+      {"Unix socket, shared memory, the client polling", &spinning_round_trip}};
+  for (const auto& [transport, trips] : transports) row(transport, *trips);
+  std::printf("\n");
+  const auto stages = [&](const char* transport, const std::vector<RoundTrip>& trips) {
+    std::printf(
+        "%s: round trip p50 / p99, ms: queued %.3f / %.3f, deform %.3f / %.3f, encode %.3f / "
+        "%.3f, wire and wake-ups %.3f / %.3f\n",
+        transport, percentile_of(trips, &RoundTrip::queued, 0.5),
+        percentile_of(trips, &RoundTrip::queued, 0.99),
+        percentile_of(trips, &RoundTrip::deform, 0.5),
+        percentile_of(trips, &RoundTrip::deform, 0.99),
+        percentile_of(trips, &RoundTrip::encode, 0.5),
+        percentile_of(trips, &RoundTrip::encode, 0.99), percentile_of(trips, &RoundTrip::rest, 0.5),
+        percentile_of(trips, &RoundTrip::rest, 0.99));
+  };
+  for (const auto& [transport, trips] : transports) stages(transport, *trips);
+  std::printf("\n");
   const double in_process_p50 = percentile(in_process, 0.5);
   std::printf(
       "the wire alone: a bare loopback round trip of the same bytes, answered from memory by "
