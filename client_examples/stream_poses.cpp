@@ -1,11 +1,14 @@
 // stream_poses: a sweepd client that streams a clip as poses and reports latency.
 //
 //   stream_poses (--bvh clip.bvh [--bvh-scale S] | --clip-from F.glb [--clip NAME|INDEX])
-//                [--host 127.0.0.1] [--port 7878] [--token T | --token-file FILE]
+//                [--host 127.0.0.1] [--port 7878 | --unix PATH [--shared-memory]]
+//                [--token T | --token-file FILE]
 //                [--tls [--tls-ca CA.pem] [--tls-cert C.pem --tls-key K.pem]]
 //                [--model-file body.glb] [--frames N] [--flat-out] [--latest-wins] [--float16]
 //
-// 1. Connect, Hello (with the token; LatestWins if asked), read Welcome.
+// 1. Connect (TCP, or sweepd's Unix socket with --unix), Hello (with the token; LatestWins if
+//    asked), read Welcome. --shared-memory (protocol 1.10, on the Unix socket): the replies are
+//    written into a region shared with sweepd (one slot per pose in flight) instead of sent.
 // 2. Choose the model (client/model_source.h): --model-file uploads a .glb (LoadModel with
 //    bytes); otherwise the server's default "mannequin" (LoadModel by name).
 // 3. Upload the clip once (UploadClip, client/clip_file_flags.h): a BVH's text, or a glTF
@@ -61,6 +64,8 @@ struct Options {
   sweepd::client::ClipFile clip;
   int frames = 0;  // 0: the whole clip
   bool flat_out = false, latest_wins = false, float16 = false;
+  std::string unix_socket;     // empty: TCP to host:port
+  bool shared_memory = false;  // replies in a region shared with sweepd (needs unix_socket)
   sweepd::client::ClientTls tls;
 };
 
@@ -80,7 +85,14 @@ void describe(CLI::App& app, Options& o) {
       ->capture_default_str();
   app.add_flag("--flat-out", o.flat_out, "as fast as the server answers, not at the clip's rate");
   app.add_flag("--latest-wins", o.latest_wins, "the server may drop poses it has not started");
-  app.add_flag("--float16", o.float16, "positions as float16 on the wire");
+  CLI::Option* float16 = app.add_flag("--float16", o.float16, "positions as float16 on the wire");
+  CLI::Option* unix_socket = app.add_option("--unix", o.unix_socket,
+                                            "sweepd's Unix socket (its --unix-socket) instead of "
+                                            "--host and --port");
+  app.add_flag("--shared-memory", o.shared_memory,
+               "replies written by sweepd into memory shared with it, not sent (float32)")
+      ->needs(unix_socket)
+      ->excludes(float16);
 }
 
 double percentile_ms(std::vector<double> values, double q) {
@@ -93,6 +105,7 @@ double percentile_ms(std::vector<double> values, double q) {
 // handles and clip ids come from content).
 struct Session {
   std::uint32_t window = 1, model_id = 0;
+  std::uint64_t slot_bytes = 0;  // --shared-memory: one pose's positions in the region
   std::string clip_id;
   double frame_time = 0.0;
   int clip_frames = 0;
@@ -155,6 +168,9 @@ bool stream_on(sweepd::client::Connection& channel, const Options& options, cons
           if (sequence < 1 || sequence > stream.settled.size())
             throw std::runtime_error("a reply to pose " + std::to_string(sequence) +
                                      ", which was not sent");
+          if (options.shared_memory && channel.shared_positions(*reply).empty())
+            throw std::runtime_error("the reply to pose " + std::to_string(sequence) +
+                                     " is not in the shared region");
           const std::size_t frame = sequence - 1;
           stream.latencies_ms.push_back(
               std::chrono::duration<double, std::milli>(Clock::now() - stream.sent_at[frame])
@@ -174,8 +190,7 @@ bool stream_on(sweepd::client::Connection& channel, const Options& options, cons
             break;
           }
           ++stream.errors;
-          if (sequence >= 1 && sequence <= stream.settled.size())
-            stream.settled[sequence - 1] = 1;
+          if (sequence >= 1 && sequence <= stream.settled.size()) stream.settled[sequence - 1] = 1;
           std::fprintf(stderr, "%s\n", why.c_str());
         } else {  // a Bye (the server drains, then closes), or else no pose's reply
           const pb::Bye* bye = message.body_as_Bye();
@@ -199,6 +214,10 @@ bool stream_on(sweepd::client::Connection& channel, const Options& options, cons
     fields.model_id = session.model_id;
     fields.sequence = static_cast<std::uint64_t>(frame) + 1;
     fields.positions = options.float16 ? pb::PositionFormat::Float16 : pb::PositionFormat::Float32;
+    // A slot per pose in flight: a frame's slot is written again only `window` frames later.
+    if (options.shared_memory)
+      fields.shared_offset =
+          static_cast<std::uint64_t>(frame) % session.window * session.slot_bytes;
     builder.Clear();
     const auto pose = pb::add_pose(builder, fields);
     const auto clip_frame = pb::CreateClipFrame(builder, builder.CreateString(session.clip_id),
@@ -223,9 +242,9 @@ bool stream_on(sweepd::client::Connection& channel, const Options& options, cons
   }
   for (; next < frames && !lost; ++next) {
     if (!options.flat_out) {
-      std::this_thread::sleep_until(
-          start + std::chrono::duration_cast<Clock::duration>(
-                      std::chrono::duration<double>(next * session.frame_time)));
+      std::this_thread::sleep_until(start +
+                                    std::chrono::duration_cast<Clock::duration>(
+                                        std::chrono::duration<double>(next * session.frame_time)));
     }
     if (in_order) slots.acquire();
     if (lost) break;
@@ -260,7 +279,9 @@ std::vector<int> unsettled(Stream& stream, const Options& options, int next) {
 
 int run(Options& options) {
   options.clip.read();
-  const std::string address = options.host + ":" + std::to_string(options.port);
+  const std::string address = options.unix_socket.empty()
+                                  ? options.host + ":" + std::to_string(options.port)
+                                  : "unix:" + options.unix_socket;
   // The model: a .glb uploaded, or the server's default mannequin; asked for by content id
   // after the first answer, so a server that lacks it (restarted, another replica) gets it
   // again (client/model_source.h).
@@ -272,18 +293,19 @@ int run(Options& options) {
   Session session;
   bool first = true;
   const auto set_up = [&](sweepd::client::Connection& channel) {
-    session.window =
-        std::max(1u, channel
-                         .hello(options.token, "stream_poses",
-                                options.latest_wins ? pb::PoseDelivery::LatestWins
-                                                    : pb::PoseDelivery::InOrder)
-                         .max_poses_in_flight());
+    session.window = std::max(1u, channel
+                                      .hello(options.token, "stream_poses",
+                                             options.latest_wins ? pb::PoseDelivery::LatestWins
+                                                                 : pb::PoseDelivery::InOrder)
+                                      .max_poses_in_flight());
     const pb::ModelInfo& info = model.load(channel);
     session.model_id = info.model_id();
+    session.slot_bytes = std::uint64_t{info.vertex_count()} * 3 * sizeof(float);
     if (first) {
       std::printf("model %u: %u vertices, %u joints\n", session.model_id, info.vertex_count(),
                   info.joint_names()->size());
     }
+    if (options.shared_memory) channel.map_shared_memory(session.window * session.slot_bytes);
     // `info` is invalid from the next receive on.
     const pb::ClipInfo& clip = sweepd::client::upload_clip_file(channel, options.clip);
     session.clip_id = clip.clip_id()->str();
@@ -324,8 +346,7 @@ int run(Options& options) {
   channel->close("clip finished");
 
   if (reconnections > 0) {
-    std::printf("reconnected %d times, model uploaded %d times\n", reconnections,
-                model.uploads());
+    std::printf("reconnected %d times, model uploaded %d times\n", reconnections, model.uploads());
   }
   const std::vector<double>& latencies_ms = stream.latencies_ms;
   std::printf("poses: sent %d, answered %llu, dropped %llu, errors %llu in %.2f s (%.0f/s)\n",

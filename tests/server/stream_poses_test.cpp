@@ -1,6 +1,7 @@
 // client_examples/stream_poses against the real daemon: a CMU clip streamed InOrder is
 // answered pose for pose; streamed LatestWins every pose is answered or counted as dropped; a
-// glTF file's animation (--clip-from, --clip; protocol 1.7) streams like a BVH, and an unknown
+// glTF file's animation (--clip-from, --clip; protocol 1.7) streams like a BVH; a clip streamed
+// on the Unix socket with replies in shared memory (1.10) is answered pose for pose; an unknown
 // animation name ends the client naming the file's animations; a daemon restarted on an empty
 // store mid-stream gets the model uploaded again and every pose is answered once.
 #include <gtest/gtest.h>
@@ -46,6 +47,29 @@ TEST_F(StreamPoses, LatestWinsAnswersOrCountsEveryPose) {
   EXPECT_EQ(counts[1] + counts[2], 300) << run.output;
   EXPECT_GE(counts[1], 1) << "the newest pose is always answered";
   EXPECT_EQ(counts[3], 0) << run.output;
+}
+
+TEST_F(StreamPoses, SharedMemoryOnTheUnixSocketIsAnsweredPoseForPose) {
+  // A daemon of its own with a Unix socket (the fixture's listens on TCP only).
+  const fs::path directory = fresh_directory("stream_poses_unix");
+  const fs::path socket = directory / "sweepd.sock";
+  {
+    DaemonProcess daemon(directory, {"--token", "t0k", "--unix-socket", socket.string()});
+    ASSERT_TRUE(daemon.running()) << daemon.log();
+    const ClientRun run =
+        run_stream_poses("--unix " + socket.string() + " --shared-memory --token t0k --bvh " +
+                         clip_.string() + " --frames 60 --flat-out");
+    ASSERT_EQ(run.exit_code, 0) << run.output << daemon.log();
+    EXPECT_EQ(pose_counts(run.output), (std::array<int, 4>{60, 60, 0, 0})) << run.output;
+    EXPECT_NE(daemon.log().find("shared_memory_mapped"), std::string::npos) << daemon.log();
+  }
+  fs::remove_all(directory);
+  // Shared memory needs the Unix socket, and float32: a bad command line naming the flag.
+  for (const std::string flags : {" --shared-memory", " --unix /tmp/x --shared-memory --float16"}) {
+    const ClientRun refused = run_stream_poses(common_arguments() + flags);
+    EXPECT_EQ(refused.exit_code, 2) << refused.output;
+    EXPECT_NE(refused.output.find("--shared-memory"), std::string::npos) << refused.output;
+  }
 }
 
 TEST_F(StreamPoses, WrongTokenEndsTheClientWithTheServersReason) {
@@ -97,9 +121,9 @@ TEST_F(StreamPoses, ADaemonRestartedOnAnEmptyStoreMidStreamGetsTheModelAgain) {
   // Another store: the model's content id is unknown there (UnknownModel), as on a replica
   // without the shared volume.
   fs::create_directories(directory_ / "restarted");
-  DaemonProcess restarted(directory_ / "restarted", {"--token", "t0k", "--port",
-                                                     std::to_string(port), "--mannequin-vertices",
-                                                     "1000"});
+  DaemonProcess restarted(
+      directory_ / "restarted",
+      {"--token", "t0k", "--port", std::to_string(port), "--mannequin-vertices", "1000"});
   ASSERT_TRUE(restarted.running()) << restarted.log();
 
   const ClientRun result = run.get();
