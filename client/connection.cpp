@@ -190,8 +190,9 @@ const pb::Message& Connection::receive(int* descriptor) {
   std::uint32_t length = 0;
   auto* prefix = reinterpret_cast<std::uint8_t*>(&length);
   std::size_t have = 0;
-  if (descriptor != nullptr) {
-    // The descriptor comes with the frame's first bytes: read them with room for it.
+  if (descriptor != nullptr && !tls_) {
+    // The descriptor comes with the frame's first bytes: read them with room for it. (Over TLS
+    // none comes: the server refuses MapSharedMemory there, and its Error is read through TLS.)
     try {
       have = pb::receive_with_descriptor(socket_.native_handle(), {prefix, 4}, *descriptor);
     } catch (const std::system_error& error) {

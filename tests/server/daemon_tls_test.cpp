@@ -114,6 +114,15 @@ TEST_F(DaemonTls, PosesOverTlsEqualThoseOverThePlainUnixSocketBitForBit) {
     EXPECT_TRUE(same_bits(tls_positions, unix_positions));
     EXPECT_TRUE(same_bits(tls_normals, copy_floats(over_unix->normals_f32())));
   }
+  // No descriptor crosses TLS: MapSharedMemory is refused, read through TLS like any reply,
+  // and the session goes on.
+  try {
+    secure.map_shared_memory(4096);
+    ADD_FAILURE() << "a shared region over TLS";
+  } catch (const client::ServerError& error) {
+    EXPECT_EQ(error.code(), protocol::ErrorCode::NotAvailable) << error.what();
+  }
+  EXPECT_GT(secure.load_model("mannequin").joint_names()->size(), 0u);
   secure.close();
   const std::string log = daemon_->log();
   EXPECT_NE(log.find(R"("client_certificate":"/CN=render-node")"), std::string::npos) << log;
