@@ -169,12 +169,15 @@ std::span<const std::uint8_t> Connection::map_shared_memory(std::uint64_t bytes)
 
 std::span<const float> Connection::shared_floats(const pb::PosedVertices& reply,
                                                  std::size_t first) const {
+  // The reply's offset is the server's word: checked against the region without overflowing.
   const std::size_t count = 3 * std::size_t{reply.vertex_count()};
-  const std::uint64_t offset = reply.shared_offset() + first * count * sizeof(float);
-  if (!reply.in_shared_memory() || offset % sizeof(float) != 0 || offset > shared_.size() ||
-      count > (shared_.size() - offset) / sizeof(float)) {
+  const std::uint64_t start = reply.shared_offset();
+  const std::uint64_t skip = first * count * sizeof(float);
+  if (!reply.in_shared_memory() || start % sizeof(float) != 0 || start > shared_.size() ||
+      skip > shared_.size() - start || count > (shared_.size() - start - skip) / sizeof(float)) {
     return {};
   }
+  const std::uint64_t offset = start + skip;
   return {reinterpret_cast<const float*>(shared_.data() + offset), count};
 }
 
