@@ -180,23 +180,20 @@ std::uint64_t PosedVerticesWriter::write(PoseRequest& request, std::uint32_t dro
   header.normals = request.normals;
   header.dropped_before = dropped_before;
   std::pair<std::uint64_t, std::uint64_t> work_ns;
-  if (request.shared_region) {
-    // Placed and checked when queued (place_in_shared_region).
-    const std::size_t values = 3 * vertex_count;
-    const std::uint64_t offset = *request.shared_offset;
-    const std::span<float> positions = *request.shared_region->floats(offset, values);
-    const std::span<float> normals =
-        request.normals ? *request.shared_region->floats(offset + values * sizeof(float), values)
-                        : std::span<float>();
-    work_ns = deform(request, as_vectors(positions), as_vectors(normals));
-    header.shared_offset = offset;
-    protocol::PosedVerticesFrame frame(builder, header);
-    fill_timings(frame.timings(), request, started, work_ns);
-    return work_ns.first + work_ns.second;
-  }
   if (request.format == protocol::PositionFormat::Float32) {
+    // Deformed in place: into the frame, or (placed and checked when queued,
+    // place_in_shared_region) into the shared region, the frame then carrying only the offset.
+    header.shared_offset = request.shared_offset;
     protocol::PosedVerticesFrame frame(builder, header);
-    work_ns = deform(request, as_vectors(frame.positions_f32()), as_vectors(frame.normals_f32()));
+    std::span<float> positions = frame.positions_f32(), normals = frame.normals_f32();
+    if (request.shared_region) {
+      const std::size_t values = 3 * vertex_count;
+      const std::uint64_t offset = *request.shared_offset;
+      positions = *request.shared_region->floats(offset, values);
+      if (request.normals)
+        normals = *request.shared_region->floats(offset + values * sizeof(float), values);
+    }
+    work_ns = deform(request, as_vectors(positions), as_vectors(normals));
     fill_timings(frame.timings(), request, started, work_ns);
     return work_ns.first + work_ns.second;
   }

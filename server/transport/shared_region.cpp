@@ -10,8 +10,11 @@
 namespace sweepd::server {
 namespace {
 
-[[noreturn]] void fail(const char* what) {
-  throw std::system_error(errno, std::generic_category(), what);
+// Throws errno's error; `fd` (when ≥ 0) is closed first, errno kept across the close.
+[[noreturn]] void fail(const char* what, int fd = -1) {
+  const int error = errno;
+  if (fd >= 0) close(fd);
+  throw std::system_error(error, std::generic_category(), what);
 }
 
 }  // namespace
@@ -21,18 +24,10 @@ std::shared_ptr<SharedRegion> SharedRegion::create(std::size_t bytes) {
   if (fd < 0) fail("memfd_create");
   if (ftruncate(fd, static_cast<off_t>(bytes)) != 0 ||
       fcntl(fd, F_ADD_SEALS, F_SEAL_SHRINK | F_SEAL_GROW | F_SEAL_SEAL) != 0) {
-    const int error = errno;
-    close(fd);
-    errno = error;
-    fail("sealing the shared region");
+    fail("sealing the shared region", fd);
   }
   void* memory = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
-  if (memory == MAP_FAILED) {
-    const int error = errno;
-    close(fd);
-    errno = error;
-    fail("mapping the shared region");
-  }
+  if (memory == MAP_FAILED) fail("mapping the shared region", fd);
   return std::shared_ptr<SharedRegion>(new SharedRegion(fd, memory, bytes));
 }
 
