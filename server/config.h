@@ -80,8 +80,11 @@ struct ServerConfig {
   std::uint32_t max_model_vertices = 2'000'000;  // uploads above it: MemoryLimit
   int worker_threads = 0;                        // 0: one per core
   int deform_threads = 1;                        // threads one pose is split over
-  int mannequin_vertices = 20000;                // the default model's size
-  int position_maps = 1;  // 1: answer PositionMapRequest on the GPU worker (EGL); 0: off
+  // A worker that finished a job polls for the next one this long before it sleeps
+  // (server/transport/fair_work_queue.h); 0: it sleeps at once.
+  int worker_spin_us = 0;
+  int mannequin_vertices = 20000;  // the default model's size
+  int position_maps = 1;           // 1: answer PositionMapRequest on the GPU worker (EGL); 0: off
   // Where folding finds its pairs (gpu/collision_backend.h): auto, gpu or cpu.
   gpu::CollisionChoice collision = gpu::CollisionChoice::kAuto;
   bool show_help = false;

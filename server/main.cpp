@@ -125,6 +125,7 @@ int main(int argc, char** argv) {
                        {"max_frame_bytes", config.max_frame_bytes},
                        {"max_poses_in_flight", config.max_poses_in_flight},
                        {"worker_threads", config.worker_threads},
+                       {"worker_spin_us", config.worker_spin_us},
                        {"position_maps", config.position_maps != 0},
                        {"systemd_notify", systemd.enabled()},
                        {"watchdog_ms", watchdog_timeout ? watchdog_timeout->count() / 1000 : 0}});

@@ -17,9 +17,18 @@
 // of one connection queued before then are spaced by its last job's cost. The pool must be
 // joined before the queue is destroyed (tokens hold the queue), and a share must outlive its
 // jobs.
+//
+// With a `spin`, a worker that has finished a job polls the queue for up to that long before it
+// goes back to sleep in the pool (one worker at a time, yielding its core to any thread that
+// wants it). A sleeping worker is woken by the pool's condition variable, and on a virtual
+// machine a thread woken on an idle core runs only after the hypervisor wakes that core: a
+// client sending one pose at a time paid that wake-up on every pose (README, "server_bench").
+// A job a spinning worker takes leaves its token nothing to run: the token returns at once.
 #pragma once
 
 #include <asio/thread_pool.hpp>
+#include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -37,8 +46,10 @@ class FairWorkQueue {
  public:
   using Clock = std::function<std::uint64_t()>;  // nanoseconds, monotonic
 
-  // `clock` measures what each job costs: the steady clock, or a test's own.
-  explicit FairWorkQueue(asio::thread_pool& pool, Clock clock = steady_nanoseconds);
+  // `clock` measures what each job costs: the steady clock, or a test's own. `spin`: how long
+  // a worker that finished a job polls for the next one before it sleeps (zero: not at all).
+  explicit FairWorkQueue(asio::thread_pool& pool, Clock clock = steady_nanoseconds,
+                         std::chrono::microseconds spin = {});
 
   void post(FairShare& share, std::function<void()> job);
 
@@ -49,10 +60,15 @@ class FairWorkQueue {
     FairShare* share;
     std::function<void()> run;
   };
-  void run_one();
+  void run_one();       // a token: runs the smallest job, then those it finds while spinning
+  bool run_next();      // runs the smallest job, if any
+  bool spin_for_job();  // true when a job was queued within spin_ (false: another worker spins)
 
   asio::thread_pool& pool_;
   Clock clock_;
+  std::chrono::microseconds spin_;
+  std::atomic<std::size_t> queued_{0};  // jobs_.size(), read without the lock while spinning
+  std::atomic<bool> spinning_{false};   // a worker is polling
   std::mutex mutex_;
   std::map<std::pair<std::uint64_t, std::uint64_t>, Job> jobs_;  // (tag, arrival)
   std::uint64_t virtual_time_ = 0;                               // the largest tag started yet

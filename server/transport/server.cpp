@@ -29,6 +29,8 @@ Server::Server(const ServerConfig& config, ModelService& models, Readiness& read
     : config_(config),
       readiness_(readiness),
       worker_pool_(worker_count(config)),
+      workers_(worker_pool_, FairWorkQueue::steady_nanoseconds,
+               std::chrono::microseconds(config.worker_spin_us)),
       gpu_waiters_(worker_count(config)),
       position_maps_(config.position_maps != 0, gpu),
       clips_(config.max_clips, config.max_clip_bytes),

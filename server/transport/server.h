@@ -68,7 +68,7 @@ class Server {
   std::atomic<bool> serving_{false};  // io_.run() is (about to be) running
   asio::io_context io_;
   asio::thread_pool worker_pool_;
-  FairWorkQueue workers_{worker_pool_};  // joined with worker_pool_ (its tokens hold it)
+  FairWorkQueue workers_;  // joined with worker_pool_ (its tokens hold it)
   asio::thread_pool gpu_waiters_;
   PositionMapService position_maps_;
   ClipStore clips_;  // UploadClip's clips, shared by every connection

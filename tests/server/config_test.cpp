@@ -79,6 +79,15 @@ TEST(ServerConfig, ClipLimitsAreFlagsAndConfigKeys) {
   EXPECT_EQ(parse({"--config", file}).max_clips, 64u);
 }
 
+TEST(ServerConfig, WorkerSpinIsOffByDefaultAndAFlagAndAConfigKey) {
+  EXPECT_EQ(parse({}).worker_spin_us, 0);
+  EXPECT_EQ(parse({"--worker-spin-us", "200"}).worker_spin_us, 200);
+  const std::string file = std::string(SWEEPD_SOURCE_DIR) + "/deploy/sweepd.conf";
+  EXPECT_EQ(parse({"--config", file}).worker_spin_us, 0);
+  EXPECT_NE(error_of({"--worker-spin-us", "-1"}).find("out of range"), std::string::npos);
+  EXPECT_NE(error_of({"--worker-spin-us", "100001"}).find("out of range"), std::string::npos);
+}
+
 TEST(ServerConfig, MistakesAreNamed) {
   EXPECT_NE(error_of({"--prot", "1"}).find("--prot: unknown flag"), std::string::npos);
   EXPECT_NE(error_of({"--port"}).find("--port: missing value"), std::string::npos);

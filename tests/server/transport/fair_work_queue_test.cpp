@@ -115,5 +115,64 @@ TEST_F(FairWorkQueueTest, ACheapJobCostsItsConnectionLittle) {
   EXPECT_EQ(order_, expected);
 }
 
+// A worker that spins (FairWorkQueue's `spin`) runs a job posted while it polls itself, before
+// anything the pool queued after that job's token; without a spin the pool's own order holds.
+// One pool thread, so the order says who ran the job: a job run from its own token would run
+// after the marker posted to the pool before it.
+std::vector<std::string> order_after_a_finished_job(std::chrono::microseconds spin) {
+  asio::thread_pool pool(1);
+  FairWorkQueue queue(pool, FairWorkQueue::steady_nanoseconds, spin);
+  FairShare share;
+  std::mutex mutex;
+  std::vector<std::string> order;
+  const auto record = [&](const char* name) {
+    const std::lock_guard lock(mutex);
+    order.emplace_back(name);
+  };
+  std::promise<void> first_done;
+  queue.post(share, [&] {
+    record("first");
+    first_done.set_value();
+  });
+  first_done.get_future().wait();  // the worker is still in the first job's token
+  asio::post(pool, [&] { record("marker"); });
+  queue.post(share, [&] { record("second"); });
+  pool.join();
+  return order;
+}
+
+TEST(FairWorkQueueSpin, ASpinningWorkerRunsTheNextJobWithoutSleeping) {
+  // The spin (1 s) only has to outlast the two posts after the first job ends; the test then
+  // waits it out once more after the second job.
+  const std::vector<std::string> spun = {"first", "second", "marker"};
+  EXPECT_EQ(order_after_a_finished_job(std::chrono::seconds(1)), spun);
+  const std::vector<std::string> slept = {"first", "marker", "second"};
+  EXPECT_EQ(order_after_a_finished_job(std::chrono::microseconds(0)), slept);
+}
+
+TEST(FairWorkQueueSpin, EveryJobRunsOnceWhileWorkersSpin) {
+  // Two workers, both finding jobs while they spin and tokens whose job was already taken:
+  // 4 threads post 500 jobs each; every one runs exactly once and the pool ends.
+  asio::thread_pool pool(2);
+  FairWorkQueue queue(pool, FairWorkQueue::steady_nanoseconds, std::chrono::microseconds(200));
+  constexpr int kPosters = 4, kJobs = 500;
+  std::vector<std::atomic<int>> runs(kPosters * kJobs);
+  std::vector<FairShare> shares(kPosters);
+  std::vector<std::thread> posters;
+  for (int p = 0; p < kPosters; ++p) {
+    posters.emplace_back([&, p] {
+      for (int j = 0; j < kJobs; ++j) {
+        queue.post(shares[p], [&runs, index = p * kJobs + j] { runs[index].fetch_add(1); });
+        if (j % 50 == 0) std::this_thread::sleep_for(std::chrono::microseconds(300));
+      }
+    });
+  }
+  for (std::thread& poster : posters) poster.join();
+  pool.join();
+  int not_once = 0;
+  for (const std::atomic<int>& count : runs) not_once += count.load() != 1;
+  EXPECT_EQ(not_once, 0);
+}
+
 }  // namespace
 }  // namespace sweepd::server
