@@ -32,13 +32,15 @@ std::vector<BenchPose> clip_poses(const pb::ModelInfo& info, int count) {
 }
 
 void send_pose(client::Connection& connection, std::uint32_t model_id, std::uint64_t sequence,
-               const BenchPose& pose, std::optional<std::uint64_t> shared_offset) {
+               const BenchPose& pose, std::optional<std::uint64_t> shared_offset,
+               pb::PositionFormat format) {
   pb::PoseFields fields;
   fields.model_id = model_id;
   fields.sequence = sequence;
   fields.rotations = pose.rotations;
   fields.root_translation = pose.root;
   fields.shared_offset = shared_offset;
+  fields.positions = format;
   flatbuffers::FlatBufferBuilder& builder = connection.builder();
   builder.Clear();
   connection.send(pb::finish_message(builder, pb::add_pose(builder, fields)));

@@ -3,7 +3,8 @@
 // clip_poses(info, count): `count` frames spread over CMU clip 01_01, retargeted client-side
 //   onto the served model (motion::Retargeter on its ModelInfo's skeleton), each as the wire's
 //   rotations and root translation and as the library's Pose.
-// send_pose(connection, model_id, sequence, pose): one Pose frame, float32 positions asked.
+// send_pose(connection, model_id, sequence, pose): one Pose frame, float32 positions asked
+//   (or the format given).
 // percentile(values, q): the q-quantile (0..1) by rank, NaN for none.
 // milliseconds_since(start): steady-clock milliseconds since `start`.
 #pragma once
@@ -28,7 +29,8 @@ struct BenchPose {
 std::vector<BenchPose> clip_poses(const protocol::ModelInfo& info, int count);
 // `shared_offset`: the reply's vertices go into the connection's shared region there (1.10).
 void send_pose(client::Connection& connection, std::uint32_t model_id, std::uint64_t sequence,
-               const BenchPose& pose, std::optional<std::uint64_t> shared_offset = std::nullopt);
+               const BenchPose& pose, std::optional<std::uint64_t> shared_offset = std::nullopt,
+               protocol::PositionFormat format = protocol::PositionFormat::Float32);
 double percentile(std::vector<double> values, double q);
 double milliseconds_since(std::chrono::steady_clock::time_point start);
 

@@ -5,10 +5,12 @@
 //   fleet_bench [--daemon PATH] [--render-frames PATH] [--vertices N] [--poses N] [--rounds N]
 //               [--frames N] [--side N] [--haproxy-config FILE ...] [--no-renders]
 //
-// 1. The proxy hop: one client, one pose at a time (InOrder, float32 positions), directly to a
-//    replica and through HAProxy, in alternating rounds so that drift of the machine's load
-//    falls on both → round trip p50 / p99 each, and through ÷ direct at p50 (the target:
-//    ≤ 1.10 at 72k vertices). --haproxy-config (repeatable; default deploy/haproxy.cfg) starts
+// 1. The proxy hop: one client, one pose at a time (InOrder), directly to a replica and through
+//    HAProxy, in alternating rounds so that drift of the machine's load falls on both → round
+//    trip p50 / p99 each, and through ÷ direct at p50 (the target: ≤ 1.10 at 72k
+//    vertices); for float32 replies (850 KB at 72k) and for compact vertex streams (Meshopt,
+//    protocol 1.5: about a third of the bytes for the proxy to carry, the server's encode added
+//    on both paths). --haproxy-config (repeatable; default deploy/haproxy.cfg) starts
 //    one HAProxy per file, each measured in the same rounds against the same direct baseline,
 //    to compare configurations in one run.
 // 2. Render throughput: render_frames over --frames frames of CMU clip 01_01 at --side² (position
@@ -48,9 +50,9 @@ struct Options {
 };
 
 // Round trips of `poses`, one at a time, on a new connection to `address` (after 10 warm-up
-// poses), appended to `times` in ms.
+// poses), replies in `format`, appended to `times` in ms.
 void round_trips(const std::string& address, const std::vector<BenchPose>& poses,
-                 std::vector<double>& times) {
+                 pb::PositionFormat format, std::vector<double>& times) {
   sweepd::client::Connection connection(address);
   connection.hello("", "fleet_bench");
   const std::uint32_t model_id = connection.load_model("mannequin").model_id();
@@ -58,7 +60,7 @@ void round_trips(const std::string& address, const std::vector<BenchPose>& poses
   for (int i = -kWarmUp; i < static_cast<int>(poses.size()); ++i) {
     const Clock::time_point start = Clock::now();
     sweepd::bench::send_pose(connection, model_id, static_cast<std::uint64_t>(i + kWarmUp + 1),
-                             poses[static_cast<std::size_t>(std::max(i, 0))]);
+                             poses[static_cast<std::size_t>(std::max(i, 0))], std::nullopt, format);
     connection.expect<pb::PosedVertices>();
     if (i >= 0) times.push_back(sweepd::bench::milliseconds_since(start));
   }
@@ -183,23 +185,28 @@ int run_bench(const Options& options) {
     poses = sweepd::bench::clip_poses(info, options.poses);
     connection.close();
   }
-  std::vector<double> direct;
-  std::vector<std::vector<double>> through(proxies.size());
-  for (int round = 0; round < options.rounds; ++round) {
-    round_trips(replicas[0]->address(), poses, direct);
-    for (std::size_t c = 0; c < proxies.size(); ++c)
-      round_trips("127.0.0.1:" + std::to_string(proxies[c]->port()), poses, through[c]);
-  }
   using sweepd::bench::percentile;
   std::printf(
       "| %u vertices, %d × %d poses | direct p50 ms | p99 ms | through HAProxy p50 ms | "
       "p99 ms | through ÷ direct p50 |\n|---|---|---|---|---|---|\n",
       vertex_count, options.rounds, options.poses);
-  for (std::size_t c = 0; c < proxies.size(); ++c) {
-    std::printf("| %s | %.3f | %.3f | %.3f | %.3f | %.3f |\n",
-                configs.size() == 1 ? "one at a time" : configs[c].c_str(),
-                percentile(direct, 0.5), percentile(direct, 0.99), percentile(through[c], 0.5),
-                percentile(through[c], 0.99), percentile(through[c], 0.5) / percentile(direct, 0.5));
+  const std::pair<pb::PositionFormat, const char*> formats[] = {
+      {pb::PositionFormat::Float32, "float32"}, {pb::PositionFormat::Meshopt, "Meshopt"}};
+  for (const auto& [format, format_name] : formats) {
+    std::vector<double> direct;
+    std::vector<std::vector<double>> through(proxies.size());
+    for (int round = 0; round < options.rounds; ++round) {
+      round_trips(replicas[0]->address(), poses, format, direct);
+      for (std::size_t c = 0; c < proxies.size(); ++c)
+        round_trips("127.0.0.1:" + std::to_string(proxies[c]->port()), poses, format, through[c]);
+    }
+    for (std::size_t c = 0; c < proxies.size(); ++c) {
+      std::printf("| %s replies%s%s | %.3f | %.3f | %.3f | %.3f | %.3f |\n", format_name,
+                  configs.size() == 1 ? "" : ", ", configs.size() == 1 ? "" : configs[c].c_str(),
+                  percentile(direct, 0.5), percentile(direct, 0.99), percentile(through[c], 0.5),
+                  percentile(through[c], 0.99),
+                  percentile(through[c], 0.5) / percentile(direct, 0.5));
+    }
   }
   std::printf("\n");
   std::fflush(stdout);
