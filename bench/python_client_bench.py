@@ -6,10 +6,11 @@ and model in the same run (issue 18's target: >= 1,000 poses/s of the 14.5k male
   bench/python_client_bench.py [BUILD_DIR] [--model M.glb] [--bvh CLIP.bvh] [--poses N]
 
 Installs the package into a temporary venv (offline, as tests/server/python_package_test.cpp
-does), starts sweepd from BUILD_DIR on a free port, uploads the model, streams N poses with
-Client.poses, then with AsyncClient.poses (asyncio; the server's max_poses_in_flight in
-flight each), and then the clip's first N frames with the C++ client. Prints one table row
-per client and the ratios.
+does), starts sweepd from BUILD_DIR on a free port and a Unix socket, uploads the model,
+streams N poses with Client.poses, then with AsyncClient.poses (asyncio; the server's
+max_poses_in_flight in flight each), then with Client.poses on the Unix socket, plainly and
+with the replies in shared memory (protocol 1.10, poses(shared=True)), and then the clip's
+first N frames with the C++ client over TCP. Prints one table row per client and the ratios.
 """
 
 import argparse
@@ -28,7 +29,8 @@ def start_daemon(build, directory):
     port_file = os.path.join(directory, "port")
     daemon = subprocess.Popen([os.path.join(build, "server/sweepd"), "--port", "0", "--port-file",
                                port_file, "--store-dir", os.path.join(directory, "store"),
-                               "--mannequin-vertices", "1000"],
+                               "--mannequin-vertices", "1000",
+                               "--unix-socket", os.path.join(directory, "sweepd.sock")],
                               stderr=open(os.path.join(directory, "sweepd.log"), "w"))
     deadline = time.monotonic() + 60
     while not os.path.exists(port_file) or not open(port_file).read().strip():
@@ -42,7 +44,8 @@ PYTHON_STREAM = """
 import asyncio, sys, time
 import numpy as np
 from sweepd_client import AsyncClient, Client
-port, model, count, variant = int(sys.argv[1]), sys.argv[2], int(sys.argv[3]), sys.argv[4]
+port, unix, model, count = int(sys.argv[1]), sys.argv[2], sys.argv[3], int(sys.argv[4])
+variant = sys.argv[5]
 
 def bent(joints):
     # Distinct small bends per frame, made before the clock starts.
@@ -50,13 +53,16 @@ def bent(joints):
     return [np.stack([np.sin(a / 2), np.zeros(joints), np.zeros(joints), np.cos(a / 2)], 1)
             for a in angles]
 
-def blocking():
-    with Client("127.0.0.1", port) as sweepd:
+def blocking(where, shared=False):
+    with Client(**where) as sweepd:
         body = sweepd.upload(model)
         frames = bent(len(body.joint_names))
+        if shared:  # one slot per pose in flight
+            sweepd.map_shared_memory(sweepd.max_poses_in_flight * body.vertex_count * 12)
         sweepd.pose(body)  # warm up the connection and the server's caches
         start = time.perf_counter()
-        received = sum(p.positions.shape[0] == body.vertex_count for p in sweepd.poses(body, frames))
+        received = sum(p.positions.shape[0] == body.vertex_count
+                       for p in sweepd.poses(body, frames, shared=shared))
         return received, time.perf_counter() - start, body.vertex_count
 
 async def awaited():
@@ -70,7 +76,11 @@ async def awaited():
             received += p.positions.shape[0] == body.vertex_count
         return received, time.perf_counter() - start, body.vertex_count
 
-received, seconds, vertices = blocking() if variant == "blocking" else asyncio.run(awaited())
+if variant == "async":
+    received, seconds, vertices = asyncio.run(awaited())
+else:
+    where = {"port": port} if variant == "blocking" else {"unix": unix}
+    received, seconds, vertices = blocking(where, shared=variant == "shared")
 print(f"{received} {seconds} {vertices}")
 """
 
@@ -95,9 +105,10 @@ def main():
         daemon, port = start_daemon(options.build, directory)
         try:
             rates = {}
-            for variant in ("blocking", "async"):
+            for variant in ("blocking", "async", "unix", "shared"):
                 python = subprocess.run([os.path.join(venv, "bin/python"), "-c", PYTHON_STREAM,
-                                         str(port), options.model, str(options.poses), variant],
+                                         str(port), os.path.join(directory, "sweepd.sock"),
+                                         options.model, str(options.poses), variant],
                                         check=True, capture_output=True, text=True, cwd=directory)
                 received, seconds, vertices = python.stdout.split()
                 rates[variant] = int(received) / float(seconds)
@@ -115,9 +126,14 @@ def main():
           f"{rates['blocking']:.0f} |")
     print(f"| Python package, AsyncClient, NumPy arrays | {int(vertices):,} | {received} | "
           f"{rates['async']:.0f} |")
+    print(f"| Python package, Client, Unix socket | {int(vertices):,} | {received} | "
+          f"{rates['unix']:.0f} |")
+    print(f"| Python package, Client, Unix socket, replies in shared memory | {int(vertices):,} | "
+          f"{received} | {rates['shared']:.0f} |")
     print(f"| C++ stream_poses (baseline) | {int(vertices):,} | {options.poses} | {cpp_rate:.0f} |")
     print(f"Python / C++: {rates['blocking'] / cpp_rate:.2f} (Client), "
-          f"{rates['async'] / cpp_rate:.2f} (AsyncClient)")
+          f"{rates['async'] / cpp_rate:.2f} (AsyncClient), {rates['unix'] / cpp_rate:.2f} (Unix "
+          f"socket), {rates['shared'] / cpp_rate:.2f} (shared memory)")
 
 if __name__ == "__main__":
     main()

@@ -2,7 +2,7 @@
 tests/server/python_package_test.cpp from a fresh venv, outside the source tree).
 
   python_package_check.py PORT TOKEN BODY.glb ROTATIONS.f32 OUT_DIR OTHER_PORT CLIP.bvh
-                          ANIMATED.glb
+                          ANIMATED.glb UNIX_SOCKET
 
 Uploads BODY.glb (also with the smooth orientation curve), poses it with ROTATIONS (float32 x, y, z, w per joint) and writes
 OUT_DIR/positions.f32 and OUT_DIR/map.exr for the test to compare with the library. Checks on
@@ -18,6 +18,8 @@ interpolation gives the same pose) or retargeted onto BODY; an unknown name rais
 ClipLoadFailed listing the file's animations. The meshopt
 encoding decodes within half its 0.18 mm grid step. AsyncClient (asyncio) streams the same
 poses and clip frames as the blocking Client, bit for bit, and raises the same exceptions.
+On UNIX_SOCKET (the same daemon's) replies in shared memory (protocol 1.10) equal the TCP
+replies bit for bit, single, streamed and clip frames, and the refusals are named.
 Prints "ok" and exits 0, or names the failed check and exits 1.
 """
 
@@ -94,7 +96,38 @@ async def check_async_client(port, token, glb, rotations, clip_file, expected):
     silent.close()
 
 
-def main(port, token, glb, rotations_file, out, other_port, clip_file, animated_file):
+def check_shared_memory(unix_socket, port, token, body, rotations, posed, clip, clip_frames):
+    """Protocol 1.10 on the Unix socket: replies written into a region shared with the server
+    are the TCP replies bit for bit (the same float32 the server deformed, only not copied
+    through the socket); refusals are named, and the session goes on."""
+    with Client(unix=unix_socket, token=token, timeout=60) as local:
+        expect_error(errors.SweepdError, lambda: local.pose(body, rotations, shared_offset=0))
+        slot = body.vertex_count * 3 * 4
+        check(local.map_shared_memory(4 * 2 * slot) == 8 * slot, "the region's size")
+        shared = local.pose(body, rotations, normals=True, shared_offset=2 * slot)
+        check(np.array_equal(shared.positions, posed.positions), "shared positions equal TCP's")
+        check(np.array_equal(shared.normals, posed.normals), "shared normals equal TCP's")
+        check(not shared.positions.flags.writeable, "a read-only view of the region")
+        count = 0
+        for streamed in local.poses(body, [rotations] * 20, shared=True):
+            check(np.array_equal(streamed.positions, posed.positions), "a streamed shared pose")
+            count += 1
+        check(count == 20, "20 shared replies")
+        frames = [p.positions.copy() for p in local.poses(body, [99, 100, 101], clip=clip,
+                                                        shared=True)]
+        check(all(np.array_equal(a, b.positions) for a, b in zip(frames, clip_frames)),
+              "shared clip frames equal TCP's")
+        expect_error(errors.InvalidArgument,
+                     lambda: local.pose(body, rotations, shared_offset=8 * slot - 4))
+        expect_error(errors.SweepdError, lambda: local.map_shared_memory(slot))
+        check(np.array_equal(local.pose(body, rotations).positions, posed.positions),
+              "a plain reply after the refusals")
+    with Client("127.0.0.1", int(port), token=token) as tcp:
+        expect_error(errors.NotAvailable, lambda: tcp.map_shared_memory(slot))
+
+
+def main(port, token, glb, rotations_file, out, other_port, clip_file, animated_file,
+         unix_socket):
     check("site-packages" in sweepd_client.__file__, f"imported from {sweepd_client.__file__}")
     with Client("127.0.0.1", int(port), token=token, timeout=60) as sweepd:
         check(any(m.name == "mannequin" for m in sweepd.models()), "the default model is listed")
@@ -192,6 +225,9 @@ def main(port, token, glb, rotations_file, out, other_port, clip_file, animated_
                                lambda: sweepd.upload_clip(animated_file, animation="walk"))
         check("0 'linear', 1 'step', 2 'cubic'" in str(unknown), f"names listed: {unknown}")
         expect_error(ValueError, lambda: sweepd.upload_clip(clip_file, animation="walk"))
+
+        check_shared_memory(unix_socket, port, token, body, rotations,
+                            sweepd.pose(body, rotations, normals=True), clip, stream)
 
         clip_map = sweepd.position_map(body, clip=clip, frame=100, width=64, height=64)
         check(clip_map[:4] == b"\x76\x2f\x31\x01", "a clip frame's position map")

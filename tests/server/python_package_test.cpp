@@ -72,7 +72,9 @@ TEST(PythonPackage, InstallsOfflineIntoAVenvAndPosesLikeTheLibrary) {
   // The body with three animations of its own joints (cmu_01_01 baked at 6 keys).
   const fs::path animated = directory / "animated.glb";
   io::testing::write_baked_gltf(body, io::testing::bake_cmu_clip(body, 6), animated);
-  DaemonProcess daemon(directory, {"--token", "t0k", "--mannequin-vertices", "1000"});
+  const fs::path unix_socket = directory / "sweepd.sock";
+  DaemonProcess daemon(directory, {"--token", "t0k", "--mannequin-vertices", "1000",
+                                   "--unix-socket", unix_socket.string()});
   ASSERT_TRUE(daemon.running()) << daemon.log();
   // A second server with a store of its own: the package must upload to it again.
   fs::create_directories(directory / "other");
@@ -93,7 +95,8 @@ TEST(PythonPackage, InstallsOfflineIntoAVenvAndPosesLikeTheLibrary) {
                   quoted(fs::path(SWEEPD_SOURCE_DIR) / "tests/server/python_package_check.py") +
                   " " + std::to_string(daemon.port()) + " t0k " + quoted(glb) + " " +
                   quoted(directory / "rotations.f32") + " " + quoted(directory) + " " +
-                  std::to_string(other.port()) + " " + quoted(kClip) + " " + quoted(animated));
+                  std::to_string(other.port()) + " " + quoted(kClip) + " " + quoted(animated) +
+                  " " + quoted(unix_socket));
   ASSERT_EQ(check.exit_code, 0) << check.output << daemon.log();
   EXPECT_NE(check.output.find("ok"), std::string::npos) << check.output;
 

@@ -32,6 +32,9 @@ def _request(exchange):
 
 @with_requests(_request)
 class AsyncClient(Exchanges):
+    # asyncio's streams read with recv, which drops the SCM_RIGHTS of map_shared_memory.
+    receives_descriptors = False
+
     def __init__(self, *args, **options):
         """As Client's; nothing is connected until connect() (or `async with`)."""
         super().__init__(*args, **options)

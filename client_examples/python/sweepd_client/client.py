@@ -15,10 +15,12 @@ sweepd_client.errors.
 """
 
 import functools
+import os
 
 from .connection import Connection
 from .errors import ConnectionLost, SweepdError
-from .exchanges import Exchanges, Posed, Receive, Run, reply_body, with_requests
+from .exchanges import (Exchanges, Posed, Receive, ReceiveDescriptor, Run, reply_body,
+                        with_requests)
 
 
 def _request(exchange):
@@ -80,5 +82,13 @@ class Client(Exchanges):
             raise SweepdError("the client is closed")
         if isinstance(step, Receive):
             return reply_body(self._connection.receive(), step.table, self._connection.address)
+        if isinstance(step, ReceiveDescriptor):
+            message, descriptor = self._connection.receive_with_descriptor()
+            try:
+                return reply_body(message, step.table, self._connection.address), descriptor
+            except BaseException:
+                if descriptor is not None:
+                    os.close(descriptor)
+                raise
         self._connection.send(step.frame)
         return None

@@ -11,6 +11,7 @@ the protocol's.
 
 import contextlib
 import ipaddress
+import os
 import socket
 import struct
 
@@ -111,11 +112,36 @@ class Connection:
 
     def receive(self):
         """The next Message."""
+        return self.receive_with_descriptor(descriptors=False)[0]
+
+    def receive_with_descriptor(self, descriptors=True):
+        """The next Message and the file descriptor its first bytes carried as SCM_RIGHTS
+        (None without one): recvmsg on a Unix socket, where a plain read would drop it. TLS
+        and TCP carry none."""
         prefix = bytearray(4)
-        self._receive_into(memoryview(prefix))
-        frame = frame_buffer(prefix)
-        self._receive_into(memoryview(frame)[4:])
-        return parse_frame(frame, self.address)
+        descriptor, got = None, 0
+        if descriptors and isinstance(self.socket, socket.socket) and \
+                self.socket.family == socket.AF_UNIX:
+            with receiving(self.address, self.timeout):
+                data, fds, _, _ = socket.recv_fds(self.socket, 4, 4)
+            for extra in fds[1:]:
+                os.close(extra)  # the protocol sends one; more are not ours to keep
+            descriptor = fds[0] if fds else None
+            if not data:
+                if descriptor is not None:
+                    os.close(descriptor)
+                raise ConnectionLost(f"{self.address}: the server closed the connection")
+            prefix[:len(data)] = data
+            got = len(data)
+        try:
+            self._receive_into(memoryview(prefix)[got:])
+            frame = frame_buffer(prefix)
+            self._receive_into(memoryview(frame)[4:])
+            return parse_frame(frame, self.address), descriptor
+        except BaseException:
+            if descriptor is not None:
+                os.close(descriptor)
+            raise
 
     def close(self):
         self.socket.close()

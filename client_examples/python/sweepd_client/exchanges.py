@@ -16,11 +16,19 @@ bytes, error up to 2^-11 relative: under 1 mm on a 2 m body) or "meshopt" (proto
 positions on a 0.18 mm grid through meshoptimizer's vertex codec, error ≤ 0.09 mm, normals as
 8-bit; needs meshoptimizer's shared library, see sweepd_client.meshopt). Every encoding comes
 back as the same float32 arrays; float16=True is encoding="float16".
+
+Replies in shared memory (protocol 1.10; Client on a Unix socket only): map_shared_memory(size)
+maps a region the server writes float32 replies into; pose(shared_offset=N) has that pose
+written at byte N, and poses(shared=True) cycles the poses in flight over slots of one reply
+each. Their Posed arrays are then read-only views of the region, valid until the server writes
+that place again: the next pose at the same offset, or, in poses(), once the next Posed is
+asked for (its slot takes the next pose sent). Copy what you keep.
 """
 
 import functools
 import hashlib
 import json
+import mmap
 import os
 from time import monotonic_ns
 from dataclasses import dataclass, field
@@ -28,16 +36,16 @@ from dataclasses import dataclass, field
 import numpy as np
 from sweepd.protocol import (BindOptions, Body, Bye, ClipFrame, ClipInfo, DeformMethod, Error,
                              ExrCompression, Features, Hello, ListModels, LoadModel, MapLayers,
-                             Mesh, MeshRequest, ModelInfo, ModelList, Pose, PoseByName,
-                             PoseDelivery, PosedVertices, PoseFromClip, PositionFormat,
-                             PositionMap, PositionMapRequest, Stats, StatsRequest, UploadClip,
-                             Vec3, Welcome)
+                             MapSharedMemory, Mesh, MeshRequest, ModelInfo, ModelList, Pose,
+                             PoseByName, PoseDelivery, PosedVertices, PoseFromClip,
+                             PositionFormat, PositionMap, PositionMapRequest, SharedMemory, Stats,
+                             StatsRequest, UploadClip, Vec3, Welcome)
 
 from . import meshopt
 from .connection import body_of, finish_frame, new_builder
 from .errors import ConnectionLost, SweepdError, Timeout, UnknownModel, server_error
 
-PROTOCOL_VERSION = (1, 7)
+PROTOCOL_VERSION = (1, 10)  # shared memory (1.10) is the newest part it speaks
 METHODS = {"sweep": DeformMethod.DeformMethod.Sweep, "lbs": DeformMethod.DeformMethod.Lbs,
            "dqs": DeformMethod.DeformMethod.Dqs}
 FEATURES = {"folding": Features.Features.Folding, "protrusion": Features.Features.Protrusion,
@@ -150,6 +158,14 @@ class Receive:
     table: type
 
 
+@dataclass(frozen=True)
+class ReceiveDescriptor:
+    """A step of an exchange: the next reply as a `table`, with the file descriptor its frame's
+    first bytes carry (SCM_RIGHTS, on a Unix socket): answered with (body, descriptor or
+    None); the exchange owns the descriptor."""
+    table: type
+
+
 class Exchanges:
     """The requests of a sweepd session as exchanges, and what the session knows: the models
     and clips loaded on it, its pose sequence. Client and AsyncClient run them."""
@@ -162,6 +178,8 @@ class Exchanges:
     # content id → (name, .glb bytes or None for a model loaded by name, orientation curve) of
     # every model this process loaded: a Model used on a server that lacks it gets it again.
     _model_sources = {}
+    # Whether the client can answer a ReceiveDescriptor (map_shared_memory).
+    receives_descriptors = True
 
     def __init__(self, host="127.0.0.1", port=7878, token="", *, unix=None, tls=None,
                  timeout=30.0, client_name="sweepd-client", latest_wins=False,
@@ -174,6 +192,7 @@ class Exchanges:
         self._models = {}
         self._clips = set()  # clip ids uploaded on this connection
         self._sequence = 0
+        self._region = None  # mmap of the shared region (map_shared_memory)
         self.server_version = (0, 0)
         self.max_poses_in_flight = 1
 
@@ -312,38 +331,56 @@ class Exchanges:
 
     def _pose(self, model, rotations=None, root=None, *, clip=None, frame=None, time=None,
               loop=False, fps=0.0, method="sweep", features=(), float16=False, normals=False,
-              encoding=None):
+              encoding=None, shared_offset=None):
         """One pose → Posed: `rotations` (None: the rest pose) and `root` (the root joint's
         translation, None: at rest); or, with clip=, the clip's `frame` (an index) or `time`
-        (seconds; `fps` overrides the clip's rate, `loop` wraps past its end)."""
+        (seconds; `fps` overrides the clip's rate, `loop` wraps past its end). shared_offset:
+        the reply written into the shared region at that byte (map_shared_memory)."""
         model_id = yield from self._model_id(model)
         output = _output(method, features, float16, encoding, normals)
         clip_id = (yield from self._clip_id(clip)) if clip is not None else None
         point = (rotations, root) if clip is None else _clip_point(frame, time)
-        yield self._pose_request(model_id, output, clip_id, point, loop, fps)
-        return _posed((yield Receive(PosedVertices.PosedVertices)))
+        if shared_offset is not None:
+            self._require_region()
+        yield self._pose_request(model_id, output, clip_id, point, loop, fps, shared_offset)
+        return _posed((yield Receive(PosedVertices.PosedVertices)), self._region, output.normals)
 
     def _poses(self, model, frames, *, clip=None, loop=False, fps=0.0, method="sweep",
-               features=(), float16=False, normals=False, window=None, encoding=None):
+               features=(), float16=False, normals=False, window=None, encoding=None,
+               shared=False):
         """Streams `frames` with up to `window` poses in flight (default: the server's
         max_poses_in_flight) and yields each Posed in order (with latest_wins, the answered
         ones: Posed.dropped_before counts the others). `frames`: rotations, or
-        (rotations, root) pairs; with clip=, frame indices (int) or times in seconds (float)."""
+        (rotations, root) pairs; with clip=, frame indices (int) or times in seconds (float).
+        shared: the replies written into the shared region, one slot per pose in flight (the
+        window is at most the slots the region holds)."""
         model_id = yield from self._model_id(model)
         output = _output(method, features, float16, encoding, normals)
         clip_id = (yield from self._clip_id(clip)) if clip is not None else None
         window = window or self.max_poses_in_flight
-        frames, pending = iter(frames), 0
+        slot = 0
+        if shared:
+            self._require_region()
+            slot = self._models[model_id].vertex_count * 3 * 4 * (2 if normals else 1)
+            slots = len(self._region) // slot
+            if slots == 0:
+                raise SweepdError(f"the shared region of {len(self._region)} bytes holds no "
+                                  f"reply of {slot} bytes")
+            window = min(window, slots)
+        frames, pending, sent = iter(frames), 0, 0
         while True:
             while pending < window:
                 point = next(frames, None)
                 if point is None:
                     break
-                yield self._pose_request(model_id, output, clip_id, point, loop, fps)
+                offset = sent % window * slot if shared else None
+                yield self._pose_request(model_id, output, clip_id, point, loop, fps, offset)
                 pending += 1
+                sent += 1
             if pending == 0:
                 return
-            posed = _posed((yield Receive(PosedVertices.PosedVertices)))
+            posed = _posed((yield Receive(PosedVertices.PosedVertices)), self._region,
+                           output.normals)
             pending -= 1 + posed.dropped_before
             yield posed
 
@@ -399,6 +436,32 @@ class Exchanges:
         request = PositionMapRequest.End(builder)
         yield Send(finish_frame(builder, Body.Body.PositionMapRequest, request))
         return (yield Receive(PositionMap.PositionMap)).ExrAsNumpy().tobytes()
+
+    def _map_shared_memory(self, size):
+        """Protocol 1.10, on a Unix socket: a region of `size` bytes shared with the server,
+        which writes float32 pose replies into it (pose(shared_offset=), poses(shared=True));
+        one region per connection, kept until it closes. Returns its size."""
+        if not self.receives_descriptors:
+            raise SweepdError(f"{type(self).__name__} cannot map shared memory: use the "
+                              "blocking Client on sweepd's Unix socket")
+        if self._region is not None:
+            raise SweepdError("this connection has mapped its shared region already")
+        size = int(size)
+        builder = new_builder(64)
+        MapSharedMemory.Start(builder)
+        MapSharedMemory.AddBytes(builder, size)
+        yield Send(finish_frame(builder, Body.Body.MapSharedMemory, MapSharedMemory.End(builder)))
+        granted, descriptor = yield ReceiveDescriptor(SharedMemory.SharedMemory)
+        try:
+            if (granted.Bytes() != size or descriptor is None
+                    or os.fstat(descriptor).st_size < size):
+                raise ConnectionLost(f"the server answered MapSharedMemory without a region "
+                                     f"of {size} bytes")
+            self._region = mmap.mmap(descriptor, size, mmap.MAP_SHARED, mmap.PROT_READ)
+        finally:
+            if descriptor is not None:
+                os.close(descriptor)  # the mapping keeps the region
+        return size
 
     def _stats(self):
         """The server's Stats table (the generated class: .UptimeNs(), .Models(i), ...)."""
@@ -501,23 +564,28 @@ class Exchanges:
             return np.tile(np.array([0.0, 0.0, 0.0, 1.0], "<f4"), (joints, 1))
         return _quaternions(rotations)
 
-    def _pose_request(self, model_id, output, clip_id, point, loop, fps):
+    def _require_region(self):
+        if self._region is None:
+            raise SweepdError("a reply in shared memory needs map_shared_memory() first")
+
+    def _pose_request(self, model_id, output, clip_id, point, loop, fps, shared_offset=None):
         """The Send of one pose: `point` is rotations or (rotations, root) without a clip,
-        a clip's frame index (int) or time in seconds (float) with one."""
+        a clip's frame index (int) or time in seconds (float) with one; shared_offset: the
+        reply goes into the shared region there."""
         builder = new_builder(256)
         if clip_id is None:
             rotations, root = point if isinstance(point, tuple) else (point, None)
             pose = self._add_pose(builder, model_id, output,
-                                  self._rotations(model_id, rotations), root)
+                                  self._rotations(model_id, rotations), root, shared_offset)
             return Send(finish_frame(builder, Body.Body.Pose, pose))
         clip_frame = _add_clip_frame(builder, clip_id, point, loop, fps)
-        pose = self._add_pose(builder, model_id, output)
+        pose = self._add_pose(builder, model_id, output, shared_offset=shared_offset)
         PoseFromClip.Start(builder)
         PoseFromClip.AddPose(builder, pose)
         PoseFromClip.AddClip(builder, clip_frame)
         return Send(finish_frame(builder, Body.Body.PoseFromClip, PoseFromClip.End(builder)))
 
-    def _add_pose(self, builder, model_id, output, rotations=None, root=None):
+    def _add_pose(self, builder, model_id, output, rotations=None, root=None, shared_offset=None):
         """A Pose table; without rotations for a clip frame or named joints."""
         rotation_vector = None if rotations is None else _struct_vector(builder, rotations, 4)
         self._sequence += 1
@@ -533,6 +601,9 @@ class Exchanges:
         Pose.AddFeatures(builder, _flags(FEATURES, output.features, "feature"))
         Pose.AddPositions(builder, ENCODINGS[output.encoding])
         Pose.AddNormals(builder, output.normals)
+        if shared_offset is not None:
+            Pose.AddIntoSharedMemory(builder, True)
+            Pose.AddSharedOffset(builder, shared_offset)
         return Pose.End(builder)
 
     def _clip_id(self, clip):
@@ -563,7 +634,8 @@ class Run:
 
 def with_requests(request):
     """A client class decorator: one public method per request of Exchanges (models, load,
-    upload, mesh, upload_clip, pose, pose_by_name, position_map, stats), made by
+    upload, mesh, upload_clip, pose, pose_by_name, position_map, map_shared_memory, stats),
+    made by
     request(exchange), and poses, which returns the client's self._drive(Run(exchange)): a
     generator of Posed (an async one for AsyncClient)."""
     def install(cls):
@@ -573,6 +645,7 @@ def with_requests(request):
                                ("pose", Exchanges._pose),
                                ("pose_by_name", Exchanges._pose_by_name),
                                ("position_map", Exchanges._position_map),
+                               ("map_shared_memory", Exchanges._map_shared_memory),
                                ("stats", Exchanges._stats)):
             setattr(cls, name, request(exchange))
 
@@ -597,8 +670,23 @@ def reply_body(message, table, address):
     return body_of(message, table)
 
 
-def _posed(reply):
-    if not reply.PositionsF32IsNone():
+def _shared_floats(reply, region, first):
+    """Array `first` (0: positions, 1: normals) of a reply in shared memory: a read-only
+    (vertices, 3) view of the region, the offset checked against it (it is the server's word)."""
+    count = 3 * reply.VertexCount()
+    start = reply.SharedOffset() + first * count * 4
+    if region is None or reply.SharedOffset() % 4 or start + count * 4 > len(region):
+        raise ConnectionLost(f"a reply in shared memory at offset {reply.SharedOffset()} "
+                             f"outside this connection's region")
+    return np.frombuffer(region, np.float32, count, start).reshape(-1, 3)
+
+
+def _posed(reply, region=None, normals_asked=False):
+    """A PosedVertices reply → Posed; one in shared memory is read from `region`, its normals
+    (which the reply does not flag) when the pose asked for them."""
+    if reply.InSharedMemory():
+        positions = _shared_floats(reply, region, 0)
+    elif not reply.PositionsF32IsNone():
         positions = reply.PositionsF32AsNumpy().reshape(-1, 3)
     elif not reply.PositionsF16IsNone():
         positions = _from_half(reply.PositionsF16AsNumpy())
@@ -610,7 +698,9 @@ def _posed(reply):
     else:
         positions = np.zeros((0, 3), np.float32)
     normals = None
-    if not reply.NormalsF32IsNone():
+    if reply.InSharedMemory():
+        normals = _shared_floats(reply, region, 1) if normals_asked else None
+    elif not reply.NormalsF32IsNone():
         normals = reply.NormalsF32AsNumpy().reshape(-1, 3)
     elif not reply.NormalsF16IsNone():
         normals = _from_half(reply.NormalsF16AsNumpy())
