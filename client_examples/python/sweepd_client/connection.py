@@ -120,20 +120,17 @@ class Connection:
         and TCP carry none."""
         prefix = bytearray(4)
         descriptor, got = None, 0
-        if descriptors and isinstance(self.socket, socket.socket) and \
-                self.socket.family == socket.AF_UNIX:
-            with receiving(self.address, self.timeout):
-                data, fds, _, _ = socket.recv_fds(self.socket, 4, 4)
-            for extra in fds[1:]:
-                os.close(extra)  # the protocol sends one; more are not ours to keep
-            descriptor = fds[0] if fds else None
-            if not data:
-                if descriptor is not None:
-                    os.close(descriptor)
-                raise ConnectionLost(f"{self.address}: the server closed the connection")
-            prefix[:len(data)] = data
-            got = len(data)
         try:
+            if descriptors and self.socket.family == socket.AF_UNIX:
+                with receiving(self.address, self.timeout):
+                    data, fds, _, _ = socket.recv_fds(self.socket, 4, 4)
+                for extra in fds[1:]:
+                    os.close(extra)  # the protocol sends one; more are not ours to keep
+                descriptor = fds[0] if fds else None
+                if not data:
+                    raise ConnectionLost(f"{self.address}: the server closed the connection")
+                prefix[:len(data)] = data
+                got = len(data)
             self._receive_into(memoryview(prefix)[got:])
             frame = frame_buffer(prefix)
             self._receive_into(memoryview(frame)[4:])

@@ -635,9 +635,8 @@ class Run:
 def with_requests(request):
     """A client class decorator: one public method per request of Exchanges (models, load,
     upload, mesh, upload_clip, pose, pose_by_name, position_map, map_shared_memory, stats),
-    made by
-    request(exchange), and poses, which returns the client's self._drive(Run(exchange)): a
-    generator of Posed (an async one for AsyncClient)."""
+    made by request(exchange), and poses, which returns the client's
+    self._drive(Run(exchange)): a generator of Posed (an async one for AsyncClient)."""
     def install(cls):
         for name, exchange in (("models", Exchanges._list_models), ("load", Exchanges._load),
                                ("upload", Exchanges._upload), ("mesh", Exchanges._mesh),
