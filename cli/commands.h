@@ -6,7 +6,7 @@
 //                         CLI::ValidationError (a usage error: exit 2)
 //   run                   the work; returns the exit code (0), or throws std::exception naming
 //                         the file and the reason (input the work refuses: exit 1)
-// pose, positionmap and metrics also run on a sweepd daemon: they read the top-level
+// pose, positionmap, metrics and sheet also run on a sweepd daemon: they read the top-level
 // `--server HOST:PORT [--token T]` from `server` (address empty: run here), which is filled by
 // the time their callback and run are called, wherever --server stood on the line.
 #pragma once
@@ -32,6 +32,6 @@ Command add_render_command(CLI::App& sweepctl);
 Command add_positionmap_command(CLI::App& sweepctl, const ServerAddress& server);
 Command add_metrics_command(CLI::App& sweepctl, const ServerAddress& server);
 Command add_edit_command(CLI::App& sweepctl);
-Command add_sheet_command(CLI::App& sweepctl);
+Command add_sheet_command(CLI::App& sweepctl, const ServerAddress& server);
 
 }  // namespace sweepd::cli

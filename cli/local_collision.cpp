@@ -38,14 +38,14 @@ LocalCollision::LocalCollision(gpu::CollisionChoice choice) {
   };
 }
 
-const deform::DetectPairs& LocalCollision::detect() {
+const deform::DetectPairs& LocalCollision::begin() {
   // Another context (sweepctl render's preview) may have been made current since.
   if (context_) context_->make_current();
   frame_gpu_times_ = {};
   return detect_;
 }
 
-void LocalCollision::add(const deform::FeatureReport& report) {
+void LocalCollision::finish(const deform::FeatureReport& report) {
   ++frames_;
   times_ += report.times;
   gpu_times_.upload += frame_gpu_times_.upload;

@@ -7,8 +7,9 @@
 //
 // LocalCollision(choice): probes EGL unless choice is cpu; throws gpu::CollisionBackendError
 //   for gpu without a usable EGL context (naming the problem).
-// detect(): the DeformJob's pair finder (makes the context current first; empty on cpu).
-// add(report): one deformation's stage times (FeatureReport::times, and the GPU detector's
+// It is the sheet::PairSource of sweepctl's comparing commands (gpu/sheet/method_choice.h).
+// begin(): the DeformJob's pair finder (makes the context current first; empty on cpu).
+// finish(report): one deformation's stage times (FeatureReport::times, and the GPU detector's
 //   upload, readback and dispatch). summary(): "collision: gpu (why); N frames: detect ... ms
 //   (upload ..., readback ... of which dispatch ...), fold ... ms, protrude ... ms, contact ...
 //   ms" — totals over the frames added (contact: its resolve steps; its detection is in detect).
@@ -24,6 +25,7 @@
 #include "gpu/collision.h"
 #include "gpu/collision_backend.h"
 #include "gpu/egl_context.h"
+#include "gpu/sheet/method_choice.h"
 
 namespace sweepd::cli {
 
@@ -33,13 +35,13 @@ std::string describe_collision(gpu::CollisionBackend backend, const std::string&
                                const deform::FeatureTimes& times,
                                const gpu::CollisionTimings& gpu_times);
 
-class LocalCollision {
+class LocalCollision final : public sheet::PairSource {
  public:
   explicit LocalCollision(gpu::CollisionChoice choice);
 
   const gpu::CollisionBackendDecision& decision() const { return decision_; }
-  const deform::DetectPairs& detect();
-  void add(const deform::FeatureReport& report);
+  const deform::DetectPairs& begin() override;
+  void finish(const deform::FeatureReport& report) override;
   std::string summary() const;
 
  private:

@@ -20,7 +20,6 @@
 #include <thread>
 
 #include "cli/commands.h"
-#include "cli/method_choice.h"
 #include "cli/posed_model.h"
 #include "cli/remote_posed_model.h"
 #include "console/command_line.h"
@@ -30,6 +29,7 @@
 #include "deform/features/whole_body_detector.h"
 #include "deform/job/deform_job.h"
 #include "deform/model/forward_kinematics.h"
+#include "gpu/sheet/method_choice.h"
 #include "io/bvh_load.h"
 #include "io/rig_map_json.h"
 #include "metrics/crease_metrics.h"
@@ -45,7 +45,7 @@ const char* const kServerNote =
     "positions from the server; part regions and section planes from binding the served mesh "
     "here; sweep integral unavailable remotely";
 
-using Method = MethodChoice;
+using Method = sheet::MethodChoice;
 
 struct Options {
   PosingArguments posing;
@@ -105,7 +105,7 @@ PoseDeformer local_deformer(const Method& m, const deform::ModelRuntime& runtime
                             deform::DeformContext& context, LocalCollision* collision) {
   return [&runtime, &context, m, collision](
              deform::Pose pose, std::vector<glm::vec3>& positions) -> const deform::SweepPoser& {
-    return deform_with(m, runtime, context, collision, std::move(pose), positions);
+    return sheet::deform_with(m, runtime, context, collision, std::move(pose), positions);
   };
 }
 
@@ -361,7 +361,7 @@ Command add_metrics_command(CLI::App& sweepctl, const ServerAddress& server) {
   add_posing_flags(*command, options->posing, ClipFrames::kOneOrRange);
   add_collision_flag(*command, options->posing);
   console::add_choice_list(
-      *command, "--method", methods_by_name(),
+      *command, "--method", sheet::methods_by_name(),
       [options](const Method& method) { options->methods.push_back(method); },
       "comma-separated methods (default: sweep,sweep+volume,lbs,dqs); sweep+volume is the "
       "sweep method with volume preservation (arms, legs, torso), sweep+features with folding "
@@ -384,7 +384,7 @@ Command add_metrics_command(CLI::App& sweepctl, const ServerAddress& server) {
     if (options->methods.empty())
       for (const std::string& name :
            console::split_list(server.address.empty() ? kLocalMethods : kServerMethods))
-        options->methods.push_back(methods_by_name().at(name));
+        options->methods.push_back(sheet::methods_by_name().at(name));
   });
   return {
       command,

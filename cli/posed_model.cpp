@@ -107,9 +107,9 @@ void PosedModel::deform(int frame, std::vector<glm::vec3>& positions,
                                        : deform::VolumeChangeSource::kFixedPoint},
       .positions = positions,
       .normals = normals};
-  if (collision_) job.options.detect = collision_->detect();
+  if (collision_) job.options.detect = collision_->begin();
   feature_report_ = job.run(context_).features;
-  if (collision_) collision_->add(feature_report_);
+  if (collision_) collision_->finish(feature_report_);
 }
 
 std::uint64_t pose_hash(const deform::Pose& pose) {

@@ -3,7 +3,6 @@
 // daemon deforms and renders, and its EXR file is written as it comes.
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <memory>
 
@@ -14,6 +13,7 @@
 #include "gpu/egl_context.h"
 #include "gpu/position_map_renderer.h"
 #include "io/exr_write.h"
+#include "io/file_bytes.h"
 
 namespace sweepd::cli {
 
@@ -50,10 +50,7 @@ int positionmap(const Options& options, const ServerAddress& server) {
     const std::vector<std::uint8_t> file = posed.position_map(
         posing.frames.first,
         {size, options.normals, wire_compression(options.compression), options.half_normals});
-    std::ofstream stream(out, std::ios::binary);
-    stream.write(reinterpret_cast<const char*>(file.data()),
-                 static_cast<std::streamsize>(file.size()));
-    if (!stream) throw std::runtime_error("cannot write " + out.string());
+    io::write_file_bytes(out, file);
     std::printf("wrote %s (%dx%d, %s, sweepd at %s)\n", out.string().c_str(), size, size,
                 deform::to_string(posing.method), server.address.c_str());
     return 0;

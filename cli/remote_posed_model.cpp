@@ -291,6 +291,39 @@ std::vector<std::uint8_t> RemotePosedModel::position_map(int frame,
   return {reply.exr()->begin(), reply.exr()->end()};
 }
 
+sheet::SheetPicture RemotePosedModel::contact_sheet(const sheet::SheetOptions& options) {
+  if (clip_id_.empty())
+    throw std::logic_error("a contact sheet on the server needs its clip there");
+  const auto send = [&] {
+    flatbuffers::FlatBufferBuilder& builder = connection_->builder();
+    builder.Clear();
+    std::vector<std::uint32_t> frames(options.frames.begin(), options.frames.end());
+    std::vector<std::string> methods;
+    for (const sheet::MethodChoice& m : options.methods) methods.push_back(m.name);
+    const auto request = pb::CreateContactSheetRequest(
+        builder, model_id_, builder.CreateString(clip_id_), builder.CreateVector(frames),
+        builder.CreateVectorOfStrings(methods), static_cast<std::uint16_t>(options.cell_width),
+        static_cast<std::uint16_t>(options.cell_height), builder.CreateString(options.focus),
+        options.heat, options.heat_full_scale, options.azimuth_degrees, options.elevation_degrees);
+    connection_->send(pb::finish_message(builder, request));
+  };
+  const pb::ContactSheet& reply = ask<pb::ContactSheet>(send);
+  sheet::SheetPicture picture;
+  picture.width = static_cast<int>(reply.width());
+  picture.height = static_cast<int>(reply.height());
+  if (reply.png()) picture.png.assign(reply.png()->begin(), reply.png()->end());
+  if (reply.worst_stretch())
+    picture.worst_stretch.assign(reply.worst_stretch()->begin(), reply.worst_stretch()->end());
+  picture.renderer = reply.renderer() ? reply.renderer()->str() : "";
+  const std::size_t cells = options.frames.size() * options.methods.size();
+  if (picture.png.empty() || picture.worst_stretch.size() != cells)
+    throw std::runtime_error("sweepd at " + connection_->address() + ": its contact sheet has " +
+                             std::to_string(picture.worst_stretch.size()) + " cell figures for " +
+                             std::to_string(cells) + " cells" +
+                             (picture.png.empty() ? " and no PNG" : ""));
+  return picture;
+}
+
 std::string RemotePosedModel::collision_summary() {
   const auto send = [&] {
     flatbuffers::FlatBufferBuilder& builder = connection_->builder();

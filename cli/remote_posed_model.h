@@ -31,6 +31,7 @@
 #include "client/connection.h"
 #include "client/model_source.h"
 #include "deform/model/model.h"
+#include "gpu/sheet/contact_sheet.h"
 #include "motion/clip_poses.h"
 
 namespace sweepd::cli {
@@ -83,6 +84,9 @@ class RemotePosedModel {
   // The server's OpenEXR position map of clip frame `frame` (P, A and N when asked for; the
   // server's 4-texel gutter); the EXR header's frame is `frame`.
   std::vector<std::uint8_t> position_map(int frame, const RemoteMapOptions& options);
+  // The server's contact sheet of the clip's frames (ContactSheetRequest, protocol 1.11): the
+  // grid `sweepctl sheet` draws here, drawn by the daemon. Needs a clip played on the server.
+  sheet::SheetPicture contact_sheet(const sheet::SheetOptions& options);
   // The daemon's collision backend and its stage times since it started (Stats.collision,
   // protocol 1.3), as one line for the command's report; "" from an older server.
   std::string collision_summary();

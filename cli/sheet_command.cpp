@@ -1,16 +1,24 @@
 // sweepctl sheet: a contact sheet — a PNG grid of shaded renders, one row per clip frame and one
 // column per deformation method, each cell captioned with the method, the frame and the worst
 // edge stretch — and with --video a side-by-side .mp4 of the methods over the frames (Debian's
-// ffmpeg), for people to judge the methods by eye (cli/contact_sheet.h).
+// ffmpeg), for people to judge the methods by eye (gpu/sheet/contact_sheet.h). With --server the
+// daemon draws the PNG (ContactSheetRequest, protocol 1.11) from the model and clip uploaded to
+// it, with the same code: the same picture on the same renderer.
 #include <chrono>
 #include <cstdio>
 #include <memory>
+#include <optional>
+#include <span>
 #include <sstream>
 
 #include "cli/commands.h"
-#include "cli/contact_sheet.h"
+#include "cli/posed_model.h"
+#include "cli/remote_posed_model.h"
 #include "cli/video_encoder.h"
 #include "console/command_line.h"
+#include "gpu/egl_context.h"
+#include "gpu/sheet/contact_sheet.h"
+#include "io/file_bytes.h"
 #include "io/png_write.h"
 #include "motion/frame_range.h"
 
@@ -22,7 +30,7 @@ constexpr int kMostSheetRows = 32;
 
 struct Options {
   PosingArguments posing;
-  SheetOptions sheet;
+  sheet::SheetOptions sheet;
   std::filesystem::path png, video;
   int frames_per_second = 30;
 };
@@ -45,47 +53,111 @@ std::string parse_frame_list(const std::string& text, std::vector<int>& frames) 
   return "";
 }
 
-int sheet(Options& options) {
-  const auto start = std::chrono::steady_clock::now();
-  SheetOptions& sheet = options.sheet;
-  options.posing.frames = {*std::min_element(sheet.frames.begin(), sheet.frames.end()),
-                           *std::max_element(sheet.frames.begin(), sheet.frames.end())};
-  PosedModel posed(options.posing);  // refuses frames past the clip's end, naming them
-  gpu::Context context;
-  ContactSheet contact(posed, sheet, context);
+bool uses_collision(const sheet::SheetOptions& options) {
+  return std::any_of(options.methods.begin(), options.methods.end(),
+                     [](const sheet::MethodChoice& m) { return m.collision; });
+}
+
+// The sheet drawn here: cells on this thread's own context, sweep+features' pairs from
+// --collision's backend.
+class LocalSheet {
+ public:
+  LocalSheet(PosedModel& posed, const sheet::SheetOptions& options)
+      : renderer_(context_),
+        collision_(uses_collision(options)
+                       ? std::make_unique<LocalCollision>(posed.arguments().collision)
+                       : nullptr),
+        contact_(
+            {posed.bound(), posed.runtime(), [&posed](int frame) { return posed.pose(frame); }},
+            options, collision_.get(),
+            [this](const gpu::PreviewMesh& mesh, const gpu::PreviewOptions& preview,
+                   std::span<std::uint8_t> rgba) {
+              context_.make_current();  // a GPU collision backend may have made its own
+              renderer_.render(mesh, preview, rgba);
+            }) {}
+
+  sheet::ContactSheet& contact() { return contact_; }
+  const std::string& renderer() const { return context_.renderer(); }
+  std::string collision_summary() const { return collision_ ? collision_->summary() : ""; }
+
+ private:
+  gpu::Context context_;
+  gpu::PreviewRenderer renderer_;
+  std::unique_ptr<LocalCollision> collision_;
+  sheet::ContactSheet contact_;
+};
+
+sheet::SheetPicture draw_picture(LocalSheet& local, const sheet::SheetOptions& options) {
+  sheet::SheetPicture picture;
+  const int rows = static_cast<int>(options.frames.size());
+  picture.width = local.contact().width();
+  picture.height = rows * options.cell_height;
+  std::vector<std::uint8_t> rgba(static_cast<std::size_t>(picture.width) * picture.height * 4);
+  for (int row = 0; row < rows; ++row) local.contact().render_row(row, rgba, row);
+  io::encode_png(picture.width, picture.height, rgba, picture.png);
+  picture.worst_stretch = local.contact().worst_stretch();
+  picture.renderer = local.renderer();
+  return picture;
+}
+
+// --video: one row of cells per frame.
+void draw_video(sheet::ContactSheet& contact, const Options& options) {
+  const sheet::SheetOptions& grid = options.sheet;
   const int width = contact.width();
-  const std::size_t columns = sheet.methods.size();
-  if (!options.png.empty()) {
-    const int rows = static_cast<int>(sheet.frames.size());
-    const int height = rows * sheet.cell_height;
-    std::vector<std::uint8_t> rgba(static_cast<std::size_t>(width) * height * 4);
-    for (int row = 0; row < rows; ++row) contact.render_row(row, rgba, row);
-    io::write_png(options.png, width, height, rgba);
-    std::printf("wrote %s (%dx%d: %d frames x %zu methods, %s)\n", options.png.string().c_str(),
-                width, height, rows, columns, context.renderer().c_str());
-    std::printf("worst edge stretch %%:\n%8s", "frame");
-    for (const MethodChoice& m : sheet.methods) std::printf(" %14s", m.name.c_str());
-    for (int row = 0; row < rows; ++row) {
-      std::printf("\n%8d", sheet.frames[row]);
-      for (std::size_t m = 0; m < columns; ++m)
-        std::printf(" %14.1f", 100.0 * contact.worst_stretch()[row * columns + m]);
-    }
-    std::printf("\n");
+  std::vector<std::uint8_t> rgba(static_cast<std::size_t>(width) * grid.cell_height * 4);
+  VideoEncoder video(options.video, width, grid.cell_height, options.frames_per_second);
+  for (std::size_t f = 0; f < grid.frames.size(); ++f) {
+    contact.render_row(f, rgba, 0);
+    video.add_frame(rgba);
   }
-  if (!options.video.empty()) {
-    std::vector<std::uint8_t> rgba(static_cast<std::size_t>(width) * sheet.cell_height * 4);
-    VideoEncoder video(options.video, width, sheet.cell_height, options.frames_per_second);
-    for (std::size_t f = 0; f < sheet.frames.size(); ++f) {
-      contact.render_row(f, rgba, 0);
-      video.add_frame(rgba);
-    }
-    video.finish();
-    std::printf("wrote %s (%dx%d, %zu frames at %d fps, %zu methods side by side)\n",
-                options.video.string().c_str(), width, sheet.cell_height, sheet.frames.size(),
-                options.frames_per_second, columns);
+  video.finish();
+  std::printf("wrote %s (%dx%d, %zu frames at %d fps, %zu methods side by side)\n",
+              options.video.string().c_str(), width, grid.cell_height, grid.frames.size(),
+              options.frames_per_second, grid.methods.size());
+}
+
+void print_picture(const Options& options, const sheet::SheetPicture& picture,
+                   const std::string& where) {
+  const sheet::SheetOptions& grid = options.sheet;
+  const std::size_t columns = grid.methods.size();
+  const int rows = static_cast<int>(grid.frames.size());
+  std::printf("wrote %s (%dx%d: %d frames x %zu methods, %s%s)\n", options.png.string().c_str(),
+              picture.width, picture.height, rows, columns, picture.renderer.c_str(),
+              where.c_str());
+  std::printf("worst edge stretch %%:\n%8s", "frame");
+  for (const sheet::MethodChoice& m : grid.methods) std::printf(" %14s", m.name.c_str());
+  for (int row = 0; row < rows; ++row) {
+    std::printf("\n%8d", grid.frames[row]);
+    for (std::size_t m = 0; m < columns; ++m)
+      std::printf(" %14.1f", 100.0 * picture.worst_stretch[row * columns + m]);
   }
-  if (const std::string collision = contact.collision_summary(); !collision.empty())
-    std::printf("%s\n", collision.c_str());
+  std::printf("\n");
+}
+
+int run_sheet(Options& options, const ServerAddress& server) {
+  const auto start = std::chrono::steady_clock::now();
+  const sheet::SheetOptions& grid = options.sheet;
+  options.posing.frames = {*std::min_element(grid.frames.begin(), grid.frames.end()),
+                           *std::max_element(grid.frames.begin(), grid.frames.end())};
+  std::string collision;
+  if (!server.address.empty()) {                      // -o only (the command's rules)
+    RemotePosedModel remote(options.posing, server);  // uploads the model and the clip
+    const sheet::SheetPicture picture = remote.contact_sheet(grid);
+    io::write_file_bytes(options.png, picture.png);
+    print_picture(options, picture, ", sweepd at " + server.address);
+    if (uses_collision(grid)) collision = remote.collision_summary();
+  } else {
+    PosedModel posed(options.posing);  // refuses frames past the clip's end, naming them
+    LocalSheet local(posed, grid);
+    if (!options.png.empty()) {
+      const sheet::SheetPicture picture = draw_picture(local, grid);
+      io::write_file_bytes(options.png, picture.png);
+      print_picture(options, picture, "");
+    }
+    if (!options.video.empty()) draw_video(local.contact(), options);
+    collision = local.collision_summary();
+  }
+  if (!collision.empty()) std::printf("%s\n", collision.c_str());
   std::printf("took %.1f s\n",
               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   return 0;
@@ -93,7 +165,7 @@ int sheet(Options& options) {
 
 }  // namespace
 
-Command add_sheet_command(CLI::App& sweepctl) {
+Command add_sheet_command(CLI::App& sweepctl, const ServerAddress& server) {
   CLI::App* command = sweepctl.add_subcommand(
       "sheet",
       "contact sheet: a PNG grid of renders, a row per frame, a column per method (or --video)");
@@ -111,8 +183,8 @@ Command add_sheet_command(CLI::App& sweepctl) {
       ->each([options](const std::string& text) { parse_frame_list(text, options->sheet.frames); })
       ->required();
   console::add_choice_list(
-      *command, "--methods", methods_by_name(),
-      [options](const MethodChoice& method) { options->sheet.methods.push_back(method); },
+      *command, "--methods", sheet::methods_by_name(),
+      [options](const sheet::MethodChoice& method) { options->sheet.methods.push_back(method); },
       "comma-separated methods, a column each (default: sweep,lbs,dqs)")
       ->type_name("LIST");
   CLI::Option* png =
@@ -135,8 +207,8 @@ Command add_sheet_command(CLI::App& sweepctl) {
             int w = 0, h = 0;
             char x = 0, extra = 0;
             if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || x != 'x' ||
-                w < ContactSheet::kSmallestCell || h < ContactSheet::kSmallestCell || w > 2048 ||
-                h > 2048)
+                w < sheet::ContactSheet::kSmallestCell || h < sheet::ContactSheet::kSmallestCell ||
+                w > 2048 || h > 2048)
               return "expected WxH with W and H from 64 to 2048, got '" + text + "'";
             return "";
           },
@@ -146,7 +218,7 @@ Command add_sheet_command(CLI::App& sweepctl) {
       });
   command->add_option("--focus", options->sheet.focus, "close-ups: the camera frames this joint")
       ->type_name("JOINT")
-      ->check(CLI::IsMember(focus_names()));
+      ->check(CLI::IsMember(sheet::focus_names()));
   command->add_option("--heat", "colour the skin by edge stretch, blue 0 to red at --heat-scale")
       ->type_name("stretch")
       ->check(CLI::IsMember({"stretch"}))
@@ -170,19 +242,21 @@ Command add_sheet_command(CLI::App& sweepctl) {
       ->check(CLI::Range(-80.0f, 80.0f))
       ->capture_default_str();
   add_collision_flag(*command, options->posing);
-  command->callback([options, png, video] {
+  command->callback([options, png, video, &server] {
     if (png->count() == 0 && video->count() == 0)
       throw CLI::ValidationError("give -o OUT.png, --video OUT.mp4 or both");
+    if (!server.address.empty() && video->count() > 0)
+      throw CLI::ValidationError(
+          "--video is drawn here, not on a server: with --server give -o OUT.png only");
     if (png->count() > 0 && options->sheet.frames.size() > kMostSheetRows)
       throw CLI::ValidationError("--frames: " + std::to_string(options->sheet.frames.size()) +
                                  " frames make too many sheet rows (at most " +
                                  std::to_string(kMostSheetRows) + "); give fewer, or only --video");
     if (options->sheet.methods.empty())
       for (const char* name : {"sweep", "lbs", "dqs"})
-        options->sheet.methods.push_back(methods_by_name().at(name));
-    options->sheet.collision = options->posing.collision;
+        options->sheet.methods.push_back(sheet::methods_by_name().at(name));
   });
-  return {command, [options] { return sheet(*options); }};
+  return {command, [options, &server] { return run_sheet(*options, server); }, true};
 }
 
 }  // namespace sweepd::cli

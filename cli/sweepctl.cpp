@@ -1,7 +1,7 @@
 // sweepctl: the user's command line — one CLI::App (console/command_line.h) with a subcommand
 // per command, each declared in its own *_command.cpp (cli/commands.h).
 // `--server HOST:PORT [--token T] [--tls ...]`, before or after the command, runs pose,
-// positionmap and metrics on a sweepd daemon instead of in this process.
+// positionmap, metrics and sheet on a sweepd daemon instead of in this process.
 #include <cstdio>
 #include <exception>
 #include <optional>
@@ -38,14 +38,14 @@ int main(int argc, char** argv) {
                                               cli::add_positionmap_command(app, server),
                                               cli::add_metrics_command(app, server),
                                               cli::add_edit_command(app),
-                                              cli::add_sheet_command(app)};
+                                              cli::add_sheet_command(app, server)};
   // Set after the commands are added: a subcommand inherits its parent's footer.
   app.footer("sweepctl COMMAND --help lists the command's flags.");
   app.callback([&] {
     for (const cli::Command& command : commands)
       if (command.app->parsed() && !server.address.empty() && !command.runs_on_server)
         throw CLI::ValidationError(
-            "runs locally only; --server applies to pose, positionmap and metrics");
+            "runs locally only; --server applies to pose, positionmap, metrics and sheet");
   });
   if (const std::optional<int> exit_code = console::parse_command_line(app, argc, argv))
     return *exit_code;

@@ -25,6 +25,7 @@
 #include "mannequin/mannequin.h"
 #include "protocol/framing.h"
 #include "server/config.h"
+#include "server/handlers/contact_sheet_service.h"
 #include "server/handlers/model_requests.h"
 #include "server/handlers/pose_intake.h"
 #include "server/handlers/pose_request.h"
@@ -145,6 +146,22 @@ void decode_message(const protocol::Message& message, server::ClipStore& clips) 
       deform(map.clip()
                  ? server::read_clip_pose_message(models, clips, *map.pose(), *map.clip(), 1, &map)
                  : server::read_pose_message(models, *map.pose(), 1, &map));
+      break;
+    }
+    case protocol::Body::ContactSheetRequest: {
+      // Read as the I/O thread reads it; what passes gets the sheet's framing pass (an LBS
+      // deformation per frame, cameras); the cells' rendering is the GPU's.
+      auto read =
+          server::read_contact_sheet_request(models, clips, *message.body_as_ContactSheetRequest());
+      if (const auto* error = std::get_if<server::RequestError>(&read))
+        throw std::invalid_argument(error->message);
+      const server::SheetWork& work = std::get<server::SheetWork>(read);
+      const motion::ClipPoses& player = *work.clip;
+      const sheet::ContactSheet framed(
+          {work.model->bound, *work.model->runtime,
+           [&player](int frame) { return player.pose_at_frame(frame); }},
+          work.options, nullptr,
+          [](const gpu::PreviewMesh&, const gpu::PreviewOptions&, std::span<std::uint8_t>) {});
       break;
     }
     case protocol::Body::UploadClip: {

@@ -108,6 +108,17 @@ Input session(const deform::BoundModel& bound, const Input& glb, const std::stri
   const auto by_name = pb::CreatePoseByName(builder, pose, builder.CreateVectorOfStrings(names),
                                             builder.CreateVectorOfStructs(turns));
   append(stream, pb::finish_message(builder, by_name, 8));
+  // A contact sheet (1.11) of two frames of that clip, two methods, a close-up.
+  builder.Clear();
+  const std::vector<std::uint32_t> sheet_frames = {0, 1};
+  const std::vector<std::string> sheet_methods = {"sweep", "lbs"};
+  append(stream, pb::finish_message(builder,
+                                    pb::CreateContactSheetRequest(
+                                        builder, 1, builder.CreateString(clip_id),
+                                        builder.CreateVector(sheet_frames),
+                                        builder.CreateVectorOfStrings(sheet_methods), 64, 96,
+                                        builder.CreateString("elbow_l"), true, 0.5f, 30.0f, 10.0f),
+                                    9));
   return stream;
 }
 

@@ -23,8 +23,9 @@
 //   contact (its resolve steps; its detection is in detect), upload, readback and dispatch
 //   (gpu::CollisionTimings, dispatch a part of readback; GPU backend only).
 // CollisionPairFinder::begin(): the DeformJob's pair finder for one pose (empty on the CPU
-//   backend); finish(report): counts the pose. One per connection, used by one pose at a time;
-//   no allocation per pose once warm.
+//   backend); finish(report): counts the pose. One per connection (and per contact sheet: it is
+//   the sheet::PairSource of its sweep+features cells), used by one pose at a time; no
+//   allocation per pose once warm.
 #pragma once
 
 #include <atomic>
@@ -39,6 +40,7 @@
 #include "deform/features/self_intersection.h"
 #include "gpu/collision.h"
 #include "gpu/collision_backend.h"
+#include "gpu/sheet/method_choice.h"
 #include "server/handlers/gpu_thread.h"
 
 namespace sweepd::server {
@@ -92,14 +94,14 @@ class CollisionService {
   std::set<std::string> logged_reasons_;
 };
 
-class CollisionPairFinder {
+class CollisionPairFinder final : public sheet::PairSource {
  public:
   explicit CollisionPairFinder(CollisionService& service);
   CollisionPairFinder(const CollisionPairFinder&) = delete;
   CollisionPairFinder& operator=(const CollisionPairFinder&) = delete;
 
-  const deform::DetectPairs& begin();
-  void finish(const deform::FeatureReport& report);
+  const deform::DetectPairs& begin() override;
+  void finish(const deform::FeatureReport& report) override;
 
  private:
   void detect(std::span<const glm::vec3> positions, std::span<const std::uint32_t> indices,

@@ -63,11 +63,14 @@ PositionMapService::~PositionMapService() {
 
 gpu::Worker& PositionMapService::worker() {
   if (!enabled_) {
-    throw PositionMapUnavailable("position maps are switched off on this server");
+    throw PositionMapUnavailable(
+        "renders (position maps, contact sheets) are switched off on this server (--position-maps "
+        "0)");
   }
   gpu::Worker* worker = gpu_.start();
   if (worker == nullptr) {
-    throw PositionMapUnavailable("no GPU context for position maps: " + gpu_.failure());
+    throw PositionMapUnavailable("no GPU context for renders (position maps, contact sheets): " +
+                                 gpu_.failure());
   }
   return *worker;
 }

@@ -63,10 +63,11 @@ class PositionMapService {
 
   bool enabled() const { return enabled_; }
   void render(const PositionMapJob& job, std::vector<std::uint8_t>& exr);
+  // The GPU worker for renders (position maps, contact sheets: ContactSheetService), started on
+  // first use; throws PositionMapUnavailable when renders are off or EGL gives no context.
+  gpu::Worker& worker();
 
  private:
-  gpu::Worker& worker();  // throws PositionMapUnavailable
-
   bool enabled_;
   GpuThread& gpu_;
   std::unique_ptr<gpu::PositionMapRenderer> renderer_;  // touched only on the worker's thread

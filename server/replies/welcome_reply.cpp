@@ -15,7 +15,10 @@ void build_welcome(flatbuffers::FlatBufferBuilder& builder, const ServerConfig& 
       "sweep",        "lbs",     "dqs",        "folding",     "protrusion", "volume",
       "bulge",        "float16", "normals",    "latest_wins", "upload",     "clips",
       "pose_by_name", "meshopt", "gltf_clips", "contact",     "fbx_clips"};
-  if (position_maps) capabilities.push_back("position_map");
+  if (position_maps) {
+    capabilities.push_back("position_map");
+    capabilities.push_back("contact_sheet");  // 1.11: the same renders
+  }
   if (shared_memory) capabilities.push_back("shared_memory");
   const auto welcome =
       pb::CreateWelcome(builder, pb::kProtocolVersionMajor, pb::kProtocolVersionMinor,

@@ -10,6 +10,7 @@
 #include "server/handlers/pose_intake.h"
 #include "server/log_event.h"
 #include "server/replies/clip_info.h"
+#include "server/replies/contact_sheet_reply.h"
 #include "server/replies/model_info.h"
 #include "server/replies/stats_reply.h"
 #include "server/replies/welcome_reply.h"
@@ -384,6 +385,9 @@ void Connection::dispatch(const pb::Message& message) {
     case pb::Body::MapSharedMemory:
       map_shared_memory(*message.body_as_MapSharedMemory(), request_id);
       break;
+    case pb::Body::ContactSheetRequest:
+      render_contact_sheet(*message.body_as_ContactSheetRequest(), request_id);
+      break;
     case pb::Body::Hello:
       send_error(pb::ErrorCode::InvalidArgument, "Hello was already received on this connection", 0,
                  request_id);
@@ -532,6 +536,57 @@ void Connection::upload_clip(const pb::UploadClip& upload, std::uint64_t request
         const RequestError& error = std::get<RequestError>(outcome);
         log_event("clip_upload_failed", {{"connection", self->id()}, {"reason", error.message}});
         self->send_error(error, request_id);
+      }
+      self->process_input();
+    });
+  });
+}
+
+void Connection::render_contact_sheet(const pb::ContactSheetRequest& request,
+                                      std::uint64_t request_id) {
+  // Checked and copied here: the request lives in the reader's storage.
+  std::variant<SheetWork, RequestError> read =
+      read_contact_sheet_request(environment_.models, environment_.clips, request);
+  if (const RequestError* error = std::get_if<RequestError>(&read)) {
+    send_error(*error, request_id);
+    return;
+  }
+  auto work = std::make_shared<const SheetWork>(std::move(std::get<SheetWork>(read)));
+  log_event("contact_sheet_start", {{"connection", id()},
+                                    {"model", work->model->id},
+                                    {"frames", work->options.frames.size()},
+                                    {"methods", work->options.methods.size()}});
+  ++loads_running_;
+  asio::post(environment_.gpu_waiters, [self = shared_from_this(), work, request_id]() {
+    const auto start = Clock::now();
+    auto picture = std::make_shared<sheet::SheetPicture>();
+    std::optional<RequestError> failure;
+    try {
+      CollisionPairFinder pairs(self->environment_.collision);
+      self->environment_.contact_sheets.render(*work, &pairs, *picture);
+    } catch (const PositionMapUnavailable& error) {
+      failure = RequestError{pb::ErrorCode::NotAvailable, error.what()};
+    } catch (const std::invalid_argument& error) {
+      failure = RequestError{pb::ErrorCode::InvalidArgument, error.what()};
+    } catch (const std::exception& error) {
+      failure = RequestError{pb::ErrorCode::Internal, error.what()};
+    }
+    const std::uint64_t took_ns = nanoseconds_since(start);
+    asio::post(self->stream_.get_executor(), [self, work, picture, failure, took_ns, request_id]() {
+      --self->loads_running_;
+      if (failure) {
+        log_event("contact_sheet_failed",
+                  {{"connection", self->id()}, {"reason", failure->message}});
+        self->send_error(*failure, request_id);
+      } else {
+        log_event("contact_sheet", {{"connection", self->id()},
+                                    {"width", picture->width},
+                                    {"height", picture->height},
+                                    {"png_bytes", picture->png.size()},
+                                    {"ms", static_cast<double>(took_ns) / 1e6}});
+        flatbuffers::FlatBufferBuilder builder = self->take_builder();
+        build_contact_sheet(builder, work->model->id, *picture, request_id);
+        self->send(std::move(builder));
       }
       self->process_input();
     });

@@ -53,6 +53,7 @@
 
 #include "protocol/framing.h"
 #include "server/config.h"
+#include "server/handlers/contact_sheet_service.h"
 #include "server/handlers/model_requests.h"
 #include "server/handlers/pose_request.h"
 #include "server/handlers/request_error.h"
@@ -74,7 +75,8 @@ struct ConnectionEnvironment {
   FairWorkQueue& workers;          // poses, maps, loads and uploads, fair between connections
   asio::thread_pool& gpu_waiters;  // poses whose pair detection waits on the GPU thread
   PositionMapService& position_maps;
-  ClipStore& clips;  // UploadClip's clips (1.4)
+  ContactSheetService& contact_sheets;  // ContactSheetRequest (1.11)
+  ClipStore& clips;                     // UploadClip's clips (1.4)
   CollisionService& collision;
   std::chrono::steady_clock::time_point started;
   std::function<void(std::uint64_t connection_id)> on_close;
@@ -124,6 +126,9 @@ class Connection : public std::enable_shared_from_this<Connection> {
   // error) is queued, so replies stay in request order. `log_outcome` runs on the I/O thread.
   void change_model(std::uint64_t request_id, std::function<ModelChange()> change,
                     LogModelChange log_outcome);
+  // A ContactSheetRequest (1.11) rendered on the GPU waiters' pool (its cells wait on the GPU
+  // thread); reading pauses until its reply is queued, as for change_model.
+  void render_contact_sheet(const protocol::ContactSheetRequest& request, std::uint64_t request_id);
   // MapSharedMemory (1.10): the connection's SharedRegion, its descriptor sent with the reply.
   void map_shared_memory(const protocol::MapSharedMemory& request, std::uint64_t request_id);
 

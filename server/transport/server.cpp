@@ -33,6 +33,7 @@ Server::Server(const ServerConfig& config, ModelService& models, Readiness& read
                std::chrono::microseconds(config.worker_spin_us)),
       gpu_waiters_(worker_count(config)),
       position_maps_(config.position_maps != 0, gpu),
+      contact_sheets_(position_maps_),
       clips_(config.max_clips, config.max_clip_bytes),
       buffer_budget_(config.max_buffered_bytes),
       // Enough idle builders for every worker's reply and the I/O thread's, and (added as
@@ -45,6 +46,7 @@ Server::Server(const ServerConfig& config, ModelService& models, Readiness& read
                    workers_,
                    gpu_waiters_,
                    position_maps_,
+                   contact_sheets_,
                    clips_,
                    collision,
                    std::chrono::steady_clock::now(),

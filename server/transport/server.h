@@ -71,7 +71,8 @@ class Server {
   FairWorkQueue workers_;  // joined with worker_pool_ (its tokens hold it)
   asio::thread_pool gpu_waiters_;
   PositionMapService position_maps_;
-  ClipStore clips_;  // UploadClip's clips, shared by every connection
+  ContactSheetService contact_sheets_;  // renders on position_maps_'s GPU worker
+  ClipStore clips_;                     // UploadClip's clips, shared by every connection
   protocol::BufferBudget buffer_budget_;
   ReplyBuilderPool builders_;
   asio::signal_set signals_;

@@ -39,7 +39,8 @@ Picture read_png(const fs::path& file) {
   return picture;
 }
 
-// The caption band's height and ink at cells narrower than 400 pixels (cli/contact_sheet.cpp).
+// The caption band's height and ink at cells narrower than 400 pixels
+// (gpu/sheet/contact_sheet.cpp).
 constexpr int kCaptionHeight = 26;
 constexpr std::array<int, 3> kInk{30, 30, 36};
 // gpu::PreviewOptions' default background, 0.9, 0.9, 0.92 of 255.

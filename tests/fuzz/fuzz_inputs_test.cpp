@@ -58,9 +58,9 @@ TEST(FuzzInputs, TheFramesSeedIsAWholeSession) {
     EXPECT_EQ(event.status, protocol::FrameStatus::kFrame) << event.reason;
     ++whole;
   }
-  EXPECT_EQ(whole, 10) << "Hello, Pose, Pose into shared memory, LoadModel, EditKeyEllipse, "
+  EXPECT_EQ(whole, 11) << "Hello, Pose, Pose into shared memory, LoadModel, EditKeyEllipse, "
                           "PositionMapRequest, UploadClip, PoseFromClip, PositionMapRequest of a "
-                          "clip frame, PoseByName";
+                          "clip frame, PoseByName, ContactSheetRequest";
 }
 
 TEST(FuzzInputs, EveryRegressionStillPasses) {

@@ -352,6 +352,42 @@ std::vector<Sample> one_of_each_body() {
       {Body::SharedMemory,
        [](FlatBufferBuilder& b) { return finish_message(b, CreateSharedMemory(b, 1703040), 16); },
        [](const Message& m) { EXPECT_EQ(m.body_as_SharedMemory()->bytes(), 1703040u); }},
+      {Body::ContactSheetRequest,
+       [](FlatBufferBuilder& b) {
+         const std::vector<std::uint32_t> frames = {197, 600};
+         const std::vector<std::string> methods = {"sweep", "lbs"};
+         return finish_message(
+             b,
+             CreateContactSheetRequest(b, 7, b.CreateString("c1"), b.CreateVector(frames),
+                                       b.CreateVectorOfStrings(methods), 96, 128,
+                                       b.CreateString("elbow_l"), true, 0.5f, 30.0f, 10.0f),
+             17);
+       },
+       [](const Message& m) {
+         const ContactSheetRequest* request = m.body_as_ContactSheetRequest();
+         EXPECT_EQ(request->model_id(), 7u);
+         EXPECT_EQ(request->frames()->Get(1), 600u);
+         EXPECT_EQ(request->methods()->Get(1)->str(), "lbs");
+         EXPECT_EQ(request->cell_height(), 128);
+         EXPECT_EQ(request->focus()->str(), "elbow_l");
+         EXPECT_EQ(request->elevation_degrees(), 10.0f);
+       }},
+      {Body::ContactSheet,
+       [](FlatBufferBuilder& b) {
+         const std::vector<std::uint8_t> png = {0x89, 'P', 'N', 'G'};
+         const std::vector<float> stretch = {0.5f, 1.25f};
+         return finish_message(b,
+                               CreateContactSheet(b, 7, 192, 128, b.CreateVector(png),
+                                                  b.CreateVector(stretch), b.CreateString("gl")),
+                               17);
+       },
+       [](const Message& m) {
+         const ContactSheet* sheet = m.body_as_ContactSheet();
+         EXPECT_EQ(sheet->width(), 192u);
+         EXPECT_EQ(sheet->png()->size(), 4u);
+         EXPECT_EQ(sheet->worst_stretch()->Get(1), 1.25f);
+         EXPECT_EQ(sheet->renderer()->str(), "gl");
+       }},
   };
 }
 

@@ -256,16 +256,16 @@ TEST_F(SweepctlRemote, UploadedFbxAndColladaPoseAsTheLocalFilesByteForByte) {
   // An FBX on which libassimp's importer itself crashes (Debian's assimp 5.2.5 frees memory
   // twice; found by fuzz/fbx) is tried in a child process and refused naming the crash
   // (io/assimp_crash_guard.h); the daemon serves on.
-  const fs::path crashing = fs::path(SWEEPD_SOURCE_DIR) / "fuzz/regressions/fbx/assimp_double_free.fbx";
+  const fs::path crashing =
+      fs::path(SWEEPD_SOURCE_DIR) / "fuzz/regressions/fbx/assimp_double_free.fbx";
   const ClientRun crashed =
       run_sweepctl(server() + " pose " + crashing.string() + " -o " + path("crashed.glb").string());
   EXPECT_EQ(crashed.exit_code, 1) << crashed.output;
   EXPECT_NE(crashed.output.find("ModelLoadFailed"), std::string::npos) << crashed.output;
   // glibc aborts the child (signal 6); a sanitized build's handler ends it with exit status 1.
-  EXPECT_TRUE(crashed.output.find("the importer crashed on this file (signal 6)") !=
-                  std::string::npos ||
-              crashed.output.find("the importer crashed on this file (exit status 1)") !=
-                  std::string::npos)
+  EXPECT_TRUE(
+      crashed.output.find("the importer crashed on this file (signal 6)") != std::string::npos ||
+      crashed.output.find("the importer crashed on this file (exit status 1)") != std::string::npos)
       << crashed.output;
   EXPECT_EQ(run_sweepctl(server() + " pose mannequin -o " + path("after.glb").string()).exit_code,
             0)
@@ -301,7 +301,7 @@ TEST_F(SweepctlRemote, UnreachableServerExitsNonZeroNamingTheAddress) {
 TEST_F(SweepctlRemote, LocalOnlyCommandsRefuseServer) {
   const ClientRun result = run_sweepctl(server() + " inspect " + kSharedMale.string());
   EXPECT_EQ(result.exit_code, 2) << result.output;
-  EXPECT_NE(result.output.find("--server applies to pose, positionmap and metrics"),
+  EXPECT_NE(result.output.find("--server applies to pose, positionmap, metrics and sheet"),
             std::string::npos)
       << result.output;
 }
@@ -323,8 +323,8 @@ TEST(SweepctlRemoteRestart, ADaemonRestartedOnAnEmptyStoreMidRangeGetsTheModelAg
   const std::string pose =
       "pose " + glb.string() + " --bvh " + kClip.string() + " --frames 100-399 -o ";
   std::future<ClientRun> remote = std::async(std::launch::async, [&] {
-    return run_sweepctl("--server 127.0.0.1:" + std::to_string(port) + " --token " + kToken +
-                        " " + pose + (directory / "remote").string());
+    return run_sweepctl("--server 127.0.0.1:" + std::to_string(port) + " --token " + kToken + " " +
+                        pose + (directory / "remote").string());
   });
   // Killed once the first frame is written: 299 requests come after it.
   while (!fs::exists(directory / "remote/frame_00100.glb") &&
@@ -334,16 +334,15 @@ TEST(SweepctlRemoteRestart, ADaemonRestartedOnAnEmptyStoreMidRangeGetsTheModelAg
   first.signal(SIGKILL);
   ASSERT_TRUE(first.wait().has_value());
   fs::create_directories(directory / "restarted");
-  DaemonProcess restarted(directory / "restarted",
-                          with(flags, {"--port", std::to_string(port)}));
+  DaemonProcess restarted(directory / "restarted", with(flags, {"--port", std::to_string(port)}));
   ASSERT_TRUE(restarted.running()) << restarted.log();
 
   const ClientRun run = remote.get();
   ASSERT_EQ(run.exit_code, 0) << run.output << restarted.log();
   EXPECT_NE(run.output.find("; connecting again"), std::string::npos) << run.output;
-  EXPECT_NE(run.output.find("uploaded body.glb again to sweepd at 127.0.0.1:" +
-                            std::to_string(port)),
-            std::string::npos)
+  EXPECT_NE(
+      run.output.find("uploaded body.glb again to sweepd at 127.0.0.1:" + std::to_string(port)),
+      std::string::npos)
       << run.output;
   EXPECT_NE(restarted.model_id("body.glb"), 0u) << "bound there; log:\n" << restarted.log();
   const ClientRun local = run_sweepctl(pose + (directory / "local").string());

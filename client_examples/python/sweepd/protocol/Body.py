@@ -27,3 +27,5 @@ class Body(object):
     PoseByName = 21
     MapSharedMemory = 22
     SharedMemory = 23
+    ContactSheetRequest = 24
+    ContactSheet = 25

@@ -13,7 +13,7 @@
 #include <span>
 #include <vector>
 
-namespace sweepd::cli {
+namespace sweepd::sheet {
 
 class StretchHeat {
  public:
@@ -27,4 +27,4 @@ class StretchHeat {
   std::vector<float> rest_length_;
 };
 
-}  // namespace sweepd::cli
+}  // namespace sweepd::sheet

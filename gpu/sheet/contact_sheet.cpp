@@ -1,4 +1,4 @@
-#include "cli/contact_sheet.h"
+#include "gpu/sheet/contact_sheet.h"
 
 #include <algorithm>
 #include <array>
@@ -7,10 +7,11 @@
 #include <functional>
 #include <map>
 #include <stdexcept>
+#include <utility>
 
-#include "cli/caption_text.h"
+#include "gpu/sheet/caption_text.h"
 
-namespace sweepd::cli {
+namespace sweepd::sheet {
 
 namespace {
 
@@ -87,19 +88,17 @@ int focus_joint(const deform::RigMap& rig, const std::string& name) {
   return joint;
 }
 
-ContactSheet::ContactSheet(PosedModel& posed, const SheetOptions& options, gpu::Context& context)
-    : posed_(posed),
+ContactSheet::ContactSheet(SheetModel model, const SheetOptions& options, PairSource* pairs,
+                           DrawCell draw)
+    : model_(std::move(model)),
       options_(options),
-      context_(context),
-      renderer_(context),
-      meter_(posed.bound()),
-      heat_(posed.model().positions, posed.model().indices) {
-  if (std::any_of(options.methods.begin(), options.methods.end(),
-                  [](const MethodChoice& m) { return m.collision; }))
-    collision_.emplace(options.collision);
+      pairs_(pairs),
+      draw_(std::move(draw)),
+      meter_(model_.bound),
+      heat_(model_.bound.model.positions, model_.bound.model.indices) {
   caption_scale_ = options.cell_width >= 400 ? 2 : 1;
   caption_height_ = 26 * caption_scale_;  // two lines of 12, a margin of 1 above and below
-  const std::size_t vertices = posed.model().vertex_count();
+  const std::size_t vertices = model_.bound.model.vertex_count();
   positions_.resize(vertices);
   normals_.resize(vertices);
   if (options.heat) colours_.resize(vertices);
@@ -107,17 +106,17 @@ ContactSheet::ContactSheet(PosedModel& posed, const SheetOptions& options, gpu::
                (options.cell_height - caption_height_) * 4);
 
   // The framing pass: where the body (or the joint) is at each frame, and which way it faces.
-  const deform::Skeleton& skeleton = posed.model().skeleton;
+  const deform::Skeleton& skeleton = model_.bound.model.skeleton;
   const std::vector<glm::mat4> rest = skeleton.world_rest_matrices();
-  const int pelvis = posed.bound().rig.torso.pelvis();
-  const int joint = options.focus.empty() ? -1 : focus_joint(posed.bound().rig, options.focus);
+  const int pelvis = model_.bound.rig.torso.pelvis();
+  const int joint = options.focus.empty() ? -1 : focus_joint(model_.bound.rig, options.focus);
   const MethodChoice& lbs = methods_by_name().at("lbs");
   std::vector<glm::vec3> centres, towards_eye;
-  const float focus_radius = kFocusRadiusPerHeight * rest_height(posed.model().positions);
+  const float focus_radius = kFocusRadiusPerHeight * rest_height(model_.bound.model.positions);
   glm::vec3 half_extents(focus_radius);
   if (joint < 0) half_extents = glm::vec3(0.0f);
   for (const int frame : options.frames) {
-    deform_with(lbs, posed.runtime(), deform_context_, nullptr, posed.pose(frame), positions_);
+    deform_with(lbs, model_.runtime, deform_context_, nullptr, model_.pose(frame), positions_);
     const std::span<const glm::mat4> world = deform_context_.world_pose();
     const glm::vec3 eye = eye_direction(world[pelvis], rest[pelvis], options.azimuth_degrees,
                                         options.elevation_degrees);
@@ -151,9 +150,8 @@ void ContactSheet::render_cell(std::size_t frame_index, std::size_t method,
                                std::span<std::uint8_t> rgba, int row) {
   const MethodChoice& m = options_.methods[method];
   const int frame = options_.frames[frame_index];
-  const deform::SweepPoser& poser =
-      deform_with(m, posed_.runtime(), deform_context_, collision_ ? &*collision_ : nullptr,
-                  posed_.pose(frame), positions_, normals_);
+  const deform::SweepPoser& poser = deform_with(m, model_.runtime, deform_context_, pairs_,
+                                                model_.pose(frame), positions_, normals_);
   const double stretch = meter_.measure(positions_, poser, m.method == deform::DeformMethod::kSweep)
                              .largest_edge_stretch;
   worst_stretch_.push_back(stretch);
@@ -164,8 +162,7 @@ void ContactSheet::render_cell(std::size_t frame_index, std::size_t method,
   preview.width = width;
   preview.height = render_height;
   preview.camera = cameras_[frame_index];
-  context_.make_current();  // a GPU collision backend may have made its own context current
-  renderer_.render({positions_, normals_, posed_.model().indices, colours_}, preview, cell_);
+  draw_({positions_, normals_, model_.bound.model.indices, colours_}, preview, cell_);
 
   // Copy the caption band (white, two lines of text) and the render into the picture.
   const int picture_width = this->width();
@@ -194,4 +191,4 @@ void ContactSheet::render_cell(std::size_t frame_index, std::size_t method,
   }
 }
 
-}  // namespace sweepd::cli
+}  // namespace sweepd::sheet

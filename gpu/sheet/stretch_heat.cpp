@@ -1,10 +1,10 @@
-#include "cli/stretch_heat.h"
+#include "gpu/sheet/stretch_heat.h"
 
 #include <algorithm>
 #include <cmath>
 #include <utility>
 
-namespace sweepd::cli {
+namespace sweepd::sheet {
 
 namespace {
 
@@ -51,4 +51,4 @@ void StretchHeat::colour(std::span<const glm::vec3> positions, float full_scale,
   for (glm::vec3& c : colours) c = heat_colour(c.x / full_scale);
 }
 
-}  // namespace sweepd::cli
+}  // namespace sweepd::sheet

@@ -13,11 +13,11 @@
 #include <span>
 #include <string>
 
-namespace sweepd::cli {
+namespace sweepd::sheet {
 
 void draw_text(std::span<std::uint8_t> rgba, int width, int height, int x, int y,
                const std::string& text, std::array<std::uint8_t, 3> colour, int scale);
 
 int text_width(const std::string& text, int scale);
 
-}  // namespace sweepd::cli
+}  // namespace sweepd::sheet

@@ -1,6 +1,6 @@
-#include "cli/method_choice.h"
+#include "gpu/sheet/method_choice.h"
 
-namespace sweepd::cli {
+namespace sweepd::sheet {
 
 const std::map<std::string, MethodChoice>& methods_by_name() {
   static const std::map<std::string, MethodChoice> methods = {
@@ -14,7 +14,7 @@ const std::map<std::string, MethodChoice>& methods_by_name() {
 }
 
 const deform::SweepPoser& deform_with(const MethodChoice& m, const deform::ModelRuntime& runtime,
-                                      deform::DeformContext& context, LocalCollision* collision,
+                                      deform::DeformContext& context, PairSource* pairs,
                                       deform::Pose pose, std::span<glm::vec3> positions,
                                       std::span<glm::vec3> normals) {
   deform::DeformJob job{.runtime = runtime,
@@ -26,12 +26,12 @@ const deform::SweepPoser& deform_with(const MethodChoice& m, const deform::Model
                                      .contact = m.contact},
                         .positions = positions,
                         .normals = normals};
-  if (m.collision && collision != nullptr) job.options.detect = collision->detect();
+  if (m.collision && pairs != nullptr) job.options.detect = pairs->begin();
   const deform::DeformReport report = job.run(context);
-  if (m.collision && collision != nullptr) collision->add(report.features);
+  if (m.collision && pairs != nullptr) pairs->finish(report.features);
   if (m.method != deform::DeformMethod::kSweep)
     context.sweep_poser().set_pose(context.world_pose());  // section planes
   return context.sweep_poser();
 }
 
-}  // namespace sweepd::cli
+}  // namespace sweepd::sheet

@@ -1,4 +1,4 @@
-#include "cli/caption_text.h"
+#include "gpu/sheet/caption_text.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 #include <stb/stb_easy_font.h>  // header only; every function static
 #pragma GCC diagnostic pop
 
-namespace sweepd::cli {
+namespace sweepd::sheet {
 
 namespace {
 
@@ -49,4 +49,4 @@ int text_width(const std::string& text, int scale) {
   return stb_easy_font_width(buffer.data()) * scale;
 }
 
-}  // namespace sweepd::cli
+}  // namespace sweepd::sheet

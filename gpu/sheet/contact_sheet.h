@@ -1,10 +1,12 @@
 // ContactSheet: shaded renders of one posed model, deformed by several methods at several clip
-// frames, laid out as a grid (sweepctl sheet: one row per frame, one column per method; its
-// --video: one row per video frame) for people to compare the methods by eye.
+// frames, laid out as a grid (sweepctl sheet and the daemon's ContactSheetRequest: one row per
+// frame, one column per method; sheet --video: one row per video frame) for people to compare
+// the methods by eye.
 //
 // Each cell is cell_width × cell_height pixels: a white caption band on top (method; frame and
 // the worst edge stretch from metrics::QualityMeter, as `sweepctl metrics` reports it) and the
-// render below it (gpu::PreviewRenderer), optionally coloured by edge stretch (cli/stretch_heat.h).
+// render below it (gpu::PreviewRenderer), optionally coloured by edge stretch
+// (gpu/sheet/stretch_heat.h).
 // Cameras (gpu::box_camera), one per frame and shared by the methods of its row:
 //   whole body  looking at the centre of the body's bounding box at that frame (linear blend
 //               skinning), all framing one box: the largest extent of the body along the view's
@@ -14,30 +16,32 @@
 // The eye looks at the body's front (the pelvis's facing at that frame, turned about the
 // vertical by azimuth_degrees towards the body's left, raised by elevation_degrees).
 //
-// Inputs: a PosedModel with a clip; SheetOptions (methods, frames, cell size, focus, heat,
-//   collision for sweep+features). The constructor runs the framing pass (one LBS deformation
-//   per frame). render_row(i, rgba, row) renders frame frames[i] into row `row` of a picture
-//   width() pixels wide (rgba: width() × rows × cell_height × 4 bytes, row 0 at the top).
+// Inputs: a SheetModel (the bound model, its runtime and the pose of a clip frame); SheetOptions
+//   (methods, frames, cell size, focus, heat); the PairSource of sweep+features (null: the CPU
+//   reference); a DrawCell, where the cells are rendered — sweepctl's own gpu::Context on its
+//   thread, or the daemon's GPU thread (server/handlers/contact_sheet_service.h). The
+//   constructor runs the framing pass (one LBS deformation per frame, no GL). render_row(i,
+//   rgba, row) renders frame frames[i] into row `row` of a picture width() pixels wide (rgba:
+//   width() × rows × cell_height × 4 bytes, row 0 at the top).
 // worst_stretch(): the largest edge stretch of each rendered cell, in order.
-// Construct and use on one thread (the gpu::Context is made current there).
+// Use on one thread; DrawCell is called on it.
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
 #include <vector>
 
-#include "cli/local_collision.h"
-#include "cli/method_choice.h"
-#include "cli/posed_model.h"
-#include "cli/stretch_heat.h"
+#include "deform/binding/bound_model.h"
 #include "gpu/camera.h"
-#include "gpu/egl_context.h"
 #include "gpu/preview_renderer.h"
+#include "gpu/sheet/method_choice.h"
+#include "gpu/sheet/stretch_heat.h"
 #include "metrics/quality_metrics.h"
 
-namespace sweepd::cli {
+namespace sweepd::sheet {
 
 // A close-up's joint by role name: shoulder_l, elbow_l, wrist_l, hip_l, knee_l, ankle_l (and
 // _r), neck, chest, pelvis.
@@ -54,31 +58,47 @@ struct SheetOptions {
   float heat_full_scale = 1;  // the stretch shown red (1 = 100 %)
   float azimuth_degrees = 0;  // 0: the body's front; 90: its left side
   float elevation_degrees = 0;
-  gpu::CollisionChoice collision = gpu::CollisionChoice::kAuto;
 };
+
+// What a sheet poses. `pose` gives the pose of a clip frame (throws for a frame it lacks).
+struct SheetModel {
+  const deform::BoundModel& bound;
+  const deform::ModelRuntime& runtime;
+  std::function<deform::Pose(int frame)> pose;
+};
+
+// A whole sheet as sweepctl writes it and the daemon sends it (ContactSheet, protocol 1.11).
+struct SheetPicture {
+  int width = 0, height = 0;
+  std::vector<std::uint8_t> png;      // RGBA PNG file bytes
+  std::vector<double> worst_stretch;  // each cell's, row by row (frame, then method)
+  std::string renderer;               // GL_RENDERER of the context that drew it
+};
+
+// Renders one cell's mesh as gpu::PreviewRenderer::render does, into `rgba` (width × height × 4).
+using DrawCell =
+    std::function<void(const gpu::PreviewMesh& mesh, const gpu::PreviewOptions& options,
+                       std::span<std::uint8_t> rgba)>;
 
 class ContactSheet {
  public:
   static constexpr int kSmallestCell = 64;  // pixels, either side
-  ContactSheet(PosedModel& posed, const SheetOptions& options, gpu::Context& context);
+  ContactSheet(SheetModel model, const SheetOptions& options, PairSource* pairs, DrawCell draw);
 
   int width() const { return options_.cell_width * static_cast<int>(options_.methods.size()); }
   void render_row(std::size_t frame_index, std::span<std::uint8_t> rgba, int row);
   const std::vector<double>& worst_stretch() const { return worst_stretch_; }
-  // Where sweep+features found its pairs (empty without that method).
-  std::string collision_summary() const { return collision_ ? collision_->summary() : ""; }
 
  private:
   void render_cell(std::size_t frame_index, std::size_t method, std::span<std::uint8_t> rgba,
                    int row);
 
-  PosedModel& posed_;
+  SheetModel model_;
   SheetOptions options_;
-  gpu::Context& context_;
-  gpu::PreviewRenderer renderer_;
+  PairSource* pairs_;
+  DrawCell draw_;
   metrics::QualityMeter meter_;
   StretchHeat heat_;
-  std::optional<LocalCollision> collision_;
   deform::DeformContext deform_context_;
   int caption_scale_ = 1, caption_height_ = 0;
   std::vector<gpu::Camera> cameras_;  // per frame
@@ -87,4 +107,4 @@ class ContactSheet {
   std::vector<double> worst_stretch_;
 };
 
-}  // namespace sweepd::cli
+}  // namespace sweepd::sheet

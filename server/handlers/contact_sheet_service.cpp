@@ -1,0 +1,154 @@
+#include "server/handlers/contact_sheet_service.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "gpu/gpu_worker.h"
+#include "gpu/preview_renderer.h"
+#include "io/png_write.h"
+#include "motion/clip_sampling.h"
+
+namespace sweepd::server {
+namespace {
+
+constexpr int kLargestCell = 2048;  // as sweepctl sheet --cell
+
+RequestError invalid(const std::string& reason) {
+  return RequestError{protocol::ErrorCode::InvalidArgument, "contact sheet: " + reason};
+}
+
+}  // namespace
+
+std::variant<SheetWork, RequestError> read_contact_sheet_request(
+    const ModelLookup& models, const ClipStore& clips,
+    const protocol::ContactSheetRequest& request) {
+  SheetWork work;
+  work.model = models.find(request.model_id());
+  if (!work.model)
+    return RequestError{protocol::ErrorCode::UnknownModel,
+                        "contact sheet: no model with id " + std::to_string(request.model_id())};
+  const std::string clip_id = request.clip_id() ? request.clip_id()->str() : "";
+  const ClipHandle clip = clips.find(clip_id);
+  if (!clip)
+    return RequestError{protocol::ErrorCode::UnknownClip,
+                        "contact sheet: no clip with id '" + clip_id + "': upload it (UploadClip)"};
+  try {
+    work.clip = clip->player(work.model);
+  } catch (const std::exception& error) {
+    return invalid("clip '" + clip->name() + "' on model " + std::to_string(work.model->id) + ": " +
+                   error.what());
+  }
+  sheet::SheetOptions& options = work.options;
+
+  const std::size_t rows = request.frames() ? request.frames()->size() : 0;
+  if (rows == 0 || rows > kMostSheetRows)
+    return invalid(std::to_string(rows) + " frames: a sheet has 1 to " +
+                   std::to_string(kMostSheetRows) + " rows");
+  const int frame_count = work.clip->frame_count();
+  for (const std::uint32_t frame : *request.frames()) {
+    if (frame >= static_cast<std::uint32_t>(frame_count))
+      return invalid("frame " + std::to_string(frame) + " is past the end of clip '" +
+                     clip->name() + "' (" + std::to_string(frame_count) + " frames)");
+    options.frames.push_back(static_cast<int>(frame));
+  }
+
+  const std::size_t columns = request.methods() ? request.methods()->size() : 0;
+  if (columns == 0 || columns > kMostSheetColumns)
+    return invalid(std::to_string(columns) + " methods: a sheet has 1 to " +
+                   std::to_string(kMostSheetColumns) + " columns");
+  for (const flatbuffers::String* name : *request.methods()) {
+    const auto& known = sheet::methods_by_name();
+    const auto method = known.find(name->str());
+    if (method == known.end()) {
+      std::string names;
+      for (const auto& [known_name, m] : known) names += (names.empty() ? "" : ", ") + known_name;
+      return invalid("unknown method '" + name->str() + "' (methods: " + names + ")");
+    }
+    options.methods.push_back(method->second);
+  }
+
+  options.cell_width = request.cell_width();
+  options.cell_height = request.cell_height();
+  for (const int side : {options.cell_width, options.cell_height})
+    if (side < sheet::ContactSheet::kSmallestCell || side > kLargestCell)
+      return invalid("a cell of " + std::to_string(options.cell_width) + " x " +
+                     std::to_string(options.cell_height) + " pixels: each side must be " +
+                     std::to_string(sheet::ContactSheet::kSmallestCell) + " to " +
+                     std::to_string(kLargestCell));
+  const std::uint64_t pixels =
+      static_cast<std::uint64_t>(options.cell_width) * columns * options.cell_height * rows;
+  if (pixels > kMostSheetPixels)
+    return invalid(std::to_string(pixels) + " pixels (" + std::to_string(rows) + " rows x " +
+                   std::to_string(columns) + " columns of cells): a sheet has at most " +
+                   std::to_string(kMostSheetPixels));
+
+  options.focus = request.focus() ? request.focus()->str() : "";
+  if (!options.focus.empty()) {
+    const auto& names = sheet::focus_names();
+    if (std::find(names.begin(), names.end(), options.focus) == names.end()) {
+      std::string known;
+      for (const std::string& name : names) known += (known.empty() ? "" : ", ") + name;
+      return invalid("unknown focus '" + options.focus + "' (focus: " + known + ")");
+    }
+    try {
+      sheet::focus_joint(work.model->bound.rig, options.focus);
+    } catch (const std::invalid_argument& error) {
+      return invalid(error.what());
+    }
+  }
+  options.heat = request.heat();
+  options.heat_full_scale = request.heat_full_scale();
+  if (!std::isfinite(options.heat_full_scale) || options.heat_full_scale <= 0.0f)
+    return invalid("heat_full_scale " + std::to_string(options.heat_full_scale) +
+                   " must be a positive number (1 = 100 % stretch)");
+  options.azimuth_degrees = request.azimuth_degrees();
+  options.elevation_degrees = request.elevation_degrees();
+  if (!(std::abs(options.azimuth_degrees) <= 360.0f))
+    return invalid("azimuth " + std::to_string(options.azimuth_degrees) +
+                   " degrees: it must be -360 to 360");
+  if (!(std::abs(options.elevation_degrees) <= 80.0f))
+    return invalid("elevation " + std::to_string(options.elevation_degrees) +
+                   " degrees: it must be -80 to 80");
+  return work;
+}
+
+ContactSheetService::ContactSheetService(PositionMapService& renders) : renders_(renders) {}
+
+ContactSheetService::~ContactSheetService() {
+  // GL objects go with the context, on the worker's thread, before the worker ends.
+  if (renderer_) renders_.worker().submit([this](gpu::Context&) { renderer_.reset(); }).get();
+}
+
+void ContactSheetService::render(const SheetWork& work, sheet::PairSource* pairs,
+                                 sheet::SheetPicture& picture) {
+  gpu::Worker& worker = renders_.worker();
+  const motion::ClipPoses& clip = *work.clip;
+  const sheet::SheetModel model{work.model->bound, *work.model->runtime, [&clip](int frame) {
+                                  return motion::sample_clip(
+                                      clip, {.frame = static_cast<std::uint32_t>(frame)});
+                                }};
+  // renderer_ belongs to the worker's thread and context: made by the first job, used only
+  // inside jobs. Each job's references outlive it: we wait for its result.
+  const sheet::DrawCell draw = [this, &worker](const gpu::PreviewMesh& mesh,
+                                               const gpu::PreviewOptions& options,
+                                               std::span<std::uint8_t> rgba) {
+    worker
+        .submit([&](gpu::Context& context) {
+          if (!renderer_) renderer_ = std::make_unique<gpu::PreviewRenderer>(context);
+          renderer_->render(mesh, options, rgba);
+        })
+        .get();
+  };
+  sheet::ContactSheet contact(model, work.options, pairs, draw);
+  const int rows = static_cast<int>(work.options.frames.size());
+  picture.width = contact.width();
+  picture.height = rows * work.options.cell_height;
+  std::vector<std::uint8_t> rgba(static_cast<std::size_t>(picture.width) * picture.height * 4);
+  for (int row = 0; row < rows; ++row) contact.render_row(row, rgba, row);
+  io::encode_png(picture.width, picture.height, rgba, picture.png);
+  picture.worst_stretch = contact.worst_stretch();
+  picture.renderer = worker.renderer();
+}
+
+}  // namespace sweepd::server

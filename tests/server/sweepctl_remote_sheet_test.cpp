@@ -1,0 +1,184 @@
+// Contact sheets drawn by the daemon (ContactSheetRequest, protocol 1.11): `sweepctl --server
+// sheet` of the uploaded shared male writes the same PNG, byte for byte, as `sweepctl sheet` here
+// (the same code and renderer), with sweep+features' pairs from the daemon's backend, a close-up
+// with the stretch heat map and a turned camera; the daemon refuses a bad request with the field
+// named and keeps serving; --video with --server is a usage error.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "client/clip_upload.h"
+#include "client/connection.h"
+#include "io/file_bytes.h"
+#include "protocol/messages.h"
+#include "tests/server/sweepctl_remote.h"
+
+namespace sweepd::test {
+namespace {
+
+namespace pb = sweepd::protocol;
+
+// The printed table of worst stretch per cell: from "worst edge stretch" to the collision line
+// (which says where the pairs were found) or the time taken.
+std::string stretch_table(const std::string& output) {
+  const std::size_t start = output.find("worst edge stretch");
+  const std::size_t end = std::min(output.find("\ncollision", start), output.find("took ", start));
+  return start == std::string::npos ? "" : output.substr(start, end - start);
+}
+
+class SweepctlRemoteSheet : public SweepctlRemote {
+ protected:
+  static void expect_the_local_sheet(const std::string& sheet_arguments, const std::string& name);
+};
+
+void SweepctlRemoteSheet::expect_the_local_sheet(const std::string& sheet_arguments,
+                                                 const std::string& name) {
+  const ClientRun local =
+      run_sweepctl(sheet_arguments + " -o " + path(name + "_local.png").string());
+  ASSERT_EQ(local.exit_code, 0) << local.output;
+  const ClientRun remote =
+      run_sweepctl(server() + " " + sheet_arguments + " -o " + path(name + "_remote.png").string());
+  ASSERT_EQ(remote.exit_code, 0) << remote.output << log();
+  EXPECT_NE(remote.output.find("sweepd at 127.0.0.1:"), std::string::npos) << remote.output;
+
+  // The same bound model, clip frames, deformations, cameras and rasteriser (llvmpipe on both
+  // sides here), encoded by the same PNG writer: identical files, not merely similar ones.
+  const std::vector<char> local_png = file_bytes(path(name + "_local.png"));
+  EXPECT_GT(local_png.size(), 5'000u) << "a picture of several shaded cells";
+  EXPECT_TRUE(local_png == file_bytes(path(name + "_remote.png")))
+      << "the daemon's sheet differs from the local one";
+  EXPECT_EQ(stretch_table(remote.output), stretch_table(local.output)) << remote.output;
+  EXPECT_FALSE(stretch_table(remote.output).empty()) << remote.output;
+}
+
+TEST_F(SweepctlRemoteSheet, DaemonSheetEqualsTheLocalSheetByteForByte) {
+  // 197: a deep crouch, 600: standing; sweep+features runs folding on the daemon's backend.
+  expect_the_local_sheet(
+      "sheet " + kSharedMale.string() + " --bvh " + kClip.string() +
+          " --frames 197,600 --methods sweep,lbs,dqs,sweep+features --cell 96x128",
+      "body");
+}
+
+TEST_F(SweepctlRemoteSheet, DaemonCloseUpWithHeatEqualsTheLocalOne) {
+  expect_the_local_sheet("sheet " + kSharedMale.string() + " --bvh " + kClip.string() +
+                             " --frames 1257 --methods sweep,lbs --cell 80x96 --focus elbow_l"
+                             " --heat stretch --heat-scale 50 --azimuth 30 --elevation 10",
+                         "elbow");
+}
+
+TEST_F(SweepctlRemoteSheet, SheetVideoIsDrawnHereOnly) {
+  const ClientRun run =
+      run_sweepctl(server() + " sheet " + kSharedMale.string() + " --bvh " + kClip.string() +
+                   " --frames 1 --video " + path("sheet.mp4").string());
+  EXPECT_EQ(run.exit_code, 2) << run.output;
+  EXPECT_NE(run.output.find("--video is drawn here, not on a server"), std::string::npos)
+      << run.output;
+}
+
+// A ContactSheetRequest on the mannequin the daemon holds; `edit` changes the valid request.
+struct SheetFields {
+  std::uint32_t model_id = 0;
+  std::string clip_id;
+  std::vector<std::uint32_t> frames = {10};
+  std::vector<std::string> methods = {"sweep"};
+  std::uint16_t cell_width = 64, cell_height = 64;
+  std::string focus;
+  float heat_full_scale = 1.0f, azimuth = 0.0f, elevation = 0.0f;
+};
+
+void send_sheet_request(client::Connection& connection, const SheetFields& f) {
+  flatbuffers::FlatBufferBuilder& builder = connection.builder();
+  builder.Clear();
+  const auto request = pb::CreateContactSheetRequest(
+      builder, f.model_id, builder.CreateString(f.clip_id), builder.CreateVector(f.frames),
+      builder.CreateVectorOfStrings(f.methods), f.cell_width, f.cell_height,
+      builder.CreateString(f.focus), false, f.heat_full_scale, f.azimuth, f.elevation);
+  connection.send(pb::finish_message(builder, request));
+}
+
+TEST_F(SweepctlRemoteSheet, DaemonRefusesABadSheetRequestNamingTheFieldAndKeepsServing) {
+  client::Connection connection("127.0.0.1", std::to_string(port()));
+  const pb::Welcome& welcome = connection.hello(kToken, "sheet refusals");
+  std::vector<std::string> capabilities;
+  for (const auto* c : *welcome.capabilities()) capabilities.push_back(c->str());
+  EXPECT_NE(std::find(capabilities.begin(), capabilities.end(), "contact_sheet"),
+            capabilities.end());
+  SheetFields valid;
+  valid.model_id = mannequin_id();
+  valid.clip_id = client::upload_clip(connection, "cmu_01_01", io::read_file_text(kClip), 0.056444f)
+                      .clip_id()
+                      ->str();
+
+  struct Refusal {
+    const char* what;
+    std::function<void(SheetFields&)> edit;
+    pb::ErrorCode code;
+    const char* message;
+  };
+  const std::vector<Refusal> refusals = {
+      {"unknown model", [](SheetFields& f) { f.model_id = 12345; }, pb::ErrorCode::UnknownModel,
+       "no model with id 12345"},
+      {"unknown clip", [](SheetFields& f) { f.clip_id = "feed"; }, pb::ErrorCode::UnknownClip,
+       "no clip with id 'feed'"},
+      {"no frames", [](SheetFields& f) { f.frames.clear(); }, pb::ErrorCode::InvalidArgument,
+       "0 frames: a sheet has 1 to 32 rows"},
+      {"33 frames", [](SheetFields& f) { f.frames.assign(33, 1); }, pb::ErrorCode::InvalidArgument,
+       "33 frames: a sheet has 1 to 32 rows"},
+      {"frame past the end",
+       [](SheetFields& f) {
+         f.frames = {1, 999999};
+       },
+       pb::ErrorCode::InvalidArgument, "frame 999999 is past the end of clip 'cmu_01_01'"},
+      {"unknown method",
+       [](SheetFields& f) {
+         f.methods = {"sweep", "blend"};
+       },
+       pb::ErrorCode::InvalidArgument, "unknown method 'blend' (methods: dqs, lbs, sweep"},
+      {"small cell", [](SheetFields& f) { f.cell_width = 63; }, pb::ErrorCode::InvalidArgument,
+       "a cell of 63 x 64 pixels: each side must be 64 to 2048"},
+      {"too many pixels",
+       [](SheetFields& f) {
+         f.cell_width = f.cell_height = 2048;
+         f.frames.assign(8, 1);
+       },
+       pb::ErrorCode::InvalidArgument, "pixels (8 rows x 1 columns of cells): a sheet has at most"},
+      {"unknown focus", [](SheetFields& f) { f.focus = "elbow"; }, pb::ErrorCode::InvalidArgument,
+       "unknown focus 'elbow' (focus: ankle_l"},
+      {"NaN heat scale", [](SheetFields& f) { f.heat_full_scale = std::nanf(""); },
+       pb::ErrorCode::InvalidArgument, "heat_full_scale nan must be a positive number"},
+      {"elevation", [](SheetFields& f) { f.elevation = 90.0f; }, pb::ErrorCode::InvalidArgument,
+       "elevation 90.000000 degrees: it must be -80 to 80"},
+  };
+  for (const Refusal& refusal : refusals) {
+    SheetFields fields = valid;
+    refusal.edit(fields);
+    send_sheet_request(connection, fields);
+    try {
+      connection.expect<pb::ContactSheet>();
+      ADD_FAILURE() << refusal.what << ": answered with a sheet";
+    } catch (const client::ServerError& error) {
+      EXPECT_EQ(error.code(), refusal.code) << refusal.what << ": " << error.what();
+      EXPECT_NE(std::string(error.what()).find(refusal.message), std::string::npos)
+          << refusal.what << ": " << error.what();
+    }
+  }
+  // Still serving on the same connection: the valid request gets its picture.
+  send_sheet_request(connection, valid);
+  const pb::ContactSheet& sheet = connection.expect<pb::ContactSheet>();
+  EXPECT_EQ(sheet.model_id(), mannequin_id());
+  EXPECT_EQ(sheet.width(), 64u);
+  EXPECT_EQ(sheet.height(), 64u);
+  ASSERT_NE(sheet.png(), nullptr);
+  const std::array<std::uint8_t, 8> signature = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  ASSERT_GE(sheet.png()->size(), signature.size());
+  EXPECT_TRUE(std::equal(signature.begin(), signature.end(), sheet.png()->begin()));
+  ASSERT_NE(sheet.worst_stretch(), nullptr);
+  ASSERT_EQ(sheet.worst_stretch()->size(), 1u);
+  // A stretch, as the local sheet measures it, under the quality tests' 3x bound for every
+  // frame (a stretch of 2 is an edge 3 times its rest length).
+  EXPECT_GE(sheet.worst_stretch()->Get(0), 0.0f);
+  EXPECT_LE(sheet.worst_stretch()->Get(0), 2.0f);
+}
+
+}  // namespace
+}  // namespace sweepd::test
