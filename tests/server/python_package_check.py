@@ -19,7 +19,8 @@ ClipLoadFailed listing the file's animations. The meshopt
 encoding decodes within half its 0.18 mm grid step. AsyncClient (asyncio) streams the same
 poses and clip frames as the blocking Client, bit for bit, and raises the same exceptions.
 On UNIX_SOCKET (the same daemon's) replies in shared memory (protocol 1.10) equal the TCP
-replies bit for bit, single, streamed and clip frames, and the refusals are named.
+replies bit for bit, single, streamed and clip frames, and the refusals are named. A contact
+sheet (protocol 1.11) of a close-up with the heat map is written as OUT_DIR/sheet.png.
 Prints "ok" and exits 0, or names the failed check and exits 1.
 """
 
@@ -231,6 +232,21 @@ def main(port, token, glb, rotations_file, out, other_port, clip_file, animated_
 
         clip_map = sweepd.position_map(body, clip=clip, frame=100, width=64, height=64)
         check(clip_map[:4] == b"\x76\x2f\x31\x01", "a clip frame's position map")
+        # Protocol 1.11: the server's contact sheet, two frames by two methods of 64 x 96, of the
+        # clip as `sweepctl sheet --bvh` plays it (length_scale 1: the retargeter scales it).
+        sheet = sweepd.contact_sheet(body, sweepd.upload_clip(clip_file), [100, 300], ("sweep", "lbs"), cell=(64, 96),
+                                     focus="elbow_l", heat=True)
+        check(sheet.png[:8] == b"\x89PNG\r\n\x1a\n" and len(sheet.png) > 1000, "a sheet's PNG")
+        check((sheet.width, sheet.height) == (128, 192), f"sheet size {sheet.width}x{sheet.height}")
+        # Each cell's worst edge stretch: finite, and under the quality tests' 3x (2 = 200 %).
+        check(sheet.worst_stretch.shape == (2, 2) and np.all(np.isfinite(sheet.worst_stretch))
+              and np.all((sheet.worst_stretch >= 0) & (sheet.worst_stretch < 2)),
+              f"sheet stretch {sheet.worst_stretch}")
+        with open(f"{out}/sheet.png", "wb") as file:
+            file.write(sheet.png)
+        unknown_method = expect_error(errors.InvalidArgument, lambda: sweepd.contact_sheet(
+            body, clip, [1], ("sweep", "blend")))
+        check("unknown method 'blend'" in str(unknown_method), f"named: {unknown_method}")
 
         asyncio.run(check_async_client(port, token, glb, rotations, clip_file, {
             "content_id": body.content_id, "posed": posed, "compact": compact,

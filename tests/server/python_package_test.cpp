@@ -12,8 +12,8 @@
 #include "io/gltf_save.h"
 #include "io/sweepbind.h"
 #include "mannequin/mannequin.h"
-#include "tests/io/baked_gltf_clip.h"
 #include "tests/deploy/shell_command.h"
+#include "tests/io/baked_gltf_clip.h"
 #include "tests/server/daemon_process.h"
 #include "tests/server/pose_frames.h"
 #include "tests/server/stored_binding.h"
@@ -120,6 +120,18 @@ TEST(PythonPackage, InstallsOfflineIntoAVenvAndPosesLikeTheLibrary) {
   const std::vector<std::uint8_t> exr = read_bytes(directory / "map.exr");
   ASSERT_GE(exr.size(), 4u);
   EXPECT_EQ(std::memcmp(exr.data(), "\x76\x2f\x31\x01", 4), 0) << "not an OpenEXR file";
+
+  // The package's contact sheet (protocol 1.11) is `sweepctl sheet`'s of the same body and clip
+  // byte for byte: the daemon draws it with the command's code on the same renderer.
+  const CommandResult local = run_command(
+      quoted(fs::path(SWEEPD_SWEEPCTL)) + " sheet " + quoted(glb) + " --bvh " + quoted(kClip) +
+      " --frames 100,300 --methods sweep,lbs --cell 64x96 --focus elbow_l --heat stretch -o " +
+      quoted(directory / "local_sheet.png"));
+  ASSERT_EQ(local.exit_code, 0) << local.output;
+  const std::vector<std::uint8_t> sheet = read_bytes(directory / "sheet.png");
+  EXPECT_GT(sheet.size(), 1000u);
+  EXPECT_TRUE(sheet == read_bytes(directory / "local_sheet.png"))
+      << "the package's sheet differs from sweepctl's";
 }
 
 }  // namespace

@@ -34,7 +34,8 @@ from time import monotonic_ns
 from dataclasses import dataclass, field
 
 import numpy as np
-from sweepd.protocol import (BindOptions, Body, Bye, ClipFrame, ClipInfo, DeformMethod, Error,
+from sweepd.protocol import (BindOptions, Body, Bye, ClipFrame, ClipInfo, ContactSheet,
+                             ContactSheetRequest, DeformMethod, Error,
                              ExrCompression, Features, Hello, ListModels, LoadModel, MapLayers,
                              MapSharedMemory, Mesh, MeshRequest, ModelInfo, ModelList, Pose,
                              PoseByName, PoseDelivery, PosedVertices, PoseFromClip,
@@ -45,7 +46,7 @@ from . import meshopt
 from .connection import body_of, finish_frame, new_builder
 from .errors import ConnectionLost, SweepdError, Timeout, UnknownModel, server_error
 
-PROTOCOL_VERSION = (1, 10)  # shared memory (1.10) is the newest part it speaks
+PROTOCOL_VERSION = (1, 11)  # contact sheets (1.11) are the newest part it speaks
 METHODS = {"sweep": DeformMethod.DeformMethod.Sweep, "lbs": DeformMethod.DeformMethod.Lbs,
            "dqs": DeformMethod.DeformMethod.Dqs}
 FEATURES = {"folding": Features.Features.Folding, "protrusion": Features.Features.Protrusion,
@@ -107,6 +108,17 @@ class Clip:
     frames_per_second: float
     joint_count: int
     warnings: list                # what did not stop the server reading the clip
+
+
+@dataclass(frozen=True)
+class Sheet:
+    """A contact sheet drawn by the server (contact_sheet()): the PNG file's bytes, its size,
+    each cell's worst edge stretch as an array (frames, methods) and the GL renderer."""
+    png: bytes
+    width: int
+    height: int
+    worst_stretch: np.ndarray
+    renderer: str
 
 
 @dataclass(frozen=True)
@@ -437,6 +449,52 @@ class Exchanges:
         yield Send(finish_frame(builder, Body.Body.PositionMapRequest, request))
         return (yield Receive(PositionMap.PositionMap)).ExrAsNumpy().tobytes()
 
+    def _contact_sheet(self, model, clip, frames, methods=("sweep", "lbs", "dqs"), *,
+                       cell=(240, 320), focus="", heat=False, heat_scale=1.0, azimuth=0.0,
+                       elevation=0.0):
+        """Protocol 1.11: the server's contact sheet (`sweepctl sheet`'s grid: a row per clip
+        frame, a column per method, captioned with the worst edge stretch) → Sheet. `clip` is an
+        uploaded Clip (or its id); methods from sweep, sweep+volume, sweep+features,
+        sweep+contact, lbs, dqs; cell=(width, height) pixels; focus a joint such as "elbow_l";
+        heat colours the skin by stretch, red at heat_scale (1 = 100 %)."""
+        model_id = yield from self._model_id(model)
+        clip_id = yield from self._clip_id(clip)
+        frames, methods = [int(f) for f in frames], [str(m) for m in methods]
+        builder = new_builder(256)
+        clip_text = builder.CreateString(clip_id)
+        focus_text = builder.CreateString(focus)
+        method_texts = [builder.CreateString(m) for m in methods]
+        ContactSheetRequest.StartFramesVector(builder, len(frames))
+        for f in reversed(frames):
+            builder.PrependUint32(f)
+        frame_vector = builder.EndVector()
+        ContactSheetRequest.StartMethodsVector(builder, len(methods))
+        for m in reversed(method_texts):
+            builder.PrependUOffsetTRelative(m)
+        method_vector = builder.EndVector()
+        ContactSheetRequest.Start(builder)
+        ContactSheetRequest.AddModelId(builder, model_id)
+        ContactSheetRequest.AddClipId(builder, clip_text)
+        ContactSheetRequest.AddFrames(builder, frame_vector)
+        ContactSheetRequest.AddMethods(builder, method_vector)
+        ContactSheetRequest.AddCellWidth(builder, int(cell[0]))
+        ContactSheetRequest.AddCellHeight(builder, int(cell[1]))
+        ContactSheetRequest.AddFocus(builder, focus_text)
+        ContactSheetRequest.AddHeat(builder, bool(heat))
+        ContactSheetRequest.AddHeatFullScale(builder, float(heat_scale))
+        ContactSheetRequest.AddAzimuthDegrees(builder, float(azimuth))
+        ContactSheetRequest.AddElevationDegrees(builder, float(elevation))
+        request = ContactSheetRequest.End(builder)
+        yield Send(finish_frame(builder, Body.Body.ContactSheetRequest, request))
+        reply = yield Receive(ContactSheet.ContactSheet)
+        stretch = reply.WorstStretchAsNumpy()
+        stretch = np.zeros(0, np.float32) if isinstance(stretch, int) else stretch.copy()
+        if stretch.size != len(frames) * len(methods):
+            raise SweepdError(f"the server's contact sheet has {stretch.size} cell figures for "
+                              f"{len(frames) * len(methods)} cells")
+        return Sheet(reply.PngAsNumpy().tobytes(), reply.Width(), reply.Height(),
+                     stretch.reshape(len(frames), len(methods)), _text(reply.Renderer()))
+
     def _map_shared_memory(self, size):
         """Protocol 1.10, on a Unix socket: a region of `size` bytes shared with the server,
         which writes float32 pose replies into it (pose(shared_offset=), poses(shared=True));
@@ -634,7 +692,8 @@ class Run:
 
 def with_requests(request):
     """A client class decorator: one public method per request of Exchanges (models, load,
-    upload, mesh, upload_clip, pose, pose_by_name, position_map, map_shared_memory, stats),
+    upload, mesh, upload_clip, pose, pose_by_name, position_map, contact_sheet,
+    map_shared_memory, stats),
     made by request(exchange), and poses, which returns the client's
     self._drive(Run(exchange)): a generator of Posed (an async one for AsyncClient)."""
     def install(cls):
@@ -644,6 +703,7 @@ def with_requests(request):
                                ("pose", Exchanges._pose),
                                ("pose_by_name", Exchanges._pose_by_name),
                                ("position_map", Exchanges._position_map),
+                               ("contact_sheet", Exchanges._contact_sheet),
                                ("map_shared_memory", Exchanges._map_shared_memory),
                                ("stats", Exchanges._stats)):
             setattr(cls, name, request(exchange))
