@@ -552,12 +552,26 @@ void Connection::render_contact_sheet(const pb::ContactSheetRequest& request,
     return;
   }
   auto work = std::make_shared<const SheetWork>(std::move(std::get<SheetWork>(read)));
+  // The picture's pixels are held while it is drawn: they count against the buffer budget of
+  // every client, as frames and replies do.
+  const sheet::SheetOptions& options = work->options;
+  const std::size_t pixel_bytes = static_cast<std::size_t>(options.cell_width) *
+                                  options.methods.size() * options.cell_height *
+                                  options.frames.size() * 4;
+  if (!environment_.buffer_budget.take(pixel_bytes)) {
+    send_error(pb::ErrorCode::ResourceExhausted,
+               "contact sheet: the server's buffer budget has no room for its " +
+                   std::to_string(pixel_bytes) + " bytes of pixels now; retry later",
+               0, request_id);
+    return;
+  }
   log_event("contact_sheet_start", {{"connection", id()},
                                     {"model", work->model->id},
                                     {"frames", work->options.frames.size()},
                                     {"methods", work->options.methods.size()}});
   ++loads_running_;
-  asio::post(environment_.gpu_waiters, [self = shared_from_this(), work, request_id]() {
+  asio::post(environment_.gpu_waiters, [self = shared_from_this(), work, pixel_bytes,
+                                        request_id]() {
     const auto start = Clock::now();
     auto picture = std::make_shared<sheet::SheetPicture>();
     std::optional<RequestError> failure;
@@ -572,6 +586,7 @@ void Connection::render_contact_sheet(const pb::ContactSheetRequest& request,
       failure = RequestError{pb::ErrorCode::Internal, error.what()};
     }
     const std::uint64_t took_ns = nanoseconds_since(start);
+    self->environment_.buffer_budget.give_back(pixel_bytes);
     asio::post(self->stream_.get_executor(), [self, work, picture, failure, took_ns, request_id]() {
       --self->loads_running_;
       if (failure) {

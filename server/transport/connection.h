@@ -127,7 +127,8 @@ class Connection : public std::enable_shared_from_this<Connection> {
   void change_model(std::uint64_t request_id, std::function<ModelChange()> change,
                     LogModelChange log_outcome);
   // A ContactSheetRequest (1.11) rendered on the GPU waiters' pool (its cells wait on the GPU
-  // thread); reading pauses until its reply is queued, as for change_model.
+  // thread), its pixels taken from the buffer budget meanwhile; reading pauses until its reply
+  // is queued, as for change_model.
   void render_contact_sheet(const protocol::ContactSheetRequest& request, std::uint64_t request_id);
   // MapSharedMemory (1.10): the connection's SharedRegion, its descriptor sent with the reply.
   void map_shared_memory(const protocol::MapSharedMemory& request, std::uint64_t request_id);

@@ -180,5 +180,34 @@ TEST_F(SweepctlRemoteSheet, DaemonRefusesABadSheetRequestNamingTheFieldAndKeepsS
   EXPECT_LE(sheet.worst_stretch()->Get(0), 2.0f);
 }
 
+// A sheet's pixels count against the server's buffer budget for all clients (issue 16's bounded
+// memory): on a daemon with 3 MiB of it (the clip's 2 MB upload fits), a 4 MiB picture is refused
+// as ResourceExhausted before any work, and a small one is still drawn.
+TEST_F(SweepctlRemoteSheet, APictureOverTheBufferBudgetIsRefusedAndASmallOneIsDrawn) {
+  const fs::path directory = path("budget");
+  fs::create_directories(directory);
+  DaemonProcess daemon(directory, {"--max-buffered-bytes", "3145728"});
+  ASSERT_TRUE(daemon.running()) << daemon.log();
+  client::Connection connection("127.0.0.1", std::to_string(daemon.port()));
+  connection.hello("", "sheet budget");
+  SheetFields fields;
+  fields.model_id = daemon.model_id();
+  fields.clip_id =
+      client::upload_clip(connection, "cmu_01_01", io::read_file_text(kClip)).clip_id()->str();
+  fields.cell_width = fields.cell_height = 1024;  // 4 MiB of RGBA
+  send_sheet_request(connection, fields);
+  try {
+    connection.expect<pb::ContactSheet>();
+    ADD_FAILURE() << "a picture over the budget was drawn";
+  } catch (const client::ServerError& error) {
+    EXPECT_EQ(error.code(), pb::ErrorCode::ResourceExhausted) << error.what();
+    EXPECT_NE(std::string(error.what()).find("4194304 bytes of pixels"), std::string::npos)
+        << error.what();
+  }
+  fields.cell_width = fields.cell_height = 64;
+  send_sheet_request(connection, fields);
+  EXPECT_EQ(connection.expect<pb::ContactSheet>().width(), 64u) << daemon.log();
+}
+
 }  // namespace
 }  // namespace sweepd::test
