@@ -306,9 +306,7 @@ int metrics(const Options& options, const ServerAddress* server) {
   ContactCounter contact(server ? *served_collision : local->runtime().collision());
   // sweep+features here: folding's pairs from the --collision backend.
   std::optional<LocalCollision> collision;
-  if (!server &&
-      std::any_of(methods.begin(), methods.end(), [](const Method& m) { return m.collision; }))
-    collision.emplace(posing.collision);
+  if (!server && sheet::uses_collision(methods)) collision.emplace(posing.collision);
   std::vector<MethodReport> reports;
   {
     std::unique_ptr<console::ProgressBar> bar;

@@ -19,14 +19,11 @@
 #include "gpu/egl_context.h"
 #include "gpu/sheet/contact_sheet.h"
 #include "io/file_bytes.h"
-#include "io/png_write.h"
 #include "motion/frame_range.h"
 
 namespace sweepd::cli {
 
 namespace {
-
-constexpr int kMostSheetRows = 32;
 
 struct Options {
   PosingArguments posing;
@@ -53,18 +50,13 @@ std::string parse_frame_list(const std::string& text, std::vector<int>& frames) 
   return "";
 }
 
-bool uses_collision(const sheet::SheetOptions& options) {
-  return std::any_of(options.methods.begin(), options.methods.end(),
-                     [](const sheet::MethodChoice& m) { return m.collision; });
-}
-
 // The sheet drawn here: cells on this thread's own context, sweep+features' pairs from
 // --collision's backend.
 class LocalSheet {
  public:
   LocalSheet(PosedModel& posed, const sheet::SheetOptions& options)
       : renderer_(context_),
-        collision_(uses_collision(options)
+        collision_(sheet::uses_collision(options.methods)
                        ? std::make_unique<LocalCollision>(posed.arguments().collision)
                        : nullptr),
         contact_(
@@ -77,7 +69,7 @@ class LocalSheet {
             }) {}
 
   sheet::ContactSheet& contact() { return contact_; }
-  const std::string& renderer() const { return context_.renderer(); }
+  sheet::SheetPicture picture() { return sheet::draw_picture(contact_, context_.renderer()); }
   std::string collision_summary() const { return collision_ ? collision_->summary() : ""; }
 
  private:
@@ -86,19 +78,6 @@ class LocalSheet {
   std::unique_ptr<LocalCollision> collision_;
   sheet::ContactSheet contact_;
 };
-
-sheet::SheetPicture draw_picture(LocalSheet& local, const sheet::SheetOptions& options) {
-  sheet::SheetPicture picture;
-  const int rows = static_cast<int>(options.frames.size());
-  picture.width = local.contact().width();
-  picture.height = rows * options.cell_height;
-  std::vector<std::uint8_t> rgba(static_cast<std::size_t>(picture.width) * picture.height * 4);
-  for (int row = 0; row < rows; ++row) local.contact().render_row(row, rgba, row);
-  io::encode_png(picture.width, picture.height, rgba, picture.png);
-  picture.worst_stretch = local.contact().worst_stretch();
-  picture.renderer = local.renderer();
-  return picture;
-}
 
 // --video: one row of cells per frame.
 void draw_video(sheet::ContactSheet& contact, const Options& options) {
@@ -145,12 +124,12 @@ int run_sheet(Options& options, const ServerAddress& server) {
     const sheet::SheetPicture picture = remote.contact_sheet(grid);
     io::write_file_bytes(options.png, picture.png);
     print_picture(options, picture, ", sweepd at " + server.address);
-    if (uses_collision(grid)) collision = remote.collision_summary();
+    if (sheet::uses_collision(grid.methods)) collision = remote.collision_summary();
   } else {
     PosedModel posed(options.posing);  // refuses frames past the clip's end, naming them
     LocalSheet local(posed, grid);
     if (!options.png.empty()) {
-      const sheet::SheetPicture picture = draw_picture(local, grid);
+      const sheet::SheetPicture picture = local.picture();
       io::write_file_bytes(options.png, picture.png);
       print_picture(options, picture, "");
     }
@@ -208,7 +187,7 @@ Command add_sheet_command(CLI::App& sweepctl, const ServerAddress& server) {
             char x = 0, extra = 0;
             if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || x != 'x' ||
                 w < sheet::ContactSheet::kSmallestCell || h < sheet::ContactSheet::kSmallestCell ||
-                w > 2048 || h > 2048)
+                w > sheet::ContactSheet::kLargestCell || h > sheet::ContactSheet::kLargestCell)
               return "expected WxH with W and H from 64 to 2048, got '" + text + "'";
             return "";
           },
@@ -248,10 +227,11 @@ Command add_sheet_command(CLI::App& sweepctl, const ServerAddress& server) {
     if (!server.address.empty() && video->count() > 0)
       throw CLI::ValidationError(
           "--video is drawn here, not on a server: with --server give -o OUT.png only");
-    if (png->count() > 0 && options->sheet.frames.size() > kMostSheetRows)
+    if (png->count() > 0 && options->sheet.frames.size() > sheet::ContactSheet::kMostRows)
       throw CLI::ValidationError("--frames: " + std::to_string(options->sheet.frames.size()) +
                                  " frames make too many sheet rows (at most " +
-                                 std::to_string(kMostSheetRows) + "); give fewer, or only --video");
+                                 std::to_string(sheet::ContactSheet::kMostRows) +
+                                 "); give fewer, or only --video");
     if (options->sheet.methods.empty())
       for (const char* name : {"sweep", "lbs", "dqs"})
         options->sheet.methods.push_back(sheet::methods_by_name().at(name));

@@ -156,11 +156,8 @@ void decode_message(const protocol::Message& message, server::ClipStore& clips) 
       if (const auto* error = std::get_if<server::RequestError>(&read))
         throw std::invalid_argument(error->message);
       const server::SheetWork& work = std::get<server::SheetWork>(read);
-      const motion::ClipPoses& player = *work.clip;
       const sheet::ContactSheet framed(
-          {work.model->bound, *work.model->runtime,
-           [&player](int frame) { return player.pose_at_frame(frame); }},
-          work.options, nullptr,
+          work.sheet_model(), work.options, nullptr,
           [](const gpu::PreviewMesh&, const gpu::PreviewOptions&, std::span<std::uint8_t>) {});
       break;
     }

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "gpu/sheet/caption_text.h"
+#include "io/png_write.h"
 
 namespace sweepd::sheet {
 
@@ -189,6 +190,19 @@ void ContactSheet::render_cell(std::size_t frame_index, std::size_t method,
     draw_text(rgba, picture_width, height, left + 3 * caption_scale_,
               top + (1 + 12 * line) * caption_scale_, text, kCaptionInk, caption_scale_);
   }
+}
+
+SheetPicture draw_picture(ContactSheet& contact, std::string renderer) {
+  SheetPicture picture;
+  const int rows = static_cast<int>(contact.options().frames.size());
+  picture.width = contact.width();
+  picture.height = rows * contact.options().cell_height;
+  std::vector<std::uint8_t> rgba(static_cast<std::size_t>(picture.width) * picture.height * 4);
+  for (int row = 0; row < rows; ++row) contact.render_row(row, rgba, row);
+  io::encode_png(picture.width, picture.height, rgba, picture.png);
+  picture.worst_stretch = contact.worst_stretch();
+  picture.renderer = std::move(renderer);
+  return picture;
 }
 
 }  // namespace sweepd::sheet

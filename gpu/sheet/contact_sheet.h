@@ -58,6 +58,11 @@ struct SheetOptions {
   float heat_full_scale = 1;  // the stretch shown red (1 = 100 %)
   float azimuth_degrees = 0;  // 0: the body's front; 90: its left side
   float elevation_degrees = 0;
+
+  // The picture's pixels: cells × methods × frames.
+  std::uint64_t pixel_count() const {
+    return static_cast<std::uint64_t>(cell_width) * cell_height * methods.size() * frames.size();
+  }
 };
 
 // What a sheet poses. `pose` gives the pose of a clip frame (throws for a frame it lacks).
@@ -82,9 +87,12 @@ using DrawCell =
 
 class ContactSheet {
  public:
-  static constexpr int kSmallestCell = 64;  // pixels, either side
+  static constexpr int kSmallestCell = 64;   // pixels, either side
+  static constexpr int kLargestCell = 2048;  // pixels, either side
+  static constexpr std::size_t kMostRows = 32;
   ContactSheet(SheetModel model, const SheetOptions& options, PairSource* pairs, DrawCell draw);
 
+  const SheetOptions& options() const { return options_; }
   int width() const { return options_.cell_width * static_cast<int>(options_.methods.size()); }
   void render_row(std::size_t frame_index, std::span<std::uint8_t> rgba, int row);
   const std::vector<double>& worst_stretch() const { return worst_stretch_; }
@@ -106,5 +114,9 @@ class ContactSheet {
   std::vector<std::uint8_t> cell_;  // the render, cell_width × (cell_height − caption) × 4
   std::vector<double> worst_stretch_;
 };
+
+// The whole grid, row by row, as a PNG (io::encode_png), with each cell's worst stretch and
+// `renderer`, the GL_RENDERER of the context that DrawCell draws with.
+SheetPicture draw_picture(ContactSheet& contact, std::string renderer);
 
 }  // namespace sweepd::sheet

@@ -1,5 +1,7 @@
 #include "gpu/sheet/method_choice.h"
 
+#include <algorithm>
+
 namespace sweepd::sheet {
 
 const std::map<std::string, MethodChoice>& methods_by_name() {
@@ -11,6 +13,11 @@ const std::map<std::string, MethodChoice>& methods_by_name() {
       {"lbs", {"lbs", deform::DeformMethod::kLbs, false}},
       {"dqs", {"dqs", deform::DeformMethod::kDqs, false}}};
   return methods;
+}
+
+bool uses_collision(std::span<const MethodChoice> methods) {
+  return std::any_of(methods.begin(), methods.end(),
+                     [](const MethodChoice& m) { return m.collision; });
 }
 
 const deform::SweepPoser& deform_with(const MethodChoice& m, const deform::ModelRuntime& runtime,

@@ -4,6 +4,7 @@
 //   methods_by_name   "sweep", "sweep+volume" (volume preservation), "sweep+features" (folding
 //                     and protrusion), "sweep+contact" (those and whole-body contact), "lbs",
 //                     "dqs"
+//   uses_collision    whether any of the methods folds and protrudes (and so needs a PairSource)
 //   PairSource        where folding finds its intersecting pairs: sweepctl's --collision backend
 //                     (cli/local_collision.h) or the daemon's (server CollisionPairFinder).
 //                     begin() gives the DeformJob's pair finder (empty: the CPU reference);
@@ -33,6 +34,7 @@ struct MethodChoice {
 };
 
 const std::map<std::string, MethodChoice>& methods_by_name();
+bool uses_collision(std::span<const MethodChoice> methods);
 
 class PairSource {
  public:

@@ -6,13 +6,17 @@
 
 #include "gpu/gpu_worker.h"
 #include "gpu/preview_renderer.h"
-#include "io/png_write.h"
 #include "motion/clip_sampling.h"
 
 namespace sweepd::server {
 namespace {
 
-constexpr int kLargestCell = 2048;  // as sweepctl sheet --cell
+// "a, b, c": the names an unknown one is refused with.
+std::string comma_separated(const std::vector<std::string>& names) {
+  std::string listed;
+  for (const std::string& name : names) listed += (listed.empty() ? "" : ", ") + name;
+  return listed;
+}
 
 RequestError invalid(const std::string& reason) {
   return RequestError{protocol::ErrorCode::InvalidArgument, "contact sheet: " + reason};
@@ -42,9 +46,9 @@ std::variant<SheetWork, RequestError> read_contact_sheet_request(
   sheet::SheetOptions& options = work.options;
 
   const std::size_t rows = request.frames() ? request.frames()->size() : 0;
-  if (rows == 0 || rows > kMostSheetRows)
+  if (rows == 0 || rows > sheet::ContactSheet::kMostRows)
     return invalid(std::to_string(rows) + " frames: a sheet has 1 to " +
-                   std::to_string(kMostSheetRows) + " rows");
+                   std::to_string(sheet::ContactSheet::kMostRows) + " rows");
   const int frame_count = work.clip->frame_count();
   for (const std::uint32_t frame : *request.frames()) {
     if (frame >= static_cast<std::uint32_t>(frame_count))
@@ -61,9 +65,10 @@ std::variant<SheetWork, RequestError> read_contact_sheet_request(
     const auto& known = sheet::methods_by_name();
     const auto method = known.find(name->str());
     if (method == known.end()) {
-      std::string names;
-      for (const auto& [known_name, m] : known) names += (names.empty() ? "" : ", ") + known_name;
-      return invalid("unknown method '" + name->str() + "' (methods: " + names + ")");
+      std::vector<std::string> names;
+      for (const auto& [known_name, m] : known) names.push_back(known_name);
+      return invalid("unknown method '" + name->str() + "' (methods: " + comma_separated(names) +
+                     ")");
     }
     options.methods.push_back(method->second);
   }
@@ -71,13 +76,12 @@ std::variant<SheetWork, RequestError> read_contact_sheet_request(
   options.cell_width = request.cell_width();
   options.cell_height = request.cell_height();
   for (const int side : {options.cell_width, options.cell_height})
-    if (side < sheet::ContactSheet::kSmallestCell || side > kLargestCell)
+    if (side < sheet::ContactSheet::kSmallestCell || side > sheet::ContactSheet::kLargestCell)
       return invalid("a cell of " + std::to_string(options.cell_width) + " x " +
                      std::to_string(options.cell_height) + " pixels: each side must be " +
                      std::to_string(sheet::ContactSheet::kSmallestCell) + " to " +
-                     std::to_string(kLargestCell));
-  const std::uint64_t pixels =
-      static_cast<std::uint64_t>(options.cell_width) * columns * options.cell_height * rows;
+                     std::to_string(sheet::ContactSheet::kLargestCell));
+  const std::uint64_t pixels = options.pixel_count();
   if (pixels > kMostSheetPixels)
     return invalid(std::to_string(pixels) + " pixels (" + std::to_string(rows) + " rows x " +
                    std::to_string(columns) + " columns of cells): a sheet has at most " +
@@ -86,11 +90,9 @@ std::variant<SheetWork, RequestError> read_contact_sheet_request(
   options.focus = request.focus() ? request.focus()->str() : "";
   if (!options.focus.empty()) {
     const auto& names = sheet::focus_names();
-    if (std::find(names.begin(), names.end(), options.focus) == names.end()) {
-      std::string known;
-      for (const std::string& name : names) known += (known.empty() ? "" : ", ") + name;
-      return invalid("unknown focus '" + options.focus + "' (focus: " + known + ")");
-    }
+    if (std::find(names.begin(), names.end(), options.focus) == names.end())
+      return invalid("unknown focus '" + options.focus + "' (focus: " + comma_separated(names) +
+                     ")");
     try {
       sheet::focus_joint(work.model->bound.rig, options.focus);
     } catch (const std::invalid_argument& error) {
@@ -113,6 +115,13 @@ std::variant<SheetWork, RequestError> read_contact_sheet_request(
   return work;
 }
 
+sheet::SheetModel SheetWork::sheet_model() const {
+  const motion::ClipPoses& played = *clip;
+  return {model->bound, *model->runtime, [&played](int frame) {
+            return motion::sample_clip(played, {.frame = static_cast<std::uint32_t>(frame)});
+          }};
+}
+
 ContactSheetService::ContactSheetService(PositionMapService& renders) : renders_(renders) {}
 
 ContactSheetService::~ContactSheetService() {
@@ -123,11 +132,6 @@ ContactSheetService::~ContactSheetService() {
 void ContactSheetService::render(const SheetWork& work, sheet::PairSource* pairs,
                                  sheet::SheetPicture& picture) {
   gpu::Worker& worker = renders_.worker();
-  const motion::ClipPoses& clip = *work.clip;
-  const sheet::SheetModel model{work.model->bound, *work.model->runtime, [&clip](int frame) {
-                                  return motion::sample_clip(
-                                      clip, {.frame = static_cast<std::uint32_t>(frame)});
-                                }};
   // renderer_ belongs to the worker's thread and context: made by the first job, used only
   // inside jobs. Each job's references outlive it: we wait for its result.
   const sheet::DrawCell draw = [this, &worker](const gpu::PreviewMesh& mesh,
@@ -140,15 +144,8 @@ void ContactSheetService::render(const SheetWork& work, sheet::PairSource* pairs
         })
         .get();
   };
-  sheet::ContactSheet contact(model, work.options, pairs, draw);
-  const int rows = static_cast<int>(work.options.frames.size());
-  picture.width = contact.width();
-  picture.height = rows * work.options.cell_height;
-  std::vector<std::uint8_t> rgba(static_cast<std::size_t>(picture.width) * picture.height * 4);
-  for (int row = 0; row < rows; ++row) contact.render_row(row, rgba, row);
-  io::encode_png(picture.width, picture.height, rgba, picture.png);
-  picture.worst_stretch = contact.worst_stretch();
-  picture.renderer = worker.renderer();
+  sheet::ContactSheet contact(work.sheet_model(), work.options, pairs, draw);
+  picture = sheet::draw_picture(contact, worker.renderer());
 }
 
 }  // namespace sweepd::server

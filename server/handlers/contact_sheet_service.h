@@ -6,8 +6,8 @@
 //
 // read_contact_sheet_request(models, clips, request): the SheetWork, or the RequestError to
 //   answer: UnknownModel, UnknownClip (upload it again), InvalidArgument naming the field — no
-//   frames or more than kMostSheetRows, a frame past the clip's end, no methods, more than
-//   kMostSheetColumns or an unknown one, a cell side outside 64..2048, a picture over
+//   frames or more than ContactSheet::kMostRows, a frame past the clip's end, no methods, more
+//   than kMostSheetColumns or an unknown one, a cell side outside 64..2048, a picture over
 //   kMostSheetPixels, an unknown focus or one the model lacks, a heat scale that is not a
 //   positive number, an angle out of range, a clip that cannot drive the model.
 // render(work, pairs, picture): the deformations on the calling thread (folding's pairs from
@@ -37,7 +37,6 @@ class PreviewRenderer;
 
 namespace sweepd::server {
 
-inline constexpr std::size_t kMostSheetRows = 32;    // as sweepctl sheet
 inline constexpr std::size_t kMostSheetColumns = 8;  // every method, and some twice
 inline constexpr std::uint64_t kMostSheetPixels = 4096ull * 4096ull;  // 64 MiB of RGBA
 
@@ -45,6 +44,8 @@ struct SheetWork {
   ModelHandle model;
   std::shared_ptr<const motion::ClipPoses> clip;
   sheet::SheetOptions options;
+  // The held model posed as the clip's frames (motion::sample_clip, as PoseFromClip plays them).
+  sheet::SheetModel sheet_model() const;
 };
 
 std::variant<SheetWork, RequestError> read_contact_sheet_request(

@@ -22,6 +22,16 @@ namespace {
 namespace pb = sweepd::protocol;
 constexpr std::size_t kReadChunkBytes = 64 * 1024;
 
+// The code for what a worker's render or deformation threw: NotAvailable without a GPU for it,
+// InvalidArgument for a request the work refused, else Internal.
+pb::ErrorCode error_code_of(const std::exception& error) {
+  if (dynamic_cast<const PositionMapUnavailable*>(&error) != nullptr)
+    return pb::ErrorCode::NotAvailable;
+  if (dynamic_cast<const std::invalid_argument*>(&error) != nullptr)
+    return pb::ErrorCode::InvalidArgument;
+  return pb::ErrorCode::Internal;
+}
+
 std::uint64_t nanoseconds_since(std::chrono::steady_clock::time_point from) {
   return static_cast<std::uint64_t>(
       std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - from)
@@ -554,10 +564,7 @@ void Connection::render_contact_sheet(const pb::ContactSheetRequest& request,
   auto work = std::make_shared<const SheetWork>(std::move(std::get<SheetWork>(read)));
   // The picture's pixels are held while it is drawn: they count against the buffer budget of
   // every client, as frames and replies do.
-  const sheet::SheetOptions& options = work->options;
-  const std::size_t pixel_bytes = static_cast<std::size_t>(options.cell_width) *
-                                  options.methods.size() * options.cell_height *
-                                  options.frames.size() * 4;
+  const std::size_t pixel_bytes = work->options.pixel_count() * 4;
   if (!environment_.buffer_budget.take(pixel_bytes)) {
     send_error(pb::ErrorCode::ResourceExhausted,
                "contact sheet: the server's buffer budget has no room for its " +
@@ -578,12 +585,8 @@ void Connection::render_contact_sheet(const pb::ContactSheetRequest& request,
     try {
       CollisionPairFinder pairs(self->environment_.collision);
       self->environment_.contact_sheets.render(*work, &pairs, *picture);
-    } catch (const PositionMapUnavailable& error) {
-      failure = RequestError{pb::ErrorCode::NotAvailable, error.what()};
-    } catch (const std::invalid_argument& error) {
-      failure = RequestError{pb::ErrorCode::InvalidArgument, error.what()};
     } catch (const std::exception& error) {
-      failure = RequestError{pb::ErrorCode::Internal, error.what()};
+      failure = RequestError{error_code_of(error), error.what()};
     }
     const std::uint64_t took_ns = nanoseconds_since(start);
     self->environment_.buffer_budget.give_back(pixel_bytes);
@@ -662,13 +665,8 @@ void Connection::start_next_pose() {
       } else {
         deform_ns = self->writer_.write(*request, dropped, *builder);
       }
-    } catch (const PositionMapUnavailable& error) {
-      code = pb::ErrorCode::NotAvailable;
-      failure = error.what();
-    } catch (const std::invalid_argument& error) {
-      code = pb::ErrorCode::InvalidArgument;
-      failure = error.what();
     } catch (const std::exception& error) {
+      code = error_code_of(error);
       failure = error.what();
     }
     std::optional<std::size_t> sent;
