@@ -259,10 +259,16 @@ void Retargeter::match_joints(const deform::Skeleton& bvh, const OptionalRigMap&
 
 void Retargeter::compute_alignments(const deform::Skeleton& bvh, const OptionalRigMap& model_map) {
   // The neck chain (neck to head) keeps its rest angles: a neck that leans at rest is anatomy,
-  // not a pose (see the header).
+  // not a pose (see the header). So do clavicles set otherwise than the clip's, relative to the
+  // chest they ride on.
   std::vector<bool> keeps_rest(skeleton_.joints.size(), false);
-  if (model_map)
+  std::vector<bool> is_clavicle(skeleton_.joints.size(), false);
+  if (model_map) {
     for (int j : model_map->neck.chain) keeps_rest[j] = true;
+    for (const deform::ArmJoints* arm : {&model_map->left_arm, &model_map->right_arm})
+      if (arm->clavicle >= 0) is_clavicle[arm->clavicle] = true;
+  }
+  keeps_chest_angle_.assign(skeleton_.joints.size(), false);
   const std::vector<glm::vec3> model_world = world_rest_positions(skeleton_);
   const std::vector<glm::vec3> bvh_world = world_rest_positions(bvh);
   world_rest_.resize(skeleton_.joints.size());
@@ -292,7 +298,74 @@ void Retargeter::compute_alignments(const deform::Skeleton& bvh, const OptionalR
     const glm::vec3 bvh_bone = bvh_world[bvh_of_model_[bone_ends[0]]] - bvh_world[b];
     constexpr float kShortest = 1e-6f;
     if (glm::length(model_bone) < kShortest || glm::length(bvh_bone) < kShortest) continue;
-    alignment_[m] = shortest_arc(glm::normalize(model_bone), glm::normalize(bvh_bone));
+    const glm::vec3 model_direction = glm::normalize(model_bone);
+    const glm::vec3 bvh_direction = glm::normalize(bvh_bone);
+    if (is_clavicle[m] && glm::dot(model_direction, bvh_direction) < kSameClavicle) {
+      keeps_chest_angle_[m] = true;  // alignment_[m] stays the chest's
+      continue;
+    }
+    alignment_[m] = shortest_arc(model_direction, bvh_direction);
+  }
+  if (model_map) find_shoulder_rhythms(*model_map, model_world);
+}
+
+void Retargeter::find_shoulder_rhythms(const deform::RigMap& model_map,
+                                       const std::vector<glm::vec3>& model_world) {
+  for (const deform::ArmJoints* arm : {&model_map.left_arm, &model_map.right_arm}) {
+    const int clavicle = arm->clavicle, upper = arm->upper, lower = arm->lower;
+    if (clavicle < 0 || upper < 0 || lower < 0 || !keeps_chest_angle_[clavicle] ||
+        !driven_[clavicle] || !driven_[upper])
+      continue;
+    if (skeleton_.joints[upper].parent != clavicle) continue;
+    if (clip_joint_moves(bvh_of_model_[clavicle])) continue;  // the clip's own clavicle
+    const int chest = skeleton_.joints[clavicle].parent;
+    if (chest < 0) continue;
+    const glm::vec3 arm_bone = model_world[lower] - model_world[upper];
+    const glm::vec3 clavicle_bone = model_world[upper] - model_world[clavicle];
+    if (glm::length(arm_bone) < 1e-6f || glm::length(clavicle_bone) < 1e-6f) continue;
+    ShoulderRhythm rhythm;
+    rhythm.clavicle = clavicle;
+    rhythm.upper = upper;
+    rhythm.chest = chest;
+    rhythm.arm_bone = glm::inverse(world_rest_[upper]) * glm::normalize(arm_bone);
+    rhythm.clavicle_bone = glm::inverse(world_rest_[clavicle]) * glm::normalize(clavicle_bone);
+    rhythm.chest_up = glm::inverse(world_rest_[chest]) * glm::vec3(0.0f, 1.0f, 0.0f);
+    rhythm.rest_elevation =
+        std::acos(std::clamp(glm::dot(glm::normalize(arm_bone), glm::vec3(0, -1, 0)), -1.0f, 1.0f));
+    shoulder_rhythms_.push_back(rhythm);
+  }
+}
+
+bool Retargeter::clip_joint_moves(int clip_joint) const {
+  constexpr float kStill = 0.9998477f;  // |q0 · q| = cos(half their angle): still within 2°
+  std::vector<glm::quat> rotations(motion_->joints.size());
+  std::vector<glm::vec3> translations(motion_->joints.size());
+  motion_->local_pose(0, rotations, translations);
+  const glm::quat first = rotations[clip_joint];
+  for (int frame = 1; frame < motion_->frame_count; ++frame) {
+    motion_->local_pose(frame, rotations, translations);
+    if (std::abs(glm::dot(first, rotations[clip_joint])) < kStill) return true;
+  }
+  return false;
+}
+
+void Retargeter::apply_shoulder_rhythms(deform::Pose& pose, std::vector<glm::quat>& world) const {
+  for (const ShoulderRhythm& rhythm : shoulder_rhythms_) {
+    const glm::vec3 up = world[rhythm.chest] * rhythm.chest_up;
+    const glm::vec3 arm = world[rhythm.upper] * rhythm.arm_bone;
+    const float elevation = std::acos(std::clamp(glm::dot(arm, -up), -1.0f, 1.0f));
+    const float turn = std::clamp(kShoulderRhythm * (elevation - rhythm.rest_elevation),
+                                  -kLargestClavicleTurn, kLargestClavicleTurn);
+    const glm::vec3 clavicle = world[rhythm.clavicle] * rhythm.clavicle_bone;
+    const glm::vec3 axis = glm::cross(clavicle, up);
+    if (glm::length(axis) < 1e-6f) continue;
+    world[rhythm.clavicle] =
+        glm::normalize(glm::angleAxis(turn, glm::normalize(axis)) * world[rhythm.clavicle]);
+    pose.local_rotations[rhythm.clavicle] =
+        glm::normalize(glm::inverse(world[rhythm.chest]) * world[rhythm.clavicle]);
+    // The upper arm keeps its world rotation: the arm points where the clip's points.
+    pose.local_rotations[rhythm.upper] =
+        glm::normalize(glm::inverse(world[rhythm.clavicle]) * world[rhythm.upper]);
   }
 }
 
@@ -357,6 +430,7 @@ deform::Pose Retargeter::retarget(std::span<const glm::quat> bvh_local,
     pose.local_rotations[m] =
         glm::normalize(joint.parent < 0 ? world[m] : glm::inverse(world[joint.parent]) * world[m]);
   }
+  apply_shoulder_rhythms(pose, world);
   const glm::vec3 root_rest = skeleton_.joints[0].rest_translation;
   pose.root_translation =
       keep_root_rest ? root_rest

@@ -49,6 +49,18 @@
 // head turns exactly as the clip's head (aligning the neck's bone to the clip's, as limbs are,
 // turned the male's head up to 19.7° away from the clip's head, the mannequin's 15.7°, and a
 // neck leaning 25° tilted an upright head by 25°: tests/motion/rest_pose_alignment_test.cpp).
+// A clavicle (the rig map's) more than 5° from the clip's at rest keeps its rest angle to the
+// chest instead, with the chest's A: skeletons disagree on
+// where a clavicle starts, and CMU's, calibrated in a T-pose, rises 20° from the neck's base
+// while the male's and the mannequin's fall 10-13° from the sternum; aligned like limbs, the
+// model's shoulder joints stood 8.6 cm (male) and 10 cm (mannequin) above their rest height in
+// every frame, with every method, and lowered arms read as epaulettes. Where the clip leaves a
+// clavicle still (every frame within 2° of its first, as CMU's are: its solver does not move
+// them), such a clavicle follows its arm instead (the shoulder rhythm): it turns up or down by a
+// third of the arm's elevation above or below the model's rest arm (Inman's 2:1 of arm to
+// shoulder girdle), at most 45°, measured from the chest's down axis; the upper arm keeps its
+// world rotation, so the arm still points where the clip's points. A clip that moves its
+// clavicles drives them as any other joint.
 // The spine is still aligned: keeping the male's lumbar lean (6° and 8° from CMU's) stretched
 // a hip edge 3.26x in cmu_01_03 (frame 1128), past the 3x bound. Onto a copy of the clip's own
 // skeleton every driven rotation is the clip's.
@@ -163,6 +175,21 @@ class Retargeter final : public ClipPoses {
   deform::Pose retarget(std::span<const glm::quat> bvh_local,
                         std::span<const glm::vec3> bvh_translation, bool keep_root_rest) const;
   deform::Pose unplanted_pose_at_frame(int frame) const;
+  // The shoulder rhythm (see the header): clavicles the clip leaves still follow the arm.
+  struct ShoulderRhythm {
+    int clavicle = -1, upper = -1, chest = -1;
+    glm::vec3 arm_bone{0.0f}, clavicle_bone{0.0f}, chest_up{0.0f};  // in their joints' frames
+    float rest_elevation = 0.0f;  // the model's rest arm from straight down, radians
+  };
+  // Inman's 2:1: a third of the arm's elevation is the shoulder girdle's.
+  static constexpr float kShoulderRhythm = 1.0f / 3.0f;
+  static constexpr float kLargestClavicleTurn = 0.7854f;  // 45°
+  // A model clavicle within 5° of the clip's is the clip's: aligned and driven like a limb.
+  static constexpr float kSameClavicle = 0.9961947f;  // cos(5°)
+  void find_shoulder_rhythms(const deform::RigMap& model_map,
+                             const std::vector<glm::vec3>& model_world);
+  bool clip_joint_moves(int clip_joint) const;
+  void apply_shoulder_rhythms(deform::Pose& pose, std::vector<glm::quat>& world) const;
 
   Retargeter(std::shared_ptr<const Clip> motion, deform::Skeleton skeleton,
              const JointNameMap& name_map, float model_floor);
@@ -182,6 +209,9 @@ class Retargeter final : public ClipPoses {
   float model_hip_height_ = 0.0f;
   OptionalRigMap model_map_;
   std::optional<FootPlanting> planting_;
+  std::vector<ShoulderRhythm> shoulder_rhythms_;
+  std::vector<bool>
+      keeps_chest_angle_;  // per model joint: a clavicle set otherwise than the clip's
   std::vector<std::string> warnings_;
 };
 
