@@ -268,7 +268,7 @@ void Retargeter::compute_alignments(const deform::Skeleton& bvh, const OptionalR
     for (const deform::ArmJoints* arm : {&model_map->left_arm, &model_map->right_arm})
       if (arm->clavicle >= 0) is_clavicle[arm->clavicle] = true;
   }
-  keeps_chest_angle_.assign(skeleton_.joints.size(), false);
+  std::vector<bool> keeps_chest_angle(skeleton_.joints.size(), false);
   const std::vector<glm::vec3> model_world = world_rest_positions(skeleton_);
   const std::vector<glm::vec3> bvh_world = world_rest_positions(bvh);
   world_rest_.resize(skeleton_.joints.size());
@@ -301,19 +301,20 @@ void Retargeter::compute_alignments(const deform::Skeleton& bvh, const OptionalR
     const glm::vec3 model_direction = glm::normalize(model_bone);
     const glm::vec3 bvh_direction = glm::normalize(bvh_bone);
     if (is_clavicle[m] && glm::dot(model_direction, bvh_direction) < kSameClavicle) {
-      keeps_chest_angle_[m] = true;  // alignment_[m] stays the chest's
+      keeps_chest_angle[m] = true;  // alignment_[m] stays the chest's
       continue;
     }
     alignment_[m] = shortest_arc(model_direction, bvh_direction);
   }
-  if (model_map) find_shoulder_rhythms(*model_map, model_world);
+  if (model_map) find_shoulder_rhythms(*model_map, model_world, keeps_chest_angle);
 }
 
 void Retargeter::find_shoulder_rhythms(const deform::RigMap& model_map,
-                                       const std::vector<glm::vec3>& model_world) {
+                                       const std::vector<glm::vec3>& model_world,
+                                       const std::vector<bool>& keeps_chest_angle) {
   for (const deform::ArmJoints* arm : {&model_map.left_arm, &model_map.right_arm}) {
     const int clavicle = arm->clavicle, upper = arm->upper, lower = arm->lower;
-    if (clavicle < 0 || upper < 0 || lower < 0 || !keeps_chest_angle_[clavicle] ||
+    if (clavicle < 0 || upper < 0 || lower < 0 || !keeps_chest_angle[clavicle] ||
         !driven_[clavicle] || !driven_[upper])
       continue;
     if (skeleton_.joints[upper].parent != clavicle) continue;

@@ -186,8 +186,10 @@ class Retargeter final : public ClipPoses {
   static constexpr float kLargestClavicleTurn = 0.7854f;  // 45°
   // A model clavicle within 5° of the clip's is the clip's: aligned and driven like a limb.
   static constexpr float kSameClavicle = 0.9961947f;  // cos(5°)
+  // keeps_chest_angle: per model joint, a clavicle set otherwise than the clip's.
   void find_shoulder_rhythms(const deform::RigMap& model_map,
-                             const std::vector<glm::vec3>& model_world);
+                             const std::vector<glm::vec3>& model_world,
+                             const std::vector<bool>& keeps_chest_angle);
   bool clip_joint_moves(int clip_joint) const;
   void apply_shoulder_rhythms(deform::Pose& pose, std::vector<glm::quat>& world) const;
 
@@ -210,8 +212,6 @@ class Retargeter final : public ClipPoses {
   OptionalRigMap model_map_;
   std::optional<FootPlanting> planting_;
   std::vector<ShoulderRhythm> shoulder_rhythms_;
-  std::vector<bool>
-      keeps_chest_angle_;  // per model joint: a clavicle set otherwise than the clip's
   std::vector<std::string> warnings_;
 };
 

@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <glm/gtc/quaternion.hpp>
 
+#include "deform/model/forward_kinematics.h"
 #include "io/bvh_load.h"
 #include "io/gltf_load.h"
 #include "mannequin/mannequin.h"
@@ -35,16 +36,17 @@ struct World {
   std::vector<glm::quat> rotation;
 };
 
+// Joint positions and rotations from deform::forward_kinematics (rotations with any rest scale
+// taken out of the matrices' columns).
 World world_of(const deform::Skeleton& skeleton, const deform::Pose& pose) {
-  World world{std::vector<glm::vec3>(skeleton.joints.size()),
-              std::vector<glm::quat>(skeleton.joints.size())};
-  for (int j = 0; j < skeleton.size(); ++j) {
-    const int parent = skeleton.joints[j].parent;
-    const glm::vec3 offset = j == 0 ? pose.root_translation : skeleton.joints[j].rest_translation;
-    world.rotation[j] =
-        parent < 0 ? pose.local_rotations[j] : world.rotation[parent] * pose.local_rotations[j];
-    world.position[j] =
-        parent < 0 ? offset : world.position[parent] + world.rotation[parent] * offset;
+  std::vector<glm::mat4> matrices(skeleton.joints.size());
+  deform::forward_kinematics(skeleton, pose, matrices);
+  World world;
+  for (const glm::mat4& m : matrices) {
+    world.position.emplace_back(m[3]);
+    world.rotation.push_back(glm::normalize(
+        glm::quat_cast(glm::mat3(glm::normalize(glm::vec3(m[0])), glm::normalize(glm::vec3(m[1])),
+                                 glm::normalize(glm::vec3(m[2]))))));
   }
   return world;
 }
@@ -145,13 +147,8 @@ TEST(ShoulderRhythm, LoweredArmsLowerTheShouldersOnEveryBodyAndTheArmsPointAsThe
     clip_position[b] =
         parent < 0 ? translations[b] : clip_position[parent] + clip_world[parent] * translations[b];
   }
-  const auto clip_joint = [&](const std::string& name) {
-    for (std::size_t b = 0; b < motion.joints.size(); ++b)
-      if (motion.joints[b].name == name) return static_cast<int>(b);
-    return -1;
-  };
-  const glm::vec3 clip_arm = glm::normalize(clip_position[clip_joint("LeftForeArm")] -
-                                            clip_position[clip_joint("LeftArm")]);
+  const glm::vec3 clip_arm = glm::normalize(clip_position[motion.find("LeftForeArm")] -
+                                            clip_position[motion.find("LeftArm")]);
   const glm::vec3 model_arm = glm::normalize(posed.position[lower] - posed.position[upper]);
   EXPECT_GT(glm::dot(clip_arm, model_arm), std::cos(glm::radians(0.05f)))
       << "the upper arm should point as the clip's does";
