@@ -64,20 +64,56 @@ bool is_strict_descendant(const deform::Skeleton& skeleton, int joint, int ances
   return false;
 }
 
-// Pelvis height above the floor on straight legs (see the header), or plain pelvis height
-// where there is no map or a leg lacks its hip, knee or ankle (a legless rig).
-float hip_height(const std::optional<deform::RigMap>& map, const std::vector<glm::vec3>& world,
-                 int pelvis, float floor) {
+// The drop from the pelvis to the hip joints plus thigh and shin, mean of both legs: the
+// pelvis's height above the ankles on straight legs; nullopt without a map or where a leg lacks
+// its hip, knee or ankle (a legless rig).
+std::optional<float> straight_leg_length(const std::optional<deform::RigMap>& map,
+                                         const std::vector<glm::vec3>& world, int pelvis) {
   const auto whole = [](const deform::LegJoints& leg) {
     return leg.upper >= 0 && leg.lower >= 0 && leg.foot >= 0;
   };
-  if (!map || !whole(map->left_leg) || !whole(map->right_leg)) return world[pelvis].y - floor;
+  if (!map || !whole(map->left_leg) || !whole(map->right_leg)) return std::nullopt;
   float sum = 0.0f;
   for (const deform::LegJoints* leg : {&map->left_leg, &map->right_leg})
     sum += world[pelvis].y - world[leg->upper].y +
            glm::distance(world[leg->upper], world[leg->lower]) +
-           glm::distance(world[leg->lower], world[leg->foot]) + world[leg->foot].y - floor;
+           glm::distance(world[leg->lower], world[leg->foot]);
   return sum / 2.0f;
+}
+
+// The ankles' height above a floor in the rest pose, mean of both legs (a map with whole legs).
+float rest_ankle_height(const deform::RigMap& map, const std::vector<glm::vec3>& world,
+                        float floor) {
+  return (world[map.left_leg.foot].y + world[map.right_leg.foot].y) / 2.0f - floor;
+}
+
+// World rotations and positions of the clip's joints from their local ones.
+void clip_forward_kinematics(const Clip& motion, std::span<const glm::quat> local,
+                             std::span<const glm::vec3> translation, std::vector<glm::quat>& world,
+                             std::vector<glm::vec3>& position) {
+  world.resize(motion.joints.size());
+  position.resize(motion.joints.size());
+  for (std::size_t b = 0; b < motion.joints.size(); ++b) {
+    const int parent = motion.joints[b].parent;
+    world[b] = parent < 0 ? local[b] : world[parent] * local[b];
+    position[b] = parent < 0 ? translation[b] : position[parent] + world[parent] * translation[b];
+  }
+}
+
+// The clip's ankles' height as it stands (see the header): the 10th percentile over its frames
+// of the lower ankle's height above y = 0.
+float clip_stance_ankle_height(const Clip& motion, const deform::RigMap& map) {
+  std::vector<glm::quat> rotations(motion.joints.size()), world;
+  std::vector<glm::vec3> translations(motion.joints.size()), position;
+  std::vector<float> lower_ankle;
+  for (int frame = 0; frame < motion.frame_count; ++frame) {
+    motion.local_pose(frame, rotations, translations);
+    clip_forward_kinematics(motion, rotations, translations, world, position);
+    lower_ankle.push_back(std::min(position[map.left_leg.foot].y, position[map.right_leg.foot].y));
+  }
+  const auto tenth = lower_ankle.begin() + lower_ankle.size() / 10;
+  std::nth_element(lower_ankle.begin(), tenth, lower_ankle.end());
+  return *tenth;
 }
 
 float lowest_joint_height(const deform::Skeleton& skeleton) {
@@ -259,16 +295,18 @@ void Retargeter::match_joints(const deform::Skeleton& bvh, const OptionalRigMap&
 
 void Retargeter::compute_alignments(const deform::Skeleton& bvh, const OptionalRigMap& model_map) {
   // The neck chain (neck to head) keeps its rest angles: a neck that leans at rest is anatomy,
-  // not a pose (see the header). So do clavicles set otherwise than the clip's, relative to the
-  // chest they ride on.
+  // not a pose (see the header). So do girdle bones (clavicles, hip links) set otherwise than
+  // the clip's, relative to the chest or pelvis they ride on.
   std::vector<bool> keeps_rest(skeleton_.joints.size(), false);
-  std::vector<bool> is_clavicle(skeleton_.joints.size(), false);
+  std::vector<bool> is_girdle(skeleton_.joints.size(), false);
   if (model_map) {
     for (int j : model_map->neck.chain) keeps_rest[j] = true;
     for (const deform::ArmJoints* arm : {&model_map->left_arm, &model_map->right_arm})
-      if (arm->clavicle >= 0) is_clavicle[arm->clavicle] = true;
+      if (arm->clavicle >= 0) is_girdle[arm->clavicle] = true;
+    for (const deform::LegJoints* leg : {&model_map->left_leg, &model_map->right_leg})
+      if (leg->hip >= 0) is_girdle[leg->hip] = true;
   }
-  std::vector<bool> keeps_chest_angle(skeleton_.joints.size(), false);
+  std::vector<bool> keeps_parent_angle(skeleton_.joints.size(), false);
   const std::vector<glm::vec3> model_world = world_rest_positions(skeleton_);
   const std::vector<glm::vec3> bvh_world = world_rest_positions(bvh);
   world_rest_.resize(skeleton_.joints.size());
@@ -300,21 +338,21 @@ void Retargeter::compute_alignments(const deform::Skeleton& bvh, const OptionalR
     if (glm::length(model_bone) < kShortest || glm::length(bvh_bone) < kShortest) continue;
     const glm::vec3 model_direction = glm::normalize(model_bone);
     const glm::vec3 bvh_direction = glm::normalize(bvh_bone);
-    if (is_clavicle[m] && glm::dot(model_direction, bvh_direction) < kSameClavicle) {
-      keeps_chest_angle[m] = true;  // alignment_[m] stays the chest's
+    if (is_girdle[m] && glm::dot(model_direction, bvh_direction) < kSameGirdle) {
+      keeps_parent_angle[m] = true;  // alignment_[m] stays the chest's or the pelvis's
       continue;
     }
     alignment_[m] = shortest_arc(model_direction, bvh_direction);
   }
-  if (model_map) find_shoulder_rhythms(*model_map, model_world, keeps_chest_angle);
+  if (model_map) find_shoulder_rhythms(*model_map, model_world, keeps_parent_angle);
 }
 
 void Retargeter::find_shoulder_rhythms(const deform::RigMap& model_map,
                                        const std::vector<glm::vec3>& model_world,
-                                       const std::vector<bool>& keeps_chest_angle) {
+                                       const std::vector<bool>& keeps_parent_angle) {
   for (const deform::ArmJoints* arm : {&model_map.left_arm, &model_map.right_arm}) {
     const int clavicle = arm->clavicle, upper = arm->upper, lower = arm->lower;
-    if (clavicle < 0 || upper < 0 || lower < 0 || !keeps_chest_angle[clavicle] ||
+    if (clavicle < 0 || upper < 0 || lower < 0 || !keeps_parent_angle[clavicle] ||
         !driven_[clavicle] || !driven_[upper])
       continue;
     if (skeleton_.joints[upper].parent != clavicle) continue;
@@ -377,9 +415,22 @@ void Retargeter::compute_root_scale(const deform::Skeleton& bvh, const OptionalR
   const std::vector<glm::vec3> model_world = world_rest_positions(skeleton_);
   const std::vector<glm::vec3> bvh_world = world_rest_positions(bvh);
   model_pelvis_rest_ = model_world[model_pelvis_];
-  const float bvh_height =
-      hip_height(bvh_map, bvh_world, bvh_pelvis_, lowest_clip_height(*motion_, bvh_world));
-  model_hip_height_ = hip_height(model_map, model_world, model_pelvis_, model_floor);
+  const float bvh_floor = lowest_clip_height(*motion_, bvh_world);
+  float bvh_height = bvh_world[bvh_pelvis_].y - bvh_floor;
+  if (const std::optional<float> legs = straight_leg_length(bvh_map, bvh_world, bvh_pelvis_)) {
+    const float rest_ankle = rest_ankle_height(*bvh_map, bvh_world, bvh_floor);
+    const float stance_ankle = clip_stance_ankle_height(*motion_, *bvh_map);
+    const bool stands = stance_ankle > 0.0f && stance_ankle < kHighestStanceAnkle * *legs;
+    if (!stands)
+      warnings_.push_back(
+          "the clip's ankles do not stand near its floor (y = 0; the lower "
+          "ankle's 10th percentile is " +
+          std::to_string(stance_ankle) + "): its hip height is measured in its rest pose");
+    bvh_height = *legs + (stands ? stance_ankle : rest_ankle);
+  }
+  model_hip_height_ = model_world[model_pelvis_].y - model_floor;
+  if (const std::optional<float> legs = straight_leg_length(model_map, model_world, model_pelvis_))
+    model_hip_height_ = *legs + rest_ankle_height(*model_map, model_world, model_floor);
   if (bvh_height > 0.0f && model_hip_height_ > 0.0f) {
     root_scale_ = model_hip_height_ / bvh_height;
   } else {
@@ -404,15 +455,9 @@ std::vector<std::string> Retargeter::unmapped_model_joints() const {
 deform::Pose Retargeter::retarget(std::span<const glm::quat> bvh_local,
                                   std::span<const glm::vec3> bvh_translation,
                                   bool keep_root_rest) const {
-  const std::size_t bvh_count = motion_->joints.size();
-  std::vector<glm::quat> bvh_world(bvh_count);
-  std::vector<glm::vec3> bvh_position(bvh_count);
-  for (std::size_t b = 0; b < bvh_count; ++b) {
-    const int parent = motion_->joints[b].parent;
-    bvh_world[b] = parent < 0 ? bvh_local[b] : bvh_world[parent] * bvh_local[b];
-    bvh_position[b] = parent < 0 ? bvh_translation[b]
-                                 : bvh_position[parent] + bvh_world[parent] * bvh_translation[b];
-  }
+  std::vector<glm::quat> bvh_world;
+  std::vector<glm::vec3> bvh_position;
+  clip_forward_kinematics(*motion_, bvh_local, bvh_translation, bvh_world, bvh_position);
   deform::Pose pose;
   pose.local_rotations.resize(skeleton_.joints.size());
   std::vector<glm::quat> world(skeleton_.joints.size());

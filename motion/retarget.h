@@ -60,7 +60,11 @@
 // third of the arm's elevation above or below the model's rest arm (Inman's 2:1 of arm to
 // shoulder girdle), at most 45°, measured from the chest's down axis; the upper arm keeps its
 // world rotation, so the arm still points where the clip's points. A clip that moves its
-// clavicles drives them as any other joint.
+// clavicles drives them as any other joint. Hip links (the rig map's leg.hip) set more than 5°
+// from the clip's keep their rest angle to the pelvis in the same way: CMU's LHipJoint falls
+// 48° from the pelvis to the hip joint, the male's 2.8°, and aligned, the male's hip joints sat
+// 7.6 cm low in every frame (the crotch stretched: LBS's hips 8.3x on cmu_01_01, now 6.1x;
+// tests/motion/hip_links_test.cpp).
 // The spine is still aligned: keeping the male's lumbar lean (6° and 8° from CMU's) stretched
 // a hip edge 3.26x in cmu_01_03 (frame 1128), past the 3x bound. Onto a copy of the clip's own
 // skeleton every driven rotation is the clip's.
@@ -68,12 +72,19 @@
 //
 // Root translation: the model's pelvis goes to root_scale() times the BVH pelvis position,
 // where root_scale() = model hip height / BVH hip height. Each side's hip height is its pelvis
-// height above the floor when standing on straight legs, measured in its rest pose whatever
-// the legs' splay: the drop from the pelvis to the hip joint, plus thigh and shin lengths, plus
-// the ankle's height above the floor (means of both legs). The floor is the model's lowest
-// vertex (its lowest joint for a bare skeleton) and the clip's lowest joint or End Site. Without
-// a rig map on a side, the pelvis height above the floor. Both sides must be Y-up (io::load_bvh
-// turns a Z-up clip upright, motion/clip_up_axis.h); their length units may differ.
+// height above the floor when standing on straight legs, whatever the legs' splay at rest: the
+// drop from the pelvis to the hip joint, plus thigh and shin lengths (from the rest pose), plus
+// the ankles' height above the floor (means of both legs). The model's ankles are measured in
+// its rest pose above its lowest vertex (its lowest joint for a bare skeleton); the clip's as
+// it stands: the 10th percentile over its frames of the lower ankle's height above y = 0, the
+// floor of mocap data (CMU's: 0.100 m on cmu_01_01, 0.086 m on cmu_01_03). A clip's rest
+// skeleton need not have a heel: CMU's lowest End Site, its toes', lies 2.4 cm below its ankle,
+// and a scale from that put the male's pelvis 7 cm too high. Where that percentile lies at or
+// below y = 0 or above a quarter of the clip's straight legs (a clip that sits or hangs, or
+// whose floor is elsewhere; a warning says so), the clip's ankles are measured in its rest pose
+// above its lowest joint or End Site. Without a rig map on a side, the pelvis height above the
+// floor. Both sides must be Y-up (io::load_bvh turns a Z-up clip upright,
+// motion/clip_up_axis.h); their length units may differ.
 // The shift is applied to the model's root (joint 0), which must carry the pelvis rigidly.
 //
 // Feet (Feet::kPlanted, the default, on a model with a mesh and a leg the rig map found whole):
@@ -184,12 +195,16 @@ class Retargeter final : public ClipPoses {
   // Inman's 2:1: a third of the arm's elevation is the shoulder girdle's.
   static constexpr float kShoulderRhythm = 1.0f / 3.0f;
   static constexpr float kLargestClavicleTurn = 0.7854f;  // 45°
-  // A model clavicle within 5° of the clip's is the clip's: aligned and driven like a limb.
-  static constexpr float kSameClavicle = 0.9961947f;  // cos(5°)
-  // keeps_chest_angle: per model joint, a clavicle set otherwise than the clip's.
+  // A model clavicle or hip link within 5° of the clip's is the clip's: aligned and driven like
+  // a limb.
+  static constexpr float kSameGirdle = 0.9961947f;  // cos(5°)
+  // A clip's lower ankle standing higher than this share of its straight legs is not on its
+  // floor (sitting on a stool, hanging, or a floor elsewhere than y = 0).
+  static constexpr float kHighestStanceAnkle = 0.25f;
+  // keeps_parent_angle: per model joint, a girdle bone set otherwise than the clip's.
   void find_shoulder_rhythms(const deform::RigMap& model_map,
                              const std::vector<glm::vec3>& model_world,
-                             const std::vector<bool>& keeps_chest_angle);
+                             const std::vector<bool>& keeps_parent_angle);
   bool clip_joint_moves(int clip_joint) const;
   void apply_shoulder_rhythms(deform::Pose& pose, std::vector<glm::quat>& world) const;
 

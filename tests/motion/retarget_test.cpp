@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -178,46 +179,97 @@ TEST_F(RetargetTest, ArmsAreHorizontalAtTheClipsRestPose) {
 }
 
 TEST_F(RetargetTest, RootTranslationIsScaledByTheHipHeightRatio) {
-  const Retargeter retargeter(motion_, model_);
-  // Expected ratio, measured here from the rest poses: pelvis height above the floor on
-  // straight legs = drop to the hip joint + thigh + shin + ankle height, mean of both legs.
+  // Free feet: the root exactly where the scale puts it (planting may bring the body down).
+  const Retargeter retargeter(motion_, model_, {}, Feet::kFree);
+  // Expected ratio, measured here: pelvis height above the floor on straight legs = drop to the
+  // hip joint + thigh + shin (mean of both legs) + ankle height: the model's in its rest pose,
+  // the clip's as it stands (the 10th percentile of its lower ankle's height above y = 0 over
+  // its frames; CMU's rest skeleton has no heel, so its rest ankle stands 2.4 cm above its toes).
   const std::vector<glm::vec3> model_rest = model_positions(deform::rest_pose(model_.skeleton));
   float model_floor = model_.positions[0].y;
   for (const glm::vec3& p : model_.positions) model_floor = std::min(model_floor, p.y);
   std::vector<glm::vec3> clip_rest(motion_.joints.size());
-  float clip_floor = 0.0f;
   for (std::size_t b = 0; b < motion_.joints.size(); ++b) {
     const int parent = motion_.joints[b].parent;
     clip_rest[b] = (parent < 0 ? glm::vec3(0.0f) : clip_rest[parent]) + motion_.joints[b].offset;
-    clip_floor = std::min(clip_floor, clip_rest[b].y);
-    if (motion_.joints[b].end_site)
-      clip_floor = std::min(clip_floor, clip_rest[b].y + motion_.joints[b].end_site->y);
   }
-  const auto hip_height = [](const std::vector<glm::vec3>& p, float floor, int pelvis,
-                             std::array<int, 3> left, std::array<int, 3> right) {
+  const auto legs = [](const std::vector<glm::vec3>& p, int pelvis, std::array<int, 3> left,
+                       std::array<int, 3> right) {
     float sum = 0.0f;
     for (const auto& [hip, knee, ankle] : {left, right})
       sum += p[pelvis].y - p[hip].y + glm::distance(p[hip], p[knee]) +
-             glm::distance(p[knee], p[ankle]) + p[ankle].y - floor;
+             glm::distance(p[knee], p[ankle]);
     return sum / 2.0f;
   };
-  const float model_height =
-      hip_height(model_rest, model_floor, model_joint("Hips"),
-                 {model_joint("LeftUpLeg"), model_joint("LeftLeg"), model_joint("LeftFoot")},
-                 {model_joint("RightUpLeg"), model_joint("RightLeg"), model_joint("RightFoot")});
+  const std::array<int, 3> model_left = {model_joint("LeftUpLeg"), model_joint("LeftLeg"),
+                                         model_joint("LeftFoot")};
+  const std::array<int, 3> model_right = {model_joint("RightUpLeg"), model_joint("RightLeg"),
+                                          model_joint("RightFoot")};
+  const float model_height = legs(model_rest, model_joint("Hips"), model_left, model_right) +
+                             (model_rest[model_left[2]].y + model_rest[model_right[2]].y) / 2.0f -
+                             model_floor;
+  const int left_ankle = motion_.find("LeftFoot"), right_ankle = motion_.find("RightFoot");
+  std::vector<float> lower_ankle;
+  for (int frame = 0; frame < motion_.frame_count; ++frame) {
+    const std::vector<glm::vec3> p = clip_positions(frame);
+    lower_ankle.push_back(std::min(p[left_ankle].y, p[right_ankle].y));
+  }
+  std::sort(lower_ankle.begin(), lower_ankle.end());
+  const float stance_ankle = lower_ankle[lower_ankle.size() / 10];
   const float clip_height =
-      hip_height(clip_rest, clip_floor, motion_.find("Hips"),
-                 {motion_.find("LeftUpLeg"), motion_.find("LeftLeg"), motion_.find("LeftFoot")},
-                 {motion_.find("RightUpLeg"), motion_.find("RightLeg"), motion_.find("RightFoot")});
-  std::printf("hip heights: model %.4f m, clip %.4f m\n", model_height, clip_height);
+      legs(clip_rest, motion_.find("Hips"),
+           {motion_.find("LeftUpLeg"), motion_.find("LeftLeg"), left_ankle},
+           {motion_.find("RightUpLeg"), motion_.find("RightLeg"), right_ankle}) +
+      stance_ankle;
+  std::printf("hip heights: model %.4f m, clip %.4f m (its ankles stand %.4f m high)\n",
+              model_height, clip_height, stance_ankle);
+  // CMU's subject stands with flat feet: ankles 8-11 cm up.
+  EXPECT_GT(stance_ankle, 0.08f);
+  EXPECT_LT(stance_ankle, 0.11f);
   // Sums of a few float distances: relative round-off.
   EXPECT_NEAR(retargeter.root_scale(), model_height / clip_height, 1e-5f);
+  const Retargeter planted(motion_, model_);
+  EXPECT_EQ(planted.root_scale(), retargeter.root_scale());
   for (int frame : {0, 700, 2100}) {
     const glm::vec3 hips = model_positions(retargeter.pose_at_frame(frame))[model_joint("Hips")];
     const glm::vec3 clip_hips = clip_positions(frame)[motion_.find("Hips")];
     // Hips is the model's root: its position is the scaled clip position; float round-off.
     EXPECT_LT(glm::distance(hips, retargeter.root_scale() * clip_hips), 1e-5f) << "frame " << frame;
+    // Scaled so, the standing body's feet reach the floor: planting brings it down by at most
+    // 1 cm (it came down 4.4-5.0 cm with the clip's rest ankle height, which hid behind the hip
+    // links' alignment before they kept their rest angle) and never moves it sideways.
+    const glm::vec3 planted_hips =
+        model_positions(planted.pose_at_frame(frame))[model_joint("Hips")];
+    std::printf("frame %d: planting moves the hips %.4f m\n", frame, planted_hips.y - hips.y);
+    EXPECT_LE(planted_hips.y, hips.y + 1e-5f) << "frame " << frame;
+    EXPECT_GT(planted_hips.y, hips.y - 0.01f) << "frame " << frame;
+    EXPECT_LT(glm::length(glm::vec2(planted_hips.x - hips.x, planted_hips.z - hips.z)), 1e-5f);
   }
+}
+
+// A clip whose feet never come near y = 0 (here cmu_01_01 lifted 2 m: a floor elsewhere) has
+// no stance to measure: its ankles are measured in its rest pose, and a warning says so.
+TEST_F(RetargetTest, AClipWhoseFeetNeverNearTheFloorMeasuresItsAnklesAtRest) {
+  const Retargeter on_the_floor(motion_, model_, {}, Feet::kFree);
+  Clip lifted = motion_;
+  const ClipJoint& root = lifted.joints[0];
+  int y = -1;
+  for (std::size_t c = 0; c < root.channels.size(); ++c)
+    if (root.channels[c] == Channel::kYposition) y = root.channel_offset + static_cast<int>(c);
+  ASSERT_GE(y, 0) << "CMU's root has a Y position channel";
+  for (int frame = 0; frame < lifted.frame_count; ++frame)
+    lifted.values[static_cast<std::size_t>(frame) * lifted.channel_count + y] += 2.0f;
+  const Retargeter retargeter(lifted, model_, {}, Feet::kFree);
+  ASSERT_EQ(retargeter.warnings().size(), 3u);  // the fingers, the toes, then this
+  EXPECT_NE(retargeter.warnings()[2].find("do not stand near its floor"), std::string::npos)
+      << retargeter.warnings()[2];
+  // CMU's rest ankle, 2.4 cm above its toes, against its 10 cm stance: a hip height 7.6 cm
+  // lower, a scale about 8 % larger.
+  const float ratio = retargeter.root_scale() / on_the_floor.root_scale();
+  std::printf("root scale %.4f lifted, %.4f on the floor\n", retargeter.root_scale(),
+              on_the_floor.root_scale());
+  EXPECT_GT(ratio, 1.05f);
+  EXPECT_LT(ratio, 1.11f);
 }
 
 TEST_F(RetargetTest, FeetStayOnTheFloorWhileTheClipStands) {

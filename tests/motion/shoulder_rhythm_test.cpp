@@ -21,8 +21,7 @@
 #include "io/gltf_load.h"
 #include "mannequin/mannequin.h"
 #include "motion/retarget.h"
-#include "tests/mirrored_model.h"
-#include "tests/rescaled_model.h"
+#include "tests/body_variants.h"
 
 namespace sweepd::motion {
 namespace {
@@ -70,12 +69,6 @@ Shoulder shoulder_of(const deform::Model& model, const Retargeter& retargeter, c
           glm::dot(down.position[upper] - down.position[chest], up_down)};
 }
 
-struct Body {
-  std::string name;
-  deform::Model model;
-  float scale = 1.0f;
-};
-
 TEST(ShoulderRhythm, LoweredArmsLowerTheShouldersOnEveryBodyAndTheArmsPointAsTheClipsDo) {
   const fs::path clip = kData / "motion/cmu_01_01.bvh";
   const fs::path male_file = kData / "models/makehuman_male_cmu.glb";
@@ -84,15 +77,11 @@ TEST(ShoulderRhythm, LoweredArmsLowerTheShouldersOnEveryBodyAndTheArmsPointAsThe
   const Clip motion = io::load_bvh(clip, cmu);
   const deform::Model male = io::load_gltf(male_file);
   const deform::Model mannequin = mannequin::make_mannequin({.target_vertices = 4000});
-  std::vector<Body> bodies;
-  for (const auto& [name, model] : {std::pair{"male", &male}, std::pair{"mannequin", &mannequin}}) {
-    bodies.push_back({name, *model});
-    bodies.push_back({std::string(name) + " mirrored", test_models::mirrored(*model)});
-    bodies.push_back({std::string(name) + " x0.8", test_models::rescaled(*model, 0.8f), 0.8f});
-  }
+  const std::vector<test_models::BodyVariant> bodies =
+      test_models::plain_mirrored_and_rescaled({{"male", &male}, {"mannequin", &mannequin}}, 0.8f);
   Shoulder reference[2][2];  // [male, mannequin][left, right], from the plain bodies
   for (std::size_t i = 0; i < bodies.size(); ++i) {
-    const Body& body = bodies[i];
+    const test_models::BodyVariant& body = bodies[i];
     SCOPED_TRACE(body.name);
     const Retargeter retargeter(motion, body.model);
     for (int s = 0; s < 2; ++s) {
@@ -105,8 +94,8 @@ TEST(ShoulderRhythm, LoweredArmsLowerTheShouldersOnEveryBodyAndTheArmsPointAsThe
       // about 13°, 2-5 cm down; aligned to CMU's clavicle it stood 8-10 cm higher.
       EXPECT_GT(drop, 0.01f * body.scale) << side << ": arms down, the shoulder should sit lower";
       EXPECT_LT(drop, 0.06f * body.scale) << side << ": lower than the rhythm allows";
-      const int plain = static_cast<int>(i / 3);
-      if (i % 3 == 0) {
+      const int plain = static_cast<int>(i) / test_models::kVariantsPerBody;
+      if (i % test_models::kVariantsPerBody == 0) {
         reference[plain][s] = shoulder;
       } else {
         // Both bodies are left-right symmetric and the clip drives each side by its name, so
