@@ -27,6 +27,7 @@
 #include "mannequin/mannequin.h"
 #include "motion/retarget.h"
 #include "tests/body_variants.h"
+#include "tests/motion/clip_world_positions.h"
 
 namespace sweepd::motion {
 namespace {
@@ -51,14 +52,7 @@ float knee_degrees(const glm::vec3& hip, const glm::vec3& knee, const glm::vec3&
 
 // The clip's knee flexion at a frame, by its own forward kinematics.
 float clip_knee_degrees(const Clip& motion, int frame, const char* side) {
-  std::vector<glm::quat> rotations(motion.joints.size()), world(motion.joints.size());
-  std::vector<glm::vec3> translations(motion.joints.size()), at(motion.joints.size());
-  motion.local_pose(frame, rotations, translations);
-  for (std::size_t b = 0; b < motion.joints.size(); ++b) {
-    const int parent = motion.joints[b].parent;
-    world[b] = parent < 0 ? rotations[b] : world[parent] * rotations[b];
-    at[b] = parent < 0 ? translations[b] : at[parent] + world[parent] * translations[b];
-  }
+  const std::vector<glm::vec3> at = clip_world_positions(motion, frame);
   const std::string s = side;
   return knee_degrees(at[motion.find(s + "UpLeg")], at[motion.find(s + "Leg")],
                       at[motion.find(s + "Foot")]);

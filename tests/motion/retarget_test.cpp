@@ -17,6 +17,7 @@
 #include "io/bvh_load.h"
 #include "io/gltf_load.h"
 #include "mannequin/mannequin.h"
+#include "tests/motion/clip_world_positions.h"
 
 namespace sweepd::motion {
 namespace {
@@ -62,16 +63,7 @@ class RetargetTest : public ::testing::Test {
 
   // World joint positions of the clip at a frame, by its own forward kinematics.
   std::vector<glm::vec3> clip_positions(int frame) const {
-    std::vector<glm::vec3> positions(motion_.joints.size());
-    std::vector<glm::quat> world(motion_.joints.size());
-    for (std::size_t b = 0; b < motion_.joints.size(); ++b) {
-      const int parent = motion_.joints[b].parent;
-      const glm::quat local = motion_.local_rotation(static_cast<int>(b), frame);
-      const glm::vec3 offset = motion_.local_translation(static_cast<int>(b), frame);
-      world[b] = parent < 0 ? local : world[parent] * local;
-      positions[b] = parent < 0 ? offset : positions[parent] + world[parent] * offset;
-    }
-    return positions;
+    return clip_world_positions(motion_, frame);
   }
 
   int model_joint(const char* name) const { return model_.skeleton.find(name); }

@@ -22,6 +22,7 @@
 #include "mannequin/mannequin.h"
 #include "motion/retarget.h"
 #include "tests/body_variants.h"
+#include "tests/motion/clip_world_positions.h"
 
 namespace sweepd::motion {
 namespace {
@@ -125,17 +126,7 @@ TEST(ShoulderRhythm, LoweredArmsLowerTheShouldersOnEveryBodyAndTheArmsPointAsThe
               clavicle_turn);
   EXPECT_GT(clavicle_turn, 5.0f);
   EXPECT_LT(clavicle_turn, 45.1f);
-  std::vector<glm::quat> rotations(motion.joints.size());
-  std::vector<glm::vec3> translations(motion.joints.size());
-  motion.local_pose(kArmsDown, rotations, translations);
-  std::vector<glm::quat> clip_world(motion.joints.size());
-  std::vector<glm::vec3> clip_position(motion.joints.size());
-  for (std::size_t b = 0; b < motion.joints.size(); ++b) {
-    const int parent = motion.joints[b].parent;
-    clip_world[b] = parent < 0 ? rotations[b] : clip_world[parent] * rotations[b];
-    clip_position[b] =
-        parent < 0 ? translations[b] : clip_position[parent] + clip_world[parent] * translations[b];
-  }
+  const std::vector<glm::vec3> clip_position = clip_world_positions(motion, kArmsDown);
   const glm::vec3 clip_arm = glm::normalize(clip_position[motion.find("LeftForeArm")] -
                                             clip_position[motion.find("LeftArm")]);
   const glm::vec3 model_arm = glm::normalize(posed.position[lower] - posed.position[upper]);
