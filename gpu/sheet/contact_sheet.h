@@ -23,6 +23,8 @@
 //   constructor runs the framing pass (one LBS deformation per frame, no GL). render_row(i,
 //   rgba, row) renders frame frames[i] into row `row` of a picture width() pixels wide (rgba:
 //   width() × rows × cell_height × 4 bytes, row 0 at the top).
+// Every cell is shaded with the normals of its posed surface (the runtime's WeldedNormals), for
+// every method alike: LBS's and DQS's own skinned normals would hide their creases.
 // worst_stretch(): the largest edge stretch of each rendered cell, in order.
 // Use on one thread; DrawCell is called on it.
 #pragma once
@@ -111,6 +113,7 @@ class ContactSheet {
   int caption_scale_ = 1, caption_height_ = 0;
   std::vector<gpu::Camera> cameras_;  // per frame
   std::vector<glm::vec3> positions_, normals_, colours_;
+  std::vector<deform::FloatLanes> normal_sums_;  // WeldedNormals' scratch
   std::vector<std::uint8_t> cell_;  // the render, cell_width × (cell_height − caption) × 4
   std::vector<double> worst_stretch_;
 };
