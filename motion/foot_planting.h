@@ -1,9 +1,10 @@
 // Foot planting: a retargeted clip's feet put on the model's floor where the clip plants them.
 //
 // Rotations retargeted bone by bone (motion/retarget.h) land the clip's feet where the model's
-// proportions put them: the male's soles sank up to 5 cm below the floor in CMU's walks, since
-// its legs, ankles and feet are not the clip's. Production retargeters correct this with leg
-// IK on the frames where a foot is planted (MotionBuilder's floor contact, Unreal's IK
+// proportions put them: the male's soles sank up to 5 cm below the floor in CMU's walks (before
+// retarget.h took the clip's hip height as it stands), since its legs, ankles and feet are not
+// the clip's, and no root scale makes every frame agree. Production retargeters correct this with
+// leg IK on the frames where a foot is planted (MotionBuilder's floor contact, Unreal's IK
 // retargeter); so does this.
 //
 // Definitions (the model in metres, Y up; L its hip height on straight legs, about 0.9 m):
