@@ -11,17 +11,17 @@
 
 namespace sweepd::deform::test {
 
-inline deform::Pose elbows_and_knees_flexed(const deform::BoundModel& bound, float degrees) {
-  const deform::Skeleton& skeleton = bound.model.skeleton;
+inline Pose elbows_and_knees_flexed(const BoundModel& bound, float degrees) {
+  const Skeleton& skeleton = bound.model.skeleton;
   const std::vector<glm::mat4> world = skeleton.world_rest_matrices();
-  deform::Pose pose = deform::rest_pose(skeleton);
-  for (const deform::ArmJoints* arm : {&bound.rig.left_arm, &bound.rig.right_arm}) {
+  Pose pose = rest_pose(skeleton);
+  for (const ArmJoints* arm : {&bound.rig.left_arm, &bound.rig.right_arm}) {
     const glm::vec3 upper = glm::vec3(world[arm->lower][3]) - glm::vec3(world[arm->upper][3]);
-    deform::flex_joint(skeleton, pose, arm->lower,
-                       glm::cross(glm::normalize(upper), glm::vec3(0, 0, 1)), degrees);
+    flex_joint(skeleton, pose, arm->lower, glm::cross(glm::normalize(upper), glm::vec3(0, 0, 1)),
+               degrees);
   }
-  for (const deform::LegJoints* leg : {&bound.rig.left_leg, &bound.rig.right_leg})
-    deform::flex_joint(skeleton, pose, leg->lower, glm::vec3(1, 0, 0), degrees);
+  for (const LegJoints* leg : {&bound.rig.left_leg, &bound.rig.right_leg})
+    flex_joint(skeleton, pose, leg->lower, glm::vec3(1, 0, 0), degrees);
   return pose;
 }
 

@@ -22,8 +22,7 @@ bool uses_collision(std::span<const MethodChoice> methods) {
 
 const deform::SweepPoser& deform_with(const MethodChoice& m, const deform::ModelRuntime& runtime,
                                       deform::DeformContext& context, PairSource* pairs,
-                                      deform::Pose pose, std::span<glm::vec3> positions,
-                                      std::span<glm::vec3> normals) {
+                                      deform::Pose pose, std::span<glm::vec3> positions) {
   deform::DeformJob job{.runtime = runtime,
                         .pose = pose,
                         .method = m.method,
@@ -31,8 +30,7 @@ const deform::SweepPoser& deform_with(const MethodChoice& m, const deform::Model
                                      .protrusion = m.collision,
                                      .volume = m.preserve_volume,
                                      .contact = m.contact},
-                        .positions = positions,
-                        .normals = normals};
+                        .positions = positions};
   if (m.collision && pairs != nullptr) job.options.detect = pairs->begin();
   const deform::DeformReport report = job.run(context);
   if (m.collision && pairs != nullptr) pairs->finish(report.features);

@@ -10,7 +10,8 @@
 //                     begin() gives the DeformJob's pair finder (empty: the CPU reference);
 //                     finish(report) takes the deformation's stage times.
 //   deform_with       runs one deform::DeformJob of `pose` with the method into positions
-//                     (vertex_count() each) and, when not empty, normals; folding's pairs from
+//                     (vertex_count()), no normals (the sheet shades every method by its
+//                     surface's: gpu/sheet/contact_sheet.h); folding's pairs from
 //                     `pairs` (null: the CPU reference). Returns the context's SweepPoser
 //                     posed to the pose: the deformation's own sweep state for sweep methods,
 //                     the section planes for LBS/DQS. The context's world_pose() is the pose's.
@@ -47,7 +48,6 @@ class PairSource {
 
 const deform::SweepPoser& deform_with(const MethodChoice& m, const deform::ModelRuntime& runtime,
                                       deform::DeformContext& context, PairSource* pairs,
-                                      deform::Pose pose, std::span<glm::vec3> positions,
-                                      std::span<glm::vec3> normals = {});
+                                      deform::Pose pose, std::span<glm::vec3> positions);
 
 }  // namespace sweepd::sheet

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <vector>
 
 #include "deform/binding/bind.h"
@@ -27,7 +28,7 @@ double largest_angle_degrees(const std::vector<glm::vec3>& a, const std::vector<
   double largest = 0.0;
   for (std::size_t v = 0; v < a.size(); ++v) {
     const double cosine = std::clamp<double>(glm::dot(a[v], b[v]), -1.0, 1.0);
-    largest = std::max(largest, std::acos(cosine) * 180.0 / 3.141592653589793);
+    largest = std::max(largest, std::acos(cosine) * 180.0 / std::numbers::pi);
   }
   return largest;
 }
@@ -36,8 +37,8 @@ TEST(ContactSheetShading, EveryMethodIsShadedByTheNormalsOfItsPosedSurface) {
   const deform::Model model = mannequin::make_mannequin({.target_vertices = 4000});
   const deform::BoundModel bound = deform::bind(model, deform::detect_rig_map(model.skeleton));
   const deform::ModelRuntime runtime(bound);
-  deform::Pose pose =
-      deform::test::elbows_and_knees_flexed(bound, 120.0f);  // DeformJob normalises it in place
+  // Not const: DeformJob normalises its pose in place.
+  deform::Pose pose = deform::test::elbows_and_knees_flexed(bound, 120.0f);
 
   SheetOptions options;
   for (const char* name : {"sweep", "lbs", "dqs"})
