@@ -8,6 +8,7 @@
 
 #include "protocol/hostile_frames.h"
 #include "protocol/messages.h"
+#include "tests/server/loopback_port.h"
 
 namespace sweepd::bench {
 namespace {
@@ -29,11 +30,8 @@ int HostilePeers::open(int receive_buffer_bytes) {
   const int fd = socket(AF_INET, SOCK_STREAM, 0);
   if (receive_buffer_bytes > 0)
     setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &receive_buffer_bytes, sizeof(receive_buffer_bytes));
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_port = htons(static_cast<std::uint16_t>(port_));
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof(address));
+  const sockaddr_in address = test::loopback_address(port_);
+  connect(fd, reinterpret_cast<const sockaddr*>(&address), sizeof(address));
   sockets_.push_back(fd);
   return fd;
 }

@@ -18,6 +18,8 @@
 #include <sstream>
 #include <thread>
 
+#include "tests/server/loopback_port.h"
+
 namespace sweepd::test {
 
 std::string read_text(const fs::path& file) {
@@ -147,11 +149,8 @@ FrameClient::FrameClient(int port, int receive_buffer_bytes) {
   fd_ = socket(AF_INET, SOCK_STREAM, 0);
   if (receive_buffer_bytes > 0)
     setsockopt(fd_, SOL_SOCKET, SO_RCVBUF, &receive_buffer_bytes, sizeof(receive_buffer_bytes));
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_port = htons(static_cast<std::uint16_t>(port));
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  connected_ = connect(fd_, reinterpret_cast<sockaddr*>(&address), sizeof(address)) == 0;
+  const sockaddr_in address = loopback_address(port);
+  connected_ = connect(fd_, reinterpret_cast<const sockaddr*>(&address), sizeof(address)) == 0;
   const int one = 1;
   setsockopt(fd_, IPPROTO_TCP, TCP_NODELAY, &one, sizeof(one));
   set_timeout();
