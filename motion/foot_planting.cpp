@@ -34,6 +34,15 @@ std::vector<glm::quat> world_rotations(const deform::Skeleton& skeleton, const d
   return world;
 }
 
+// The y of `world * local`, summed in glm's order for mat4 * vec4 so that it is bit-identical,
+// without the three rows nobody reads: the sole search runs over every sole vertex on every frame
+// of a clip (FootPlanting::build) and on every pose served (apply), and under the sanitizers'
+// -O1 the whole product was most of a retarget's time.
+float height_of(const glm::mat4& world, const glm::vec4& local) {
+  return (world[0].y * local.x + world[1].y * local.y) +
+         (world[2].y * local.z + world[3].y * local.w);
+}
+
 }  // namespace
 
 FootPlanting::FootPlanting(const deform::Model& model, float floor, double frame_time)
@@ -112,7 +121,7 @@ FootPlanting::Sole FootPlanting::sole_of(const Foot& foot,
                                          const std::vector<glm::mat4>& world) const {
   Sole lowest{std::numeric_limits<float>::infinity(), 0, 0.0f, 0.0f};
   for (std::size_t k = 0; k < foot.sole.size(); ++k) {
-    const float y = (world[foot.sole[k].joint] * foot.sole[k].local).y;
+    const float y = height_of(world[foot.sole[k].joint], foot.sole[k].local);
     if (y < lowest.height) lowest = {y, k, 0.0f, 0.0f};
   }
   lowest.height -= floor_;

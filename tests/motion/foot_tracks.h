@@ -44,9 +44,8 @@ struct FootTracks {
 class FeetOf {
  public:
   explicit FeetOf(const deform::Model& model)
-      : model_(model),
-        world_(model.skeleton.joints.size()),
-        rest_inverse_(deform::world_rest_inverse_matrices(model.skeleton)) {
+      : model_(model), world_(model.skeleton.joints.size()) {
+    const std::vector<glm::mat4> rest_inverse = deform::world_rest_inverse_matrices(model.skeleton);
     float top = -std::numeric_limits<float>::infinity();
     for (const glm::vec3& p : model.positions) {
       floor_ = std::min(floor_, p.y);
@@ -63,7 +62,8 @@ class FeetOf {
         const int joint = model.skin_joints[v][strongest];
         for (int j = joint; j >= 0; j = model.skeleton.joints[j].parent)
           if (j == ankle_[side]) {
-            sole_[side].push_back({joint, model.positions[v]});
+            sole_[side].push_back(
+                {joint, rest_inverse[joint] * glm::vec4(model.positions[v], 1.0f)});
             break;
           }
       }
@@ -89,8 +89,8 @@ class FeetOf {
         float lowest = std::numeric_limits<float>::infinity();
         std::size_t lowest_index = 0;
         std::vector<glm::vec3>& points = tracks.points[side].emplace_back();
-        for (const auto& [joint, rest] : sole_[side]) {
-          const glm::vec3 p = world_[joint] * rest_inverse_[joint] * glm::vec4(rest, 1.0f);
+        for (const auto& [joint, local] : sole_[side]) {
+          const glm::vec3 p = world_[joint] * local;
           if (p.y < lowest) {
             lowest = p.y;
             lowest_index = points.size();
@@ -111,11 +111,12 @@ class FeetOf {
  private:
   const deform::Model& model_;
   std::vector<glm::mat4> world_;
-  std::vector<glm::mat4> rest_inverse_;
   float floor_ = std::numeric_limits<float>::infinity();
   float size_ = 1.0f;
   int ankle_[2];
-  std::vector<std::pair<int, glm::vec3>> sole_[2];  // (joint, rest position)
+  // (joint, rest position in the joint's rest frame): one matrix product per vertex and frame,
+  // not two (the tracks of every frame of a clip are most of these tests' time).
+  std::vector<std::pair<int, glm::vec4>> sole_[2];
 };
 
 struct Contacts {
