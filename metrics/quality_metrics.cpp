@@ -203,14 +203,18 @@ QualityMetrics QualityMeter::measure(std::span<const glm::vec3> positions, const
     }
   }
   metrics.self_intersections = count_self_intersections(positions, bound_.model.indices, welded_);
+  metrics.largest_edge_stretch = largest_edge_stretch(positions);
+  return metrics;
+}
+
+double QualityMeter::largest_edge_stretch(std::span<const glm::vec3> positions) const {
+  double largest = 0.0;
   for (std::size_t e = 0; e < rest_edge_length_.size(); ++e) {
     if (rest_edge_length_[e] <= 0.0f) continue;
     const float length = glm::length(positions[edges_[2 * e]] - positions[edges_[2 * e + 1]]);
-    metrics.largest_edge_stretch =
-        std::max(metrics.largest_edge_stretch,
-                 std::abs(static_cast<double>(length / rest_edge_length_[e]) - 1.0));
+    largest = std::max(largest, std::abs(static_cast<double>(length / rest_edge_length_[e]) - 1.0));
   }
-  return metrics;
+  return largest;
 }
 
 }  // namespace sweepd::metrics

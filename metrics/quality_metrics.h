@@ -61,6 +61,9 @@ class QualityMeter {
   // reported); for LBS/DQS pass false (the poser still gives the section planes).
   QualityMetrics measure(std::span<const glm::vec3> positions, const deform::SweepPoser& posed,
                          bool sweep_method) const;
+  // measure's largest_edge_stretch alone: the edges' lengths against their rest lengths, without
+  // the self-intersection count and the limb sections that make up most of measure's time.
+  double largest_edge_stretch(std::span<const glm::vec3> positions) const;
 
   const deform::PartVolumeRegions& regions() const { return regions_; }
 

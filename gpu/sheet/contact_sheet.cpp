@@ -151,14 +151,12 @@ void ContactSheet::render_cell(std::size_t frame_index, std::size_t method,
                                std::span<std::uint8_t> rgba, int row) {
   const MethodChoice& m = options_.methods[method];
   const int frame = options_.frames[frame_index];
-  const deform::SweepPoser& poser =
-      deform_with(m, model_.runtime, deform_context_, pairs_, model_.pose(frame), positions_);
+  deform_with(m, model_.runtime, deform_context_, pairs_, model_.pose(frame), positions_);
   // Every method is shaded by its posed surface's own normals, as the sweep's are made: LBS's
   // and DQS's skinned normals keep the rest pose's smooth shading over their creases, which made
   // the sheet compare a sweep's shape with the baselines' rest shading (issue 17).
   model_.runtime.welded_normals().compute(positions_, normals_, normal_sums_);
-  const double stretch = meter_.measure(positions_, poser, m.method == deform::DeformMethod::kSweep)
-                             .largest_edge_stretch;
+  const double stretch = meter_.largest_edge_stretch(positions_);
   worst_stretch_.push_back(stretch);
   if (options_.heat) heat_.colour(positions_, options_.heat_full_scale, colours_);
 

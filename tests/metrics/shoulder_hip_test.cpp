@@ -120,7 +120,7 @@ class LimbRoots {
     std::vector<glm::mat4> world(bound_.model.skeleton.size());
     forward_kinematics(bound_.model.skeleton, posed, world);
     Figures f;
-    f.stretch = quality_.measure(positions, posing_.sweep_poser(), false).largest_edge_stretch;
+    f.stretch = quality_.largest_edge_stretch(positions);
     for (int side = 0; side < 2; ++side) {
       const Limb limb = limbs(c.arms)[side];
       const glm::vec3 root = position(world_rest_, limb.joint);
