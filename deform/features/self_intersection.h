@@ -9,6 +9,7 @@
 //            triangles  #T ids of the triangles to test against each other (a collision region)
 //   Output:  pairs      every {first < second} (triangle ids) whose closed triangles meet
 //                       (deform/features/triangle_intersection.h), sorted, unique; cleared first.
+//                       A triangle with a non-finite corner is in no pair.
 // Broad phase: a uniform grid over the triangles' bounding boxes (cell size: the mean of the
 // boxes' largest extents); each box pair is examined once, in the cell holding the lower
 // corner of the boxes' overlap. Buffers are kept between calls: no allocation once warm.
@@ -51,6 +52,9 @@ inline bool share_a_vertex(std::span<const std::uint32_t> indices, std::uint32_t
 }
 TriangleBox triangle_box(std::span<const glm::vec3> positions,
                          std::span<const std::uint32_t> indices, std::uint32_t triangle);
+// Whether all three corners of the triangle are finite.
+bool finite_triangle(std::span<const glm::vec3> positions, std::span<const std::uint32_t> indices,
+                     std::uint32_t triangle);
 // The exact test of mesh triangles a and b.
 bool mesh_triangles_intersect(std::span<const glm::vec3> positions,
                               std::span<const std::uint32_t> indices, std::uint32_t a,
@@ -70,6 +74,7 @@ class SelfIntersectionDetector {
     }
   };
   std::vector<TriangleBox> boxes_;
+  std::vector<std::uint32_t> finite_slots_;  // the slots of the triangles with finite corners
   std::vector<CellEntry> entries_;
 };
 

@@ -105,5 +105,34 @@ TEST(SelfIntersection, OnlyTheListedTrianglesAreTested) {
   }
 }
 
+TEST(SelfIntersection, TrianglesWithNonFiniteCornersAreLeftOut) {
+  // Two interpenetrating boxes with one corner of each made non-finite: the triangles using
+  // those corners meet nothing, the others give exactly the pairs they give without them.
+  SoupMesh mesh;
+  testing::add_box(mesh, glm::vec3(0.0f), glm::vec3(1.0f));
+  testing::add_box(mesh, glm::vec3(0.5f), glm::vec3(1.5f));
+  const std::uint32_t nan_corner = 9, infinite_corner = 3;
+  mesh.positions[nan_corner].x = NAN;
+  mesh.positions[infinite_corner].z = INFINITY;
+  std::vector<std::uint32_t> finite;
+  for (std::uint32_t t = 0; t < mesh.triangle_count(); ++t) {
+    bool uses = false;
+    for (int k = 0; k < 3; ++k)
+      uses = uses || mesh.indices[3 * t + k] == nan_corner ||
+             mesh.indices[3 * t + k] == infinite_corner;
+    if (!uses) finite.push_back(t);
+  }
+  ASSERT_LT(finite.size(), mesh.triangle_count()) << "the corners are used by some triangle";
+  const std::vector<TrianglePair> pairs = detect(mesh);
+  EXPECT_FALSE(pairs.empty()) << "the finite faces still cross";
+  EXPECT_EQ(pairs, testing::all_pairs_reference(mesh, finite));
+
+  // Every triangle with a non-finite corner: nothing to pair, and no grid over no extent.
+  SoupMesh lone;
+  testing::add_box(lone, glm::vec3(0.0f), glm::vec3(1.0f));
+  for (std::size_t v = 1; v < lone.positions.size(); ++v) lone.positions[v] = glm::vec3(NAN);
+  EXPECT_TRUE(detect(lone).empty());
+}
+
 }  // namespace
 }  // namespace sweepd::deform
