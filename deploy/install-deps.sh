@@ -25,6 +25,7 @@ packages=(
   libassimp-dev  # FBX and COLLADA models (io/assimp_load.h): sweepctl MODEL files, tests/io/assimp_load_test
   assimp-utils  # the `assimp` command (assimp export in.glb out.fbx): FBX by hand, as the tests make it
   haproxy  # deploy/haproxy.cfg: checked with haproxy -c and run in front of two daemons (tests/deploy/)
+  clang libclang-rt-14-dev  # make sanitize, make tsan and make fuzz compile with Clang 14 and its sanitizer runtimes (CMakePresets.json)
   chromium  # headless, on SwiftShader: tests/server/browser_viewer_test.cpp and bench/viewer_bench.sh load the viewer
 )
 
