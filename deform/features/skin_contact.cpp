@@ -72,6 +72,65 @@ void skin_sweep_volumes(const ContactModel& model, std::span<const std::uint32_t
   }
 }
 
+void ContactResolver::split_elongated(std::span<const std::uint32_t> triangles,
+                                      std::span<const std::uint32_t> indices,
+                                      std::span<const glm::vec3> positions) {
+  const auto offset = static_cast<std::uint32_t>(piece_triangles_.size());
+  piece_triangles_.insert(piece_triangles_.end(), triangles.begin(), triangles.end());
+  auto centroid = [&](std::uint32_t t) {
+    return (positions[indices[3 * t]] + positions[indices[3 * t + 1]] +
+            positions[indices[3 * t + 2]]) /
+           3.0f;
+  };
+  // Ranges of piece_triangles_ still to judge; a piece is emitted in triangle order of the
+  // ranges' ends, which keeps the pieces contiguous.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>>& todo = split_todo_;
+  todo.assign(1, {offset, static_cast<std::uint32_t>(piece_triangles_.size())});
+  std::vector<std::pair<std::uint32_t, std::uint32_t>>& done = split_done_;
+  done.clear();
+  while (!todo.empty()) {
+    const auto [begin, end] = todo.back();
+    todo.pop_back();
+    if (end - begin < 2 * kSmallestPiece) {
+      done.push_back({begin, end});
+      continue;
+    }
+    centres_.clear();
+    for (std::uint32_t i = begin; i < end; ++i) centres_.push_back(centroid(piece_triangles_[i]));
+    glm::vec3 mean;
+    const glm::vec3 normal = fit_plane(centres_, mean);
+    const glm::vec3 helper =
+        std::abs(normal.x) < 0.9f ? glm::vec3(1.0f, 0.0f, 0.0f) : glm::vec3(0.0f, 1.0f, 0.0f);
+    const glm::vec3 u = glm::normalize(glm::cross(normal, helper)), v = glm::cross(normal, u);
+    double uu = 0.0, uv = 0.0, vv = 0.0;
+    for (const glm::vec3& c : centres_) {
+      const double a = glm::dot(c - mean, u), b = glm::dot(c - mean, v);
+      uu += a * a, uv += a * b, vv += b * b;
+    }
+    // The in-plane spread's eigenvalues (largest, smallest) and the largest one's direction.
+    const double half_trace = 0.5 * (uu + vv);
+    const double root = std::sqrt(0.25 * (uu - vv) * (uu - vv) + uv * uv);
+    const double largest = half_trace + root, smallest = half_trace - root;
+    if (!(largest > kMostElongation * kMostElongation * smallest)) {
+      done.push_back({begin, end});
+      continue;
+    }
+    const double angle = 0.5 * std::atan2(2.0 * uv, uu - vv);
+    const glm::vec3 axis =
+        static_cast<float>(std::cos(angle)) * u + static_cast<float>(std::sin(angle)) * v;
+    const auto first = piece_triangles_.begin() + begin, last = piece_triangles_.begin() + end;
+    const auto middle = first + (end - begin) / 2;
+    std::nth_element(first, middle, last, [&](std::uint32_t a, std::uint32_t b) {
+      return glm::dot(centroid(a), axis) < glm::dot(centroid(b), axis);
+    });
+    const auto split = static_cast<std::uint32_t>(middle - piece_triangles_.begin());
+    todo.push_back({begin, split});
+    todo.push_back({split, end});
+  }
+  std::sort(done.begin(), done.end());
+  for (const auto& range : done) piece_start_.push_back(range.second);
+}
+
 std::uint32_t ContactResolver::find(std::uint32_t slot) {
   while (parent_[slot] != slot) slot = parent_[slot] = parent_[parent_[slot]];
   return slot;
@@ -129,16 +188,33 @@ ContactResult ContactResolver::resolve(const ContactModel& model,
   moved_.clear();
   moved_start_.assign(1, 0);
   if (pairs.empty()) return result;
-  groups_.build(indices, pairs, positions.size());
   owner_.resize(std::max(owner_.size(), positions.size()), -1);
   label_.resize(std::max(label_.size(), positions.size()), 0);
+  if (only_group < 0) {
+    groups_.build(indices, pairs, positions.size());
+    piece_triangles_.clear();
+    piece_start_.assign(1, 0);
+    for (std::size_t g = 0; g < groups_.size(); ++g)
+      split_elongated(groups_.triangles(g), indices, positions);
+  }
   const VertexAdjacency& adjacency = model.adjacency;
-  for (std::size_t g = 0; g < groups_.size(); ++g) {
-    ++result.groups;
-    if (only_group >= 0 && g != static_cast<std::size_t>(only_group)) continue;
-    const std::span<const std::uint32_t> triangles = groups_.triangles(g);
+  result.groups = static_cast<int>(piece_start_.size()) - 1;
+  for (std::size_t piece = 0; piece + 1 < piece_start_.size(); ++piece) {
+    if (only_group >= 0 && piece != static_cast<std::size_t>(only_group)) continue;
+    const std::span<const std::uint32_t> triangles =
+        std::span<const std::uint32_t>(piece_triangles_)
+            .subspan(piece_start_[piece], piece_start_[piece + 1] - piece_start_[piece]);
     points_.clear();
-    for (std::uint32_t v : groups_.vertices(g)) points_.push_back(positions[v]);
+    for (std::uint32_t t : triangles)
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t v = indices[3 * t + k];
+        if (label_[v] != 0) continue;
+        label_[v] = 1;
+        points_.push_back(positions[v]);
+        grown_.push_back(v);
+      }
+    for (std::uint32_t v : grown_) label_[v] = 0;
+    grown_.clear();
     glm::vec3 centre;
     const glm::vec3 normal = fit_plane(points_, centre);
     if (!find_sides(triangles, indices, positions, normal)) continue;

@@ -3,7 +3,10 @@
 // through each other anywhere on the body — forearm into thigh, upper arm into chest, thigh into
 // thigh, hand into face — resolved with the paper's folding rule (§4.3): per connected group of
 // intersecting triangles a least-squares bisecting plane, both skins pulled back behind it with
-// a small gap (skin_folding.h's pull_back_to_plane).
+// a small gap (skin_folding.h's pull_back_to_plane). A group is first cut into pieces: one plane
+// cannot fit a contact that curves along a limb (a forearm lying along a thigh, an arm pressed
+// from chest to hip), so a group more than twice as long as wide in its plane is cut at the
+// median of its longest axis, again and again, and each piece gets its own plane.
 //
 // make_contact_model(bound, welded_indices) — once per model:
 //   skin_triangles  the triangles of the swept body (binding/mesh_parts_joined.h): the body's
@@ -26,9 +29,11 @@
 //   Inputs:  model, indices (the welded ones the pairs came from), pairs (contact pairs of the
 //            posed skin, rest pairs removed), gap (m left between each skin and the plane)
 //   In/out:  positions #V: skin representatives move (call copy_to_seam_copies afterwards)
-//            only_group  >= 0: resolve that group only (groups counted as found), else all
+//            only_group  >= 0: resolve that piece of the last full resolve only (same pairs;
+//                        its pieces are kept, so a piece keeps its index after others moved
+//                        the skin), else find the groups and pieces and resolve them all
 //   Output:  ContactResult
-// Sides. A group (intersecting triangles joined through pairs and shared vertices) holds two
+// Sides (per piece, called a group below). A group (intersecting triangles joined through pairs and shared vertices) holds two
 // skins, but not "before and after a joint" as a region does. Its triangles split into
 // mesh-connected patches (through shared welded vertices only). Each patch's area-weighted
 // normal points out of the body it belongs to, so that body lies behind it: the patch goes to
@@ -72,7 +77,7 @@ void skin_sweep_volumes(const ContactModel& model, std::span<const std::uint32_t
                         std::span<const glm::vec3> positions, std::span<double> volumes);
 
 struct ContactResult {
-  int groups = 0;          // connected groups of intersecting triangles
+  int groups = 0;          // pieces of the connected groups of intersecting triangles
   int separated = 0;       // of them, those with skin on both sides of their plane
   int moved = 0;           // vertices that had gone through a plane and were pulled back
   float max_depth = 0.0f;  // largest penetration depth (m)
@@ -99,6 +104,18 @@ class ContactResolver {
   bool find_sides(std::span<const std::uint32_t> triangles, std::span<const std::uint32_t> indices,
                   std::span<const glm::vec3> positions, const glm::vec3& normal);
   std::uint32_t find(std::uint32_t slot);
+  // Appends a group's triangles to piece_triangles_ and its pieces' ends to piece_start_, cut
+  // at the median along their longest in-plane axis until each piece is no more than
+  // kMostElongation times as long as wide (spread's eigenvalues) or has fewer than
+  // 2 kSmallestPiece triangles.
+  void split_elongated(std::span<const std::uint32_t> triangles,
+                       std::span<const std::uint32_t> indices,
+                       std::span<const glm::vec3> positions);
+  static constexpr float kMostElongation = 2.0f;
+  static constexpr std::uint32_t kSmallestPiece = 8;
+  std::vector<std::uint32_t> piece_triangles_, piece_start_{0};
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> split_todo_, split_done_;
+  std::vector<glm::vec3> centres_;
 
   IntersectingGroups groups_;
   std::vector<glm::vec3> points_;
@@ -110,7 +127,6 @@ class ContactResolver {
   std::vector<std::uint32_t> grown_;        // the moving skin, in breadth-first order
   std::vector<std::int8_t> grown_side_;
   std::vector<std::uint32_t> moved_, moved_start_{0};
-  int debug_mode_ = 0;  // per separated group, its grown_
 };
 
 }  // namespace sweepd::deform

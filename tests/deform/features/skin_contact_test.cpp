@@ -386,8 +386,9 @@ TEST(SkinContact, SharedMaleRestPoseHasNoContactAndClipFramesNeverGetWorse) {
   EXPECT_GT(frames_with_contact, 0) << "no tested frame had contact: the test proves nothing";
   std::printf("shared male, every 50th frame of both clips: %d pairs -> %d\n", before_total,
               after_total);
-  // Measured 27,957 -> 23,311 (0.83): fewer by a tenth at least.
-  EXPECT_LT(after_total, 0.9 * before_total);
+  // Measured 8,876 -> 3,197 (0.36; 5,447, 0.61, before groups were cut into pieces no more than
+  // twice as long as wide): at most half left, room for other compilers' rounding.
+  EXPECT_LT(after_total, 0.5 * before_total);
 }
 
 TEST(SkinContact, MannequinRestPoseHasNoContactAndFlexedLimbsImprove) {
@@ -422,8 +423,9 @@ TEST(SkinContact, MannequinRestPoseHasNoContactAndFlexedLimbsImprove) {
   }
   EXPECT_GT(with_contact, 0) << "no tested pose had contact: the test proves nothing";
   std::printf("mannequin 8k, every pose above: %d pairs -> %d\n", before_total, after_total);
-  // Measured 1,601 -> 1,307 (0.82): fewer by a tenth at least.
-  EXPECT_LT(after_total, 0.9 * before_total);
+  // Measured 1,467 -> 802 (0.55; 881, 0.60, before the pieces): at most 0.65 left, room for
+  // other compilers' rounding.
+  EXPECT_LT(after_total, 0.65 * before_total);
 }
 
 }  // namespace
