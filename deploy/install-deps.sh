@@ -8,6 +8,7 @@ set -euo pipefail
 
 packages=(
   cmake ninja-build g++ pkg-config make
+  ccache  # the presets' compiler launcher (CMakePresets.json): a fresh clone reuses the objects any clone on this machine built
   libglm-dev libtinygltf-dev libopenmesh-dev libopenexr-dev libasio-dev
   libegl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri mesa-utils-bin
   nlohmann-json3-dev libstb-dev libgtest-dev libgmock-dev libbenchmark-dev

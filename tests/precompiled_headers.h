@@ -32,3 +32,6 @@
 #include <string>
 #include <thread>
 #include <vector>
+
+// Not third-party, but changed almost never: the functions behind SWEEPD_SHARED_DATA and friends.
+#include "tests/test_paths.h"
