@@ -12,7 +12,7 @@
 #include "io/gltf_save.h"
 #include "mannequin/mannequin.h"
 #include "server/models/content_id.h"
-#include "tests/server/daemon_process.h"
+#include "tests/scratch_directory.h"
 
 namespace sweepd::test {
 namespace {
