@@ -8,6 +8,7 @@
 #include "deform/model/model.h"
 #include "io/gltf_load.h"
 #include "mannequin/mannequin.h"
+#include "tests/test_paths.h"
 
 namespace sweepd::bench {
 

@@ -7,6 +7,7 @@
 #include "client/model_skeleton.h"
 #include "io/bvh_load.h"
 #include "motion/retarget.h"
+#include "tests/test_paths.h"
 
 namespace sweepd::bench {
 

@@ -36,6 +36,7 @@
 #include "mannequin/mannequin.h"
 #include "motion/retarget.h"
 #include "tests/deform/shared_male.h"
+#include "tests/test_paths.h"
 
 namespace {
 

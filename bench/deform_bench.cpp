@@ -28,6 +28,7 @@
 #include "deform/rig/rig_map.h"
 #include "io/gltf_load.h"
 #include "mannequin/mannequin.h"
+#include "tests/test_paths.h"
 
 namespace {
 

@@ -34,6 +34,7 @@
 #include "console/command_line.h"
 #include "tests/server/client_run.h"
 #include "tests/server/haproxy_process.h"
+#include "tests/test_paths.h"
 
 namespace {
 

@@ -54,6 +54,7 @@
 #include "console/command_line.h"
 #include "deform/job/deform_job.h"
 #include "io/sweepbind.h"
+#include "tests/test_paths.h"
 
 namespace {
 

@@ -15,6 +15,7 @@
 #include <string>
 
 #include "tests/scratch_directory.h"
+#include "tests/test_paths.h"
 
 namespace sweepd::test {
 

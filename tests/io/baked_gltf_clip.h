@@ -26,6 +26,7 @@
 #include "io/bvh_load.h"
 #include "io/gltf_save.h"
 #include "motion/retarget.h"
+#include "tests/test_paths.h"
 
 namespace sweepd::io::testing {
 

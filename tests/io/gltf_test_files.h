@@ -10,6 +10,8 @@
 #include <iterator>
 #include <string>
 
+#include "tests/test_paths.h"
+
 namespace sweepd::io::testing {
 
 inline std::filesystem::path shared_model(const std::string& relative) {

@@ -31,6 +31,7 @@
 #include "protocol/messages.h"
 #include "server/transport/websocket_session.h"
 #include "tests/scratch_directory.h"
+#include "tests/test_paths.h"
 
 namespace sweepd::test {
 

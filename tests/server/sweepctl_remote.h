@@ -12,6 +12,7 @@
 
 #include "tests/server/client_run.h"
 #include "tests/server/daemon_process.h"
+#include "tests/test_paths.h"
 
 namespace sweepd::test {
 
