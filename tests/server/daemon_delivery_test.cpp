@@ -16,7 +16,9 @@ class DaemonDelivery : public ::testing::Test {
   static void SetUpTestSuite() {
     directory_ = new fs::path(fresh_directory("delivery"));
     daemon_ =
-        new DaemonProcess(*directory_, {"--max-poses-in-flight", std::to_string(kMaxInFlight)});
+        // The default 20k model: replies large enough to fill a client's unread socket.
+        new DaemonProcess(*directory_, {"--mannequin-vertices", "20000", "--max-poses-in-flight",
+                                        std::to_string(kMaxInFlight)});
   }
   static void TearDownTestSuite() {
     delete daemon_;

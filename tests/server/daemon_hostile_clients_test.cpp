@@ -53,10 +53,11 @@ std::size_t status_kib(pid_t pid, const std::string& field) {
 TEST(DaemonHostileClients, HonestClientsAreServedWhileSixtyFourHostileOnesAreCutOff) {
   const fs::path directory = fresh_directory("hostile");
   DaemonProcess daemon(
-      directory, {"--position-maps", "0", "--max-connections", "80", "--hello-timeout-ms",
-                  std::to_string(kTimeoutMs), "--frame-timeout-ms", std::to_string(kTimeoutMs),
-                  "--send-timeout-ms", std::to_string(kTimeoutMs), "--idle-timeout-ms", "0",
-                  "--max-buffered-bytes", std::to_string(64 << 20)});
+      // The default 20k model: its replies are large enough to fill a non-reader's socket.
+      directory, {"--mannequin-vertices", "20000", "--position-maps", "0", "--max-connections",
+                  "80", "--hello-timeout-ms", std::to_string(kTimeoutMs), "--frame-timeout-ms",
+                  std::to_string(kTimeoutMs), "--send-timeout-ms", std::to_string(kTimeoutMs),
+                  "--idle-timeout-ms", "0", "--max-buffered-bytes", std::to_string(64 << 20)});
   ASSERT_TRUE(daemon.running()) << daemon.log();
   const deform::BoundModel mannequin =
       io::load_sweepbind(stored_binding(directory / "store", "mannequin"));

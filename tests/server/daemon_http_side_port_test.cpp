@@ -26,8 +26,10 @@ class HttpSidePortTest : public ::testing::Test {
     directory_ = fresh_directory(::testing::UnitTest::GetInstance()->current_test_info()->name());
     const fs::path http_port_file = directory_ / "http_port";
     daemon_ = std::make_unique<DaemonProcess>(
-        directory_, std::vector<std::string>{"--http-listen", "127.0.0.1:0", "--http-port-file",
-                                             http_port_file.string()});
+        // The default 20k model: poses slow enough to be in flight while the daemon drains.
+        directory_,
+        std::vector<std::string>{"--mannequin-vertices", "20000", "--http-listen", "127.0.0.1:0",
+                                 "--http-port-file", http_port_file.string()});
     ASSERT_TRUE(daemon_->running()) << daemon_->log();
     // Written before the protocol port file, which DaemonProcess waited for.
     http_port_ = std::stoi(read_text(http_port_file));

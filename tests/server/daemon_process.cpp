@@ -47,6 +47,12 @@ DaemonProcess::DaemonProcess(const fs::path& directory, std::vector<std::string>
   std::vector<std::string> args = {SWEEPD_DAEMON, "--port",           "0", "--port-file", port_file,
                                    "--store-dir", directory / "store"};
   args.insert(args.end(), extra_args.begin(), extra_args.end());
+  // Most daemon tests never measure the default model, and under ASan the 20k default takes
+  // seconds to make and bind at every start: a daemon not told the size gets a 2k mannequin.
+  // A test that measures the default model passes --mannequin-vertices itself.
+  if (std::ranges::find(extra_args, "--mannequin-vertices") == extra_args.end() &&
+      std::ranges::find(extra_args, "--config") == extra_args.end())
+    args.insert(args.end(), {"--mannequin-vertices", std::to_string(kTestMannequinVertices)});
   args.insert(args.begin(), wrapper.begin(), wrapper.end());
   log_file_ = directory / "sweepd.log";
   pid_ = fork();

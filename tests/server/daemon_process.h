@@ -43,6 +43,10 @@ std::vector<std::uint8_t> read_bytes(const fs::path& file);
 // A daemon's flags: `args` followed by `more`.
 std::vector<std::string> with(std::vector<std::string> args, const std::vector<std::string>& more);
 
+// The default model's size in a daemon whose test does not choose it (sweepd's own default is
+// 20,000 vertices).
+inline constexpr int kTestMannequinVertices = 2000;
+
 class DaemonProcess {
  public:
   // `directory` holds the store (directory/store), the port file and the log. `wrapper`, when

@@ -38,7 +38,8 @@ class DaemonWebSocket : public ::testing::Test {
     daemon_ = new DaemonProcess(
         *directory_,
         with(DaemonProcess::websocket_flags(*directory_),
-             {"--http-listen", "127.0.0.1:0", "--http-port-file",
+             // The default 20k model: replies large enough to fill a non-reader's socket.
+             {"--mannequin-vertices", "20000", "--http-listen", "127.0.0.1:0", "--http-port-file",
               (*directory_ / "http_port").string(), "--token", kToken, "--position-maps", "0",
               "--hello-timeout-ms", std::to_string(kTimeoutMs), "--frame-timeout-ms",
               std::to_string(kTimeoutMs), "--send-timeout-ms", std::to_string(kTimeoutMs),
