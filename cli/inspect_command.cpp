@@ -7,6 +7,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "cli/commands.h"
 #include "cli/text_format.h"
@@ -62,16 +63,34 @@ void print_rig(const deform::Skeleton& skeleton) {
       {deform::RigPart::kRightArm, !rig.right_arm.absent()},
       {deform::RigPart::kLeftLeg, !rig.left_leg.absent()},
       {deform::RigPart::kRightLeg, !rig.right_leg.absent()}};
-  std::string swept = rig.has_head() ? "torso, neck" : "torso";
-  std::string skinned = rig.has_head() ? "head" : "neck and head";
+  // As the binding plans its sweeps (deform/binding/bind.cpp): a torso or neck of one joint and
+  // the forearm of an arm without a hand joint are skinned.
+  std::vector<std::string> swept;
+  std::string skinned;
+  if (rig.torso.chain.size() >= 2)
+    swept.push_back("torso");
+  else
+    skinned = "torso (one joint), ";
+  if (rig.has_head() && rig.neck.chain.size() >= 2) {
+    swept.push_back("neck");
+    skinned += "head";
+  } else {
+    skinned += rig.has_head() ? "neck (one joint) and head" : "neck and head";
+  }
   for (const auto& [part, present] : parts) {
     const std::string name = deform::to_string(part);
-    if (present) swept += ", " + name;
+    if (present) swept.push_back(name);
     const bool arm = part == deform::RigPart::kLeftArm || part == deform::RigPart::kRightArm;
-    const std::string end = name.substr(0, name.find(' ')) + (arm ? " hand" : " foot");
+    const deform::ArmJoints& arm_joints =
+        part == deform::RigPart::kLeftArm ? rig.left_arm : rig.right_arm;
+    const std::string side = name.substr(0, name.find(' '));
+    const std::string end = arm && arm_joints.hand < 0 ? side + " forearm and hand"
+                                                       : side + (arm ? " hand" : " foot");
     skinned += ", " + (present ? end : name + " (absent)");
   }
-  std::printf("swept:       %s\n", swept.c_str());
+  std::string swept_list;
+  for (const std::string& part : swept) swept_list += (swept_list.empty() ? "" : ", ") + part;
+  std::printf("swept:       %s\n", swept_list.empty() ? "nothing" : swept_list.c_str());
   std::printf("skinned:     %s (with everything below them)\n", skinned.c_str());
 }
 

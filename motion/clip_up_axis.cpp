@@ -49,7 +49,7 @@ UpAxis detect_up_axis(const Clip& clip) {
   const int left = map.left_leg.foot, right = map.right_leg.foot, head = map.neck.head;
   const glm::vec3 up = left >= 0 && right >= 0 && head >= 0
                            ? at(head) - (at(left) + at(right)) / 2.0f
-                           : at(map.torso.chest()) - at(map.torso.pelvis());
+                           : deform::rest_torso_up(map, world);
   return std::abs(up.z) > std::abs(up.y) ? UpAxis::kZ : UpAxis::kY;
 }
 

@@ -29,12 +29,14 @@ std::optional<deform::RigMap> rig_map_or_warning(const deform::Skeleton& skeleto
   }
 }
 
-// (model joint, BVH joint) for every role both maps fill.
+// (model joint, BVH joint) for every role both maps fill. A one-joint torso is the whole torso:
+// it turns as the clip's chest does (its legs have joints of their own).
 std::vector<std::pair<int, int>> role_pairs(const deform::RigMap& model,
                                             const deform::RigMap& bvh) {
-  std::vector<std::pair<int, int>> pairs = {{model.torso.pelvis(), bvh.torso.pelvis()},
-                                            {model.torso.chest(), bvh.torso.chest()},
-                                            {model.neck.head, bvh.neck.head}};
+  std::vector<std::pair<int, int>> pairs;
+  if (model.torso.chain.size() >= 2) pairs.emplace_back(model.torso.pelvis(), bvh.torso.pelvis());
+  pairs.emplace_back(model.torso.chest(), bvh.torso.chest());
+  pairs.emplace_back(model.neck.head, bvh.neck.head);
   const auto arm = [&](const deform::ArmJoints& m, const deform::ArmJoints& b) {
     pairs.insert(
         pairs.end(),

@@ -22,15 +22,23 @@ struct SweepPlan {
   glm::vec3 x_hint;
 };
 
-// One sweep per part the map has: torso, neck, arms, legs (an absent part is left to skinning).
+// One sweep per part the map has: torso, neck, arms, legs. An absent part is left to skinning,
+// and so is a torso or neck of one joint (no link to sweep along: rig_detection warns) and the
+// forearm of an arm without a hand joint (its sweep ends at the elbow).
 std::vector<SweepPlan> plan_sweeps(const RigMap& rig, std::span<const glm::mat4> world_rest) {
   // The body's own axes, so the keys' first axes agree from model to model.
   const BodyAxes axes = rest_body_axes(rig, world_rest);
-  std::vector<SweepPlan> plans = {{BodyPart::kTorso, rig.torso.chain, axes.left}};
-  if (rig.has_head()) plans.push_back({BodyPart::kNeck, rig.neck.chain, axes.left});
+  std::vector<SweepPlan> plans;
+  if (rig.torso.chain.size() >= 2) plans.push_back({BodyPart::kTorso, rig.torso.chain, axes.left});
+  if (rig.has_head() && rig.neck.chain.size() >= 2)
+    plans.push_back({BodyPart::kNeck, rig.neck.chain, axes.left});
   for (const auto& [part, arm] : {std::pair{BodyPart::kLeftArm, &rig.left_arm},
-                                  std::pair{BodyPart::kRightArm, &rig.right_arm}})
-    if (!arm->absent()) plans.push_back({part, {arm->upper, arm->lower, arm->hand}, axes.forward});
+                                  std::pair{BodyPart::kRightArm, &rig.right_arm}}) {
+    if (arm->absent()) continue;
+    std::vector<int> chain = {arm->upper, arm->lower};
+    if (arm->hand >= 0) chain.push_back(arm->hand);
+    plans.push_back({part, chain, axes.forward});
+  }
   for (const auto& [part, leg] : {std::pair{BodyPart::kLeftLeg, &rig.left_leg},
                                   std::pair{BodyPart::kRightLeg, &rig.right_leg}})
     if (!leg->absent()) plans.push_back({part, {leg->upper, leg->lower, leg->foot}, axes.forward});

@@ -231,18 +231,21 @@ std::vector<VertexBinding> blend_shares(const Model& model, const WeldedMesh& me
       share[s] = 0.0f;
       if (s == torso) continue;
       const BodyPart part = sweeps[s].part, end = end_part(part);
-      const float mask =
-          std::min(1.0f, 2.0f * (skin[static_cast<int>(part)] + skin[static_cast<int>(end)]));
+      const float mask = std::min(1.0f, (torso >= 0 ? 2.0f : 1.0f) *
+                                            (skin[static_cast<int>(part)] + skin[static_cast<int>(end)]));
       share[s] = start[s].weight(p) * mask;
       limbs += share[s];
     }
     if (limbs > 1.0f)
       for (float& s : share) s /= limbs;
+    const float rest_of_body = std::max(0.0f, 1.0f - std::min(limbs, 1.0f));
     if (torso >= 0) {
-      share[torso] = std::max(0.0f, 1.0f - std::min(limbs, 1.0f));
+      share[torso] = rest_of_body;
       // Above the chest key (shoulders, upper chest) and below the pelvis key the torso sweep
       // only extrapolates; the model's own skinning (clavicles, hips) knows better.
       skinned += share[torso] * std::max(torso_top.weight(p), torso_bottom.weight(p));
+    } else {
+      skinned += rest_of_body;  // a one-joint torso is skinned: what the limbs leave is its
     }
     for (int s = 0; s < sweep_count; ++s) {
       if (s == torso || share[s] == 0.0f) continue;

@@ -112,6 +112,24 @@ void add_absent_part_warnings(RigMap& map) {
   }
 }
 
+// Parts the map has but the binding cannot sweep (bind.cpp, plan_sweeps): a torso or neck of
+// one joint has no link to sweep along; an arm without a hand joint has no forearm link.
+void add_unswept_part_warnings(RigMap& map, const Skeleton& skeleton) {
+  auto joint = [&](int j) { return "'" + skeleton.joints[j].name + "'"; };
+  if (map.torso.chain.size() == 1)
+    map.warnings.push_back("the torso is one joint (" + joint(map.torso.pelvis()) +
+                           "): with no link to sweep along it is skinned by linear blending; "
+                           "the limbs are swept up to it");
+  if (map.has_head() && map.neck.chain.size() == 1)
+    map.warnings.push_back("the neck is one joint (" + joint(map.neck.head) +
+                           ", the head's): the neck and head are skinned by linear blending");
+  for (const auto& [arm, side] : {std::pair{&map.left_arm, "left"}, std::pair{&map.right_arm, "right"}})
+    if (!arm->absent() && arm->hand < 0)
+      map.warnings.push_back(std::string("the ") + side + " arm has no hand joint (its forearm " +
+                             joint(arm->lower) + " carries the hand): the " + side +
+                             " forearm is skinned by linear blending from the elbow on");
+}
+
 }  // namespace
 
 RigMap detect_rig_map(const Skeleton& skeleton) {
@@ -147,6 +165,7 @@ RigMap detect_rig_map(const Skeleton& skeleton) {
                      : "); and the topological fallback failed: " + shape_problem));
   }
   add_absent_part_warnings(map);
+  add_unswept_part_warnings(map, skeleton);
   return map;
 }
 

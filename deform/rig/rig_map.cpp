@@ -1,6 +1,7 @@
 #include "deform/rig/rig_map.h"
 
 #include <algorithm>
+#include <optional>
 #include <stdexcept>
 
 #include "deform/model/joint_paths.h"
@@ -27,11 +28,12 @@ struct LimbRole {
 // Both limbs list their roles root first with the hand or foot at this index.
 constexpr int kHandOrFootRole = 3;
 
+// An arm may end without a hand joint: OpenPose's forearm joint carries the hand.
 std::vector<LimbRole> roles_of(const ArmJoints& arm) {
   return {{"clavicle", arm.clavicle, false},
           {"upper", arm.upper, true},
           {"lower", arm.lower, true},
-          {"hand", arm.hand, true}};
+          {"hand", arm.hand, false}};
 }
 
 std::vector<LimbRole> roles_of(const LegJoints& leg) {
@@ -79,6 +81,12 @@ std::string validate_path(const std::string& part, const std::vector<int>& chain
   return {};
 }
 
+// The root above `joint` (itself when it is one).
+int top_of(const Skeleton& skeleton, int joint) {
+  while (skeleton.joints[joint].parent >= 0) joint = skeleton.joints[joint].parent;
+  return joint;
+}
+
 std::string names_of(const std::vector<int>& chain, const Skeleton& skeleton) {
   std::string text;
   for (int j : chain) text += (text.empty() ? "" : " > ") + skeleton.joints[j].name;
@@ -99,7 +107,8 @@ std::string describe_roles(const std::vector<LimbRole>& roles, const Skeleton& s
 std::vector<int> ArmJoints::chain() const {
   std::vector<int> chain;
   append_if_present(chain, clavicle);
-  for (int j : {upper, lower, hand}) chain.push_back(j);
+  for (int j : {upper, lower}) chain.push_back(j);
+  append_if_present(chain, hand);
   return chain;
 }
 
@@ -167,9 +176,7 @@ const char* to_string(PartFinding finding) {
 
 std::string validate_rig_map(const RigMap& map, const Skeleton& skeleton) {
   const std::vector<int>& torso = map.torso.chain;
-  if (torso.size() < 2)
-    return "torso: needs at least two joints (pelvis and chest), has " +
-           std::to_string(torso.size());
+  if (torso.empty()) return "torso: has no joints (needs at least the pelvis)";
   if (std::string why = validate_path("torso", torso, -1, skeleton); !why.empty()) return why;
   const bool head_absent = map.neck.chain.empty() && map.neck.head == -1;
   if (!head_absent) {
@@ -205,9 +212,11 @@ std::string validate_rig_map(const RigMap& map, const Skeleton& skeleton) {
     if (absent) continue;
     if (std::string why = validate_limb(part, roles, skeleton); !why.empty()) return why;
     const int root = roles[0].joint >= 0 ? roles[0].joint : roles[1].joint;
-    if (!is_strict_ancestor(skeleton, map.torso.pelvis(), root))
-      return std::string(part) + ": " + joint_name(skeleton, root) + " is not below the pelvis " +
-             joint_name(skeleton, map.torso.pelvis());
+    if (!is_strict_ancestor(skeleton, map.torso.pelvis(), root) &&
+        top_of(skeleton, root) == top_of(skeleton, map.torso.pelvis()))
+      return std::string(part) + ": " + joint_name(skeleton, root) +
+             " is neither below the pelvis " + joint_name(skeleton, map.torso.pelvis()) +
+             " nor in a tree of its own beside it";
     for (const LimbRole& role : roles)
       if (role.joint >= 0)
         if (std::string why = claim(part, role.joint); !why.empty()) return why;
@@ -243,10 +252,30 @@ std::vector<BodyPart> label_joints(const RigMap& map, const Skeleton& skeleton) 
   return labels;
 }
 
+glm::vec3 rest_torso_up(const RigMap& map, std::span<const glm::mat4> world_rest) {
+  auto position = [&](int joint) { return glm::vec3(world_rest[joint][3]); };
+  const glm::vec3 spine = position(map.torso.chest()) - position(map.torso.pelvis());
+  if (map.torso.chain.size() >= 2 && glm::length(spine) > 1e-4f) return glm::normalize(spine);
+  auto mean = [&](std::initializer_list<int> joints) {
+    glm::vec3 sum(0.0f);
+    int count = 0;
+    for (int j : joints)
+      if (j >= 0) sum += position(j), ++count;
+    return count > 0 ? std::optional<glm::vec3>(sum / static_cast<float>(count)) : std::nullopt;
+  };
+  auto shoulder = [](const ArmJoints& arm) { return arm.clavicle >= 0 ? arm.clavicle : arm.upper; };
+  const std::optional<glm::vec3> above = mean(
+      {shoulder(map.left_arm), shoulder(map.right_arm), map.neck.chain.empty() ? -1 : map.neck.chain[0]});
+  const std::optional<glm::vec3> below = mean({map.left_leg.upper, map.right_leg.upper});
+  const glm::vec3 from = below ? *below : position(map.torso.pelvis());
+  if (above && glm::length(*above - from) > 1e-4f) return glm::normalize(*above - from);
+  return glm::vec3(0.0f, 1.0f, 0.0f);
+}
+
 BodyAxes rest_body_axes(const RigMap& map, std::span<const glm::mat4> world_rest) {
   auto position = [&](int joint) { return glm::vec3(world_rest[joint][3]); };
   BodyAxes axes;
-  axes.up = glm::normalize(position(map.torso.chest()) - position(map.torso.pelvis()));
+  axes.up = rest_torso_up(map, world_rest);
   glm::vec3 lateral(1.0f, 0.0f, 0.0f);
   if (!map.left_arm.absent() && !map.right_arm.absent())
     lateral = position(map.left_arm.upper) - position(map.right_arm.upper);

@@ -29,8 +29,9 @@ struct ArmJoints {
   int clavicle = -1;  // optional (shoulder blade / collar bone)
   int upper = -1;     // shoulder joint: the upper arm starts here
   int lower = -1;     // elbow: the forearm starts here
-  int hand = -1;      // wrist: the hand (skinned part) starts here
-  // [clavicle,] upper, lower, hand — root first.
+  int hand = -1;      // wrist: the hand (skinned part) starts here; -1 where the forearm's
+                      // joint carries the hand (OpenPose): the forearm is then skinned
+  // [clavicle,] upper, lower[, hand] — root first.
   std::vector<int> chain() const;
   bool absent() const { return clavicle < 0 && upper < 0 && lower < 0 && hand < 0; }
 };
@@ -48,7 +49,8 @@ struct LegJoints {
 
 struct TorsoJoints {
   // Every joint from the pelvis up the spine to the chest (where arms and neck branch off),
-  // in hierarchy order, pelvis first; at least two joints.
+  // in hierarchy order, pelvis first; one joint where legs, arms and neck all branch off one
+  // (a one-joint torso: low-poly game rigs, OpenPose's MidHip).
   std::vector<int> chain;
   int pelvis() const { return chain.empty() ? -1 : chain.front(); }
   int chest() const { return chain.empty() ? -1 : chain.back(); }
@@ -122,9 +124,10 @@ RigMap detect_rig_map(const Skeleton& skeleton);
 
 // Empty when the map fits the skeleton: every id in range, required roles present in every
 // limb that is not absent, each limb role a strict descendant of the previous one, the torso a
-// parent-child path (at least two joints), the neck (unless the head is absent) a parent-child
+// parent-child path (at least one joint), the neck (unless the head is absent) a parent-child
 // path from a child of the chest to the head, every limb below the pelvis and no joint used
-// twice. Otherwise the first problem, naming the part and the joints. (Which side a limb is on
+// twice; a limb may also hang from a root of its own beside the pelvis's (a glTF armature
+// whose legs are roots, as OpenPose's). Otherwise the first problem, naming the part and the joints. (Which side a limb is on
 // is not checked: an override may say anything.)
 std::string validate_rig_map(const RigMap& map, const Skeleton& skeleton);
 
@@ -138,6 +141,10 @@ std::vector<BodyPart> label_joints(const RigMap& map, const Skeleton& skeleton);
 // Left points from the right upper arm to the left one; without both arms, from the right
 // thigh to the left one; without either pair, the glTF convention's left (+X) off up.
 // world_rest: the skeleton's world rest matrices (Skeleton::world_rest_matrices).
+// The torso's rest up: pelvis to chest; for a one-joint torso from the hips (the legs' upper
+// joints) to the shoulders and neck base; +Y when nothing tells.
+glm::vec3 rest_torso_up(const RigMap& map, std::span<const glm::mat4> world_rest);
+
 struct BodyAxes {
   glm::vec3 up, left, forward;  // unit; forward = left x up
 };

@@ -5,7 +5,7 @@
 // orientation (Y or Z up) and roughly an A- or T-pose. Output: the map, convention
 // "topological", with each part's finding kByShape, or kAbsent with the reason in its note
 // (legs, one arm, ...). Throws std::invalid_argument, saying where the search stopped, only
-// when it finds no torso chain.
+// when it finds no joint where limbs branch or cannot tell which way is up.
 //
 // How: the first joint below the root with three or more child chains is the pelvis when its
 // biggest child chain (the spine) branches again (at the chest: three ways, or two for a body
@@ -19,6 +19,15 @@
 // toe. The head is the first neck joint that branches or ends. Left is up x forward, forward
 // taken from the feet (ankle to toe) when toes are present, otherwise the glTF convention (+Z
 // when Y is up, -Y when Z is up); a lone arm or leg is on the side it lies from the torso.
+// Beyond that:
+// - a skeleton of several roots (glTF joints whose common parent node is not a joint, as
+//   OpenPose's MidHip, LHip and RHip) is searched as if one node at its largest root held them;
+// - a one-joint torso: where the legs, arms and neck all branch from one joint (low-poly game
+//   rigs: the two children reaching furthest in agreeing directions are the legs), where the
+//   spine ends where the legs start (OpenPose), or a bust whose arms and neck hang from the root,
+//   the torso chain is that one joint and up points from it to the mean of the joints above it;
+// - an arm of three joints whose first sits on the torso's centre line (OpenPose's LShoulder
+//   at the neck) is clavicle, upper arm and a forearm without a hand joint (hand -1).
 #pragma once
 
 #include "deform/model/skeleton.h"

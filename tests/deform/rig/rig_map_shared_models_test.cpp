@@ -1,5 +1,5 @@
 // RigMap detection on the shared real models: the MakeHuman male by its CMU names, the Khronos
-// RiggedFigure (unnamed joints) by the topological fallback. Expected chains were read off the
+// RiggedFigure (unnamed joints) and the corpus's OpenPose body by the topological fallback. Expected chains were read off the
 // files' node hierarchies and joint positions by hand (see SOURCES.md).
 #include <gtest/gtest.h>
 
@@ -57,6 +57,35 @@ TEST(RigMapSharedModels, RiggedFigureIsFoundByItsShape) {
   EXPECT_EQ(names(skeleton, rig.right_leg.chain()),
             (Names{"joint_3", "joint_4", "joint_5", "joint_6"}));
   EXPECT_EQ(validate_rig_map(rig, skeleton), "");
+}
+
+// OpenPose (corpus, SOURCES.md): MidHip, LHip and RHip are three roots under the armature node
+// (not a joint), at the same point; the neck and both "shoulders" branch from MidHip at the
+// neck's base, so the torso is one joint; joints sit at the start of the bone named after the
+// keypoint it reaches (LElbow at the shoulder, LWrist at the elbow, no joint at the wrist).
+TEST(RigMapSharedModels, OpenPoseBodyWithOneJointTorsoAndRootLegsBinds) {
+  const fs::path file =
+      fs::path(SWEEPD_SHARED_DATA) / "models/corpus/makehuman_female_slim_openpose.glb";
+  if (!fs::exists(file)) GTEST_SKIP() << "shared data absent: " << file;
+  const Skeleton skeleton = io::load_gltf(file).skeleton;
+  const RigMap rig = detect_rig_map(skeleton);
+  EXPECT_EQ(rig.convention, "topological");
+  EXPECT_EQ(names(skeleton, rig.torso.chain), (Names{"MidHip"}));
+  EXPECT_EQ(names(skeleton, rig.neck.chain), (Names{"Neck"}));
+  EXPECT_EQ(names(skeleton, rig.left_arm.chain()), (Names{"LShoulder", "LElbow", "LWrist"}));
+  EXPECT_EQ(rig.left_arm.hand, -1) << "no joint at the wrist: LWrist carries forearm and hand";
+  EXPECT_EQ(names(skeleton, rig.right_arm.chain()), (Names{"RShoulder", "RElbow", "RWrist"}));
+  EXPECT_EQ(names(skeleton, rig.left_leg.chain()),
+            (Names{"LHip", "LKnee", "LAnkle", "LBigToe", "LSmallToe"}));
+  EXPECT_EQ(names(skeleton, rig.right_leg.chain()),
+            (Names{"RHip", "RKnee", "RAnkle", "RBigToe", "RSmallToe"}));
+  EXPECT_EQ(validate_rig_map(rig, skeleton), "");
+  // What is skinned instead of swept is said, part by part.
+  ASSERT_EQ(rig.warnings.size(), 4u);
+  EXPECT_NE(rig.warnings[0].find("the torso is one joint ('MidHip')"), std::string::npos);
+  EXPECT_NE(rig.warnings[1].find("the neck is one joint ('Neck'"), std::string::npos);
+  EXPECT_NE(rig.warnings[2].find("left forearm is skinned"), std::string::npos);
+  EXPECT_NE(rig.warnings[3].find("right forearm is skinned"), std::string::npos);
 }
 
 }  // namespace

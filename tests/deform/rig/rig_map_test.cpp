@@ -415,6 +415,38 @@ TEST(RigMapTopologyTest, RiggedFigureMirroredSwapsSides) {
   expect_rigged_figure_map(detect_rig_map(skeleton), skeleton, "joint_13");
 }
 
+// A low-poly game rig: legs, arms and neck all hang from the root, with no spine between.
+TEST(RigMapTopologyTest, OneJointTorsoOfAGameRig) {
+  std::vector<SkeletonNode> nodes;
+  for (SkeletonNode node : rigged_figure_nodes()) {
+    if (node.name == "joint_11" || node.name == "joint_12") continue;
+    if (node.parent == "joint_12") node.parent = "joint_2";
+    nodes.push_back(node);
+  }
+  for (const glm::quat& turn : {glm::quat(1, 0, 0, 0),
+                                glm::angleAxis(glm::radians(90.0f), glm::vec3(1, 0, 0)),
+                                glm::angleAxis(glm::radians(180.0f), glm::vec3(0, 1, 0))}) {
+    const Skeleton skeleton = rotated(test::make_skeleton(nodes), turn);
+    const RigMap map = detect_rig_map(skeleton);
+    using Names = std::vector<std::string>;
+    EXPECT_EQ(names_of(skeleton, map.torso.chain), (Names{"joint_2"}));
+    EXPECT_EQ(names_of(skeleton, map.neck.chain), (Names{"joint_19", "joint_20"}));
+    EXPECT_EQ(names_of(skeleton, map.left_arm.chain()), (Names{"joint_16", "joint_17", "joint_18"}));
+    EXPECT_EQ(names_of(skeleton, map.right_arm.chain()), (Names{"joint_13", "joint_14", "joint_15"}));
+    EXPECT_EQ(names_of(skeleton, map.left_leg.chain()),
+              (Names{"joint_7", "joint_8", "joint_9", "joint_10"}));
+    EXPECT_EQ(names_of(skeleton, map.right_leg.chain()),
+              (Names{"joint_3", "joint_4", "joint_5", "joint_6"}));
+    EXPECT_EQ(validate_rig_map(map, skeleton), "");
+    // Up from the hips to the shoulders: the turned skeleton's own, within 10° (the shoulders
+    // sit 1 cm behind the hips).
+    const glm::vec3 up = rest_torso_up(map, skeleton.world_rest_matrices());
+    EXPECT_GT(glm::dot(up, turn * glm::vec3(0, 1, 0)), std::cos(glm::radians(10.0f)));
+    ASSERT_EQ(map.warnings.size(), 1u) << all_warnings(map);
+    EXPECT_NE(map.warnings[0].find("the torso is one joint ('joint_2')"), std::string::npos);
+  }
+}
+
 TEST(RigMapTopologyTest, AgreesWithNamesOnTheCmuSkeleton) {
   // Clavicles, hip links, fingers and toes are all placed by geometry alone here.
   const HumanoidSpec spec = test::cmu_motionbuilder_spec();

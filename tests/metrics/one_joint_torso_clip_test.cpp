@@ -1,0 +1,107 @@
+// The corpus's OpenPose body (issue 48: a one-joint torso, legs that are roots of their own,
+// arms without hand joints) on both CMU clips: it binds, its limbs are swept, and the sweep
+// stretches its skin less than skinning does over each clip. Also mirrored and at 0.6x its
+// size, so that nothing depends on which side is left or on the body's size (a ratio of
+// lengths does not change with size, and the clip's root path is scaled to the hips' height).
+//
+// Figure: the largest edge stretch of a frame, |l / l_rest - 1| over the welded edges
+// (QualityMeter::largest_edge_stretch), every 50th frame. Asserted per clip, sweep against the
+// better of LBS and DQS, as length ratios l / l_rest:
+// - the worst frame's ratio no more than 1.02x the baseline's (issue 47's gate; measured 5.36
+//   against 11.86 on cmu_01_01, 10.50 against 16.21 on cmu_01_03; mirrored 4.90 / 8.62 and
+//   10.54 / 11.20);
+// - the mean over the frames of each frame's worst ratio no more than the baseline's (measured
+//   3.20 against 5.17 and 5.09 against 6.88; mirrored 2.87 / 4.07 and 4.96 / 5.51).
+// Not asserted, and open (issue 47): frame by frame the sweep is not always the better. With the
+// torso skinned, the armpit stretches more than skinning where the arms go overhead
+// (cmu_01_03 frame 3850: 10.5 against 7.1): 11 of 56 and 27 of 91 frames here; the count is
+// printed.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "io/bvh_load.h"
+#include "metrics/quality_metrics.h"
+#include "motion/retarget.h"
+#include "tests/deform/shared_male.h"
+#include "tests/mirrored_model.h"
+#include "tests/rescaled_model.h"
+
+namespace sweepd::metrics {
+namespace {
+
+namespace fs = std::filesystem;
+using deform::DeformMethod;
+
+struct ClipFigures {
+  double worst[3] = {0, 0, 0};  // per method (sweep, LBS, DQS): the largest ratio of any frame
+  double mean[3] = {0, 0, 0};   // per method: the mean over frames of each frame's largest ratio
+  int frames = 0, sweep_worse_frames = 0;
+};
+
+ClipFigures measure(const deform::BoundModel& bound, const fs::path& bvh) {
+  const motion::Retargeter clip(io::load_bvh(bvh), bound.model);
+  deform::test::Posing posing(bound);
+  const QualityMeter meter(bound);
+  std::vector<glm::vec3> positions(bound.model.vertex_count());
+  ClipFigures f;
+  for (int frame = 0; frame < clip.frame_count(); frame += 50) {
+    double ratio[3];
+    for (int m = 0; m < 3; ++m) {
+      deform::Pose pose = clip.pose_at_frame(frame);
+      posing.deform(pose, static_cast<DeformMethod>(m), positions);
+      ratio[m] = 1.0 + meter.largest_edge_stretch(positions);
+      f.worst[m] = std::max(f.worst[m], ratio[m]);
+      f.mean[m] += ratio[m];
+    }
+    f.sweep_worse_frames += ratio[0] > 1.02 * std::min(ratio[1], ratio[2]);
+    ++f.frames;
+  }
+  for (double& mean : f.mean) mean /= f.frames;
+  return f;
+}
+
+enum class Variant { kAsIs, kMirrored, kSmaller };
+
+std::string variant_name(Variant variant) {
+  return variant == Variant::kAsIs ? "as_is" : variant == Variant::kMirrored ? "mirrored" : "smaller";
+}
+
+class OneJointTorsoClip : public testing::TestWithParam<Variant> {};
+
+TEST_P(OneJointTorsoClip, SweepStretchesLessThanSkinningOverBothClips) {
+  const fs::path file =
+      fs::path(SWEEPD_SHARED_DATA) / "models/corpus/makehuman_female_slim_openpose.glb";
+  if (!fs::exists(file)) GTEST_SKIP() << "shared data absent: " << file;
+  deform::Model model = io::load_gltf(file);
+  if (GetParam() == Variant::kMirrored) model = test_models::mirrored(std::move(model));
+  if (GetParam() == Variant::kSmaller) model = test_models::rescaled(std::move(model), 0.6f);
+  const deform::BoundModel bound = deform::bind(model, deform::detect_rig_map(model.skeleton));
+  ASSERT_EQ(bound.sweeps.size(), 4u) << "both arms and both legs swept";
+  for (const char* name : {"cmu_01_01", "cmu_01_03"}) {
+    SCOPED_TRACE(name);
+    const ClipFigures f = measure(bound, fs::path(SWEEPD_SHARED_DATA) / "motion" /
+                                             (std::string(name) + ".bvh"));
+    const double worst_baseline = std::min(f.worst[1], f.worst[2]);
+    const double mean_baseline = std::min(f.mean[1], f.mean[2]);
+    std::printf("%s %s: worst ratio sweep %.2f lbs %.2f dqs %.2f; mean %.2f / %.2f / %.2f; "
+                "sweep worse in %d of %d frames\n",
+                name, variant_name(GetParam()).c_str(), f.worst[0], f.worst[1], f.worst[2],
+                f.mean[0], f.mean[1], f.mean[2], f.sweep_worse_frames, f.frames);
+    EXPECT_LE(f.worst[0], 1.02 * worst_baseline);
+    EXPECT_LE(f.mean[0], mean_baseline);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Variants, OneJointTorsoClip,
+                         testing::Values(Variant::kAsIs, Variant::kMirrored, Variant::kSmaller),
+                         [](const testing::TestParamInfo<Variant>& info) {
+                           return variant_name(info.param);
+                         });
+
+}  // namespace
+}  // namespace sweepd::metrics
