@@ -108,7 +108,11 @@ int bind_model(const Options& options) {
               with_thousands(loaded.model.vertex_count()).c_str(), bound.sweeps.size(),
               bound.rig.convention.c_str(), seconds);
   for (int s = 0; s < static_cast<int>(bound.sweeps.size()); ++s) print_sweep(bound, s);
-  std::printf("\nskinned only (hands, feet, head): %s vertices\n", with_thousands(skinned).c_str());
+  // The parts with no sweep of their own: hands, feet, head, and whatever the rig's warnings name
+  // (a one-joint torso or neck, a forearm without a hand joint, an absent limb).
+  std::printf("\nskinned only (%s): %s vertices\n",
+              bound.rig.warnings.empty() ? "hands, feet, head" : "hands, feet, head and the parts warned of",
+              with_thousands(skinned).c_str());
   std::printf("rest-pose error: max %.3g m (%.3g x height)\n", worst, worst / (hi - lo));
   std::printf("wrote %s\n", options.out.string().c_str());
   if (!options.debug_gltf.empty()) {
