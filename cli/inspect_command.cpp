@@ -1,6 +1,9 @@
 // sweepctl inspect FILE: what a model (.glb/.gltf/.fbx/.dae) or motion clip (.bvh) holds, for a
 // person; for a model also the detected rig map and what the binding would sweep and skin, and
-// for a glTF its animations (duration, frames, channels, joints driven).
+// for a glTF its animations (duration, frames, channels, joints driven). A clip with --model
+// MODEL [--bvh-map MAP] is also retargeted onto that model (motion::Retargeter, as `pose --bvh`
+// does): how its joints were matched, and in its warnings the clip joints that drive nothing
+// and the model joints left without motion.
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -14,9 +17,12 @@
 #include "deform/mesh/mesh_topology.h"
 #include "deform/rig/rig_map.h"
 #include "io/bvh_load.h"
+#include "io/joint_name_map_json.h"
 #include "io/model_clip_load.h"
 #include "io/model_load.h"
+#include "io/sweepbind.h"
 #include "motion/clip_up_axis.h"
+#include "motion/retarget.h"
 
 namespace sweepd::cli {
 
@@ -192,7 +198,43 @@ int inspect_model(const std::filesystem::path& file) {
   return 0;
 }
 
-int inspect_motion(const std::filesystem::path& file) {
+struct Options {
+  std::filesystem::path file;
+  std::filesystem::path model;    // --model: retarget the clip onto it
+  std::filesystem::path bvh_map;  // --bvh-map: with --model
+};
+
+// The clip retargeted onto --model (Y-up, as posing reads it): one line on how its joints were
+// matched; its warnings are added to `warnings`.
+void print_retargeting(const Options& options, std::vector<std::string>& warnings) {
+  const deform::Model model = options.model.extension() == ".sweepbind"
+                                  ? io::load_sweepbind(options.model).model
+                                  : io::load_model(options.model);
+  const motion::JointNameMap name_map = options.bvh_map.empty()
+                                            ? motion::JointNameMap{}
+                                            : io::load_joint_name_map_json(options.bvh_map);
+  motion::Clip clip = io::load_bvh(options.file);
+  const std::size_t clip_joints = clip.joints.size();
+  // Free feet: planting changes no match and no warning, and would pass over every frame.
+  const motion::Retargeter retargeter(std::move(clip), model, name_map, motion::Feet::kFree);
+  int by_reason[4] = {0, 0, 0, 0};  // in the order of motion::JointMatchReason
+  for (const motion::JointMatch& match : retargeter.matches())
+    ++by_reason[static_cast<int>(match.reason)];
+  std::printf(
+      "retargeted:  onto %s (%d joints): %zu of %zu clip joints matched (name map %d, "
+      "name %d, role %d, hierarchy %d), %zu unmapped; %zu model joints without motion\n",
+      options.model.string().c_str(), model.skeleton.size(), retargeter.matches().size(),
+      clip_joints, by_reason[0], by_reason[1], by_reason[2], by_reason[3],
+      retargeter.unmapped_bvh_joints().size(),
+      static_cast<std::size_t>(
+          std::count_if(retargeter.matches().begin(), retargeter.matches().end(),
+                        [](const motion::JointMatch& m) { return !m.driven; })) +
+          retargeter.unmapped_model_joints().size());
+  warnings.insert(warnings.end(), retargeter.warnings().begin(), retargeter.warnings().end());
+}
+
+int inspect_motion(const Options& options) {
+  const std::filesystem::path& file = options.file;
   // As the file has it: channels and offsets in its own axes.
   const motion::Clip clip = io::load_bvh(file, {.up = motion::UpAxis::kY});
   const motion::UpAxis up = motion::detect_up_axis(clip);
@@ -207,7 +249,9 @@ int inspect_motion(const std::filesystem::path& file) {
               with_thousands(clip.header_frame_count).c_str());
   std::printf("frame time:  %.7f s (%.2f fps), duration %.2f s\n", clip.frame_time,
               clip.frames_per_second(), clip.frame_count * clip.frame_time);
-  print_warnings(clip.warnings);
+  std::vector<std::string> warnings = clip.warnings;
+  if (!options.model.empty()) print_retargeting(options, warnings);
+  print_warnings(warnings);
   std::printf("joint tree:\n");
   auto children_of = [&](int j) {
     std::vector<int> children;
@@ -235,8 +279,10 @@ Command add_inspect_command(CLI::App& sweepctl) {
       "Prints counts, the joint tree, UV presence, bounding box and height, skin weight\n"
       "statistics, the detected rig map (each part's joints, found by name or by shape) and\n"
       "what is swept versus skinned (models), or channels, frames and frame rate (clips), and\n"
-      "warnings.");
-  auto file = std::make_shared<std::filesystem::path>();
+      "warnings. A .bvh clip with --model MODEL is also retargeted onto MODEL as `pose --bvh`\n"
+      "does: how its joints matched, and warnings naming the clip joints that drive nothing and\n"
+      "the model joints left without motion.");
+  auto options = std::make_shared<Options>();
   const CLI::Validator known_type(
       [](std::string& name) -> std::string {
         const std::string type = file_type(name);
@@ -246,12 +292,29 @@ Command add_inspect_command(CLI::App& sweepctl) {
                "' (expected .glb, .gltf, .fbx, .dae or .bvh)";
       },
       "");
-  command->add_option("FILE", *file, "a .glb/.gltf/.fbx/.dae model or a .bvh motion clip")
+  command->add_option("FILE", options->file, "a .glb/.gltf/.fbx/.dae model or a .bvh motion clip")
       ->type_name("")
       ->required()
       ->check(known_type);
-  return {command, [file] {
-            return file_type(*file) == ".bvh" ? inspect_motion(*file) : inspect_model(*file);
+  CLI::Option* model =
+      command
+          ->add_option("--model", options->model,
+                       "with a .bvh FILE: a .glb/.gltf/.fbx/.dae/.sweepbind model to retarget "
+                       "the clip onto, naming what is left unmapped")
+          ->type_name("MODEL")
+          ->check(CLI::ExistingFile);
+  command
+      ->add_option("--bvh-map", options->bvh_map,
+                   "with --model: a JSON joint name map {\"clip joint\": \"model joint\"}")
+      ->type_name("MAP")
+      ->check(CLI::ExistingFile)
+      ->needs(model);
+  return {command, [options] {
+            if (!options->model.empty() && file_type(options->file) != ".bvh")
+              throw CLI::ValidationError("--model", "retargets a .bvh clip; FILE " +
+                                                        options->file.string() + " is a model");
+            return file_type(options->file) == ".bvh" ? inspect_motion(*options)
+                                                      : inspect_model(options->file);
           }};
 }
 
