@@ -134,6 +134,12 @@ RemotePosedModel::RemotePosedModel(const PosingArguments& arguments, const Serve
     } else if (arguments.has_clip()) {
       const pb::ClipInfo& clip = upload_clip(*connection_, local_model_file_);
       clip_id_ = clip.clip_id()->str();
+      // The server's warnings: the reader's, and (1.12) what playing it on this model leaves
+      // unmapped, as the local commands print the retargeter's.
+      if (clip.warnings())
+        for (const flatbuffers::String* warning : *clip.warnings())
+          std::fprintf(stderr, "warning: %s: %s\n", arguments.clip_file().string().c_str(),
+                       warning->c_str());
       if (arguments.fps <= 0.0f)
         require_clip_frames(arguments, static_cast<int>(clip.frame_count()));
     }
@@ -150,11 +156,11 @@ const pb::ClipInfo& RemotePosedModel::upload_clip(client::Connection& connection
   const std::string map = arguments.bvh_map.empty() ? "" : io::read_file_text(arguments.bvh_map);
   if (!arguments.bvh.empty())
     return client::upload_clip(connection, arguments.bvh.filename().string(),
-                               io::read_file_text(arguments.bvh), 1.0f, map);
+                               io::read_file_text(arguments.bvh), 1.0f, map, model_id_);
   if (!arguments.clip_from.empty())
     return client::upload_gltf_clip(connection, arguments.clip_from.filename().string(),
                                     io::read_file_bytes(arguments.clip_from), arguments.clip, false,
-                                    map);
+                                    map, model_id_);
   // --clip: an animation of MODEL's own file, played on its joints as they are.
   if (!local_model_file || arguments.model.extension() == ".sweepbind")
     throw std::invalid_argument(arguments.model.string() +
@@ -162,7 +168,8 @@ const pb::ClipInfo& RemotePosedModel::upload_clip(client::Connection& connection
                                 "COLLADA file, uploaded from here; for another file's clip give "
                                 "--clip-from FILE");
   return client::upload_gltf_clip(connection, arguments.model.filename().string(),
-                                  io::read_file_bytes(arguments.model), arguments.clip, true);
+                                  io::read_file_bytes(arguments.model), arguments.clip, true, {},
+                                  model_id_);
 }
 
 RemotePosedModel::~RemotePosedModel() {

@@ -224,6 +224,7 @@ struct Job {
   sweepd::client::ModelSource& model;  // uploaded only to servers that lack it
   sweepd::client::FrameQueue& queue;
   Progress& progress;
+  std::once_flag& reported;  // the model's name and the clip's warnings said once
 };
 
 // What an Error reply means for the frame and the server.
@@ -299,7 +300,20 @@ class ServerSession {
           std::max(1u, channel_.hello(job.options.token, "render_frames").max_poses_in_flight());
       const pb::ModelInfo& info = job.model.load(channel_);
       model_id_ = info.model_id();
-      clip_id_ = sweepd::client::upload_clip_file(channel_, job.options.clip).clip_id()->str();
+      const std::string model_name = info.name()->str();  // `info` is invalid after a receive
+      const pb::ClipInfo& clip =
+          sweepd::client::upload_clip_file(channel_, job.options.clip, model_id_);
+      clip_id_ = clip.clip_id()->str();
+      // Once per job: the model's name on the server, the reader's warnings and (protocol
+      // 1.12) what playing the clip on the model leaves unmapped.
+      std::call_once(job.reported, [&] {
+        std::fprintf(stderr, "render_frames: model '%s' (id %u) on %s\n", model_name.c_str(),
+                     model_id_, address.c_str());
+        if (clip.warnings())
+          for (const flatbuffers::String* warning : *clip.warnings())
+            std::fprintf(stderr, "warning: %s: %s\n", job.options.clip.file().c_str(),
+                         warning->c_str());
+      });
     } catch (const sweepd::client::ServerError& error) {
       if (meaning_of(error.code()) == ErrorMeaning::kServerBusy) throw;
       throw ServerUnfit(error.what());
@@ -497,7 +511,8 @@ int run(Options& options) {
             : sweepd::client::ModelSource(options.model_file,
                                           sweepd::io::read_file_bytes(options.model_file));
     Progress progress("rendering " + fs::path(options.clip.file()).stem().string(), skipped, total);
-    const Job job{options, model, queue, progress};
+    std::once_flag reported;
+    const Job job{options, model, queue, progress, reported};
     std::vector<std::thread> threads;
     for (std::size_t s = 0; s < servers.size(); ++s)
       threads.emplace_back([&, s] { rendered_by[s] = serve(servers[s], job); });

@@ -13,7 +13,9 @@
 //    bytes); otherwise the server's default "mannequin" (LoadModel by name).
 // 3. Upload the clip once (UploadClip, client/clip_file_flags.h): a BVH's text, or a glTF
 //    file's bytes and the animation's name (protocol 1.7); the server reads it and retargets
-//    it onto the model, so this client needs no skeleton and no retargeter.
+//    it onto the model, so this client needs no skeleton and no retargeter. Its warnings go to
+//    stderr: the reader's, and (1.12, the upload names the model) the clip joints that drive
+//    no model joint and the model joints left without motion.
 // 4. Stream the clip: one PoseFromClip per frame, naming the clip and the frame number, at the
 //    clip's frame rate or --flat-out (as fast as the server answers, up to
 //    Welcome.max_poses_in_flight queued).
@@ -307,13 +309,18 @@ int run(Options& options) {
     }
     if (options.shared_memory) channel.map_shared_memory(session.window * session.slot_bytes);
     // `info` is invalid from the next receive on.
-    const pb::ClipInfo& clip = sweepd::client::upload_clip_file(channel, options.clip);
+    const pb::ClipInfo& clip =
+        sweepd::client::upload_clip_file(channel, options.clip, session.model_id);
     session.clip_id = clip.clip_id()->str();
     session.frame_time = 1.0 / clip.frames_per_second();
     session.clip_frames = static_cast<int>(clip.frame_count());
     if (first) {
       std::printf("clip %s: %d frames at %.0f fps\n", clip.name()->c_str(), session.clip_frames,
                   clip.frames_per_second());
+      // The reader's warnings and (protocol 1.12) what playing it on the model leaves unmapped.
+      if (clip.warnings())
+        for (const flatbuffers::String* warning : *clip.warnings())
+          std::fprintf(stderr, "warning: %s: %s\n", options.clip.file().c_str(), warning->c_str());
     }
     first = false;
   };

@@ -74,6 +74,7 @@ class ModelService : public ModelLookup {
   // before it deforms, so that a reload (0.4–0.6 s at 72k vertices) never stalls the I/O thread.
   ModelHandle current(const ModelHandle& held);
   std::vector<ModelHandle> models() const { return registry_.models(); }
+  std::vector<ModelHandle> held_models() const override { return registry_.models(); }
   std::vector<std::string> directory_entries() const;
   // Bytes of the regular files in the store directory (models, sources, index; not the
   // quarantine): a listing, safe from any thread.

@@ -46,7 +46,7 @@ from . import meshopt
 from .connection import body_of, finish_frame, new_builder
 from .errors import ConnectionLost, SweepdError, Timeout, UnknownModel, server_error
 
-PROTOCOL_VERSION = (1, 11)  # contact sheets (1.11) are the newest part it speaks
+PROTOCOL_VERSION = (1, 12)  # a clip's warnings on a model (1.12) are the newest part it speaks
 METHODS = {"sweep": DeformMethod.DeformMethod.Sweep, "lbs": DeformMethod.DeformMethod.Lbs,
            "dqs": DeformMethod.DeformMethod.Dqs}
 FEATURES = {"folding": Features.Features.Folding, "protrusion": Features.Features.Protrusion,
@@ -107,7 +107,10 @@ class Clip:
     frame_count: int
     frames_per_second: float
     joint_count: int
-    warnings: list                # what did not stop the server reading the clip
+    warnings: list                # what did not stop the server reading the clip, then (1.12,
+                                  # upload_clip(model=)) "on model 'NAME': ..." naming the clip
+                                  # joints that drive no model joint and the model joints the
+                                  # clip leaves without motion
 
 
 @dataclass(frozen=True)
@@ -285,7 +288,7 @@ class Exchanges:
                         reply.SkinWeightsAsNumpy().reshape(-1, 4))
 
     def _upload_clip(self, clip, name=None, length_scale=1.0, joint_name_map=None, *,
-                     animation=None, own_skeleton=False):
+                     animation=None, own_skeleton=False, model=None):
         """Keeps a clip on the server and returns its Clip: a BVH clip (a path, or the BVH text
         itself), or (protocol 1.7) an animation of a glTF file (a .glb/.gltf path, or the file's
         bytes; self-contained: the server reads only the GLB chunk and data: URIs), or (1.8) an
@@ -296,7 +299,11 @@ class Exchanges:
         model it poses (as `sweepctl pose --bvh` / `--clip-from` do). A glTF clip's `animation`
         is its name or index (None: the first); own_skeleton=True plays it on the joints of the
         model whose file it came from, as they are (as `sweepctl pose MODEL.glb --clip`): a
-        model with other joints is an InvalidArgument when posed."""
+        model with other joints is an InvalidArgument when posed. model (a Model, or a name
+        loaded on this connection; protocol 1.12): the model the clip will play on; the Clip's
+        warnings then also name what playing it there leaves unmapped (clip joints that drive
+        no model joint, model joints left without motion), as `sweepctl pose` prints them."""
+        model_id = None if model is None else (yield from self._model_id(model))
         gltf = None
         if isinstance(clip, (bytes, bytearray, memoryview)):
             gltf = bytes(clip)
@@ -330,6 +337,8 @@ class Exchanges:
             UploadClip.AddOwnSkeleton(builder, own_skeleton)
         if name_map is not None:
             UploadClip.AddJointNameMap(builder, name_map)
+        if model_id is not None:
+            UploadClip.AddModelId(builder, model_id)
         yield Send(finish_frame(builder, Body.Body.UploadClip, UploadClip.End(builder)))
         info = yield Receive(ClipInfo.ClipInfo)
         result = Clip(_text(info.ClipId()), _text(info.Name()), info.FrameCount(),
