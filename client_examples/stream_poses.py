@@ -97,7 +97,7 @@ def run(options):
                                   model=model)
         for warning in clip.warnings:
             print(f"warning: {options.bvh}: {warning}", file=sys.stderr)
-        print(f"model {model.model_id}: {model.vertex_count} vertices, "
+        print(f"model '{model.name}' (id {model.model_id}): {model.vertex_count} vertices, "
               f"{len(model.joint_names)} joints; clip {clip.frame_count} frames")
         if options.first_frame >= clip.frame_count:
             raise errors.InvalidArgument(f"--first-frame {options.first_frame} is outside the "

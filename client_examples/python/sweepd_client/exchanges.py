@@ -231,7 +231,10 @@ class Exchanges:
         return model
 
     def _upload(self, glb, name=None, orientation="linear"):
-        """Uploads a .glb (a path or its bytes) and returns the bound Model; orientation: the
+        """Uploads a .glb (a path or its bytes) and returns the bound Model, named `name`, else
+        the file's base name ("body" for dir/body.glb; "upload" for bytes); Model.name is the
+        name the server holds it under (a server that held these bytes already keeps the name
+        it gave them). orientation: the
         sweeps' orientation curve, "linear" (the paper's) or "smooth" (C2). Bytes this process
         uploaded before (on any client) are named by their content id first, without sending
         them: a server that holds the model, or shares a store with one that does, answers at
@@ -240,8 +243,10 @@ class Exchanges:
             path = os.fspath(glb)
             with open(path, "rb") as file:
                 glb = file.read()
-            name = name or os.path.basename(path)
-        name, glb = name or "upload.glb", bytes(glb)
+            # The file's base name, never the local path: every client and every restart finds
+            # the model by the same name (as client/model_source.h names it).
+            name = name or os.path.splitext(os.path.basename(path))[0]
+        name, glb = name or "upload", bytes(glb)
         curve = _choice(ORIENTATIONS, orientation, "orientation")
         key = (hashlib.sha256(glb).digest(), name, curve)
         content_id = Exchanges._uploaded.get(key)
