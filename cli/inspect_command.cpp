@@ -1,13 +1,15 @@
 // sweepctl inspect FILE: what a model (.glb/.gltf/.fbx/.dae) or motion clip (.bvh) holds, for a
 // person; for a model also the detected rig map and what the binding would sweep and skin, and
-// for a glTF its animations (duration, frames, channels, joints driven). A clip with --model
-// MODEL [--bvh-map MAP] is also retargeted onto that model (motion::Retargeter, as `pose --bvh`
-// does): how its joints were matched, and in its warnings the clip joints that drive nothing
-// and the model joints left without motion.
+// for a glTF its animations (duration, frames, channels, joints driven). With --model MODEL
+// [--bvh-map MAP] a .bvh clip, or each animation of a model file, is also retargeted onto that
+// model (motion::Retargeter, as `pose --bvh` and `--clip-from` do): how its joints were
+// matched, and in its warnings the clip joints that drive nothing and the model joints left
+// without motion.
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -106,10 +108,58 @@ void print_meshes(const deform::Model& model, const io::LoadReport& report) {
   }
 }
 
+struct Options {
+  std::filesystem::path file;
+  std::filesystem::path model;    // --model: retarget the clip (or the file's animations) onto it
+  std::filesystem::path bvh_map;  // --bvh-map: with --model
+};
+
+// The model --model names, and the joint name map --bvh-map names (empty without one).
+deform::Model target_model(const Options& options) {
+  return options.model.extension() == ".sweepbind" ? io::load_sweepbind(options.model).model
+                                                   : io::load_model(options.model);
+}
+motion::JointNameMap target_name_map(const Options& options) {
+  return options.bvh_map.empty() ? motion::JointNameMap{}
+                                 : io::load_joint_name_map_json(options.bvh_map);
+}
+
+// `clip` retargeted onto `model` (--model) as posing does: how its joints were matched, in
+// words; its warnings (the joints left unmapped on either side) are added to `warnings`.
+std::string retargeting(motion::Clip clip, const Options& options, const deform::Model& model,
+                        const motion::JointNameMap& name_map, std::vector<std::string>& warnings) {
+  const std::size_t clip_joints = clip.joints.size();
+  // Free feet: planting changes no match and no warning, and would pass over every frame.
+  const motion::Retargeter retargeter(std::move(clip), model, name_map, motion::Feet::kFree);
+  int by_reason[4] = {0, 0, 0, 0};  // in the order of motion::JointMatchReason
+  std::size_t undriven = retargeter.unmapped_model_joints().size();
+  for (const motion::JointMatch& match : retargeter.matches()) {
+    ++by_reason[static_cast<int>(match.reason)];
+    undriven += match.driven ? 0 : 1;
+  }
+  char line[512];
+  std::snprintf(line, sizeof line,
+                "onto %s (%d joints): %zu of %zu clip joints matched (name map %d, name %d, "
+                "role %d, hierarchy %d), %zu unmapped; %zu model joints without motion",
+                options.model.string().c_str(), model.skeleton.size(), retargeter.matches().size(),
+                clip_joints, by_reason[0], by_reason[1], by_reason[2], by_reason[3],
+                retargeter.unmapped_bvh_joints().size(), undriven);
+  warnings.insert(warnings.end(), retargeter.warnings().begin(), retargeter.warnings().end());
+  return line;
+}
+
 // A model file's animations (what `pose --clip NAME|INDEX` plays): each one's duration, frames,
-// channels played, the skin joints they drive and their interpolations, or why it cannot play.
-void print_animations(const std::filesystem::path& file) {
+// channels played, the skin joints they drive and their interpolations, or why it cannot play;
+// with --model, each retargeted onto that model (as `pose --clip-from`) with its warnings.
+void print_animations(const Options& options) {
+  const std::filesystem::path& file = options.file;
   const std::vector<io::FileAnimation> animations = io::load_model_animations(file);
+  std::optional<deform::Model> target;
+  motion::JointNameMap name_map;
+  if (!options.model.empty() && !animations.empty()) {
+    target = target_model(options);
+    name_map = target_name_map(options);
+  }
   std::printf("animations:  %zu%s\n", animations.size(),
               animations.empty() ? "" : " (pose --clip NAME|INDEX)");
   for (std::size_t a = 0; a < animations.size(); ++a) {
@@ -138,11 +188,16 @@ void print_animations(const std::filesystem::path& file) {
         clip.tracks.size(),
         static_cast<std::size_t>(std::count(driven.begin(), driven.end(), true)),
         clip.joints.size(), interpolations.c_str());
-    for (const std::string& warning : clip.warnings) std::printf("    - %s\n", warning.c_str());
+    std::vector<std::string> warnings = clip.warnings;
+    if (target)
+      std::printf("    retargeted %s\n",
+                  retargeting(clip, options, *target, name_map, warnings).c_str());
+    for (const std::string& warning : warnings) std::printf("    - %s\n", warning.c_str());
   }
 }
 
-int inspect_model(const std::filesystem::path& file) {
+int inspect_model(const Options& options) {
+  const std::filesystem::path& file = options.file;
   io::LoadReport report;
   const deform::Model model = io::load_model(file, &report);
   glm::vec3 lo(1e30f), hi(-1e30f);
@@ -188,7 +243,7 @@ int inspect_model(const std::filesystem::path& file) {
       report.renormalised_weight_count, report.zero_weight_vertex_count);
   print_meshes(model, report);
   print_warnings(report.warnings);
-  print_animations(file);
+  print_animations(options);
   print_rig(skeleton);
   std::printf("joint tree:\n");
   for (int j = 0; j < skeleton.size(); ++j)
@@ -196,41 +251,6 @@ int inspect_model(const std::filesystem::path& file) {
       print_tree([&](int n) { return skeleton.children(n); },
                  [&](int n) { return skeleton.joints[n].name; }, j, 0);
   return 0;
-}
-
-struct Options {
-  std::filesystem::path file;
-  std::filesystem::path model;    // --model: retarget the clip onto it
-  std::filesystem::path bvh_map;  // --bvh-map: with --model
-};
-
-// The clip retargeted onto --model (Y-up, as posing reads it): one line on how its joints were
-// matched; its warnings are added to `warnings`.
-void print_retargeting(const Options& options, std::vector<std::string>& warnings) {
-  const deform::Model model = options.model.extension() == ".sweepbind"
-                                  ? io::load_sweepbind(options.model).model
-                                  : io::load_model(options.model);
-  const motion::JointNameMap name_map = options.bvh_map.empty()
-                                            ? motion::JointNameMap{}
-                                            : io::load_joint_name_map_json(options.bvh_map);
-  motion::Clip clip = io::load_bvh(options.file);
-  const std::size_t clip_joints = clip.joints.size();
-  // Free feet: planting changes no match and no warning, and would pass over every frame.
-  const motion::Retargeter retargeter(std::move(clip), model, name_map, motion::Feet::kFree);
-  int by_reason[4] = {0, 0, 0, 0};  // in the order of motion::JointMatchReason
-  for (const motion::JointMatch& match : retargeter.matches())
-    ++by_reason[static_cast<int>(match.reason)];
-  std::printf(
-      "retargeted:  onto %s (%d joints): %zu of %zu clip joints matched (name map %d, "
-      "name %d, role %d, hierarchy %d), %zu unmapped; %zu model joints without motion\n",
-      options.model.string().c_str(), model.skeleton.size(), retargeter.matches().size(),
-      clip_joints, by_reason[0], by_reason[1], by_reason[2], by_reason[3],
-      retargeter.unmapped_bvh_joints().size(),
-      static_cast<std::size_t>(
-          std::count_if(retargeter.matches().begin(), retargeter.matches().end(),
-                        [](const motion::JointMatch& m) { return !m.driven; })) +
-          retargeter.unmapped_model_joints().size());
-  warnings.insert(warnings.end(), retargeter.warnings().begin(), retargeter.warnings().end());
 }
 
 int inspect_motion(const Options& options) {
@@ -250,7 +270,10 @@ int inspect_motion(const Options& options) {
   std::printf("frame time:  %.7f s (%.2f fps), duration %.2f s\n", clip.frame_time,
               clip.frames_per_second(), clip.frame_count * clip.frame_time);
   std::vector<std::string> warnings = clip.warnings;
-  if (!options.model.empty()) print_retargeting(options, warnings);
+  if (!options.model.empty())
+    std::printf("retargeted:  %s\n", retargeting(io::load_bvh(file), options, target_model(options),
+                                                 target_name_map(options), warnings)
+                                         .c_str());
   print_warnings(warnings);
   std::printf("joint tree:\n");
   auto children_of = [&](int j) {
@@ -279,9 +302,10 @@ Command add_inspect_command(CLI::App& sweepctl) {
       "Prints counts, the joint tree, UV presence, bounding box and height, skin weight\n"
       "statistics, the detected rig map (each part's joints, found by name or by shape) and\n"
       "what is swept versus skinned (models), or channels, frames and frame rate (clips), and\n"
-      "warnings. A .bvh clip with --model MODEL is also retargeted onto MODEL as `pose --bvh`\n"
-      "does: how its joints matched, and warnings naming the clip joints that drive nothing and\n"
-      "the model joints left without motion.");
+      "warnings. With --model MODEL a .bvh clip (or each animation of a model file) is also\n"
+      "retargeted onto MODEL as `pose --bvh` (`--clip-from`) does: how its joints matched, and\n"
+      "warnings naming the clip joints that drive nothing and the model joints left without\n"
+      "motion.");
   auto options = std::make_shared<Options>();
   const CLI::Validator known_type(
       [](std::string& name) -> std::string {
@@ -299,8 +323,8 @@ Command add_inspect_command(CLI::App& sweepctl) {
   CLI::Option* model =
       command
           ->add_option("--model", options->model,
-                       "with a .bvh FILE: a .glb/.gltf/.fbx/.dae/.sweepbind model to retarget "
-                       "the clip onto, naming what is left unmapped")
+                       "a .glb/.gltf/.fbx/.dae/.sweepbind model to retarget FILE's clip (a .bvh, "
+                       "or each animation of a model file) onto, naming what is left unmapped")
           ->type_name("MODEL")
           ->check(CLI::ExistingFile);
   command
@@ -310,11 +334,8 @@ Command add_inspect_command(CLI::App& sweepctl) {
       ->check(CLI::ExistingFile)
       ->needs(model);
   return {command, [options] {
-            if (!options->model.empty() && file_type(options->file) != ".bvh")
-              throw CLI::ValidationError("--model", "retargets a .bvh clip; FILE " +
-                                                        options->file.string() + " is a model");
             return file_type(options->file) == ".bvh" ? inspect_motion(*options)
-                                                      : inspect_model(options->file);
+                                                      : inspect_model(*options);
           }};
 }
 
