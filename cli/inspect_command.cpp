@@ -1,10 +1,15 @@
 // sweepctl inspect FILE: what a model (.glb/.gltf/.fbx/.dae) or motion clip (.bvh) holds, for a
 // person; for a model also the detected rig map and what the binding would sweep and skin, and
-// for a glTF its animations (duration, frames, channels, joints driven).
+// for a glTF its animations (duration, frames, channels, joints driven). With --model MODEL
+// [--bvh-map MAP] a .bvh clip, or each animation of a model file, is also retargeted onto that
+// model (motion::Retargeter, as `pose --bvh` and `--clip-from` do): how its joints were
+// matched, and in its warnings the clip joints that drive nothing and the model joints left
+// without motion.
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -15,9 +20,12 @@
 #include "deform/mesh/mesh_topology.h"
 #include "deform/rig/rig_map.h"
 #include "io/bvh_load.h"
+#include "io/joint_name_map_json.h"
 #include "io/model_clip_load.h"
 #include "io/model_load.h"
+#include "io/sweepbind.h"
 #include "motion/clip_up_axis.h"
+#include "motion/retarget.h"
 
 namespace sweepd::cli {
 
@@ -119,10 +127,58 @@ void print_meshes(const deform::Model& model, const io::LoadReport& report) {
   }
 }
 
+struct Options {
+  std::filesystem::path file;
+  std::filesystem::path model;    // --model: retarget the clip (or the file's animations) onto it
+  std::filesystem::path bvh_map;  // --bvh-map: with --model
+};
+
+// The model --model names, and the joint name map --bvh-map names (empty without one).
+deform::Model target_model(const Options& options) {
+  return options.model.extension() == ".sweepbind" ? io::load_sweepbind(options.model).model
+                                                   : io::load_model(options.model);
+}
+motion::JointNameMap target_name_map(const Options& options) {
+  return options.bvh_map.empty() ? motion::JointNameMap{}
+                                 : io::load_joint_name_map_json(options.bvh_map);
+}
+
+// `clip` retargeted onto `model` (--model) as posing does: how its joints were matched, in
+// words; its warnings (the joints left unmapped on either side) are added to `warnings`.
+std::string retargeting(motion::Clip clip, const Options& options, const deform::Model& model,
+                        const motion::JointNameMap& name_map, std::vector<std::string>& warnings) {
+  const std::size_t clip_joints = clip.joints.size();
+  // Free feet: planting changes no match and no warning, and would pass over every frame.
+  const motion::Retargeter retargeter(std::move(clip), model, name_map, motion::Feet::kFree);
+  int by_reason[4] = {0, 0, 0, 0};  // in the order of motion::JointMatchReason
+  std::size_t undriven = retargeter.unmapped_model_joints().size();
+  for (const motion::JointMatch& match : retargeter.matches()) {
+    ++by_reason[static_cast<int>(match.reason)];
+    undriven += match.driven ? 0 : 1;
+  }
+  char line[512];
+  std::snprintf(line, sizeof line,
+                "onto %s (%d joints): %zu of %zu clip joints matched (name map %d, name %d, "
+                "role %d, hierarchy %d), %zu unmapped; %zu model joints without motion",
+                options.model.string().c_str(), model.skeleton.size(), retargeter.matches().size(),
+                clip_joints, by_reason[0], by_reason[1], by_reason[2], by_reason[3],
+                retargeter.unmapped_bvh_joints().size(), undriven);
+  warnings.insert(warnings.end(), retargeter.warnings().begin(), retargeter.warnings().end());
+  return line;
+}
+
 // A model file's animations (what `pose --clip NAME|INDEX` plays): each one's duration, frames,
-// channels played, the skin joints they drive and their interpolations, or why it cannot play.
-void print_animations(const std::filesystem::path& file) {
+// channels played, the skin joints they drive and their interpolations, or why it cannot play;
+// with --model, each retargeted onto that model (as `pose --clip-from`) with its warnings.
+void print_animations(const Options& options) {
+  const std::filesystem::path& file = options.file;
   const std::vector<io::FileAnimation> animations = io::load_model_animations(file);
+  std::optional<deform::Model> target;
+  motion::JointNameMap name_map;
+  if (!options.model.empty() && !animations.empty()) {
+    target = target_model(options);
+    name_map = target_name_map(options);
+  }
   std::printf("animations:  %zu%s\n", animations.size(),
               animations.empty() ? "" : " (pose --clip NAME|INDEX)");
   for (std::size_t a = 0; a < animations.size(); ++a) {
@@ -151,11 +207,16 @@ void print_animations(const std::filesystem::path& file) {
         clip.tracks.size(),
         static_cast<std::size_t>(std::count(driven.begin(), driven.end(), true)),
         clip.joints.size(), interpolations.c_str());
-    for (const std::string& warning : clip.warnings) std::printf("    - %s\n", warning.c_str());
+    std::vector<std::string> warnings = clip.warnings;
+    if (target)
+      std::printf("    retargeted %s\n",
+                  retargeting(clip, options, *target, name_map, warnings).c_str());
+    for (const std::string& warning : warnings) std::printf("    - %s\n", warning.c_str());
   }
 }
 
-int inspect_model(const std::filesystem::path& file) {
+int inspect_model(const Options& options) {
+  const std::filesystem::path& file = options.file;
   io::LoadReport report;
   const deform::Model model = io::load_model(file, &report);
   glm::vec3 lo(1e30f), hi(-1e30f);
@@ -201,7 +262,7 @@ int inspect_model(const std::filesystem::path& file) {
       report.renormalised_weight_count, report.zero_weight_vertex_count);
   print_meshes(model, report);
   print_warnings(report.warnings);
-  print_animations(file);
+  print_animations(options);
   print_rig(skeleton);
   std::printf("joint tree:\n");
   for (int j = 0; j < skeleton.size(); ++j)
@@ -211,7 +272,8 @@ int inspect_model(const std::filesystem::path& file) {
   return 0;
 }
 
-int inspect_motion(const std::filesystem::path& file) {
+int inspect_motion(const Options& options) {
+  const std::filesystem::path& file = options.file;
   // As the file has it: channels and offsets in its own axes.
   const motion::Clip clip = io::load_bvh(file, {.up = motion::UpAxis::kY});
   const motion::UpAxis up = motion::detect_up_axis(clip);
@@ -226,7 +288,12 @@ int inspect_motion(const std::filesystem::path& file) {
               with_thousands(clip.header_frame_count).c_str());
   std::printf("frame time:  %.7f s (%.2f fps), duration %.2f s\n", clip.frame_time,
               clip.frames_per_second(), clip.frame_count * clip.frame_time);
-  print_warnings(clip.warnings);
+  std::vector<std::string> warnings = clip.warnings;
+  if (!options.model.empty())
+    std::printf("retargeted:  %s\n", retargeting(io::load_bvh(file), options, target_model(options),
+                                                 target_name_map(options), warnings)
+                                         .c_str());
+  print_warnings(warnings);
   std::printf("joint tree:\n");
   auto children_of = [&](int j) {
     std::vector<int> children;
@@ -254,8 +321,11 @@ Command add_inspect_command(CLI::App& sweepctl) {
       "Prints counts, the joint tree, UV presence, bounding box and height, skin weight\n"
       "statistics, the detected rig map (each part's joints, found by name or by shape) and\n"
       "what is swept versus skinned (models), or channels, frames and frame rate (clips), and\n"
-      "warnings.");
-  auto file = std::make_shared<std::filesystem::path>();
+      "warnings. With --model MODEL a .bvh clip (or each animation of a model file) is also\n"
+      "retargeted onto MODEL as `pose --bvh` (`--clip-from`) does: how its joints matched, and\n"
+      "warnings naming the clip joints that drive nothing and the model joints left without\n"
+      "motion.");
+  auto options = std::make_shared<Options>();
   const CLI::Validator known_type(
       [](std::string& name) -> std::string {
         const std::string type = file_type(name);
@@ -265,12 +335,26 @@ Command add_inspect_command(CLI::App& sweepctl) {
                "' (expected .glb, .gltf, .fbx, .dae or .bvh)";
       },
       "");
-  command->add_option("FILE", *file, "a .glb/.gltf/.fbx/.dae model or a .bvh motion clip")
+  command->add_option("FILE", options->file, "a .glb/.gltf/.fbx/.dae model or a .bvh motion clip")
       ->type_name("")
       ->required()
       ->check(known_type);
-  return {command, [file] {
-            return file_type(*file) == ".bvh" ? inspect_motion(*file) : inspect_model(*file);
+  CLI::Option* model =
+      command
+          ->add_option("--model", options->model,
+                       "a .glb/.gltf/.fbx/.dae/.sweepbind model to retarget FILE's clip (a .bvh, "
+                       "or each animation of a model file) onto, naming what is left unmapped")
+          ->type_name("MODEL")
+          ->check(CLI::ExistingFile);
+  command
+      ->add_option("--bvh-map", options->bvh_map,
+                   "with --model: a JSON joint name map {\"clip joint\": \"model joint\"}")
+      ->type_name("MAP")
+      ->check(CLI::ExistingFile)
+      ->needs(model);
+  return {command, [options] {
+            return file_type(options->file) == ".bvh" ? inspect_motion(*options)
+                                                      : inspect_model(*options);
           }};
 }
 

@@ -276,6 +276,7 @@ int metrics(const Options& options, const ServerAddress* server) {
   std::function<deform::Pose(int)> pose_of;
   if (server) {
     remote = std::make_unique<RemotePosedModel>(posing, *server, ClipPosing::kHere);
+    std::fprintf(stderr, "%s\n", remote->served_as().c_str());  // the name the server holds
     const deform::Model& model = remote->model();
     served_binding = std::make_unique<deform::BoundModel>(deform::bind(
         model, posing.rig.empty() ? deform::detect_rig_map(model.skeleton)

@@ -58,8 +58,7 @@ int pose(const Options& options, const ServerAddress& server) {
   const std::filesystem::path& out = options.out;
   if (!server.address.empty()) {
     RemotePosedModel posed(posing, server);
-    std::printf("model %s on sweepd at %s (%s)\n", posed.model().name.c_str(),
-                server.address.c_str(), posed.origin().c_str());
+    std::printf("%s\n", posed.served_as().c_str());
     write_frames(posed, out);
     if (posing.features.collision()) {
       if (const std::string collision = posed.collision_summary(); !collision.empty())

@@ -1,6 +1,7 @@
 #include "cli/posed_model.h"
 
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 #include "cli/model_loading.h"
@@ -45,10 +46,9 @@ motion::Clip file_clip(const std::filesystem::path& file, const std::string& cli
   return io::load_model_clip(file, clip.empty() ? "0" : clip);
 }
 
-}  // namespace
-
-std::unique_ptr<motion::ClipPoses> clip_player(const PosingArguments& arguments,
-                                               const deform::Model& model) {
+// The player clip_player returns, before its warnings are printed.
+std::unique_ptr<motion::ClipPoses> make_clip_player(const PosingArguments& arguments,
+                                                    const deform::Model& model) {
   if (!arguments.bvh.empty())
     return std::make_unique<motion::Retargeter>(
         io::load_bvh(arguments.bvh, {.up = arguments.bvh_up}), model,
@@ -65,6 +65,18 @@ std::unique_ptr<motion::ClipPoses> clip_player(const PosingArguments& arguments,
                                 "clip give --clip-from FILE");
   return std::make_unique<motion::OwnSkeletonClip>(file_clip(arguments.model, arguments.clip),
                                                    model.skeleton);
+}
+
+}  // namespace
+
+std::unique_ptr<motion::ClipPoses> clip_player(const PosingArguments& arguments,
+                                               const deform::Model& model) {
+  std::unique_ptr<motion::ClipPoses> player = make_clip_player(arguments, model);
+  if (player)
+    for (const std::string& warning : player->warnings())
+      std::fprintf(stderr, "warning: %s: %s\n", arguments.clip_file().string().c_str(),
+                   warning.c_str());
+  return player;
 }
 
 PosedModel::PosedModel(const PosingArguments& arguments) : arguments_(arguments) {

@@ -37,7 +37,8 @@ deform::Pose clip_pose(const PosingArguments& arguments, const motion::ClipPoses
 // --clip-from's animation retargeted (motion::Retargeter, with --bvh-map), or --clip's animation
 // of MODEL's own file joint for joint (motion::OwnSkeletonClip; MODEL must be a glTF, FBX or
 // COLLADA file);
-// null without a clip. Throws naming the file and the problem.
+// null without a clip. Prints the player's warnings (joints left unmapped on either side) to
+// stderr, naming the clip's file. Throws naming the file and the problem.
 std::unique_ptr<motion::ClipPoses> clip_player(const PosingArguments& arguments,
                                                const deform::Model& model);
 

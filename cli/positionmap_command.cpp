@@ -47,6 +47,7 @@ int positionmap(const Options& options, const ServerAddress& server) {
   const int size = options.size;
   if (!server.address.empty()) {
     RemotePosedModel posed(posing, server);
+    std::fprintf(stderr, "%s\n", posed.served_as().c_str());  // the name the server holds
     const std::vector<std::uint8_t> file = posed.position_map(
         posing.frames.first,
         {size, options.normals, wire_compression(options.compression), options.half_normals});

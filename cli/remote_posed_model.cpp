@@ -27,14 +27,15 @@ pb::DeformMethod wire_method(deform::DeformMethod method) {
   }
 }
 
-// Whether the server holds a loaded model called `name`.
-bool loaded_on_server(client::Connection& connection, const std::string& name) {
+// The content id of the loaded model the server holds under `name`, or "" when none.
+std::string content_loaded_on_server(client::Connection& connection, const std::string& name) {
   flatbuffers::FlatBufferBuilder& builder = connection.builder();
   builder.Clear();
   connection.send(pb::finish_message(builder, pb::CreateListModels(builder)));
   for (const pb::ModelSummary* model : *connection.expect<pb::ModelList>().models())
-    if (model->model_id() != 0 && model->name()->str() == name) return true;
-  return false;
+    if (model->model_id() != 0 && model->name()->str() == name)
+      return model->content_id() ? model->content_id()->str() : "";
+  return "";
 }
 
 std::runtime_error server_failure(const std::string& address, const client::ServerError& error) {
@@ -108,24 +109,25 @@ RemotePosedModel::RemotePosedModel(const PosingArguments& arguments, const Serve
     connection_->hello(server.token, "sweepctl");
     const std::filesystem::path& file = arguments.model;
     local_model_file_ = std::filesystem::is_regular_file(file);
-    const std::string name = local_model_file_ ? file.filename().string() : file.string();
+    const std::string name = local_model_file_ ? client::model_name_of_file(file) : file.string();
     const std::string rig = arguments.rig.empty() ? "" : io::read_file_text(arguments.rig);
     // The bytes are kept for a server that lacks the model later (restarted, another replica).
     source_ = std::make_unique<client::ModelSource>(
         name, local_model_file_ ? io::read_file_bytes(file) : std::vector<std::uint8_t>{}, rig,
         static_cast<std::uint8_t>(arguments.orientation));
-    bool loaded = false;
-    if (!local_model_file_) {
-      origin_ = "server";
-    } else if (loaded_on_server(*connection_, name)) {
-      origin_ = "already loaded";
-      loaded = true;
-    } else {
-      origin_ = "uploaded";
-    }
-    const pb::ModelInfo& info =
-        loaded ? source_->load_named(*connection_) : source_->load(*connection_);
+    // A file is always sent with its bytes: a server holding them answers at once, without
+    // binding. Asking by name alone would take another file of the same base name (one name
+    // per model: /a/body.glb and /b/body.glb are both "body"); with the bytes, that is the
+    // server's ModelLoadFailed naming the model that holds the name.
+    const std::string listed =
+        local_model_file_ ? content_loaded_on_server(*connection_, name) : std::string();
+    const pb::ModelInfo& info = source_->load(*connection_);
+    const std::string content_id = info.content_id() ? info.content_id()->str() : "";
+    origin_ = !local_model_file_                        ? "server"
+              : !listed.empty() && listed == content_id ? "already loaded"
+                                                        : "uploaded";
     model_id_ = info.model_id();
+    server_name_ = info.name()->str();
     model_ = client::served_model(*connection_, info);          // `info` is invalid from here on
     if (local_model_file_) model_.name = file.stem().string();  // as the local commands name it
     if (arguments.has_clip() && clip_posing == ClipPosing::kHere) {
@@ -134,6 +136,12 @@ RemotePosedModel::RemotePosedModel(const PosingArguments& arguments, const Serve
     } else if (arguments.has_clip()) {
       const pb::ClipInfo& clip = upload_clip(*connection_, local_model_file_);
       clip_id_ = clip.clip_id()->str();
+      // The server's warnings: the reader's, and (1.12) what playing it on this model leaves
+      // unmapped, as the local commands print the retargeter's.
+      if (clip.warnings())
+        for (const flatbuffers::String* warning : *clip.warnings())
+          std::fprintf(stderr, "warning: %s: %s\n", arguments.clip_file().string().c_str(),
+                       warning->c_str());
       if (arguments.fps <= 0.0f)
         require_clip_frames(arguments, static_cast<int>(clip.frame_count()));
     }
@@ -150,11 +158,11 @@ const pb::ClipInfo& RemotePosedModel::upload_clip(client::Connection& connection
   const std::string map = arguments.bvh_map.empty() ? "" : io::read_file_text(arguments.bvh_map);
   if (!arguments.bvh.empty())
     return client::upload_clip(connection, arguments.bvh.filename().string(),
-                               io::read_file_text(arguments.bvh), 1.0f, map);
+                               io::read_file_text(arguments.bvh), 1.0f, map, model_id_);
   if (!arguments.clip_from.empty())
     return client::upload_gltf_clip(connection, arguments.clip_from.filename().string(),
                                     io::read_file_bytes(arguments.clip_from), arguments.clip, false,
-                                    map);
+                                    map, model_id_);
   // --clip: an animation of MODEL's own file, played on its joints as they are.
   if (!local_model_file || arguments.model.extension() == ".sweepbind")
     throw std::invalid_argument(arguments.model.string() +
@@ -162,7 +170,13 @@ const pb::ClipInfo& RemotePosedModel::upload_clip(client::Connection& connection
                                 "COLLADA file, uploaded from here; for another file's clip give "
                                 "--clip-from FILE");
   return client::upload_gltf_clip(connection, arguments.model.filename().string(),
-                                  io::read_file_bytes(arguments.model), arguments.clip, true);
+                                  io::read_file_bytes(arguments.model), arguments.clip, true, {},
+                                  model_id_);
+}
+
+std::string RemotePosedModel::served_as() const {
+  return "model '" + server_name_ + "' (id " + std::to_string(model_id_) + ") on sweepd at " +
+         server_.address + " (" + origin_ + ")";
 }
 
 RemotePosedModel::~RemotePosedModel() {

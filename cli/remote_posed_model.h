@@ -1,10 +1,13 @@
 // RemotePosedModel: what `sweepctl --server HOST:PORT pose|positionmap|metrics` share — the
 // posing commands' model and pose source, with the deformation done by a sweepd daemon.
 //
-// MODEL is a local .glb/.gltf (uploaded with LoadModel, named by its file name; a model
-// already loaded under that name is reused) or, when no such file exists, the name of a model
-// on the server (e.g. "mannequin"). The model's mesh comes back with MeshRequest, so results
-// are written as the local commands write them. A clip — a BVH (with its --bvh-map), a
+// MODEL is a local .glb/.gltf (uploaded with LoadModel, named by its file's base name,
+// client/model_source.h: model_name_of_file; always with its bytes, which a server holding them
+// answers at once without binding — by name alone it would take another file of that base
+// name — and "already loaded" when the server listed them under that name) or, when no such file
+// exists, the name of a model on the server (e.g. "mannequin"). The model's mesh comes back with
+// MeshRequest, so results are written as the local commands write them. A clip — a BVH (with its
+// --bvh-map), a
 // --clip-from glTF animation, or (protocol 1.7) --clip's animation of MODEL's own file — is
 // uploaded once (UploadClip) and each frame is asked for by number: the server plays it, as
 // `sweepctl pose --bvh|--clip-from|--clip` does locally (`metrics` plays it here instead:
@@ -70,6 +73,11 @@ class RemotePosedModel {
   const PosingArguments& arguments() const { return arguments_; }
   // How the model was found, for the command's report: "uploaded", "already loaded", "server".
   const std::string& origin() const { return origin_; }
+  // The name the server holds the model under (ModelInfo.name: an upload's file base name, or
+  // the name of the model it already held with the same bytes), and the command's report of
+  // it: "model 'NAME' (id N) on sweepd at HOST:PORT (ORIGIN)".
+  const std::string& server_name() const { return server_name_; }
+  std::string served_as() const;
   // The pose of clip frame `frame` (kHere), or the pose file / rest pose without a clip, for
   // measurements made here (`metrics --server`). Throws std::logic_error for a kOnServer clip.
   deform::Pose pose(int frame);
@@ -123,6 +131,7 @@ class RemotePosedModel {
   bool local_model_file_ = false;
   std::uint32_t model_id_ = 0;
   std::string origin_;
+  std::string server_name_;
   deform::Model model_;
   std::string clip_id_;  // the server's id for the clip (kOnServer), else empty
   std::unique_ptr<motion::ClipPoses> player_;  // the clip played here (kHere)

@@ -119,8 +119,9 @@ int run_sheet(Options& options, const ServerAddress& server) {
   options.posing.frames = {*std::min_element(grid.frames.begin(), grid.frames.end()),
                            *std::max_element(grid.frames.begin(), grid.frames.end())};
   std::string collision;
-  if (!server.address.empty()) {                      // -o only (the command's rules)
-    RemotePosedModel remote(options.posing, server);  // uploads the model and the clip
+  if (!server.address.empty()) {                               // -o only (the command's rules)
+    RemotePosedModel remote(options.posing, server);           // uploads the model and the clip
+    std::fprintf(stderr, "%s\n", remote.served_as().c_str());  // the name the server holds
     const sheet::SheetPicture picture = remote.contact_sheet(grid);
     io::write_file_bytes(options.png, picture.png);
     print_picture(options, picture, ", sweepd at " + server.address);

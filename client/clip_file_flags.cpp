@@ -42,13 +42,14 @@ int ClipFile::frame_count() const {
   return io::parse_bvh(text, bvh, {.length_scale = bvh_scale}).frame_count;
 }
 
-const protocol::ClipInfo& upload_clip_file(Connection& connection, const ClipFile& clip) {
+const protocol::ClipInfo& upload_clip_file(Connection& connection, const ClipFile& clip,
+                                           std::optional<std::uint32_t> model_id) {
   const std::string name = std::filesystem::path(clip.file()).filename().string();
   if (!clip.gltf.empty())
-    return upload_gltf_clip(connection, name, clip.contents, clip.animation, false);
+    return upload_gltf_clip(connection, name, clip.contents, clip.animation, false, {}, model_id);
   const std::string_view text(reinterpret_cast<const char*>(clip.contents.data()),
                               clip.contents.size());
-  return upload_clip(connection, name, text, clip.bvh_scale);
+  return upload_clip(connection, name, text, clip.bvh_scale, {}, model_id);
 }
 
 }  // namespace sweepd::client

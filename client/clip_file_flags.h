@@ -11,12 +11,15 @@
 //   frame_count()     the clip's frames as the server counts them (io::parse_bvh,
 //                     io::load_model_clip: the same readers), after read(); throws naming the
 //                     file and the problem
-//   upload_clip_file(connection, clip)  UploadClip of the contents read (client/clip_upload.h):
-//                     the server's ClipInfo, or its ServerError
+//   upload_clip_file(connection, clip, model_id)  UploadClip of the contents read
+//                     (client/clip_upload.h), with the model it will play on (1.12: its
+//                     warnings then name what is left unmapped): the server's ClipInfo, or its
+//                     ServerError
 #pragma once
 
 #include <CLI/CLI.hpp>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -37,6 +40,7 @@ struct ClipFile {
 };
 
 void add_clip_file_flags(CLI::App& app, ClipFile& clip);
-const protocol::ClipInfo& upload_clip_file(Connection& connection, const ClipFile& clip);
+const protocol::ClipInfo& upload_clip_file(Connection& connection, const ClipFile& clip,
+                                           std::optional<std::uint32_t> model_id = std::nullopt);
 
 }  // namespace sweepd::client

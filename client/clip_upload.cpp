@@ -4,8 +4,17 @@ namespace sweepd::client {
 
 namespace pb = sweepd::protocol;
 
+namespace {
+
+flatbuffers::Optional<std::uint32_t> optional_id(std::optional<std::uint32_t> id) {
+  return id ? flatbuffers::Optional<std::uint32_t>(*id) : flatbuffers::nullopt;
+}
+
+}  // namespace
+
 const pb::ClipInfo& upload_clip(Connection& connection, std::string_view name, std::string_view bvh,
-                                float length_scale, std::string_view joint_name_map) {
+                                float length_scale, std::string_view joint_name_map,
+                                std::optional<std::uint32_t> model_id) {
   flatbuffers::FlatBufferBuilder& builder = connection.builder();
   builder.Clear();
   const auto text = builder.CreateString(bvh.data(), bvh.size());
@@ -14,13 +23,15 @@ const pb::ClipInfo& upload_clip(Connection& connection, std::string_view name, s
                        ? 0
                        : builder.CreateString(joint_name_map.data(), joint_name_map.size());
   connection.send(
-      pb::finish_message(builder, pb::CreateUploadClip(builder, label, text, length_scale, map)));
+      pb::finish_message(builder, pb::CreateUploadClip(builder, label, text, length_scale, map, 0,
+                                                       0, false, optional_id(model_id))));
   return connection.expect<pb::ClipInfo>();
 }
 
 const pb::ClipInfo& upload_gltf_clip(Connection& connection, std::string_view name,
                                      std::span<const std::uint8_t> gltf, std::string_view animation,
-                                     bool own_skeleton, std::string_view joint_name_map) {
+                                     bool own_skeleton, std::string_view joint_name_map,
+                                     std::optional<std::uint32_t> model_id) {
   flatbuffers::FlatBufferBuilder& builder = connection.builder();
   builder.Clear();
   const auto bytes = builder.CreateVector(gltf.data(), gltf.size());
@@ -29,8 +40,9 @@ const pb::ClipInfo& upload_gltf_clip(Connection& connection, std::string_view na
   const auto map = joint_name_map.empty()
                        ? 0
                        : builder.CreateString(joint_name_map.data(), joint_name_map.size());
-  connection.send(pb::finish_message(
-      builder, pb::CreateUploadClip(builder, label, 0, 1.0f, map, bytes, chosen, own_skeleton)));
+  connection.send(
+      pb::finish_message(builder, pb::CreateUploadClip(builder, label, 0, 1.0f, map, bytes, chosen,
+                                                       own_skeleton, optional_id(model_id))));
   return connection.expect<pb::ClipInfo>();
 }
 

@@ -7,8 +7,11 @@
 //
 // Inputs: an open connection after Hello; name (a label for the server's logs); the BVH text,
 // whole; length_scale (metres per clip unit); joint_name_map, the JSON text of a joint name
-// map (`sweepctl --bvh-map`, protocol 1.5), or empty. Output: the server's ClipInfo (clip id, frame
-// count, frame rate, joint count, warnings), valid until the connection's next receive.
+// map (`sweepctl --bvh-map`, protocol 1.5), or empty; model_id (protocol 1.12), the model the
+// clip will play on (ModelInfo.model_id), or none. Output: the server's ClipInfo (clip id, frame
+// count, frame rate, joint count, warnings: the reader's, and with model_id each of playing it
+// on that model, "on model 'NAME': ..." naming the joints left unmapped on either side; a 1.11
+// server ignores model_id), valid until the connection's next receive.
 // Throws ServerError with the server's code: ClipLoadFailed (not a BVH: the line and reason),
 // ClipLimit (the server holds as many clips as it may), FrameTooLarge (over max_frame_bytes),
 // InvalidArgument (a joint name map that is not a JSON object of names).
@@ -28,6 +31,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string_view>
 
@@ -37,10 +41,12 @@ namespace sweepd::client {
 
 const protocol::ClipInfo& upload_clip(Connection& connection, std::string_view name,
                                       std::string_view bvh, float length_scale = 1.0f,
-                                      std::string_view joint_name_map = {});
+                                      std::string_view joint_name_map = {},
+                                      std::optional<std::uint32_t> model_id = std::nullopt);
 const protocol::ClipInfo& upload_gltf_clip(Connection& connection, std::string_view name,
                                            std::span<const std::uint8_t> gltf,
                                            std::string_view animation, bool own_skeleton,
-                                           std::string_view joint_name_map = {});
+                                           std::string_view joint_name_map = {},
+                                           std::optional<std::uint32_t> model_id = std::nullopt);
 
 }  // namespace sweepd::client

@@ -4,6 +4,8 @@ namespace sweepd::client {
 
 namespace pb = sweepd::protocol;
 
+std::string model_name_of_file(const std::filesystem::path& file) { return file.stem().string(); }
+
 ModelSource::ModelSource(std::string name, std::vector<std::uint8_t> glb, std::string rig_map_json,
                          std::uint8_t orientation)
     : name_(std::move(name)),

@@ -19,12 +19,19 @@
 // naming the model calls load() again — on the same connection or a new one — and asks again,
 // once: stream_poses, render_frames and `sweepctl --server` do.
 //
+// model_name_of_file(path): the name a client uploads a model file under unless its user gives
+// one — the file's base name, without its folder and extension ("/home/me/body.glb" ->
+// "body"), the name the server holds it by (issue 48: one name per model, never a client's
+// local path; the server cuts a path it is sent to the same). Clients print the name the
+// ModelInfo answering them carries: a server that held the same bytes already keeps its name.
+//
 // uploads(): how many times the bytes were sent (1 in a fleet sharing a store). Thread-safe:
 // render_frames' server threads share one. Throws what Connection throws (ServerError with
 // the server's code, std::runtime_error).
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -32,6 +39,8 @@
 #include "client/connection.h"
 
 namespace sweepd::client {
+
+std::string model_name_of_file(const std::filesystem::path& file);
 
 class ModelSource {
  public:

@@ -2,7 +2,7 @@
 // a glTF file's animation), rendered by one or more sweepd servers.
 //
 //   render_frames --server HOST:PORT[,HOST:PORT...] [--token T | --token-file FILE]
-//                 [--model NAME | --model-file F.glb]
+//                 [--model NAME] [--model-file F.glb]
 //                 (--bvh CLIP [--bvh-scale S] | --clip-from F.glb [--clip NAME|INDEX])
 //                 --frames A-B [--shard I/N] -o DIR [--width W --height H]
 //                 [--compression zip|none|zips|piz] [--normals] [--half-normals]
@@ -17,7 +17,9 @@
 //    complete OpenEXR file is skipped; a truncated or corrupt one is removed and rendered again
 //    (said on stderr). With every frame complete no server is contacted.
 // 3. One thread per server (a list, or one address behind HAProxy): connect, Hello, choose the
-//    model (--model NAME, default "mannequin", or upload --model-file), upload the clip once
+//    model (--model NAME, default "mannequin", or upload --model-file under --model NAME, else
+//    under the file's base name: "body" for dir/body.glb; the name the server holds is said
+//    on stderr once), upload the clip once
 //    with UploadClip (client/clip_file_flags.h: a BVH's text, or a glTF file's bytes and the
 //    animation's name, protocol 1.7) so that the server retargets it (each frame
 //    is asked for by clip id and frame number, not as a pose), then take frames from one
@@ -92,7 +94,7 @@ struct UsageError : std::invalid_argument {
 };
 
 struct Options {
-  std::string server, token, model = "mannequin", model_file, frames, shard;
+  std::string server, token, model, model_file, frames, shard;
   fs::path out_dir;
   sweepd::client::ClipFile clip;
   std::uint32_t width = 1024, height = 1024;
@@ -111,8 +113,10 @@ void describe(CLI::App& app, Options& o) {
       ->required();
   sweepd::client::add_token_flags(app, o.token);
   sweepd::client::add_client_tls_flags(app, o.tls);
-  app.add_option("--model", o.model, "a model the server has, by name")->capture_default_str();
-  app.add_option("--model-file", o.model_file, "a .glb to upload instead of --model");
+  app.add_option("--model", o.model,
+                 "a model the server has, by name (default: mannequin); with --model-file, the "
+                 "name to upload it under (default: the file's base name)");
+  app.add_option("--model-file", o.model_file, "a .glb to upload");
   sweepd::client::add_clip_file_flags(app, o.clip);
   app.add_option("--frames", o.frames, "A-B: the clip frames, inclusive, 0-based")->required();
   app.add_option("--shard", o.shard,
@@ -224,6 +228,7 @@ struct Job {
   sweepd::client::ModelSource& model;  // uploaded only to servers that lack it
   sweepd::client::FrameQueue& queue;
   Progress& progress;
+  std::once_flag& reported;  // the model's name and the clip's warnings said once
 };
 
 // What an Error reply means for the frame and the server.
@@ -299,7 +304,20 @@ class ServerSession {
           std::max(1u, channel_.hello(job.options.token, "render_frames").max_poses_in_flight());
       const pb::ModelInfo& info = job.model.load(channel_);
       model_id_ = info.model_id();
-      clip_id_ = sweepd::client::upload_clip_file(channel_, job.options.clip).clip_id()->str();
+      const std::string model_name = info.name()->str();  // `info` is invalid after a receive
+      const pb::ClipInfo& clip =
+          sweepd::client::upload_clip_file(channel_, job.options.clip, model_id_);
+      clip_id_ = clip.clip_id()->str();
+      // Once per job: the model's name on the server, the reader's warnings and (protocol
+      // 1.12) what playing the clip on the model leaves unmapped.
+      std::call_once(job.reported, [&] {
+        std::fprintf(stderr, "render_frames: model '%s' (id %u) on %s\n", model_name.c_str(),
+                     model_id_, address.c_str());
+        if (clip.warnings())
+          for (const flatbuffers::String* warning : *clip.warnings())
+            std::fprintf(stderr, "warning: %s: %s\n", job.options.clip.file().c_str(),
+                         warning->c_str());
+      });
     } catch (const sweepd::client::ServerError& error) {
       if (meaning_of(error.code()) == ErrorMeaning::kServerBusy) throw;
       throw ServerUnfit(error.what());
@@ -493,11 +511,14 @@ int run(Options& options) {
   if (!todo.empty()) {  // else nothing to ask a server for
     sweepd::client::ModelSource model =
         options.model_file.empty()
-            ? sweepd::client::ModelSource(options.model, {})
-            : sweepd::client::ModelSource(options.model_file,
-                                          sweepd::io::read_file_bytes(options.model_file));
+            ? sweepd::client::ModelSource(options.model.empty() ? "mannequin" : options.model, {})
+            : sweepd::client::ModelSource(
+                  options.model.empty() ? sweepd::client::model_name_of_file(options.model_file)
+                                        : options.model,
+                  sweepd::io::read_file_bytes(options.model_file));
     Progress progress("rendering " + fs::path(options.clip.file()).stem().string(), skipped, total);
-    const Job job{options, model, queue, progress};
+    std::once_flag reported;
+    const Job job{options, model, queue, progress, reported};
     std::vector<std::thread> threads;
     for (std::size_t s = 0; s < servers.size(); ++s)
       threads.emplace_back([&, s] { rendered_by[s] = serve(servers[s], job); });

@@ -4,16 +4,21 @@
 //                [--host 127.0.0.1] [--port 7878 | --unix PATH [--shared-memory]]
 //                [--token T | --token-file FILE]
 //                [--tls [--tls-ca CA.pem] [--tls-cert C.pem --tls-key K.pem]]
-//                [--model-file body.glb] [--frames N] [--flat-out] [--latest-wins] [--float16]
+//                [--model NAME] [--model-file body.glb] [--frames N] [--flat-out]
+//                [--latest-wins] [--float16]
 //
 // 1. Connect (TCP, or sweepd's Unix socket with --unix), Hello (with the token; LatestWins if
 //    asked), read Welcome. --shared-memory (protocol 1.10, on the Unix socket): the replies are
 //    written into a region shared with sweepd (one slot per pose in flight) instead of sent.
 // 2. Choose the model (client/model_source.h): --model-file uploads a .glb (LoadModel with
-//    bytes); otherwise the server's default "mannequin" (LoadModel by name).
+//    bytes) under --model NAME, else under the file's base name ("body" for dir/body.glb, the
+//    name every client and every restart finds it by); otherwise the server's model --model
+//    (default: its "mannequin"; LoadModel by name). Prints the name the server holds it under.
 // 3. Upload the clip once (UploadClip, client/clip_file_flags.h): a BVH's text, or a glTF
 //    file's bytes and the animation's name (protocol 1.7); the server reads it and retargets
-//    it onto the model, so this client needs no skeleton and no retargeter.
+//    it onto the model, so this client needs no skeleton and no retargeter. Its warnings go to
+//    stderr: the reader's, and (1.12, the upload names the model) the clip joints that drive
+//    no model joint and the model joints left without motion.
 // 4. Stream the clip: one PoseFromClip per frame, naming the clip and the frame number, at the
 //    clip's frame rate or --flat-out (as fast as the server answers, up to
 //    Welcome.max_poses_in_flight queued).
@@ -59,7 +64,7 @@ namespace pb = sweepd::protocol;
 using Clock = std::chrono::steady_clock;
 
 struct Options {
-  std::string host = "127.0.0.1", token, model_file;
+  std::string host = "127.0.0.1", token, model, model_file;
   int port = 7878;
   sweepd::client::ClipFile clip;
   int frames = 0;  // 0: the whole clip
@@ -79,6 +84,9 @@ void describe(CLI::App& app, Options& o) {
       ->capture_default_str();
   sweepd::client::add_token_flags(app, o.token);
   sweepd::client::add_client_tls_flags(app, o.tls);
+  app.add_option("--model", o.model,
+                 "with --model-file: the name to upload it under (default: the file's base "
+                 "name); without: a model the server has (default: mannequin)");
   app.add_option("--model-file", o.model_file, "a .glb to upload (default: the mannequin)");
   app.add_option("--frames", o.frames, "stream the first N frames (0: the whole clip)")
       ->check(sweepd::console::whole_number(0, 1 << 30))
@@ -287,8 +295,10 @@ int run(Options& options) {
   // again (client/model_source.h).
   sweepd::client::ModelSource model =
       options.model_file.empty()
-          ? sweepd::client::ModelSource("mannequin", {})
-          : sweepd::client::ModelSource(options.model_file,
+          ? sweepd::client::ModelSource(options.model.empty() ? "mannequin" : options.model, {})
+          : sweepd::client::ModelSource(options.model.empty()
+                                            ? sweepd::client::model_name_of_file(options.model_file)
+                                            : options.model,
                                         sweepd::io::read_file_bytes(options.model_file));
   Session session;
   bool first = true;
@@ -302,18 +312,23 @@ int run(Options& options) {
     session.model_id = info.model_id();
     session.slot_bytes = std::uint64_t{info.vertex_count()} * 3 * sizeof(float);
     if (first) {
-      std::printf("model %u: %u vertices, %u joints\n", session.model_id, info.vertex_count(),
-                  info.joint_names()->size());
+      std::printf("model '%s' (id %u): %u vertices, %u joints\n", info.name()->c_str(),
+                  session.model_id, info.vertex_count(), info.joint_names()->size());
     }
     if (options.shared_memory) channel.map_shared_memory(session.window * session.slot_bytes);
     // `info` is invalid from the next receive on.
-    const pb::ClipInfo& clip = sweepd::client::upload_clip_file(channel, options.clip);
+    const pb::ClipInfo& clip =
+        sweepd::client::upload_clip_file(channel, options.clip, session.model_id);
     session.clip_id = clip.clip_id()->str();
     session.frame_time = 1.0 / clip.frames_per_second();
     session.clip_frames = static_cast<int>(clip.frame_count());
     if (first) {
       std::printf("clip %s: %d frames at %.0f fps\n", clip.name()->c_str(), session.clip_frames,
                   clip.frames_per_second());
+      // The reader's warnings and (protocol 1.12) what playing it on the model leaves unmapped.
+      if (clip.warnings())
+        for (const flatbuffers::String* warning : *clip.warnings())
+          std::fprintf(stderr, "warning: %s: %s\n", options.clip.file().c_str(), warning->c_str());
     }
     first = false;
   };

@@ -92,9 +92,12 @@ def run(options):
                 client_name="stream_poses.py", allow_plaintext=options.allow_plaintext) as sweepd:
         model = (sweepd.upload(options.model_file, options.model) if options.model_file
                  else sweepd.load(options.model or "mannequin"))
-        clip = sweepd.upload_clip(options.bvh, name=options.bvh, length_scale=options.bvh_scale)
-        print(*(f"warning: {w}" for w in clip.warnings), sep="\n", file=sys.stderr)
-        print(f"model {model.model_id}: {model.vertex_count} vertices, "
+        # With the model (protocol 1.12), the warnings also name what the clip leaves unmapped.
+        clip = sweepd.upload_clip(options.bvh, name=options.bvh, length_scale=options.bvh_scale,
+                                  model=model)
+        for warning in clip.warnings:
+            print(f"warning: {options.bvh}: {warning}", file=sys.stderr)
+        print(f"model '{model.name}' (id {model.model_id}): {model.vertex_count} vertices, "
               f"{len(model.joint_names)} joints; clip {clip.frame_count} frames")
         if options.first_frame >= clip.frame_count:
             raise errors.InvalidArgument(f"--first-frame {options.first_frame} is outside the "

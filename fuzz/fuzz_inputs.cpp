@@ -88,6 +88,7 @@ bool accepted(Parse&& parse) {
 class OneModel : public server::ModelLookup {
  public:
   server::ModelHandle find(std::uint32_t id) const override { return id == 1 ? model() : nullptr; }
+  std::vector<server::ModelHandle> held_models() const override { return {model()}; }
 };
 
 // A pose intake's outcome deformed as the daemon's worker would, or its refusal thrown.

@@ -10,8 +10,13 @@
 //                    [0, frame_count())
 //   pose_at_time     the model posed at `seconds` after frame 0, clamped to [0, duration()]
 //                    (Clip::local_pose_at_time); NaN is std::invalid_argument
+//   warnings         what playing it on this model leaves undone, for a person (the
+//                    Retargeter's: joints left unmapped on either side); none by default
 // Sampling is const and thread-safe.
 #pragma once
+
+#include <string>
+#include <vector>
 
 #include "deform/model/pose.h"
 #include "motion/clip.h"
@@ -26,6 +31,10 @@ class ClipPoses {
   double duration() const { return motion().duration(); }
   virtual deform::Pose pose_at_frame(int frame) const = 0;
   virtual deform::Pose pose_at_time(double seconds) const = 0;
+  virtual const std::vector<std::string>& warnings() const {
+    static const std::vector<std::string> none;
+    return none;
+  }
 };
 
 }  // namespace sweepd::motion

@@ -8,6 +8,7 @@
 
 #include "deform/rig/rig_map.h"
 #include "motion/clip_up_axis.h"
+#include "motion/name_list.h"
 #include "motion/shortest_arc.h"
 
 namespace sweepd::motion {
@@ -237,12 +238,14 @@ void Retargeter::match_joints(const deform::Skeleton& bvh, const OptionalRigMap&
 
   // Fingers and thumbs are not measured (see the header): left out unless the name map drives
   // them.
+  std::vector<bool> is_finger(bvh.joints.size(), false);  // named in the fingers' warning
   if (bvh_map) {
     std::vector<std::string> left_out;
     for (int b = 0; b < bvh.size(); ++b)
       for (int hand : {bvh_map->left_arm.hand, bvh_map->right_arm.hand})
         if (model_of_bvh_[b] == kUnmatched && is_strict_descendant(bvh, b, hand)) {
           model_of_bvh_[b] = kLeftOut;
+          is_finger[b] = true;
           left_out.push_back(bvh.joints[b].name);
         }
     if (!left_out.empty()) {
@@ -293,6 +296,25 @@ void Retargeter::match_joints(const deform::Skeleton& bvh, const OptionalRigMap&
   if (!undriven.empty())
     warnings_.push_back("the clip's toes are not driven (" + undriven +
                         "): pair them in a name map to drive them");
+  warn_unmapped(bvh, is_finger);
+}
+
+void Retargeter::warn_unmapped(const deform::Skeleton& bvh, const std::vector<bool>& is_finger) {
+  // Nothing unmapped in silence: a clip joint whose name matches nothing (a typo, a joint the
+  // model lacks) would leave its limb still without a word. The fingers' warning above names
+  // the clip's fingers already.
+  std::vector<std::string> clip_names, model_names;
+  for (int b = 0; b < bvh.size(); ++b)
+    if (model_of_bvh_[b] < 0 && !is_finger[b]) clip_names.push_back(bvh.joints[b].name);
+  for (int m = 0; m < skeleton_.size(); ++m)
+    if (!driven_[m]) model_names.push_back(skeleton_.joints[m].name);
+  if (!clip_names.empty())
+    warnings_.push_back("clip joints that drive no model joint (" +
+                        std::to_string(clip_names.size()) + "): " + name_list(clip_names) +
+                        "; pair them in a joint name map to drive them");
+  if (!model_names.empty())
+    warnings_.push_back("model joints the clip leaves without motion, at their rest rotation (" +
+                        std::to_string(model_names.size()) + "): " + name_list(model_names));
 }
 
 void Retargeter::compute_alignments(const deform::Skeleton& bvh, const OptionalRigMap& model_map) {

@@ -14,8 +14,11 @@
 //   4. hierarchy  an unmatched joint that is the only unmatched child of a matched joint on
 //                 both sides (e.g. CMU's LFingers under LeftFingerBase ↔ LeftHandFinger1,
 //                 when the name map drives the fingers).
-// What is left on either side is reported (unmapped_*); unmapped model joints keep their rest
-// rotation relative to their parent, unmapped BVH joints still move their mapped descendants.
+// What is left on either side is reported (unmapped_*) and named in warnings (at most 12 names
+// each, motion/name_list.h): the clip joints that drive no model joint, and the model joints
+// left without motion (unmatched, or matched but not driven: the toes below); unmapped model
+// joints keep their rest rotation relative to their parent, unmapped BVH joints still move
+// their mapped descendants.
 //
 // Fingers and thumbs: the clip's joints below its hands (the BVH rig map's hand roles; CMU's
 // LeftFingerBase, LFingers, LThumb) are left unmapped unless the name map pairs them, so the
@@ -155,8 +158,9 @@ class Retargeter final : public ClipPoses {
   int bvh_joint_for(int model_joint) const { return bvh_of_model_[model_joint]; }
   std::vector<std::string> unmapped_bvh_joints() const;
   std::vector<std::string> unmapped_model_joints() const;
-  // Problems that did not stop retargeting (e.g. no rig map on one side: no role matching).
-  const std::vector<std::string>& warnings() const { return warnings_; }
+  // Problems that did not stop retargeting (e.g. no rig map on one side: no role matching),
+  // and the joints left unmapped on either side (see the header).
+  const std::vector<std::string>& warnings() const override { return warnings_; }
   // Feet planted on the floor (motion/foot_planting.h), or null: a bare skeleton, or a model
   // without a leg the rig map found whole.
   const FootPlanting* foot_planting() const { return planting_ ? &*planting_ : nullptr; }
@@ -179,6 +183,9 @@ class Retargeter final : public ClipPoses {
   using OptionalRigMap = std::optional<deform::RigMap>;
   void match_joints(const deform::Skeleton& bvh, const OptionalRigMap& model_map,
                     const OptionalRigMap& bvh_map, const JointNameMap& name_map);
+  // The warnings naming the clip joints mapped to no model joint (but the fingers, which
+  // have their own) and the model joints left without motion (unmatched or not driven).
+  void warn_unmapped(const deform::Skeleton& bvh, const std::vector<bool>& is_finger);
   void compute_alignments(const deform::Skeleton& bvh, const OptionalRigMap& model_map);
   void compute_root_scale(const deform::Skeleton& bvh, const OptionalRigMap& model_map,
                           const OptionalRigMap& bvh_map, float model_floor);

@@ -31,7 +31,8 @@ std::variant<SheetWork, RequestError> read_contact_sheet_request(
   work.model = models.find(request.model_id());
   if (!work.model)
     return RequestError{protocol::ErrorCode::UnknownModel,
-                        "contact sheet: no model with id " + std::to_string(request.model_id())};
+                        "contact sheet: no model with id " + std::to_string(request.model_id()) +
+                            " (" + held_models_clause(models) + ")"};
   const std::string clip_id = request.clip_id() ? request.clip_id()->str() : "";
   const ClipHandle clip = clips.find(clip_id);
   if (!clip)

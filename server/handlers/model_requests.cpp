@@ -22,8 +22,9 @@ std::optional<RequestError> answer_mesh_request(const ModelService& models,
                                                 flatbuffers::FlatBufferBuilder& builder) {
   const ModelHandle model = models.find(request.model_id());
   if (!model) {
-    return RequestError{pb::ErrorCode::UnknownModel,
-                        "mesh request: no model with id " + std::to_string(request.model_id())};
+    return RequestError{pb::ErrorCode::UnknownModel, "mesh request: no model with id " +
+                                                         std::to_string(request.model_id()) + " (" +
+                                                         held_models_clause(models) + ")"};
   }
   build_mesh(builder, *model, request_id);
   return std::nullopt;

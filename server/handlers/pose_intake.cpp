@@ -22,7 +22,8 @@ std::variant<PoseRequest, RequestError> intake(const ModelLookup& models,
   if (!model) {
     return RequestError{protocol::ErrorCode::UnknownModel,
                         "pose " + std::to_string(pose.sequence()) + ": no model with id " +
-                            std::to_string(pose.model_id()),
+                            std::to_string(pose.model_id()) + " (" + held_models_clause(models) +
+                            ")",
                         pose.sequence()};
   }
   PoseRequest request;

@@ -4,9 +4,9 @@
 #include <stdexcept>
 
 #include "io/bvh_load.h"
-#include "io/model_clip_load.h"
 #include "io/joint_name_map_json.h"
 #include "io/load_error.h"
+#include "io/model_clip_load.h"
 #include "motion/own_skeleton_clip.h"
 #include "motion/retarget.h"
 #include "server/models/content_id.h"
@@ -42,7 +42,26 @@ ClipUpload ClipUpload::of_message(const protocol::UploadClip& upload) {
   copied.own_skeleton = upload.own_skeleton();
   copied.length_scale = upload.length_scale();
   copied.joint_name_map = text(upload.joint_name_map());
+  if (const flatbuffers::Optional<std::uint32_t> model = upload.model_id(); model.has_value())
+    copied.model_id = *model;
   return copied;
+}
+
+std::vector<std::string> warnings_on_model(const HeldClip& clip, const ModelLookup& models,
+                                           std::uint32_t model_id) {
+  const ModelHandle model = models.find(model_id);
+  if (!model)
+    return {"no model with id " + std::to_string(model_id) + " to play it on (" +
+            held_models_clause(models) + "): its joints were not matched"};
+  const std::string on = "on model '" + model->name + "': ";
+  try {
+    std::vector<std::string> warnings;
+    for (const std::string& warning : clip.player(model)->warnings())
+      warnings.push_back(on + warning);
+    return warnings;
+  } catch (const std::invalid_argument& e) {
+    return {on + "it cannot play there: " + e.what()};
+  }
 }
 
 std::variant<ClipHandle, RequestError> ClipStore::add(const ClipUpload& upload) {

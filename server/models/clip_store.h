@@ -31,6 +31,11 @@
 //   that command's frame bit for bit. Built on first use per model and kept while the model
 //   is (an edited model is a new one). Thread-safe. The players share the held clip's frames:
 //   memory is the clip's floats once, plus a few per-joint tables per model.
+// warnings_on_model(clip, models, model_id): (1.12, UploadClip.model_id) what playing the clip
+//   on that held model leaves undone, for ClipInfo.warnings — its player's warnings (built now,
+//   and kept for the frames asked for next), each "on model 'NAME': ..." (the clip joints that
+//   drive no model joint, the model joints left without motion); or one warning saying that no
+//   model has that id (naming the held ones) or why the clip cannot play on it.
 #pragma once
 
 #include <cstddef>
@@ -39,6 +44,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -49,6 +55,7 @@
 #include "motion/clip_poses.h"
 #include "motion/joint_name_map.h"
 #include "server/handlers/request_error.h"
+#include "server/models/model_lookup.h"
 #include "server/models/model_registry.h"
 
 namespace sweepd::server {
@@ -100,7 +107,11 @@ struct ClipUpload {
   bool own_skeleton = false;       // with gltf
   float length_scale = 1.0f;
   std::string joint_name_map;
+  std::optional<std::uint32_t> model_id;  // (1.12) the model whose warnings ClipInfo carries
 };
+
+std::vector<std::string> warnings_on_model(const HeldClip& clip, const ModelLookup& models,
+                                           std::uint32_t model_id);
 
 class ClipStore {
  public:

@@ -187,10 +187,10 @@ ModelHandle ModelRegistry::current(std::uint32_t id, std::optional<StoreProblem>
   } catch (const std::exception& error) {
     // Renames make every version whole, so this file was damaged in the store: set aside as
     // adopt() does, and the copy held serves on.
-    StoreProblem found{held->file->path(),
-                       "the binding another replica stored does not load: " +
-                           std::string(error.what()),
-                       {}};
+    StoreProblem found{
+        held->file->path(),
+        "the binding another replica stored does not load: " + std::string(error.what()),
+        {}};
     try {
       found.quarantined_to = quarantine_model(store_dir_, held->content_id);
     } catch (const std::exception&) {
@@ -237,7 +237,8 @@ std::string ModelRegistry::conflict(const std::string& name, const std::string& 
   for (const ModelHandle& model : models_) {
     if (model->content_id == content_id) continue;  // the same model: held, not a conflict
     if (model->name == name) {
-      return "a model named '" + name + "' is loaded (content id " + model->content_id + ")";
+      return "a model named '" + name + "' is loaded (content id " + model->content_id +
+             "): another model needs another name";
     }
     if (model->id == handle) {
       return "its handle " + std::to_string(handle) + " is held by model '" + model->name +

@@ -22,6 +22,14 @@ namespace fs = std::filesystem;
 
 constexpr std::size_t kMaxNameBytes = 200;
 
+// A model name the store can hold: 1 to kMaxNameBytes bytes.
+void check_name(const std::string& name) {
+  if (name.empty() || name.size() > kMaxNameBytes) {
+    throw ModelError(ErrorCode::ModelLoadFailed,
+                     "a model name must have 1 to " + std::to_string(kMaxNameBytes) + " bytes");
+  }
+}
+
 bool is_model_file(const fs::path& file) {
   const std::string extension = file.extension().string();
   return extension == ".glb" || extension == ".gltf";
@@ -41,6 +49,21 @@ nlohmann::json problem_fields(const StoreProblem& problem) {
 }
 
 }  // namespace
+
+std::string upload_name(std::string_view name) {
+  const std::size_t slash = name.find_last_of("/\\");
+  if (slash != std::string_view::npos) name.remove_prefix(slash + 1);
+  std::string base(name);
+  const std::size_t dot = base.rfind('.');
+  if (dot != std::string::npos && dot > 0) {
+    std::string extension = base.substr(dot);
+    std::transform(extension.begin(), extension.end(), extension.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    for (const char* model_file : {".glb", ".gltf", ".fbx", ".dae"})
+      if (extension == model_file) base.resize(dot);
+  }
+  return base;
+}
 
 ModelService::ModelService(const ServerConfig& config)
     : config_(config), registry_(config.store_dir, config.max_models) {}
@@ -73,20 +96,24 @@ std::vector<std::string> ModelService::directory_entries() const {
 
 fs::path ModelService::model_file_in_directory(const std::string& name) const {
   if (config_.model_dir.empty()) {
-    throw ModelError(ErrorCode::UnknownModel,
-                     "model '" + name + "': this server has no model directory; upload the glTF");
+    throw ModelError(ErrorCode::UnknownModel, "model '" + name +
+                                                  "': this server has no model directory; upload "
+                                                  "the glTF (" +
+                                                  held_models_clause(*this) + ")");
   }
   if (name.empty() || name.find('/') != std::string::npos || name.starts_with(".")) {
-    throw ModelError(ErrorCode::UnknownModel,
-                     "model '" + name + "': not a file name in the model directory");
+    throw ModelError(ErrorCode::UnknownModel, "model '" + name +
+                                                  "': not a file name in the model directory (" +
+                                                  held_models_clause(*this) + ")");
   }
   for (const std::string suffix : {"", ".glb", ".gltf"}) {
     const fs::path file = config_.model_dir / (name + suffix);
     std::error_code error;
     if (is_model_file(file) && fs::is_regular_file(file, error)) return file;
   }
-  throw ModelError(ErrorCode::UnknownModel,
-                   "model '" + name + "': no such .glb/.gltf in " + config_.model_dir.string());
+  throw ModelError(ErrorCode::UnknownModel, "model '" + name + "': no such .glb/.gltf in " +
+                                                config_.model_dir.string() + " (" +
+                                                held_models_clause(*this) + ")");
 }
 
 ModelHandle ModelService::held_or_stored(const std::string& content_id) {
@@ -109,22 +136,25 @@ ModelHandle ModelService::load(const ModelLoadRequest& request) {
     }
     if (ModelHandle model = held_or_stored(request.content_id)) return model;
     throw ModelError(ErrorCode::UnknownModel, "no model with content id " + request.content_id +
-                                                  " on this server or in its store; upload it");
+                                                  " on this server or in its store; upload it (" +
+                                                  held_models_clause(*this) + ")");
   }
   if (request.orientation != 0 && request.orientation != 1)
     throw ModelError(ErrorCode::ModelLoadFailed, "orientation curve " +
                                                      std::to_string(request.orientation) +
                                                      " is neither 0 (linear) nor 1 (smooth)");
-  if (request.name.empty() || request.name.size() > kMaxNameBytes) {
-    throw ModelError(ErrorCode::ModelLoadFailed,
-                     "a model name must have 1 to " + std::to_string(kMaxNameBytes) + " bytes");
-  }
   if (!request.gltf.empty()) {
-    const std::string content_id = model_content_id(request.gltf, request.rig_map_json,
-                                                    request.keys_per_link, request.orientation);
+    // One name per model (issue 48): an upload is named by its file's base name, never by a
+    // client's local path, so every client and every restart finds it by the same name.
+    ModelLoadRequest upload = request;
+    upload.name = upload_name(request.name);
+    check_name(upload.name);
+    const std::string content_id = model_content_id(upload.gltf, upload.rig_map_json,
+                                                    upload.keys_per_link, upload.orientation);
     if (ModelHandle model = held_or_stored(content_id)) return model;
-    return bind_and_store(request, content_id, {});
+    return bind_and_store(upload, content_id, {});
   }
+  check_name(request.name);
   if (ModelHandle loaded = registry_.find(request.name)) return loaded;
   if (const std::string stored = registry_.stored_content_named(request.name); !stored.empty()) {
     if (ModelHandle model = held_or_stored(stored)) return model;
@@ -250,6 +280,9 @@ void ModelService::add_default_model() {
 
 ModelHandle ModelService::edit_key_ellipse(std::uint32_t model_id,
                                            const deform::RestKeyEdit& edit) {
+  if (!registry_.find(model_id))
+    throw ModelError(ErrorCode::UnknownModel, "no model with id " + std::to_string(model_id) +
+                                                  " (" + held_models_clause(*this) + ")");
   return registry_.replace(model_id, [&edit](deform::BoundModel& bound) {
     if (const std::string problem = deform::apply_rest_key_edit(bound, edit); !problem.empty())
       throw ModelError(protocol::ErrorCode::InvalidArgument, problem);

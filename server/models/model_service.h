@@ -14,7 +14,9 @@
 // load(request): the model the request names, found before anything is bound:
 //   - a content id: the held model, or the store's (adopted: another replica stored it);
 //     UnknownModel when neither has it (the client uploads the bytes);
-//   - bytes (an upload): their content id (content_id.h) held or in the store returns that
+//   - bytes (an upload): named upload_name(request name) — a client's local path is cut to
+//     its file's base name (issue 48: one name per model, on every client and after every
+//     restart); their content id (content_id.h) held or in the store returns that
 //     model — under its own name: names are labels, so an upload sent again after a reconnect
 //     or to another replica costs no binding; else the bytes are kept as <cid>.glb (<cid>.fbx,
 //     <cid>.dae: the format is read from the first bytes, io/assimp_load.h), loaded,
@@ -32,8 +34,9 @@
 //   concurrent edits of a model are all kept, also across replicas sharing the store, which
 //   see the edit from their next pose of the model: current()); connections holding the old
 //   handle finish with it.
-// Both throw ModelError: UnknownModel (no such id), InvalidArgument (an edit the binding
-// refuses, with its reason), or the registry's codes. Thread-safe (the registry's lock);
+// Both throw ModelError: UnknownModel (no such id; its message names the models held,
+// held_models_clause), InvalidArgument (an edit the binding refuses, with its reason), or the
+// registry's codes. Thread-safe (the registry's lock);
 // load and edit take milliseconds to seconds: call them on a worker.
 #pragma once
 
@@ -50,6 +53,11 @@
 #include "server/models/model_registry.h"
 
 namespace sweepd::server {
+
+// The name an upload is held under: `name` without a directory (anything up to its last '/'
+// or '\\') and without a model file's extension (.glb, .gltf, .fbx, .dae, any case):
+// "/home/me/scans/body.glb" -> "body", "body.v2" -> "body.v2".
+std::string upload_name(std::string_view name);
 
 struct ModelLoadRequest {
   std::string content_id;              // content_id.h, or empty
@@ -74,6 +82,7 @@ class ModelService : public ModelLookup {
   // before it deforms, so that a reload (0.4–0.6 s at 72k vertices) never stalls the I/O thread.
   ModelHandle current(const ModelHandle& held);
   std::vector<ModelHandle> models() const { return registry_.models(); }
+  std::vector<ModelHandle> held_models() const override { return registry_.models(); }
   std::vector<std::string> directory_entries() const;
   // Bytes of the regular files in the store directory (models, sources, index; not the
   // quarantine): a listing, safe from any thread.

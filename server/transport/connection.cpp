@@ -532,15 +532,23 @@ void Connection::upload_clip(const pb::UploadClip& upload, std::uint64_t request
   ++loads_running_;
   environment_.workers.post(fair_share_, [self = shared_from_this(), copied, request_id]() {
     std::variant<ClipHandle, RequestError> outcome = self->environment_.clips.add(*copied);
-    asio::post(self->stream_.get_executor(), [self, outcome = std::move(outcome), request_id]() {
+    // (1.12) Played on the model the client names: what that leaves unmapped is said now, and
+    // the player built for it serves the frames asked for next.
+    std::vector<std::string> model_warnings;
+    if (const ClipHandle* clip = std::get_if<ClipHandle>(&outcome); clip && copied->model_id)
+      model_warnings = warnings_on_model(**clip, self->environment_.models, *copied->model_id);
+    asio::post(self->stream_.get_executor(), [self, outcome = std::move(outcome),
+                                              model_warnings = std::move(model_warnings),
+                                              request_id]() {
       --self->loads_running_;
       if (const ClipHandle* clip = std::get_if<ClipHandle>(&outcome)) {
         log_event("clip_uploaded", {{"connection", self->id()},
                                     {"clip", (*clip)->id()},
                                     {"name", (*clip)->name()},
-                                    {"frames", (*clip)->clip().frame_count}});
+                                    {"frames", (*clip)->clip().frame_count},
+                                    {"model_warnings", model_warnings.size()}});
         flatbuffers::FlatBufferBuilder builder = self->take_builder();
-        build_clip_info(builder, **clip, request_id);
+        build_clip_info(builder, **clip, request_id, model_warnings);
         self->send(std::move(builder));
       } else {
         const RequestError& error = std::get<RequestError>(outcome);

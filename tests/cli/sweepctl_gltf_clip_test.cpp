@@ -116,4 +116,26 @@ TEST_F(SweepctlGltfClip, InspectListsTheFilesAnimations) {
     EXPECT_NE(r.output.find(line), std::string::npos) << line << "\n" << r.output;
 }
 
+// With --model, each animation is also retargeted onto that model (as `pose --clip-from` plays
+// it) and what that leaves unmapped is named under it (issue 48 item 4): here the male's own
+// clip onto the male, whose fingers the clip's hands leave still (motion/retarget.h).
+TEST_F(SweepctlGltfClip, InspectWithAModelNamesWhatEachAnimationLeavesUnmapped) {
+  const SweepctlResult r = run_sweepctl("inspect " + (dir_ / "baked.glb").string() + " --model " +
+                                        shared("models/makehuman_male_cmu.glb").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::size_t joints = model_.skeleton.joints.size();
+  std::size_t at = r.output.find("2 'cubic': ");
+  ASSERT_NE(at, std::string::npos) << r.output;
+  at = r.output.find("    retargeted onto ", at);
+  ASSERT_NE(at, std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(" of " + std::to_string(joints) + " clip joints matched", at),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("    - model joints the clip leaves without motion, at their rest "
+                          "rotation (8): ",
+                          at),
+            std::string::npos)
+      << r.output;
+}
+
 }  // namespace

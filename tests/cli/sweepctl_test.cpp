@@ -17,6 +17,7 @@
 #include "mannequin/mannequin.h"
 #include "tests/cli/sweepctl_process.h"
 #include "tests/deform/rig/legless_cut.h"
+#include "tests/motion/misspelt_joint_bvh.h"
 #include "tests/motion/z_up_bvh.h"
 
 namespace {
@@ -82,6 +83,54 @@ TEST(SweepctlInspect, PrintsTheRigMapHowEachPartWasFoundAndWhatIsSwept) {
   EXPECT_NE(r.output.find("skinned:     head, left hand, right hand, left foot, right foot"),
             std::string::npos)
       << r.output;
+}
+
+// Nothing unmapped in silence (issue 48 item 4): a clip joint that matches nothing on the model
+// (tests/motion/misspelt_joint_bvh.h) is named by `inspect CLIP --model MODEL` and by `pose`,
+// and so are the model joints the clip leaves without motion (the mannequin's fingers and toes,
+// which CMU does not drive).
+TEST(SweepctlInspect, AClipAgainstAModelNamesWhatIsLeftUnmapped) {
+  const fs::path cmu = shared("motion/cmu_01_01.bvh");
+  if (!fs::exists(cmu)) GTEST_SKIP() << "shared data absent: " << cmu;
+  const fs::path dir = temp_dir();
+  const std::string model = (dir / "unmapped_mannequin.glb").string();
+  sweepd::io::save_gltf(sweepd::mannequin::make_mannequin({.target_vertices = 2000}), model);
+  const std::string clip = (dir / "misspelt.bvh").string();
+  std::ofstream(clip) << sweepd::test::with_misspelt_joint(sweepd::test::read_text(cmu));
+  const std::string clip_warning =
+      "clip joints that drive no model joint (1): HeadTpo; pair them in a joint name map";
+  const std::string model_warning =
+      "model joints the clip leaves without motion, at their rest rotation (8): LeftToeBase, "
+      "RightToeBase, LeftFingerBase, LeftHandFinger1, LThumb, RightFingerBase, "
+      "RightHandFinger1, RThumb";
+
+  Result r = run_sweepctl("inspect " + clip + " --model " + model);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("25 of 32 clip joints matched"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("warnings:    none"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("  - " + clip_warning), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("  - " + model_warning), std::string::npos) << r.output;
+  // Without a model the clip alone has nothing to warn about.
+  r = run_sweepctl("inspect " + clip);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("warnings:    none"), std::string::npos) << r.output;
+  // --bvh-map needs --model.
+  r = run_sweepctl("inspect " + clip + " --bvh-map " + model);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--bvh-map requires --model"), std::string::npos) << r.output;
+
+  // pose says it on stderr, once (not once per frame), naming the clip's file.
+  r = run_sweepctl("pose " + model + " --bvh " + clip + " --frames 10-12 -o " +
+                       (dir / "unmapped_frames").string(),
+                   "2>&1 >/dev/null");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string said = "warning: " + clip + ": " + clip_warning;
+  EXPECT_NE(r.output.find(said), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find(said, r.output.find(said) + 1), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("warning: " + clip + ": " + model_warning), std::string::npos)
+      << r.output;
+  fs::remove_all(dir / "unmapped_frames");
+  for (const std::string& written : {model, clip}) fs::remove(written);
 }
 
 TEST(SweepctlLegless, InspectBindAndPoseALeglessMannequinWithMeaninglessJointNames) {

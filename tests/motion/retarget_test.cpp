@@ -106,8 +106,13 @@ TEST_F(RetargetTest, MapsEveryJointButTheFingersAndThumbs) {
             (std::vector<std::string>{"LThumb", "LeftFingerBase", "LeftHandFinger1", "RThumb",
                                       "RightFingerBase", "RightHandFinger1"}));
   EXPECT_EQ(retargeter.matches().size(), 25u);
-  ASSERT_EQ(retargeter.warnings().size(), 2u);  // the fingers, then the toes
+  // The fingers, the toes, then the model joints left without motion: its fingers and toes.
+  ASSERT_EQ(retargeter.warnings().size(), 3u);
   EXPECT_NE(retargeter.warnings()[0].find("LThumb"), std::string::npos);
+  EXPECT_EQ(retargeter.warnings()[2],
+            "model joints the clip leaves without motion, at their rest rotation (8): LThumb, "
+            "LeftFingerBase, LeftHandFinger1, RThumb, RightFingerBase, RightHandFinger1, "
+            "LeftToeBase, RightToeBase");
   // Every frame: the model's thumb and finger base turn exactly as its hand does.
   const deform::Pose pose = retargeter.pose_at_frame(1300);
   for (const char* joint : {"LThumb", "LeftFingerBase", "RThumb", "RightFingerBase"}) {
@@ -140,7 +145,7 @@ void expect_toes_paired_but_undriven(const Retargeter& retargeter, const deform:
 TEST_F(RetargetTest, ToesAimTheFootButAreNotDriven) {
   const Retargeter retargeter(motion_, model_);
   expect_toes_paired_but_undriven(retargeter, model_.skeleton, {});
-  ASSERT_EQ(retargeter.warnings().size(), 2u);
+  ASSERT_EQ(retargeter.warnings().size(), 3u);  // the fingers, the toes, the joints left still
   EXPECT_NE(retargeter.warnings()[1].find("toes are not driven (LeftToeBase, RightToeBase)"),
             std::string::npos)
       << retargeter.warnings()[1];
@@ -252,9 +257,10 @@ TEST_F(RetargetTest, AClipWhoseFeetNeverNearTheFloorMeasuresItsAnklesAtRest) {
   for (int frame = 0; frame < lifted.frame_count; ++frame)
     lifted.values[static_cast<std::size_t>(frame) * lifted.channel_count + y] += 2.0f;
   const Retargeter retargeter(lifted, model_, {}, Feet::kFree);
-  ASSERT_EQ(retargeter.warnings().size(), 3u);  // the fingers, the toes, then this
-  EXPECT_NE(retargeter.warnings()[2].find("do not stand near its floor"), std::string::npos)
-      << retargeter.warnings()[2];
+  // The fingers, the toes, the model joints left without motion, then this.
+  ASSERT_EQ(retargeter.warnings().size(), 4u);
+  EXPECT_NE(retargeter.warnings()[3].find("do not stand near its floor"), std::string::npos)
+      << retargeter.warnings()[3];
   // CMU's rest ankle, 2.4 cm above its toes, against its 10 cm stance: a hip height 7.6 cm
   // lower, a scale about 8 % larger.
   const float ratio = retargeter.root_scale() / on_the_floor.root_scale();
@@ -440,6 +446,33 @@ TEST_F(RetargetTest, BadNameMapsNameTheMapAndTheJoint) {
       EXPECT_NE(message.find(expected), std::string::npos) << message;
     }
   }
+}
+
+// Nothing unmapped in silence (issue 48): a clip joint the model lacks, under a name that
+// matches nothing (a misspelt "HeadTop"), drives no model joint and is named in a warning; the
+// clip's joints all matched before it came, so without it no such warning is given.
+TEST_F(RetargetTest, AClipJointThatMatchesNothingIsNamedInAWarning) {
+  const auto clip_warning = [](const Retargeter& retargeter) {
+    for (const std::string& warning : retargeter.warnings())
+      if (warning.starts_with("clip joints that drive no model joint")) return warning;
+    return std::string();
+  };
+  EXPECT_EQ(clip_warning(Retargeter(motion_, model_)), "");
+  Clip misspelt = motion_;
+  ClipJoint head_top;  // no channels: every frame's values stay as they are
+  head_top.name = "HeadTpo";
+  head_top.parent = misspelt.find("Head");
+  head_top.offset = {0.0f, 0.1f, 0.0f};
+  head_top.channel_offset = misspelt.channel_count;
+  misspelt.joints.push_back(head_top);
+  const Retargeter retargeter(misspelt, model_);
+  EXPECT_EQ(retargeter.unmapped_bvh_joints().back(), "HeadTpo");
+  EXPECT_EQ(clip_warning(retargeter),
+            "clip joints that drive no model joint (1): HeadTpo; pair them in a joint name map "
+            "to drive them");
+  // Left out by a name map on purpose, it is still named: nothing it drives moves.
+  const Retargeter left_out(misspelt, model_, {.source = "", .pairs = {{"HeadTpo", std::nullopt}}});
+  EXPECT_NE(clip_warning(left_out).find("HeadTpo"), std::string::npos);
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 #include "io/gltf_load.h"
 #include "io/gltf_save.h"
 #include "metrics/quality_metrics.h"
+#include "tests/motion/misspelt_joint_bvh.h"
 #include "tests/server/pose_frames.h"
 #include "tests/server/sweepctl_remote.h"
 
@@ -92,6 +93,59 @@ class DaemonClips : public SweepctlRemote {
   std::unique_ptr<client::Connection> connection_;
   std::uint64_t sequence_ = 0;
 };
+
+// Nothing unmapped in silence (issue 48 item 4, protocol 1.12): an upload naming the model it
+// will play on gets, in ClipInfo.warnings, the clip joint that matches nothing on it (a
+// misspelt joint: tests/motion/misspelt_joint_bvh.h) and the model joints left without motion;
+// without a model, the reader's warnings alone (none for this clip); an id the server does not
+// hold is a warning naming the models it holds.
+TEST_F(DaemonClips, AnUploadNamingItsModelIsToldWhatIsLeftUnmapped) {
+  const std::string text = with_misspelt_joint(clip_text());
+  ASSERT_FALSE(text.empty());
+  const auto warnings_of = [](const pb::ClipInfo& info) {
+    std::vector<std::string> warnings;
+    if (info.warnings())
+      for (const flatbuffers::String* warning : *info.warnings())
+        warnings.push_back(warning->str());
+    return warnings;
+  };
+  EXPECT_EQ(warnings_of(client::upload_clip(*connection_, "misspelt.bvh", text, 0.056444f)),
+            std::vector<std::string>{});
+  const std::uint32_t mannequin = mannequin_id();
+  const pb::ClipInfo& info =
+      client::upload_clip(*connection_, "misspelt.bvh", text, 0.056444f, {}, mannequin);
+  const std::string clip_id = info.clip_id()->str();
+  const std::vector<std::string> warnings = warnings_of(info);
+  std::string all;
+  for (const std::string& warning : warnings) all += warning + "\n";
+  // The fingers, the toes, the clip joint that drives nothing, the model joints left still.
+  ASSERT_EQ(warnings.size(), 4u) << all;
+  EXPECT_EQ(warnings[2],
+            "on model 'mannequin': clip joints that drive no model joint (1): HeadTpo; pair them "
+            "in a joint name map to drive them");
+  EXPECT_TRUE(
+      warnings[3].starts_with("on model 'mannequin': model joints the clip leaves "
+                              "without motion, at their rest rotation (8): "))
+      << warnings[3];
+  EXPECT_NE(warnings[3].find("LeftFingerBase"), std::string::npos) << warnings[3];
+  // The player built for the warnings serves the frames: a frame of the clip on that model.
+  client::ModelSource served("mannequin", {});
+  const std::size_t vertices = served.load(*connection_).vertex_count();
+  EXPECT_EQ(served_frame(mannequin, vertices, clip_id, 100).size(), vertices);
+
+  const std::uint32_t absent = mannequin + 1;
+  const std::vector<std::string> unknown =
+      warnings_of(client::upload_clip(*connection_, "misspelt.bvh", text, 0.056444f, {}, absent));
+  ASSERT_EQ(unknown.size(), 1u);
+  // Other tests of this daemon may have loaded more models: the mannequin is among those named.
+  EXPECT_TRUE(unknown[0].starts_with("no model with id " + std::to_string(absent) +
+                                     " to play it on (this server holds "))
+      << unknown[0];
+  EXPECT_NE(unknown[0].find("'mannequin' (id " + std::to_string(mannequin) + ")"),
+            std::string::npos)
+      << unknown[0];
+  EXPECT_TRUE(unknown[0].ends_with("): its joints were not matched")) << unknown[0];
+}
 
 TEST_F(DaemonClips, ServerClipFrameEqualsSweepctlPoseBitForBit) {
   const ClientRun local =

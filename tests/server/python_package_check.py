@@ -11,7 +11,9 @@ exception classes, that a silent server raises Timeout, and that bytes uploaded 
 named by content id afterwards: not sent again to PORT, sent to OTHER_PORT (a daemon with a
 store of its own, which answers the content id with UnknownModel). Clips: a frame kept on the
 server is the same by index, in a stream and by time; named joints pose like rotations; a
-Clip uploaded on one server is uploaded again by the package on the other. ANIMATED.glb is BODY
+Clip uploaded on one server is uploaded again by the package on the other; a clip uploaded for a
+model (protocol 1.12) names the joints it leaves unmapped there; an upload without a name is
+named by its file's base name, and UnknownModel names the models held. ANIMATED.glb is BODY
 with three animations of its own joints ("linear", "step", "cubic", the same keys; protocol
 1.7): uploaded as a clip by name and by index, played on its own joints (at a key every
 interpolation gives the same pose) or retargeted onto BODY; an unknown name raises
@@ -176,7 +178,9 @@ def main(port, token, glb, rotations_file, out, other_port, clip_file, animated_
 
         error = expect_error(errors.WrongJointCount, lambda: sweepd.pose(body, rotations[:3]))
         check(error.code == errors.WrongJointCount.code and not error.fatal, "WrongJointCount")
-        expect_error(errors.UnknownModel, lambda: sweepd.load("absent"))
+        unknown_model = expect_error(errors.UnknownModel, lambda: sweepd.load("absent"))
+        check("this server holds " in str(unknown_model) and "'uploaded' (id " in
+              str(unknown_model), f"UnknownModel names the held models: {unknown_model}")
         expect_error(errors.InvalidPose, lambda: sweepd.pose(body, np.full_like(rotations, np.nan)))
         expect_error(errors.SweepdError, lambda: sweepd.pose(body, method="blend"))
 
@@ -208,8 +212,27 @@ def main(port, token, glb, rotations_file, out, other_port, clip_file, animated_
         check(mapped.clip_id != clip.clip_id, "the map is part of the clip's id")
         check(np.abs(sweepd.pose(body, clip=mapped, frame=100).positions
                      - frame.positions).max() > 1e-3, "the map changes the pose")
+        # Protocol 1.12 (issue 48): a clip uploaded for a model names what it leaves unmapped
+        # there: a joint no model has, under a misspelt name, and the model's joints left still.
+        with open(clip_file, encoding="utf-8") as file:
+            text = file.read()
+        end_site = text.index("End Site", text.index("JOINT Head"))
+        misspelt = (text[:end_site] + "JOINT HeadTpo\n{\nOFFSET 0 1.5 0\nCHANNELS 0\n"
+                    "End Site\n{\nOFFSET 0 1 0\n}\n}\n" + text[end_site:])
+        silent = sweepd.upload_clip(misspelt, name="misspelt.bvh", length_scale=0.056444)
+        check(silent.warnings == [], f"no model, no retargeting warning: {silent.warnings}")
+        told = sweepd.upload_clip(misspelt, name="misspelt.bvh", length_scale=0.056444,
+                                  model=body)
+        check("on model 'uploaded': clip joints that drive no model joint (1): HeadTpo; pair "
+              "them in a joint name map to drive them" in told.warnings,
+              f"the misspelt joint is named: {told.warnings}")
+        check(any(w.startswith("on model 'uploaded': model joints the clip leaves without "
+                               "motion") for w in told.warnings),
+              f"the model joints left still are named: {told.warnings}")
         # Protocol 1.7: a glTF file's animations as clips.
-        animated = sweepd.upload(animated_file, name="animated")
+        # Named by its file's base name, not the path it was read from (issue 48).
+        animated = sweepd.upload(os.path.abspath(animated_file))
+        check(animated.name == "animated", f"an upload's name is its file's: {animated.name}")
         linear = sweepd.upload_clip(animated_file, animation="linear", own_skeleton=True)
         check(linear.frame_count == 6 and linear.clip_id != clip.clip_id, "a glTF clip's info")
         with open(animated_file, "rb") as file:

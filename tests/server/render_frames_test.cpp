@@ -142,6 +142,16 @@ TEST_F(RenderFrames, RendersEachFrameOnceAndAgainOnlyWhenMissingOrBroken) {
   const ClientRun first = run_render_frames(arguments);
   ASSERT_EQ(first.exit_code, 0) << first.output << daemon_->log();
   EXPECT_EQ(render_counts(first.output), (std::array<int, 5>{6, 0, 6, 0, 0})) << first.output;
+  // Once per job, the name the server holds the model under (issue 48 item 5) and what the
+  // clip leaves unmapped on it (protocol 1.12: CMU drives none of the mannequin's fingers).
+  const std::string held = "render_frames: model 'mannequin' (id " +
+                           std::to_string(daemon_->model_id("mannequin")) + ") on ";
+  EXPECT_NE(first.output.find(held), std::string::npos) << first.output;
+  EXPECT_EQ(first.output.find(held, first.output.find(held) + 1), std::string::npos)
+      << first.output;
+  EXPECT_NE(first.output.find("on model 'mannequin': model joints the clip leaves without motion"),
+            std::string::npos)
+      << first.output;
   EXPECT_NE(daemon_->log().find("\"clip_uploaded\""), std::string::npos)
       << "frames are asked for by clip id and number: the server retargets";
   std::map<int, fs::file_time_type> written;

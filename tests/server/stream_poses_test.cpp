@@ -131,8 +131,9 @@ TEST_F(StreamPoses, ADaemonRestartedOnAnEmptyStoreMidStreamGetsTheModelAgain) {
   EXPECT_EQ(pose_counts(result.output), (std::array<int, 4>{480, 480, 0, 0})) << result.output;
   EXPECT_NE(result.output.find("reconnected 1 times, model uploaded 2 times"), std::string::npos)
       << result.output;
-  // The restarted daemon bound the upload (its start-up log names only the mannequin).
-  EXPECT_NE(restarted.model_id(glb.string()), 0u) << restarted.log();
+  // The restarted daemon bound the upload (its start-up log names only the mannequin), under
+  // the file's base name (issue 48: never the client's path).
+  EXPECT_NE(restarted.model_id(glb.stem().string()), 0u) << restarted.log();
   const std::string restarted_log = restarted.log_with({"\"event\":\"clip_uploaded\""});
   EXPECT_NE(restarted_log.find("\"event\":\"clip_uploaded\""), std::string::npos) << restarted_log;
 }

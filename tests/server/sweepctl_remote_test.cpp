@@ -219,8 +219,9 @@ TEST_F(SweepctlRemote, RemoteMetricsEqualTheLocalOnesWithoutTheSweepIntegral) {
 
 TEST_F(SweepctlRemote, UploadedFbxAndColladaPoseAsTheLocalFilesByteForByte) {
   // The male as ASCII FBX (in metres) and as COLLADA, made here by assimp's exporters.
-  for (const auto& [name, target] : {std::pair{"male.fbx", io::AssimpExport::kFbxMetres},
-                                     std::pair{"male.dae", io::AssimpExport::kCollada}}) {
+  // Each under a base name of its own: a model is held under its file's base name (issue 48).
+  for (const auto& [name, target] : {std::pair{"male_ascii.fbx", io::AssimpExport::kFbxMetres},
+                                     std::pair{"male_collada.dae", io::AssimpExport::kCollada}}) {
     SCOPED_TRACE(name);
     const std::vector<std::uint8_t> bytes = io::convert_with_assimp(kSharedMale, target);
     std::ofstream(path(name), std::ios::binary)
@@ -243,8 +244,26 @@ TEST_F(SweepctlRemote, UploadedFbxAndColladaPoseAsTheLocalFilesByteForByte) {
       kept += entry.path().extension() == suffix;
     EXPECT_EQ(kept, 1) << "one " << suffix << " in the store";
   }
+  // Another file under a base name the server holds (the COLLADA file, one byte longer so that
+  // the server does not hold its bytes, as male_ascii.dae) is refused naming the model that
+  // holds the name, never posed as that model.
+  fs::create_directories(path("clash"));
+  {
+    const std::vector<char> collada = file_bytes(path("male_collada.dae"));
+    std::ofstream(path("clash/male_ascii.dae"), std::ios::binary)
+            .write(collada.data(), static_cast<std::streamsize>(collada.size()))
+        << "\n";
+  }
+  const ClientRun clash = run_sweepctl(server() + " pose " + path("clash/male_ascii.dae").string() +
+                                       " " + kClipFrameArgs + " -o " + path("clash.glb").string());
+  EXPECT_EQ(clash.exit_code, 1) << clash.output;
+  EXPECT_NE(clash.output.find("a model named 'male_ascii' is loaded"), std::string::npos)
+      << clash.output;
+  EXPECT_NE(clash.output.find("another model needs another name"), std::string::npos)
+      << clash.output;
+  EXPECT_FALSE(fs::exists(path("clash.glb")));
   // A truncated FBX upload is refused with the importer's reason; the daemon serves on.
-  const std::vector<char> whole = file_bytes(path("male.fbx"));
+  const std::vector<char> whole = file_bytes(path("male_ascii.fbx"));
   std::ofstream(path("truncated.fbx"), std::ios::binary)
       .write(whole.data(), static_cast<std::streamsize>(whole.size() / 3));
   const ClientRun broken = run_sweepctl(server() + " pose " + path("truncated.fbx").string() +
@@ -340,11 +359,11 @@ TEST(SweepctlRemoteRestart, ADaemonRestartedOnAnEmptyStoreMidRangeGetsTheModelAg
   const ClientRun run = remote.get();
   ASSERT_EQ(run.exit_code, 0) << run.output << restarted.log();
   EXPECT_NE(run.output.find("; connecting again"), std::string::npos) << run.output;
-  EXPECT_NE(
-      run.output.find("uploaded body.glb again to sweepd at 127.0.0.1:" + std::to_string(port)),
-      std::string::npos)
+  EXPECT_NE(run.output.find("uploaded body again to sweepd at 127.0.0.1:" + std::to_string(port)),
+            std::string::npos)
       << run.output;
-  EXPECT_NE(restarted.model_id("body.glb"), 0u) << "bound there; log:\n" << restarted.log();
+  // Under the file's base name, as every client names it (issue 48).
+  EXPECT_NE(restarted.model_id("body"), 0u) << "bound there; log:\n" << restarted.log();
   const ClientRun local = run_sweepctl(pose + (directory / "local").string());
   ASSERT_EQ(local.exit_code, 0) << local.output;
   for (int frame = 100; frame <= 399; ++frame) {

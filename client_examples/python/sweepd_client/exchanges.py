@@ -46,7 +46,7 @@ from . import meshopt
 from .connection import body_of, finish_frame, new_builder
 from .errors import ConnectionLost, SweepdError, Timeout, UnknownModel, server_error
 
-PROTOCOL_VERSION = (1, 11)  # contact sheets (1.11) are the newest part it speaks
+PROTOCOL_VERSION = (1, 12)  # a clip's warnings on a model (1.12) are the newest part it speaks
 METHODS = {"sweep": DeformMethod.DeformMethod.Sweep, "lbs": DeformMethod.DeformMethod.Lbs,
            "dqs": DeformMethod.DeformMethod.Dqs}
 FEATURES = {"folding": Features.Features.Folding, "protrusion": Features.Features.Protrusion,
@@ -107,7 +107,10 @@ class Clip:
     frame_count: int
     frames_per_second: float
     joint_count: int
-    warnings: list                # what did not stop the server reading the clip
+    warnings: list                # what did not stop the server reading the clip, then (1.12,
+                                  # upload_clip(model=)) "on model 'NAME': ..." naming the clip
+                                  # joints that drive no model joint and the model joints the
+                                  # clip leaves without motion
 
 
 @dataclass(frozen=True)
@@ -228,7 +231,10 @@ class Exchanges:
         return model
 
     def _upload(self, glb, name=None, orientation="linear"):
-        """Uploads a .glb (a path or its bytes) and returns the bound Model; orientation: the
+        """Uploads a .glb (a path or its bytes) and returns the bound Model, named `name`, else
+        the file's base name ("body" for dir/body.glb; "upload" for bytes); Model.name is the
+        name the server holds it under (a server that held these bytes already keeps the name
+        it gave them). orientation: the
         sweeps' orientation curve, "linear" (the paper's) or "smooth" (C2). Bytes this process
         uploaded before (on any client) are named by their content id first, without sending
         them: a server that holds the model, or shares a store with one that does, answers at
@@ -237,8 +243,10 @@ class Exchanges:
             path = os.fspath(glb)
             with open(path, "rb") as file:
                 glb = file.read()
-            name = name or os.path.basename(path)
-        name, glb = name or "upload.glb", bytes(glb)
+            # The file's base name, never the local path: every client and every restart finds
+            # the model by the same name (as client/model_source.h names it).
+            name = name or os.path.splitext(os.path.basename(path))[0]
+        name, glb = name or "upload", bytes(glb)
         curve = _choice(ORIENTATIONS, orientation, "orientation")
         key = (hashlib.sha256(glb).digest(), name, curve)
         content_id = Exchanges._uploaded.get(key)
@@ -285,7 +293,7 @@ class Exchanges:
                         reply.SkinWeightsAsNumpy().reshape(-1, 4))
 
     def _upload_clip(self, clip, name=None, length_scale=1.0, joint_name_map=None, *,
-                     animation=None, own_skeleton=False):
+                     animation=None, own_skeleton=False, model=None):
         """Keeps a clip on the server and returns its Clip: a BVH clip (a path, or the BVH text
         itself), or (protocol 1.7) an animation of a glTF file (a .glb/.gltf path, or the file's
         bytes; self-contained: the server reads only the GLB chunk and data: URIs), or (1.8) an
@@ -296,7 +304,11 @@ class Exchanges:
         model it poses (as `sweepctl pose --bvh` / `--clip-from` do). A glTF clip's `animation`
         is its name or index (None: the first); own_skeleton=True plays it on the joints of the
         model whose file it came from, as they are (as `sweepctl pose MODEL.glb --clip`): a
-        model with other joints is an InvalidArgument when posed."""
+        model with other joints is an InvalidArgument when posed. model (a Model, or a name
+        loaded on this connection; protocol 1.12): the model the clip will play on; the Clip's
+        warnings then also name what playing it there leaves unmapped (clip joints that drive
+        no model joint, model joints left without motion), as `sweepctl pose` prints them."""
+        model_id = None if model is None else (yield from self._model_id(model))
         gltf = None
         if isinstance(clip, (bytes, bytearray, memoryview)):
             gltf = bytes(clip)
@@ -330,6 +342,8 @@ class Exchanges:
             UploadClip.AddOwnSkeleton(builder, own_skeleton)
         if name_map is not None:
             UploadClip.AddJointNameMap(builder, name_map)
+        if model_id is not None:
+            UploadClip.AddModelId(builder, model_id)
         yield Send(finish_frame(builder, Body.Body.UploadClip, UploadClip.End(builder)))
         info = yield Receive(ClipInfo.ClipInfo)
         result = Clip(_text(info.ClipId()), _text(info.Name()), info.FrameCount(),

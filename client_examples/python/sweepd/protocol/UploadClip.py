@@ -97,7 +97,14 @@ class UploadClip(object):
             return bool(self._tab.Get(flatbuffers.number_types.BoolFlags, o + self._tab.Pos))
         return False
 
-def UploadClipStart(builder): builder.StartObject(7)
+    # UploadClip
+    def ModelId(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(18))
+        if o != 0:
+            return self._tab.Get(flatbuffers.number_types.Uint32Flags, o + self._tab.Pos)
+        return None
+
+def UploadClipStart(builder): builder.StartObject(8)
 def Start(builder):
     return UploadClipStart(builder)
 def UploadClipAddName(builder, name): builder.PrependUOffsetTRelativeSlot(0, flatbuffers.number_types.UOffsetTFlags.py_type(name), 0)
@@ -124,6 +131,9 @@ def AddAnimation(builder, animation):
 def UploadClipAddOwnSkeleton(builder, ownSkeleton): builder.PrependBoolSlot(6, ownSkeleton, 0)
 def AddOwnSkeleton(builder, ownSkeleton):
     return UploadClipAddOwnSkeleton(builder, ownSkeleton)
+def UploadClipAddModelId(builder, modelId): builder.PrependUint32Slot(7, modelId, None)
+def AddModelId(builder, modelId):
+    return UploadClipAddModelId(builder, modelId)
 def UploadClipEnd(builder): return builder.EndObject()
 def End(builder):
     return UploadClipEnd(builder)
