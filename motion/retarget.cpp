@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <optional>
 #include <stdexcept>
@@ -197,8 +198,34 @@ Retargeter::Retargeter(std::shared_ptr<const Clip> motion, deform::Skeleton skel
     clip_world_rest[b] = joint.parent < 0 ? rest : clip_world_rest[joint.parent] * rest;
     clip_world_rest_inverse_.push_back(glm::inverse(clip_world_rest[b]));
   }
+  compute_facing(bvh, model_map, bvh_map);
   compute_alignments(bvh, model_map);
   compute_root_scale(bvh, model_map, bvh_map, model_floor);
+}
+
+void Retargeter::compute_facing(const deform::Skeleton& bvh, const OptionalRigMap& model_map,
+                                const OptionalRigMap& bvh_map) {
+  if (!model_map || !bvh_map) return;
+  auto horizontal_forward = [](const deform::RigMap& map, const deform::Skeleton& skeleton) {
+    glm::vec3 forward = deform::rest_body_axes(map, skeleton.world_rest_matrices()).forward;
+    forward.y = 0.0f;
+    return forward;
+  };
+  const glm::vec3 model = horizontal_forward(*model_map, skeleton_);
+  const glm::vec3 clip = horizontal_forward(*bvh_map, bvh);
+  // A body lying down at rest has no horizontal forward to speak of: left as it is.
+  constexpr float kLeastHorizontal = 0.5f;
+  if (!(glm::length(model) > kLeastHorizontal) || !(glm::length(clip) > kLeastHorizontal)) return;
+  const float angle = std::atan2(glm::cross(model, clip).y, glm::dot(model, clip));
+  if (std::abs(angle) <= glm::radians(kSameFacingDegrees)) return;
+  facing_turn_ = glm::angleAxis(angle, glm::vec3(0.0f, 1.0f, 0.0f));
+  const glm::vec3 m = glm::normalize(model);
+  char text[160];
+  std::snprintf(text, sizeof text,
+                "the model faces (%.2f, 0, %.2f) at rest, %.0f° from the clip's facing: it is "
+                "turned to face the clip's way",
+                m.x, m.z, glm::degrees(angle));
+  warnings_.push_back(text);
 }
 
 void Retargeter::match_joints(const deform::Skeleton& bvh, const OptionalRigMap& model_map,
@@ -339,9 +366,9 @@ void Retargeter::compute_alignments(const deform::Skeleton& bvh, const OptionalR
     const int parent = skeleton_.joints[m].parent;
     const glm::quat rest = glm::normalize(skeleton_.joints[m].rest_rotation);
     world_rest_[m] = parent < 0 ? rest : world_rest_[parent] * rest;
-    alignment_[m] = parent < 0 ? glm::identity<glm::quat>() : alignment_[parent];
+    alignment_[m] = parent < 0 ? facing_turn_ : alignment_[parent];
     const int b = bvh_of_model_[m];
-    if (keeps_rest[m]) alignment_[m] = glm::identity<glm::quat>();
+    if (keeps_rest[m]) alignment_[m] = facing_turn_;
     if (b < 0 || keeps_rest[m]) continue;
     // The nearest matched descendants whose BVH joints descend from b.
     std::vector<int> bone_ends, stack = skeleton_.children(m);
@@ -360,13 +387,13 @@ void Retargeter::compute_alignments(const deform::Skeleton& bvh, const OptionalR
     const glm::vec3 bvh_bone = bvh_world[bvh_of_model_[bone_ends[0]]] - bvh_world[b];
     constexpr float kShortest = 1e-6f;
     if (glm::length(model_bone) < kShortest || glm::length(bvh_bone) < kShortest) continue;
-    const glm::vec3 model_direction = glm::normalize(model_bone);
+    const glm::vec3 model_direction = facing_turn_ * glm::normalize(model_bone);
     const glm::vec3 bvh_direction = glm::normalize(bvh_bone);
     if (is_girdle[m] && glm::dot(model_direction, bvh_direction) < kSameGirdle) {
       keeps_parent_angle[m] = true;  // alignment_[m] stays the chest's or the pelvis's
       continue;
     }
-    alignment_[m] = shortest_arc(model_direction, bvh_direction);
+    alignment_[m] = shortest_arc(model_direction, bvh_direction) * facing_turn_;
   }
   if (model_map) find_shoulder_rhythms(*model_map, model_world, keeps_parent_angle);
 }
@@ -438,7 +465,9 @@ void Retargeter::compute_root_scale(const deform::Skeleton& bvh, const OptionalR
   model_pelvis_ = model_map ? model_map->torso.pelvis() : 0;
   const std::vector<glm::vec3> model_world = world_rest_positions(skeleton_);
   const std::vector<glm::vec3> bvh_world = world_rest_positions(bvh);
-  model_pelvis_rest_ = model_world[model_pelvis_];
+  // Where the pelvis stands once the facing turn has turned the body about the root joint.
+  const glm::vec3 root_rest = skeleton_.joints[0].rest_translation;
+  model_pelvis_rest_ = root_rest + facing_turn_ * (model_world[model_pelvis_] - root_rest);
   const float bvh_floor = lowest_clip_height(*motion_, bvh_world);
   float bvh_height = bvh_world[bvh_pelvis_].y - bvh_floor;
   if (const std::optional<float> legs = straight_leg_length(bvh_map, bvh_world, bvh_pelvis_)) {
@@ -488,8 +517,9 @@ deform::Pose Retargeter::retarget(std::span<const glm::quat> bvh_local,
   for (int m = 0; m < skeleton_.size(); ++m) {
     const deform::Joint& joint = skeleton_.joints[m];
     if (!driven_[m]) {  // unmatched or undriven: its rest rotation relative to its parent
-      world[m] = joint.parent < 0 ? joint.rest_rotation : world[joint.parent] * joint.rest_rotation;
-      pose.local_rotations[m] = joint.rest_rotation;
+      world[m] = joint.parent < 0 ? facing_turn_ * joint.rest_rotation
+                                  : world[joint.parent] * joint.rest_rotation;
+      pose.local_rotations[m] = joint.parent < 0 ? world[m] : joint.rest_rotation;
       continue;
     }
     const int b = bvh_of_model_[m];

@@ -71,6 +71,15 @@
 // The spine is still aligned: keeping the male's lumbar lean (6° and 8° from CMU's) stretched
 // a hip edge 3.26x in cmu_01_03 (frame 1128), past the 3x bound. Onto a copy of the clip's own
 // skeleton every driven rotation is the clip's.
+// Facing: a model built facing another way than the clip (an armature turned 90° in Blender, a
+// character modelled facing +X) would walk sideways, its spine and hips keeping their own
+// facing. Each side's rest forward is found from its body, not assumed +Z: left is from its
+// right arm to its left arm (from the thighs without arms), by the rig map's sides (names, or
+// the toes for a topological map), forward is left x up (deform::rest_body_axes). Where the
+// two differ by more than kSameFacingDegrees about the vertical, every A_m above is composed
+// with the yaw F that turns the model's forward onto the clip's (A_m = arc(F m, b) * F), an
+// undriven root turns by F too, and a warning says so: the model then faces where the clip
+// faces at every frame, and moves along the clip's own path.
 // The local rotations of the Pose are W_parent^-1 * W_m. Joint scale is ignored (rotations only).
 //
 // Root translation: the model's pelvis goes to root_scale() times the BVH pelvis position,
@@ -186,6 +195,9 @@ class Retargeter final : public ClipPoses {
   // The warnings naming the clip joints mapped to no model joint (but the fingers, which
   // have their own) and the model joints left without motion (unmatched or not driven).
   void warn_unmapped(const deform::Skeleton& bvh, const std::vector<bool>& is_finger);
+  // The facing turn (see the header): the yaw taking the model's rest forward onto the clip's.
+  void compute_facing(const deform::Skeleton& bvh, const OptionalRigMap& model_map,
+                      const OptionalRigMap& bvh_map);
   void compute_alignments(const deform::Skeleton& bvh, const OptionalRigMap& model_map);
   void compute_root_scale(const deform::Skeleton& bvh, const OptionalRigMap& model_map,
                           const OptionalRigMap& bvh_map, float model_floor);
@@ -208,6 +220,9 @@ class Retargeter final : public ClipPoses {
   // A clip's lower ankle standing higher than this share of its straight legs is not on its
   // floor (sitting on a stool, hanging, or a floor elsewhere than y = 0).
   static constexpr float kHighestStanceAnkle = 0.25f;
+  // Rest poses that face within 10° of each other face the same way: their rest poses differ
+  // (arms or feet turned a little), not the way their bodies were built.
+  static constexpr float kSameFacingDegrees = 10.0f;
   // keeps_parent_angle: per model joint, a girdle bone set otherwise than the clip's.
   void find_shoulder_rhythms(const deform::RigMap& model_map,
                              const std::vector<glm::vec3>& model_world,
@@ -224,6 +239,7 @@ class Retargeter final : public ClipPoses {
   std::vector<int> bvh_of_model_;                   // per model joint
   std::vector<int> model_of_bvh_;                   // per BVH joint
   std::vector<bool> driven_;                        // per model joint: matched and driven
+  glm::quat facing_turn_{1.0f, 0.0f, 0.0f, 0.0f};   // F: about the vertical (Y)
   std::vector<glm::quat> alignment_;                // A_m per model joint
   std::vector<glm::quat> world_rest_;               // W_m(rest) per model joint
   std::vector<glm::quat> clip_world_rest_inverse_;  // W_b(rest)^-1 per clip joint

@@ -1,6 +1,7 @@
 #include "deform/rig/rig_map.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <optional>
 #include <stdexcept>
 
@@ -277,10 +278,14 @@ BodyAxes rest_body_axes(const RigMap& map, std::span<const glm::mat4> world_rest
   BodyAxes axes;
   axes.up = rest_torso_up(map, world_rest);
   glm::vec3 lateral(1.0f, 0.0f, 0.0f);
-  if (!map.left_arm.absent() && !map.right_arm.absent())
+  axes.left_from = "neither arms nor thighs: the glTF convention's +X";
+  if (!map.left_arm.absent() && !map.right_arm.absent()) {
     lateral = position(map.left_arm.upper) - position(map.right_arm.upper);
-  else if (!map.left_leg.absent() && !map.right_leg.absent())
+    axes.left_from = "the right upper arm to the left";
+  } else if (!map.left_leg.absent() && !map.right_leg.absent()) {
     lateral = position(map.left_leg.upper) - position(map.right_leg.upper);
+    axes.left_from = "the right thigh to the left";
+  }
   axes.left = glm::normalize(lateral - glm::dot(lateral, axes.up) * axes.up);
   axes.forward = glm::cross(axes.left, axes.up);
   return axes;
@@ -304,6 +309,16 @@ std::string describe(const RigMap& map, const Skeleton& skeleton) {
   text += map.has_head() ? "neck: " + names_of(map.neck.chain, skeleton) + " (head " +
                                skeleton.joints[map.neck.head].name + ")" + how(RigPart::kHead)
                          : "neck and head: absent, skinned" + how(RigPart::kHead);
+  // The facing found (motion/retarget.h turns a model built facing another way than its clip).
+  const BodyAxes axes = rest_body_axes(map, skeleton.world_rest_matrices());
+  char facing[200];
+  std::snprintf(facing, sizeof facing,
+                "facing: forward (%.2f, %.2f, %.2f), up (%.2f, %.2f, %.2f); left from %s, "
+                "up from %s\n",
+                axes.forward.x, axes.forward.y, axes.forward.z, axes.up.x, axes.up.y, axes.up.z,
+                axes.left_from,
+                map.torso.chain.size() >= 2 ? "the pelvis to the chest" : "the hips to the shoulders");
+  text += facing;
   text += limb(RigPart::kLeftArm, roles_of(map.left_arm), map.left_arm.absent());
   text += limb(RigPart::kRightArm, roles_of(map.right_arm), map.right_arm.absent());
   text += limb(RigPart::kLeftLeg, roles_of(map.left_leg), map.left_leg.absent());

@@ -147,6 +147,7 @@ glm::vec3 rest_torso_up(const RigMap& map, std::span<const glm::mat4> world_rest
 
 struct BodyAxes {
   glm::vec3 up, left, forward;  // unit; forward = left x up
+  const char* left_from = "";   // what told left from right: "the arms", "the thighs", or none
 };
 BodyAxes rest_body_axes(const RigMap& map, std::span<const glm::mat4> world_rest);
 

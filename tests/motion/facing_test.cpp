@@ -1,0 +1,119 @@
+// Facing from the body (issue 48 item 2): a model built facing another way than the clip (turned
+// about the vertical, as a Blender armature turned 90°) faces where the clip faces at every
+// frame, so it walks along the clip's path instead of sideways.
+//
+// Figure, per frame: the angle about the vertical between the model's hips (left thigh joint
+// minus right, the rig map's leg roles, posed) and the clip's (its LeftUpLeg minus RightUpLeg),
+// both made horizontal. Asserted: within 10° at every 10th frame of cmu_01_01 (the issue's
+// target), for the shared male, the RiggedFigure and the OpenPose body turned 0°, 90°, 180° and
+// 270° about the vertical, and for the male mirrored. Measured here: within 1.5° on all of them
+// (the rest poses' hips differ slightly in splay). Before the facing turn the 90° model stayed
+// 90° off in every frame.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <glm/gtc/quaternion.hpp>
+#include <string>
+#include <vector>
+
+#include "deform/model/forward_kinematics.h"
+#include "deform/rig/rig_map.h"
+#include "io/bvh_load.h"
+#include "io/gltf_load.h"
+#include "motion/retarget.h"
+#include "tests/mirrored_model.h"
+#include "tests/motion/clip_world_positions.h"
+#include "tests/test_paths.h"
+
+namespace sweepd::motion {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The model turned `degrees` about the vertical through the origin: mesh and skeleton.
+deform::Model turned(deform::Model model, float degrees) {
+  const glm::quat turn = glm::angleAxis(glm::radians(degrees), glm::vec3(0, 1, 0));
+  for (glm::vec3& p : model.positions) p = turn * p;
+  for (glm::vec3& n : model.normals) n = turn * n;
+  for (deform::Joint& joint : model.skeleton.joints) {
+    if (joint.parent >= 0) continue;  // every root: OpenPose's legs are roots of their own
+    joint.rest_translation = turn * joint.rest_translation;
+    joint.rest_rotation = turn * joint.rest_rotation;
+  }
+  return model;
+}
+
+// Signed angle about +Y from a to b, both made horizontal, in degrees.
+float yaw_between(glm::vec3 a, glm::vec3 b) {
+  a.y = b.y = 0.0f;
+  return glm::degrees(std::atan2(glm::cross(a, b).y, glm::dot(a, b)));
+}
+
+// The worst facing difference over every 10th frame of the clip.
+float worst_facing_difference(const deform::Model& model, const Clip& clip) {
+  const Retargeter retargeter(clip, model);
+  const deform::RigMap map = deform::detect_rig_map(model.skeleton);
+  const int clip_left = clip.find("LeftUpLeg"), clip_right = clip.find("RightUpLeg");
+  EXPECT_GE(clip_left, 0);
+  EXPECT_GE(clip_right, 0);
+  std::vector<glm::mat4> world(model.skeleton.size());
+  float worst = 0.0f;
+  for (int frame = 0; frame < clip.frame_count; frame += 10) {
+    forward_kinematics(model.skeleton, retargeter.pose_at_frame(frame), world);
+    const glm::vec3 model_left =
+        glm::vec3(world[map.left_leg.upper][3]) - glm::vec3(world[map.right_leg.upper][3]);
+    const std::vector<glm::vec3> at = clip_world_positions(clip, frame);
+    const glm::vec3 clip_left_vector = at[clip_left] - at[clip_right];
+    worst = std::max(worst, std::abs(yaw_between(model_left, clip_left_vector)));
+  }
+  return worst;
+}
+
+struct Body {
+  const char* file;
+  bool mirror;
+};
+
+class Facing : public testing::TestWithParam<Body> {};
+
+TEST_P(Facing, TurnedModelsFaceTheClipsWayAtEveryFrame) {
+  const fs::path file = fs::path(SWEEPD_SHARED_DATA) / GetParam().file;
+  if (!fs::exists(file)) GTEST_SKIP() << "shared data absent: " << file;
+  deform::Model model = io::load_gltf(file);
+  if (GetParam().mirror) model = test_models::mirrored(std::move(model));
+  const Clip clip = io::load_bvh(fs::path(SWEEPD_SHARED_DATA) / "motion/cmu_01_01.bvh");
+  for (const float degrees : {0.0f, 90.0f, 180.0f, 270.0f}) {
+    SCOPED_TRACE("turned " + std::to_string(static_cast<int>(degrees)) + "°");
+    const deform::Model body = turned(model, degrees);
+    const float worst = worst_facing_difference(body, clip);
+    std::printf("%s turned %.0f°: worst facing difference %.2f°\n", GetParam().file, degrees,
+                worst);
+    EXPECT_LT(worst, 10.0f);
+    // The turn is said: a warning where the model was built facing another way.
+    const std::vector<std::string> warnings = Retargeter(clip, body).warnings();
+    const bool said = std::any_of(warnings.begin(), warnings.end(), [](const std::string& w) {
+      return w.find("turned to face the clip's way") != std::string::npos;
+    });
+    EXPECT_EQ(said, degrees != 0.0f);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Bodies, Facing,
+    testing::Values(Body{"models/makehuman_male_cmu.glb", false},
+                    Body{"models/makehuman_male_cmu.glb", true},
+                    Body{"models/RiggedFigure/RiggedFigure.gltf", false},
+                    Body{"models/corpus/makehuman_female_slim_openpose.glb", false}),
+    [](const testing::TestParamInfo<Body>& info) {
+      const std::string file = info.param.file;
+      const std::string stem = file.substr(file.rfind('/') + 1, file.rfind('.') - file.rfind('/') - 1);
+      std::string name = stem + (info.param.mirror ? "_mirrored" : "");
+      std::replace_if(name.begin(), name.end(), [](char c) { return !std::isalnum(c); }, '_');
+      return name;
+    });
+
+}  // namespace
+}  // namespace sweepd::motion
