@@ -170,6 +170,23 @@ Retargeter::Retargeter(std::shared_ptr<const Clip> motion, const deform::Model& 
   planting_ = FootPlanting::build(model, *model_map_, model_hip_height_, motion_->frame_count,
                                   motion_->frame_time,
                                   [this](int frame) { return unplanted_pose_at_frame(frame); });
+  std::vector<bool> foot_joint(skeleton_.joints.size(), false);
+  const std::vector<deform::BodyPart> parts = deform::label_joints(*model_map_, skeleton_);
+  for (std::size_t j = 0; j < parts.size(); ++j)
+    foot_joint[j] =
+        parts[j] == deform::BodyPart::kLeftFoot || parts[j] == deform::BodyPart::kRightFoot;
+  body_floor_ = BodyFloor::build(model, foot_joint, lowest_vertex_height(model), motion_->frame_count,
+                                 motion_->frame_time, [this](int frame) {
+                                   deform::Pose pose = unplanted_pose_at_frame(frame);
+                                   if (planting_)
+                                     planting_->apply(frame * double{motion_->frame_time}, pose);
+                                   return pose;
+                                 });
+  if (const float lift = body_floor_->largest_lift(); lift > 0.01f)
+    warnings_.push_back("parts of the body went below the floor (the model's proportions are not "
+                        "the clip's): the body is raised by up to " +
+                        std::to_string(static_cast<int>(std::lround(lift * 100.0f))) +
+                        " cm where they would");
 }
 
 Retargeter::Retargeter(Clip motion, deform::Skeleton skeleton, const JointNameMap& name_map)
@@ -551,6 +568,7 @@ deform::Pose Retargeter::pose_at_frame(int frame) const {
                             std::to_string(motion_->frame_count) + " frames");
   deform::Pose pose = unplanted_pose_at_frame(frame);
   if (planting_) planting_->apply(frame * double{motion_->frame_time}, pose);
+  if (body_floor_) body_floor_->apply(frame * double{motion_->frame_time}, pose);
   return pose;
 }
 
@@ -560,6 +578,7 @@ deform::Pose Retargeter::pose_at_time(double seconds) const {
   motion_->local_pose_at_time(seconds, rotations, translations);
   deform::Pose pose = retarget(rotations, translations, false);
   if (planting_) planting_->apply(seconds, pose);
+  if (body_floor_) body_floor_->apply(seconds, pose);
   return pose;
 }
 

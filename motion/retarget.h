@@ -103,7 +103,10 @@
 // the poses above, then the feet put on the floor where the clip plants them, by leg IK and,
 // where a straightened leg cannot reach, by bringing the body down (motion/foot_planting.h).
 // Only the legs' hip, knee and ankle rotations and the root's height change; ankles move
-// straight up or down, so strides and the feet's world rotations are the clip's. Feet::kFree
+// straight up or down, so strides and the feet's world rotations are the clip's. Then the whole
+// body rises where another part would go below the floor (knees, hips, hands, back: the model's
+// proportions are not the clip's; motion/body_floor.h), with a warning naming the largest
+// rise. Feet::kFree
 // (and a bare skeleton, which has no soles) keeps every rotation above: onto a copy of the
 // clip's own skeleton the clip's rotations come back.
 #pragma once
@@ -120,6 +123,7 @@
 #include "deform/rig/rig_map.h"
 #include "motion/clip.h"
 #include "motion/clip_poses.h"
+#include "motion/body_floor.h"
 #include "motion/foot_planting.h"
 #include "motion/joint_name_map.h"
 
@@ -249,6 +253,7 @@ class Retargeter final : public ClipPoses {
   float model_hip_height_ = 0.0f;
   OptionalRigMap model_map_;
   std::optional<FootPlanting> planting_;
+  std::optional<BodyFloor> body_floor_;  // with planting_: no part below the floor
   std::vector<ShoulderRhythm> shoulder_rhythms_;
   std::vector<std::string> warnings_;
 };

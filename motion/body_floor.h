@@ -1,0 +1,56 @@
+// Body floor: no part of a retargeted body below the model's floor (issue 48 item 3).
+//
+// Foot planting (foot_planting.h) puts the feet on the floor where the clip plants them. Other
+// parts that the clip puts on its floor (knees when kneeling, hips and back when sitting or
+// knocked down, hands when crawling) land where the model's proportions put them: a body whose
+// arms are longer than the clip's, relative to its legs, pushes its hands through the floor; one
+// whose hips sit lower pushes its seat. Here the whole body rises, on every frame, as far as its
+// deepest part is below the floor, so that part rests on it.
+//
+// How: the rest mesh is sampled, per joint (each vertex's strongest influence), at the vertices
+// furthest along 64 directions spread over the sphere: the lowest point of a part turned any way
+// lies within about 2.5 % of its radius above the lowest sample. Each sample is skinned by
+// linear blending with its own weights (a few thousand samples: about 20 µs a frame). A frame's
+// need is how far its lowest sample lies below its height: the floor less kSoleTolerance for a
+// foot's samples (foot planting puts the soles on the floor: they must not lift the body), the
+// floor plus kClearance for every other part (the sweep's surface runs up to about 1.1 cm below
+// linear blending's where a knee, hip or back presses on the floor: the RiggedFigure's, knocked
+// down; tests/motion/body_floor_test.cpp). The lift at a frame is
+// the largest need within kEase either side, scaled down linearly with the distance in time, so
+// the body never rises or settles faster than its deepest need per kEase and nothing pops.
+// A body already above the floor is left where the clip and the feet put it (jumps stay jumps).
+// Inputs:  model (rest mesh, skin), feet (per joint: a foot's or toe's, planted by foot
+//          planting), floor (the rest mesh's lowest vertex height), the clip's frame count and
+//          frame time, frame_pose (each clip frame's pose, feet planted).
+// Output:  apply() raises a pose's root by the lift at that time (interpolated between frames).
+#pragma once
+
+#include <functional>
+#include <vector>
+
+#include "deform/model/model.h"
+#include "deform/model/pose.h"
+
+namespace sweepd::motion {
+
+class BodyFloor {
+ public:
+  static constexpr float kSoleTolerance = 0.005f;  // m
+  static constexpr float kClearance = 0.005f;      // m
+  static constexpr double kEase = 0.15;            // s, as foot planting's
+
+  static BodyFloor build(const deform::Model& model, const std::vector<bool>& feet, float floor,
+                         int frame_count, double frame_time,
+                         const std::function<deform::Pose(int)>& frame_pose);
+
+  // Raises `pose` (the pose of the clip at `seconds`, clamped to the clip) by the lift there.
+  void apply(double seconds, deform::Pose& pose) const;
+  // The largest lift over the clip (m).
+  float largest_lift() const;
+
+ private:
+  std::vector<float> lift_;  // per clip frame (m)
+  double frame_time_ = 0.0;
+};
+
+}  // namespace sweepd::motion
