@@ -34,6 +34,7 @@
 #include "io/rig_map_json.h"
 #include "metrics/crease_metrics.h"
 #include "metrics/quality_metrics.h"
+#include "motion/retarget.h"
 
 namespace sweepd::cli {
 
@@ -230,6 +231,31 @@ void print_contact_per_frame(const std::vector<MethodReport>& reports,
   }
 }
 
+// Foot sliding per contact over the whole clip (motion::FootPlanting::contact_slides): the same
+// for every method, since the feet are skinned rigidly by all of them. Only for a retargeted
+// clip whose feet are planted.
+void print_foot_slide(const PosedModel& posed) {
+  const auto* retargeter = dynamic_cast<const motion::Retargeter*>(posed.clip());
+  const motion::FootPlanting* planting = retargeter ? retargeter->foot_planting() : nullptr;
+  if (!planting) return;
+  const std::vector<motion::FootPlanting::ContactSlide> slides =
+      planting->contact_slides([&](int frame) { return retargeter->pose_at_frame(frame); });
+  if (slides.empty()) {
+    std::printf("\nfoot slide: no contacts (the clip never plants a foot)\n");
+    return;
+  }
+  const motion::FootPlanting::ContactSlide* worst = &slides.front();
+  double total = 0.0;
+  for (const auto& contact : slides) {
+    total += contact.slide;
+    if (contact.slide > worst->slide) worst = &contact;
+  }
+  std::printf("\nfoot slide per contact (whole clip, every method): worst %.2f cm (%s foot, "
+              "frames %d-%d), mean %.2f cm over %zu contacts\n",
+              100.0 * worst->slide, worst->side == 0 ? "left" : "right", worst->first,
+              worst->last, 100.0 * total / static_cast<double>(slides.size()), slides.size());
+}
+
 void print_json(const std::vector<MethodReport>& reports, const PosingArguments& posing,
                 std::size_t frames, const std::string& source) {
   nlohmann::json out;
@@ -333,6 +359,7 @@ int metrics(const Options& options, const ServerAddress* server) {
     print_csv(reports);
   } else {
     print_table(reports, frames.size(), source);
+    if (local) print_foot_slide(*local);
     if (options.per_frame) print_contact_per_frame(reports, frames);
     if (collision) std::printf("%s\n", collision->summary().c_str());
   }

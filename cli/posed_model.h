@@ -54,6 +54,8 @@ class PosedModel {
   deform::Pose pose(int frame) const;
   // The clip's frame count (clip_frame_count); 1 without a clip.
   int frame_count() const;
+  // The clip's player (a Retargeter for --bvh and --clip-from); null without a clip.
+  const motion::ClipPoses* clip() const { return clip_.get(); }
   // Deforms into positions and normals (vertex_count() each), features included: one
   // deform::DeformJob. A clip's frame range is a stream (I_C from the previous frame,
   // VolumeChangeSource::kPreviousFrame); a single frame stands alone (kFixedPoint).

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "deform/model/forward_kinematics.h"
 #include "motion/shortest_arc.h"
@@ -64,7 +65,7 @@ std::optional<FootPlanting> FootPlanting::build(
   for (int side = 0; side < 2; ++side) {
     const deform::LegJoints& leg = side == 0 ? map.left_leg : map.right_leg;
     if (leg.upper < 0 || leg.lower < 0 || leg.foot < 0) continue;
-    Foot foot{leg, {}, glm::vec4(0.0f), {}, {}};
+    Foot foot{leg, {}, glm::vec4(0.0f), {}, {}, side};
     glm::vec3 centre(0.0f);
     const float ankle_height = rest[leg.foot][3].y;
     for (std::size_t v = 0; v < model.positions.size(); ++v) {
@@ -234,6 +235,35 @@ void FootPlanting::apply(double seconds, deform::Pose& pose) const {
     rise = std::max(rise, -height);  // never below the floor
     if (rise != 0.0f) move_ankle(foot, rise, world, rotation, pose);
   }
+}
+
+std::vector<FootPlanting::ContactSlide> FootPlanting::contact_slides(
+    const std::function<deform::Pose(int)>& frame_pose) const {
+  std::vector<ContactSlide> slides;
+  std::vector<std::optional<ContactSlide>> open(feet_.size());
+  std::vector<glm::mat4> world(skeleton_.joints.size()), next(skeleton_.joints.size());
+  if (frame_count_ > 0) deform::forward_kinematics(skeleton_, frame_pose(0), world);
+  for (int f = 0; f < frame_count_; ++f) {
+    const bool has_next = f + 1 < frame_count_;
+    if (has_next) deform::forward_kinematics(skeleton_, frame_pose(f + 1), next);
+    for (std::size_t i = 0; i < feet_.size(); ++i) {
+      const Foot& foot = feet_[i];
+      if (!foot.contact[f]) continue;
+      if (!open[i]) open[i] = ContactSlide{foot.side, f, f, 0.0f};
+      open[i]->last = f;
+      if (has_next && foot.contact[f + 1]) {
+        const SolePoint& point = foot.sole[sole_of(foot, world).lowest];
+        const glm::vec3 from = world[point.joint] * point.local;
+        const glm::vec3 to = next[point.joint] * point.local;
+        open[i]->slide += glm::length(glm::vec2(to.x - from.x, to.z - from.z));
+      } else {
+        slides.push_back(*open[i]);
+        open[i].reset();
+      }
+    }
+    std::swap(world, next);
+  }
+  return slides;
 }
 
 void FootPlanting::move_ankle(const Foot& foot, float rise, const std::vector<glm::mat4>& world,

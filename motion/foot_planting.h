@@ -67,6 +67,19 @@ class FootPlanting {
   // Corrects `pose`, the uncorrected pose of the clip at `seconds` (clamped to the clip).
   void apply(double seconds, deform::Pose& pose) const;
 
+  // Foot sliding, per contact (a run of contact frames of one foot): the horizontal path of the
+  // sole's contact point, summed over each pair of consecutive frames as the move of the point
+  // lowest at the first of them (a foot that rolls from heel to toe without slipping moves its
+  // contact point by almost nothing; one that skates moves it by the skate).
+  // frame_pose: the clip's corrected pose of frame f (Retargeter::pose_at_frame).
+  struct ContactSlide {
+    int side = 0;                 // 0 the rig map's left leg, 1 its right
+    int first = 0, last = 0;      // clip frames
+    float slide = 0.0f;           // m
+  };
+  std::vector<ContactSlide> contact_slides(
+      const std::function<deform::Pose(int)>& frame_pose) const;
+
  private:
   struct SolePoint {
     int joint;
@@ -78,6 +91,7 @@ class FootPlanting {
     glm::vec4 centre;                   // the sole's centroid in the foot's rest frame
     std::vector<float> offset;          // the ankle's vertical move, per clip frame
     std::vector<std::uint8_t> contact;  // per clip frame
+    int side = 0;                       // 0 the rig map's left leg, 1 its right
   };
   struct Sole {
     float height;        // above the floor
