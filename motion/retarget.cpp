@@ -39,6 +39,34 @@ std::vector<std::pair<int, int>> role_pairs(const deform::RigMap& model,
   if (model.torso.chain.size() >= 2) pairs.emplace_back(model.torso.pelvis(), bvh.torso.pelvis());
   pairs.emplace_back(model.torso.chest(), bvh.torso.chest());
   pairs.emplace_back(model.neck.head, bvh.neck.head);
+  // The joints between: a Mixamo spine (Hips, Spine, Spine1, Spine2) against CMU's (Hips,
+  // LowerBack, Spine, Spine1) matches neither by name nor, past a branching pelvis, by
+  // hierarchy, and its middle joints stayed at rest: the whole bend fell on the chest joint.
+  // Each model joint pairs with the clip joint at the nearest place along the clip's chain.
+  const auto inner = [&](const std::vector<int>& m, const std::vector<int>& b, std::size_t skip_last) {
+    if (m.size() < 1 + skip_last || b.size() < 1 + skip_last) return;
+    const std::size_t model_inner = m.size() - 1 - skip_last, clip_inner = b.size() - 1 - skip_last;
+    if (model_inner == 0 || clip_inner == 0) return;
+    int previous = -1;
+    for (std::size_t i = 0; i < model_inner; ++i) {
+      const double along = static_cast<double>(i + 1) / static_cast<double>(model_inner + 1);
+      // Rounded half down: one model neck joint for CMU's Neck and Neck1 is the lower, Neck
+      // (the joint the hierarchy matched it to before).
+      const int k = std::clamp(static_cast<int>(std::ceil(along * (clip_inner + 1) - 0.5)) - 1, 0,
+                               static_cast<int>(clip_inner) - 1);
+      if (k == previous) continue;  // one clip joint drives one model joint
+      pairs.emplace_back(m[1 + i], b[1 + k]);
+      previous = k;
+    }
+  };
+  inner(model.torso.chain, bvh.torso.chain, 1);  // between the pelvis and the chest
+  // The neck chain starts below the chest and ends at the head: the joints before the head.
+  if (!model.neck.chain.empty() && !bvh.neck.chain.empty()) {
+    std::vector<int> m = {-1}, b = {-1};
+    m.insert(m.end(), model.neck.chain.begin(), model.neck.chain.end());
+    b.insert(b.end(), bvh.neck.chain.begin(), bvh.neck.chain.end());
+    inner(m, b, 1);
+  }
   const auto arm = [&](const deform::ArmJoints& m, const deform::ArmJoints& b) {
     pairs.insert(
         pairs.end(),
