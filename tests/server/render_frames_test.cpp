@@ -103,17 +103,21 @@ class RenderFrames : public ClipClientTest {
   void render_while_one_server_fails(DaemonProcess& failing, DaemonProcess& other, int signal) {
     const fs::path frames = directory_ / "frames";
     constexpr int kLastFrame = kFirst + 99;  // long enough that the signal lands mid-run
-    const std::string command = std::string(SWEEPD_RENDER_FRAMES) +
-                                " --server 127.0.0.1:" + std::to_string(failing.port()) +
-                                ",127.0.0.1:" + std::to_string(other.port()) +
-                                " --token t0k --bvh " + clip_.string() + " --frames " +
-                                std::to_string(kFirst) + "-" + std::to_string(kLastFrame) + " -o " +
-                                frames.string() + " --width 128 --height 128 --timeout 1";
-    std::future<ClientRun> run =
-        std::async(std::launch::async, [&] { return run_client(command); });
-    // Ten frames in: both servers are then rendering (each builds the clip's player for its
-    // model when the clip is uploaded; under a loaded machine three frames could all come from
-    // the faster one while the other still held none in flight).
+    const auto command = [&](const std::string& servers, const fs::path& out, int last) {
+      return std::string(SWEEPD_RENDER_FRAMES) + " --server " + servers + " --token t0k --bvh " +
+             clip_.string() + " --frames " + std::to_string(kFirst) + "-" +
+             std::to_string(last) + " -o " + out.string() + " --width 128 --height 128 --timeout 1";
+    };
+    // The failing server first renders two frames alone, so that it holds the model and the
+    // clip when the run starts: each server binds the model and builds the clip's player at
+    // upload, and on a loaded machine the other server, just as fresh, had rendered every
+    // frame so far while the failing one, still preparing, held none in flight to hand back.
+    const std::string failing_address = "127.0.0.1:" + std::to_string(failing.port());
+    ASSERT_EQ(run_client(command(failing_address, directory_ / "warm", kFirst + 1)).exit_code, 0);
+    std::future<ClientRun> run = std::async(std::launch::async, [&] {
+      return run_client(command(failing_address + ",127.0.0.1:" + std::to_string(other.port()),
+                                frames, kLastFrame));
+    });
     while (exr_files(frames) < 10 &&
            run.wait_for(std::chrono::milliseconds(5)) != std::future_status::ready) {
     }
