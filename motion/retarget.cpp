@@ -204,12 +204,8 @@ Retargeter::Retargeter(std::shared_ptr<const Clip> motion, const deform::Model& 
     foot_joint[j] =
         parts[j] == deform::BodyPart::kLeftFoot || parts[j] == deform::BodyPart::kRightFoot;
   body_floor_ = BodyFloor::build(model, foot_joint, lowest_vertex_height(model), motion_->frame_count,
-                                 motion_->frame_time, [this](int frame) {
-                                   deform::Pose pose = unplanted_pose_at_frame(frame);
-                                   if (planting_)
-                                     planting_->apply(frame * double{motion_->frame_time}, pose);
-                                   return pose;
-                                 });
+                                 motion_->frame_time,
+                                 [this](int frame) { return feet_planted_pose_at_frame(frame); });
   if (const float lift = body_floor_->largest_lift(); lift > 0.01f)
     warnings_.push_back("parts of the body went below the floor (the model's proportions are not "
                         "the clip's): the body is raised by up to " +
@@ -594,9 +590,14 @@ deform::Pose Retargeter::pose_at_frame(int frame) const {
   if (frame < 0 || frame >= motion_->frame_count)
     throw std::out_of_range("frame " + std::to_string(frame) + " is outside the clip's " +
                             std::to_string(motion_->frame_count) + " frames");
+  deform::Pose pose = feet_planted_pose_at_frame(frame);
+  if (body_floor_) body_floor_->apply(frame * double{motion_->frame_time}, pose);
+  return pose;
+}
+
+deform::Pose Retargeter::feet_planted_pose_at_frame(int frame) const {
   deform::Pose pose = unplanted_pose_at_frame(frame);
   if (planting_) planting_->apply(frame * double{motion_->frame_time}, pose);
-  if (body_floor_) body_floor_->apply(frame * double{motion_->frame_time}, pose);
   return pose;
 }
 

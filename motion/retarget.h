@@ -209,6 +209,8 @@ class Retargeter final : public ClipPoses {
   deform::Pose retarget(std::span<const glm::quat> bvh_local,
                         std::span<const glm::vec3> bvh_translation, bool keep_root_rest) const;
   deform::Pose unplanted_pose_at_frame(int frame) const;
+  // The pose of clip frame `frame` with the feet planted, before the body floor lifts it.
+  deform::Pose feet_planted_pose_at_frame(int frame) const;
   // The shoulder rhythm (see the header): clavicles the clip leaves still follow the arm.
   struct ShoulderRhythm {
     int clavicle = -1, upper = -1, chest = -1;

@@ -310,7 +310,7 @@ RigMap detect_rig_map_by_topology(const Skeleton& skeleton) {
   if (chest >= 0 && leg_starts.empty()) {
     const glm::vec3 up = torso_up(h, pelvis, chest, {});
     for (int start : two_longest_branches(h, pelvis, {spine})) {
-      const glm::vec3 reach = h.position[longest_path(h, start).back()] - h.position[pelvis];
+      const glm::vec3 reach = reach_of(h, pelvis, start);
       if (glm::dot(reach, up) < -kLegsAgainstSpine * glm::length(reach))
         leg_starts.push_back(start);
     }
