@@ -15,40 +15,11 @@
 #include <string>
 #include <vector>
 
+#include "io/glb_builder.h"
+
 namespace sweepd::io {
 
 namespace {
-
-// Collects one binary buffer and the buffer views / accessors that point into it.
-class GlbBuilder {
- public:
-  explicit GlbBuilder(tinygltf::Model& gltf) : gltf_(gltf) { gltf_.buffers.resize(1); }
-
-  // Appends `count` elements of `type`/`component_type` from raw bytes; returns the accessor.
-  template <typename T>
-  int add_accessor(const std::vector<T>& elements, int component_type, int type, int target) {
-    std::vector<unsigned char>& data = gltf_.buffers[0].data;
-    tinygltf::BufferView view;
-    view.buffer = 0;
-    view.byteOffset = data.size();
-    view.byteLength = elements.size() * sizeof(T);
-    view.target = target;
-    const auto* bytes = reinterpret_cast<const unsigned char*>(elements.data());
-    data.insert(data.end(), bytes, bytes + view.byteLength);
-    data.resize((data.size() + 3) / 4 * 4, 0);  // every view starts 4-byte aligned
-    gltf_.bufferViews.push_back(view);
-    tinygltf::Accessor accessor;
-    accessor.bufferView = static_cast<int>(gltf_.bufferViews.size()) - 1;
-    accessor.componentType = component_type;
-    accessor.type = type;
-    accessor.count = elements.size();
-    gltf_.accessors.push_back(accessor);
-    return static_cast<int>(gltf_.accessors.size()) - 1;
-  }
-
- private:
-  tinygltf::Model& gltf_;
-};
 
 // Unit weights as floats whose float32 running sum is within the validator's 2e-7 per
 // non-zero weight of 1; repeated joints are merged and unused slots point at joint 0.
