@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "io/glb_builder.h"
+#include "io/gltf_animations_save.h"
 
 namespace sweepd::io {
 
@@ -224,6 +225,7 @@ tinygltf::Model build_gltf(const deform::Model& model, const SaveOptions& option
   skin.inverseBindMatrices =
       builder.add_accessor(inverse_bind, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_MAT4, 0);
   gltf.skins.push_back(skin);
+  add_animations(builder, gltf, options.animations);
   if (!options.line_loops.empty()) {  // one unskinned mesh of LINE_LOOP primitives
     tinygltf::Mesh lines;
     lines.name = "line loops";
@@ -260,6 +262,8 @@ void save_gltf(const deform::Model& model, const std::filesystem::path& file,
     throw std::invalid_argument(
         "save_gltf " + file.string() + ": " + std::to_string(options.vertex_colors.size()) +
         " vertex colours for " + std::to_string(model.vertex_count()) + " vertices");
+  if (std::string why = animations_problem(options.animations, model.skeleton); !why.empty())
+    throw std::invalid_argument("save_gltf " + file.string() + ": " + why);
   const tinygltf::Model gltf = build_gltf(model, options);
   std::ostringstream bytes;
   tinygltf::TinyGLTF writer;

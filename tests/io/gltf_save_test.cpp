@@ -5,15 +5,22 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <functional>
 #include <glm/gtc/quaternion.hpp>
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <stdexcept>
 
+#include "io/gltf_clip_load.h"
 #include "io/gltf_load.h"
 #include "mannequin/mannequin.h"
+#include "motion/own_skeleton_clip.h"
 #include "tests/io/gltf_test_files.h"
 
 namespace sweepd::io {
@@ -154,6 +161,182 @@ TEST(GltfSave, UnwritablePathThrows) {
   EXPECT_THROW(save_gltf(synthetic_tube(2), dir / "no_such_dir" / "x.glb"), std::runtime_error);
 }
 
+// Keys of synthetic_tube(5)'s joints bone0..bone4: LINEAR rotations of bone1..bone3 and the root
+// bone0's LINEAR translation at 0, 0.5 and 1 s (one shared input), a STEP rotation of bone4 at 0
+// and 0.4 s (its own input).
+constexpr float kSwingTimes[] = {0.0f, 0.5f, 1.0f};
+
+std::vector<float> xyzw(const glm::quat& q) { return {q.x, q.y, q.z, q.w}; }
+
+motion::KeyframeTrack rotation_keys(int joint, motion::Interpolation interpolation,
+                                    std::vector<float> times, glm::vec3 axis,
+                                    std::vector<float> degrees) {
+  motion::KeyframeTrack track;
+  track.joint = joint;
+  track.path = motion::TrackPath::kRotation;
+  track.interpolation = interpolation;
+  track.times = std::move(times);
+  for (float angle : degrees) {
+    const std::vector<float> q = xyzw(glm::angleAxis(glm::radians(angle), glm::normalize(axis)));
+    track.values.insert(track.values.end(), q.begin(), q.end());
+  }
+  return track;
+}
+
+SavedAnimation swing_animation() {
+  using motion::Interpolation;
+  const std::vector<float> times(std::begin(kSwingTimes), std::end(kSwingTimes));
+  SavedAnimation swing{"swing", {}};
+  swing.tracks.push_back(rotation_keys(1, Interpolation::kLinear, times, {0, 0, 1}, {10, 40, -20}));
+  swing.tracks.push_back(rotation_keys(2, Interpolation::kLinear, times, {1, 0, 0}, {0, 60, 15}));
+  swing.tracks.push_back(rotation_keys(3, Interpolation::kLinear, times, {1, 2, 3}, {-30, 5, 70}));
+  motion::KeyframeTrack root;
+  root.joint = 0;
+  root.path = motion::TrackPath::kTranslation;
+  root.times = times;
+  root.values = {0.0f, 0.5f, 0.0f, 0.1f, 0.55f, 0.0f, 0.2f, 0.5f, -0.1f};
+  swing.tracks.push_back(root);
+  swing.tracks.push_back(rotation_keys(4, Interpolation::kStep, {0.0f, 0.4f}, {0, 1, 0}, {0, 45}));
+  return swing;
+}
+
+// The JSON chunk of a .glb (12-byte header, then the chunk's length and type, then the JSON).
+nlohmann::json glb_json(const std::filesystem::path& file) {
+  const std::string bytes = testing::read_bytes(file);
+  std::uint32_t length = 0;
+  std::memcpy(&length, bytes.data() + 12, sizeof length);
+  return nlohmann::json::parse(bytes.substr(20, length));
+}
+
+TEST(GltfSave, AnimationRoundTripsThroughTheClipLoader) {
+  ScratchDirectory dir;
+  const deform::Model tube = synthetic_tube(5);
+  SaveOptions options;
+  options.animations = {swing_animation()};
+  save_gltf(tube, dir / "swing.glb", options);
+
+  const motion::Clip clip = load_gltf_clip(dir / "swing.glb", "swing");
+  const std::vector<motion::KeyframeTrack>& written = options.animations[0].tracks;
+  ASSERT_EQ(clip.tracks.size(), written.size());
+  // Exact: keys are float32 in the file as in memory, and load_gltf_clip does no arithmetic on
+  // the tube's joints (scene-root chain, unit scales: nothing to carry them through).
+  for (std::size_t t = 0; t < written.size(); ++t) {
+    EXPECT_EQ(clip.tracks[t].joint, written[t].joint) << "track " << t;
+    EXPECT_EQ(clip.tracks[t].path, written[t].path) << "track " << t;
+    EXPECT_EQ(clip.tracks[t].interpolation, written[t].interpolation) << "track " << t;
+    EXPECT_EQ(clip.tracks[t].times, written[t].times) << "track " << t;
+    EXPECT_EQ(clip.tracks[t].values, written[t].values) << "track " << t;
+  }
+
+  // Tracks with the same times share their input; every input has its bounds.
+  const nlohmann::json gltf = glb_json(dir / "swing.glb");
+  std::set<int> inputs;
+  for (const nlohmann::json& sampler : gltf["animations"][0]["samplers"])
+    inputs.insert(sampler["input"].get<int>());
+  EXPECT_EQ(inputs.size(), 2u);
+  for (int input : inputs) {
+    EXPECT_TRUE(gltf["accessors"][input].contains("min"));
+    EXPECT_TRUE(gltf["accessors"][input].contains("max"));
+  }
+
+  // Between keys the reloaded model's own-skeleton player gives the pose the keys give: slerp
+  // (glm's, float) and lerp of the written keys, STEP's earlier key, rest rotations elsewhere.
+  // 1e-6 per component: float slerp against the player's double one, rounded to float.
+  const deform::Model loaded = load_gltf(dir / "swing.glb");
+  const motion::OwnSkeletonClip player(clip, loaded.skeleton);
+  const auto key = [&](int track, int k) {
+    const float* v = written[track].values.data() + 4 * k;
+    return glm::quat(v[3], v[0], v[1], v[2]);
+  };
+  for (const float seconds : {0.25f, 0.75f}) {
+    const int k = seconds < 0.5f ? 0 : 1;
+    const float s = (seconds - kSwingTimes[k]) / (kSwingTimes[k + 1] - kSwingTimes[k]);
+    std::vector<glm::quat> expected = {
+        loaded.skeleton.joints[0].rest_rotation, glm::slerp(key(0, k), key(0, k + 1), s),
+        glm::slerp(key(1, k), key(1, k + 1), s), glm::slerp(key(2, k), key(2, k + 1), s),
+        key(4, seconds < 0.4f ? 0 : 1)};
+    const float* root = written[3].values.data();
+    const glm::vec3 root_expected =
+        glm::mix(glm::vec3(root[3 * k], root[3 * k + 1], root[3 * k + 2]),
+                 glm::vec3(root[3 * k + 3], root[3 * k + 4], root[3 * k + 5]), s);
+    const deform::Pose pose = player.pose_at_time(seconds);
+    ASSERT_EQ(pose.local_rotations.size(), expected.size());
+    for (std::size_t j = 0; j < expected.size(); ++j)
+      for (int c = 0; c < 4; ++c)
+        EXPECT_NEAR(pose.local_rotations[j][c], expected[j][c], 1e-6)
+            << "joint " << j << " component " << c << " at " << seconds << " s";
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(pose.root_translation[c], root_expected[c], 1e-6) << "root at " << seconds;
+  }
+}
+
+TEST(GltfSave, AcceptsARotationWithinTheUnitTolerance) {
+  ScratchDirectory dir;
+  SaveOptions options;
+  options.animations = {swing_animation()};
+  for (float& value : options.animations[0].tracks[0].values) value *= 1.0009f;
+  EXPECT_NO_THROW(save_gltf(synthetic_tube(5), dir / "nearly_unit.glb", options));
+}
+
+TEST(GltfSave, RefusesBadAnimationsNamingTheProblem) {
+  struct Case {
+    std::function<void(std::vector<SavedAnimation>&)> spoil;
+    std::string words;  // what the message must say
+  };
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float infinity = std::numeric_limits<float>::infinity();
+  const std::vector<Case> cases = {
+      {[](auto& a) { a[0].tracks[1].times[2] = 0.5f; },
+       "animation 'swing' track 1 (rotation of joint 'bone2'): key times are not strictly "
+       "increasing"},
+      {[](auto& a) { a[0].tracks[3].values.pop_back(); },
+       "animation 'swing' track 3 (translation of joint 'bone0'): 2 outputs for 3 keys"},
+      {[](auto& a) { a[0].tracks[2].joint = 5; },
+       "animation 'swing' track 2 (rotation): joint 5 is out of range (the model has 5 joints)"},
+      {[](auto& a) { a[0].tracks[2].joint = -1; }, "joint -1 is out of range"},
+      {[](auto& a) { a[0].name.clear(); }, "animation 0 has no name"},
+      {[](auto& a) { a.push_back(a[0]); }, "two animations are named 'swing'"},
+      {[](auto& a) { a[0].tracks.clear(); }, "animation 'swing' has no tracks"},
+      {[](auto& a) {
+         for (int i = 4; i < 8; ++i) a[0].tracks[0].values[i] *= 1.01f;
+       },
+       "track 0 (rotation of joint 'bone1'): key 1's rotation is not a unit quaternion (length "
+       "1.010000"},
+      {[&](auto& a) { a[0].tracks[3].values[4] = nan; },
+       "track 3 (translation of joint 'bone0'): an output value is not finite"},
+      {[&](auto& a) { a[0].tracks[0].values[0] = infinity; },
+       "track 0 (rotation of joint 'bone1'): an output value is not finite"},
+      {[&](auto& a) { a[0].tracks[4].times[1] = infinity; },
+       "track 4 (rotation of joint 'bone4'): key time 1 is not finite"},
+      {[](auto& a) { a[0].tracks[4].times[0] = -0.1f; },
+       "track 4 (rotation of joint 'bone4'): key time 0 is negative"},
+      {[](auto& a) {
+         motion::KeyframeTrack& cubic = a[0].tracks[4];
+         cubic.interpolation = motion::Interpolation::kCubicSpline;
+         cubic.times = {0.0f};
+         cubic.values = {0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0};
+       },
+       "track 4 (rotation of joint 'bone4'): a CUBICSPLINE track needs 2 keys or more"},
+      {[](auto& a) { a[0].tracks.push_back(a[0].tracks[2]); },
+       "track 5 (rotation of joint 'bone3'): that joint has an earlier rotation track"},
+  };
+  ScratchDirectory dir;
+  const deform::Model tube = synthetic_tube(5);
+  for (const Case& bad : cases) {
+    SaveOptions options;
+    options.animations = {swing_animation()};
+    bad.spoil(options.animations);
+    try {
+      save_gltf(tube, dir / "bad.glb", options);
+      ADD_FAILURE() << "saved despite: " << bad.words;
+    } catch (const std::invalid_argument& error) {
+      EXPECT_NE(std::string(error.what()).find(bad.words), std::string::npos)
+          << "message: " << error.what() << "\nexpected it to say: " << bad.words;
+    }
+    EXPECT_FALSE(std::filesystem::exists(dir / "bad.glb")) << bad.words;
+  }
+}
+
 // The Khronos validator's summary of one file, or a reason why it cannot run (then empty json).
 struct ValidatorRun {
   nlohmann::json summary;
@@ -232,6 +415,23 @@ TEST(GltfSaveValidator, ThreeHundredJointsUseShortJointIndices) {
   expect_validator_accepts(dir / "long_tube.glb");
   const deform::Model loaded = load_gltf(dir / "long_tube.glb");
   EXPECT_EQ(loaded.skin_joints.back()[0], 299);
+}
+
+TEST(GltfSaveValidator, AnimationOfRotationsTranslationAndStepHasNoErrors) {
+  ScratchDirectory dir;
+  SaveOptions options;
+  options.animations = {swing_animation()};
+  // A second animation, CUBICSPLINE: tangents (zero, or not unit) sit beside the unit values.
+  motion::KeyframeTrack cubic =
+      rotation_keys(2, motion::Interpolation::kCubicSpline, {0.0f, 1.0f}, {0, 0, 1}, {0, 90});
+  const std::vector<float> zero(4, 0.0f), tangent = {0.0f, 0.0f, 0.5f, 0.0f};
+  cubic.values.insert(cubic.values.begin() + 4, tangent.begin(), tangent.end());
+  cubic.values.insert(cubic.values.begin(), zero.begin(), zero.end());
+  cubic.values.insert(cubic.values.end() - 4, tangent.begin(), tangent.end());
+  cubic.values.insert(cubic.values.end(), zero.begin(), zero.end());
+  options.animations.push_back({"cubic", {cubic}});
+  save_gltf(synthetic_tube(5), dir / "swing.glb", options);
+  expect_validator_accepts(dir / "swing.glb");
 }
 
 TEST(GltfSaveValidator, ReportsErrorsInABadFile) {
