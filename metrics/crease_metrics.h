@@ -58,15 +58,19 @@ class CreaseMeter {
   double largest_dihedral_change_near(std::span<const glm::vec3> positions, glm::vec3 centre,
                                       float radius) const;
 
+  // The welded edges between two triangles one by one (metrics/region_quality.h sorts them into
+  // body regions): a model vertex at one end, and the edge's dihedral change from rest, degrees
+  // in [0, 180].
+  std::size_t edge_count() const { return wings_.size(); }
+  std::uint32_t edge_vertex(std::size_t e) const { return wings_[e].a; }
+  double change_from_rest(std::span<const glm::vec3> positions, std::size_t e) const;
+
  private:
   struct Wing {  // a welded edge (a, b) and the far vertices of its two triangles, model ids
     std::uint32_t a, b, left, right;
     std::int16_t region;  // sweep index, -1 for skinned
     bool at_key;
   };
-  // Wing e's dihedral change from rest, degrees in [0, 180].
-  double change_from_rest(std::span<const glm::vec3> positions, std::size_t e) const;
-
   const deform::BoundModel& bound_;
   std::vector<Wing> wings_;
   std::vector<float> rest_dihedral_;  // radians, per wing

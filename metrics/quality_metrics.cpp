@@ -209,12 +209,15 @@ QualityMetrics QualityMeter::measure(std::span<const glm::vec3> positions, const
 
 double QualityMeter::largest_edge_stretch(std::span<const glm::vec3> positions) const {
   double largest = 0.0;
-  for (std::size_t e = 0; e < rest_edge_length_.size(); ++e) {
-    if (rest_edge_length_[e] <= 0.0f) continue;
-    const float length = glm::length(positions[edges_[2 * e]] - positions[edges_[2 * e + 1]]);
-    largest = std::max(largest, std::abs(static_cast<double>(length / rest_edge_length_[e]) - 1.0));
-  }
+  for (std::size_t e = 0; e < rest_edge_length_.size(); ++e)
+    largest = std::max(largest, std::abs(edge_ratio(positions, e) - 1.0));
   return largest;
+}
+
+double QualityMeter::edge_ratio(std::span<const glm::vec3> positions, std::size_t e) const {
+  if (rest_edge_length_[e] <= 0.0f) return 1.0;
+  const float length = glm::length(positions[edges_[2 * e]] - positions[edges_[2 * e + 1]]);
+  return static_cast<double>(length / rest_edge_length_[e]);
 }
 
 }  // namespace sweepd::metrics

@@ -66,6 +66,11 @@ class QualityMeter {
   double largest_edge_stretch(std::span<const glm::vec3> positions) const;
 
   const deform::PartVolumeRegions& regions() const { return regions_; }
+  // The welded edges one by one (metrics/region_quality.h sorts them into body regions): a
+  // model vertex at one end, and the edge's length ratio l / l_rest (1 for a zero rest length).
+  std::size_t edge_count() const { return rest_edge_length_.size(); }
+  std::uint32_t edge_vertex(std::size_t e) const { return edges_[2 * e]; }
+  double edge_ratio(std::span<const glm::vec3> positions, std::size_t e) const;
 
  private:
   std::vector<glm::vec3> welded_positions(std::span<const glm::vec3> positions) const;

@@ -1,0 +1,69 @@
+#include "metrics/region_quality.h"
+
+#include <algorithm>
+
+namespace sweepd::metrics {
+
+using namespace deform;  // the metrics measure the deform library's types
+
+namespace {
+
+glm::vec3 triangle_normal(std::span<const glm::vec3> p, const std::vector<std::uint32_t>& indices,
+                          std::size_t t) {
+  const glm::vec3 a = p[indices[3 * t]], b = p[indices[3 * t + 1]], c = p[indices[3 * t + 2]];
+  return glm::cross(b - a, c - a);
+}
+
+}  // namespace
+
+RegionMeter::RegionMeter(const BoundModel& bound) : bound_(bound), quality_(bound), crease_(bound) {
+  const Model& model = bound.model;
+  const std::vector<BodyPart> part_of = label_joints(bound.rig, model.skeleton);
+  std::vector<int> index_of_part(static_cast<int>(BodyPart::kRightFoot) + 1, -1);
+  std::vector<BodyPart> vertex_part(model.vertex_count());
+  for (std::size_t v = 0; v < vertex_part.size(); ++v) {
+    const auto& weights = model.skin_weights[v];
+    const int k = static_cast<int>(std::max_element(weights.begin(), weights.end()) - weights.begin());
+    strongest_joint_.push_back(model.skin_joints[v][k]);
+    const BodyPart part = part_of[strongest_joint_.back()];
+    vertex_part[v] = part == BodyPart::kNone ? BodyPart::kTorso : part;
+    index_of_part[static_cast<int>(vertex_part[v])] = 0;
+  }
+  for (std::size_t p = 0; p < index_of_part.size(); ++p)
+    if (index_of_part[p] == 0) {
+      index_of_part[p] = static_cast<int>(regions_.size());
+      regions_.push_back(static_cast<BodyPart>(p));
+    }
+  for (const BodyPart part : vertex_part)
+    region_of_vertex_.push_back(index_of_part[static_cast<int>(part)]);
+  for (const glm::mat4& world : model.skeleton.world_rest_matrices())
+    inverse_rest_.push_back(glm::inverse(world));
+  for (std::size_t t = 0; 3 * t + 2 < model.indices.size(); ++t)
+    rest_normal_.push_back(triangle_normal(model.positions, model.indices, t));
+}
+
+std::vector<RegionFigures> RegionMeter::measure(std::span<const glm::vec3> positions,
+                                                std::span<const glm::mat4> joint_world) const {
+  std::vector<RegionFigures> figures(regions_.size());
+  for (std::size_t e = 0; e < quality_.edge_count(); ++e) {
+    RegionFigures& f = figures[region_of_vertex(quality_.edge_vertex(e))];
+    const double ratio = quality_.edge_ratio(positions, e);
+    f.stretch = std::max(f.stretch, ratio);
+    f.squash = std::min(f.squash, ratio);
+  }
+  for (std::size_t e = 0; e < crease_.edge_count(); ++e) {
+    RegionFigures& f = figures[region_of_vertex(crease_.edge_vertex(e))];
+    f.crease = std::max(f.crease, crease_.change_from_rest(positions, e));
+  }
+  const std::vector<std::uint32_t>& indices = bound_.model.indices;
+  for (std::size_t t = 0; t < rest_normal_.size(); ++t) {
+    const std::uint32_t v = indices[3 * t];
+    const int joint = strongest_joint_[v];
+    const glm::mat3 carry(joint_world[joint] * inverse_rest_[joint]);
+    if (glm::dot(triangle_normal(positions, indices, t), carry * rest_normal_[t]) < 0.0f)
+      ++figures[region_of_vertex(v)].flipped;
+  }
+  return figures;
+}
+
+}  // namespace sweepd::metrics

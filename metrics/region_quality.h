@@ -1,0 +1,57 @@
+// Region quality: how a posed mesh keeps its shape, body region by body region — what
+// `sweepctl check` and the corpus gate compare between the sweep and skinning (issue 47).
+//
+// A vertex belongs to the body part (deform::label_joints) of its strongest skin joint; a joint
+// above the pelvis counts as torso. An edge, a triangle belongs to the region of its first
+// vertex. Per region and posed mesh:
+//   stretch   the largest edge length ratio l / l_rest over its welded edges (1 at rest)
+//   squash    the smallest l / l_rest (1 at rest)
+//   crease    the largest change of dihedral angle from rest across its welded edges, degrees
+//             (metrics/crease_metrics.h's, over every edge, not only the swept ones)
+//   flipped   triangles whose normal points away (negative dot) from their rest normal turned
+//             by their first vertex's strongest joint: skin folded over itself, which no
+//             rotation of the body explains
+// Inputs: positions (vertex_count()) and the posed joints' world matrices (the pose's forward
+// kinematics). Not a per-frame hot path: ~10 ms for the shared male.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <glm/glm.hpp>
+#include <span>
+#include <vector>
+
+#include "deform/binding/bound_model.h"
+#include "metrics/crease_metrics.h"
+#include "metrics/quality_metrics.h"
+
+namespace sweepd::metrics {
+
+struct RegionFigures {
+  double stretch = 1.0, squash = 1.0, crease = 0.0;
+  int flipped = 0;
+};
+
+class RegionMeter {
+ public:
+  explicit RegionMeter(const deform::BoundModel& bound);
+  // The regions the body has (those with at least one edge), in deform::BodyPart order.
+  const std::vector<deform::BodyPart>& regions() const { return regions_; }
+  // One RegionFigures per regions() entry.
+  std::vector<RegionFigures> measure(std::span<const glm::vec3> positions,
+                                     std::span<const glm::mat4> joint_world) const;
+
+ private:
+  int region_of_vertex(std::uint32_t v) const { return region_of_vertex_[v]; }
+
+  const deform::BoundModel& bound_;
+  QualityMeter quality_;
+  CreaseMeter crease_;
+  std::vector<deform::BodyPart> regions_;
+  std::vector<int> region_of_vertex_;     // index into regions_
+  std::vector<int> strongest_joint_;      // per vertex
+  std::vector<glm::mat4> inverse_rest_;   // per joint
+  std::vector<glm::vec3> rest_normal_;    // per triangle (unnormalised)
+};
+
+}  // namespace sweepd::metrics
