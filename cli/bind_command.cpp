@@ -18,6 +18,8 @@
 #include "console/command_line.h"
 #include "console/progress_bar.h"
 #include "deform/binding/bind.h"
+#include "deform/blending/rigid_islands.h"
+#include "deform/mesh/welded_mesh.h"
 #include "io/gltf_save.h"
 #include "io/sweepbind.h"
 
@@ -101,6 +103,25 @@ void write_debug_gltf(const deform::BoundModel& bound, const std::filesystem::pa
   io::save_gltf(bound.model, file, options);
 }
 
+// "rigid islands: 12 pieces, 3,400 vertices (left knee 1,200, ...)": the pieces skinning moves
+// rigidly, which the binding leaves to it (deform/blending/rigid_islands.h), by their joint.
+void print_rigid_islands(const deform::Model& model) {
+  const std::vector<int> joint_of =
+      deform::rigid_island_joints(model, deform::weld_mesh(model.positions, model.indices));
+  std::map<std::string, std::size_t> count;
+  for (const int joint : joint_of)
+    if (joint >= 0) ++count[model.skeleton.joints[joint].name];
+  if (count.empty()) return;
+  std::size_t total = 0;
+  std::string text;
+  for (const auto& [joint, n] : count) {
+    total += n;
+    text += (text.empty() ? "" : ", ") + joint + " " + with_thousands(n);
+  }
+  std::printf("rigid islands (one joint each, skinned so they stay rigid): %s vertices (%s)\n",
+              with_thousands(total).c_str(), text.c_str());
+}
+
 struct Options {
   std::filesystem::path model, out, rig, debug_gltf;
   deform::BindOptions bind;
@@ -138,6 +159,7 @@ int bind_model(const Options& options) {
   // or an absent limb where the rig's warnings say so).
   std::printf("\nskinned only: %s vertices (%s)\n", with_thousands(skinned).c_str(),
               skinned_by_part(bound).c_str());
+  print_rigid_islands(bound.model);
   std::printf("rest-pose error: max %.3g m (%.3g x height)\n", worst, worst / (hi - lo));
   std::printf("wrote %s\n", options.out.string().c_str());
   if (!options.debug_gltf.empty()) {

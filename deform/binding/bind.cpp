@@ -7,6 +7,7 @@
 #include "deform/binding/mesh_parts_joined.h"
 #include "deform/binding/rest_sweep.h"
 #include "deform/binding/sweep_coordinates.h"
+#include "deform/blending/rigid_islands.h"
 #include "deform/blending/skinned_share_influences.h"
 #include "deform/blending/sweep_blending.h"
 #include "deform/mesh/welded_mesh.h"
@@ -142,6 +143,10 @@ BoundModel bind_one_body(const Model& model, const RigMap& rig, const BindOption
 
   report(0.5, "blending regions");
   bound.vertices = blend_shares(model, mesh, rig, world_rest, bound.sweeps, options);
+  // Pieces the model's skinning moves rigidly stay rigid: skinned whole.
+  const std::vector<int> rigid = rigid_island_joints(model, mesh);
+  for (std::size_t v = 0; v < rigid.size(); ++v)
+    if (rigid[v] >= 0) bound.vertices[v] = VertexBinding{.skin_weight = 1.0f};
   SkinInfluences skinned_share =
       skinned_share_influences(model, mesh, bound.vertices, bound.sweeps);
   bound.skinned_share_joints = std::move(skinned_share.joints);
