@@ -33,5 +33,7 @@ Command add_positionmap_command(CLI::App& sweepctl, const ServerAddress& server)
 Command add_metrics_command(CLI::App& sweepctl, const ServerAddress& server);
 Command add_edit_command(CLI::App& sweepctl);
 Command add_sheet_command(CLI::App& sweepctl, const ServerAddress& server);
+Command add_check_command(CLI::App& sweepctl);
+Command add_rom_command(CLI::App& sweepctl);
 
 }  // namespace sweepd::cli

@@ -12,11 +12,11 @@
 #include <sstream>
 
 #include "cli/commands.h"
+#include "cli/local_sheet.h"
 #include "cli/posed_model.h"
 #include "cli/remote_posed_model.h"
 #include "cli/video_encoder.h"
 #include "console/command_line.h"
-#include "gpu/egl_context.h"
 #include "gpu/sheet/contact_sheet.h"
 #include "io/file_bytes.h"
 #include "motion/frame_range.h"
@@ -49,35 +49,6 @@ std::string parse_frame_list(const std::string& text, std::vector<int>& frames) 
   if (frames.empty()) return "the frame list is empty: give frames as N,N,A-B";
   return "";
 }
-
-// The sheet drawn here: cells on this thread's own context, sweep+features' pairs from
-// --collision's backend.
-class LocalSheet {
- public:
-  LocalSheet(PosedModel& posed, const sheet::SheetOptions& options)
-      : renderer_(context_),
-        collision_(sheet::uses_collision(options.methods)
-                       ? std::make_unique<LocalCollision>(posed.arguments().collision)
-                       : nullptr),
-        contact_(
-            {posed.bound(), posed.runtime(), [&posed](int frame) { return posed.pose(frame); }},
-            options, collision_.get(),
-            [this](const gpu::PreviewMesh& mesh, const gpu::PreviewOptions& preview,
-                   std::span<std::uint8_t> rgba) {
-              context_.make_current();  // a GPU collision backend may have made its own
-              renderer_.render(mesh, preview, rgba);
-            }) {}
-
-  sheet::ContactSheet& contact() { return contact_; }
-  sheet::SheetPicture picture() { return sheet::draw_picture(contact_, context_.renderer()); }
-  std::string collision_summary() const { return collision_ ? collision_->summary() : ""; }
-
- private:
-  gpu::Context context_;
-  gpu::PreviewRenderer renderer_;
-  std::unique_ptr<LocalCollision> collision_;
-  sheet::ContactSheet contact_;
-};
 
 // --video: one row of cells per frame.
 void draw_video(sheet::ContactSheet& contact, const Options& options) {
