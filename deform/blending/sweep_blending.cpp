@@ -191,6 +191,9 @@ std::vector<VertexBinding> blend_shares(const Model& model, const WeldedMesh& me
     start[s] = planes_at(world_rest, chain[0], chain[0], chain[1], options.transition_half_width);
     finish[s] = planes_at(world_rest, chain[n - 1], chain[n - 2], chain[n - 1],
                           options.end_blend_half_width);
+    // A leg hands over by the ankle (the header says why an arm does not).
+    if (sweeps[s].part == BodyPart::kLeftLeg || sweeps[s].part == BodyPart::kRightLeg)
+      finish[s].centre -= finish[s].half_width * finish[s].direction;
     if (s == torso) {
       torso_top = finish[s];
       torso_top.centre += torso_top.half_width * torso_top.direction;
