@@ -22,6 +22,7 @@
 #include <cstdint>
 #include <glm/glm.hpp>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "deform/binding/bound_model.h"
@@ -66,10 +67,12 @@ class QualityMeter {
   double largest_edge_stretch(std::span<const glm::vec3> positions) const;
 
   const deform::PartVolumeRegions& regions() const { return regions_; }
-  // The welded edges one by one (metrics/region_quality.h sorts them into body regions): a
-  // model vertex at one end, and the edge's length ratio l / l_rest (1 for a zero rest length).
+  // The welded edges one by one (metrics/region_quality.h sorts them into body regions): an
+  // edge's two model vertices, and its length ratio l / l_rest (1 for a zero rest length).
   std::size_t edge_count() const { return rest_edge_length_.size(); }
-  std::uint32_t edge_vertex(std::size_t e) const { return edges_[2 * e]; }
+  std::pair<std::uint32_t, std::uint32_t> edge_vertices(std::size_t e) const {
+    return {edges_[2 * e], edges_[2 * e + 1]};
+  }
   double edge_ratio(std::span<const glm::vec3> positions, std::size_t e) const;
 
  private:

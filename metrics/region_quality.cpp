@@ -34,6 +34,7 @@ RegionMeter::RegionMeter(const BoundModel& bound) : bound_(bound), quality_(boun
       index_of_part[p] = static_cast<int>(regions_.size());
       regions_.push_back(static_cast<BodyPart>(p));
     }
+  for (const VertexBinding& binding : bound.vertices) swept_.push_back(binding.skin_weight < 1.0f);
   for (const BodyPart part : vertex_part)
     region_of_vertex_.push_back(index_of_part[static_cast<int>(part)]);
   for (const glm::mat4& world : model.skeleton.world_rest_matrices())
@@ -46,10 +47,15 @@ std::vector<RegionFigures> RegionMeter::measure(std::span<const glm::vec3> posit
                                                 std::span<const glm::mat4> joint_world) const {
   std::vector<RegionFigures> figures(regions_.size());
   for (std::size_t e = 0; e < quality_.edge_count(); ++e) {
-    RegionFigures& f = figures[region_of_vertex(quality_.edge_vertex(e))];
+    const auto [a, b] = quality_.edge_vertices(e);
+    RegionFigures& f = figures[region_of_vertex(a)];
     const double ratio = quality_.edge_ratio(positions, e);
     f.stretch = std::max(f.stretch, ratio);
     f.squash = std::min(f.squash, ratio);
+    if (swept_[a] || swept_[b]) {
+      f.swept = true;
+      f.swept_stretch = std::max(f.swept_stretch, ratio);
+    }
   }
   for (std::size_t e = 0; e < crease_.edge_count(); ++e) {
     RegionFigures& f = figures[region_of_vertex(crease_.edge_vertex(e))];
@@ -60,8 +66,11 @@ std::vector<RegionFigures> RegionMeter::measure(std::span<const glm::vec3> posit
     const std::uint32_t v = indices[3 * t];
     const int joint = strongest_joint_[v];
     const glm::mat3 carry(joint_world[joint] * inverse_rest_[joint]);
-    if (glm::dot(triangle_normal(positions, indices, t), carry * rest_normal_[t]) < 0.0f)
-      ++figures[region_of_vertex(v)].flipped;
+    if (glm::dot(triangle_normal(positions, indices, t), carry * rest_normal_[t]) >= 0.0f)
+      continue;
+    RegionFigures& f = figures[region_of_vertex(v)];
+    ++f.flipped;
+    f.swept_flipped += swept_[v] || swept_[indices[3 * t + 1]] || swept_[indices[3 * t + 2]];
   }
   return figures;
 }

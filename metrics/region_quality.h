@@ -11,6 +11,9 @@
 //   flipped   triangles whose normal points away (negative dot) from their rest normal turned
 //             by their first vertex's strongest joint: skin folded over itself, which no
 //             rotation of the body explains
+// and the same over the swept part of the region alone (edges and triangles with a vertex that
+// a sweep moves: VertexBinding::skin_weight < 1): where the sweep method differs from its own
+// skinned remainder (LBS), so where comparing it with skinning judges the sweep.
 // Inputs: positions (vertex_count()) and the posed joints' world matrices (the pose's forward
 // kinematics). Not a per-frame hot path: ~10 ms for the shared male.
 #pragma once
@@ -30,6 +33,10 @@ namespace sweepd::metrics {
 struct RegionFigures {
   double stretch = 1.0, squash = 1.0, crease = 0.0;
   int flipped = 0;
+  // Over the swept edges and triangles only.
+  double swept_stretch = 1.0;
+  int swept_flipped = 0;
+  bool swept = false;  // whether the region has swept edges
 };
 
 class RegionMeter {
@@ -50,6 +57,7 @@ class RegionMeter {
   std::vector<deform::BodyPart> regions_;
   std::vector<int> region_of_vertex_;     // index into regions_
   std::vector<int> strongest_joint_;      // per vertex
+  std::vector<bool> swept_;               // per vertex: skin_weight < 1
   std::vector<glm::mat4> inverse_rest_;   // per joint
   std::vector<glm::vec3> rest_normal_;    // per triangle (unnormalised)
 };
