@@ -12,7 +12,7 @@
 BUILD := build/release
 JOBS ?= $(shell nproc)
 
-.PHONY: deps build check test sanitize sanitize-untrusted tsan demo bench fuzz docs-sheet clean
+.PHONY: deps build check test sanitize sanitize-untrusted tsan demo bench fuzz docs-sheet docs-quality clean
 
 deps:
 	bash deploy/install-deps.sh
@@ -64,6 +64,13 @@ docs-sheet: deps configure-release
 	$(BUILD)/cli/sweepctl sheet $(SHARED)/models/makehuman_male_cmu.glb \
 	  --bvh $(SHARED)/motion/cmu_01_01.bvh --frames 197,600,1257 --methods sweep,lbs,dqs \
 	  --cell 200x300 -o docs/contact_sheet.png
+
+# docs/quality/: per shared body, sweepctl check's tables (range of motion, CMU 01_01 and 01_03)
+# and the contact sheet of its worst frames, and their index (a few minutes).
+docs-quality: deps configure-release
+	@test -d $(SHARED)/models/corpus || { echo "docs-quality: no $(SHARED)/models/corpus: ../shared/data is not beside this checkout"; exit 1; }
+	cmake --build $(BUILD) -j $(JOBS) --target sweepctl
+	bash docs/quality/make_pages.sh $(BUILD)/cli/sweepctl $(SHARED)
 
 clean:
 	rm -rf build

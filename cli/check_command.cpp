@@ -13,6 +13,7 @@
 #include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -46,7 +47,7 @@ struct Options {
   PosingArguments posing;
   std::vector<Method> methods;  // default sweep, lbs, dqs
   int step = 0;                 // 0: every 5th frame of the ROM (its peaks), every 10th of a clip
-  bool json = false;
+  bool json = false, markdown = false;
   std::filesystem::path sheet;  // --sheet: the worst frames' contact sheet
   std::string focus;            // --focus: its close-ups' joint
   float azimuth = 0.0f;         // --azimuth: its view, degrees from the front towards the left
@@ -107,12 +108,16 @@ Report run_check(const Options& options, const PosedModel& posed,
   std::vector<std::vector<metrics::RegionFigures>> figures(methods.size());
   std::vector<glm::vec3> positions(bound.model.vertex_count());
   std::vector<deform::DeformContext> contexts(methods.size());
+  // sweep+features and sweep+contact: folding's pairs from the --collision backend.
+  std::optional<LocalCollision> collision;
+  if (sheet::uses_collision(methods)) collision.emplace(options.posing.collision);
   console::ProgressBar bar("check");
   for (std::size_t i = 0; i < report.frames.size(); ++i) {
     const int frame = report.frames[i];
     const deform::Pose pose = clip ? clip->pose_at_frame(frame) : posed.pose(0);
     for (std::size_t m = 0; m < methods.size(); ++m) {
-      sheet::deform_with(methods[m], posed.runtime(), contexts[m], nullptr, pose, positions);
+      sheet::deform_with(methods[m], posed.runtime(), contexts[m], collision ? &*collision : nullptr,
+                         pose, positions);
       figures[m] = meter.measure(positions, contexts[m].world_pose());
       for (std::size_t r = 0; r < regions; ++r) report.worst[m][r].add(figures[m][r], frame);
     }
@@ -151,6 +156,38 @@ int failing_regions(const Report& report, const std::vector<Method>& methods) {
   return failing;
 }
 
+// The last column: whether, how often and where a sweep method was worse than skinning.
+std::string verdict_text(const Report& report, const std::vector<Method>& methods, std::size_t m,
+                         std::size_t r) {
+  if (!is_sweep(methods[m])) return "";
+  const Verdict& v = report.verdict[m][r];
+  if (!v.swept) return "skinned only (LBS)";
+  if (v.worse_frames == 0) return "no";
+  std::string text = std::to_string(v.worse_frames) + " frames";
+  if (v.excess > 1.0) {
+    char worst[160];
+    std::snprintf(worst, sizeof worst, "; worst %s: %.2f against %.2f",
+                  report.frame_label(v.worst_frame).c_str(), v.sweep, v.baseline);
+    text += worst;
+  }
+  return text;
+}
+
+std::string summary(const Report& report, const std::vector<Method>& methods) {
+  const int failing = failing_regions(report, methods);
+  char text[200];
+  if (failing == 0)
+    std::snprintf(text, sizeof text,
+                  "the sweep is nowhere worse than the better of LBS and DQS (tolerance %.2fx)",
+                  kTolerance);
+  else
+    std::snprintf(text, sizeof text,
+                  "the sweep is worse than the better of LBS and DQS in %d region%s (tolerance "
+                  "%.2fx)",
+                  failing, failing == 1 ? "" : "s", kTolerance);
+  return text;
+}
+
 void print_table(const Report& report, const std::vector<Method>& methods,
                  const std::string& model) {
   std::printf("%s on %s: %zu frames measured; length ratios l / l_rest; crease in degrees\n",
@@ -160,32 +197,42 @@ void print_table(const Report& report, const std::vector<Method>& methods,
   for (std::size_t r = 0; r < report.regions.size(); ++r)
     for (std::size_t m = 0; m < methods.size(); ++m) {
       const Worst& w = report.worst[m][r];
-      std::string verdict;
-      if (is_sweep(methods[m])) {
-        const Verdict& v = report.verdict[m][r];
-        verdict = !v.swept               ? "skinned only (LBS)"
-                  : v.worse_frames == 0 ? "no"
-                                        : std::to_string(v.worse_frames) + " frames";
-        if (v.worse_frames > 0 && v.excess > 1.0) {
-          char text[160];
-          std::snprintf(text, sizeof text, "; worst %s: %.2f against %.2f",
-                        report.frame_label(v.worst_frame).c_str(), v.sweep, v.baseline);
-          verdict += text;
-        }
-      }
       std::printf("%-11s %-14s %8.2f  %-34.34s %7.2f %8.1f %8d  %s\n",
                   m == 0 ? deform::to_string(report.regions[r]) : "", methods[m].name.c_str(),
                   w.stretch, report.frame_label(w.stretch_frame).c_str(), w.squash, w.crease,
-                  w.flipped, verdict.c_str());
+                  w.flipped, verdict_text(report, methods, m, r).c_str());
     }
-  const int failing = failing_regions(report, methods);
-  if (failing == 0)
-    std::printf("the sweep is nowhere worse than the better of LBS and DQS (tolerance %.2fx)\n",
-                kTolerance);
-  else
-    std::printf("the sweep is worse than the better of LBS and DQS in %d region%s (tolerance "
-                "%.2fx): see the last column\n",
-                failing, failing == 1 ? "" : "s", kTolerance);
+  std::printf("%s: see the last column\n", summary(report, methods).c_str());
+}
+
+// One Markdown table, a row per region: each method's worst stretch and its frame, then each
+// sweep method's verdict (docs/quality/, made by `make docs-quality`).
+void print_markdown(const Report& report, const std::vector<Method>& methods) {
+  std::printf("%zu frames; the largest edge length ratio l / l_rest of each region, at its frame\n\n",
+              report.frames.size());
+  std::printf("| region |");
+  for (const Method& m : methods) std::printf(" %s |", m.name.c_str());
+  for (const Method& m : methods)
+    if (is_sweep(m)) std::printf(" %s worse than skinning |", m.name.c_str());
+  std::printf("\n|---|");
+  for (const Method& m : methods) std::printf(is_sweep(m) ? "---|---|" : "---|");
+  std::printf("\n");
+  for (std::size_t r = 0; r < report.regions.size(); ++r) {
+    std::printf("| %s |", deform::to_string(report.regions[r]));
+    for (std::size_t m = 0; m < methods.size(); ++m)
+      std::printf(" %.2f (%s) |", report.worst[m][r].stretch,
+                  report.frame_label(report.worst[m][r].stretch_frame).c_str());
+    for (std::size_t m = 0; m < methods.size(); ++m)
+      if (is_sweep(methods[m])) std::printf(" %s |", verdict_text(report, methods, m, r).c_str());
+    std::printf("\n");
+  }
+  std::printf("\nworst over every region:");
+  for (std::size_t m = 0; m < methods.size(); ++m) {
+    double worst = 1.0;
+    for (const Worst& w : report.worst[m]) worst = std::max(worst, w.stretch);
+    std::printf("%s %s %.2f", m ? "," : "", methods[m].name.c_str(), worst);
+  }
+  std::printf("\n\n%s.\n", summary(report, methods).c_str());
 }
 
 void print_json(const Report& report, const std::vector<Method>& methods,
@@ -289,6 +336,8 @@ int check(const Options& options) {
   if (!options.sheet.empty()) write_sheet(options, posed, clip, report);
   if (options.json)
     print_json(report, options.methods, model);
+  else if (options.markdown)
+    print_markdown(report, options.methods);
   else
     print_table(report, options.methods, model);
   return failing_regions(report, options.methods) > 0 ? 1 : 0;
@@ -311,11 +360,13 @@ Command add_check_command(CLI::App& sweepctl) {
       "by LBS in every method and shown as \"skinned only (LBS)\".");
   auto options = std::make_shared<Options>();
   add_posing_flags(*command, options->posing, ClipFrames::kOne);
+  add_collision_flag(*command, options->posing);
   console::add_choice_list(
       *command, "--method", sheet::methods_by_name(),
       [options](const Method& method) { options->methods.push_back(method); },
       "comma-separated methods (default: sweep,lbs,dqs; lbs and dqs are always measured: the "
-      "sweep methods are judged against them)")
+      "sweep methods are judged against them); sweep+features folds and protrudes with pairs "
+      "from --collision's backend")
       ->type_name("LIST");
   command->add_option("--step", options->step,
                       "every Nth frame (default: 5 on the range of motion, where every move "
@@ -323,6 +374,9 @@ Command add_check_command(CLI::App& sweepctl) {
       ->type_name("N")
       ->check(console::whole_number(1, 1 << 20));
   command->add_flag("--json", options->json, "machine-readable JSON instead of the table");
+  command->add_flag("--markdown", options->markdown,
+                    "a Markdown table (worst stretch per region and method, the verdict) instead")
+      ->excludes("--json");
   command
       ->add_option("--sheet", options->sheet,
                    "a contact sheet of the worst frames (where the sweep is furthest past "
@@ -351,10 +405,6 @@ Command add_check_command(CLI::App& sweepctl) {
                        [&](const Method& x) { return x.name == m.name; }))
         options->methods.push_back(m);
     }
-    if (std::any_of(options->methods.begin(), options->methods.end(),
-                    [](const Method& m) { return m.collision; }))
-      throw CLI::ValidationError("--method: check measures sweep, sweep+volume, lbs and dqs; "
-                                 "folding and contact need a GPU pass per frame");
   });
   return {command, [options] { return check(*options); }, false};
 }
