@@ -35,10 +35,7 @@ namespace {
 using Method = sheet::MethodChoice;
 using deform::DeformMethod;
 
-// A sweep's frame stretches more than the better baseline's when its ratio exceeds this times
-// the baseline's: 2 % leaves room for the float noise of two deformations, not for a visible
-// difference (issue 47's gate).
-constexpr double kTolerance = 1.02;
+constexpr double kTolerance = metrics::kSkinningTolerance;
 // The range of motion's moves peak at their 15th frame: every 5th frame holds every peak.
 constexpr int kRomStep = motion::kRomFramesPerMove / 6;
 static_assert(motion::kRomFramesPerMove / 2 % kRomStep == 0);
@@ -122,22 +119,17 @@ Report run_check(const Options& options, const PosedModel& posed,
       for (std::size_t r = 0; r < regions; ++r) report.worst[m][r].add(figures[m][r], frame);
     }
     // Each sweep method against the better baseline, frame by frame.
-    // Over the region's swept edges: its skinned rest is the sweep method's LBS remainder, the
-    // same as LBS's own.
     for (std::size_t m = 0; m < methods.size() && lbs >= 0 && dqs >= 0; ++m) {
       if (!is_sweep(methods[m])) continue;
       for (std::size_t r = 0; r < regions; ++r) {
-        if (!figures[m][r].swept) continue;
-        const metrics::RegionFigures &l = figures[lbs][r], &d = figures[dqs][r];
-        const double baseline = std::min(l.swept_stretch, d.swept_stretch);
-        const int baseline_flipped = std::min(l.swept_flipped, d.swept_flipped);
-        const double excess = figures[m][r].swept_stretch / (kTolerance * baseline);
+        const metrics::SkinningComparison c =
+            metrics::compare_with_skinning(figures[m][r], figures[lbs][r], figures[dqs][r]);
+        if (!c.swept) continue;
         Verdict& v = report.verdict[m][r];
         v.swept = true;
-        v.worse_frames += excess > 1.0 || figures[m][r].swept_flipped > baseline_flipped;
-        if (excess > v.excess)
-          v.excess = excess, v.worst_frame = frame, v.sweep = figures[m][r].swept_stretch,
-          v.baseline = baseline;
+        v.worse_frames += c.worse;
+        if (c.excess > v.excess)
+          v.excess = c.excess, v.worst_frame = frame, v.sweep = c.sweep, v.baseline = c.baseline;
       }
     }
     bar.update(static_cast<double>(i + 1) / report.frames.size(), "measuring",

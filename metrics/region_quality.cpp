@@ -16,6 +16,18 @@ glm::vec3 triangle_normal(std::span<const glm::vec3> p, const std::vector<std::u
 
 }  // namespace
 
+SkinningComparison compare_with_skinning(const RegionFigures& sweep, const RegionFigures& lbs,
+                                         const RegionFigures& dqs) {
+  SkinningComparison c;
+  if (!sweep.swept) return c;
+  c.swept = true;
+  c.sweep = sweep.swept_stretch;
+  c.baseline = std::min(lbs.swept_stretch, dqs.swept_stretch);
+  c.excess = c.sweep / (kSkinningTolerance * c.baseline);
+  c.worse = c.excess > 1.0 || sweep.swept_flipped > std::min(lbs.swept_flipped, dqs.swept_flipped);
+  return c;
+}
+
 RegionMeter::RegionMeter(const BoundModel& bound) : bound_(bound), quality_(bound), crease_(bound) {
   const Model& model = bound.model;
   const std::vector<BodyPart> part_of = label_joints(bound.rig, model.skeleton);

@@ -39,6 +39,22 @@ struct RegionFigures {
   bool swept = false;  // whether the region has swept edges
 };
 
+// Issue 47's gate, one region in one frame: the sweep's figures against the better of LBS's and
+// DQS's, over the region's swept edges and triangles (its skinned rest is the sweep method's LBS
+// remainder, the same as LBS's own). Worse when the swept edges stretch more than
+// kSkinningTolerance times the better baseline's, or more swept triangles flip than the better
+// baseline flips. 2 % leaves room for the float noise of two deformations, not for a visible
+// difference.
+inline constexpr double kSkinningTolerance = 1.02;
+struct SkinningComparison {
+  bool swept = false;   // the region has swept edges (else there is nothing to judge)
+  bool worse = false;
+  double excess = 0.0;  // the sweep's ratio / (kSkinningTolerance x the baseline's)
+  double sweep = 1.0, baseline = 1.0;  // the two ratios
+};
+SkinningComparison compare_with_skinning(const RegionFigures& sweep, const RegionFigures& lbs,
+                                         const RegionFigures& dqs);
+
 class RegionMeter {
  public:
   explicit RegionMeter(const deform::BoundModel& bound);

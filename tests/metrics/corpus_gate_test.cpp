@@ -1,0 +1,140 @@
+// The corpus gate (issue 47 item 6), as far as it holds today. Every shared body — the shared
+// male, the RiggedFigure, the four corpus bodies — as is, mirrored and at 0.6x, on the peaks of
+// its range of motion (motion/range_of_motion.h) and every 100th frame of both CMU clips: per
+// frame and body region, is the sweep worse than the better of LBS and DQS
+// (metrics::compare_with_skinning: its swept edges stretch more than 1.02x the better
+// baseline's, as length ratios l / l_rest, or more of its swept triangles flip)?
+//
+// The target is never. Today it is not met (docs/quality/), so the count of worse
+// (frame, region) pairs per body, over its three variants and three clips, is held to this
+// stop's figure (kLedger): a change that makes the sweep worse than skinning somewhere new fails
+// here; one that makes it better passes and should lower the ledger.
+// Asserted as well, per variant and clip: the sweep's worst stretch over the edges it moves stays
+// below the better baseline's there (its advantage where it is better: the crotch and the
+// armpit, where LBS and DQS reach 6-20x). The clip is not mirrored with the body: a mirrored
+// body performs the mirror image of the motion, which is why its figures differ.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "deform/binding/bind.h"
+#include "io/bvh_load.h"
+#include "io/gltf_load.h"
+#include "metrics/region_quality.h"
+#include "motion/own_skeleton_clip.h"
+#include "motion/range_of_motion.h"
+#include "motion/retarget.h"
+#include "tests/body_variants.h"
+#include "tests/deform/shared_male.h"
+
+namespace sweepd::metrics {
+namespace {
+
+namespace fs = std::filesystem;
+using deform::DeformMethod;
+
+constexpr int kClipStep = 100;
+
+// Worse (frame, region) pairs per body, summed over as is, mirrored and 0.6x and over the range
+// of motion's peaks and both clips, measured at this stop (target: 0).
+const std::map<std::string, int> kLedger = {
+    {"makehuman_male_cmu", 468},
+    {"RiggedFigure", 988},
+    {"makehuman_child_mixamo_unity", 667},
+    {"makehuman_female_old_heavy_mixamo", 484},
+    {"makehuman_female_slim_openpose", 479},
+    {"makehuman_male_old_heavy_unreal", 630},
+};
+
+struct ClipCount {
+  int worse = 0, frames = 0;
+  // Per method, over every frame: the worst stretch of the edges a sweep moves (elsewhere every
+  // method is LBS).
+  double worst[3] = {1.0, 1.0, 1.0};
+};
+
+ClipCount measure(const deform::BoundModel& bound, const std::vector<deform::Pose>& poses) {
+  deform::test::Posing posing(bound);
+  const RegionMeter meter(bound);
+  std::vector<glm::vec3> positions(bound.model.vertex_count());
+  ClipCount count;
+  for (deform::Pose pose : poses) {
+    std::vector<RegionFigures> figures[3];
+    for (int m = 0; m < 3; ++m) {
+      posing.deform(pose, static_cast<DeformMethod>(m), positions);
+      figures[m] = meter.measure(positions, posing.world_pose());
+      for (const RegionFigures& f : figures[m])
+        count.worst[m] = std::max(count.worst[m], f.swept_stretch);
+    }
+    for (std::size_t r = 0; r < figures[0].size(); ++r)
+      count.worse += compare_with_skinning(figures[0][r], figures[1][r], figures[2][r]).worse;
+    ++count.frames;
+  }
+  return count;
+}
+
+class CorpusGate : public testing::TestWithParam<std::string> {};
+
+TEST_P(CorpusGate, TheSweepIsWorseThanSkinningNowhereNewAndKeepsItsAdvantage) {
+  const std::string file = GetParam();
+  const fs::path data(SWEEPD_SHARED_DATA);
+  if (!fs::exists(data / file)) GTEST_SKIP() << "shared data absent: " << file;
+  const std::string body = fs::path(file).stem().string();
+  const deform::Model model = io::load_gltf(data / file);
+  int worse = 0;
+  for (const test_models::BodyVariant& variant :
+       test_models::plain_mirrored_and_rescaled({{body, &model}}, 0.6f)) {
+    const deform::BoundModel bound =
+        deform::bind(variant.model, deform::detect_rig_map(variant.model.skeleton));
+    std::vector<std::pair<std::string, std::vector<deform::Pose>>> clips;
+    const motion::RangeOfMotion rom = motion::range_of_motion(variant.model.skeleton, bound.rig);
+    const motion::OwnSkeletonClip rom_player(rom.clip, variant.model.skeleton);
+    clips.push_back({"range of motion", {}});
+    for (const motion::RomMove& move : rom.moves)
+      clips.back().second.push_back(rom_player.pose_at_frame(move.peak_frame));
+    for (const char* name : {"cmu_01_01", "cmu_01_03"}) {
+      const motion::Retargeter clip(io::load_bvh(data / "motion" / (std::string(name) + ".bvh")),
+                                    variant.model);
+      clips.push_back({name, {}});
+      for (int f = 0; f < clip.frame_count(); f += kClipStep)
+        clips.back().second.push_back(clip.pose_at_frame(f));
+    }
+    for (const auto& [clip, poses] : clips) {
+      const ClipCount count = measure(bound, poses);
+      std::printf("%-40s %-16s worse in %3d (frame, region) pairs of %3d frames; worst stretch "
+                  "sweep %.2f, lbs %.2f, dqs %.2f\n",
+                  variant.name.c_str(), clip.c_str(), count.worse, count.frames, count.worst[0],
+                  count.worst[1], count.worst[2]);
+      worse += count.worse;
+      EXPECT_LT(count.worst[0], std::min(count.worst[1], count.worst[2]))
+          << variant.name << " " << clip << ": the sweep's worst swept edge against skinning's";
+    }
+  }
+  std::printf("%s: worse than skinning in %d (frame, region) pairs (ledger %d, target 0)\n",
+              body.c_str(), worse, kLedger.at(body));
+  // 2 % over the ledger: pairs within float rounding of the 1.02 threshold may fall either way
+  // on another CPU (the sweep's AVX2 and SSE2 loops round differently).
+  EXPECT_LE(worse, kLedger.at(body) + kLedger.at(body) / 50)
+      << body << ": worse than skinning somewhere new";
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    SharedBodies, CorpusGate,
+    testing::Values("models/makehuman_male_cmu.glb", "models/RiggedFigure/RiggedFigure.gltf",
+                    "models/corpus/makehuman_child_mixamo_unity.glb",
+                    "models/corpus/makehuman_female_old_heavy_mixamo.glb",
+                    "models/corpus/makehuman_female_slim_openpose.glb",
+                    "models/corpus/makehuman_male_old_heavy_unreal.glb"),
+    [](const testing::TestParamInfo<std::string>& info) {
+      std::string name = fs::path(info.param).stem().string();
+      std::replace(name.begin(), name.end(), '-', '_');
+      return name;
+    });
+
+}  // namespace
+}  // namespace sweepd::metrics
