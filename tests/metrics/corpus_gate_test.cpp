@@ -9,10 +9,12 @@
 // (frame, region) pairs per body, over its three variants and three clips, is held to this
 // stop's figure (kLedger): a change that makes the sweep worse than skinning somewhere new fails
 // here; one that makes it better passes and should lower the ledger.
-// Asserted as well, per variant and clip: the sweep's worst stretch over the edges it moves stays
-// below the better baseline's there (its advantage where it is better: the crotch and the
-// armpit, where LBS and DQS reach 6-20x). The clip is not mirrored with the body: a mirrored
-// body performs the mirror image of the motion, which is why its figures differ.
+// Asserted as well, per variant and clip: the sweep's worst stretch over the torso, neck, arms
+// and legs stays clearly below the better baseline's there (its advantage where it is better:
+// the crotch and the armpit, where LBS and DQS reach 4-20x). Every edge of those regions
+// counts, so handing the crotch or an armpit to skinning (which would clear the count above)
+// fails here. The clip is not mirrored with the body: a mirrored body performs the mirror image
+// of the motion, which is why its figures differ.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -53,10 +55,16 @@ const std::map<std::string, int> kLedger = {
 
 struct ClipCount {
   int worse = 0, frames = 0;
-  // Per method, over every frame: the worst stretch of the edges a sweep moves (elsewhere every
-  // method is LBS).
+  // Per method, over every frame: the worst stretch of the torso, neck, arms and legs, every
+  // edge of them (so that handing a region to skinning does not hide what it loses there).
   double worst[3] = {1.0, 1.0, 1.0};
 };
+
+bool swept_part(deform::BodyPart part) {
+  using deform::BodyPart;
+  return part == BodyPart::kTorso || part == BodyPart::kNeck || part == BodyPart::kLeftArm ||
+         part == BodyPart::kRightArm || part == BodyPart::kLeftLeg || part == BodyPart::kRightLeg;
+}
 
 ClipCount measure(const deform::BoundModel& bound, const std::vector<deform::Pose>& poses) {
   deform::test::Posing posing(bound);
@@ -68,8 +76,9 @@ ClipCount measure(const deform::BoundModel& bound, const std::vector<deform::Pos
     for (int m = 0; m < 3; ++m) {
       posing.deform(pose, static_cast<DeformMethod>(m), positions);
       figures[m] = meter.measure(positions, posing.world_pose());
-      for (const RegionFigures& f : figures[m])
-        count.worst[m] = std::max(count.worst[m], f.swept_stretch);
+      for (std::size_t r = 0; r < figures[m].size(); ++r)
+        if (swept_part(meter.regions()[r]))
+          count.worst[m] = std::max(count.worst[m], figures[m][r].stretch);
     }
     for (std::size_t r = 0; r < figures[0].size(); ++r)
       count.worse += compare_with_skinning(figures[0][r], figures[1][r], figures[2][r]).worse;
@@ -86,6 +95,12 @@ TEST_P(CorpusGate, TheSweepIsWorseThanSkinningNowhereNewAndKeepsItsAdvantage) {
   if (!fs::exists(data / file)) GTEST_SKIP() << "shared data absent: " << file;
   const std::string body = fs::path(file).stem().string();
   const deform::Model model = io::load_gltf(data / file);
+  // The better baseline's worst over the sweep's, at least: 1.05 on the MakeHuman bodies (the
+  // least measured 1.09, the OpenPose body mirrored on cmu_01_03: 10.11 against 10.97), so that
+  // a crotch or an armpit handed to skinning fails; within the gate's 2 % on the low-poly
+  // RiggedFigure, whose skin every method stretches alike (mirrored, on the range of motion:
+  // 1.78 against 1.76).
+  const double advantage = body == "RiggedFigure" ? 1.0 / kSkinningTolerance : 1.05;
   int worse = 0;
   for (const test_models::BodyVariant& variant :
        test_models::plain_mirrored_and_rescaled({{body, &model}}, 0.6f)) {
@@ -111,8 +126,8 @@ TEST_P(CorpusGate, TheSweepIsWorseThanSkinningNowhereNewAndKeepsItsAdvantage) {
                   variant.name.c_str(), clip.c_str(), count.worse, count.frames, count.worst[0],
                   count.worst[1], count.worst[2]);
       worse += count.worse;
-      EXPECT_LT(count.worst[0], std::min(count.worst[1], count.worst[2]))
-          << variant.name << " " << clip << ": the sweep's worst swept edge against skinning's";
+      EXPECT_LE(count.worst[0] * advantage, std::min(count.worst[1], count.worst[2]))
+          << variant.name << " " << clip << ": the sweep's worst limb or torso edge against skinning's";
     }
   }
   std::printf("%s: worse than skinning in %d (frame, region) pairs (ledger %d, target 0)\n",
