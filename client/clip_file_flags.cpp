@@ -1,6 +1,7 @@
 #include "client/clip_file_flags.h"
 
 #include <filesystem>
+#include <stdexcept>
 #include <string_view>
 
 #include "client/clip_upload.h"
@@ -25,15 +26,29 @@ void add_clip_file_flags(CLI::App& app, ClipFile& clip) {
                  "the animation of --clip-from: its name or index (default: the first)")
       ->type_name("NAME|INDEX")
       ->needs(gltf);
-  // The app's own callback (these examples have none): one of the two is required.
+  app.add_flag("--range-of-motion", clip.range_of_motion,
+               "no clip file: the model's range of motion, built by the server (protocol 1.13; "
+               "`sweepctl rom` writes the same clip)")
+      ->excludes(bvh)
+      ->excludes(gltf);
+  // The app's own callback (these examples have none): one of the three is required.
   app.final_callback([&clip] {
-    if (clip.file().empty()) throw CLI::RequiredError("--bvh or --clip-from");
+    if (clip.file().empty()) throw CLI::RequiredError("--bvh, --clip-from or --range-of-motion");
   });
 }
 
-void ClipFile::read() { contents = io::read_file_bytes(file()); }
+const std::string& ClipFile::file() const {
+  static const std::string range_of_motion_name = "range_of_motion";
+  if (range_of_motion) return range_of_motion_name;
+  return bvh.empty() ? gltf : bvh;
+}
 
-int ClipFile::frame_count() const {
+void ClipFile::read() {
+  if (!range_of_motion) contents = io::read_file_bytes(file());
+}
+
+std::optional<int> ClipFile::frame_count() const {
+  if (range_of_motion) return std::nullopt;
   if (!gltf.empty())
     return io::load_model_clip(contents, std::filesystem::path(gltf).filename(),
                                animation.empty() ? "0" : animation)
@@ -44,6 +59,10 @@ int ClipFile::frame_count() const {
 
 const protocol::ClipInfo& upload_clip_file(Connection& connection, const ClipFile& clip,
                                            std::optional<std::uint32_t> model_id) {
+  if (clip.range_of_motion) {
+    if (!model_id) throw std::invalid_argument("the range of motion needs the model's id");
+    return upload_range_of_motion(connection, *model_id);
+  }
   const std::string name = std::filesystem::path(clip.file()).filename().string();
   if (!clip.gltf.empty())
     return upload_gltf_clip(connection, name, clip.contents, clip.animation, false, {}, model_id);

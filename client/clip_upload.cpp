@@ -46,4 +46,12 @@ const pb::ClipInfo& upload_gltf_clip(Connection& connection, std::string_view na
   return connection.expect<pb::ClipInfo>();
 }
 
+const pb::ClipInfo& upload_range_of_motion(Connection& connection, std::uint32_t model_id) {
+  flatbuffers::FlatBufferBuilder& builder = connection.builder();
+  builder.Clear();
+  connection.send(pb::finish_message(
+      builder, pb::CreateUploadClip(builder, 0, 0, 1.0f, 0, 0, 0, false, model_id, true)));
+  return connection.expect<pb::ClipInfo>();
+}
+
 }  // namespace sweepd::client

@@ -28,6 +28,14 @@
 // ClipLoadFailed (it reads the absent BVH text). Since protocol 1.8 (capability "fbx_clips") the
 // bytes may be an FBX or COLLADA file's instead: its animation stacks, read by the server with
 // io::load_assimp_clip; a 1.7 server answers ClipLoadFailed (not a glTF file).
+//
+// upload_range_of_motion (protocol 1.13): no clip bytes — the server builds the held model's
+// range of motion (motion/range_of_motion.h: each joint of its rig map through its anatomical
+// range, 1 s a move at 30 fps; 1,441 frames for a full rig) and plays it on the model's own
+// joints; `sweepctl rom` writes the same clip. model_id: the model (ModelInfo.model_id), whose
+// content id is part of the clip id. Throws ServerError: UnknownModel (naming the models the
+// server holds), ClipLimit; a 1.12 server ignores the field and answers ClipLoadFailed (it reads
+// the absent BVH text).
 #pragma once
 
 #include <cstdint>
@@ -48,5 +56,6 @@ const protocol::ClipInfo& upload_gltf_clip(Connection& connection, std::string_v
                                            std::string_view animation, bool own_skeleton,
                                            std::string_view joint_name_map = {},
                                            std::optional<std::uint32_t> model_id = std::nullopt);
+const protocol::ClipInfo& upload_range_of_motion(Connection& connection, std::uint32_t model_id);
 
 }  // namespace sweepd::client

@@ -3,13 +3,16 @@
 //
 //   render_frames --server HOST:PORT[,HOST:PORT...] [--token T | --token-file FILE]
 //                 [--model NAME] [--model-file F.glb]
-//                 (--bvh CLIP [--bvh-scale S] | --clip-from F.glb [--clip NAME|INDEX])
+//                 (--bvh CLIP [--bvh-scale S] | --clip-from F.glb [--clip NAME|INDEX] |
+//                  --range-of-motion)
 //                 --frames A-B [--shard I/N] -o DIR [--width W --height H]
 //                 [--compression zip|none|zips|piz] [--normals] [--half-normals]
 //                 [--method sweep|lbs|dqs]
 //                 [--timeout SECONDS] [--attempts N]
 //
-// 1. Read the clip and check the range A-B (inclusive, 0-based) against its frames. With
+// 1. Read the clip and check the range A-B (inclusive, 0-based) against its frames (with
+//    --range-of-motion, protocol 1.13, there is no file: the server builds the model's range of
+//    motion, 1,441 frames for a full rig, and refuses each frame past its end). With
 //    --shard I/N (or, without it, JOB_COMPLETION_INDEX and JOB_COMPLETIONS from a Kubernetes
 //    Indexed Job) only the I-th of N contiguous slices of the range is this process's
 //    (client/frame_shard.h).
@@ -158,10 +161,11 @@ sweepd::motion::FrameRange parse_range(const std::string& text) {
   return *range;
 }
 
-// The range within a clip of `frame_count` frames.
-sweepd::motion::FrameRange clip_range(const std::string& text, int frame_count) {
+// The range within a clip of `frame_count` frames (unknown: the server checks each frame).
+sweepd::motion::FrameRange clip_range(const std::string& text, std::optional<int> frame_count) {
   const sweepd::motion::FrameRange range = parse_range(text);
-  if (const std::string problem = sweepd::motion::frame_range_problem(range, frame_count);
+  if (!frame_count) return range;
+  if (const std::string problem = sweepd::motion::frame_range_problem(range, *frame_count);
       !problem.empty())
     throw UsageError("--frames " + text + ": " + problem);
   return range;
@@ -482,7 +486,8 @@ std::optional<sweepd::motion::FrameRange> own_frames(const Options& options,
 
 int run(Options& options) {
   // The clip is read once here (each server gets these bytes) and for its frame count: the
-  // range is checked, and complete frames skipped, before any server is asked.
+  // range is checked, and complete frames skipped, before any server is asked. The range of
+  // motion's frames depend on the model's rig: each frame past its end fails naming them.
   options.clip.read();
   const sweepd::motion::FrameRange range = clip_range(options.frames, options.clip.frame_count());
   const std::vector<std::string> servers = sweepd::console::split_list(options.server);

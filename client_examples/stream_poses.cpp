@@ -1,6 +1,7 @@
 // stream_poses: a sweepd client that streams a clip as poses and reports latency.
 //
-//   stream_poses (--bvh clip.bvh [--bvh-scale S] | --clip-from F.glb [--clip NAME|INDEX])
+//   stream_poses (--bvh clip.bvh [--bvh-scale S] | --clip-from F.glb [--clip NAME|INDEX] |
+//                 --range-of-motion)
 //                [--host 127.0.0.1] [--port 7878 | --unix PATH [--shared-memory]]
 //                [--token T | --token-file FILE]
 //                [--tls [--tls-ca CA.pem] [--tls-cert C.pem --tls-key K.pem]]
@@ -18,7 +19,8 @@
 //    file's bytes and the animation's name (protocol 1.7); the server reads it and retargets
 //    it onto the model, so this client needs no skeleton and no retargeter. Its warnings go to
 //    stderr: the reader's, and (1.12, the upload names the model) the clip joints that drive
-//    no model joint and the model joints left without motion.
+//    no model joint and the model joints left without motion. --range-of-motion (1.13) sends
+//    no clip: the server builds the model's range of motion and plays it on its own joints.
 // 4. Stream the clip: one PoseFromClip per frame, naming the clip and the frame number, at the
 //    clip's frame rate or --flat-out (as fast as the server answers, up to
 //    Welcome.max_poses_in_flight queued).

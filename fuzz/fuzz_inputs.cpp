@@ -166,7 +166,7 @@ void decode_message(const protocol::Message& message, server::ClipStore& clips) 
       // As the daemon's worker takes it, into the input's own store (inputs do not fill one
       // another's room; a later PoseFromClip of the input finds it).
       const protocol::UploadClip& upload = *message.body_as_UploadClip();
-      const auto added = clips.add(server::ClipUpload::of_message(upload));
+      const auto added = clips.add(server::ClipUpload::of_message(upload), models);
       if (const auto* error = std::get_if<server::RequestError>(&added))
         throw std::invalid_argument(error->message);
       break;

@@ -7,7 +7,9 @@
 #include "io/joint_name_map_json.h"
 #include "io/load_error.h"
 #include "io/model_clip_load.h"
+#include "motion/name_list.h"
 #include "motion/own_skeleton_clip.h"
+#include "motion/range_of_motion.h"
 #include "motion/retarget.h"
 #include "server/models/content_id.h"
 
@@ -44,6 +46,7 @@ ClipUpload ClipUpload::of_message(const protocol::UploadClip& upload) {
   copied.joint_name_map = text(upload.joint_name_map());
   if (const flatbuffers::Optional<std::uint32_t> model = upload.model_id(); model.has_value())
     copied.model_id = *model;
+  copied.range_of_motion = upload.range_of_motion();
   return copied;
 }
 
@@ -64,11 +67,38 @@ std::vector<std::string> warnings_on_model(const HeldClip& clip, const ModelLook
   }
 }
 
-std::variant<ClipHandle, RequestError> ClipStore::add(const ClipUpload& upload) {
+std::variant<ClipHandle, RequestError> ClipStore::add(const ClipUpload& upload,
+                                                      const ModelLookup& models) {
   const auto invalid = [&](const std::string& reason) {
     return RequestError{protocol::ErrorCode::InvalidArgument,
                         "clip '" + upload.name + "': " + reason};
   };
+  if (upload.range_of_motion) {
+    const auto refused = [](protocol::ErrorCode code, const std::string& reason) {
+      return RequestError{code, "range of motion: " + reason};
+    };
+    std::vector<std::string> given;
+    if (!upload.bvh.empty()) given.push_back("bvh");
+    if (!upload.gltf.empty()) given.push_back("gltf");
+    if (!upload.animation.empty()) given.push_back("animation");
+    if (upload.own_skeleton) given.push_back("own_skeleton");
+    if (!upload.joint_name_map.empty()) given.push_back("joint_name_map");
+    if (upload.length_scale != 1.0f) given.push_back("length_scale");
+    if (!given.empty())
+      return refused(protocol::ErrorCode::InvalidArgument,
+                     "the server builds it from the model, but the upload also carries " +
+                         motion::name_list(given) + ": send range_of_motion with model_id alone");
+    if (!upload.model_id)
+      return refused(protocol::ErrorCode::InvalidArgument,
+                     "model_id is required: the clip is built from that model's skeleton and rig "
+                     "map");
+    const ModelHandle model = models.find(*upload.model_id);
+    if (!model)
+      return refused(protocol::ErrorCode::UnknownModel,
+                     "no model with id " + std::to_string(*upload.model_id) + " (" +
+                         held_models_clause(models) + ")");
+    return add_range_of_motion(*model);
+  }
   if (upload.gltf.empty()) {
     if (!upload.animation.empty() || upload.own_skeleton)
       return invalid("animation and own_skeleton choose a glTF animation: send the file's bytes");
@@ -144,6 +174,25 @@ std::variant<ClipHandle, RequestError> ClipStore::admit(const std::string& id,
   bytes_ += bytes;
   clips_.emplace(id, held);
   return held;
+}
+
+std::variant<ClipHandle, RequestError> ClipStore::add_range_of_motion(
+    const RegisteredModel& model) {
+  const std::string id = range_of_motion_clip_id(model.content_id);
+  if (ClipHandle held = find(id)) return held;
+  // Built before admit, which wants the bytes held (two first requests at once build it twice
+  // and keep the first).
+  motion::Clip clip;
+  try {
+    clip = motion::range_of_motion(model.bound.model.skeleton, model.bound.rig).clip;
+  } catch (const std::exception& error) {
+    return RequestError{protocol::ErrorCode::ClipLoadFailed,
+                        "range of motion of model '" + model.name + "': " + error.what()};
+  }
+  std::size_t bytes = 0;
+  for (const motion::KeyframeTrack& track : clip.tracks)
+    bytes += (track.times.size() + track.values.size()) * sizeof(float);
+  return admit(id, motion::kRomClipName, bytes, {}, true, [&] { return std::move(clip); });
 }
 
 ClipHandle ClipStore::find(std::string_view clip_id) const {

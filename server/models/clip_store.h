@@ -3,10 +3,14 @@
 // answers UnknownClip and the client uploads again (a clip is a few MB: cheaper to send again
 // than to store).
 //
-// add(upload): an UploadClip as it came (ClipUpload: BVH text, or a glTF file's bytes with the
-//   animation's name or index and whether it plays on the model's own joints): checked (both
-//   kinds at once, a length_scale other than 1 on glTF, or glTF options on BVH text are
-//   InvalidArgument) and handed to the BVH add or add_gltf.
+// add(upload, models): an UploadClip as it came (ClipUpload: BVH text, or a glTF file's bytes
+//   with the animation's name or index and whether it plays on the model's own joints, or (1.13)
+//   a model's range of motion): checked (both kinds at once, a length_scale other than 1 on
+//   glTF, or glTF options on BVH text are InvalidArgument) and handed to the BVH add, add_gltf
+//   or add_range_of_motion. A range of motion needs model_id (else InvalidArgument), a model
+//   `models` holds (else UnknownModel naming the held ones) and no clip fields besides (bvh,
+//   gltf, animation, own_skeleton, joint_name_map, a length_scale other than 1: InvalidArgument
+//   naming those given).
 // add(name, bvh, length_scale, joint_name_map): the clip named by clip_content_id of the
 //   three. Text the store already holds is answered with the held clip, nothing parsed and
 //   nothing counted. Otherwise the text is read (io::parse_bvh) and held, unless that would pass
@@ -23,6 +27,12 @@
 //   ClipLoadFailed names the problem: bytes that are no glTF (truncated GLB, bad JSON), an
 //   external URI, no animations, an unknown animation name or index (listing the file's), no
 //   skin, an animation that drives none of the skin's joints.
+// add_range_of_motion(model): (1.13) the model's range of motion, motion::range_of_motion of its
+//   skeleton and bound rig map, named "range of motion" and held as an own_skeleton clip (played
+//   joint for joint, motion::OwnSkeletonClip), under range_of_motion_clip_id of the model's
+//   content id. A held one is answered at once; a new one is built (a few milliseconds) and
+//   counts the bytes of its keys against max_bytes (a key a frame for each joint it turns:
+//   28 KB a joint), as an upload counts its text. ClipLoadFailed when the rig map does not fit.
 // find(clip_id): the held clip, or nullptr. Thread-safe.
 // HeldClip::player(model): the clip played on a held model — motion::Retargeter on the model's
 //   own mesh with the clip's joint name map, exactly as `sweepctl pose --bvh [--bvh-map]` and
@@ -108,6 +118,7 @@ struct ClipUpload {
   float length_scale = 1.0f;
   std::string joint_name_map;
   std::optional<std::uint32_t> model_id;  // (1.12) the model whose warnings ClipInfo carries
+  bool range_of_motion = false;           // (1.13) model_id's range of motion, made here
 };
 
 std::vector<std::string> warnings_on_model(const HeldClip& clip, const ModelLookup& models,
@@ -118,7 +129,7 @@ class ClipStore {
   ClipStore(std::uint32_t max_clips, std::uint64_t max_bytes)
       : max_clips_(max_clips), max_bytes_(max_bytes) {}
 
-  std::variant<ClipHandle, RequestError> add(const ClipUpload& upload);
+  std::variant<ClipHandle, RequestError> add(const ClipUpload& upload, const ModelLookup& models);
   std::variant<ClipHandle, RequestError> add(const std::string& name, std::string_view bvh,
                                              float length_scale,
                                              std::string_view joint_name_map = {});
@@ -126,6 +137,7 @@ class ClipStore {
                                                   std::span<const std::uint8_t> gltf,
                                                   const std::string& animation, bool own_skeleton,
                                                   std::string_view joint_name_map = {});
+  std::variant<ClipHandle, RequestError> add_range_of_motion(const RegisteredModel& model);
   ClipHandle find(std::string_view clip_id) const;
 
  private:

@@ -72,6 +72,11 @@ std::string gltf_clip_content_id(std::span<const std::uint8_t> gltf, std::string
                      bytes_of(joint_name_map)});
 }
 
+std::string range_of_motion_clip_id(std::string_view model_content_id) {
+  return sha256_hex(
+      {bytes_of("sweepd clip v1: range of motion of a model"), bytes_of(model_content_id)});
+}
+
 std::uint32_t handle_of(std::string_view content_id) {
   const std::uint32_t handle =
       static_cast<std::uint32_t>(std::stoul(std::string(content_id.substr(0, 8)), nullptr, 16));

@@ -17,6 +17,10 @@
 //   animation clip (protocol 1.7): the file's bytes, which animation (as the client named it),
 //   whether it plays on the model's own joints, and the joint name map when not empty. Never
 //   equal to a BVH clip's id (the first hashed part says which kind).
+// range_of_motion_clip_id(model_content_id): the id of a model's range of motion (protocol 1.13,
+//   motion/range_of_motion.h), built by the server from the model's skeleton and rig map, which
+//   its content id names: the same model gives the same id on every replica. Never equal to an
+//   uploaded clip's id.
 // handle_of(content_id): the protocol's 32-bit model_id for it — its first 8 hex digits (0 is
 //   never given: it means "not loaded" on the wire). The same on every replica, so a handle a
 //   client got from one replica names the same model on another. Two ids with one handle are
@@ -38,6 +42,7 @@ std::string clip_content_id(std::string_view bvh, float length_scale,
                             std::string_view joint_name_map = {});
 std::string gltf_clip_content_id(std::span<const std::uint8_t> gltf, std::string_view animation,
                                  bool own_skeleton, std::string_view joint_name_map);
+std::string range_of_motion_clip_id(std::string_view model_content_id);
 std::uint32_t handle_of(std::string_view content_id);
 bool is_content_id(std::string_view text);
 

@@ -527,11 +527,14 @@ void Connection::upload_clip(const pb::UploadClip& upload, std::uint64_t request
   log_event("clip_upload_start",
             {{"connection", id()},
              {"name", copied->name},
-             {"format", copied->gltf.empty() ? "bvh" : "gltf"},
+             {"format", copied->range_of_motion ? "range_of_motion"
+                        : copied->gltf.empty()  ? "bvh"
+                                                : "gltf"},
              {"upload_bytes", copied->gltf.empty() ? copied->bvh.size() : copied->gltf.size()}});
   ++loads_running_;
   environment_.workers.post(fair_share_, [self = shared_from_this(), copied, request_id]() {
-    std::variant<ClipHandle, RequestError> outcome = self->environment_.clips.add(*copied);
+    std::variant<ClipHandle, RequestError> outcome =
+        self->environment_.clips.add(*copied, self->environment_.models);
     // (1.12) Played on the model the client names: what that leaves unmapped is said now, and
     // the player built for it serves the frames asked for next.
     std::vector<std::string> model_warnings;

@@ -1,7 +1,9 @@
 // Clips and named joints on the daemon (protocol 1.4, issue 18): a clip uploaded once is posed
 // by frame number exactly as `sweepctl pose --bvh --frame` poses it (bit for bit), by time and
 // looping; the same text uploads to the same id; rotations keyed by joint names of another
-// rig's convention land on the model's joints as its own names do.
+// rig's convention land on the model's joints as its own names do. A model's range of motion
+// (1.13, issue 47), asked for without clip bytes, poses as the library's own range of motion
+// (bit for bit), and a request for it that is wrong is refused naming the problem.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -13,11 +15,16 @@
 #include "client/mesh_request.h"
 #include "client/model_source.h"
 #include "io/bvh_load.h"
+#include "io/file_bytes.h"
 #include "io/gltf_load.h"
 #include "io/gltf_save.h"
+#include "io/sweepbind.h"
 #include "metrics/quality_metrics.h"
+#include "motion/own_skeleton_clip.h"
+#include "motion/range_of_motion.h"
 #include "tests/motion/misspelt_joint_bvh.h"
 #include "tests/server/pose_frames.h"
+#include "tests/server/stored_binding.h"
 #include "tests/server/sweepctl_remote.h"
 
 namespace sweepd::test {
@@ -273,6 +280,104 @@ TEST_F(DaemonClips, AJointNameMapTravelsWithTheClipAsSweepctlsBvhMap) {
               std::string::npos)
         << error.what();
   }
+}
+
+// The range of motion is built by the server from the held model (its skeleton and bound rig
+// map): a frame of it is what the library gives for the same frame of motion::range_of_motion,
+// played by motion::OwnSkeletonClip on the model's binding as the daemon stored it, bit for bit.
+TEST_F(DaemonClips, AModelsRangeOfMotionPosesAsTheLibrarysBitForBit) {
+  std::ifstream glb_file(kSharedMale, std::ios::binary);
+  client::ModelSource male(kSharedMale.filename().string(),
+                           {std::istreambuf_iterator<char>(glb_file), {}});
+  const pb::ModelInfo& male_info = male.load(*connection_);
+  const std::uint32_t model = male_info.model_id();
+  const std::size_t vertex_count = male_info.vertex_count();
+  const std::uint32_t joint_count = male_info.joint_names()->size();
+  const pb::ClipInfo& info = client::upload_range_of_motion(*connection_, model);
+  EXPECT_EQ(info.name()->str(), "range of motion");
+  EXPECT_EQ(info.frame_count(), 1441u) << "48 moves of 30 frames, then the rest";
+  EXPECT_FLOAT_EQ(info.frames_per_second(), 30.0f);  // 1 / (1/30 s as a float)
+  EXPECT_EQ(info.joint_count(), joint_count) << "the model's own joints";
+  EXPECT_EQ(info.warnings() ? info.warnings()->size() : 0u, 0u);
+  const std::string clip_id = info.clip_id()->str();
+  EXPECT_EQ(clip_id.size(), 64u);
+  // Named by the model: asked for again, the same clip; another model's is another.
+  EXPECT_EQ(client::upload_range_of_motion(*connection_, model).clip_id()->str(), clip_id);
+  EXPECT_NE(client::upload_range_of_motion(*connection_, mannequin_id()).clip_id()->str(), clip_id);
+
+  const deform::BoundModel bound = io::load_sweepbind(stored_binding(path("store"), model));
+  const motion::RangeOfMotion rom = motion::range_of_motion(bound.model.skeleton, bound.rig);
+  ASSERT_FALSE(rom.moves.empty());
+  const int peak = rom.moves[0].peak_frame;
+  EXPECT_EQ(peak, 15);
+  EXPECT_EQ(rom.moves[0].name, "hip flexion 130°");
+  const motion::OwnSkeletonClip played(rom.clip, bound.model.skeleton);
+  const std::vector<glm::vec3> served =
+      served_frame(model, vertex_count, clip_id, static_cast<std::uint32_t>(peak));
+  EXPECT_TRUE(same_bits(
+      served, library_deformation(bound, played.pose_at_frame(peak), deform::DeformMethod::kSweep)
+                  .positions))
+      << "the server's range of motion, player and deformation are the library's: bit for bit";
+  // Both thighs raised 130°: the knees move by tens of centimetres.
+  EXPECT_GT(metrics::largest_distance(served, bound.model.positions), 0.3);
+}
+
+TEST_F(DaemonClips, ARangeOfMotionAskedForWronglyIsRefusedNamingTheProblem) {
+  // An UploadClip with range_of_motion, optionally a model and BVH text or glTF bytes: the
+  // server's error.
+  const auto refused = [&](std::optional<std::uint32_t> model, const std::string& bvh,
+                           const std::vector<std::uint8_t>& gltf) {
+    flatbuffers::FlatBufferBuilder& builder = connection_->builder();
+    builder.Clear();
+    const auto text = bvh.empty() ? 0 : builder.CreateString(bvh);
+    const auto bytes = gltf.empty() ? 0 : builder.CreateVector(gltf);
+    connection_->send(pb::finish_message(
+        builder,
+        pb::CreateUploadClip(
+            builder, 0, text, 1.0f, 0, bytes, 0, false,
+            model ? flatbuffers::Optional<std::uint32_t>(*model) : flatbuffers::nullopt, true)));
+    try {
+      connection_->expect<pb::ClipInfo>();
+    } catch (const client::ServerError& error) {
+      return error;
+    }
+    ADD_FAILURE() << "held";
+    return client::ServerError(pb::ErrorCode::Internal, "");
+  };
+  const std::uint32_t mannequin = mannequin_id();
+
+  const client::ServerError no_model = refused(std::nullopt, "", {});
+  EXPECT_EQ(no_model.code(), pb::ErrorCode::InvalidArgument);
+  EXPECT_TRUE(std::string(no_model.what())
+                  .ends_with("range of motion: model_id is required: the clip is built from that "
+                             "model's skeleton and rig map"))
+      << no_model.what();
+
+  const client::ServerError unknown = refused(mannequin + 1, "", {});
+  EXPECT_EQ(unknown.code(), pb::ErrorCode::UnknownModel);
+  const std::string unknown_message = unknown.what();
+  EXPECT_NE(unknown_message.find("range of motion: no model with id " +
+                                 std::to_string(mannequin + 1) + " (this server holds "),
+            std::string::npos)
+      << unknown_message;
+  EXPECT_NE(unknown_message.find("'mannequin' (id " + std::to_string(mannequin) + ")"),
+            std::string::npos)
+      << unknown_message;
+
+  const client::ServerError with_bvh = refused(mannequin, clip_text(), {});
+  EXPECT_EQ(with_bvh.code(), pb::ErrorCode::InvalidArgument);
+  EXPECT_TRUE(std::string(with_bvh.what())
+                  .ends_with("range of motion: the server builds it from the model, but the "
+                             "upload also carries bvh: send range_of_motion with model_id alone"))
+      << with_bvh.what();
+  const std::vector<std::uint8_t> glb = io::read_file_bytes(kSharedMale);
+  const client::ServerError with_both = refused(mannequin, "HIERARCHY\n", glb);
+  EXPECT_EQ(with_both.code(), pb::ErrorCode::InvalidArgument);
+  EXPECT_NE(std::string(with_both.what()).find("also carries bvh, gltf:"), std::string::npos)
+      << with_both.what();
+
+  // The connection goes on: the mannequin's range of motion is held.
+  EXPECT_GT(client::upload_range_of_motion(*connection_, mannequin).frame_count(), 1u);
 }
 
 }  // namespace

@@ -61,18 +61,13 @@ struct Deformed {
   deform::FeatureReport features;  // what folding and protrusion did
 };
 
-// What the library itself gives for `rotations` (rest root translation), one thread, with
-// the anatomical features selected: one deform::DeformJob, each frame standing alone (as the
-// daemon runs them).
-inline Deformed library_deformation(const deform::BoundModel& bound,
-                                    const std::vector<glm::quat>& rotations,
+// What the library itself gives for `pose`, one thread, with the anatomical features selected:
+// one deform::DeformJob, each frame standing alone (as the daemon runs them).
+inline Deformed library_deformation(const deform::BoundModel& bound, deform::Pose pose,
                                     deform::DeformMethod method,
                                     const deform::AnatomicalFeatures& features = {}) {
   const deform::ModelRuntime runtime(bound);
   deform::DeformContext context;
-  deform::Pose pose;
-  pose.local_rotations = rotations;
-  pose.root_translation = bound.model.skeleton.joints[0].rest_translation;
   Deformed out;
   out.positions.resize(bound.model.vertex_count());
   out.normals.resize(bound.model.vertex_count());
@@ -81,6 +76,17 @@ inline Deformed library_deformation(const deform::BoundModel& bound,
   job.normals = out.normals;
   out.features = job.run(context).features;
   return out;
+}
+
+// The same for `rotations` at the rest root translation.
+inline Deformed library_deformation(const deform::BoundModel& bound,
+                                    const std::vector<glm::quat>& rotations,
+                                    deform::DeformMethod method,
+                                    const deform::AnatomicalFeatures& features = {}) {
+  deform::Pose pose;
+  pose.local_rotations = rotations;
+  pose.root_translation = bound.model.skeleton.joints[0].rest_translation;
+  return library_deformation(bound, std::move(pose), method, features);
 }
 
 }  // namespace sweepd::test

@@ -12,7 +12,8 @@ named by content id afterwards: not sent again to PORT, sent to OTHER_PORT (a da
 store of its own, which answers the content id with UnknownModel). Clips: a frame kept on the
 server is the same by index, in a stream and by time; named joints pose like rotations; a
 Clip uploaded on one server is uploaded again by the package on the other; a clip uploaded for a
-model (protocol 1.12) names the joints it leaves unmapped there; an upload without a name is
+model (protocol 1.12) names the joints it leaves unmapped there; a model's range of motion
+(1.13) is asked for without clip bytes, and again on the other server; an upload without a name is
 named by its file's base name, and UnknownModel names the models held. ANIMATED.glb is BODY
 with three animations of its own joints ("linear", "step", "cubic", the same keys; protocol
 1.7): uploaded as a clip by name and by index, played on its own joints (at a key every
@@ -249,6 +250,16 @@ def main(port, token, glb, rotations_file, out, other_port, clip_file, animated_
                                lambda: sweepd.upload_clip(animated_file, animation="walk"))
         check("0 'linear', 1 'step', 2 'cubic'" in str(unknown), f"names listed: {unknown}")
         expect_error(ValueError, lambda: sweepd.upload_clip(clip_file, animation="walk"))
+        # Protocol 1.13: the model's range of motion, built by the server (no clip bytes).
+        rom = sweepd.upload_clip(range_of_motion=True, model=body)
+        check(rom.name == "range of motion" and rom.frame_count > 30 and
+              (rom.frame_count - 1) % 30 == 0, f"a range of motion's info: {rom}")
+        rom_peak = sweepd.pose(body, clip=rom, frame=15)  # the first move's peak
+        check(np.abs(rom_peak.positions - sweepd.pose(body).positions).max() > 0.05,
+              "the range of motion moves the body")
+        expect_error(ValueError, lambda: sweepd.upload_clip(range_of_motion=True))
+        expect_error(ValueError, lambda: sweepd.upload_clip(clip_file, range_of_motion=True,
+                                                            model=body))
 
         check_shared_memory(unix_socket, port, token, body, rotations,
                             sweepd.pose(body, rotations, normals=True), clip, stream)
@@ -304,6 +315,8 @@ def main(port, token, glb, rotations_file, out, other_port, clip_file, animated_
         # The Clip came from the first server; the package uploads it here before use.
         check(np.array_equal(sweepd.pose(other, clip=clip, frame=100).positions, frame.positions),
               "the clip frame on the other server")
+        check(np.array_equal(sweepd.pose(other, clip=rom, frame=15).positions,
+                             rom_peak.positions), "the range of motion asked for there again")
 
     expect_error(errors.AuthFailed, lambda: Client("127.0.0.1", int(port), token="wrong"))
     silent = socket.socket()

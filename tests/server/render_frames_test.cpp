@@ -1,7 +1,9 @@
 // client_examples/render_frames against the real daemon: every frame of a range becomes one
 // EXR file whose positions are the library's own render of that clip frame; a rerun renders
 // again exactly the files that are missing or broken and leaves the others alone; bad input
-// ends the tool with a message naming it and the documented exit code.
+// ends the tool with a message naming it and the documented exit code; the model's range of
+// motion (--range-of-motion, protocol 1.13) renders with no clip file, its range checked by the
+// server.
 #include <ImfInputFile.h>
 #include <gtest/gtest.h>
 
@@ -264,6 +266,20 @@ TEST_F(RenderFrames, AFramesServerErrorNamesTheFrameAndLeavesNoFile) {
   for ([[maybe_unused]] const auto& entry : fs::directory_iterator(directory_ / "frames")) ++files;
   EXPECT_EQ(files, 0) << "neither a frame nor a partial file";
   fs::remove_all(other);
+}
+
+TEST_F(RenderFrames, TheModelsRangeOfMotionRendersWithoutAClipFile) {
+  const std::string arguments = "--server 127.0.0.1:" + std::to_string(daemon_->port()) +
+                                " --token t0k --range-of-motion --width 16 --height 16 -o " +
+                                (directory_ / "frames").string() + " --frames ";
+  const ClientRun peak = run_render_frames(arguments + "15-15");
+  ASSERT_EQ(peak.exit_code, 0) << peak.output << daemon_->log();
+  EXPECT_TRUE(fs::exists(directory_ / "frames/range_of_motion.00015.exr")) << peak.output;
+  // Its frames are the model's rig's (1441 for the mannequin): the server refuses one past them.
+  const ClientRun past = run_render_frames(arguments + "1441-1441");
+  EXPECT_EQ(past.exit_code, 1) << past.output;
+  EXPECT_NE(past.output.find("frame 1441 failed: "), std::string::npos) << past.output;
+  EXPECT_NE(past.output.find("past the clip's last frame 1440"), std::string::npos) << past.output;
 }
 
 TEST_F(RenderFrames, BadInputIsNamedWithItsExitCode) {

@@ -2,8 +2,9 @@
 // answered pose for pose; streamed LatestWins every pose is answered or counted as dropped; a
 // glTF file's animation (--clip-from, --clip; protocol 1.7) streams like a BVH; a clip streamed
 // on the Unix socket with replies in shared memory (1.10) is answered pose for pose; an unknown
-// animation name ends the client naming the file's animations; a daemon restarted on an empty
-// store mid-stream gets the model uploaded again and every pose is answered once.
+// animation name ends the client naming the file's animations; the model's range of motion
+// (--range-of-motion, 1.13) streams with no clip file; a daemon restarted on an empty store
+// mid-stream gets the model uploaded again and every pose is answered once.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -101,6 +102,19 @@ TEST_F(StreamPoses, AGltfAnimationStreamsLikeABvh) {
   const ClientRun both =
       run_stream_poses(port + " --bvh " + clip_.string() + " --clip-from " + baked.string());
   EXPECT_EQ(both.exit_code, 2) << both.output;
+}
+
+TEST_F(StreamPoses, TheModelsRangeOfMotionStreamsWithoutAClipFile) {
+  const std::string port = "--port " + std::to_string(daemon_->port()) + " --token t0k";
+  const ClientRun run = run_stream_poses(port + " --range-of-motion --frames 60 --flat-out");
+  ASSERT_EQ(run.exit_code, 0) << run.output << daemon_->log();
+  EXPECT_EQ(pose_counts(run.output), (std::array<int, 4>{60, 60, 0, 0})) << run.output;
+  EXPECT_NE(run.output.find("clip range of motion: 1441 frames at 30 fps"), std::string::npos)
+      << run.output;
+  // A clip file besides is a usage error naming the flags.
+  const ClientRun both = run_stream_poses(port + " --range-of-motion --bvh " + clip_.string());
+  EXPECT_EQ(both.exit_code, 2) << both.output;
+  EXPECT_NE(both.output.find("--range-of-motion"), std::string::npos) << both.output;
 }
 
 TEST_F(StreamPoses, ADaemonRestartedOnAnEmptyStoreMidStreamGetsTheModelAgain) {

@@ -46,7 +46,7 @@ from . import meshopt
 from .connection import body_of, finish_frame, new_builder
 from .errors import ConnectionLost, SweepdError, Timeout, UnknownModel, server_error
 
-PROTOCOL_VERSION = (1, 12)  # a clip's warnings on a model (1.12) are the newest part it speaks
+PROTOCOL_VERSION = (1, 13)  # a model's range of motion as a clip (1.13) is the newest it speaks
 METHODS = {"sweep": DeformMethod.DeformMethod.Sweep, "lbs": DeformMethod.DeformMethod.Lbs,
            "dqs": DeformMethod.DeformMethod.Dqs}
 FEATURES = {"folding": Features.Features.Folding, "protrusion": Features.Features.Protrusion,
@@ -292,8 +292,8 @@ class Exchanges:
                         reply.SkinJointsAsNumpy().reshape(-1, 4),
                         reply.SkinWeightsAsNumpy().reshape(-1, 4))
 
-    def _upload_clip(self, clip, name=None, length_scale=1.0, joint_name_map=None, *,
-                     animation=None, own_skeleton=False, model=None):
+    def _upload_clip(self, clip=None, name=None, length_scale=1.0, joint_name_map=None, *,
+                     animation=None, own_skeleton=False, model=None, range_of_motion=False):
         """Keeps a clip on the server and returns its Clip: a BVH clip (a path, or the BVH text
         itself), or (protocol 1.7) an animation of a glTF file (a .glb/.gltf path, or the file's
         bytes; self-contained: the server reads only the GLB chunk and data: URIs), or (1.8) an
@@ -307,7 +307,17 @@ class Exchanges:
         model with other joints is an InvalidArgument when posed. model (a Model, or a name
         loaded on this connection; protocol 1.12): the model the clip will play on; the Clip's
         warnings then also name what playing it there leaves unmapped (clip joints that drive
-        no model joint, model joints left without motion), as `sweepctl pose` prints them."""
+        no model joint, model joints left without motion), as `sweepctl pose` prints them.
+        range_of_motion=True (protocol 1.13), with model and no clip: the model's range of
+        motion, built by the server from its skeleton and rig map (1441 frames at 30 fps for a
+        full rig; `sweepctl rom` writes the same clip), played on the model's own joints."""
+        if range_of_motion:
+            return (yield from self._upload_range_of_motion(
+                model, clip=clip, name=name, length_scale=length_scale,
+                joint_name_map=joint_name_map, animation=animation, own_skeleton=own_skeleton))
+        if clip is None:
+            raise ValueError("upload_clip: a clip (a path, BVH text or a file's bytes), or "
+                             "range_of_motion=True with model=")
         model_id = None if model is None else (yield from self._model_id(model))
         gltf = None
         if isinstance(clip, (bytes, bytearray, memoryview)):
@@ -345,14 +355,39 @@ class Exchanges:
         if model_id is not None:
             UploadClip.AddModelId(builder, model_id)
         yield Send(finish_frame(builder, Body.Body.UploadClip, UploadClip.End(builder)))
+        return (yield from self._held_clip(dict(
+            clip=gltf if gltf is not None else clip, name=name, length_scale=length_scale,
+            joint_name_map=joint_name_map, animation=animation, own_skeleton=own_skeleton)))
+
+    def _upload_range_of_motion(self, model, **others):
+        """upload_clip(range_of_motion=True, model=...): nothing else of a clip may be given."""
+        given = [key for key, value in others.items()
+                 if value not in (None, False) and not (key == "length_scale" and value == 1.0)]
+        if given:
+            raise ValueError("upload_clip(range_of_motion=True): the server builds the clip from "
+                             "the model; do not pass " + ", ".join(given))
+        if model is None:
+            raise ValueError("upload_clip(range_of_motion=True) needs model=: the model whose "
+                             "range of motion it is")
+        model_id = yield from self._model_id(model)
+        builder = new_builder(64)
+        UploadClip.Start(builder)
+        UploadClip.AddModelId(builder, model_id)
+        UploadClip.AddRangeOfMotion(builder, True)
+        yield Send(finish_frame(builder, Body.Body.UploadClip, UploadClip.End(builder)))
+        # Sent again, to a server that lacks it, for the model as loaded here.
+        return (yield from self._held_clip(dict(range_of_motion=True,
+                                                model=self._models[model_id])))
+
+    def _held_clip(self, source):
+        """The ClipInfo answering an UploadClip, as a Clip; `source`: the upload_clip arguments
+        that send it again (_clip_id)."""
         info = yield Receive(ClipInfo.ClipInfo)
         result = Clip(_text(info.ClipId()), _text(info.Name()), info.FrameCount(),
                       info.FramesPerSecond(), info.JointCount(),
                       [_text(info.Warnings(i)) for i in range(info.WarningsLength())])
         self._clips.add(result.clip_id)
-        Exchanges._clip_sources[result.clip_id] = dict(
-            clip=gltf if gltf is not None else clip, name=name, length_scale=length_scale,
-            joint_name_map=joint_name_map, animation=animation, own_skeleton=own_skeleton)
+        Exchanges._clip_sources[result.clip_id] = source
         return result
 
     def _pose(self, model, rotations=None, root=None, *, clip=None, frame=None, time=None,

@@ -2,7 +2,9 @@
 // are uploaded, refused past the count or byte limit with the limit named, and text that is
 // not a usable BVH is refused with the reader's reason without taking room. A glTF clip's
 // file bytes count against the same byte limit (protocol 1.7; the file is made in the test,
-// tests/io/baked_gltf_clip.h), and its players on several models share its frames.
+// tests/io/baked_gltf_clip.h), and its players on several models share its frames. A model's
+// range of motion (protocol 1.13) is named by the model's content id, built once, and counts its
+// keys against the byte limit.
 #include "server/models/clip_store.h"
 
 #include <gtest/gtest.h>
@@ -14,6 +16,8 @@
 
 #include "io/file_bytes.h"
 #include "io/gltf_load.h"
+#include "mannequin/mannequin.h"
+#include "motion/range_of_motion.h"
 #include "tests/io/baked_gltf_clip.h"
 
 namespace sweepd::server {
@@ -128,6 +132,34 @@ TEST(ClipStore, ByteLimitCountsAGltfClipsFileBytes) {
   EXPECT_EQ(refused(store.add_gltf("baked.glb", gltf, "cubic", false)).code,
             protocol::ErrorCode::ClipLimit)
       << "another animation is another clip of the file's bytes";
+}
+
+TEST(ClipStore, ARangeOfMotionIsNamedByItsModelAndCountsItsKeys) {
+  RegisteredModel model;
+  model.content_id = std::string(64, 'a');
+  model.name = "mannequin";
+  model.bound.model = mannequin::make_mannequin({.target_vertices = 2000});
+  model.bound.rig = deform::detect_rig_map(model.bound.model.skeleton);
+  const motion::Clip expected =
+      motion::range_of_motion(model.bound.model.skeleton, model.bound.rig).clip;
+  std::size_t key_bytes = 0;
+  for (const motion::KeyframeTrack& track : expected.tracks)
+    key_bytes += (track.times.size() + track.values.size()) * sizeof(float);
+
+  ClipStore tight(8, key_bytes - 1);
+  EXPECT_EQ(refused(tight.add_range_of_motion(model)).code, protocol::ErrorCode::ClipLimit);
+
+  ClipStore store(8, key_bytes);
+  const ClipHandle rom = held(store.add_range_of_motion(model));
+  ASSERT_NE(rom, nullptr);
+  EXPECT_EQ(rom->name(), "range of motion");
+  EXPECT_EQ(rom->clip().frame_count, expected.frame_count);
+  EXPECT_EQ(rom->upload_bytes(), key_bytes);
+  EXPECT_EQ(held(store.add_range_of_motion(model)), rom) << "held, counted once";
+  RegisteredModel other = model;
+  other.content_id = std::string(64, 'b');
+  EXPECT_EQ(refused(store.add_range_of_motion(other)).code, protocol::ErrorCode::ClipLimit)
+      << "another model's is another clip";
 }
 
 }  // namespace

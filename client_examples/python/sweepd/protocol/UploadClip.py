@@ -104,7 +104,14 @@ class UploadClip(object):
             return self._tab.Get(flatbuffers.number_types.Uint32Flags, o + self._tab.Pos)
         return None
 
-def UploadClipStart(builder): builder.StartObject(8)
+    # UploadClip
+    def RangeOfMotion(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(20))
+        if o != 0:
+            return bool(self._tab.Get(flatbuffers.number_types.BoolFlags, o + self._tab.Pos))
+        return False
+
+def UploadClipStart(builder): builder.StartObject(9)
 def Start(builder):
     return UploadClipStart(builder)
 def UploadClipAddName(builder, name): builder.PrependUOffsetTRelativeSlot(0, flatbuffers.number_types.UOffsetTFlags.py_type(name), 0)
@@ -134,6 +141,9 @@ def AddOwnSkeleton(builder, ownSkeleton):
 def UploadClipAddModelId(builder, modelId): builder.PrependUint32Slot(7, modelId, None)
 def AddModelId(builder, modelId):
     return UploadClipAddModelId(builder, modelId)
+def UploadClipAddRangeOfMotion(builder, rangeOfMotion): builder.PrependBoolSlot(8, rangeOfMotion, 0)
+def AddRangeOfMotion(builder, rangeOfMotion):
+    return UploadClipAddRangeOfMotion(builder, rangeOfMotion)
 def UploadClipEnd(builder): return builder.EndObject()
 def End(builder):
     return UploadClipEnd(builder)
