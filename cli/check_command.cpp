@@ -45,6 +45,7 @@ struct Options {
   std::vector<Method> methods;  // default sweep, lbs, dqs
   int step = 0;                 // 0: every 5th frame of the ROM (its peaks), every 10th of a clip
   bool json = false, markdown = false;
+  bool sections = false;        // --sections: limb sections and crossing pairs too
   std::filesystem::path sheet;  // --sheet: the worst frames' contact sheet
   std::string focus;            // --focus: its close-ups' joint
   float azimuth = 0.0f;         // --azimuth: its view, degrees from the front towards the left
@@ -80,6 +81,13 @@ struct Report {
   std::vector<std::vector<Worst>> worst;      // [method][region]
   std::vector<std::vector<Verdict>> verdict;  // [method][region], sweep methods only
   std::function<std::string(int)> frame_label;
+  // --sections: per method, over the frames measured for them, the smallest limb section ratio
+  // and the most crossing triangle pairs (metrics::QualityMeter, whole body), with their frames.
+  struct Whole {
+    double section = 1.0;
+    int crossing = 0, section_frame = -1, crossing_frame = -1;
+  };
+  std::vector<Whole> whole;
 };
 
 bool is_sweep(const Method& m) { return m.method == DeformMethod::kSweep; }
@@ -93,6 +101,9 @@ Report run_check(const Options& options, const PosedModel& posed,
   const int step = options.step > 0 ? options.step : rom ? kRomStep : 10;
   for (int f = 0; f < frame_count; f += step) report.frames.push_back(f);
   const metrics::RegionMeter meter(bound);
+  std::optional<metrics::QualityMeter> quality;
+  if (options.sections) quality.emplace(bound);
+  report.whole.assign(methods.size(), {});
   report.regions = meter.regions();
   const std::size_t regions = report.regions.size();
   report.worst.assign(methods.size(), std::vector<Worst>(regions));
@@ -113,9 +124,20 @@ Report run_check(const Options& options, const PosedModel& posed,
     const int frame = report.frames[i];
     const deform::Pose pose = clip ? clip->pose_at_frame(frame) : posed.pose(0);
     for (std::size_t m = 0; m < methods.size(); ++m) {
-      sheet::deform_with(methods[m], posed.runtime(), contexts[m], collision ? &*collision : nullptr,
-                         pose, positions);
+      const deform::SweepPoser& poser = sheet::deform_with(
+          methods[m], posed.runtime(), contexts[m], collision ? &*collision : nullptr, pose,
+          positions);
       figures[m] = meter.measure(positions, contexts[m].world_pose());
+      // 30-45 ms a frame on the male: at every third measured frame (every move's peak and
+      // rest on the range of motion).
+      if (quality && i % 3 == 0) {
+        const metrics::QualityMetrics q = quality->measure(positions, poser, false);
+        Report::Whole& w = report.whole[m];
+        if (q.smallest_section_ratio < w.section)
+          w.section = q.smallest_section_ratio, w.section_frame = frame;
+        if (q.self_intersections > w.crossing)
+          w.crossing = q.self_intersections, w.crossing_frame = frame;
+      }
       for (std::size_t r = 0; r < regions; ++r) report.worst[m][r].add(figures[m][r], frame);
     }
     // Each sweep method against the better baseline, frame by frame.
@@ -180,6 +202,18 @@ std::string summary(const Report& report, const std::vector<Method>& methods) {
   return text;
 }
 
+// --sections' figures, a line per method.
+void print_whole(const Report& report, const std::vector<Method>& methods) {
+  for (std::size_t m = 0; m < methods.size(); ++m) {
+    const Report::Whole& w = report.whole[m];
+    if (w.section_frame < 0) continue;
+    std::printf("%-14s smallest limb section %.2f of rest (frame %s); crossing triangle pairs "
+                "%d (frame %s)\n",
+                methods[m].name.c_str(), w.section, report.frame_label(w.section_frame).c_str(),
+                w.crossing, w.crossing_frame >= 0 ? report.frame_label(w.crossing_frame).c_str() : "-");
+  }
+}
+
 void print_table(const Report& report, const std::vector<Method>& methods,
                  const std::string& model) {
   std::printf("%s on %s: %zu frames measured; length ratios l / l_rest; crease in degrees\n",
@@ -195,6 +229,7 @@ void print_table(const Report& report, const std::vector<Method>& methods,
                   w.flipped, verdict_text(report, methods, m, r).c_str());
     }
   std::printf("%s: see the last column\n", summary(report, methods).c_str());
+  print_whole(report, methods);
 }
 
 // One Markdown table, a row per region: each method's worst stretch and its frame, then each
@@ -248,6 +283,10 @@ void print_json(const Report& report, const std::vector<Method>& methods,
                                {"crease_frame", w.crease_frame},
                                {"flipped", w.flipped},
                                {"flipped_frame", w.flipped_frame}};
+      if (report.whole[m].section_frame >= 0) {
+        method["smallest_section"] = report.whole[m].section;
+        method["crossing_pairs"] = report.whole[m].crossing;
+      }
       if (is_sweep(methods[m])) {
         const Verdict& v = report.verdict[m][r];
         method["swept"] = v.swept;
@@ -369,6 +408,9 @@ Command add_check_command(CLI::App& sweepctl) {
   command->add_flag("--markdown", options->markdown,
                     "a Markdown table (worst stretch per region and method, the verdict) instead")
       ->excludes("--json");
+  command->add_flag("--sections", options->sections,
+                    "also the smallest limb section ratio and the most crossing triangle pairs "
+                    "per method (whole body, at every third measured frame; slower)");
   command
       ->add_option("--sheet", options->sheet,
                    "a contact sheet of the worst frames (where the sweep is furthest past "

@@ -8,6 +8,7 @@
 // - `rom MODEL -o rom.glb` writes the range of motion with the model; `check rom.glb --clip
 //   "range of motion"` measures the same figures as `check MODEL` (the model and the clip both
 //   went through a glTF file: float32 positions and rotations, so within 1e-3 relative);
+// - `--sections` adds the smallest limb section and crossing pairs per method;
 // - `--sheet` writes a PNG; bad flags are usage errors naming the flag.
 #include <gtest/gtest.h>
 
@@ -92,6 +93,22 @@ TEST_F(SweepctlCheck, TheRangeOfMotionWrittenAsGltfMeasuresAsTheBuiltInOne) {
       const double b = figures(from_file, region, method)["stretch"];
       EXPECT_NEAR(b, a, 1e-3 * a) << region << " " << method;
     }
+}
+
+// --sections adds the whole body's smallest limb section ratio and crossing triangle pairs per
+// method (metrics::QualityMeter's, at every third measured frame).
+TEST_F(SweepctlCheck, SectionsAddTheSmallestLimbSectionAndCrossingPairs) {
+  const nlohmann::json report = nlohmann::json::parse(
+      run_sweepctl("check " + male() + " --step 15 --sections --json", "2>/dev/null").output);
+  for (const char* method : {"sweep", "lbs", "dqs"}) {
+    const nlohmann::json& m = figures(report, "torso", method);
+    ASSERT_TRUE(m.contains("smallest_section")) << method;
+    EXPECT_GT(m["smallest_section"].get<double>(), 0.0) << method;
+    EXPECT_LE(m["smallest_section"].get<double>(), 1.0) << method;
+    EXPECT_GE(m["crossing_pairs"].get<int>(), 0) << method;
+  }
+  const std::string table = run_sweepctl("check " + male() + " --step 60 --sections", "2>/dev/null").output;
+  EXPECT_NE(table.find("lbs            smallest limb section"), std::string::npos) << table;
 }
 
 TEST_F(SweepctlCheck, SheetIsAPngAndBadFlagsAreUsageErrors) {
