@@ -34,10 +34,7 @@ std::string skinned_by_part(const deform::BoundModel& bound) {
   std::map<std::string, std::size_t> count;
   for (std::size_t v = 0; v < model.vertex_count(); ++v) {
     if (bound.vertices[v].skin_weight < 1.0f) continue;
-    const auto& weights = model.skin_weights[v];
-    const int strongest =
-        static_cast<int>(std::max_element(weights.begin(), weights.end()) - weights.begin());
-    const deform::BodyPart part = part_of[model.skin_joints[v][strongest]];
+    const deform::BodyPart part = part_of[model.strongest_joint(v)];
     ++count[part == deform::BodyPart::kNone ? "joints above the pelvis" : deform::to_string(part)];
   }
   std::vector<std::pair<std::string, std::size_t>> parts(count.begin(), count.end());

@@ -34,9 +34,7 @@ RegionMeter::RegionMeter(const BoundModel& bound) : bound_(bound), quality_(boun
   std::vector<int> index_of_part(static_cast<int>(BodyPart::kRightFoot) + 1, -1);
   std::vector<BodyPart> vertex_part(model.vertex_count());
   for (std::size_t v = 0; v < vertex_part.size(); ++v) {
-    const auto& weights = model.skin_weights[v];
-    const int k = static_cast<int>(std::max_element(weights.begin(), weights.end()) - weights.begin());
-    strongest_joint_.push_back(model.skin_joints[v][k]);
+    strongest_joint_.push_back(model.strongest_joint(v));
     const BodyPart part = part_of[strongest_joint_.back()];
     vertex_part[v] = part == BodyPart::kNone ? BodyPart::kTorso : part;
     index_of_part[static_cast<int>(vertex_part[v])] = 0;

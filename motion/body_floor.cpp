@@ -27,12 +27,7 @@ std::vector<glm::vec3> sphere_directions() {
 // Each vertex's strongest influence.
 std::vector<int> strongest_joints(const deform::Model& model) {
   std::vector<int> strongest(model.vertex_count());
-  for (std::size_t v = 0; v < model.vertex_count(); ++v) {
-    int best = 0;
-    for (int k = 1; k < deform::kInfluences; ++k)
-      if (model.skin_weights[v][k] > model.skin_weights[v][best]) best = k;
-    strongest[v] = model.skin_joints[v][best];
-  }
+  for (std::size_t v = 0; v < model.vertex_count(); ++v) strongest[v] = model.strongest_joint(v);
   return strongest;
 }
 

@@ -69,10 +69,7 @@ std::optional<FootPlanting> FootPlanting::build(
     glm::vec3 centre(0.0f);
     const float ankle_height = rest[leg.foot][3].y;
     for (std::size_t v = 0; v < model.positions.size(); ++v) {
-      const auto& weights = model.skin_weights[v];
-      const int strongest =
-          static_cast<int>(std::max_element(weights.begin(), weights.end()) - weights.begin());
-      const int joint = model.skin_joints[v][strongest];
+      const int joint = model.strongest_joint(v);
       if (model.positions[v].y > ankle_height || !is_at_or_below(model.skeleton, joint, leg.foot))
         continue;
       foot.sole.push_back(

@@ -14,9 +14,9 @@ std::vector<int> rigid_island_joints(const Model& model, const WeldedMesh& mesh)
   // two joints or a blended vertex show.
   std::vector<int> joint_of(mesh.vertex_count(), -1);
   auto single_joint = [&](std::size_t v) {
-    const auto& weights = model.skin_weights[v];
-    const int k = static_cast<int>(std::max_element(weights.begin(), weights.end()) - weights.begin());
-    return weights[k] >= kRigidWeight ? static_cast<int>(model.skin_joints[v][k]) : -2;
+    const int k = model.strongest_influence(v);
+    return model.skin_weights[v][k] >= kRigidWeight ? static_cast<int>(model.skin_joints[v][k])
+                                                     : -2;
   };
   for (std::size_t v = 0; v < model.vertex_count(); ++v) {
     int& joint = joint_of[component[mesh.welded_id[v]]];

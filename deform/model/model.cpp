@@ -1,5 +1,6 @@
 #include "deform/model/model.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace sweepd::deform {
@@ -73,6 +74,11 @@ std::string Model::validate() const {
       return "vertex " + std::to_string(v) + " has skin weights summing to " + std::to_string(sum);
   }
   return validate_parts(*this);
+}
+
+int Model::strongest_influence(std::size_t v) const {
+  const auto& weights = skin_weights[v];
+  return static_cast<int>(std::max_element(weights.begin(), weights.end()) - weights.begin());
 }
 
 std::vector<MeshPart> Model::meshes() const {

@@ -37,6 +37,11 @@ struct Model {
   std::size_t vertex_count() const { return positions.size(); }
   std::size_t triangle_count() const { return indices.size() / 3; }
   bool has_uvs() const { return !uvs.empty(); }
+  // Vertex v's strongest influence: the slot (0 .. kInfluences-1) of its largest skin weight,
+  // the first of equal ones.
+  int strongest_influence(std::size_t v) const;
+  // The joint of that influence.
+  int strongest_joint(std::size_t v) const { return skin_joints[v][strongest_influence(v)]; }
   // Its parts, or without parts one unnamed skinned part over the whole model (a saver names
   // that mesh after the model).
   std::vector<MeshPart> meshes() const;

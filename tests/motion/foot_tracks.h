@@ -57,9 +57,7 @@ class FeetOf {
     for (int side = 0; side < 2; ++side) {
       ankle_[side] = legs[side]->foot;
       for (std::size_t v = 0; v < model.positions.size(); ++v) {
-        const auto& w = model.skin_weights[v];
-        const int strongest = static_cast<int>(std::max_element(w.begin(), w.end()) - w.begin());
-        const int joint = model.skin_joints[v][strongest];
+        const int joint = model.strongest_joint(v);
         for (int j = joint; j >= 0; j = model.skeleton.joints[j].parent)
           if (j == ankle_[side]) {
             sole_[side].push_back(

@@ -58,9 +58,7 @@ BoundModel bind_and_check(const Model& model, const std::string& label) {
       }
     }
     sweep_bound += b.skin_weight < 1.0f;
-    const auto& w = model.skin_weights[v];
-    const int dominant = static_cast<int>(std::max_element(w.begin(), w.end()) - w.begin());
-    const BodyPart part = labels[model.skin_joints[v][dominant]];
+    const BodyPart part = labels[model.strongest_joint(v)];
     if (part == BodyPart::kNeck || part == BodyPart::kLeftArm || part == BodyPart::kRightArm ||
         part == BodyPart::kLeftLeg || part == BodyPart::kRightLeg) {
       ++sweep_part_vertices;
