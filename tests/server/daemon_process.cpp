@@ -39,20 +39,65 @@ std::vector<std::string> with(std::vector<std::string> args, const std::vector<s
   return args;
 }
 
+namespace {
+
+// The store of a daemon that made the test mannequin (kTestMannequinVertices) and stopped: made
+// once per build of sweepd (the directory is named by the binary's modification time, so a
+// rebuilt daemon makes it again) by the first test that needs it, then copied into the fresh
+// store of every daemon that gets the test mannequin. Making the mannequin takes 3 s of CPU
+// under ASan (0.3 s in Release), and about 200 daemon starts there did it; restoring it from a
+// store is what sweepd does at every restart (server/models/model_service.cpp), and the
+// restored model is the made one byte for byte (same content id, same stored binding).
+// Several test processes may make it at once: each makes its own and renames it into place,
+// and the first rename wins.
+fs::path test_mannequin_store() {
+  const auto stamp = static_cast<std::uint64_t>(
+      fs::last_write_time(SWEEPD_DAEMON).time_since_epoch().count());
+  const fs::path cache = SWEEPD_TEST_CACHE_DIR;
+  const std::string prefix = "mannequin-" + std::to_string(kTestMannequinVertices) + "-";
+  const fs::path made = cache / (prefix + std::to_string(stamp));
+  if (fs::exists(made)) return made;
+  std::error_code ignored;  // the stores of earlier builds of sweepd, if any
+  for (const fs::directory_entry& old : fs::directory_iterator(cache, ignored))
+    if (old.path().filename().string().starts_with(prefix)) fs::remove_all(old.path(), ignored);
+  const ScratchDirectory scratch("test_mannequin_store");
+  {
+    DaemonProcess maker(scratch.path(),
+                        {"--mannequin-vertices", std::to_string(kTestMannequinVertices)});
+    if (!maker.running()) return {};
+    maker.signal(SIGTERM);
+    if (maker.wait() != 0) return {};
+  }
+  fs::create_directories(made.parent_path());
+  std::error_code lost_the_race;  // another test renamed its copy into place first
+  fs::rename(scratch.path() / "store", made, lost_the_race);
+  return made;
+}
+
+}  // namespace
+
 DaemonProcess::DaemonProcess(const fs::path& directory, std::vector<std::string> extra_args,
                              std::vector<std::string> wrapper)
     : directory_(directory) {
   const fs::path port_file = directory / "port";
   fs::remove(port_file);
-  std::vector<std::string> args = {SWEEPD_DAEMON, "--port",           "0", "--port-file", port_file,
-                                   "--store-dir", directory / "store"};
+  const fs::path store = directory / "store";
+  std::vector<std::string> args = {SWEEPD_DAEMON, "--port", "0", "--port-file", port_file,
+                                   "--store-dir", store};
   args.insert(args.end(), extra_args.begin(), extra_args.end());
   // Most daemon tests never measure the default model, and under ASan the 20k default takes
-  // seconds to make and bind at every start: a daemon not told the size gets a 2k mannequin.
-  // A test that measures the default model passes --mannequin-vertices itself.
-  if (std::ranges::find(extra_args, "--mannequin-vertices") == extra_args.end() &&
-      std::ranges::find(extra_args, "--config") == extra_args.end())
+  // seconds to make and bind at every start: a daemon not told the size gets a 2k mannequin,
+  // restored from a store that holds it when its own store is new (test_mannequin_store). A
+  // test that measures the default model passes --mannequin-vertices itself.
+  const auto given = [&extra_args](const char* flag) {
+    return std::ranges::find(extra_args, flag) != extra_args.end();
+  };
+  if (!given("--mannequin-vertices") && !given("--config")) {
     args.insert(args.end(), {"--mannequin-vertices", std::to_string(kTestMannequinVertices)});
+    if (!given("--model-dir") && !fs::exists(store))
+      if (const fs::path made = test_mannequin_store(); !made.empty())
+        fs::copy(made, store, fs::copy_options::recursive);
+  }
   args.insert(args.begin(), wrapper.begin(), wrapper.end());
   log_file_ = directory / "sweepd.log";
   pid_ = fork();
