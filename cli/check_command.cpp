@@ -72,6 +72,11 @@ struct Verdict {
   int worst_frame = -1;       // the frame with the largest stretch excess over the baseline
   double excess = 0.0;        // sweep ratio / (kTolerance x baseline ratio) there
   double sweep = 0.0, baseline = 0.0;  // the two ratios there
+  struct Frame {
+    int frame;
+    double sweep, baseline;  // the swept edges' worst stretch and the better baseline's
+  };
+  std::vector<Frame> worse;  // each worse frame, for --json's "worse" list
 };
 
 struct Report {
@@ -150,6 +155,7 @@ Report run_check(const Options& options, const PosedModel& posed,
         Verdict& v = report.verdict[m][r];
         v.swept = true;
         v.worse_frames += c.worse;
+        if (c.worse) v.worse.push_back({frame, c.sweep, c.baseline});
         if (c.excess > v.excess)
           v.excess = c.excess, v.worst_frame = frame, v.sweep = c.sweep, v.baseline = c.baseline;
       }
@@ -293,6 +299,11 @@ void print_json(const Report& report, const std::vector<Method>& methods,
         method["worse_frames"] = v.worse_frames;
         method["worst_excess_frame"] = v.worst_frame;
         method["worst_excess"] = v.excess;
+        for (const Verdict::Frame& f : v.worse)
+          method["worse"].push_back({{"frame", f.frame},
+                                     {"at", report.frame_label(f.frame)},
+                                     {"stretch", f.sweep},
+                                     {"baseline_stretch", f.baseline}});
       }
       region["methods"].push_back(method);
     }
