@@ -42,10 +42,12 @@
 // shifted ankle, the whole body comes down as far as that foot needs, eased in and out over
 // 0.15 s around the frame (so it never drops faster than its deepest need per 0.15 s);
 // dropping it may bring a slow foot into contact, so contacts are found again until none is
-// added. Between contacts a foot's offset (across and up) fades linearly to zero within 0.15 s
-// of each, or, across a gap shorter than 0.3 s, goes linearly from one contact's to the
-// next's, so nothing pops. On no frame does a sole go below the floor. An ankle that cannot
-// reach its height moves as far as the leg reaches, straight up or down.
+// added. Between contacts a foot's offset fades linearly to zero within 0.15 s of each, or,
+// across a gap shorter than 0.3 s, goes linearly from one contact's to the next's, so nothing
+// pops; across, a contact's shift first holds while the sole stays within the contact height
+// after or before it (a foot peeling off or landing moves as the clip's does), unless the sole
+// stays that low through the whole gap. On no frame does a sole go below the floor. An ankle
+// that cannot reach its height moves as far as the leg reaches, straight up or down.
 // A clip sampled between frames (pose_at_time) puts the sole on the floor exactly where both
 // frames are contact frames and interpolates the frames' offsets (across everywhere) and the
 // body's drop.
