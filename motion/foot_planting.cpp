@@ -108,6 +108,11 @@ std::optional<FootPlanting> FootPlanting::build(
       const glm::vec3 moved(posed(b)[point.joint] * point.local -
                             posed(a)[point.joint] * point.local);
       sole.speed = b > a ? glm::length(moved) / static_cast<float>((b - a) * frame_time) : 0.0f;
+      if (f + 1 < frame_count) {
+        const glm::vec3 step(posed(f + 1)[point.joint] * point.local -
+                             posed(f)[point.joint] * point.local);
+        sole.step = glm::vec2(step.x, step.z);
+      }
       soles[i].push_back(sole);
     }
   }
@@ -117,24 +122,28 @@ std::optional<FootPlanting> FootPlanting::build(
 
 FootPlanting::Sole FootPlanting::sole_of(const Foot& foot,
                                          const std::vector<glm::mat4>& world) const {
-  Sole lowest{std::numeric_limits<float>::infinity(), 0, 0.0f, 0.0f};
+  Sole lowest{
+      std::numeric_limits<float>::infinity(), 0, 0.0f, glm::vec2(0.0f), glm::vec3(0.0f), 0.0f};
   for (std::size_t k = 0; k < foot.sole.size(); ++k) {
     const float y = height_of(world[foot.sole[k].joint], foot.sole[k].local);
-    if (y < lowest.height) lowest = {y, k, 0.0f, 0.0f};
+    if (y < lowest.height) lowest.height = y, lowest.lowest = k;
   }
   lowest.height -= floor_;
-  // How far the hip must come down for the leg, straightened, to put the sole on the floor.
   const glm::vec3 hip(world[foot.leg.upper][3]), knee(world[foot.leg.lower][3]),
       ankle(world[foot.leg.foot][3]);
-  const float leg = glm::distance(hip, knee) + glm::distance(knee, ankle);
-  const glm::vec3 to_target = ankle - glm::vec3(0.0f, lowest.height, 0.0f) - hip;
-  const float across = glm::length(glm::vec2(to_target.x, to_target.z));
-  lowest.hip_drop =
-      std::max(0.0f, -to_target.y - std::sqrt(std::max(0.0f, leg * leg - across * across)));
+  lowest.to_ankle = ankle - hip;
+  lowest.leg = glm::distance(hip, knee) + glm::distance(knee, ankle);
   return lowest;
 }
 
-void FootPlanting::spread(std::vector<float>& values,
+float FootPlanting::hip_drop(const Sole& sole, glm::vec2 shift) {
+  const glm::vec3 to_target = sole.to_ankle + glm::vec3(shift.x, -sole.height, shift.y);
+  const float across = glm::length(glm::vec2(to_target.x, to_target.z));
+  return std::max(0.0f,
+                  -to_target.y - std::sqrt(std::max(0.0f, sole.leg * sole.leg - across * across)));
+}
+
+void FootPlanting::spread(std::vector<glm::vec3>& values,
                           const std::vector<std::uint8_t>& known) const {
   const int n = static_cast<int>(values.size());
   std::vector<int> previous(n, -1), next(n, -1);
@@ -149,7 +158,7 @@ void FootPlanting::spread(std::vector<float>& values,
       continue;
     }
     const auto fade = [&](int contact) {
-      if (contact < 0) return 0.0f;
+      if (contact < 0) return glm::vec3(0.0f);
       const double seconds = std::abs(f - contact) * frame_time_;
       return values[contact] * static_cast<float>(std::max(0.0, 1.0 - seconds / kFade));
     };
@@ -172,29 +181,55 @@ void FootPlanting::plan(const std::vector<std::vector<Sole>>& soles, float hip_h
   float lower = std::numeric_limits<float>::infinity();
   for (const std::vector<Sole>& sole : soles) lower = std::min(lower, stance(sole));
   const float settle = lower > 0.0f && lower <= kMostFloat * hip_height ? lower : 0.0f;
-  // Contacts, then how far the hip comes down on each frame: settle, or more where a leg too
-  // short to reach needs it, eased in and out (a foot's need at frame f asks for need *
-  // (1 - |t - t_f| / kFade) around it, so the body never drops faster than the largest need
-  // per kFade). Dropping the body can bring a slow foot into contact, so contacts are found
-  // again until none is added (twice at most in practice).
+  // Contacts, their feet's shifts across (pin), then how far the hip comes down on each frame:
+  // settle, or more where a leg too short to reach its shifted ankle needs it, eased in and out (a
+  // foot's need at frame f asks for need * (1 - |t - t_f| / kFade) around it, so the body never
+  // drops faster than the largest need per kFade). Dropping the body can bring a slow foot into
+  // contact, so contacts are found again until none is added (twice at most in practice).
   hip_drop_.assign(n, settle);
-  for (std::size_t i = 0; i < feet_.size(); ++i) feet_[i].contact.assign(n, 0);
+  const auto is_down = [&](std::size_t i, int f) {
+    return soles[i][f].height - hip_drop_[f] <= kContactHeight * hip_height;
+  };
+  for (Foot& foot : feet_) {
+    foot.contact.assign(n, 0);
+    foot.offset.assign(n, glm::vec3(0.0f));
+  }
   const int fade_frames = static_cast<int>(kFade / frame_time_);
   for (int round = 0; round < 4; ++round) {
     bool added = false;
-    std::vector<float> need(n, 0.0f);
     for (std::size_t i = 0; i < feet_.size(); ++i) {
-      const std::vector<Sole>& sole = soles[i];
-      for (int f = 0; f < n; ++f) {
-        if (!feet_[i].contact[f] && sole[f].height - hip_drop_[f] <= kContactHeight * hip_height &&
-            sole[f].speed < kContactSpeed * hip_height) {
-          feet_[i].contact[f] = 1;
+      const auto down = [&](int f) { return is_down(i, f); };
+      std::vector<std::uint8_t>& contact = feet_[i].contact;
+      for (int f = 0; f < n; ++f)
+        if (!contact[f] && down(f) && soles[i][f].speed < kContactSpeed * hip_height) {
+          contact[f] = 1;
           added = true;
         }
-        if (feet_[i].contact[f]) need[f] = std::max(need[f], sole[f].hip_drop - settle);
+      // A contact broken for no longer than the speed window, the sole down throughout, goes
+      // on: one noisy frame makes the window fast for that long (held apart, the two contacts'
+      // shifts would jump).
+      for (int f = 0, last = -1; f < n; ++f) {
+        if (!contact[f]) continue;
+        bool bridged =
+            last >= 0 && f - last > 1 && (f - last - 1) * frame_time_ <= 2.0 * kSpeedWindow;
+        for (int g = last + 1; bridged && g < f; ++g) bridged = down(g);
+        if (bridged) {
+          std::fill(contact.begin() + last + 1, contact.begin() + f, 1);
+          added = true;
+        }
+        last = f;
       }
     }
     if (!added) break;
+    std::vector<float> need(n, 0.0f);
+    for (std::size_t i = 0; i < feet_.size(); ++i) {
+      pin(feet_[i], soles[i]);
+      for (int f = 0; f < n; ++f)
+        if (feet_[i].contact[f]) {
+          const glm::vec3 shift = feet_[i].offset[f];
+          need[f] = std::max(need[f], hip_drop(soles[i][f], {shift.x, shift.z}) - settle);
+        }
+    }
     for (int f = 0; f < n; ++f) {
       if (need[f] <= 0.0f) continue;
       for (int g = std::max(0, f - fade_frames); g <= std::min(n - 1, f + fade_frames); ++g) {
@@ -205,10 +240,56 @@ void FootPlanting::plan(const std::vector<std::vector<Sole>>& soles, float hip_h
   }
   for (std::size_t i = 0; i < feet_.size(); ++i) {
     Foot& foot = feet_[i];
-    foot.offset.assign(n, 0.0f);
     for (int f = 0; f < n; ++f)
-      if (foot.contact[f]) foot.offset[f] = hip_drop_[f] - soles[i][f].height;
+      if (foot.contact[f]) foot.offset[f].y = hip_drop_[f] - soles[i][f].height;
+    // Across, a contact's shift holds while the sole stays down after it and before it, and
+    // fades beyond: fading at once slowed a foot peeling off to a hover above the floor (the
+    // child's in cmu_01_03, 2.3 cm up and slower than a viewer's 0.19 m/s). A gap down
+    // throughout is bridged.
+    std::vector<glm::vec3> across = foot.offset;
+    std::vector<std::uint8_t> held = foot.contact;
+    for (int f = 0; f < n;) {
+      if (foot.contact[f]) {
+        ++f;
+        continue;
+      }
+      int end = f;
+      while (end < n && !foot.contact[end]) ++end;
+      int a = f, b = end;
+      for (; f > 0 && a < end && is_down(i, a); ++a) across[a] = across[f - 1], held[a] = 1;
+      for (; end < n && b > a && is_down(i, b - 1); --b)
+        across[b - 1] = across[end], held[b - 1] = 1;
+      if (f > 0 && end < n && a == b) std::fill(held.begin() + f, held.begin() + end, 0);
+      f = end;
+    }
+    spread(across, held);
     spread(foot.offset, foot.contact);
+    for (int f = 0; f < n; ++f) foot.offset[f].x = across[f].x, foot.offset[f].z = across[f].z;
+  }
+}
+
+void FootPlanting::pin(Foot& foot, const std::vector<Sole>& soles) const {
+  const int n = frame_count_;
+  for (int first = 0; first < n;) {
+    if (!foot.contact[first]) {
+      ++first;
+      continue;
+    }
+    // Each frame's shift holds the point lowest at the frame before where it was then; the
+    // contact's mean shift is then taken off, so the ankle stands where the clip's does on
+    // average (footfalls and strides keep their places).
+    int last = first;
+    glm::vec2 shift(0.0f), sum(0.0f);
+    foot.offset[first] = glm::vec3(0.0f);
+    while (last + 1 < n && foot.contact[last + 1]) {
+      shift -= soles[last].step;
+      sum += shift;
+      ++last;
+      foot.offset[last] = glm::vec3(shift.x, 0.0f, shift.y);
+    }
+    const glm::vec3 mean(sum.x / (last - first + 1), 0.0f, sum.y / (last - first + 1));
+    for (int f = first; f <= last; ++f) foot.offset[f] -= mean;
+    first = last + 1;
   }
 }
 
@@ -226,11 +307,10 @@ void FootPlanting::apply(double seconds, deform::Pose& pose) const {
   const std::vector<glm::quat> rotation = world_rotations(skeleton_, pose);
   for (const Foot& foot : feet_) {
     const float height = sole_of(foot, world).height;
-    float rise = foot.contact[f0] && foot.contact[f1]
-                     ? -height
-                     : glm::mix(foot.offset[f0], foot.offset[f1], alpha);
-    rise = std::max(rise, -height);  // never below the floor
-    if (rise != 0.0f) move_ankle(foot, rise, world, rotation, pose);
+    glm::vec3 shift = glm::mix(foot.offset[f0], foot.offset[f1], alpha);
+    if (foot.contact[f0] && foot.contact[f1]) shift.y = -height;
+    shift.y = std::max(shift.y, -height);  // never below the floor
+    if (shift != glm::vec3(0.0f)) move_ankle(foot, shift, world, rotation, pose);
   }
 }
 
@@ -263,26 +343,29 @@ std::vector<FootPlanting::ContactSlide> FootPlanting::contact_slides(
   return slides;
 }
 
-void FootPlanting::move_ankle(const Foot& foot, float rise, const std::vector<glm::mat4>& world,
+void FootPlanting::move_ankle(const Foot& foot, glm::vec3 shift,
+                              const std::vector<glm::mat4>& world,
                               const std::vector<glm::quat>& rotation, deform::Pose& pose) const {
   const deform::LegJoints& leg = foot.leg;
   const glm::vec3 hip(world[leg.upper][3]), knee(world[leg.lower][3]), ankle(world[leg.foot][3]);
   const float thigh = glm::distance(hip, knee), shin = glm::distance(knee, ankle);
   if (thigh < 1e-6f || shin < 1e-6f) return;
-  // The ankle moves straight up or down, as far towards `rise` as the leg reaches (so strides
-  // never change): the heights where the hip-to-ankle distance lies within the leg's range.
+  // The ankle moves across by the shift (the hip has come down so that the leg reaches there),
+  // then up or down, as far towards the shift's rise as the leg reaches: the heights where the
+  // hip-to-ankle distance lies within the leg's range.
   const float longest = (thigh + shin) * (1.0f - 1e-6f), shortest = std::abs(thigh - shin);
-  const glm::vec3 from_hip = ankle - hip;
+  const glm::vec3 from_hip = ankle + glm::vec3(shift.x, 0.0f, shift.z) - hip;
   const float across =
       glm::dot(glm::vec2(from_hip.x, from_hip.z), glm::vec2(from_hip.x, from_hip.z));
   if (across >= longest * longest) return;
+  float rise = shift.y;
   const float deepest = std::sqrt(longest * longest - across);
   rise = std::clamp(rise, -from_hip.y - deepest, -from_hip.y + deepest);
   if (across < shortest * shortest) {  // not through the hip's blind spot around it
     const float blind = std::sqrt(shortest * shortest - across);
     if (from_hip.y + rise > -blind && from_hip.y + rise < blind) rise = -from_hip.y - blind;
   }
-  const glm::vec3 target = ankle + glm::vec3(0.0f, rise, 0.0f);
+  const glm::vec3 target = from_hip + hip + glm::vec3(0.0f, rise, 0.0f);
   const glm::vec3 u = (knee - hip) / thigh, s = (ankle - knee) / shin;
   glm::vec3 axis = glm::cross(u, s);
   const float bend = std::atan2(glm::length(axis), glm::dot(u, s));

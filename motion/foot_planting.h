@@ -4,8 +4,8 @@
 // proportions put them: the male's soles sank up to 5 cm below the floor in CMU's walks (before
 // retarget.h took the clip's hip height as it stands), since its legs, ankles and feet are not
 // the clip's, and no root scale makes every frame agree. Production retargeters correct this with
-// leg IK on the frames where a foot is planted (MotionBuilder's floor contact, Unreal's IK
-// retargeter); so does this.
+// leg IK on the frames where a foot is planted, holding the planted foot still (MotionBuilder's
+// floor contact, Unreal's IK retargeter); so does this.
 //
 // Definitions (the model in metres, Y up; L its hip height on straight legs, about 0.9 m):
 //   sole     the rest mesh's vertices at or below the ankle whose strongest influence is the
@@ -26,19 +26,31 @@
 //            roll and noise stay under both; a foot lifted for the next step passes them
 //            within a frame or two. The window is wider than a viewer's (tests/motion/
 //            foot_tracks.h: 5 cm and 0.25 m/s), so what a viewer calls planted is planted.
-// On a contact frame the ankle moves straight up or down by the sole's height, so the sole
-// touches the floor; the foot keeps its world orientation (heel-to-toe roll is the clip's) and
-// the ankle its horizontal position (strides are unchanged). The hip stays; the knee bends or
-// straightens in its own plane (two-bone IK). Where a straightened leg cannot reach the floor,
-// the whole body comes down as far as that foot needs, eased in and out over 0.15 s around the
-// frame (so it never drops faster than its deepest need per 0.15 s); dropping it may bring a
-// slow foot into contact, so contacts are found again until none is added. Between contacts a
-// foot's offset fades linearly to zero within 0.15 s of each, or, across a gap shorter than
-// 0.3 s, goes linearly from one contact's to the next's, so nothing pops. On no frame does a
-// sole go below the floor. An ankle that cannot reach its height moves as far as the leg
-// reaches, still straight up or down.
-// A clip sampled between frames (pose_at_time) plants exactly where both frames are contact
-// frames and interpolates the frames' offsets and the body's drop elsewhere.
+//            A contact broken for no longer than the speed window's 0.1 s, the sole within
+//            the contact height throughout, goes on through the break (one noisy frame makes
+//            the window fast for that long).
+// On a contact frame the ankle moves up or down by the sole's height, so the sole touches the
+// floor, and across so that the sole does not slide: the foot keeps its world orientation
+// (heel-to-toe roll is the clip's), and each frame's ankle is shifted so that the point of the
+// sole lowest at the frame before stands where it stood then (a foot rolling on that point
+// keeps it still; the clip's own point drifts: cmu_01_03's contacts on the male move it 5.8 cm
+// net on average, 15 cm at most, and jitter up to 3.5 cm in a frame, so that summed frame by
+// frame it travelled 35 cm a contact on average and 84 cm at most). Each contact's
+// shifts less their mean, so the ankle stands where the clip's does on average over the
+// contact and footfalls keep their places. The hip stays; the knee bends or straightens in its own
+// plane and the thigh swings (two-bone IK). Where a straightened leg cannot reach the floor at the
+// shifted ankle, the whole body comes down as far as that foot needs, eased in and out over
+// 0.15 s around the frame (so it never drops faster than its deepest need per 0.15 s);
+// dropping it may bring a slow foot into contact, so contacts are found again until none is
+// added. Between contacts a foot's offset fades linearly to zero within 0.15 s of each, or,
+// across a gap shorter than 0.3 s, goes linearly from one contact's to the next's, so nothing
+// pops; across, a contact's shift first holds while the sole stays within the contact height
+// after or before it (a foot peeling off or landing moves as the clip's does), unless the sole
+// stays that low through the whole gap. On no frame does a sole go below the floor. An ankle
+// that cannot reach its height moves as far as the leg reaches, straight up or down.
+// A clip sampled between frames (pose_at_time) puts the sole on the floor exactly where both
+// frames are contact frames and interpolates the frames' offsets (across everywhere) and the
+// body's drop.
 #pragma once
 
 #include <cstdint>
@@ -89,26 +101,34 @@ class FootPlanting {
     deform::LegJoints leg;
     std::vector<SolePoint> sole;
     glm::vec4 centre;                   // the sole's centroid in the foot's rest frame
-    std::vector<float> offset;          // the ankle's vertical move, per clip frame
+    std::vector<glm::vec3> offset;      // the ankle's move, per clip frame
     std::vector<std::uint8_t> contact;  // per clip frame
     int side = 0;                       // 0 the rig map's left leg, 1 its right
   };
   struct Sole {
     float height;        // above the floor
     std::size_t lowest;  // its lowest point, an index into Foot::sole
-    float speed;         // that point's horizontal speed
-    float hip_drop;      // how far the hip must come down for a straight leg to reach the floor
+    float speed;         // that point's speed
+    glm::vec2 step;      // that point's horizontal move to the next clip frame (x, z)
+    glm::vec3 to_ankle;  // from the hip joint to the ankle
+    float leg;           // thigh and shin
   };
 
   FootPlanting(const deform::Model& model, float floor, double frame_time);
   Sole sole_of(const Foot& foot, const std::vector<glm::mat4>& world) const;
   // Where the uncorrected foot stands over the clip, above the model's floor (see the header).
   static float stance(const std::vector<Sole>& soles);
-  // Contacts, the pelvis's drop and the feet's offsets from the uncorrected soles per frame.
+  // How far the hip must come down for the leg, straightened, to put the sole on the floor with
+  // the ankle moved across by `shift` (x, z).
+  static float hip_drop(const Sole& sole, glm::vec2 shift);
+  // Contacts, the pelvis's drop and the feet's offsets (across and up) from the uncorrected soles
+  // per frame.
   void plan(const std::vector<std::vector<Sole>>& soles, float hip_height);
   // Fills the frames not `known` from the known ones: a fade or a bridge (see the header).
-  void spread(std::vector<float>& values, const std::vector<std::uint8_t>& known) const;
-  void move_ankle(const Foot& foot, float rise, const std::vector<glm::mat4>& world,
+  void spread(std::vector<glm::vec3>& values, const std::vector<std::uint8_t>& known) const;
+  // The horizontal shifts that hold each contact's sole still (see the header) into foot.offset.
+  void pin(Foot& foot, const std::vector<Sole>& soles) const;
+  void move_ankle(const Foot& foot, glm::vec3 shift, const std::vector<glm::mat4>& world,
                   const std::vector<glm::quat>& rotation, deform::Pose& pose) const;
 
   deform::Skeleton skeleton_;

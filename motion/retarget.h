@@ -102,11 +102,12 @@
 // Feet (Feet::kPlanted, the default, on a model with a mesh and a leg the rig map found whole):
 // the poses above, then the feet put on the floor where the clip plants them, by leg IK and,
 // where a straightened leg cannot reach, by bringing the body down (motion/foot_planting.h).
-// Only the legs' hip, knee and ankle rotations and the root's height change; ankles move
-// straight up or down, so strides and the feet's world rotations are the clip's. Then the whole
-// body rises where another part would go below the floor (knees, hips, hands, back: the model's
-// proportions are not the clip's; motion/body_floor.h), with a warning naming the largest
-// rise. Feet::kFree
+// Only the legs' hip, knee and ankle rotations and the root's height change; a planted foot's
+// ankle moves up or down onto the floor and across so that its sole holds still, about where
+// the clip's stands (footfalls keep their places); the feet's world rotations are the clip's.
+// Then the whole body rises where another part would go below the floor (knees, hips, hands,
+// back: the model's proportions are not the clip's; motion/body_floor.h), with a warning naming
+// the largest rise. Feet::kFree
 // (and a bare skeleton, which has no soles) keeps every rotation above: onto a copy of the
 // clip's own skeleton the clip's rotations come back.
 #pragma once

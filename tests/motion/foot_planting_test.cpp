@@ -1,17 +1,31 @@
 // Foot planting (motion/foot_planting.h) on every body the tests have, not just the male it was
 // first measured on: the male, the male mirrored (left and right swapped) and at 0.6 of its
-// size, the 20k mannequin and Khronos' RiggedFigure, each playing both CMU clips. Contacts,
-// heights and sizes as tests/motion/foot_tracks.h defines them (lengths scaled by the body).
+// size, the 20k mannequin, Khronos' RiggedFigure and the four corpus bodies, each playing both
+// CMU clips. Contacts, heights and sizes as tests/motion/foot_tracks.h defines them (lengths
+// scaled by the body).
 // Per body, clip and foot, planted against free (Feet::kFree):
 // - on every contact frame the sole is within 2 cm of the floor (the acceptance),
 //   and contacts are a fifth of the frames at least (so the bound is not met by finding none);
 // - on no frame is the sole below the floor;
-// - only heights change: the ankle's horizontal position (so strides) and the foot's world
-//   rotation (so heel-to-toe roll) are the free retarget's;
+// - the foot's world rotation (so heel-to-toe roll) is the free retarget's; the ankle moves
+//   across only to hold the sole still, about where the free one stands: over each run of
+//   contact frames lasting a footfall's 0.1 s, the planted ankle's mean lies within 5 cm of
+//   the free one's (strides change by twice that at most; measured 4.6 cm, the male in
+//   cmu_01_03, 3 cm or less on every other body and clip);
 // - nothing pops: from one 120 Hz frame to the next, the correction (the ankle's height over
 //   the free one's) changes by at most 5 mm more than the free sole's height does (on a
 //   contact frame the correction cancels the clip's own jitter, 2-3 cm a frame at worst;
-//   elsewhere it eases in and out; measured 3.7 mm at most, the mannequin in cmu_01_01).
+//   elsewhere it eases in and out; measured 4.6 mm at most, the heavy male in cmu_01_03), and
+//   its move across by at most 1 cm more than the free sole's lowest point moves across
+//   (holding that point cancels its move; measured 5.7 mm at most, the male in cmu_01_01,
+//   where a hold's shift fades in or out);
+// - per body and clip, the root's move from the free one's (planting's drop and the body
+//   floor's lift) changes by at most 5 mm a frame (measured 4.1 mm, the heavy male in cmu_01_03,
+//   3.7 mm before the hold: the drop easing in where a leg cannot reach its held foot);
+// - no sole slides: per contact of the planting (FootPlanting::contact_slides), the sole's
+//   contact point moves across by at most 1 mm (the target is 2 cm; the free feet
+//   slide 5.7-17.6 cm per contact on average and up to 80 cm, mostly the clip's marker noise;
+//   measured 0.05 mm at most: float round-off).
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -43,14 +57,20 @@ struct Body {
 
 std::vector<Body> bodies() {
   const deform::Model male = io::load_gltf(kData / "models/makehuman_male_cmu.glb");
-  return {{"male", male},
-          {"male mirrored", test_models::mirrored(male)},
-          {"male x0.6", test_models::rescaled(male, 0.6f)},
-          {"mannequin 20k", mannequin::make_mannequin({.target_vertices = 20000})},
-          {"RiggedFigure", io::load_gltf(kData / "models/RiggedFigure/RiggedFigure.gltf")}};
+  return {
+      {"male", male},
+      {"male mirrored", test_models::mirrored(male)},
+      {"male x0.6", test_models::rescaled(male, 0.6f)},
+      {"mannequin 20k", mannequin::make_mannequin({.target_vertices = 20000})},
+      {"RiggedFigure", io::load_gltf(kData / "models/RiggedFigure/RiggedFigure.gltf")},
+      {"child", io::load_gltf(kData / "models/corpus/makehuman_child_mixamo_unity.glb")},
+      {"heavy female",
+       io::load_gltf(kData / "models/corpus/makehuman_female_old_heavy_mixamo.glb")},
+      {"slim female", io::load_gltf(kData / "models/corpus/makehuman_female_slim_openpose.glb")},
+      {"heavy male", io::load_gltf(kData / "models/corpus/makehuman_male_old_heavy_unreal.glb")}};
 }
 
-TEST(FootPlanting, EveryBodysSolesLandOnTheFloorAndOnlyTheirHeightsChange) {
+TEST(FootPlanting, EveryBodysSolesLandOnTheFloorAndHoldStill) {
   if (!fs::exists(kData / "models/makehuman_male_cmu.glb"))
     GTEST_SKIP() << "shared data absent (see ../shared/data/SOURCES.md)";
   for (const Body& body : bodies()) {
@@ -64,6 +84,21 @@ TEST(FootPlanting, EveryBodysSolesLandOnTheFloorAndOnlyTheirHeightsChange) {
       const Retargeter free(motion, body.model, {}, Feet::kFree);
       ASSERT_NE(planted.foot_planting(), nullptr) << body.name;
       const test::FootTracks on = feet.track(planted, kFps), off = feet.track(free, kFps);
+      float slide = 0.0f, root_step = 0.0f;
+      for (const FootPlanting::ContactSlide& contact : planted.foot_planting()->contact_slides(
+               [&](int frame) { return planted.pose_at_frame(frame); }))
+        slide = std::max(slide, contact.slide);
+      for (int f = 1; f < on.frames(); ++f) {
+        const auto root_move = [&](int g) {
+          return planted.pose_at_time(g / kFps).root_translation -
+                 free.pose_at_time(g / kFps).root_translation;
+        };
+        root_step = std::max(root_step, glm::distance(root_move(f), root_move(f - 1)));
+      }
+      std::printf("%-26s worst slide per contact %.5f m, root moves %.4f m a frame at most\n",
+                  (body.name + " " + clip).c_str(), slide, root_step);
+      EXPECT_LT(slide, 0.001f * size) << body.name << " " << clip;
+      EXPECT_LT(root_step, 0.005f * size) << body.name << " " << clip;
       for (int side = 0; side < 2; ++side) {
         const std::string what = body.name + " " + clip + (side ? " right" : " left");
         const test::Contacts found = test::contacts(on, side, kFps, size);
@@ -78,11 +113,22 @@ TEST(FootPlanting, EveryBodysSolesLandOnTheFloorAndOnlyTheirHeightsChange) {
         };
         const auto [low, high] = range(on, found);
         const auto [free_low, free_high] = range(off, found_free);
-        float lowest = std::numeric_limits<float>::infinity(), across = 0.0f, turned = 0.0f,
-              step = 0.0f;
+        float lowest = std::numeric_limits<float>::infinity(), footfall = 0.0f, turned = 0.0f,
+              step = 0.0f, step_across = 0.0f;
+        // Runs of contact frames a footfall long: the planted ankle's mean from the free one's.
+        for (std::size_t run = 0; run < found.frames.size();) {
+          std::size_t end = run;
+          glm::vec2 sum(0.0f);
+          for (;
+               end < found.frames.size() && found.frames[end] == found.frames[run] + int(end - run);
+               ++end)
+            sum += on.ankle[side][found.frames[end]] - off.ankle[side][found.frames[end]];
+          if ((end - run) / kFps >= 0.1)
+            footfall = std::max(footfall, glm::length(sum) / static_cast<float>(end - run));
+          run = end;
+        }
         for (int f = 0; f < on.frames(); ++f) {
           lowest = std::min(lowest, on.height[side][f]);
-          across = std::max(across, glm::distance(on.ankle[side][f], off.ankle[side][f]));
           turned = std::max(turned, 1.0f - std::abs(glm::dot(on.foot_rotation[side][f],
                                                              off.foot_rotation[side][f])));
           if (f > 0) {
@@ -91,21 +137,27 @@ TEST(FootPlanting, EveryBodysSolesLandOnTheFloorAndOnlyTheirHeightsChange) {
             };
             step = std::max(step, std::abs(lift(f) - lift(f - 1)) -
                                       std::abs(off.height[side][f] - off.height[side][f - 1]));
+            const auto shift = [&](int g) { return on.ankle[side][g] - off.ankle[side][g]; };
+            const std::size_t point = off.lowest[side][f - 1];
+            const glm::vec3 moved = off.points[side][f][point] - off.points[side][f - 1][point];
+            step_across = std::max(step_across, glm::distance(shift(f), shift(f - 1)) -
+                                                    glm::length(glm::vec2(moved.x, moved.z)));
           }
         }
         std::printf(
             "%-36s planted: %4zu of %4d frames in contact, sole %+.4f to %+.4f m, lowest %+.5f "
-            "m, ankles %.1e m across, feet turned %.1e, steps %.4f m beyond free; free: %4zu in "
-            "contact, sole %+.4f to %+.4f m\n",
-            what.c_str(), found.frames.size(), on.frames(), low, high, lowest, across, turned, step,
-            found_free.frames.size(), free_low, free_high);
+            "m, footfalls %.4f m from free, feet turned %.1e, steps %.4f m up and %.4f m across "
+            "beyond free; free: %4zu in contact, sole %+.4f to %+.4f m\n",
+            what.c_str(), found.frames.size(), on.frames(), low, high, lowest, footfall, turned,
+            step, step_across, found_free.frames.size(), free_low, free_high);
         EXPECT_GT(found.frames.size(), static_cast<std::size_t>(on.frames() / 5)) << what;
         EXPECT_GT(low, -0.02f * size) << what;
         EXPECT_LT(high, 0.02f * size) << what;
         EXPECT_GT(lowest, -1e-4f * size) << what;
-        EXPECT_LT(across, 1e-4f * size) << what;
+        EXPECT_LT(footfall, 0.05f * size) << what;
         EXPECT_LT(turned, 1e-5f) << what;
         EXPECT_LT(step, 0.005f * size) << what;
+        EXPECT_LT(step_across, 0.01f * size) << what;
       }
     }
   }
