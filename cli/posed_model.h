@@ -54,6 +54,10 @@ class PosedModel {
   deform::Pose pose(int frame) const;
   // The clip's frame count (clip_frame_count); 1 without a clip.
   int frame_count() const;
+  // The clip's own frame rate (its file's); 0 without a clip.
+  float clip_frames_per_second() const {
+    return clip_ ? clip_->motion().frames_per_second() : 0.0f;
+  }
   // The clip's player (a Retargeter for --bvh and --clip-from); null without a clip.
   const motion::ClipPoses* clip() const { return clip_.get(); }
   // Deforms into positions and normals (vertex_count() each), features included: one

@@ -1,11 +1,11 @@
 // Tests for io::PointCacheWriter: the bytes of PC2 and MDD files field by field against the
 // formats (as Blender's MOD_meshcache_pc2.c / MOD_meshcache_mdd.c read them), a round trip
-// through a small reader written here from the formats, the Blender axes, and the refusals.
+// through a small reader written from the formats (tests/io/point_cache_read.h), the Blender axes,
+// and the refusals.
 #include "io/point_cache_save.h"
 
 #include <gtest/gtest.h>
 
-#include <bit>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -15,60 +15,13 @@
 #include <vector>
 
 #include "io/file_bytes.h"
+#include "tests/io/point_cache_read.h"
 #include "tests/scratch_directory.h"
 
 namespace sweepd::io {
 namespace {
 
 namespace fs = std::filesystem;
-
-// A 32-bit field at `offset`, little- or big-endian.
-std::uint32_t field(const std::vector<std::uint8_t>& bytes, std::size_t offset, bool little) {
-  std::uint32_t value = 0;
-  for (int i = 0; i < 4; ++i) {
-    const std::uint32_t byte = bytes.at(offset + i);
-    value |= byte << (little ? 8 * i : 8 * (3 - i));
-  }
-  return value;
-}
-float float_field(const std::vector<std::uint8_t>& bytes, std::size_t offset, bool little) {
-  return std::bit_cast<float>(field(bytes, offset, little));
-}
-
-// What a cache holds, read back by the formats' own rules.
-struct Cache {
-  int frames = 0, points = 0;
-  float start = 0.0f, sampling = 0.0f;  // PC2 only
-  std::vector<float> times;             // MDD only
-  std::vector<glm::vec3> positions;     // frames × points
-};
-
-Cache read_cache(const fs::path& file, PointCacheFormat format) {
-  const std::vector<std::uint8_t> bytes = read_file_bytes(file);
-  const bool pc2 = format == PointCacheFormat::kPc2;
-  Cache cache;
-  std::size_t offset = 0;
-  if (pc2) {
-    offset = 32;
-    cache.points = static_cast<int>(field(bytes, 16, true));
-    cache.start = float_field(bytes, 20, true);
-    cache.sampling = float_field(bytes, 24, true);
-    cache.frames = static_cast<int>(field(bytes, 28, true));
-  } else {
-    cache.frames = static_cast<int>(field(bytes, 0, false));
-    cache.points = static_cast<int>(field(bytes, 4, false));
-    for (int f = 0; f < cache.frames; ++f)
-      cache.times.push_back(float_field(bytes, 8 + 4 * f, false));
-    offset = 8 + 4 * static_cast<std::size_t>(cache.frames);
-  }
-  EXPECT_EQ(bytes.size(), offset + std::size_t(cache.frames) * cache.points * 12)
-      << "the file holds exactly the frames its header promises";
-  for (int i = 0; i < cache.frames * cache.points; ++i, offset += 12)
-    cache.positions.emplace_back(float_field(bytes, offset, pc2),
-                                 float_field(bytes, offset + 4, pc2),
-                                 float_field(bytes, offset + 8, pc2));
-  return cache;
-}
 
 // Three frames of two points; frame f's point p is (p + 0.5, f + 0.25, -(f + p) - 0.125), so
 // a swapped frame, point or axis shows. Powers of two: exact in float32.
@@ -100,16 +53,16 @@ TEST(PointCacheSave, Pc2HeaderAndAKnownVertexByteForByte) {
   EXPECT_EQ(std::memcmp(bytes.data(), "POINTCACHE2\0", 12), 0) << "signature with its zero";
   const std::vector<std::uint8_t> version(bytes.begin() + 12, bytes.begin() + 16);
   EXPECT_EQ(version, (std::vector<std::uint8_t>{1, 0, 0, 0})) << "int32 1, little-endian";
-  EXPECT_EQ(field(bytes, 16, true), 2u) << "point count";
-  EXPECT_EQ(float_field(bytes, 20, true), 10.0f) << "start frame: the first frame written";
-  EXPECT_EQ(float_field(bytes, 24, true), 1.0f) << "sampling: a sample every frame";
-  EXPECT_EQ(field(bytes, 28, true), 3u) << "sample count";
+  EXPECT_EQ(test::cache_field(bytes, 16, true), 2u) << "point count";
+  EXPECT_EQ(test::cache_float(bytes, 20, true), 10.0f) << "start frame: the first frame written";
+  EXPECT_EQ(test::cache_float(bytes, 24, true), 1.0f) << "sampling: a sample every frame";
+  EXPECT_EQ(test::cache_field(bytes, 28, true), 3u) << "sample count";
   // Sample 2, point 1: (1.5, 2.25, -3.125); 1.5f is 0x3fc00000, low byte first.
   const std::size_t at = 32 + (2 * 2 + 1) * 12;
   const std::vector<std::uint8_t> x(bytes.begin() + at, bytes.begin() + at + 4);
   EXPECT_EQ(x, (std::vector<std::uint8_t>{0x00, 0x00, 0xc0, 0x3f}));
-  EXPECT_EQ(float_field(bytes, at + 4, true), 2.25f);
-  EXPECT_EQ(float_field(bytes, at + 8, true), -3.125f);
+  EXPECT_EQ(test::cache_float(bytes, at + 4, true), 2.25f);
+  EXPECT_EQ(test::cache_float(bytes, at + 8, true), -3.125f);
 }
 
 TEST(PointCacheSave, MddHeaderTimesAndAKnownVertexBigEndian) {
@@ -119,16 +72,16 @@ TEST(PointCacheSave, MddHeaderTimesAndAKnownVertexBigEndian) {
   ASSERT_EQ(bytes.size(), 8u + 3 * 4 + 3 * 2 * 12) << "counts, a time per frame, 3 frames";
   const std::vector<std::uint8_t> frames(bytes.begin(), bytes.begin() + 4);
   EXPECT_EQ(frames, (std::vector<std::uint8_t>{0, 0, 0, 3})) << "int32 3, big-endian";
-  EXPECT_EQ(field(bytes, 4, false), 2u) << "point count";
+  EXPECT_EQ(test::cache_field(bytes, 4, false), 2u) << "point count";
   // Frames 10, 11, 12 of a 120 fps clip: their seconds, rounded to float32 (1e-7 s).
   for (int f = 0; f < 3; ++f)
-    EXPECT_NEAR(float_field(bytes, 8 + 4 * f, false), (10 + f) / 120.0, 1e-7) << "time " << f;
+    EXPECT_NEAR(test::cache_float(bytes, 8 + 4 * f, false), (10 + f) / 120.0, 1e-7) << "time " << f;
   // Frame 2, point 1: (1.5, 2.25, -3.125); 1.5f is 0x3fc00000, high byte first.
   const std::size_t at = 20 + (2 * 2 + 1) * 12;
   const std::vector<std::uint8_t> x(bytes.begin() + at, bytes.begin() + at + 4);
   EXPECT_EQ(x, (std::vector<std::uint8_t>{0x3f, 0xc0, 0x00, 0x00}));
-  EXPECT_EQ(float_field(bytes, at + 4, false), 2.25f);
-  EXPECT_EQ(float_field(bytes, at + 8, false), -3.125f);
+  EXPECT_EQ(test::cache_float(bytes, at + 4, false), 2.25f);
+  EXPECT_EQ(test::cache_float(bytes, at + 8, false), -3.125f);
 }
 
 // Float32 in, float32 out: the reader must give back the very numbers (no tolerance).
@@ -136,7 +89,8 @@ TEST(PointCacheSave, BothFormatsReadBackToTheFramesWritten) {
   test::ScratchDirectory dir("round_trip");
   for (const auto& [name, format] :
        {std::pair{"m.pc2", PointCacheFormat::kPc2}, std::pair{"m.mdd", PointCacheFormat::kMdd}}) {
-    const Cache cache = read_cache(write_three_frames(dir.path() / name, format), format);
+    const test::PointCache cache =
+        test::read_point_cache(write_three_frames(dir.path() / name, format));
     ASSERT_EQ(cache.frames, 3) << name;
     ASSERT_EQ(cache.points, 2) << name;
     const std::vector<std::vector<glm::vec3>> frames = three_frames();
@@ -150,9 +104,8 @@ TEST(PointCacheSave, BothFormatsReadBackToTheFramesWritten) {
 // Blender's glTF importer turns glTF's +Y up into Blender's +Z up: (x, y, z) -> (x, -z, y).
 TEST(PointCacheSave, BlenderAxesPutGltfUpOnZAndFrontOnMinusY) {
   test::ScratchDirectory dir("blender_axes");
-  const Cache cache = read_cache(
-      write_three_frames(dir.path() / "m.pc2", PointCacheFormat::kPc2, PointCacheAxes::kBlender),
-      PointCacheFormat::kPc2);
+  const test::PointCache cache = test::read_point_cache(
+      write_three_frames(dir.path() / "m.pc2", PointCacheFormat::kPc2, PointCacheAxes::kBlender));
   ASSERT_EQ(cache.positions.size(), 6u);
   EXPECT_EQ(cache.positions[5], glm::vec3(1.5f, 3.125f, 2.25f)) << "(1.5, 2.25, -3.125) turned";
 }
