@@ -53,6 +53,17 @@ void write_frames(Posed& posed, const std::filesystem::path& out) {
               deform::to_string(posing.method));
 }
 
+// A frame's positions for a cache: deformed here without normals, or the server's (which come
+// with their normals).
+void cache_frame(PosedModel& posed, int frame, std::vector<glm::vec3>& positions,
+                 std::vector<glm::vec3>&) {
+  posed.deform_positions(frame, positions);
+}
+void cache_frame(RemotePosedModel& posed, int frame, std::vector<glm::vec3>& positions,
+                 std::vector<glm::vec3>& normals) {
+  posed.deform(frame, positions, normals);
+}
+
 // Writes the clip frames of `posed` as the point cache `out`, one frame deformed and written at a
 // time (memory: one frame), with a progress bar on stderr.
 template <typename Posed>
@@ -70,7 +81,7 @@ void write_point_cache(Posed& posed, const std::filesystem::path& out, io::Point
   {
     console::ProgressBar bar("caching " + posing.clip_file().filename().string());
     for (int frame = posing.frames.first; frame <= posing.frames.last; ++frame) {
-      posed.deform(frame, positions, normals);
+      cache_frame(posed, frame, positions, normals);
       cache.write_frame(positions);
       bar.update(static_cast<double>(frame - posing.frames.first + 1) / posing.frames.count(),
                  "writing frames");

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -64,6 +65,9 @@ class PosedModel {
   // deform::DeformJob. A clip's frame range is a stream (I_C from the previous frame,
   // VolumeChangeSource::kPreviousFrame); a single frame stands alone (kFixedPoint).
   void deform(int frame, std::vector<glm::vec3>& positions, std::vector<glm::vec3>& normals);
+  // The same without normals (a point cache holds none; on the 72k mannequin they are about
+  // half of a frame's deformation time).
+  void deform_positions(int frame, std::vector<glm::vec3>& positions);
   // What folding and protrusion did in the last deform (zeros without them).
   const deform::FeatureReport& feature_report() const { return feature_report_; }
   // The collision backend (--collision) with its stage times over every deform; null when
@@ -71,6 +75,9 @@ class PosedModel {
   const LocalCollision* collision() const { return collision_ ? &*collision_ : nullptr; }
 
  private:
+  // One deform::DeformJob into positions and normals (empty: none).
+  void run_job(int frame, std::span<glm::vec3> positions, std::span<glm::vec3> normals);
+
   PosingArguments arguments_;
   std::unique_ptr<deform::BoundModel> bound_;
   std::unique_ptr<deform::ModelRuntime> runtime_;

@@ -33,6 +33,12 @@ void put_float(std::vector<std::uint8_t>& out, float value, PointCacheFormat for
   put_u32(out.data() + out.size() - 4, std::bit_cast<std::uint32_t>(value), format);
 }
 
+float byte_swapped(float value) {
+  const auto bits = std::bit_cast<std::uint32_t>(value);
+  return std::bit_cast<float>((bits >> 24) | ((bits >> 8) & 0xff00u) | ((bits << 8) & 0xff0000u) |
+                              (bits << 24));
+}
+
 std::string file_problem(const std::filesystem::path& file, const std::string& reason) {
   return "point cache " + file.string() + ": " + reason;
 }
@@ -124,16 +130,27 @@ void PointCacheWriter::write_frame(std::span<const glm::vec3> positions) {
   if (frames_written_ == layout_.frame_count)
     throw std::invalid_argument(file_problem(
         file_, "a frame beyond the " + std::to_string(layout_.frame_count) + " promised"));
-  frame_bytes_.resize(positions.size() * 12);
-  std::uint8_t* out = frame_bytes_.data();
-  const bool blender = layout_.axes == PointCacheAxes::kBlender;
-  for (const glm::vec3& p : positions) {
-    // glTF's +Y up is Blender's +Z up, and glTF's +Z (front) Blender's -Y.
-    const glm::vec3 q = blender ? glm::vec3(p.x, -p.z, p.y) : p;
-    for (int axis = 0; axis < 3; ++axis, out += 4)
-      put_u32(out, std::bit_cast<std::uint32_t>(q[axis]), layout_.format);
-  }
-  write_bytes(frame_bytes_);
+  // The floats in the cache's axes, then their bytes in the format's order: two plain loops
+  // (the compiler vectorises both), a tenth of a frame's time on the 72k mannequin.
+  frame_floats_.resize(positions.size() * 3);
+  float* out = frame_floats_.data();
+  if (layout_.axes == PointCacheAxes::kBlender)
+    for (const glm::vec3& p : positions) {  // glTF's +Y up is Blender's +Z, its +Z Blender's -Y
+      *out++ = p.x;
+      *out++ = -p.z;
+      *out++ = p.y;
+    }
+  else
+    for (const glm::vec3& p : positions) {
+      *out++ = p.x;
+      *out++ = p.y;
+      *out++ = p.z;
+    }
+  const bool little = layout_.format == PointCacheFormat::kPc2;
+  if (little != (std::endian::native == std::endian::little))
+    for (float& value : frame_floats_) value = byte_swapped(value);
+  write_bytes({reinterpret_cast<const std::uint8_t*>(frame_floats_.data()),
+               frame_floats_.size() * sizeof(float)});
   ++frames_written_;
 }
 

@@ -69,7 +69,7 @@ class PointCacheWriter {
   PointCacheLayout layout_;
   std::FILE* out_ = nullptr;
   int frames_written_ = 0;
-  std::vector<std::uint8_t> frame_bytes_;  // one frame, encoded; reused
+  std::vector<float> frame_floats_;  // one frame in the file's axes and byte order; reused
 };
 
 }  // namespace sweepd::io
