@@ -4,6 +4,7 @@
 #include <bit>
 #include <cctype>
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -14,7 +15,7 @@ namespace sweepd::io {
 
 namespace {
 
-// Appends a 32-bit value's bytes in the format's order, whatever the host's: PC2 is
+// Writes a 32-bit value's bytes in the format's order, whatever the host's: PC2 is
 // little-endian, MDD big-endian.
 void put_u32(std::uint8_t* out, std::uint32_t bits, PointCacheFormat format) {
   for (int i = 0; i < 4; ++i) {
@@ -55,8 +56,8 @@ void check_layout(const std::filesystem::path& file, const PointCacheLayout& lay
     refuse("the first frame must be 0 or more, not " + std::to_string(layout.first_frame));
   if (!(layout.frames_per_second > 0.0))
     refuse("the frame rate must be above 0, not " + std::to_string(layout.frames_per_second));
-  // Every count and offset of the format is a 32-bit signed int (Blender's reader seeks to
-  // frame * points * 12 in a long): keep one frame's bytes within that.
+  // The format's counts are 32-bit signed ints, and Blender's reader computes a frame's size
+  // (points * 12 bytes) in an int: keep that within one.
   if (layout.point_count > (INT32_MAX / 12))
     refuse(std::to_string(layout.point_count) + " points do not fit the format's 32-bit sizes");
 }
