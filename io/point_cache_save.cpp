@@ -56,8 +56,8 @@ void check_layout(const std::filesystem::path& file, const PointCacheLayout& lay
     refuse("the first frame must be 0 or more, not " + std::to_string(layout.first_frame));
   if (!(layout.frames_per_second > 0.0))
     refuse("the frame rate must be above 0, not " + std::to_string(layout.frames_per_second));
-  // The format's counts are 32-bit signed ints, and Blender's reader computes a frame's size
-  // (points * 12 bytes) in an int: keep that within one.
+  // The format's counts are 32-bit signed ints: keep a frame's bytes (points * 12) within one
+  // as well, so no reader's offset arithmetic overflows within a frame.
   if (layout.point_count > (INT32_MAX / 12))
     refuse(std::to_string(layout.point_count) + " points do not fit the format's 32-bit sizes");
 }
