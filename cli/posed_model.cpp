@@ -108,6 +108,15 @@ void PosedModel::deform(int frame, std::vector<glm::vec3>& positions,
                         std::vector<glm::vec3>& normals) {
   positions.resize(model().vertex_count());
   normals.resize(model().vertex_count());
+  run_job(frame, positions, normals);
+}
+
+void PosedModel::deform_positions(int frame, std::vector<glm::vec3>& positions) {
+  positions.resize(model().vertex_count());
+  run_job(frame, positions, {});
+}
+
+void PosedModel::run_job(int frame, std::span<glm::vec3> positions, std::span<glm::vec3> normals) {
   deform::Pose p = pose(frame);
   deform::DeformJob job{
       .runtime = *runtime_,

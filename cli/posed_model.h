@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -54,12 +55,19 @@ class PosedModel {
   deform::Pose pose(int frame) const;
   // The clip's frame count (clip_frame_count); 1 without a clip.
   int frame_count() const;
+  // The clip's own frame rate (its file's); 0 without a clip.
+  float clip_frames_per_second() const {
+    return clip_ ? clip_->motion().frames_per_second() : 0.0f;
+  }
   // The clip's player (a Retargeter for --bvh and --clip-from); null without a clip.
   const motion::ClipPoses* clip() const { return clip_.get(); }
   // Deforms into positions and normals (vertex_count() each), features included: one
   // deform::DeformJob. A clip's frame range is a stream (I_C from the previous frame,
   // VolumeChangeSource::kPreviousFrame); a single frame stands alone (kFixedPoint).
   void deform(int frame, std::vector<glm::vec3>& positions, std::vector<glm::vec3>& normals);
+  // The same without normals (a point cache holds none; on the 72k mannequin they are about
+  // half of a frame's deformation time).
+  void deform_positions(int frame, std::vector<glm::vec3>& positions);
   // What folding and protrusion did in the last deform (zeros without them).
   const deform::FeatureReport& feature_report() const { return feature_report_; }
   // The collision backend (--collision) with its stage times over every deform; null when
@@ -67,6 +75,9 @@ class PosedModel {
   const LocalCollision* collision() const { return collision_ ? &*collision_ : nullptr; }
 
  private:
+  // One deform::DeformJob into positions and normals (empty: none).
+  void run_job(int frame, std::span<glm::vec3> positions, std::span<glm::vec3> normals);
+
   PosingArguments arguments_;
   std::unique_ptr<deform::BoundModel> bound_;
   std::unique_ptr<deform::ModelRuntime> runtime_;

@@ -82,9 +82,15 @@ void add_posing_flags(CLI::App& command, PosingArguments& out, ClipFrames frames
   if (frames == ClipFrames::kOneOrRange) {
     const CLI::Validator range(
         [](std::string& text) -> std::string {
-          return motion::parse_frame_range(text)
-                     ? ""
-                     : "expected A-B with 0 <= A <= B, got '" + text + "'";
+          if (motion::parse_frame_range(text)) return "";
+          const std::size_t dash = text.find('-');
+          if (dash != std::string::npos) {
+            const std::optional<int> a = motion::parse_frame_number(text.substr(0, dash));
+            const std::optional<int> b = motion::parse_frame_number(text.substr(dash + 1));
+            if (a && b && *a > *b)
+              return "'" + text + "' is an empty range: its first frame comes after its last";
+          }
+          return "expected A-B with 0 <= A <= B, got '" + text + "'";
         },
         "");
     command.add_option("--frames", "clip frames A to B, inclusive, 0-based (over --frame)")

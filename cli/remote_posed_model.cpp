@@ -132,10 +132,12 @@ RemotePosedModel::RemotePosedModel(const PosingArguments& arguments, const Serve
     if (local_model_file_) model_.name = file.stem().string();  // as the local commands name it
     if (arguments.has_clip() && clip_posing == ClipPosing::kHere) {
       player_ = clip_player(arguments, model_);
+      clip_frames_per_second_ = player_->motion().frames_per_second();
       if (arguments.fps <= 0.0f) require_clip_frames(arguments, player_->frame_count());
     } else if (arguments.has_clip()) {
       const pb::ClipInfo& clip = upload_clip(*connection_, local_model_file_);
       clip_id_ = clip.clip_id()->str();
+      clip_frames_per_second_ = clip.frames_per_second();
       // The server's warnings: the reader's, and (1.12) what playing it on this model leaves
       // unmapped, as the local commands print the retargeter's.
       if (clip.warnings())

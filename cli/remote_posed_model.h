@@ -78,6 +78,8 @@ class RemotePosedModel {
   // it: "model 'NAME' (id N) on sweepd at HOST:PORT (ORIGIN)".
   const std::string& server_name() const { return server_name_; }
   std::string served_as() const;
+  // The clip's own frame rate (its file's, as the server read it); 0 without a clip.
+  float clip_frames_per_second() const { return clip_frames_per_second_; }
   // The pose of clip frame `frame` (kHere), or the pose file / rest pose without a clip, for
   // measurements made here (`metrics --server`). Throws std::logic_error for a kOnServer clip.
   deform::Pose pose(int frame);
@@ -134,6 +136,7 @@ class RemotePosedModel {
   std::string server_name_;
   deform::Model model_;
   std::string clip_id_;  // the server's id for the clip (kOnServer), else empty
+  float clip_frames_per_second_ = 0.0f;
   std::unique_ptr<motion::ClipPoses> player_;  // the clip played here (kHere)
   std::optional<deform::Pose> file_pose_;
   std::vector<protocol::Quat> rotations_;  // wire scratch

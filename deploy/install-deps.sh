@@ -28,6 +28,7 @@ packages=(
   haproxy  # deploy/haproxy.cfg: checked with haproxy -c and run in front of two daemons (tests/deploy/)
   clang libclang-rt-14-dev  # make sanitize, make tsan and make fuzz compile with Clang 14 and its sanitizer runtimes (CMakePresets.json)
   chromium  # headless, on SwiftShader: tests/server/browser_viewer_test.cpp and bench/viewer_bench.sh load the viewer
+  blender  # headless (3.4): tests/cli/blender_point_cache_test.cpp plays sweepctl's PC2 and MDD caches in its Mesh Cache modifier
 )
 
 missing=()

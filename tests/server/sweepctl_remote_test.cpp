@@ -3,7 +3,8 @@
 // mannequin) is written from MeshRequest's mesh; remote metrics equal the local ones; wrong
 // token, unknown model and an unreachable server exit non-zero with the reason; a daemon
 // restarted on an empty store in the middle of a frame range gets the model uploaded again and
-// every frame still equals the local one.
+// every frame still equals the local one; point caches written with --server equal the local
+// ones byte for byte.
 #include "tests/server/sweepctl_remote.h"
 
 #include <gtest/gtest.h>
@@ -70,6 +71,27 @@ TEST_F(SweepctlRemote, FrameRangeOfAnAlreadyLoadedModelEqualsTheLocalFrames) {
     const std::vector<char> bytes = file_bytes(path("local_frames") / frame);
     ASSERT_FALSE(bytes.empty()) << frame;
     EXPECT_TRUE(bytes == file_bytes(path("remote_frames") / frame)) << frame;
+  }
+}
+
+// A point cache written with --server holds the daemon's frames, and its MDD times come from
+// the clip rate the daemon read: byte for byte the local cache.
+TEST_F(SweepctlRemote, PointCachesEqualTheLocalCachesByteForByte) {
+  const std::string pose =
+      "pose " + kSharedMale.string() + " --bvh " + kClip.string() + " --frames 100-102 -o ";
+  for (const auto& [cache, axes] :
+       {std::pair{"m.pc2", ""}, std::pair{"m.mdd", " --axes blender"}}) {
+    const std::string remote_file = path(std::string("remote_") + cache).string();
+    const ClientRun remote = run_sweepctl(server() + " " + pose + remote_file + axes);
+    ASSERT_EQ(remote.exit_code, 0) << remote.output << log();
+    EXPECT_NE(remote.output.find("wrote 3 frames of 14517 vertices"), std::string::npos)
+        << remote.output;
+    const std::string local_file = path(std::string("local_") + cache).string();
+    const ClientRun local = run_sweepctl(pose + local_file + axes);
+    ASSERT_EQ(local.exit_code, 0) << local.output;
+    const std::vector<char> bytes = file_bytes(local_file);
+    EXPECT_GT(bytes.size(), 3u * 14517 * 12) << cache << ": 3 frames of the male";
+    EXPECT_TRUE(bytes == file_bytes(remote_file)) << cache;
   }
 }
 
