@@ -25,7 +25,6 @@
 #include "io/bvh_load.h"
 #include "motion/retarget.h"
 #include "tests/deform/shared_male.h"
-#include "tests/mirrored_model.h"
 #include "tests/motion/knocked_down_clip.h"
 #include "tests/motion/test_bodies.h"
 
@@ -55,22 +54,12 @@ float lowest_over_clip(const deform::BoundModel& bound, const Clip& clip, Feet f
   return worst;
 }
 
-struct Body {
-  const char* file;
-  bool mirror;
-};
+using test_models::Body;
 
 class BodyFloorTest : public ::testing::TestWithParam<Body> {};
 
-// The body named by the test's parameter (tests/motion/test_bodies.h), mirrored if asked.
-std::optional<deform::Model> body_of(const Body& body) {
-  std::optional<deform::Model> model = test_models::load_body(body.file);
-  if (model && body.mirror) model = test_models::mirrored(std::move(*model));
-  return model;
-}
-
 TEST_P(BodyFloorTest, AKnockedDownBodyRestsOnTheFloor) {
-  const std::optional<deform::Model> body = body_of(GetParam());
+  const std::optional<deform::Model> body = test_models::load_body(GetParam());
   if (!body) GTEST_SKIP() << "shared data absent: " << GetParam().file;
   const deform::Model& model = *body;
   const deform::BoundModel bound = deform::bind(model, deform::detect_rig_map(model.skeleton));
@@ -90,7 +79,7 @@ TEST_P(BodyFloorTest, AKnockedDownBodyRestsOnTheFloor) {
 }
 
 TEST_P(BodyFloorTest, UprightClipsRaiseNothing) {
-  const std::optional<deform::Model> body = body_of(GetParam());
+  const std::optional<deform::Model> body = test_models::load_body(GetParam());
   if (!body) GTEST_SKIP() << "shared data absent: " << GetParam().file;
   const deform::Model& model = *body;
   for (const char* name : {"cmu_01_01", "cmu_01_03"}) {
@@ -113,13 +102,7 @@ INSTANTIATE_TEST_SUITE_P(
                       Body{"models/RiggedFigure/RiggedFigure.gltf", false},
                       Body{test_models::kMannequinBody, false}),
     [](const ::testing::TestParamInfo<Body>& info) {
-      const std::string file = info.param.file;
-      const std::size_t slash = file.rfind('/') + 1;
-      std::string name =
-          file.substr(slash, file.rfind('.') - slash) + (info.param.mirror ? "_mirrored" : "");
-      std::replace_if(
-          name.begin(), name.end(), [](char c) { return !std::isalnum(c); }, '_');
-      return name;
+      return test_models::body_test_name(info.param);
     });
 
 }  // namespace

@@ -26,7 +26,6 @@
 #include "io/bvh_load.h"
 #include "io/gltf_load.h"
 #include "motion/retarget.h"
-#include "tests/mirrored_model.h"
 #include "tests/motion/clip_world_positions.h"
 #include "tests/motion/test_bodies.h"
 #include "tests/test_paths.h"
@@ -75,18 +74,14 @@ float worst_facing_difference(const deform::Model& model, const Clip& clip,
   return worst;
 }
 
-struct Body {
-  const char* file;
-  bool mirror;
-};
+using test_models::Body;
 
 class Facing : public testing::TestWithParam<Body> {};
 
 TEST_P(Facing, TurnedModelsFaceTheClipsWayAtEveryFrame) {
-  std::optional<deform::Model> loaded = test_models::load_body(GetParam().file);
+  const std::optional<deform::Model> loaded = test_models::load_body(GetParam());
   if (!loaded) GTEST_SKIP() << "shared data absent: " << GetParam().file;
-  deform::Model model = std::move(*loaded);
-  if (GetParam().mirror) model = test_models::mirrored(std::move(model));
+  const deform::Model& model = *loaded;
   for (const char* clip_file : {"motion/cmu_01_01.bvh", "motion/cmu_01_03.bvh"}) {
     const Clip clip = io::load_bvh(fs::path(SWEEPD_SHARED_DATA) / clip_file);
     for (const float degrees : {0.0f, 90.0f, 180.0f}) {
@@ -122,13 +117,7 @@ INSTANTIATE_TEST_SUITE_P(
                     Body{"models/corpus/makehuman_child_mixamo_unity.glb", false},
                     Body{test_models::kMannequinBody, false}),
     [](const testing::TestParamInfo<Body>& info) {
-      const std::string file = info.param.file;
-      const std::string stem =
-          file.substr(file.rfind('/') + 1, file.rfind('.') - file.rfind('/') - 1);
-      std::string name = stem + (info.param.mirror ? "_mirrored" : "");
-      std::replace_if(
-          name.begin(), name.end(), [](char c) { return !std::isalnum(c); }, '_');
-      return name;
+      return test_models::body_test_name(info.param);
     });
 
 }  // namespace
