@@ -20,7 +20,7 @@
 #include "tests/server/http_probe.h"
 #include "tests/server/notify_socket.h"
 
-namespace sweepd::test {
+namespace sweepd::test::systemd_unit_test {
 namespace {
 
 using namespace std::chrono_literals;
@@ -156,4 +156,4 @@ TEST_F(SystemdUnitTest, TheUnitsCommandLineServesAsSystemdWouldStartIt) {
 }
 
 }  // namespace
-}  // namespace sweepd::test
+}  // namespace sweepd::test::systemd_unit_test

@@ -34,7 +34,7 @@
 #include "tests/deform/shared_male.h"
 #include "tests/io/gltf_test_files.h"
 
-namespace sweepd::io {
+namespace sweepd::io::gltf_scene_variants_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -242,4 +242,4 @@ TEST(GltfSceneVariants, MannequinInCentimetresRotatedOrReparentedPosesAsTheOrigi
 }
 
 }  // namespace
-}  // namespace sweepd::io
+}  // namespace sweepd::io::gltf_scene_variants_test

@@ -25,7 +25,7 @@ void write_text(const std::filesystem::path& path, const std::string& text) {
   std::ofstream(path) << text;
 }
 
-class RigMapJsonTest : public testing::Test {
+class RigMapJsonTest : public ::testing::Test {
  protected:
   const deform::Skeleton skeleton = test::make_humanoid(test::cmu_motionbuilder_spec());
   const RigMap detected = deform::detect_rig_map(skeleton);

@@ -9,7 +9,7 @@
 #include "deform/mesh/mesh_topology.h"
 #include "mannequin/marching_tetrahedra.h"
 
-namespace sweepd::mannequin {
+namespace sweepd::mannequin::shortest_edge_decimation_test {
 
 using namespace deform;  // the mannequin is made of the deform library's types
 namespace {
@@ -84,4 +84,4 @@ TEST(ShortestEdgeDecimation, LeavesSmallerMeshesAlone) {
 }
 
 }  // namespace
-}  // namespace sweepd::mannequin
+}  // namespace sweepd::mannequin::shortest_edge_decimation_test

@@ -31,7 +31,7 @@
 #include "tests/mirrored_model.h"
 #include "tests/rescaled_model.h"
 
-namespace sweepd::metrics {
+namespace sweepd::metrics::one_joint_torso_clip_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -104,4 +104,4 @@ INSTANTIATE_TEST_SUITE_P(Variants, OneJointTorsoClip,
                          });
 
 }  // namespace
-}  // namespace sweepd::metrics
+}  // namespace sweepd::metrics::one_joint_torso_clip_test

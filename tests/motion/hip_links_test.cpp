@@ -29,7 +29,7 @@
 #include "tests/body_variants.h"
 #include "tests/motion/clip_world_positions.h"
 
-namespace sweepd::motion {
+namespace sweepd::motion::hip_links_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -123,4 +123,4 @@ TEST(HipLinks, KeepTheirRestPlaceOnThePelvisAndTheStandingBodysFeetReachTheFloor
 }
 
 }  // namespace
-}  // namespace sweepd::motion
+}  // namespace sweepd::motion::hip_links_test

@@ -20,7 +20,7 @@
 #include "mannequin/mannequin.h"
 #include "motion/retarget.h"
 
-namespace sweepd::motion {
+namespace sweepd::motion::rest_pose_alignment_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -190,4 +190,4 @@ TEST(RestPoseAlignment, OnEveryModelTheHeadTurnsAsTheClipsHead) {
 }
 
 }  // namespace
-}  // namespace sweepd::motion
+}  // namespace sweepd::motion::rest_pose_alignment_test

@@ -19,7 +19,7 @@
 #include "mannequin/mannequin.h"
 #include "tests/motion/clip_world_positions.h"
 
-namespace sweepd::motion {
+namespace sweepd::motion::retarget_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -476,4 +476,4 @@ TEST_F(RetargetTest, AClipJointThatMatchesNothingIsNamedInAWarning) {
 }
 
 }  // namespace
-}  // namespace sweepd::motion
+}  // namespace sweepd::motion::retarget_test

@@ -24,7 +24,7 @@
 #include "tests/body_variants.h"
 #include "tests/motion/clip_world_positions.h"
 
-namespace sweepd::motion {
+namespace sweepd::motion::shoulder_rhythm_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -135,4 +135,4 @@ TEST(ShoulderRhythm, LoweredArmsLowerTheShouldersOnEveryBodyAndTheArmsPointAsThe
 }
 
 }  // namespace
-}  // namespace sweepd::motion
+}  // namespace sweepd::motion::shoulder_rhythm_test

@@ -32,7 +32,7 @@ constexpr bool kThreadSanitizer = true;
 constexpr bool kThreadSanitizer = false;
 #endif
 
-namespace sweepd::test {
+namespace sweepd::test::daemon_hostile_clients_test {
 namespace {
 
 constexpr std::uint32_t kMannequinJoints = 31;  // mannequin/mannequin.h
@@ -205,4 +205,4 @@ TEST(DaemonHostileClients, AFramePastTheSharedBudgetIsRefusedAndTheSessionGoesOn
 }
 
 }  // namespace
-}  // namespace sweepd::test
+}  // namespace sweepd::test::daemon_hostile_clients_test

@@ -19,7 +19,7 @@
 #include "tests/server/pose_frames.h"
 #include "tests/server/test_certificates.h"
 
-namespace sweepd::test {
+namespace sweepd::test::daemon_tls_test {
 namespace {
 
 constexpr char kToken[] = "tls-t0k";
@@ -324,4 +324,4 @@ TEST(DaemonTokenInClear, ATokenOnPlainTcpBeyondLoopbackIsRefusedUnlessAllowed) {
 }
 
 }  // namespace
-}  // namespace sweepd::test
+}  // namespace sweepd::test::daemon_tls_test

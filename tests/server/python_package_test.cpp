@@ -18,7 +18,7 @@
 #include "tests/server/pose_frames.h"
 #include "tests/server/stored_binding.h"
 
-namespace sweepd::test {
+namespace sweepd::test::python_package_test {
 namespace {
 
 const fs::path kPackage = fs::path(SWEEPD_SOURCE_DIR) / "client_examples/python";
@@ -135,4 +135,4 @@ TEST(PythonPackage, InstallsOfflineIntoAVenvAndPosesLikeTheLibrary) {
 }
 
 }  // namespace
-}  // namespace sweepd::test
+}  // namespace sweepd::test::python_package_test

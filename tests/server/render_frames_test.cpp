@@ -24,7 +24,7 @@
 #include "tests/server/daemon_process.h"
 #include "tests/server/stored_binding.h"
 
-namespace sweepd::test {
+namespace sweepd::test::render_frames_test {
 namespace {
 
 constexpr int kSide = 64;
@@ -335,4 +335,4 @@ TEST_F(RenderFrames, BadInputIsNamedWithItsExitCode) {
 }
 
 }  // namespace
-}  // namespace sweepd::test
+}  // namespace sweepd::test::render_frames_test

@@ -17,7 +17,7 @@
 #include "tests/server/client_run.h"
 #include "tests/server/daemon_process.h"
 
-namespace sweepd::test {
+namespace sweepd::test::stream_poses_py_test {
 namespace {
 
 constexpr char kPython[] = "/usr/bin/python3";
@@ -164,4 +164,4 @@ TEST_F(StreamPosesPy, DrivesAnUploadedBodyWithUnrealNamesThroughTheServersRetarg
 }
 
 }  // namespace
-}  // namespace sweepd::test
+}  // namespace sweepd::test::stream_poses_py_test

@@ -17,7 +17,7 @@
 #include "tests/server/client_run.h"
 #include "tests/server/daemon_process.h"
 
-namespace sweepd::test {
+namespace sweepd::test::stream_poses_test {
 namespace {
 
 ClientRun run_stream_poses(const std::string& arguments) {
@@ -153,4 +153,4 @@ TEST_F(StreamPoses, ADaemonRestartedOnAnEmptyStoreMidStreamGetsTheModelAgain) {
 }
 
 }  // namespace
-}  // namespace sweepd::test
+}  // namespace sweepd::test::stream_poses_test

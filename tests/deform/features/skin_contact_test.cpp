@@ -27,7 +27,7 @@
 #include "tests/deform/collision_shapes.h"
 #include "tests/deform/shared_male.h"
 
-namespace sweepd::deform {
+namespace sweepd::deform::skin_contact_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -429,4 +429,4 @@ TEST(SkinContact, MannequinRestPoseHasNoContactAndFlexedLimbsImprove) {
 }
 
 }  // namespace
-}  // namespace sweepd::deform
+}  // namespace sweepd::deform::skin_contact_test

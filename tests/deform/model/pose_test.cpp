@@ -12,7 +12,7 @@
 
 #include "deform/model/forward_kinematics.h"
 
-namespace sweepd::deform {
+namespace sweepd::deform::pose_test {
 namespace {
 
 constexpr float kPi = std::numbers::pi_v<float>;
@@ -157,4 +157,4 @@ TEST(PoseValidation, NonUnitQuaternionsAreNormalisedInPlace) {
 }
 
 }  // namespace
-}  // namespace sweepd::deform
+}  // namespace sweepd::deform::pose_test

@@ -30,7 +30,7 @@
 #include "tests/deform/mesh_edges.h"
 #include "tests/deform/shared_male.h"
 
-namespace sweepd::deform {
+namespace sweepd::deform::clip_deformation_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -164,4 +164,4 @@ TEST(ClipDeformation, EveryFourthCmuFrameOnThe72kMannequinIsFiniteAndWithinTheBo
 }
 
 }  // namespace
-}  // namespace sweepd::deform
+}  // namespace sweepd::deform::clip_deformation_test

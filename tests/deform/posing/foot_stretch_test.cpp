@@ -17,7 +17,7 @@
 #include "motion/retarget.h"
 #include "tests/deform/shared_male.h"
 
-namespace sweepd::deform {
+namespace sweepd::deform::foot_stretch_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -104,4 +104,4 @@ TEST(FootStretch, TheToeCreaseStaysWithinThreeTimesItsRestLengthWhereTheClipCurl
 }
 
 }  // namespace
-}  // namespace sweepd::deform
+}  // namespace sweepd::deform::foot_stretch_test

@@ -18,7 +18,7 @@
 #include "tests/deform/posed_section.h"
 #include "tests/deform/shared_male.h"
 
-namespace sweepd::deform {
+namespace sweepd::deform::sweep_poser_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -188,4 +188,4 @@ TEST(SweepPoser, ForearmTwistedBy150DegreesKeepsItsSections) {
 }
 
 }  // namespace
-}  // namespace sweepd::deform
+}  // namespace sweepd::deform::sweep_poser_test

@@ -12,9 +12,11 @@
 #include "deform/rig/rig_topology.h"
 #include "tests/deform/synthetic_humanoid.h"
 
-namespace sweepd::deform {
+namespace sweepd::deform::rig_map_test {
 namespace {
 
+// The synthetic humanoids' namespace, not sweepd::deform::test (tests/deform/shared_male.h).
+namespace test = sweepd::test;
 using test::HumanoidSpec;
 using test::SkeletonNode;
 
@@ -457,4 +459,4 @@ TEST(RigMapTopologyTest, AgreesWithNamesOnTheCmuSkeleton) {
 }
 
 }  // namespace
-}  // namespace sweepd::deform
+}  // namespace sweepd::deform::rig_map_test

@@ -9,7 +9,7 @@
 #include <numbers>
 #include <vector>
 
-namespace sweepd::deform {
+namespace sweepd::deform::swept_volume_test {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
@@ -279,4 +279,4 @@ TEST(SweepVolume, ACorrectionStepOnOneHalfAxisHitsItsTargetAndLeavesTheOtherAlon
 }
 
 }  // namespace
-}  // namespace sweepd::deform
+}  // namespace sweepd::deform::swept_volume_test
