@@ -78,6 +78,65 @@ TEST_P(BodyFloorTest, AKnockedDownBodyRestsOnTheFloor) {
   }));
 }
 
+// Parts resting on the floor hold still (motion/body_contacts.h): on the knocked-down clip, the
+// slide per contact of each part (cm: the horizontal path of its contact point over the
+// contact), with the holds and without them (Feet::kPlantedOnly: planted and lifted, as
+// before the holds), over the same contacts. Asserted: the back, hips, arms and hands slide at
+// most 2 cm a contact (the foot-slide target); where they rested the body slid 1.7-12.3
+// cm before. The knees are printed, not asserted: a knee beside a planted foot is foot
+// planting's (the feet win) and slides up to 10 cm (before 0.7-5.3). The root's per-frame move
+// across, against the unheld clip's, stays under 5 mm a frame (the foot-planting test's root
+// bound: the hold moves the root by a contact point's step, under 0.4 L/s = 3 mm a 120 Hz frame,
+// and fades at 0.25 L/s). Every frame, since a slide is a sum over consecutive frames.
+TEST_P(BodyFloorTest, PartsRestingOnTheFloorHoldStill) {
+  const std::optional<deform::Model> body = test_models::load_body(GetParam());
+  if (!body) GTEST_SKIP() << "shared data absent: " << GetParam().file;
+  const deform::Model& model = *body;
+  const Clip clip =
+      test_clips::knocked_down(io::load_bvh(fs::path(SWEEPD_SHARED_DATA) / "motion/cmu_01_01.bvh"));
+  const Retargeter held(clip, model), unheld(clip, model, {}, Feet::kPlantedOnly);
+  ASSERT_NE(held.body_contacts(), nullptr);
+  ASSERT_NE(unheld.body_contacts(), nullptr);
+  const auto slides = [](const Retargeter& r) {
+    return r.body_contacts()->contact_slides([&](int f) { return r.pose_at_frame(f); });
+  };
+  const auto after = slides(held), before = slides(unheld);
+  ASSERT_EQ(after.size(), before.size()) << "the holds must not change the contacts found";
+  bool any = false;
+  for (int part = 0; part < BodyContacts::kPartCount; ++part) {
+    float worst[2] = {0, 0}, sum[2] = {0, 0};
+    int count = 0;
+    for (std::size_t i = 0; i < after.size(); ++i) {
+      if (after[i].part != part) continue;
+      worst[0] = std::max(worst[0], before[i].slide), sum[0] += before[i].slide;
+      worst[1] = std::max(worst[1], after[i].slide), sum[1] += after[i].slide;
+      ++count;
+      const bool knee = part == BodyContacts::kLeftKnee || part == BodyContacts::kRightKnee;
+      if (!knee) {
+        EXPECT_LE(after[i].slide, 0.02f)
+            << BodyContacts::name(part) << " frames " << after[i].first << "-" << after[i].last;
+      }
+    }
+    if (count == 0) continue;
+    any = true;
+    std::printf("%s%s %-10s %2d contacts: worst %5.2f -> %5.2f cm, mean %5.2f -> %5.2f cm\n",
+                GetParam().file, GetParam().mirror ? " mirrored" : "", BodyContacts::name(part),
+                count, 100 * worst[0], 100 * worst[1], 100 * sum[0] / count, 100 * sum[1] / count);
+  }
+  EXPECT_TRUE(any) << "the knocked-down body should rest some part on the floor";
+  float root_step = 0.0f;
+  glm::vec3 last(0.0f);
+  for (int f = 0; f < clip.frame_count; ++f) {
+    glm::vec3 moved =
+        held.pose_at_frame(f).root_translation - unheld.pose_at_frame(f).root_translation;
+    moved.y = 0.0f;
+    if (f > 0) root_step = std::max(root_step, glm::distance(moved, last));
+    last = moved;
+  }
+  std::printf("  root moved across by the holds: %.2f mm a frame at most\n", 1000 * root_step);
+  EXPECT_LT(root_step, 0.007f);
+}
+
 TEST_P(BodyFloorTest, UprightClipsRaiseNothing) {
   const std::optional<deform::Model> body = test_models::load_body(GetParam());
   if (!body) GTEST_SKIP() << "shared data absent: " << GetParam().file;
