@@ -182,25 +182,35 @@ BodyContacts BodyContacts::find(const deform::Skeleton& skeleton, const deform::
 
   // The root hold: each frame's step takes off the mean step of the back's and hips' contact
   // points; where neither rests, of the limbs' (knees, hands, arms) where two or more rest.
-  std::array<bool, kPartCount> every;
-  every.fill(true);
-  const auto steps = contacts.contact_steps(frame_pose, every);
-  std::vector<std::uint8_t> held(frame_count, 0);
-  std::vector<glm::vec2> step(frame_count, glm::vec2(0.0f));
+  contacts.root_held_.assign(frame_count, 0);
   for (int f = 0; f < frame_count; ++f) {
     int torso = 0, limbs = 0;
     for (int p = 0; p < kPartCount; ++p)
       if (contacts.parts_[p].contact[f]) ++(p == kBack || p == kHips ? torso : limbs);
-    held[f] = torso > 0 || limbs > 1;
-    contacts.holds_root_ = contacts.holds_root_ || held[f];
+    contacts.root_held_[f] = torso > 0 || limbs > 1;
+    contacts.holds_root_ = contacts.holds_root_ || contacts.root_held_[f];
+  }
+  contacts.root_shift_.assign(frame_count, glm::vec2(0.0f));
+  contacts.refine_root(frame_pose);
+  return contacts;
+}
+
+void BodyContacts::refine_root(const std::function<deform::Pose(int)>& frame_pose) {
+  if (!holds_root_) return;
+  std::array<bool, kPartCount> every;
+  every.fill(true);
+  const auto steps = contact_steps(frame_pose, every);
+  std::vector<glm::vec2> step(frame_count_, glm::vec2(0.0f));
+  for (int f = 0; f < frame_count_; ++f) {
+    const bool torso = parts_[kBack].contact[f] || parts_[kHips].contact[f];
     int count = 0;
     for (int p = 0; p < kPartCount; ++p)
-      if (steps[f][p] && (torso > 0) == (p == kBack || p == kHips))
-        step[f] -= *steps[f][p], ++count;
+      if (steps[f][p] && torso == (p == kBack || p == kHips)) step[f] -= *steps[f][p], ++count;
     if (count > 0) step[f] /= static_cast<float>(count);
   }
-  contacts.root_shift_ = contacts.hold(held, step);
-  return contacts;
+  // The holds are linear in the steps: what is left on these poses adds to the hold they had.
+  const std::vector<glm::vec2> more = hold(root_held_, step);
+  for (int f = 0; f < frame_count_; ++f) root_shift_[f] += more[f];
 }
 
 std::vector<std::array<std::optional<glm::vec2>, BodyContacts::kPartCount>>
@@ -303,6 +313,20 @@ void BodyContacts::plan_limbs(const std::function<deform::Pose(int)>& frame_pose
     if (!any) continue;
     limb_shift_[part] = hold(held, step);
     holds_limbs_ = true;
+    // A knee's hold tapers to nothing within kFade of its foot's planted frames (none there).
+    if (knee_side < 0) continue;
+    const int taper = std::max(1, static_cast<int>(std::lround(kFade / frame_time_)));
+    std::vector<int> distance(frame_count_, taper);
+    for (int f = 0, last = -taper; f < frame_count_; ++f) {
+      if (foot_planted(knee_side, f)) last = f;
+      distance[f] = std::min(taper, f - last);
+    }
+    for (int f = frame_count_ - 1, next = frame_count_ - 1 + taper; f >= 0; --f) {
+      if (foot_planted(knee_side, f)) next = f;
+      distance[f] = std::min(distance[f], next - f);
+    }
+    for (int f = 0; f < frame_count_; ++f)
+      limb_shift_[part][f] *= static_cast<float>(distance[f]) / static_cast<float>(taper);
   }
 }
 

@@ -37,14 +37,17 @@
 //            its IK).
 //   knees    the thigh swings about the hip so that the knee moves across, keeping its height;
 //            the shin keeps its world rotation (two_bone_ik.h, move_limb_middle). Not while
-//            that side's foot is planted: the feet win (the leg is foot planting's).
+//            that side's foot is planted: the feet win (the leg is foot planting's); the
+//            knee's shift tapers linearly to nothing over the 0.15 s before and after.
 //   arms     the same with the upper arm about the shoulder (an elbow or forearm resting).
 //   hands    the arm's two-bone IK moves the wrist across to where the hand's hold puts it;
 //            the hand keeps its world rotation. The hands win over the elbows.
 // Order: the root hold is applied before foot planting, and foot planting is built again on
-// the held root (a planted foot stays planted: the legs' IK takes up the root's shift); the
-// limbs' holds after foot planting; the body floor is then built again over every hold, so no
-// hold pushes a part below the floor (a swung thigh or a bent elbow can dip the skin).
+// the held root (a planted foot stays planted: the legs' IK takes up the root's shift); what
+// the back and hips still slide then (planting turns the thighs otherwise on a held root) is
+// added to the hold (refine_root) and foot planting is built once more; the limbs' holds come
+// after foot planting; the body floor is then built again over every hold, so no hold pushes a
+// part below the floor (a swung thigh or a bent elbow can dip the skin).
 // Conflicts: the feet win over everything (above); the root hold wins over the clip's path
 // where the back or hips rest (the body stays where it lay down); the clip wins where it moves
 // a resting part faster than a contact (see contact), and the hold then fades at 0.25 L/s. The
@@ -107,6 +110,10 @@ class BodyContacts {
   bool holds_root() const { return holds_root_; }
   // Shifts `pose`'s root across by the root hold at `seconds` (clamped to the clip).
   void hold_root(double seconds, deform::Pose& pose) const;
+  // Adds to the root hold what the back and hips (or the limbs) still slide on frame_pose (the
+  // clip's poses with this hold, the feet planted again on it: planting turns the thighs
+  // otherwise on a held root).
+  void refine_root(const std::function<deform::Pose(int)>& frame_pose);
   // The limbs' holds (knees, arms, hands): their shifts measured on frame_pose (the clip's
   // poses with the root held and the feet planted), over the contacts found;
   // foot_planted(side, frame): whether foot planting holds that foot (its knee is then not
@@ -150,7 +157,8 @@ class BodyContacts {
   std::array<PartTrack, kPartCount> parts_;
   std::array<LimbJoints, 2> arms_, legs_;  // left, right: shoulder, elbow, wrist; hip, knee
   bool holds_root_ = false, holds_limbs_ = false;
-  std::vector<glm::vec2> root_shift_;  // per clip frame (x, z)
+  std::vector<glm::vec2> root_shift_;    // per clip frame (x, z)
+  std::vector<std::uint8_t> root_held_;  // per clip frame: the root follows a contact
   // Per part (knees, hands, arms), per clip frame (x, z); empty where the part is not held.
   std::array<std::vector<glm::vec2>, kPartCount> limb_shift_;
 };

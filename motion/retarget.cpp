@@ -229,7 +229,11 @@ Retargeter::Retargeter(std::shared_ptr<const Clip> motion, const deform::Model& 
     measured_contacts_ = std::move(contacts);
   } else if (contacts.any()) {
     body_contacts_ = std::move(contacts);
-    if (body_contacts_->holds_root()) plant();
+    if (body_contacts_->holds_root()) {
+      plant();
+      body_contacts_->refine_root([this](int frame) { return feet_planted_pose_at_frame(frame); });
+      plant();
+    }
     body_contacts_->plan_limbs(
         [this](int frame) { return feet_planted_pose_at_frame(frame); },
         [this](int side, int frame) { return planting_ && planting_->planted(side, frame); });
@@ -612,7 +616,9 @@ deform::Pose Retargeter::unplanted_pose_at_frame(int frame) const {
   std::vector<glm::quat> rotations(motion_->joints.size());
   std::vector<glm::vec3> translations(motion_->joints.size());
   motion_->local_pose(frame, rotations, translations);
-  return retarget(rotations, translations, false);
+  deform::Pose pose = retarget(rotations, translations, false);
+  if (body_contacts_) body_contacts_->hold_root(frame * double{motion_->frame_time}, pose);
+  return pose;
 }
 
 deform::Pose Retargeter::pose_at_frame(int frame) const {
@@ -625,7 +631,6 @@ deform::Pose Retargeter::pose_at_frame(int frame) const {
 deform::Pose Retargeter::feet_planted_pose_at_frame(int frame) const {
   const double seconds = frame * double{motion_->frame_time};
   deform::Pose pose = unplanted_pose_at_frame(frame);
-  if (body_contacts_) body_contacts_->hold_root(seconds, pose);
   if (planting_) planting_->apply(seconds, pose);
   if (body_contacts_) body_contacts_->hold_limbs(seconds, pose);
   return pose;

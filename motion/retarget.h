@@ -224,6 +224,8 @@ class Retargeter final : public ClipPoses {
   // bvh_local: rotations and translations of every BVH joint (motion_->joints.size()).
   deform::Pose retarget(std::span<const glm::quat> bvh_local,
                         std::span<const glm::vec3> bvh_translation, bool keep_root_rest) const;
+  // The pose of clip frame `frame` retargeted, its root held where the back or hips rest
+  // (motion/body_contacts.h), before foot planting.
   deform::Pose unplanted_pose_at_frame(int frame) const;
   // The pose of clip frame `frame` with the root held, the feet planted and the limbs resting
   // on the floor held, before the body floor lifts it; lifted (pose_at_frame).
