@@ -16,6 +16,7 @@ constexpr float kContactHeight = 0.035f;
 constexpr float kContactSpeed = 0.4f;  // per second, as a foot's
 constexpr float kReturnSpeed = 0.25f;  // per second: a hold fades no faster
 constexpr double kFade = 0.15;         // s: a hold fades over this at least
+constexpr float kFastestHold = 0.8f;   // per second: twice a contact's speed
 constexpr double kSpeedWindow = 0.05;  // s: a contact's speed is measured this far each side
 
 bool is_at_or_below(const deform::Skeleton& skeleton, int joint, int ancestor) {
@@ -211,6 +212,16 @@ void BodyContacts::refine_root(const std::function<deform::Pose(int)>& frame_pos
   // The holds are linear in the steps: what is left on these poses adds to the hold they had.
   const std::vector<glm::vec2> more = hold(root_held_, step);
   for (int f = 0; f < frame_count_; ++f) root_shift_[f] += more[f];
+  limit_rate(root_shift_);
+}
+
+void BodyContacts::limit_rate(std::vector<glm::vec2>& values) const {
+  const float most = kFastestHold * hip_height_ * static_cast<float>(frame_time_);
+  for (std::size_t f = 1; f < values.size(); ++f) {
+    const glm::vec2 step = values[f] - values[f - 1];
+    if (const float length = glm::length(step); length > most)
+      values[f] = values[f - 1] + step * (most / length);
+  }
 }
 
 std::vector<std::array<std::optional<glm::vec2>, BodyContacts::kPartCount>>
@@ -312,6 +323,7 @@ void BodyContacts::plan_limbs(const std::function<deform::Pose(int)>& frame_pose
     }
     if (!any) continue;
     limb_shift_[part] = hold(held, step);
+    limit_rate(limb_shift_[part]);
     holds_limbs_ = true;
     // A knee's hold tapers to nothing within kFade of its foot's planted frames (none there).
     if (knee_side < 0) continue;

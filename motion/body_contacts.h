@@ -27,8 +27,8 @@
 // Holding (each hold is a horizontal shift per clip frame: in a run of contact frames it goes
 // on by the opposite of the contact point's step, so the point stands where it touched down;
 // after a run it fades linearly to zero within max(0.15 s, shift / 0.25 L per second), and a
-// new run starts from what is left of it, so nothing pops and no hold moves a part faster than
-// the clip's plus 0.25 L/s):
+// new run starts from what is left of it, so nothing pops; a hold never moves faster than
+// 0.8 L/s, twice a contact's speed, whatever one frame's step, and fades at 0.25 L/s):
 //   root     the back and hips move with the root: the root is shifted across (never up or
 //            down) by the mean step of the back's and hips' contact points where either rests
 //            (where both rest and turn against each other, the root follows their mean and
@@ -147,6 +147,9 @@ class BodyContacts {
   std::vector<glm::vec2> hold(const std::vector<std::uint8_t>& held,
                               const std::vector<glm::vec2>& step) const;
   glm::vec2 at(const std::vector<glm::vec2>& values, double seconds) const;
+  // No hold moves faster than 0.8 L/s (twice a contact's speed): one frame's step of a contact
+  // point may be marker noise far above its speed over the window.
+  void limit_rate(std::vector<glm::vec2>& values) const;
 
   deform::Skeleton skeleton_;
   std::vector<glm::mat4> rest_inverse_;
