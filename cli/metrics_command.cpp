@@ -231,29 +231,52 @@ void print_contact_per_frame(const std::vector<MethodReport>& reports,
   }
 }
 
-// Foot sliding per contact over the whole clip (motion::FootPlanting::contact_slides): the same
-// for every method, since the feet are skinned rigidly by all of them. Only for a retargeted
-// clip whose feet are planted.
-void print_foot_slide(const PosedModel& posed) {
+// Sliding per contact over the whole clip, the same for every method: the feet's
+// (motion::FootPlanting::contact_slides; the feet are skinned rigidly by all of them), for a
+// retargeted clip whose feet are planted; then, per part, the other parts' that rest on the
+// floor (motion::BodyContacts: knees, hips, hands, back, arms), where the clip rests one there.
+void print_contact_slides(const PosedModel& posed) {
   const auto* retargeter = dynamic_cast<const motion::Retargeter*>(posed.clip());
-  const motion::FootPlanting* planting = retargeter ? retargeter->foot_planting() : nullptr;
-  if (!planting) return;
+  if (!retargeter || !retargeter->foot_planting()) return;
+  const auto frame_pose = [&](int frame) { return retargeter->pose_at_frame(frame); };
   const std::vector<motion::FootPlanting::ContactSlide> slides =
-      planting->contact_slides([&](int frame) { return retargeter->pose_at_frame(frame); });
+      retargeter->foot_planting()->contact_slides(frame_pose);
   if (slides.empty()) {
     std::printf("\nfoot slide: no contacts (the clip never plants a foot)\n");
-    return;
+  } else {
+    const motion::FootPlanting::ContactSlide* worst = &slides.front();
+    double total = 0.0;
+    for (const auto& contact : slides) {
+      total += contact.slide;
+      if (contact.slide > worst->slide) worst = &contact;
+    }
+    std::printf(
+        "\nfoot slide per contact (whole clip, every method): worst %.2f cm (%s foot, "
+        "frames %d-%d), mean %.2f cm over %zu contacts\n",
+        100.0 * worst->slide, worst->side == 0 ? "left" : "right", worst->first, worst->last,
+        100.0 * total / static_cast<double>(slides.size()), slides.size());
   }
-  const motion::FootPlanting::ContactSlide* worst = &slides.front();
-  double total = 0.0;
-  for (const auto& contact : slides) {
-    total += contact.slide;
-    if (contact.slide > worst->slide) worst = &contact;
+  const motion::BodyContacts* contacts = retargeter->body_contacts();
+  if (!contacts) return;
+  const std::vector<motion::BodyContacts::ContactSlide> parts =
+      contacts->contact_slides(frame_pose);
+  if (parts.empty()) return;
+  std::printf("slide per contact of the other parts resting on the floor:\n");
+  for (int part = 0; part < motion::BodyContacts::kPartCount; ++part) {
+    const motion::BodyContacts::ContactSlide* worst = nullptr;
+    double total = 0.0;
+    int count = 0;
+    for (const auto& contact : parts) {
+      if (contact.part != part) continue;
+      total += contact.slide;
+      ++count;
+      if (!worst || contact.slide > worst->slide) worst = &contact;
+    }
+    if (count > 0)
+      std::printf("  %-10s worst %.2f cm (frames %d-%d), mean %.2f cm over %d contacts\n",
+                  motion::BodyContacts::name(part), 100.0 * worst->slide, worst->first, worst->last,
+                  100.0 * total / count, count);
   }
-  std::printf("\nfoot slide per contact (whole clip, every method): worst %.2f cm (%s foot, "
-              "frames %d-%d), mean %.2f cm over %zu contacts\n",
-              100.0 * worst->slide, worst->side == 0 ? "left" : "right", worst->first,
-              worst->last, 100.0 * total / static_cast<double>(slides.size()), slides.size());
 }
 
 void print_json(const std::vector<MethodReport>& reports, const PosingArguments& posing,
@@ -359,7 +382,7 @@ int metrics(const Options& options, const ServerAddress* server) {
     print_csv(reports);
   } else {
     print_table(reports, frames.size(), source);
-    if (local) print_foot_slide(*local);
+    if (local) print_contact_slides(*local);
     if (options.per_frame) print_contact_per_frame(reports, frames);
     if (collision) std::printf("%s\n", collision->summary().c_str());
   }

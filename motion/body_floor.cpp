@@ -8,81 +8,39 @@
 
 namespace sweepd::motion {
 
-namespace {
-
-constexpr int kDirections = 64;
-
-// kDirections unit vectors spread evenly over the sphere (a Fibonacci lattice).
-std::vector<glm::vec3> sphere_directions() {
-  std::vector<glm::vec3> directions;
-  const float golden = static_cast<float>(M_PI) * (3.0f - std::sqrt(5.0f));
-  for (int i = 0; i < kDirections; ++i) {
-    const float y = 1.0f - 2.0f * (static_cast<float>(i) + 0.5f) / kDirections;
-    const float r = std::sqrt(std::max(0.0f, 1.0f - y * y));
-    directions.emplace_back(r * std::cos(golden * i), y, r * std::sin(golden * i));
-  }
-  return directions;
-}
-
-// Each vertex's strongest influence.
-std::vector<int> strongest_joints(const deform::Model& model) {
-  std::vector<int> strongest(model.vertex_count());
-  for (std::size_t v = 0; v < model.vertex_count(); ++v) strongest[v] = model.strongest_joint(v);
-  return strongest;
-}
-
-// The vertices furthest along each direction, per strongest joint, without repeats.
-std::vector<std::uint32_t> extreme_vertices(const deform::Model& model,
-                                            const std::vector<int>& strongest) {
-  const int joints = model.skeleton.size();
-  const std::vector<glm::vec3> directions = sphere_directions();
-  std::vector<std::uint32_t> best(static_cast<std::size_t>(joints) * kDirections,
-                                  std::numeric_limits<std::uint32_t>::max());
-  std::vector<float> reach(best.size(), -std::numeric_limits<float>::infinity());
-  for (std::uint32_t v = 0; v < model.vertex_count(); ++v)
-    for (int d = 0; d < kDirections; ++d) {
-      const std::size_t slot = static_cast<std::size_t>(strongest[v]) * kDirections + d;
-      const float along = glm::dot(model.positions[v], directions[d]);
-      if (along > reach[slot]) reach[slot] = along, best[slot] = v;
-    }
-  best.erase(std::remove(best.begin(), best.end(), std::numeric_limits<std::uint32_t>::max()),
-             best.end());
-  std::sort(best.begin(), best.end());
-  best.erase(std::unique(best.begin(), best.end()), best.end());
-  return best;
-}
-
-}  // namespace
-
-BodyFloor BodyFloor::build(const deform::Model& model, const std::vector<bool>& feet, float floor,
-                           int frame_count, double frame_time,
-                           const std::function<deform::Pose(int)>& frame_pose) {
+BodyFloor BodyFloor::build(const deform::Model& model,
+                           std::shared_ptr<const BodySamples> samples_in,
+                           const std::vector<bool>& feet, float floor, int frame_count,
+                           double frame_time, const std::function<deform::Pose(int)>& frame_pose,
+                           std::span<const int> group) {
   BodyFloor body;
   body.frame_time_ = frame_time;
   body.lift_.assign(std::max(frame_count, 1), 0.0f);
-  const std::vector<int> strongest = strongest_joints(model);
-  const std::vector<std::uint32_t> samples = extreme_vertices(model, strongest);
+  body.samples_ = std::move(samples_in);
+  const BodySamples& samples = *body.samples_;
   std::vector<float> lowest_allowed;
-  for (std::uint32_t v : samples)
-    lowest_allowed.push_back(feet.at(strongest[v]) ? floor - kSoleTolerance : floor + kClearance);
-  if (samples.empty() || frame_count < 1) return body;
+  std::vector<int> group_of;
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    const int joint = samples.joint(i);
+    lowest_allowed.push_back(feet.at(joint) ? floor - kSoleTolerance : floor + kClearance);
+    group_of.push_back(group.empty() ? -1 : group[i]);
+    body.groups_ = std::max(body.groups_, group_of.back() + 1);
+  }
+  if (samples.size() == 0 || frame_count < 1) return body;
+  body.lowest_.assign(static_cast<std::size_t>(frame_count) * body.groups_, Lowest{});
   const std::vector<glm::mat4> rest_inverse = deform::world_rest_inverse_matrices(model.skeleton);
-  std::vector<glm::mat4> world(model.skeleton.size());
+  std::vector<glm::mat4> world(model.skeleton.size()), skinning(model.skeleton.size());
   std::vector<float> need(frame_count, 0.0f);
   for (int f = 0; f < frame_count; ++f) {
     deform::forward_kinematics(model.skeleton, frame_pose(f), world);
+    deform::skinning_matrices(world, rest_inverse, skinning);
+    Lowest* lowest = body.lowest_.data() + static_cast<std::size_t>(f) * body.groups_;
     float deepest = 0.0f;
     for (std::size_t i = 0; i < samples.size(); ++i) {
-      const std::uint32_t v = samples[i];
-      const glm::vec4 rest(model.positions[v], 1.0f);
-      float y = 0.0f;
-      for (int k = 0; k < deform::kInfluences; ++k) {
-        const float w = model.skin_weights[v][k];
-        if (w == 0.0f) continue;
-        const int j = model.skin_joints[v][k];
-        y += w * (world[j] * (rest_inverse[j] * rest)).y;
-      }
+      const float y = samples.height(i, skinning);
       deepest = std::max(deepest, lowest_allowed[i] - y);
+      if (const int g = group_of[i]; g >= 0 && y - floor < lowest[g].height)
+        lowest[g] = {y - floor, static_cast<int>(i)};
     }
     need[f] = deepest;
   }
@@ -97,6 +55,12 @@ BodyFloor BodyFloor::build(const deform::Model& model, const std::vector<bool>& 
     }
   }
   return body;
+}
+
+BodyFloor::Lowest BodyFloor::lowest(int group, int frame) const {
+  Lowest low = lowest_.at(static_cast<std::size_t>(frame) * groups_ + group);
+  low.height += lift_[frame];
+  return low;
 }
 
 void BodyFloor::apply(double seconds, deform::Pose& pose) const {

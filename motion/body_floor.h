@@ -7,10 +7,8 @@
 // whose hips sit lower pushes its seat. Here the whole body rises, on every frame, as far as its
 // deepest part is below the floor, so that part rests on it.
 //
-// How: the rest mesh is sampled, per joint (each vertex's strongest influence), at the vertices
-// furthest along 64 directions spread over the sphere: the lowest point of a part turned any way
-// lies within about 2.5 % of its radius above the lowest sample. Each sample is skinned by
-// linear blending with its own weights (a few thousand samples: about 20 µs a frame). A frame's
+// How: the rest mesh is sampled (motion/body_samples.h: per joint, the vertices furthest along
+// 64 directions; a few thousand samples skinned by linear blending: about 20 µs a frame). A frame's
 // need is how far its lowest sample lies below its height: the floor less kSoleTolerance for a
 // foot's samples (foot planting puts the soles on the floor: they must not lift the body), the
 // floor plus kClearance for every other part (the sweep's surface runs up to about 1.1 cm below
@@ -21,15 +19,22 @@
 // A body already above the floor is left where the clip and the feet put it (jumps stay jumps).
 // Inputs:  model (rest mesh, skin), feet (per joint: a foot's or toe's, planted by foot
 //          planting), floor (the rest mesh's lowest vertex height), the clip's frame count and
-//          frame time, frame_pose (each clip frame's pose, feet planted).
-// Output:  apply() raises a pose's root by the lift at that time (interpolated between frames).
+//          frame time, frame_pose (each clip frame's pose, feet planted), group (optional, per
+//          sample: a group of samples, >= 0, whose lowest is kept per frame, or -1).
+// Output:  apply() raises a pose's root by the lift at that time (interpolated between frames);
+//          lowest(group, frame): that group's lowest sample on the clip frame, lifted (what
+//          motion/body_contacts.h finds contacts by, with no second pass over the clip).
 #pragma once
 
 #include <functional>
+#include <limits>
+#include <memory>
+#include <span>
 #include <vector>
 
 #include "deform/model/model.h"
 #include "deform/model/pose.h"
+#include "motion/body_samples.h"
 
 namespace sweepd::motion {
 
@@ -39,18 +44,33 @@ class BodyFloor {
   static constexpr float kClearance = 0.005f;      // m
   static constexpr double kEase = 0.15;            // s, as foot planting's
 
-  static BodyFloor build(const deform::Model& model, const std::vector<bool>& feet, float floor,
-                         int frame_count, double frame_time,
-                         const std::function<deform::Pose(int)>& frame_pose);
+  // samples: the model's (body_samples.h); group: per sample, see the header.
+  static BodyFloor build(const deform::Model& model, std::shared_ptr<const BodySamples> samples,
+                         const std::vector<bool>& feet, float floor, int frame_count,
+                         double frame_time, const std::function<deform::Pose(int)>& frame_pose,
+                         std::span<const int> group = {});
 
   // Raises `pose` (the pose of the clip at `seconds`, clamped to the clip) by the lift there.
   void apply(double seconds, deform::Pose& pose) const;
   // The largest lift over the clip (m).
   float largest_lift() const;
+  // The lift on clip frame `frame` (m).
+  float lift(int frame) const { return lift_[frame]; }
+
+  struct Lowest {
+    float height = std::numeric_limits<float>::infinity();  // above the floor, lifted (m)
+    int sample = -1;                                        // into samples(); -1: none
+  };
+  Lowest lowest(int group, int frame) const;
+  int group_count() const { return groups_; }
+  const std::shared_ptr<const BodySamples>& samples() const { return samples_; }
 
  private:
   std::vector<float> lift_;  // per clip frame (m)
   double frame_time_ = 0.0;
+  int groups_ = 0;
+  std::vector<Lowest> lowest_;  // per frame, per group: before the lift
+  std::shared_ptr<const BodySamples> samples_;
 };
 
 }  // namespace sweepd::motion

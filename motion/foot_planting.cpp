@@ -6,7 +6,7 @@
 #include <optional>
 
 #include "deform/model/forward_kinematics.h"
-#include "motion/shortest_arc.h"
+#include "motion/two_bone_ik.h"
 
 namespace sweepd::motion {
 
@@ -24,15 +24,6 @@ bool is_at_or_below(const deform::Skeleton& skeleton, int joint, int ancestor) {
   for (int j = joint; j >= 0; j = skeleton.joints[j].parent)
     if (j == ancestor) return true;
   return false;
-}
-
-std::vector<glm::quat> world_rotations(const deform::Skeleton& skeleton, const deform::Pose& pose) {
-  std::vector<glm::quat> world(skeleton.joints.size());
-  for (int j = 0; j < skeleton.size(); ++j) {
-    const int parent = skeleton.joints[j].parent;
-    world[j] = parent < 0 ? pose.local_rotations[j] : world[parent] * pose.local_rotations[j];
-  }
-  return world;
 }
 
 // The y of `world * local`, summed in glm's order for mat4 * vec4 so that it is bit-identical,
@@ -314,6 +305,12 @@ void FootPlanting::apply(double seconds, deform::Pose& pose) const {
   }
 }
 
+bool FootPlanting::planted(int side, int frame) const {
+  for (const Foot& foot : feet_)
+    if (foot.side == side) return foot.contact.at(frame) != 0;
+  return false;
+}
+
 std::vector<FootPlanting::ContactSlide> FootPlanting::contact_slides(
     const std::function<deform::Pose(int)>& frame_pose) const {
   std::vector<ContactSlide> slides;
@@ -346,55 +343,12 @@ std::vector<FootPlanting::ContactSlide> FootPlanting::contact_slides(
 void FootPlanting::move_ankle(const Foot& foot, glm::vec3 shift,
                               const std::vector<glm::mat4>& world,
                               const std::vector<glm::quat>& rotation, deform::Pose& pose) const {
-  const deform::LegJoints& leg = foot.leg;
-  const glm::vec3 hip(world[leg.upper][3]), knee(world[leg.lower][3]), ankle(world[leg.foot][3]);
-  const float thigh = glm::distance(hip, knee), shin = glm::distance(knee, ankle);
-  if (thigh < 1e-6f || shin < 1e-6f) return;
-  // The ankle moves across by the shift (the hip has come down so that the leg reaches there),
-  // then up or down, as far towards the shift's rise as the leg reaches: the heights where the
-  // hip-to-ankle distance lies within the leg's range.
-  const float longest = (thigh + shin) * (1.0f - 1e-6f), shortest = std::abs(thigh - shin);
-  const glm::vec3 from_hip = ankle + glm::vec3(shift.x, 0.0f, shift.z) - hip;
-  const float across =
-      glm::dot(glm::vec2(from_hip.x, from_hip.z), glm::vec2(from_hip.x, from_hip.z));
-  if (across >= longest * longest) return;
-  float rise = shift.y;
-  const float deepest = std::sqrt(longest * longest - across);
-  rise = std::clamp(rise, -from_hip.y - deepest, -from_hip.y + deepest);
-  if (across < shortest * shortest) {  // not through the hip's blind spot around it
-    const float blind = std::sqrt(shortest * shortest - across);
-    if (from_hip.y + rise > -blind && from_hip.y + rise < blind) rise = -from_hip.y - blind;
-  }
-  const glm::vec3 target = from_hip + hip + glm::vec3(0.0f, rise, 0.0f);
-  const glm::vec3 u = (knee - hip) / thigh, s = (ankle - knee) / shin;
-  glm::vec3 axis = glm::cross(u, s);
-  const float bend = std::atan2(glm::length(axis), glm::dot(u, s));
-  if (glm::length(axis) < 1e-4f) {
-    // A straight leg: the knee bends forward, so the shin turns away from the toes (the sole's
-    // centre lies ahead of the ankle).
-    axis = glm::cross(glm::vec3(world[leg.foot] * foot.centre) - ankle, u);
-    if (glm::length(axis) < 1e-6f) return;
-  }
-  axis = glm::normalize(axis);
-  const float reach = std::clamp(glm::distance(hip, target), shortest, longest);
-  const float inner = std::acos(std::clamp(
-      (thigh * thigh + shin * shin - reach * reach) / (2.0f * thigh * shin), -1.0f, 1.0f));
-  const glm::quat knee_turn = glm::angleAxis(static_cast<float>(M_PI) - inner - bend, axis);
-  const glm::vec3 moved = knee + knee_turn * (ankle - knee);
-  if (glm::length(moved - hip) < 1e-6f || glm::length(target - hip) < 1e-6f) return;
-  const glm::quat swing = shortest_arc(glm::normalize(moved - hip), glm::normalize(target - hip));
-  const auto parent_rotation = [&](int j) {
-    const int parent = skeleton_.joints[j].parent;
-    return parent < 0 ? glm::identity<glm::quat>() : rotation[parent];
-  };
-  // Joints between these follow their parents: the thigh swings, the shin turns about the knee
-  // in the swung frame, and the foot keeps its world rotation.
-  pose.local_rotations[leg.upper] =
-      glm::normalize(glm::inverse(parent_rotation(leg.upper)) * swing * rotation[leg.upper]);
-  pose.local_rotations[leg.lower] =
-      glm::normalize(glm::inverse(parent_rotation(leg.lower)) * knee_turn * rotation[leg.lower]);
-  pose.local_rotations[leg.foot] = glm::normalize(
-      glm::inverse(swing * knee_turn * parent_rotation(leg.foot)) * rotation[leg.foot]);
+  // A straight leg: the knee bends forward, so the shin turns away from the toes (the sole's
+  // centre lies ahead of the ankle).
+  const glm::vec3 toes =
+      glm::vec3(world[foot.leg.foot] * foot.centre) - glm::vec3(world[foot.leg.foot][3]);
+  move_limb_end(skeleton_, {foot.leg.upper, foot.leg.lower, foot.leg.foot}, shift, world, rotation,
+                toes, pose);
 }
 
 }  // namespace sweepd::motion

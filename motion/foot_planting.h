@@ -79,15 +79,19 @@ class FootPlanting {
   // Corrects `pose`, the uncorrected pose of the clip at `seconds` (clamped to the clip).
   void apply(double seconds, deform::Pose& pose) const;
 
+  // Whether the foot of `side` (0 the rig map's left leg, 1 its right) is in contact on clip
+  // frame `frame`.
+  bool planted(int side, int frame) const;
+
   // Foot sliding, per contact (a run of contact frames of one foot): the horizontal path of the
   // sole's contact point, summed over each pair of consecutive frames as the move of the point
   // lowest at the first of them (a foot that rolls from heel to toe without slipping moves its
   // contact point by almost nothing; one that skates moves it by the skate).
   // frame_pose: the clip's corrected pose of frame f (Retargeter::pose_at_frame).
   struct ContactSlide {
-    int side = 0;                 // 0 the rig map's left leg, 1 its right
-    int first = 0, last = 0;      // clip frames
-    float slide = 0.0f;           // m
+    int side = 0;             // 0 the rig map's left leg, 1 its right
+    int first = 0, last = 0;  // clip frames
+    float slide = 0.0f;       // m
   };
   std::vector<ContactSlide> contact_slides(
       const std::function<deform::Pose(int)>& frame_pose) const;

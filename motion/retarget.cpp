@@ -43,7 +43,8 @@ std::vector<std::pair<int, int>> role_pairs(const deform::RigMap& model,
   // LowerBack, Spine, Spine1) matches neither by name nor, past a branching pelvis, by
   // hierarchy, and its middle joints stayed at rest: the whole bend fell on the chest joint.
   // Each model joint pairs with the clip joint at the nearest place along the clip's chain.
-  const auto inner = [&](const std::vector<int>& m, const std::vector<int>& b, std::size_t skip_last) {
+  const auto inner = [&](const std::vector<int>& m, const std::vector<int>& b,
+                         std::size_t skip_last) {
     if (m.size() < 1 + skip_last || b.size() < 1 + skip_last) return;
     const std::size_t model_inner = m.size() - 1 - skip_last, clip_inner = b.size() - 1 - skip_last;
     if (model_inner == 0 || clip_inner == 0) return;
@@ -195,22 +196,54 @@ Retargeter::Retargeter(std::shared_ptr<const Clip> motion, const deform::Model& 
                        const JointNameMap& name_map, Feet feet)
     : Retargeter(std::move(motion), model.skeleton, name_map, lowest_vertex_height(model)) {
   if (feet == Feet::kFree || !model_map_) return;
-  planting_ = FootPlanting::build(model, *model_map_, model_hip_height_, motion_->frame_count,
-                                  motion_->frame_time,
-                                  [this](int frame) { return unplanted_pose_at_frame(frame); });
   std::vector<bool> foot_joint(skeleton_.joints.size(), false);
   const std::vector<deform::BodyPart> parts = deform::label_joints(*model_map_, skeleton_);
   for (std::size_t j = 0; j < parts.size(); ++j)
     foot_joint[j] =
         parts[j] == deform::BodyPart::kLeftFoot || parts[j] == deform::BodyPart::kRightFoot;
-  body_floor_ = BodyFloor::build(model, foot_joint, lowest_vertex_height(model), motion_->frame_count,
-                                 motion_->frame_time,
-                                 [this](int frame) { return feet_planted_pose_at_frame(frame); });
+  const auto samples = std::make_shared<const BodySamples>(model);
+  const std::vector<int> contact_part =
+      BodyContacts::part_of_samples(*model_map_, skeleton_, *samples);
+  const auto plant = [&] {
+    planting_ = FootPlanting::build(model, *model_map_, model_hip_height_, motion_->frame_count,
+                                    motion_->frame_time,
+                                    [this](int frame) { return unplanted_pose_at_frame(frame); });
+  };
+  const auto lift = [&] {
+    body_floor_ = BodyFloor::build(
+        model, samples, foot_joint, lowest_vertex_height(model), motion_->frame_count,
+        motion_->frame_time, [this](int frame) { return feet_planted_pose_at_frame(frame); },
+        contact_part);
+  };
+  plant();
+  lift();
+  // Parts resting on the floor (motion/body_contacts.h), found on the lifted poses. Where the
+  // back or hips (or two limbs) rest, the root is held and the feet are planted again on the
+  // held root; the limbs' holds are planned on those poses (their steps across do not depend on
+  // the lift), and the body floor lifts the body again with every hold in place, so that no
+  // hold puts a part below the floor.
+  BodyContacts contacts = BodyContacts::find(
+      skeleton_, *model_map_, model_hip_height_, *body_floor_, motion_->frame_count,
+      motion_->frame_time, [this](int frame) { return lifted_pose_at_frame(frame); });
+  if (feet == Feet::kPlantedOnly) {
+    measured_contacts_ = std::move(contacts);
+  } else if (contacts.any()) {
+    body_contacts_ = std::move(contacts);
+    if (body_contacts_->holds_root()) {
+      plant();
+      body_contacts_->refine_root([this](int frame) { return feet_planted_pose_at_frame(frame); });
+      plant();
+    }
+    body_contacts_->plan_limbs(
+        [this](int frame) { return feet_planted_pose_at_frame(frame); },
+        [this](int side, int frame) { return planting_ && planting_->planted(side, frame); });
+    lift();
+  }
   if (const float lift = body_floor_->largest_lift(); lift > 0.01f)
-    warnings_.push_back("parts of the body went below the floor (the model's proportions are not "
-                        "the clip's): the body is raised by up to " +
-                        std::to_string(static_cast<int>(std::lround(lift * 100.0f))) +
-                        " cm where they would");
+    warnings_.push_back(
+        "parts of the body went below the floor (the model's proportions are not "
+        "the clip's): the body is raised by up to " +
+        std::to_string(static_cast<int>(std::lround(lift * 100.0f))) + " cm where they would");
 }
 
 Retargeter::Retargeter(Clip motion, deform::Skeleton skeleton, const JointNameMap& name_map)
@@ -583,21 +616,29 @@ deform::Pose Retargeter::unplanted_pose_at_frame(int frame) const {
   std::vector<glm::quat> rotations(motion_->joints.size());
   std::vector<glm::vec3> translations(motion_->joints.size());
   motion_->local_pose(frame, rotations, translations);
-  return retarget(rotations, translations, false);
+  deform::Pose pose = retarget(rotations, translations, false);
+  if (body_contacts_) body_contacts_->hold_root(frame * double{motion_->frame_time}, pose);
+  return pose;
 }
 
 deform::Pose Retargeter::pose_at_frame(int frame) const {
   if (frame < 0 || frame >= motion_->frame_count)
     throw std::out_of_range("frame " + std::to_string(frame) + " is outside the clip's " +
                             std::to_string(motion_->frame_count) + " frames");
-  deform::Pose pose = feet_planted_pose_at_frame(frame);
-  if (body_floor_) body_floor_->apply(frame * double{motion_->frame_time}, pose);
-  return pose;
+  return lifted_pose_at_frame(frame);
 }
 
 deform::Pose Retargeter::feet_planted_pose_at_frame(int frame) const {
+  const double seconds = frame * double{motion_->frame_time};
   deform::Pose pose = unplanted_pose_at_frame(frame);
-  if (planting_) planting_->apply(frame * double{motion_->frame_time}, pose);
+  if (planting_) planting_->apply(seconds, pose);
+  if (body_contacts_) body_contacts_->hold_limbs(seconds, pose);
+  return pose;
+}
+
+deform::Pose Retargeter::lifted_pose_at_frame(int frame) const {
+  deform::Pose pose = feet_planted_pose_at_frame(frame);
+  if (body_floor_) body_floor_->apply(frame * double{motion_->frame_time}, pose);
   return pose;
 }
 
@@ -606,7 +647,9 @@ deform::Pose Retargeter::pose_at_time(double seconds) const {
   std::vector<glm::vec3> translations(motion_->joints.size());
   motion_->local_pose_at_time(seconds, rotations, translations);
   deform::Pose pose = retarget(rotations, translations, false);
+  if (body_contacts_) body_contacts_->hold_root(seconds, pose);
   if (planting_) planting_->apply(seconds, pose);
+  if (body_contacts_) body_contacts_->hold_limbs(seconds, pose);
   if (body_floor_) body_floor_->apply(seconds, pose);
   return pose;
 }

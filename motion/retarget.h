@@ -107,7 +107,11 @@
 // the clip's stands (footfalls keep their places); the feet's world rotations are the clip's.
 // Then the whole body rises where another part would go below the floor (knees, hips, hands,
 // back: the model's proportions are not the clip's; motion/body_floor.h), with a warning naming
-// the largest rise. Feet::kFree
+// the largest rise. Parts other than the feet that rest on the floor (the back and hips, knees,
+// hands, arms) are held still there while they rest: the root shifted across where the back or
+// hips rest, the limbs by IK (motion/body_contacts.h); foot planting and the body floor are then
+// built again over those holds. Feet::kPlantedOnly plants and lifts without these holds (to
+// measure them). Feet::kFree
 // (and a bare skeleton, which has no soles) keeps every rotation above: onto a copy of the
 // clip's own skeleton the clip's rotations come back.
 #pragma once
@@ -122,9 +126,10 @@
 #include "deform/model/pose.h"
 #include "deform/model/skeleton.h"
 #include "deform/rig/rig_map.h"
+#include "motion/body_contacts.h"
+#include "motion/body_floor.h"
 #include "motion/clip.h"
 #include "motion/clip_poses.h"
-#include "motion/body_floor.h"
 #include "motion/foot_planting.h"
 #include "motion/joint_name_map.h"
 
@@ -146,6 +151,10 @@ struct JointMatch {
 enum class Feet {
   kPlanted,  // put on the floor by leg IK (motion/foot_planting.h)
   kFree,     // where the retargeted rotations and root put them
+  // Planted, and the body lifted where a part would go below the floor, but no other part
+  // held where it rests on the floor (motion/body_contacts.h): what the body did before those
+  // holds, kept to measure them (body_contacts() then finds the contacts, holding nothing).
+  kPlantedOnly,
 };
 
 class Retargeter final : public ClipPoses {
@@ -178,6 +187,12 @@ class Retargeter final : public ClipPoses {
   // Feet planted on the floor (motion/foot_planting.h), or null: a bare skeleton, or a model
   // without a leg the rig map found whole.
   const FootPlanting* foot_planting() const { return planting_ ? &*planting_ : nullptr; }
+  // Parts other than the feet resting on the floor, held there (motion/body_contacts.h), or
+  // null where foot_planting() is or no part rests on the floor; with Feet::kPlantedOnly found
+  // (never null then, with a foot planting) but not held.
+  const BodyContacts* body_contacts() const {
+    return body_contacts_ ? &*body_contacts_ : measured_contacts_ ? &*measured_contacts_ : nullptr;
+  }
 
   float root_scale() const { return root_scale_; }
   const Clip& motion() const override { return *motion_; }
@@ -209,9 +224,13 @@ class Retargeter final : public ClipPoses {
   // bvh_local: rotations and translations of every BVH joint (motion_->joints.size()).
   deform::Pose retarget(std::span<const glm::quat> bvh_local,
                         std::span<const glm::vec3> bvh_translation, bool keep_root_rest) const;
+  // The pose of clip frame `frame` retargeted, its root held where the back or hips rest
+  // (motion/body_contacts.h), before foot planting.
   deform::Pose unplanted_pose_at_frame(int frame) const;
-  // The pose of clip frame `frame` with the feet planted, before the body floor lifts it.
+  // The pose of clip frame `frame` with the root held, the feet planted and the limbs resting
+  // on the floor held, before the body floor lifts it; lifted (pose_at_frame).
   deform::Pose feet_planted_pose_at_frame(int frame) const;
+  deform::Pose lifted_pose_at_frame(int frame) const;
   // The shoulder rhythm (see the header): clavicles the clip leaves still follow the arm.
   struct ShoulderRhythm {
     int clavicle = -1, upper = -1, chest = -1;
@@ -256,7 +275,9 @@ class Retargeter final : public ClipPoses {
   float model_hip_height_ = 0.0f;
   OptionalRigMap model_map_;
   std::optional<FootPlanting> planting_;
-  std::optional<BodyFloor> body_floor_;  // with planting_: no part below the floor
+  std::optional<BodyFloor> body_floor_;            // with planting_: no part below the floor
+  std::optional<BodyContacts> body_contacts_;      // with planting_: parts resting held
+  std::optional<BodyContacts> measured_contacts_;  // Feet::kPlantedOnly: found, not held
   std::vector<ShoulderRhythm> shoulder_rhythms_;
   std::vector<std::string> warnings_;
 };

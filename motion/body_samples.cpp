@@ -1,0 +1,76 @@
+#include "motion/body_samples.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace sweepd::motion {
+
+namespace {
+
+constexpr int kDirections = 64;
+
+// kDirections unit vectors spread evenly over the sphere (a Fibonacci lattice).
+std::vector<glm::vec3> sphere_directions() {
+  std::vector<glm::vec3> directions;
+  const float golden = static_cast<float>(M_PI) * (3.0f - std::sqrt(5.0f));
+  for (int i = 0; i < kDirections; ++i) {
+    const float y = 1.0f - 2.0f * (static_cast<float>(i) + 0.5f) / kDirections;
+    const float r = std::sqrt(std::max(0.0f, 1.0f - y * y));
+    directions.emplace_back(r * std::cos(golden * i), y, r * std::sin(golden * i));
+  }
+  return directions;
+}
+
+}  // namespace
+
+BodySamples::BodySamples(const deform::Model& model) {
+  const int joints = model.skeleton.size();
+  const std::vector<glm::vec3> directions = sphere_directions();
+  std::vector<std::uint32_t> best(static_cast<std::size_t>(joints) * kDirections,
+                                  std::numeric_limits<std::uint32_t>::max());
+  std::vector<float> reach(best.size(), -std::numeric_limits<float>::infinity());
+  for (std::uint32_t v = 0; v < model.vertex_count(); ++v) {
+    const int strongest = model.strongest_joint(v);
+    for (int d = 0; d < kDirections; ++d) {
+      const std::size_t slot = static_cast<std::size_t>(strongest) * kDirections + d;
+      const float along = glm::dot(model.positions[v], directions[d]);
+      if (along > reach[slot]) reach[slot] = along, best[slot] = v;
+    }
+  }
+  best.erase(std::remove(best.begin(), best.end(), std::numeric_limits<std::uint32_t>::max()),
+             best.end());
+  std::sort(best.begin(), best.end());
+  best.erase(std::unique(best.begin(), best.end()), best.end());
+  vertex_ = std::move(best);
+  for (std::uint32_t v : vertex_) {
+    rest_.push_back(model.positions[v]);
+    joint_.push_back(model.strongest_joint(v));
+    skin_joints_.push_back(model.skin_joints[v]);
+    skin_weights_.push_back(model.skin_weights[v]);
+  }
+}
+
+glm::vec3 BodySamples::position(std::size_t i, std::span<const glm::mat4> skinning) const {
+  const glm::vec4 rest(rest_[i], 1.0f);
+  glm::vec3 p(0.0f);
+  for (int k = 0; k < deform::kInfluences; ++k) {
+    const float w = skin_weights_[i][k];
+    if (w != 0.0f) p += w * glm::vec3(skinning[skin_joints_[i][k]] * rest);
+  }
+  return p;
+}
+
+float BodySamples::height(std::size_t i, std::span<const glm::mat4> skinning) const {
+  const glm::vec3& rest = rest_[i];
+  float y = 0.0f;
+  for (int k = 0; k < deform::kInfluences; ++k) {
+    const float w = skin_weights_[i][k];
+    if (w == 0.0f) continue;
+    const glm::mat4& m = skinning[skin_joints_[i][k]];
+    y += w * (m[0].y * rest.x + m[1].y * rest.y + m[2].y * rest.z + m[3].y);
+  }
+  return y;
+}
+
+}  // namespace sweepd::motion

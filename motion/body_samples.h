@@ -1,0 +1,45 @@
+// Body samples: a few thousand of a rest mesh's vertices that outline every part of the body,
+// skinned cheaply on any pose (motion/body_floor.h lifts the body by them,
+// motion/body_contacts.h finds the parts resting on the floor by them).
+//
+// Per joint (each vertex's strongest influence), the vertices furthest along 64 directions
+// spread over the sphere: the lowest point of a part turned any way lies within about 2.5 % of
+// its radius above the lowest sample. Each sample is skinned by linear blending with its own
+// weights.
+// Inputs:  model (rest mesh, skin weights, skeleton).
+// Outputs: vertex (the samples, sorted, no repeats), joint (each one's strongest influence);
+//          position() / height() of sample i under skinning matrices (world * rest inverse per
+//          joint, deform::skinning_matrices).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "deform/model/model.h"
+
+namespace sweepd::motion {
+
+class BodySamples {
+ public:
+  explicit BodySamples(const deform::Model& model);
+
+  std::size_t size() const { return vertex_.size(); }
+  std::uint32_t vertex(std::size_t i) const { return vertex_[i]; }
+  int joint(std::size_t i) const { return joint_[i]; }
+  const glm::vec3& rest(std::size_t i) const { return rest_[i]; }
+  glm::vec3 position(std::size_t i, std::span<const glm::mat4> skinning) const;
+  float height(std::size_t i, std::span<const glm::mat4> skinning) const;
+
+ private:
+  // Per sample: its rest position, strongest joint and skin (copied: the samples outlive the
+  // model they were made from, in a Retargeter).
+  std::vector<std::uint32_t> vertex_;
+  std::vector<glm::vec3> rest_;
+  std::vector<int> joint_;
+  std::vector<std::array<std::uint16_t, deform::kInfluences>> skin_joints_;
+  std::vector<std::array<float, deform::kInfluences>> skin_weights_;
+};
+
+}  // namespace sweepd::motion

@@ -1,0 +1,46 @@
+// Two-bone IK: the end of a limb (an ankle, a wrist) moved to a target by turning the limb's
+// upper and middle joints, its root joint (hip, shoulder) staying where it is. Shared by foot
+// planting (motion/foot_planting.h: ankles) and body contacts (motion/body_contacts.h: wrists).
+//
+// move_limb_end
+//   Inputs:  skeleton; the limb's joints (upper: hip or shoulder, lower: knee or elbow, end:
+//            ankle or wrist, each a descendant of the one before); shift, the end joint's move
+//            (world, m); world (forward_kinematics of pose), rotation (world_rotations of pose);
+//            bend_if_straight, a direction the middle joint bends the lower bone towards where
+//            the limb is straight (zero: a straight limb is left as it is).
+//   Output:  pose's local rotations of upper, lower and end: the end joint moves across by the
+//            shift's horizontal part, then up or down by its vertical part as far as the limb
+//            reaches (the heights where the root-to-end distance lies within the limb's
+//            range); the limb bends in its own plane, the upper bone swings, and the end keeps
+//            its world rotation. Joints between these follow their parents.
+// move_limb_middle
+//   Inputs:  as move_limb_end's (limb.end unused); shift (world, m; its vertical part unused).
+//   Output:  pose's local rotations of upper and lower: the upper bone swings about its root so
+//            that the middle joint (knee, elbow) moves across by the shift, keeping its height
+//            as far as the bone reaches; the lower bone keeps its world rotation (what hangs
+//            below it moves across with the middle joint).
+// world_rotations: each joint's world rotation under a pose (size skeleton.size()).
+#pragma once
+
+#include <vector>
+
+#include "deform/model/pose.h"
+#include "deform/model/skeleton.h"
+
+namespace sweepd::motion {
+
+struct LimbJoints {
+  int upper = -1, lower = -1, end = -1;
+};
+
+void move_limb_end(const deform::Skeleton& skeleton, LimbJoints limb, glm::vec3 shift,
+                   const std::vector<glm::mat4>& world, const std::vector<glm::quat>& rotation,
+                   glm::vec3 bend_if_straight, deform::Pose& pose);
+
+void move_limb_middle(const deform::Skeleton& skeleton, LimbJoints limb, glm::vec3 shift,
+                      const std::vector<glm::mat4>& world, const std::vector<glm::quat>& rotation,
+                      deform::Pose& pose);
+
+std::vector<glm::quat> world_rotations(const deform::Skeleton& skeleton, const deform::Pose& pose);
+
+}  // namespace sweepd::motion
