@@ -67,13 +67,24 @@ void SweptStretchMeter::gather(std::span<const glm::vec3> positions,
 void SweptStretchMeter::measure(std::span<const glm::vec3> positions,
                                 std::span<const glm::mat4> joint_world,
                                 std::vector<RegionFigures>& figures) const {
+  measure(positions, joint_world, figures, stretched_);
+}
+
+void SweptStretchMeter::measure(std::span<const glm::vec3> positions,
+                                std::span<const glm::mat4> joint_world,
+                                std::vector<RegionFigures>& figures,
+                                std::vector<int>& stretched_edges) const {
   figures.assign(regions_.size(), RegionFigures{});
+  stretched_edges.assign(regions_.size(), 0);
   // The squared ratios' largest per region (a square root per region, not per edge).
   squared_.assign(regions_.size(), 1.0f);
+  constexpr float kStretchedSquared = kStretchedEdge * kStretchedEdge;
   for (std::size_t e = 0; e < inverse_squared_rest_.size(); ++e) {
     const glm::vec3 d = positions[edges_[2 * e]] - positions[edges_[2 * e + 1]];
+    const float squared = glm::dot(d, d) * inverse_squared_rest_[e];
     float& largest = squared_[edge_region_[e]];
-    largest = std::max(largest, glm::dot(d, d) * inverse_squared_rest_[e]);
+    largest = std::max(largest, squared);
+    stretched_edges[edge_region_[e]] += squared > kStretchedSquared;
   }
   for (std::size_t r = 0; r < regions_.size(); ++r) {
     figures[r].swept = region_swept_[r];

@@ -35,6 +35,12 @@ class SweptStretchMeter {
   // size. Not thread-safe (one meter per thread).
   void measure(std::span<const glm::vec3> positions, std::span<const glm::mat4> joint_world,
                std::vector<RegionFigures>& figures) const;
+  // The same, and per region how many swept edges are longer than kStretchedEdge times their
+  // rest length (how much of the region stretches, where the figures say only how far its
+  // worst edge does).
+  static constexpr float kStretchedEdge = 1.3f;
+  void measure(std::span<const glm::vec3> positions, std::span<const glm::mat4> joint_world,
+               std::vector<RegionFigures>& figures, std::vector<int>& stretched_edges) const;
 
  private:
   std::vector<deform::BodyPart> regions_;
@@ -51,6 +57,7 @@ class SweptStretchMeter {
   std::vector<glm::mat4> inverse_rest_;     // per joint
   mutable std::vector<glm::mat3> carry_;    // per joint: the pose's rotation from rest (scratch)
   mutable std::vector<float> squared_;      // per region: the largest squared ratio (scratch)
+  mutable std::vector<int> stretched_;      // per region: the stretched edges (scratch)
 };
 
 }  // namespace sweepd::metrics

@@ -72,19 +72,22 @@ BindingVerdict BindingChecker::verdict(const deform::BoundModel& bound,
   deform::SweepPoser poser(bound);
   std::vector<glm::vec3> positions(bound.model.vertex_count()), measured;
   std::vector<metrics::RegionFigures> sweep;
+  std::vector<int> stretched;
   BindingVerdict verdict;
   verdict.pose_names = poses_.names;
   for (const deform::BodyPart region : meter_.regions())
     verdict.regions.push_back({.region = region});
   verdict.worse_at.resize(poses_.poses.size());
   verdict.excess_at.resize(poses_.poses.size());
+  verdict.stretched_at.resize(poses_.poses.size());
   for (const int p : poses) {
     verdict.worse_at[p].assign(verdict.regions.size(), 0);
     verdict.excess_at[p].assign(verdict.regions.size(), 0.0f);
     poser.set_pose(world_[p]);
     poser.deform(skinning_[p], positions, {});
     meter_.gather(positions, measured);
-    meter_.measure(measured, world_[p], sweep);
+    meter_.measure(measured, world_[p], sweep, stretched);
+    verdict.stretched_at[p] = stretched;
     const std::vector<metrics::RegionFigures>& lbs = lbs_[p];
     const std::vector<metrics::RegionFigures>& dqs = dqs_[p];
     for (std::size_t r = 0; r < verdict.regions.size(); ++r) {
@@ -114,10 +117,12 @@ BindingVerdict check_binding(const deform::BoundModel& bound, const CheckPoses& 
 
 namespace {
 
-// A verdict's measure over some poses: the worse (pose, region) pairs, and their summed excess.
+// A verdict's measure over some poses: the worse (pose, region) pairs, and their summed excess;
+// beside it, the swept edges stretched beyond 1.3x.
 struct Score {
   int pairs = 0;
   double excess = 0.0;
+  long stretched = 0;
   // Fewer pairs; as many, a smaller summed excess.
   bool operator<(const Score& other) const {
     if (pairs != other.pairs) return pairs < other.pairs;
@@ -128,8 +133,10 @@ struct Score {
 Score score(const BindingVerdict& verdict, const std::vector<int>& poses) {
   Score s;
   for (const int p : poses)
-    for (std::size_t r = 0; r < verdict.worse_at[p].size(); ++r)
+    for (std::size_t r = 0; r < verdict.worse_at[p].size(); ++r) {
       if (verdict.worse_at[p][r]) ++s.pairs, s.excess += verdict.excess_at[p][r];
+      s.stretched += verdict.stretched_at[p][r];
+    }
   return s;
 }
 
@@ -153,6 +160,13 @@ bool sweep_loses(const BindingVerdict& verdict, deform::BodyPart part) {
   return std::any_of(verdict.regions.begin(), verdict.regions.end(), [&](const RegionVerdict& r) {
     return r.worse() && (r.region == part || (end != deform::BodyPart::kNone && r.region == end));
   });
+}
+
+// Whether every region `after` finds worse than skinning was worse `before` too.
+bool no_region_newly_worse(const BindingVerdict& before, const BindingVerdict& after) {
+  for (std::size_t r = 0; r < after.regions.size(); ++r)
+    if (after.regions[r].worse() && !before.regions[r].worse()) return false;
+  return true;
 }
 
 // The poses where a region sweep `part` reaches is worse, or within 10 % of it.
@@ -207,14 +221,16 @@ BindingVerdict adapt_binding(deform::BoundModel& bound, const BindingChecker& ch
         continue;  // this choice cannot be fitted: not a candidate
       }
       const Score tried = score(checker.verdict(bound, at_stake), at_stake);
-      if (tried < best_score) best_score = tried, best = choice;
+      if (tried < best_score && tried.stretched <= best_score.stretched)
+        best_score = tried, best = choice;
       bound.sweeps[s] = kept_sweep;
       bound.vertices = kept_vertices;
     }
     if (!best) continue;
     rebinder->rebind(bound, s, *best);
     BindingVerdict tried = checker.verdict(bound);  // every pose: better over the whole body?
-    if (tried.worse_pairs() < verdict.worse_pairs()) {
+    if (tried.worse_pairs() < verdict.worse_pairs() && no_region_newly_worse(verdict, tried) &&
+        score(tried, every_pose(tried)).stretched <= score(verdict, every_pose(verdict)).stretched) {
       verdict = std::move(tried);
       bound.sweeps[s].choice.worse_after = static_cast<std::uint32_t>(verdict.worse_pairs());
     } else {

@@ -57,6 +57,9 @@ struct BindingVerdict {
   // whether the sweep was worse there, and its stretch excess.
   std::vector<std::vector<std::uint8_t>> worse_at;
   std::vector<std::vector<float>> excess_at;
+  // And the sweep's swept edges longer than 1.3x their rest length there (SweptStretchMeter's
+  // kStretchedEdge): how much of the region stretches.
+  std::vector<std::vector<int>> stretched_at;
   int worse_regions() const;
   int worse_pairs() const;      // (pose, region) pairs worse than skinning: the measure
   double worse_excess() const;  // the excesses of those pairs, summed: its tie-break
@@ -87,8 +90,11 @@ BindingVerdict check_binding(const deform::BoundModel& bound, const CheckPoses& 
 // candidate is judged first on the poses where a region it reaches (its own, and the torso it
 // blends into; every region for the torso's sweep) was worse or within 10 % of it; the best of
 // them, if better there (fewer worse pairs; as many, a smaller summed excess), on every pose: it
-// is kept when it leaves fewer (pose, region) pairs worse over the whole body, recorded in
-// BoundSweep::choice; else the sweep stays as bound. Sweeps are tried in order, each from the previous ones'
+// is kept when it leaves fewer (pose, region) pairs worse over the whole body and no region
+// worse that was not, recorded in BoundSweep::choice; else the sweep stays as bound. A candidate that stretches more edges
+// beyond 1.3x their rest length (summed over the poses judged) is never kept: a choice that
+// lowers the worst edge by spreading the stretch over more of the limb (1 link key on a
+// MakeHuman thigh at the 150° knee) is not better. Sweeps are tried in order, each from the previous ones'
 // result. Returns the final verdict.
 BindingVerdict adapt_binding(deform::BoundModel& bound, const BindingChecker& checker,
                              BindingVerdict verdict);

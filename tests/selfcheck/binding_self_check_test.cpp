@@ -121,6 +121,9 @@ TEST(BindingSelfCheck, ARegionSpoiledOnPurposeIsWorseInEveryPoseAndNamed) {
     SCOPED_TRACE(deform::to_string(v.region));
     if (v.region == BodyPart::kLeftArm) {
       EXPECT_EQ(v.worse_poses, 8);
+      // Many of its edges stretch beyond 1.3x now, in every pose (none of it at rest before).
+      for (int p = 0; p < 8; ++p)
+        EXPECT_GT(after.stretched_at[p][r], before.stretched_at[p][r] + 50) << p;
       // A 0.3 rad turn on a ~5 cm arm radius moves a vertex ~1.5 cm against edges of ~1 cm.
       EXPECT_GT(v.excess, 1.5);
     } else {
@@ -167,6 +170,17 @@ TEST(BindingSelfCheck, AdaptationKeepsOnlyChoicesThatLeaveFewerPairsWorseAndReco
               sweep.chain.size() + (sweep.chain.size() - 1) * c.keys_per_link);
   }
   EXPECT_EQ(adapted, static_cast<int>(adaptation_notes(bound).size()));
+  // No region became worse than skinning, and no more edges stretch beyond 1.3x in all.
+  long stretched_before = 0, stretched_after = 0;
+  for (std::size_t p = 0; p < poses.poses.size(); ++p)
+    for (std::size_t r = 0; r < before.regions.size(); ++r) {
+      stretched_before += before.stretched_at[p][r];
+      stretched_after += after.stretched_at[p][r];
+    }
+  EXPECT_LE(stretched_after, stretched_before);
+  for (std::size_t r = 0; r < after.regions.size(); ++r)
+    EXPECT_TRUE(!after.regions[r].worse() || before.regions[r].worse())
+        << deform::to_string(after.regions[r].region);
   if (adapted > 0) {
     EXPECT_LT(after.worse_pairs(), before.worse_pairs());
   }
