@@ -43,6 +43,7 @@ BindingChecker::BindingChecker(const deform::BoundModel& bound, const CheckPoses
   // Skinning deforms the measured vertices alone (a head, hands and feet are most of a
   // MakeHuman body's vertices and are no edge of the verdict).
   deform::Model measured_part;
+  measured_part.skeleton = model.skeleton;  // the skinning matrices' count (skinning_buffers_fit)
   for (const std::uint32_t v : meter_.vertices()) {
     measured_part.positions.push_back(model.positions[v]);
     measured_part.skin_joints.push_back(model.skin_joints[v]);
