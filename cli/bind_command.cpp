@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -14,14 +15,15 @@
 #include "cli/model_loading.h"
 #include "cli/posing_arguments.h"
 #include "cli/segment_colours.h"
+#include "cli/self_check_report.h"
 #include "cli/text_format.h"
 #include "console/command_line.h"
 #include "console/progress_bar.h"
-#include "deform/binding/bind.h"
 #include "deform/blending/rigid_islands.h"
 #include "deform/mesh/welded_mesh.h"
 #include "io/gltf_save.h"
 #include "io/sweepbind.h"
+#include "selfcheck/binding_self_check.h"
 
 namespace sweepd::cli {
 
@@ -119,22 +121,26 @@ void print_rigid_islands(const deform::Model& model) {
               with_thousands(total).c_str(), text.c_str());
 }
 
+// The self-check's verdict: one line, then a warning per region where the sweep is still worse
+// than skinning on the range of motion's peaks.
 struct Options {
   std::filesystem::path model, out, rig, debug_gltf;
   deform::BindOptions bind;
+  bool adapt = false;  // --adapt: fit losing sweeps again (selfcheck::adapt_binding)
 };
 
 int bind_model(const Options& options) {
   const LoadedModel loaded = load_model_and_rig(options.model, options.rig);
-  const auto start = std::chrono::steady_clock::now();
-  deform::BoundModel bound;
+  selfcheck::CheckedBinding checked;
   {
     console::ProgressBar bar("binding " + options.model.filename().string());
-    bound = deform::bind(loaded.model, loaded.rig, options.bind,
-                         [&](double f, std::string_view stage) { bar.update(f, stage); });
+    checked = selfcheck::bind_checked(
+        loaded.model, loaded.rig, options.bind, options.adapt,
+        [&](double f, std::string_view stage) { bar.update(f, stage); });
   }
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const deform::BoundModel& bound = checked.bound;
+  const selfcheck::BindingVerdict& verdict = checked.verdict;
+  const double seconds = checked.bind_seconds + checked.check_seconds;
   io::save_sweepbind(bound, options.out);
 
   const std::vector<glm::vec3> rebuilt = deform::rest_positions_from_binding(bound);
@@ -146,10 +152,12 @@ int bind_model(const Options& options) {
     hi = std::max(hi, loaded.model.positions[v].y);
     skinned += bound.vertices[v].skin_weight >= 1.0f;
   }
-  std::printf("bound %s: %s vertices, %zu sweeps, rig '%s' (%.2f s)\n",
+  std::printf("bound %s: %s vertices, %zu sweeps, rig '%s' (%.2f s, of which the self-check%s "
+              "%.2f s over %zu poses)\n",
               options.model.filename().string().c_str(),
               with_thousands(loaded.model.vertex_count()).c_str(), bound.sweeps.size(),
-              bound.rig.convention.c_str(), seconds);
+              bound.rig.convention.c_str(), seconds, options.adapt ? " and adaptation" : "",
+              checked.check_seconds, verdict.pose_names.size());
   for (int s = 0; s < static_cast<int>(bound.sweeps.size()); ++s) print_sweep(bound, s);
   // Coverage said out loud: the vertices no sweep moves, by the body part of their strongest
   // joint (hands, feet and head always; a one-joint torso or neck, a forearm without a hand joint
@@ -158,6 +166,8 @@ int bind_model(const Options& options) {
               skinned_by_part(bound).c_str());
   print_rigid_islands(bound.model);
   std::printf("rest-pose error: max %.3g m (%.3g x height)\n", worst, worst / (hi - lo));
+  print_self_check(bound, verdict,
+                   options.adapt ? std::optional<int>(checked.before.worse_pairs()) : std::nullopt);
   std::printf("wrote %s\n", options.out.string().c_str());
   if (!options.debug_gltf.empty()) {
     write_debug_gltf(bound, options.debug_gltf);
@@ -176,7 +186,11 @@ Command add_bind_command(CLI::App& sweepctl) {
       "Prints per sweep the key ellipses (centre, half-axes, fit error, area ratio, the\n"
       "ellipse's in-plane offset from the centre where it has one), the bound vertices, and the\n"
       "rest-pose reconstruction error. --orientation smooth stores the C2 orientation curve in\n"
-      "the binding (the server and pose use it from there).");
+      "the binding (the server and pose use it from there). Then the binding checks itself:\n"
+      "the peaks of the body's range of motion (`sweepctl rom`) deformed with the sweep, LBS\n"
+      "and DQS, and a warning for each body region where the sweep stretches an edge (length\n"
+      "ratio l / l_rest) more than 1.02x the better of the two, or flips more triangles;\n"
+      "`sweepctl check` measures the same on every 5th frame.");
   auto options = std::make_shared<Options>();
   command->add_option("MODEL", options->model, "a rigged .glb/.gltf/.fbx/.dae model")
       ->type_name("")
@@ -202,6 +216,11 @@ Command add_bind_command(CLI::App& sweepctl) {
                    "the mesh coloured by sweep and blend share, with every key ellipse as a "
                    "line loop, for a glTF viewer")
       ->type_name("OUT.glb");
+  command->add_flag(
+      "--adapt", options->adapt,
+      "where the self-check finds a sweep worse than skinning, fit it again with fewer link "
+      "keys and/or the other orientation curve and keep what leaves fewer (pose, region) pairs "
+      "worse (recorded per sweep in the binding; several times bind's own time)");
   return {command, [options] { return bind_model(*options); }};
 }
 

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "cli/commands.h"
+#include "cli/self_check_report.h"
 #include "cli/text_format.h"
 #include "deform/binding/mesh_parts_joined.h"
 #include "deform/mesh/mesh_topology.h"
@@ -24,6 +25,7 @@
 #include "io/model_clip_load.h"
 #include "io/model_load.h"
 #include "io/sweepbind.h"
+#include "selfcheck/binding_self_check.h"
 #include "motion/clip_up_axis.h"
 #include "motion/retarget.h"
 
@@ -272,6 +274,29 @@ int inspect_model(const Options& options) {
   return 0;
 }
 
+// A .sweepbind: its model and sweeps, what each sweep was bound with, and the self-check run
+// again on the binding as it is (selfcheck/binding_self_check.h).
+int inspect_binding(const Options& options) {
+  const deform::BoundModel bound = io::load_sweepbind(options.file);
+  std::printf("file:        %s\n", options.file.string().c_str());
+  std::printf("kind:        binding (.sweepbind) of '%s'\n", bound.model.name.c_str());
+  std::printf("vertices:    %s\n", with_thousands(bound.model.vertex_count()).c_str());
+  std::printf("joints:      %d\n", bound.model.skeleton.size());
+  std::printf("sweeps:      %zu\n", bound.sweeps.size());
+  for (const deform::BoundSweep& sweep : bound.sweeps)
+    std::printf("  %-10s %zu keys (%d link key%s per link), %s orientation curve, %s\n",
+                deform::to_string(sweep.part), sweep.rest_keys.size(), sweep.choice.keys_per_link,
+                sweep.choice.keys_per_link == 1 ? "" : "s",
+                sweep.choice.orientation_curve == deform::OrientationCurveKind::kSmooth ? "smooth"
+                                                                                       : "linear",
+                sweep.choice.origin == deform::SweepChoiceOrigin::kSelfCheck
+                    ? "chosen by the self-check"
+                    : "as the bind options say");
+  print_self_check(bound,
+                   selfcheck::check_binding(bound, selfcheck::range_of_motion_peaks(bound)));
+  return 0;
+}
+
 int inspect_motion(const Options& options) {
   const std::filesystem::path& file = options.file;
   // As the file has it: channels and offsets in its own axes.
@@ -324,18 +349,23 @@ Command add_inspect_command(CLI::App& sweepctl) {
       "warnings. With --model MODEL a .bvh clip (or each animation of a model file) is also\n"
       "retargeted onto MODEL as `pose --bvh` (`--clip-from`) does: how its joints matched, and\n"
       "warnings naming the clip joints that drive nothing and the model joints left without\n"
-      "motion.");
+      "motion. A .sweepbind prints its sweeps, what each was bound with (keys per link,\n"
+      "orientation curve, the bind options' or the self-check's choice) and the binding's\n"
+      "self-check run again: a warning per body region where the sweep is worse than the\n"
+      "better of LBS and DQS on the range of motion's peaks (edge stretch as l / l_rest).");
   auto options = std::make_shared<Options>();
   const CLI::Validator known_type(
       [](std::string& name) -> std::string {
         const std::string type = file_type(name);
-        for (const char* known : {".bvh", ".glb", ".gltf", ".fbx", ".dae"})
+        for (const char* known : {".bvh", ".glb", ".gltf", ".fbx", ".dae", ".sweepbind"})
           if (type == known) return "";
         return name + ": unknown file type '" + type +
-               "' (expected .glb, .gltf, .fbx, .dae or .bvh)";
+               "' (expected .glb, .gltf, .fbx, .dae, .bvh or .sweepbind)";
       },
       "");
-  command->add_option("FILE", options->file, "a .glb/.gltf/.fbx/.dae model or a .bvh motion clip")
+  command
+      ->add_option("FILE", options->file,
+                   "a .glb/.gltf/.fbx/.dae model, a .bvh motion clip or a .sweepbind binding")
       ->type_name("")
       ->required()
       ->check(known_type);
@@ -353,8 +383,9 @@ Command add_inspect_command(CLI::App& sweepctl) {
       ->check(CLI::ExistingFile)
       ->needs(model);
   return {command, [options] {
-            return file_type(options->file) == ".bvh" ? inspect_motion(*options)
-                                                      : inspect_model(*options);
+            const std::string type = file_type(options->file);
+            if (type == ".bvh") return inspect_motion(*options);
+            return type == ".sweepbind" ? inspect_binding(*options) : inspect_model(*options);
           }};
 }
 

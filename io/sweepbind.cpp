@@ -95,6 +95,18 @@ void put_mesh_parts(ByteWriter& out, const std::vector<deform::MeshPart>& parts)
   }
 }
 
+// Version 9 on: what each sweep was bound with (deform::SweepChoice), after the mesh parts.
+void put_sweep_choices(ByteWriter& out, const std::vector<deform::BoundSweep>& sweeps) {
+  out.put<std::uint64_t>(sweeps.size());
+  for (const deform::BoundSweep& sweep : sweeps) {
+    out.put<std::int32_t>(static_cast<std::int32_t>(sweep.choice.orientation_curve));
+    out.put<std::int32_t>(sweep.choice.keys_per_link);
+    out.put<std::uint8_t>(static_cast<std::uint8_t>(sweep.choice.origin));
+    out.put<std::uint32_t>(sweep.choice.worse_before);
+    out.put<std::uint32_t>(sweep.choice.worse_after);
+  }
+}
+
 // --- reading ---------------------------------------------------------------------------------
 
 std::vector<int> get_chain(ByteReader& in, const char* what) {
@@ -170,6 +182,32 @@ std::vector<deform::MeshPart> get_mesh_parts(ByteReader& in) {
     part.rigid_joint = in.get<std::int32_t>("mesh part joint");
   }
   return parts;
+}
+
+void get_sweep_choices(ByteReader& in, std::vector<deform::BoundSweep>& sweeps) {
+  const auto count = in.get<std::uint64_t>("sweep choice count");
+  if (count != sweeps.size())
+    in.fail("sweep choice count " + std::to_string(count) + " differs from the sweep count " +
+            std::to_string(sweeps.size()));
+  for (deform::BoundSweep& sweep : sweeps) {
+    const auto curve = in.get<std::int32_t>("sweep orientation curve");
+    if (curve != 0 && curve != 1)
+      in.fail("sweep orientation curve " + std::to_string(curve) +
+              " is neither 0 (linear) nor 1 (smooth)");
+    sweep.choice.orientation_curve = static_cast<deform::OrientationCurveKind>(curve);
+    sweep.choice.keys_per_link = in.get<std::int32_t>("sweep keys per link");
+    if (sweep.choice.keys_per_link < 0 ||
+        sweep.choice.keys_per_link > static_cast<std::int32_t>(kMaxKeys))
+      in.fail("sweep keys per link " + std::to_string(sweep.choice.keys_per_link) +
+              " is out of range");
+    const auto origin = in.get<std::uint8_t>("sweep choice origin");
+    if (origin > 1)
+      in.fail("sweep choice origin " + std::to_string(origin) +
+              " is neither 0 (bind options) nor 1 (self-check)");
+    sweep.choice.origin = static_cast<deform::SweepChoiceOrigin>(origin);
+    sweep.choice.worse_before = in.get<std::uint32_t>("sweep choice worse before");
+    sweep.choice.worse_after = in.get<std::uint32_t>("sweep choice worse after");
+  }
 }
 
 bool finite(float x) { return std::isfinite(x); }
@@ -273,6 +311,7 @@ std::vector<std::uint8_t> encode_sweepbind(const BoundModel& bound) {
     payload.put_array(std::span<const deform::KeyEllipseEditSample>(edit.samples));
   }
   put_mesh_parts(payload, bound.model.parts);
+  put_sweep_choices(payload, bound.sweeps);
 
   ByteWriter file;
   for (char c : kMagic) file.put(c);
@@ -341,6 +380,13 @@ BoundModel decode_sweepbind(std::span<const std::uint8_t> bytes,
     bound.edits.edits.push_back(std::move(edit));
   }
   if (version >= 8) bound.model.parts = get_mesh_parts(in);
+  if (version >= 9) {
+    get_sweep_choices(in, bound.sweeps);
+  } else {  // every sweep as the bind options say
+    for (deform::BoundSweep& sweep : bound.sweeps)
+      sweep.choice = {.orientation_curve = bound.options.orientation_curve,
+                      .keys_per_link = bound.options.intermediate_keys_per_link};
+  }
   if (in.remaining() != 0) in.fail("trailing bytes inside the payload");
   if (std::string why = validate(bound); !why.empty()) in.fail("invalid binding: " + why);
   if (std::string why = deform::validate(bound.edits, bound); !why.empty())

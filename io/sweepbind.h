@@ -19,7 +19,7 @@
 
 namespace sweepd::io {
 
-inline constexpr std::uint32_t kSweepbindVersion = 8;  // reads 6 (as the linear Q(t)) and 7 too
+inline constexpr std::uint32_t kSweepbindVersion = 9;  // reads 6 (as the linear Q(t)), 7 and 8 too
 
 std::vector<std::uint8_t> encode_sweepbind(const deform::BoundModel& bound);
 deform::BoundModel decode_sweepbind(std::span<const std::uint8_t> bytes,

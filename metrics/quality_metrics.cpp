@@ -136,21 +136,30 @@ double largest_distance(std::span<const glm::vec3> a, std::span<const glm::vec3>
   return worst;
 }
 
+std::vector<std::uint32_t> welded_edges(std::span<const std::uint32_t> indices,
+                                        std::span<const std::uint32_t> welded) {
+  std::vector<std::uint32_t> edges;
+  std::unordered_set<std::uint64_t> seen;
+  for (std::size_t t = 0; t + 2 < indices.size(); t += 3)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t p = indices[t + k], q = indices[t + (k + 1) % 3];
+      const std::uint64_t a = welded[p], b = welded[q];
+      if (!seen.insert(std::min(a, b) << 32 | std::max(a, b)).second) continue;
+      edges.push_back(p);
+      edges.push_back(q);
+    }
+  return edges;
+}
+
 QualityMeter::QualityMeter(const BoundModel& bound) : bound_(bound), regions_(bound) {
   const Model& model = bound.model;
   welded_ = weld_coincident_positions(model.positions, &welded_count_);
   for (std::uint32_t i : model.indices) welded_indices_.push_back(welded_[i]);
   const std::vector<glm::vec3> rest_welded = welded_positions(model.positions);
-  std::unordered_set<std::uint64_t> seen;
-  for (std::size_t t = 0; t + 2 < model.indices.size(); t += 3)
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t p = model.indices[t + k], q = model.indices[t + (k + 1) % 3];
-      const std::uint64_t a = welded_[p], b = welded_[q];
-      if (!seen.insert(std::min(a, b) << 32 | std::max(a, b)).second) continue;
-      edges_.push_back(p);
-      edges_.push_back(q);
-      rest_edge_length_.push_back(glm::length(model.positions[p] - model.positions[q]));
-    }
+  edges_ = welded_edges(model.indices, welded_);
+  for (std::size_t e = 0; 2 * e < edges_.size(); ++e)
+    rest_edge_length_.push_back(
+        glm::length(model.positions[edges_[2 * e]] - model.positions[edges_[2 * e + 1]]));
   for (std::size_t s = 0; s < bound.sweeps.size(); ++s) {
     rest_mesh_volume_.push_back(regions_.volume(static_cast<int>(s), model.positions));
     const Sweep rest = rest_sweep(bound.sweeps[s], bound.options);

@@ -53,6 +53,11 @@ int count_self_intersections(std::span<const glm::vec3> positions,
 // Largest distance between two position sets of the same size.
 double largest_distance(std::span<const glm::vec3> a, std::span<const glm::vec3> b);
 
+// Each welded edge once, as the two model vertices of its first occurrence (2 per edge), in the
+// order the triangles first name them. welded: per-vertex welded ids.
+std::vector<std::uint32_t> welded_edges(std::span<const std::uint32_t> indices,
+                                        std::span<const std::uint32_t> welded);
+
 class QualityMeter {
  public:
   static constexpr int kSectionsPerLimb = 9;

@@ -6,16 +6,6 @@ namespace sweepd::metrics {
 
 using namespace deform;  // the metrics measure the deform library's types
 
-namespace {
-
-glm::vec3 triangle_normal(std::span<const glm::vec3> p, const std::vector<std::uint32_t>& indices,
-                          std::size_t t) {
-  const glm::vec3 a = p[indices[3 * t]], b = p[indices[3 * t + 1]], c = p[indices[3 * t + 2]];
-  return glm::cross(b - a, c - a);
-}
-
-}  // namespace
-
 SkinningComparison compare_with_skinning(const RegionFigures& sweep, const RegionFigures& lbs,
                                          const RegionFigures& dqs) {
   SkinningComparison c;
@@ -28,25 +18,35 @@ SkinningComparison compare_with_skinning(const RegionFigures& sweep, const Regio
   return c;
 }
 
-RegionMeter::RegionMeter(const BoundModel& bound) : bound_(bound), quality_(bound), crease_(bound) {
+RegionLabels label_regions(const BoundModel& bound) {
   const Model& model = bound.model;
   const std::vector<BodyPart> part_of = label_joints(bound.rig, model.skeleton);
   std::vector<int> index_of_part(static_cast<int>(BodyPart::kRightFoot) + 1, -1);
   std::vector<BodyPart> vertex_part(model.vertex_count());
+  RegionLabels labels;
   for (std::size_t v = 0; v < vertex_part.size(); ++v) {
-    strongest_joint_.push_back(model.strongest_joint(v));
-    const BodyPart part = part_of[strongest_joint_.back()];
+    labels.strongest_joint.push_back(model.strongest_joint(v));
+    const BodyPart part = part_of[labels.strongest_joint.back()];
     vertex_part[v] = part == BodyPart::kNone ? BodyPart::kTorso : part;
     index_of_part[static_cast<int>(vertex_part[v])] = 0;
   }
   for (std::size_t p = 0; p < index_of_part.size(); ++p)
     if (index_of_part[p] == 0) {
-      index_of_part[p] = static_cast<int>(regions_.size());
-      regions_.push_back(static_cast<BodyPart>(p));
+      index_of_part[p] = static_cast<int>(labels.regions.size());
+      labels.regions.push_back(static_cast<BodyPart>(p));
     }
-  for (const VertexBinding& binding : bound.vertices) swept_.push_back(binding.skin_weight < 1.0f);
   for (const BodyPart part : vertex_part)
-    region_of_vertex_.push_back(index_of_part[static_cast<int>(part)]);
+    labels.region_of_vertex.push_back(index_of_part[static_cast<int>(part)]);
+  return labels;
+}
+
+RegionMeter::RegionMeter(const BoundModel& bound) : bound_(bound), quality_(bound), crease_(bound) {
+  const Model& model = bound.model;
+  RegionLabels labels = label_regions(bound);
+  regions_ = std::move(labels.regions);
+  region_of_vertex_ = std::move(labels.region_of_vertex);
+  strongest_joint_ = std::move(labels.strongest_joint);
+  for (const VertexBinding& binding : bound.vertices) swept_.push_back(binding.skin_weight < 1.0f);
   for (const glm::mat4& world : model.skeleton.world_rest_matrices())
     inverse_rest_.push_back(glm::inverse(world));
   for (std::size_t t = 0; 3 * t + 2 < model.indices.size(); ++t)

@@ -55,6 +55,22 @@ struct SkinningComparison {
 SkinningComparison compare_with_skinning(const RegionFigures& sweep, const RegionFigures& lbs,
                                          const RegionFigures& dqs);
 
+// The regions of a bound body: the body parts that hold a vertex, in deform::BodyPart order,
+// and per vertex its region (index into regions) and its strongest skin joint.
+struct RegionLabels {
+  std::vector<deform::BodyPart> regions;
+  std::vector<int> region_of_vertex;
+  std::vector<int> strongest_joint;
+};
+RegionLabels label_regions(const deform::BoundModel& bound);
+
+// Triangle t's normal, unnormalised (twice its area): (p1 - p0) x (p2 - p0).
+inline glm::vec3 triangle_normal(std::span<const glm::vec3> p,
+                                 std::span<const std::uint32_t> indices, std::size_t t) {
+  const glm::vec3 a = p[indices[3 * t]], b = p[indices[3 * t + 1]], c = p[indices[3 * t + 2]];
+  return glm::cross(b - a, c - a);
+}
+
 class RegionMeter {
  public:
   explicit RegionMeter(const deform::BoundModel& bound);

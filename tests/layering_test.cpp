@@ -2,6 +2,7 @@
 // includes nothing from the layers built on it; mannequin/, metrics/ and motion/ stand on
 // deform/ only; console/ stands alone; protocol/ never includes deform/; nothing includes
 // server/ but server/ itself.
+// selfcheck/ stands on deform/, motion/ and metrics/.
 // deform/'s top level holds only its stage folders and README.md. Reads the source as text.
 #include <gtest/gtest.h>
 
@@ -40,10 +41,12 @@ std::vector<std::string> includes_of(const std::string& folder,
 TEST(Layering, EachLayerIncludesOnlyTheLayersBelowIt) {
   const std::map<std::string, std::vector<std::string>> forbidden = {
       {"deform",
-       {"mannequin", "metrics", "motion", "io", "gpu", "protocol", "client", "server", "cli"}},
-      {"mannequin", {"metrics", "motion", "io", "gpu", "protocol", "client", "server", "cli"}},
-      {"metrics", {"mannequin", "motion", "io", "gpu", "protocol", "client", "server", "cli"}},
-      {"motion", {"mannequin", "metrics", "io", "gpu", "protocol", "client", "server", "cli"}},
+       {"mannequin", "metrics", "motion", "selfcheck", "io", "gpu", "protocol", "client", "server", "cli"}},
+      {"mannequin", {"metrics", "motion", "selfcheck", "io", "gpu", "protocol", "client", "server", "cli"}},
+      {"metrics", {"mannequin", "motion", "selfcheck", "io", "gpu", "protocol", "client", "server", "cli"}},
+      {"motion", {"mannequin", "metrics", "selfcheck", "io", "gpu", "protocol", "client", "server", "cli"}},
+      // selfcheck/ (the binding's self-check) stands on deform, motion and metrics.
+      {"selfcheck", {"mannequin", "io", "gpu", "protocol", "client", "server", "cli"}},
       {"protocol", {"deform", "mannequin", "metrics", "motion", "io", "gpu", "server", "cli"}},
       {"io", {"gpu", "protocol", "client", "server", "cli"}},
       {"gpu", {"protocol", "client", "server", "cli"}},

@@ -69,6 +69,17 @@ Model body_of(const Model& model, const std::vector<std::uint8_t>& joined,
   return body;
 }
 
+// One sweep's keys fitted with `choice`, its rest volume measured.
+BoundSweep fit_sweep(const WeldedMesh& mesh, std::span<const glm::mat4> world_rest,
+                     const SweepPlan& plan, BindOptions options, const SweepChoice& choice) {
+  options.intermediate_keys_per_link = choice.keys_per_link;
+  BoundSweep sweep = fit_chain_key_ellipses(mesh.positions, mesh.indices, world_rest, plan.part,
+                                            plan.chain, options, plan.x_hint);
+  sweep.choice = choice;
+  sweep.rest_volume = sweep_volume(rest_sweep(sweep, options));
+  return sweep;
+}
+
 BoundModel bind_one_body(const Model& model, const RigMap& rig, const BindOptions& options,
                          const BindProgress& progress);
 
@@ -131,14 +142,12 @@ BoundModel bind_one_body(const Model& model, const RigMap& rig, const BindOption
 
   const std::vector<SweepPlan> plans = plan_sweeps(rig, world_rest);
   std::vector<Sweep> sweeps;
+  const SweepChoice choice{.orientation_curve = options.orientation_curve,
+                           .keys_per_link = options.intermediate_keys_per_link};
   for (std::size_t s = 0; s < plans.size(); ++s) {
     report(0.5 * s / plans.size(), "fitting key ellipses");
-    BoundSweep sweep =
-        fit_chain_key_ellipses(mesh.positions, mesh.indices, world_rest, plans[s].part,
-                               plans[s].chain, options, plans[s].x_hint);
-    sweeps.push_back(rest_sweep(sweep, options));
-    sweep.rest_volume = sweep_volume(sweeps.back());
-    bound.sweeps.push_back(std::move(sweep));
+    bound.sweeps.push_back(fit_sweep(mesh, world_rest, plans[s], options, choice));
+    sweeps.push_back(rest_sweep(bound.sweeps.back(), options));
   }
 
   report(0.5, "blending regions");
@@ -169,6 +178,39 @@ BoundModel bind_one_body(const Model& model, const RigMap& rig, const BindOption
 }
 
 }  // namespace
+
+SweepRebinder::SweepRebinder(const BoundModel& bound)
+    : world_rest_(bound.model.skeleton.world_rest_matrices()) {
+  const Model& model = bound.model;
+  const std::vector<std::uint8_t> joined = vertices_joined(model);
+  if (std::all_of(joined.begin(), joined.end(), [](std::uint8_t j) { return j != 0; })) {
+    mesh_ = weld_mesh(model.positions, model.indices);
+  } else {
+    std::vector<std::uint32_t> body_vertex;
+    const Model body = body_of(model, joined, body_vertex);
+    mesh_ = weld_mesh(body.positions, body.indices);
+  }
+  const std::vector<SweepPlan> plans = plan_sweeps(bound.rig, world_rest_);
+  for (const BoundSweep& sweep : bound.sweeps) {
+    const auto plan = std::find_if(plans.begin(), plans.end(),
+                                   [&](const SweepPlan& p) { return p.part == sweep.part; });
+    x_hints_.push_back(plan == plans.end() ? glm::vec3(1, 0, 0) : plan->x_hint);
+  }
+}
+
+void SweepRebinder::rebind(BoundModel& bound, int s, const SweepChoice& choice) const {
+  const BoundSweep& old = bound.sweeps[s];
+  bound.sweeps[s] = fit_sweep(mesh_, world_rest_, {old.part, old.chain, x_hints_[s]},
+                              bound.options, choice);
+  const Sweep sweep = rest_sweep(bound.sweeps[s], bound.options);
+  const SweepPlanes planes = sample_planes(sweep, bound.options.plane_samples_per_span);
+  for (std::size_t v = 0; v < bound.vertices.size(); ++v) {
+    VertexBinding& binding = bound.vertices[v];
+    for (int k = 0; k < kSweepsPerVertex; ++k)
+      if (binding.sweep[k] == s)
+        binding.coordinate[k] = bind_point(sweep, planes, bound.model.positions[v]);
+  }
+}
 
 std::vector<glm::vec3> rest_positions_from_binding(const BoundModel& bound) {
   std::vector<Sweep> sweeps;

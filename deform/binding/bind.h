@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "deform/binding/bound_model.h"
+#include "deform/mesh/welded_mesh.h"
 #include "deform/model/model.h"
 #include "deform/rig/rig_map.h"
 
@@ -25,6 +26,22 @@ using BindProgress = std::function<void(double fraction, std::string_view stage)
 
 BoundModel bind(const Model& model, const RigMap& rig, const BindOptions& options = {},
                 const BindProgress& progress = {});
+
+// SweepRebinder: fits one sweep of a bound model again with another SweepChoice (its keys per
+// link, its orientation curve) and binds again the coordinates of the vertices on it; the
+// blend shares, the other sweeps and everything else stay. What the binding's self-check tries
+// where a sweep loses to skinning. Built once per bound model (it welds the body's mesh, as
+// bind does); rebind throws std::invalid_argument as bind does when the sweep cannot be fitted.
+class SweepRebinder {
+ public:
+  explicit SweepRebinder(const BoundModel& bound);
+  void rebind(BoundModel& bound, int sweep, const SweepChoice& choice) const;
+
+ private:
+  WeldedMesh mesh_;
+  std::vector<glm::mat4> world_rest_;
+  std::vector<glm::vec3> x_hints_;  // per sweep: its first key's first axis hint
+};
 
 // Every vertex evaluated from its binding at the rest pose (skinned share: the rest position).
 std::vector<glm::vec3> rest_positions_from_binding(const BoundModel& bound);

@@ -32,6 +32,21 @@ struct KeyAnchor {
   bool is_joint_key() const { return fraction == 0.0f; }
 };
 
+// What a sweep was bound with, where it may differ from the model's BindOptions: bind() copies
+// the options' keys per link and orientation curve; the binding's self-check
+// (selfcheck/binding_self_check.h) may choose others for a sweep that lost to skinning on the
+// range of motion, and records the (pose, region) pairs worse than skinning before and after.
+enum class SweepChoiceOrigin : std::uint8_t {
+  kBindOptions = 0,  // the BindOptions' values
+  kSelfCheck = 1,    // chosen by the self-check: fewer (pose, region) pairs worse than skinning
+};
+struct SweepChoice {
+  OrientationCurveKind orientation_curve = OrientationCurveKind::kLinear;
+  std::int32_t keys_per_link = 2;  // the link keys between two joint keys it was fitted with
+  SweepChoiceOrigin origin = SweepChoiceOrigin::kBindOptions;
+  std::uint32_t worse_before = 0, worse_after = 0;  // kSelfCheck: its measure, before and after
+};
+
 struct BoundSweep {
   BodyPart part = BodyPart::kNone;  // kTorso, kNeck, kLeftArm, kRightArm, kLeftLeg, kRightLeg
   std::vector<int> chain;           // joints the sweep follows, root first
@@ -41,6 +56,7 @@ struct BoundSweep {
   std::vector<float> key_area_ratios;      // ellipse area / cross-section polygon area, per key
   std::vector<std::uint8_t> key_fallback;  // 1 where the cut was unusable and the key copied
   double rest_volume = 0.0;                // the swept volume of the rest keys (m³)
+  SweepChoice choice;  // its orientation curve (what rest_sweep builds) and keys per link
 };
 
 // A vertex's place on one sweep: V = C(t) + R(t) ((a(t)+da) cos θ, (b(t)+db) sin θ, c).
@@ -90,6 +106,8 @@ struct BindOptions {
   // The orientation curve Q(t): the paper's piecewise-linear unit quaternions (kLinear), whose
   // turning rate jumps at every key, or the C2 cumulative B-spline through the end keys and near
   // the inner ones (kSmooth; deform/sweep/orientation_curve.h). Last: .sweepbind version 7 on.
+  // bind() gives every sweep this curve and intermediate_keys_per_link (BoundSweep::choice);
+  // the self-check may choose others per sweep, which the sweeps then follow.
   OrientationCurveKind orientation_curve = OrientationCurveKind::kLinear;
 };
 

@@ -11,6 +11,7 @@
 #include "io/gltf_load.h"
 #include "io/rig_map_json.h"
 #include "mannequin/mannequin.h"
+#include "selfcheck/binding_self_check.h"
 #include "server/log_event.h"
 
 namespace sweepd::server {
@@ -226,6 +227,13 @@ ModelHandle ModelService::bind_and_store(const ModelLoadRequest& request,
     options.orientation_curve = static_cast<deform::OrientationCurveKind>(request.orientation);
     model.name = request.name;
     bound = deform::bind(model, rig, options);
+    // The binding checks itself (issue 47): each body region where the sweep is still worse
+    // than skinning on the range of motion's peaks, said to the operator. About bind's own time
+    // again; the default mannequin skips it (the start-up; its figures are the corpus gate's).
+    const selfcheck::BindingVerdict verdict =
+        selfcheck::check_binding(bound, selfcheck::range_of_motion_peaks(bound));
+    for (const std::string& warning : selfcheck::self_check_warnings(verdict))
+      log_event("bind_warning", {{"name", request.name}, {"warning", warning}});
   } catch (const ModelError&) {
     throw;
   } catch (const io::LoadError& error) {

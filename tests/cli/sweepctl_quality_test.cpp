@@ -1,6 +1,7 @@
 // sweepctl's quality commands as a user runs them: `metrics` (a posed elbow and a few clip
-// frames, table, JSON and CSV, bad arguments) and `edit` (edits stored in a .sweepbind that
-// reads back, a bad edits file refused with its name).
+// frames, table, JSON and CSV, bad arguments), `edit` (edits stored in a .sweepbind that
+// reads back, a bad edits file refused with its name), and `bind`'s self-check as `bind` and
+// `inspect` print it.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "io/sweepbind.h"
 #include "tests/scratch_directory.h"
@@ -103,6 +105,77 @@ TEST(SweepctlMetrics, ClipFramesGiveWorstMeanAndFrameAsCsvAndTable) {
   EXPECT_EQ(twists, 2);
   ASSERT_EQ(sweepctl(common, table), 0) << table;
   EXPECT_NE(table.find("at frame"), std::string::npos) << table;
+}
+
+// The lines of `text` that start with `prefix` (after leading spaces), in order.
+std::vector<std::string> lines_starting(const std::string& text, const std::string& prefix) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) {
+    const std::size_t start = line.find_first_not_of(' ');
+    if (start != std::string::npos && line.compare(start, prefix.size(), prefix) == 0)
+      lines.push_back(line.substr(start));
+  }
+  return lines;
+}
+
+// The (pose, region) pairs a self-check line counts first: "... worse in N (pose, region) pairs".
+int worse_pairs(const std::string& line) {
+  const std::size_t at = line.find("worse in ");
+  return at == std::string::npos ? -1 : std::atoi(line.c_str() + at + 9);
+}
+
+TEST(SweepctlBind, ChecksItselfAndInspectSaysTheSameOfTheStoredBinding) {
+  REQUIRE_DATA();
+  const fs::path plain = scratch() / "checked.sweepbind", adapted = scratch() / "adapted.sweepbind";
+  std::string bind, bind_adapted, inspect, inspect_adapted;
+  ASSERT_EQ(sweepctl("bind " + kMale.string() + " -o " + plain.string(), bind), 0) << bind;
+  ASSERT_EQ(sweepctl("bind " + kMale.string() + " -o " + adapted.string() + " --adapt",
+                     bind_adapted),
+            0)
+      << bind_adapted;
+  ASSERT_EQ(sweepctl("inspect " + plain.string(), inspect), 0) << inspect;
+  ASSERT_EQ(sweepctl("inspect " + adapted.string(), inspect_adapted), 0) << inspect_adapted;
+  // The male loses to skinning on his range of motion (docs/quality/): the self-check says so,
+  // with a warning per region that names both length ratios.
+  const auto checked = lines_starting(bind, "self-check (48 range-of-motion peaks");
+  ASSERT_EQ(checked.size(), 1u) << bind;
+  EXPECT_GT(worse_pairs(checked[0]), 0) << checked[0];
+  const auto warnings = lines_starting(bind, "warning: ");
+  ASSERT_FALSE(warnings.empty()) << bind;
+  for (const std::string& w : warnings)
+    EXPECT_NE(w.find("worse than skinning in "), std::string::npos) << w;
+  EXPECT_TRUE(std::any_of(warnings.begin(), warnings.end(), [](const std::string& w) {
+    return w.starts_with("warning: left arm:") && w.find("the sweep stretches an edge") !=
+                                                       std::string::npos;
+  })) << bind;
+  // inspect runs the same check on the stored binding: the same count, the same warnings.
+  const auto inspected = lines_starting(inspect, "self-check (48 range-of-motion peaks");
+  ASSERT_EQ(inspected.size(), 1u) << inspect;
+  EXPECT_EQ(worse_pairs(inspected[0]), worse_pairs(checked[0]));
+  EXPECT_EQ(lines_starting(inspect, "warning: "), warnings);
+  EXPECT_TRUE(lines_starting(inspect, "adapted: ").empty()) << inspect;
+  // --adapt leaves fewer pairs worse (the male's arms and legs), says which sweeps it fitted
+  // again, and the stored binding carries them: inspect counts what bind counted after.
+  const auto adapted_line = lines_starting(bind_adapted, "self-check (48 range-of-motion peaks");
+  ASSERT_EQ(adapted_line.size(), 1u) << bind_adapted;
+  const std::size_t after_at = adapted_line[0].find(" as bound, ");
+  ASSERT_NE(after_at, std::string::npos) << adapted_line[0];
+  const int after = std::atoi(adapted_line[0].c_str() + after_at + 11);
+  EXPECT_EQ(worse_pairs(adapted_line[0]), worse_pairs(checked[0]));
+  EXPECT_LT(after, worse_pairs(checked[0])) << adapted_line[0];
+  const auto notes = lines_starting(bind_adapted, "adapted: ");
+  EXPECT_FALSE(notes.empty()) << bind_adapted;
+  EXPECT_EQ(lines_starting(inspect_adapted, "adapted: "), notes);
+  const auto inspected_adapted = lines_starting(inspect_adapted, "self-check (48");
+  ASSERT_EQ(inspected_adapted.size(), 1u) << inspect_adapted;
+  EXPECT_EQ(worse_pairs(inspected_adapted[0]), after);
+  std::size_t chosen = 0;
+  for (std::size_t at = 0; (at = inspect_adapted.find("chosen by the self-check", at)) !=
+                           std::string::npos;
+       ++at)
+    ++chosen;
+  EXPECT_EQ(chosen, notes.size()) << inspect_adapted;
 }
 
 TEST(SweepctlBind, StoresTheSmoothOrientationCurveWhoseSweepsHaveNoKink) {

@@ -39,6 +39,19 @@ std::string decode_error(const std::vector<std::uint8_t>& bytes,
   return "no error";
 }
 
+// Version 9's last section: a count, then 17 bytes per sweep.
+std::size_t sweep_choices_size(const deform::BoundModel& bound) {
+  return 8 + 17 * bound.sweeps.size();
+}
+
+// The header's size and checksum made to fit the payload again.
+void reseal(std::vector<std::uint8_t>& bytes) {
+  const std::uint64_t payload_size = bytes.size() - 32;
+  std::memcpy(bytes.data() + 16, &payload_size, sizeof(payload_size));
+  const std::uint32_t crc = crc32(std::span<const std::uint8_t>(bytes).subspan(32));
+  std::memcpy(bytes.data() + 24, &crc, sizeof(crc));
+}
+
 TEST(Sweepbind, RoundTripsBitExactlyThroughAFile) {
   const fs::path file =
       fs::temp_directory_path() / ("roundtrip_" + std::to_string(getpid()) + ".sweepbind");
@@ -76,7 +89,7 @@ TEST(Sweepbind, RefusesAVersion5FileAskingForARebind) {
   std::vector<std::uint8_t> bytes = encode_sweepbind(bound_mannequin());
   bytes[8] = 5;
   const std::string error = decode_error(bytes);
-  EXPECT_NE(error.find("unsupported .sweepbind version 5 (this sweepd reads 6 to 8; bind the "
+  EXPECT_NE(error.find("unsupported .sweepbind version 5 (this sweepd reads 6 to 9; bind the "
                        "model again to rebuild it)"),
             std::string::npos)
       << error;
@@ -94,7 +107,8 @@ TEST(Sweepbind, CarriesTheOrientationCurveAndReadsVersion6AsLinear) {
       std::search(bytes.begin() + 32, bytes.end(), options, options + sizeof(deform::BindOptions));
   ASSERT_NE(at, bytes.end());
   bytes.erase(at + 24, at + 28);
-  bytes.resize(bytes.size() - 8);  // nor version 8's mesh parts (a count of 0)
+  // Nor version 8's mesh parts (a count of 0) and version 9's sweep choices.
+  bytes.resize(bytes.size() - 8 - sweep_choices_size(smooth));
   bytes[8] = 6;
   const std::uint64_t payload_size = bytes.size() - 32;
   std::memcpy(bytes.data() + 16, &payload_size, sizeof(payload_size));
@@ -107,6 +121,59 @@ TEST(Sweepbind, CarriesTheOrientationCurveAndReadsVersion6AsLinear) {
   // An orientation curve this reader does not know is refused.
   smooth.options.orientation_curve = static_cast<deform::OrientationCurveKind>(2);
   EXPECT_NE(decode_error(encode_sweepbind(smooth)).find("orientation curve 2"), std::string::npos);
+}
+
+TEST(Sweepbind, CarriesEachSweepsChoiceAndReadsVersion8AsTheBindOptions) {
+  deform::BoundModel chosen = bound_mannequin();
+  ASSERT_GE(chosen.sweeps.size(), 3u);
+  chosen.sweeps[2].choice = {.orientation_curve = deform::OrientationCurveKind::kSmooth,
+                             .keys_per_link = 1,
+                             .origin = deform::SweepChoiceOrigin::kSelfCheck,
+                             .worse_before = 7,
+                             .worse_after = 2};
+  std::vector<std::uint8_t> bytes = encode_sweepbind(chosen);
+  const deform::BoundModel read = decode_sweepbind(bytes, "chosen.sweepbind");
+  for (std::size_t s = 0; s < read.sweeps.size(); ++s) {
+    const deform::SweepChoice& c = read.sweeps[s].choice;
+    const deform::SweepChoice& expected = chosen.sweeps[s].choice;
+    EXPECT_EQ(c.orientation_curve, expected.orientation_curve) << s;
+    EXPECT_EQ(c.keys_per_link, expected.keys_per_link) << s;
+    EXPECT_EQ(c.origin, expected.origin) << s;
+    EXPECT_EQ(c.worse_before, expected.worse_before) << s;
+    EXPECT_EQ(c.worse_after, expected.worse_after) << s;
+  }
+  EXPECT_EQ(read.sweeps[2].choice.worse_before, 7u);  // not the defaults
+  EXPECT_EQ(encode_sweepbind(read), bytes);
+  // As version 8 wrote it (no choices): every sweep as the bind options say.
+  std::vector<std::uint8_t> old = bytes;
+  old.resize(old.size() - sweep_choices_size(chosen));
+  old[8] = 8;
+  reseal(old);
+  const deform::BoundModel v8 = decode_sweepbind(old, "v8.sweepbind");
+  for (const deform::BoundSweep& sweep : v8.sweeps) {
+    EXPECT_EQ(sweep.choice.orientation_curve, chosen.options.orientation_curve);
+    EXPECT_EQ(sweep.choice.keys_per_link, chosen.options.intermediate_keys_per_link);
+    EXPECT_EQ(sweep.choice.origin, deform::SweepChoiceOrigin::kBindOptions);
+  }
+  // Values this reader does not know are refused, each with its reason. The choices are the
+  // payload's last bytes: sweep 2's record starts 17 * (count - 2) bytes from the end.
+  const std::size_t record = bytes.size() - 17 * (chosen.sweeps.size() - 2);
+  std::vector<std::uint8_t> bad = bytes;
+  bad[record] = 2;  // orientation curve 2
+  reseal(bad);
+  EXPECT_NE(decode_error(bad).find("sweep orientation curve 2 is neither"), std::string::npos)
+      << decode_error(bad);
+  bad = bytes;
+  bad[record + 8] = 3;  // origin 3
+  reseal(bad);
+  EXPECT_NE(decode_error(bad).find("sweep choice origin 3 is neither"), std::string::npos)
+      << decode_error(bad);
+  bad = bytes;
+  bad[record + 7] = 0x80;  // keys per link negative
+  reseal(bad);
+  EXPECT_NE(decode_error(bad).find("sweep keys per link -2147483647 is out of range"),
+            std::string::npos)
+      << decode_error(bad);
 }
 
 TEST(Sweepbind, CarriesTheMeshPartsAndRefusesOnesThatDoNotFitTheModel) {
@@ -144,8 +211,8 @@ TEST(Sweepbind, RefusesDamagedFilesWithTheReason) {
   EXPECT_NE(decode_error(bytes).find("wrong magic"), std::string::npos);
 
   bytes = good;
-  bytes[8] = 9;  // version
-  EXPECT_NE(decode_error(bytes).find("unsupported .sweepbind version 9"), std::string::npos);
+  bytes[8] = 10;  // version
+  EXPECT_NE(decode_error(bytes).find("unsupported .sweepbind version 10"), std::string::npos);
 
   for (std::size_t keep : {std::size_t{5}, std::size_t{20}, good.size() / 2, good.size() - 1}) {
     bytes.assign(good.begin(), good.begin() + keep);

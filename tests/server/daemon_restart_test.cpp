@@ -221,6 +221,25 @@ TEST(DaemonModelLoad, ALeglessUploadBindsAndItsRigWarningIsLogged) {
   fs::remove_all(directory);
 }
 
+// An uploaded body binds and checks itself (issue 47): each region where the sweep is worse
+// than skinning on its range of motion's peaks is logged with both length ratios. The shared
+// male loses at the 150° elbow (sweep 5.03x, LBS 3.58x: docs/quality/).
+TEST(DaemonModelLoad, AnUploadsSelfCheckWarningsAreLogged) {
+  const fs::path male = fs::path(SWEEPD_SHARED_DATA) / "models/makehuman_male_cmu.glb";
+  if (!fs::exists(male)) GTEST_SKIP() << "shared data absent";
+  const fs::path directory = fresh_directory("self_check_upload");
+  DaemonProcess daemon(directory, {"--mannequin-vertices", "1000"});
+  ASSERT_TRUE(daemon.running()) << daemon.log();
+  FrameClient client(daemon.port());
+  ASSERT_NE(client.hello(""), nullptr);
+  ASSERT_NE(upload(client, "male", read_bytes(male)), nullptr) << daemon.log();
+  const std::string log = daemon.log();
+  EXPECT_NE(log.find("\"event\":\"bind_warning\",\"name\":\"male\""), std::string::npos) << log;
+  EXPECT_NE(log.find("\"warning\":\"left arm: worse than skinning in "), std::string::npos) << log;
+  EXPECT_NE(log.find("(elbow flexion 150°)"), std::string::npos) << log;
+  fs::remove_all(directory);
+}
+
 TEST(DaemonRestart, ModelLimitIsAnErrorAndTheSessionGoesOn) {
   const fs::path directory = fresh_directory("model_limit");
   DaemonProcess daemon(directory, {"--max-models", "1"});

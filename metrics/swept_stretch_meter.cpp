@@ -1,0 +1,103 @@
+#include "metrics/swept_stretch_meter.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "deform/mesh/mesh_topology.h"
+#include "metrics/quality_metrics.h"
+
+namespace sweepd::metrics {
+
+using namespace deform;  // the metrics measure the deform library's types
+
+SweptStretchMeter::SweptStretchMeter(const BoundModel& bound) {
+  const Model& model = bound.model;
+  RegionLabels labels = label_regions(bound);
+  regions_ = std::move(labels.regions);
+  region_swept_.assign(regions_.size(), false);
+  std::vector<bool> swept;
+  for (const VertexBinding& binding : bound.vertices) swept.push_back(binding.skin_weight < 1.0f);
+  // The vertices read: those of a swept edge or triangle, renumbered in ascending order.
+  std::vector<bool> read(model.vertex_count(), false);
+  std::size_t welded_count = 0;
+  const std::vector<std::uint32_t> welded =
+      weld_coincident_positions(model.positions, &welded_count);
+  const std::vector<std::uint32_t> edges = welded_edges(model.indices, welded);
+  for (std::size_t e = 0; 2 * e < edges.size(); ++e) {
+    const std::uint32_t a = edges[2 * e], b = edges[2 * e + 1];
+    if (!swept[a] && !swept[b]) continue;
+    region_swept_[labels.region_of_vertex[a]] = true;
+    const glm::vec3 rest = model.positions[a] - model.positions[b];
+    if (glm::dot(rest, rest) <= 0.0f) continue;  // ratio 1, as QualityMeter::edge_ratio
+    edges_.push_back(a);
+    edges_.push_back(b);
+    read[a] = read[b] = true;
+    inverse_squared_rest_.push_back(1.0f / glm::dot(rest, rest));
+    edge_region_.push_back(labels.region_of_vertex[a]);
+  }
+  for (std::size_t t = 0; 3 * t + 2 < model.indices.size(); ++t) {
+    const std::uint32_t* corner = &model.indices[3 * t];
+    if (!swept[corner[0]] && !swept[corner[1]] && !swept[corner[2]]) continue;
+    for (int k = 0; k < 3; ++k) {
+      triangles_.push_back(corner[k]);
+      read[corner[k]] = true;
+    }
+    triangle_region_.push_back(labels.region_of_vertex[corner[0]]);
+    triangle_joint_.push_back(labels.strongest_joint[corner[0]]);
+    rest_normal_.push_back(triangle_normal(model.positions, model.indices, t));
+  }
+  std::vector<std::uint32_t> compact(model.vertex_count(), 0);
+  for (std::uint32_t v = 0; v < model.vertex_count(); ++v)
+    if (read[v]) {
+      compact[v] = static_cast<std::uint32_t>(vertices_.size());
+      vertices_.push_back(v);
+    }
+  for (std::uint32_t& v : edges_) v = compact[v];
+  for (std::uint32_t& v : triangles_) v = compact[v];
+  for (const glm::mat4& world : model.skeleton.world_rest_matrices())
+    inverse_rest_.push_back(glm::inverse(world));
+}
+
+void SweptStretchMeter::gather(std::span<const glm::vec3> positions,
+                               std::vector<glm::vec3>& measured) const {
+  measured.resize(vertices_.size());
+  for (std::size_t i = 0; i < vertices_.size(); ++i) measured[i] = positions[vertices_[i]];
+}
+
+void SweptStretchMeter::measure(std::span<const glm::vec3> positions,
+                                std::span<const glm::mat4> joint_world,
+                                std::vector<RegionFigures>& figures) const {
+  measure(positions, joint_world, figures, stretched_);
+}
+
+void SweptStretchMeter::measure(std::span<const glm::vec3> positions,
+                                std::span<const glm::mat4> joint_world,
+                                std::vector<RegionFigures>& figures,
+                                std::vector<int>& stretched_edges) const {
+  figures.assign(regions_.size(), RegionFigures{});
+  stretched_edges.assign(regions_.size(), 0);
+  // The squared ratios' largest per region (a square root per region, not per edge).
+  squared_.assign(regions_.size(), 1.0f);
+  constexpr float kStretchedSquared = kStretchedEdge * kStretchedEdge;
+  for (std::size_t e = 0; e < inverse_squared_rest_.size(); ++e) {
+    const glm::vec3 d = positions[edges_[2 * e]] - positions[edges_[2 * e + 1]];
+    const float squared = glm::dot(d, d) * inverse_squared_rest_[e];
+    float& largest = squared_[edge_region_[e]];
+    largest = std::max(largest, squared);
+    stretched_edges[edge_region_[e]] += squared > kStretchedSquared;
+  }
+  for (std::size_t r = 0; r < regions_.size(); ++r) {
+    figures[r].swept = region_swept_[r];
+    figures[r].swept_stretch = std::sqrt(static_cast<double>(squared_[r]));
+  }
+  carry_.resize(inverse_rest_.size());
+  for (std::size_t j = 0; j < carry_.size(); ++j)
+    carry_[j] = glm::mat3(joint_world[j] * inverse_rest_[j]);
+  for (std::size_t i = 0; i < rest_normal_.size(); ++i) {
+    if (glm::dot(triangle_normal(positions, triangles_, i),
+                 carry_[triangle_joint_[i]] * rest_normal_[i]) < 0.0f)
+      ++figures[triangle_region_[i]].swept_flipped;
+  }
+}
+
+}  // namespace sweepd::metrics

@@ -1,0 +1,63 @@
+// SweptStretchMeter: the part of RegionMeter (region_quality.h) that compare_with_skinning reads,
+// at a fraction of its cost — per body region, the largest length ratio l / l_rest over the
+// welded edges with a swept vertex (VertexBinding::skin_weight < 1), and the triangles with a
+// swept vertex that flipped. What the binding's self-check measures on every pose it plays
+// (selfcheck/binding_self_check.h), where RegionMeter's creases and whole-region figures would
+// cost more than binding itself.
+// Inputs: the positions of the vertices it reads (vertices(): a swept body's limbs and torso,
+// not its head, hands and feet) and the posed joints' world matrices.
+// Output: one RegionFigures per regions() entry with swept, swept_stretch and swept_flipped set
+// as RegionMeter::measure sets them (the other fields stay at their rest values); the stretch
+// from squared lengths, so within a few float roundings (1e-6) of RegionMeter's.
+#pragma once
+
+#include <cstdint>
+#include <glm/glm.hpp>
+#include <span>
+#include <vector>
+
+#include "deform/binding/bound_model.h"
+#include "metrics/region_quality.h"
+
+namespace sweepd::metrics {
+
+class SweptStretchMeter {
+ public:
+  explicit SweptStretchMeter(const deform::BoundModel& bound);
+  const std::vector<deform::BodyPart>& regions() const { return regions_; }
+  // The model vertices it reads (those of a swept edge or triangle), ascending: measure takes
+  // their positions in this order, so a caller can deform these alone.
+  const std::vector<std::uint32_t>& vertices() const { return vertices_; }
+  // vertices()' positions out of a whole mesh's (vertex_count()).
+  void gather(std::span<const glm::vec3> positions, std::vector<glm::vec3>& measured) const;
+  // positions: vertices().size(), in vertices()' order; joint_world: the posed joints' world
+  // matrices. Into figures (resized to regions().size()): no allocation once the scratch has its
+  // size. Not thread-safe (one meter per thread).
+  void measure(std::span<const glm::vec3> positions, std::span<const glm::mat4> joint_world,
+               std::vector<RegionFigures>& figures) const;
+  // The same, and per region how many swept edges are longer than kStretchedEdge times their
+  // rest length (how much of the region stretches, where the figures say only how far its
+  // worst edge does).
+  static constexpr float kStretchedEdge = 1.3f;
+  void measure(std::span<const glm::vec3> positions, std::span<const glm::mat4> joint_world,
+               std::vector<RegionFigures>& figures, std::vector<int>& stretched_edges) const;
+
+ private:
+  std::vector<deform::BodyPart> regions_;
+  std::vector<bool> region_swept_;          // per region: it has a swept edge
+  std::vector<std::uint32_t> vertices_;     // the model vertices read, ascending
+  // Below, vertices are numbered in vertices_' order.
+  std::vector<std::uint32_t> edges_;        // 2 per swept welded edge of positive rest length
+  std::vector<float> inverse_squared_rest_; // per such edge: 1 / l_rest²
+  std::vector<int> edge_region_;            // per such edge
+  std::vector<std::uint32_t> triangles_;    // 3 per triangle with a swept vertex
+  std::vector<int> triangle_region_;        // per such triangle
+  std::vector<int> triangle_joint_;         // its first vertex's strongest joint
+  std::vector<glm::vec3> rest_normal_;      // per such triangle (unnormalised)
+  std::vector<glm::mat4> inverse_rest_;     // per joint
+  mutable std::vector<glm::mat3> carry_;    // per joint: the pose's rotation from rest (scratch)
+  mutable std::vector<float> squared_;      // per region: the largest squared ratio (scratch)
+  mutable std::vector<int> stretched_;      // per region: the stretched edges (scratch)
+};
+
+}  // namespace sweepd::metrics
