@@ -123,13 +123,13 @@ void print_rigid_islands(const deform::Model& model) {
 
 // The self-check's verdict: one line, then a warning per region where the sweep is still worse
 // than skinning on the range of motion's peaks.
-struct Options {
+struct BindCommandOptions {
   std::filesystem::path model, out, rig, debug_gltf;
   deform::BindOptions bind;
   bool adapt = false;  // --adapt: fit losing sweeps again (selfcheck::adapt_binding)
 };
 
-int bind_model(const Options& options) {
+int bind_model(const BindCommandOptions& options) {
   const LoadedModel loaded = load_model_and_rig(options.model, options.rig);
   selfcheck::CheckedBinding checked;
   {
@@ -191,7 +191,7 @@ Command add_bind_command(CLI::App& sweepctl) {
       "and DQS, and a warning for each body region where the sweep stretches an edge (length\n"
       "ratio l / l_rest) more than 1.02x the better of the two, or flips more triangles;\n"
       "`sweepctl check` measures the same on every 5th frame.");
-  auto options = std::make_shared<Options>();
+  auto options = std::make_shared<BindCommandOptions>();
   command->add_option("MODEL", options->model, "a rigged .glb/.gltf/.fbx/.dae model")
       ->type_name("")
       ->required();

@@ -40,7 +40,7 @@ constexpr double kTolerance = metrics::kSkinningTolerance;
 constexpr int kRomStep = motion::kRomFramesPerMove / 6;
 static_assert(motion::kRomFramesPerMove / 2 % kRomStep == 0);
 
-struct Options {
+struct CheckCommandOptions {
   PosingArguments posing;
   std::vector<Method> methods;  // default sweep, lbs, dqs
   int step = 0;                 // 0: every 5th frame of the ROM (its peaks), every 10th of a clip
@@ -97,7 +97,7 @@ struct Report {
 
 bool is_sweep(const Method& m) { return m.method == DeformMethod::kSweep; }
 
-Report run_check(const Options& options, const PosedModel& posed,
+Report run_check(const CheckCommandOptions& options, const PosedModel& posed,
                  const motion::ClipPoses* clip, const motion::RangeOfMotion* rom) {
   const deform::BoundModel& bound = posed.bound();
   const std::vector<Method>& methods = options.methods;
@@ -336,8 +336,8 @@ std::vector<int> worst_frames(const Report& report, const std::vector<Method>& m
   return frames;
 }
 
-void write_sheet(const Options& options, const PosedModel& posed, const motion::ClipPoses* clip,
-                 const Report& report) {
+void write_sheet(const CheckCommandOptions& options, const PosedModel& posed,
+                 const motion::ClipPoses* clip, const Report& report) {
   sheet::SheetOptions grid;
   grid.methods = options.methods;
   grid.frames = options.frames.empty() ? worst_frames(report, options.methods) : options.frames;
@@ -357,7 +357,7 @@ void write_sheet(const Options& options, const PosedModel& posed, const motion::
                options.sheet.string().c_str(), picture.width, picture.height, rows.c_str());
 }
 
-int check(const Options& options) {
+int check(const CheckCommandOptions& options) {
   const PosedModel posed(options.posing);
   std::unique_ptr<motion::RangeOfMotion> rom;
   std::unique_ptr<motion::OwnSkeletonClip> rom_player;
@@ -400,7 +400,7 @@ Command add_check_command(CLI::App& sweepctl) {
       "frame, or flips more triangles, is worse than skinning: the command exits 1. Judged\n"
       "on the edges a sweep moves; what no sweep moves (fingers, toes, the face) is skinned\n"
       "by LBS in every method and shown as \"skinned only (LBS)\".");
-  auto options = std::make_shared<Options>();
+  auto options = std::make_shared<CheckCommandOptions>();
   add_posing_flags(*command, options->posing, ClipFrames::kOne);
   add_collision_flag(*command, options->posing);
   console::add_choice_list(

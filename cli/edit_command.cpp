@@ -14,11 +14,11 @@ namespace sweepd::cli {
 
 namespace {
 
-struct Options {
+struct EditCommandOptions {
   std::filesystem::path model, edits, out;  // out empty: over model
 };
 
-int edit(const Options& options) {
+int edit(const EditCommandOptions& options) {
   const std::filesystem::path& out = options.out.empty() ? options.model : options.out;
   deform::BoundModel bound = io::load_sweepbind(options.model);
   bound.edits = io::load_key_ellipse_edits_json(options.edits, bound);
@@ -38,7 +38,7 @@ int edit(const Options& options) {
 Command add_edit_command(CLI::App& sweepctl) {
   CLI::App* command =
       sweepctl.add_subcommand("edit", "store key-ellipse edits (JSON) in a .sweepbind file");
-  auto options = std::make_shared<Options>();
+  auto options = std::make_shared<EditCommandOptions>();
   const CLI::Validator bound_model(
       [](std::string& file) -> std::string {
         if (std::filesystem::path(file).extension() == ".sweepbind") return "";

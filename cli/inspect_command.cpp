@@ -129,26 +129,27 @@ void print_meshes(const deform::Model& model, const io::LoadReport& report) {
   }
 }
 
-struct Options {
+struct InspectCommandOptions {
   std::filesystem::path file;
   std::filesystem::path model;    // --model: retarget the clip (or the file's animations) onto it
   std::filesystem::path bvh_map;  // --bvh-map: with --model
 };
 
 // The model --model names, and the joint name map --bvh-map names (empty without one).
-deform::Model target_model(const Options& options) {
+deform::Model target_model(const InspectCommandOptions& options) {
   return options.model.extension() == ".sweepbind" ? io::load_sweepbind(options.model).model
                                                    : io::load_model(options.model);
 }
-motion::JointNameMap target_name_map(const Options& options) {
+motion::JointNameMap target_name_map(const InspectCommandOptions& options) {
   return options.bvh_map.empty() ? motion::JointNameMap{}
                                  : io::load_joint_name_map_json(options.bvh_map);
 }
 
 // `clip` retargeted onto `model` (--model) as posing does: how its joints were matched, in
 // words; its warnings (the joints left unmapped on either side) are added to `warnings`.
-std::string retargeting(motion::Clip clip, const Options& options, const deform::Model& model,
-                        const motion::JointNameMap& name_map, std::vector<std::string>& warnings) {
+std::string retargeting(motion::Clip clip, const InspectCommandOptions& options,
+                        const deform::Model& model, const motion::JointNameMap& name_map,
+                        std::vector<std::string>& warnings) {
   const std::size_t clip_joints = clip.joints.size();
   // Free feet: planting changes no match and no warning, and would pass over every frame.
   const motion::Retargeter retargeter(std::move(clip), model, name_map, motion::Feet::kFree);
@@ -172,7 +173,7 @@ std::string retargeting(motion::Clip clip, const Options& options, const deform:
 // A model file's animations (what `pose --clip NAME|INDEX` plays): each one's duration, frames,
 // channels played, the skin joints they drive and their interpolations, or why it cannot play;
 // with --model, each retargeted onto that model (as `pose --clip-from`) with its warnings.
-void print_animations(const Options& options) {
+void print_animations(const InspectCommandOptions& options) {
   const std::filesystem::path& file = options.file;
   const std::vector<io::FileAnimation> animations = io::load_model_animations(file);
   std::optional<deform::Model> target;
@@ -217,7 +218,7 @@ void print_animations(const Options& options) {
   }
 }
 
-int inspect_model(const Options& options) {
+int inspect_model(const InspectCommandOptions& options) {
   const std::filesystem::path& file = options.file;
   io::LoadReport report;
   const deform::Model model = io::load_model(file, &report);
@@ -276,7 +277,7 @@ int inspect_model(const Options& options) {
 
 // A .sweepbind: its model and sweeps, what each sweep was bound with, and the self-check run
 // again on the binding as it is (selfcheck/binding_self_check.h).
-int inspect_binding(const Options& options) {
+int inspect_binding(const InspectCommandOptions& options) {
   const deform::BoundModel bound = io::load_sweepbind(options.file);
   std::printf("file:        %s\n", options.file.string().c_str());
   std::printf("kind:        binding (.sweepbind) of '%s'\n", bound.model.name.c_str());
@@ -297,7 +298,7 @@ int inspect_binding(const Options& options) {
   return 0;
 }
 
-int inspect_motion(const Options& options) {
+int inspect_motion(const InspectCommandOptions& options) {
   const std::filesystem::path& file = options.file;
   // As the file has it: channels and offsets in its own axes.
   const motion::Clip clip = io::load_bvh(file, {.up = motion::UpAxis::kY});
@@ -353,7 +354,7 @@ Command add_inspect_command(CLI::App& sweepctl) {
       "orientation curve, the bind options' or the self-check's choice) and the binding's\n"
       "self-check run again: a warning per body region where the sweep is worse than the\n"
       "better of LBS and DQS on the range of motion's peaks (edge stretch as l / l_rest).");
-  auto options = std::make_shared<Options>();
+  auto options = std::make_shared<InspectCommandOptions>();
   const CLI::Validator known_type(
       [](std::string& name) -> std::string {
         const std::string type = file_type(name);

@@ -18,11 +18,11 @@ Command add_mannequin_command(CLI::App& sweepctl) {
   command->footer(
       "A rigged humanoid in an A-pose with CMU-style joint names, smooth skin weights, UVs,\n"
       "a closed 2-manifold skin; deterministic for a given N.");
-  struct Options {
+  struct MannequinCommandOptions {
     mannequin::MannequinOptions mannequin;
     std::filesystem::path out;
   };
-  auto options = std::make_shared<Options>();
+  auto options = std::make_shared<MannequinCommandOptions>();
   command
       ->add_option("--vertices", options->mannequin.target_vertices,
                    "approximate vertex count (the result is within 10% of N)")

@@ -48,7 +48,7 @@ const char* const kServerNote =
 
 using Method = sheet::MethodChoice;
 
-struct Options {
+struct MetricsCommandOptions {
   PosingArguments posing;
   std::vector<Method> methods;  // --method, else kLocalMethods or kServerMethods
   int step = 1;
@@ -312,7 +312,7 @@ void print_csv(const std::vector<MethodReport>& reports) {
   }
 }
 
-int metrics(const Options& options, const ServerAddress* server) {
+int metrics(const MetricsCommandOptions& options, const ServerAddress* server) {
   const PosingArguments& posing = options.posing;
   const std::vector<Method>& methods = options.methods;
   const std::string format = options.json ? "json" : options.csv ? "csv" : "";
@@ -406,7 +406,7 @@ Command add_metrics_command(CLI::App& sweepctl, const ServerAddress& server) {
       "ratio with both forearms twisted 90 and 180 degrees at the wrists (frame -1).\n"
       "With --server the daemon deforms and the metrics are measured here on its vertices:\n"
       "default methods sweep,lbs,dqs; no sweep integral (it needs the server's sweep state).");
-  auto options = std::make_shared<Options>();
+  auto options = std::make_shared<MetricsCommandOptions>();
   add_posing_flags(*command, options->posing, ClipFrames::kOneOrRange);
   add_collision_flag(*command, options->posing);
   console::add_choice_list(

@@ -95,7 +95,7 @@ void write_point_cache(Posed& posed, const std::filesystem::path& out, io::Point
               deform::to_string(posing.method));
 }
 
-struct Options {
+struct PoseCommandOptions {
   PosingArguments posing;
   std::filesystem::path out;
   io::PointCacheAxes axes = io::PointCacheAxes::kGltf;
@@ -103,7 +103,7 @@ struct Options {
 
 // Writes what -o names: a point cache, or .glb frames.
 template <typename Posed>
-void write_output(Posed& posed, const Options& options) {
+void write_output(Posed& posed, const PoseCommandOptions& options) {
   if (io::point_cache_format(options.out))
     write_point_cache(posed, options.out, options.axes);
   else
@@ -111,7 +111,7 @@ void write_output(Posed& posed, const Options& options) {
 }
 
 // The rules between -o, --axes and the frames that CLI11 cannot state.
-void check_output(const Options& options, bool axes_given) {
+void check_output(const PoseCommandOptions& options, bool axes_given) {
   const PosingArguments& posing = options.posing;
   const bool cache = io::point_cache_format(options.out).has_value();
   if (axes_given && !cache)
@@ -133,7 +133,7 @@ void check_output(const Options& options, bool axes_given) {
         options.out.extension().string() + "' file");
 }
 
-int pose(const Options& options, const ServerAddress& server) {
+int pose(const PoseCommandOptions& options, const ServerAddress& server) {
   const PosingArguments& posing = options.posing;
   if (!server.address.empty()) {
     RemotePosedModel posed(posing, server);
@@ -170,7 +170,7 @@ Command add_pose_command(CLI::App& sweepctl, const ServerAddress& server) {
   command->footer(
       "With --server the daemon deforms: MODEL is then a local .glb/.gltf (uploaded) or a\n"
       "model name on the server.");
-  auto options = std::make_shared<Options>();
+  auto options = std::make_shared<PoseCommandOptions>();
   add_posing_flags(*command, options->posing, ClipFrames::kOneOrRange);
   add_method_flags(*command, options->posing);
   command

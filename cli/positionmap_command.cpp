@@ -33,7 +33,7 @@ protocol::ExrCompression wire_compression(io::ExrCompression compression) {
   }
 }
 
-struct Options {
+struct PositionmapCommandOptions {
   PosingArguments posing;
   std::filesystem::path out;
   int size = 1024, gutter = 0;  // with --server: kServerGutter
@@ -41,7 +41,7 @@ struct Options {
   io::ExrCompression compression = io::ExrCompression::kZip;
 };
 
-int positionmap(const Options& options, const ServerAddress& server) {
+int positionmap(const PositionmapCommandOptions& options, const ServerAddress& server) {
   const PosingArguments& posing = options.posing;
   const std::filesystem::path& out = options.out;
   const int size = options.size;
@@ -91,7 +91,7 @@ Command add_positionmap_command(CLI::App& sweepctl, const ServerAddress& server)
       "With --server the daemon deforms and renders (its 4-texel gutter), and its EXR file is\n"
       "written as it comes: MODEL is then a local .glb/.gltf (uploaded) or a model name on the\n"
       "server.");
-  auto options = std::make_shared<Options>();
+  auto options = std::make_shared<PositionmapCommandOptions>();
   add_posing_flags(*command, options->posing, ClipFrames::kOne);
   add_method_flags(*command, options->posing);
   command->add_option("-o", options->out, "the map to write")->type_name("OUT.exr")->required();

@@ -16,14 +16,14 @@ namespace sweepd::cli {
 
 namespace {
 
-struct Options {
+struct RenderCommandOptions {
   PosingArguments posing;
   std::filesystem::path png;
   int size = 800;
   bool segments = false;
 };
 
-int render(const Options& options) {
+int render(const RenderCommandOptions& options) {
   const PosingArguments& posing = options.posing;
   const int size = options.size;
   PosedModel posed(posing);
@@ -47,7 +47,7 @@ int render(const Options& options) {
 Command add_render_command(CLI::App& sweepctl) {
   CLI::App* command =
       sweepctl.add_subcommand("render", "shaded PNG preview of a posed model (headless EGL)");
-  auto options = std::make_shared<Options>();
+  auto options = std::make_shared<RenderCommandOptions>();
   add_posing_flags(*command, options->posing, ClipFrames::kOne);
   add_method_flags(*command, options->posing);
   command->add_option("--png", options->png, "where to write the picture")

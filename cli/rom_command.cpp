@@ -14,12 +14,12 @@ namespace sweepd::cli {
 
 namespace {
 
-struct Options {
+struct RomCommandOptions {
   std::filesystem::path model, rig, out;
   bool list = false;
 };
 
-int write_rom(const Options& options) {
+int write_rom(const RomCommandOptions& options) {
   const LoadedModel loaded = load_model_and_rig(options.model, options.rig);
   const motion::RangeOfMotion rom = motion::range_of_motion(loaded.model.skeleton, loaded.rig);
   io::SaveOptions save;
@@ -46,7 +46,7 @@ Command add_rom_command(CLI::App& sweepctl) {
       "knees, ankles, spine, neck, shoulders, clavicles, elbows, forearms, wrists; knee to\n"
       "chest, deep squat, kneeling, lunge, reaching, twisting), 1 s per move at 30 fps, written\n"
       "with the model as one .glb. `sweepctl check MODEL` measures the same clip.");
-  auto options = std::make_shared<Options>();
+  auto options = std::make_shared<RomCommandOptions>();
   command->add_option("MODEL", options->model, "a rigged .glb/.gltf/.fbx/.dae model")
       ->type_name("")
       ->required();

@@ -25,7 +25,7 @@ namespace sweepd::cli {
 
 namespace {
 
-struct Options {
+struct SheetCommandOptions {
   PosingArguments posing;
   sheet::SheetOptions sheet;
   std::filesystem::path png, video;
@@ -51,7 +51,7 @@ std::string parse_frame_list(const std::string& text, std::vector<int>& frames) 
 }
 
 // --video: one row of cells per frame.
-void draw_video(sheet::ContactSheet& contact, const Options& options) {
+void draw_video(sheet::ContactSheet& contact, const SheetCommandOptions& options) {
   const sheet::SheetOptions& grid = options.sheet;
   const int width = contact.width();
   std::vector<std::uint8_t> rgba(static_cast<std::size_t>(width) * grid.cell_height * 4);
@@ -66,7 +66,7 @@ void draw_video(sheet::ContactSheet& contact, const Options& options) {
               options.frames_per_second, grid.methods.size());
 }
 
-void print_picture(const Options& options, const sheet::SheetPicture& picture,
+void print_picture(const SheetCommandOptions& options, const sheet::SheetPicture& picture,
                    const std::string& where) {
   const sheet::SheetOptions& grid = options.sheet;
   const std::size_t columns = grid.methods.size();
@@ -84,7 +84,7 @@ void print_picture(const Options& options, const sheet::SheetPicture& picture,
   std::printf("\n");
 }
 
-int run_sheet(Options& options, const ServerAddress& server) {
+int run_sheet(SheetCommandOptions& options, const ServerAddress& server) {
   const auto start = std::chrono::steady_clock::now();
   const sheet::SheetOptions& grid = options.sheet;
   options.posing.frames = {*std::min_element(grid.frames.begin(), grid.frames.end()),
@@ -120,7 +120,7 @@ Command add_sheet_command(CLI::App& sweepctl, const ServerAddress& server) {
   CLI::App* command = sweepctl.add_subcommand(
       "sheet",
       "contact sheet: a PNG grid of renders, a row per frame, a column per method (or --video)");
-  auto options = std::make_shared<Options>();
+  auto options = std::make_shared<SheetCommandOptions>();
   add_model_and_clip_flags(*command, options->posing)->required();
   const CLI::Validator frame_list(
       [](std::string& text) -> std::string {

@@ -16,6 +16,7 @@
 #include "io/sweepbind.h"
 #include "tests/scratch_directory.h"
 
+namespace sweepctl_quality_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -250,3 +251,4 @@ TEST(SweepctlEdit, StoresEditsInTheSweepbindAndRefusesABadFile) {
 }
 
 }  // namespace
+}  // namespace sweepctl_quality_test

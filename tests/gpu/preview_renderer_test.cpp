@@ -13,7 +13,7 @@
 #include "io/png_write.h"
 #include "mannequin/mannequin.h"
 
-namespace sweepd::gpu {
+namespace sweepd::gpu::preview_renderer_test {
 namespace {
 
 struct Mesh {
@@ -231,4 +231,4 @@ TEST_F(PreviewRendererTest, RejectsInputsThatDoNotFitTogether) {
 }
 
 }  // namespace
-}  // namespace sweepd::gpu
+}  // namespace sweepd::gpu::preview_renderer_test

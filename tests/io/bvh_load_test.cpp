@@ -16,7 +16,7 @@
 
 #include "io/load_error.h"
 
-namespace sweepd::io {
+namespace sweepd::io::bvh_load_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -429,4 +429,4 @@ TEST(BvhLoad, MissingFileIsALoadError) {
 }
 
 }  // namespace
-}  // namespace sweepd::io
+}  // namespace sweepd::io::bvh_load_test

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-namespace sweepd::io {
+namespace sweepd::io::durable_file_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -63,4 +63,4 @@ TEST(DurableFile, NamesTheFileAndTheStepItCannotDo) {
 }
 
 }  // namespace
-}  // namespace sweepd::io
+}  // namespace sweepd::io::durable_file_test

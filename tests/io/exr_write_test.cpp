@@ -29,7 +29,7 @@
 #include "tests/io/exr_memory_stream.h"
 #include "tests/scratch_directory.h"
 
-namespace sweepd::io {
+namespace sweepd::io::exr_write_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -342,4 +342,4 @@ TEST_F(ExrWriteTest, BadInputsSayWhatIsWrong) {
 }
 
 }  // namespace
-}  // namespace sweepd::io
+}  // namespace sweepd::io::exr_write_test

@@ -42,7 +42,7 @@
 #include "tests/mirrored_model.h"
 #include "tests/rescaled_model.h"
 
-namespace sweepd::metrics {
+namespace sweepd::metrics::shoulder_hip_test {
 
 using namespace deform;
 namespace {
@@ -305,4 +305,4 @@ TEST(ShoulderHip, MirroredAndRescaledBodiesMeasureAlike) {
 }
 
 }  // namespace
-}  // namespace sweepd::metrics
+}  // namespace sweepd::metrics::shoulder_hip_test

@@ -12,7 +12,7 @@
 #include "io/bvh_load.h"
 #include "motion/retarget.h"
 
-namespace sweepd::motion {
+namespace sweepd::motion::clip_sampling_test {
 namespace {
 
 // A root and a child; 3 frames at 10 frames/s (duration 0.2 s), the child turning 10° a frame.
@@ -79,4 +79,4 @@ TEST(ClipSampling, ExactlyOneOfFrameAndTime) {
 }
 
 }  // namespace
-}  // namespace sweepd::motion
+}  // namespace sweepd::motion::clip_sampling_test

@@ -42,7 +42,7 @@
 #include "tests/motion/foot_tracks.h"
 #include "tests/rescaled_model.h"
 
-namespace sweepd::motion {
+namespace sweepd::motion::foot_planting_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -164,4 +164,4 @@ TEST(FootPlanting, EveryBodysSolesLandOnTheFloorAndHoldStill) {
 }
 
 }  // namespace
-}  // namespace sweepd::motion
+}  // namespace sweepd::motion::foot_planting_test

@@ -21,7 +21,7 @@
 #include "tests/server/http_probe.h"
 #include "tests/server/sweepctl_remote.h"
 
-namespace sweepd::test {
+namespace sweepd::test::browser_viewer_test {
 namespace {
 
 constexpr char kToken[] = "viewer-t0k";
@@ -230,4 +230,4 @@ TEST_F(BrowserViewerTest, DecodesMeshoptPositionsWithFewerBytesThanFloat16) {
 }
 
 }  // namespace
-}  // namespace sweepd::test
+}  // namespace sweepd::test::browser_viewer_test

@@ -12,7 +12,7 @@
 #include "tests/server/daemon_process.h"
 #include "tests/server/pose_frames.h"
 
-namespace sweepd::test {
+namespace sweepd::test::daemon_compact_vertices_test {
 namespace {
 
 namespace pb = sweepd::protocol;
@@ -178,4 +178,4 @@ TEST_F(DaemonCompactVertices, AnUnknownFormatIsNotAvailableAndTheSessionGoesOn) 
 }
 
 }  // namespace
-}  // namespace sweepd::test
+}  // namespace sweepd::test::daemon_compact_vertices_test

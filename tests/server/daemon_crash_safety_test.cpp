@@ -27,7 +27,7 @@
 #include "tests/server/pose_frames.h"
 #include "tests/server/stored_binding.h"
 
-namespace sweepd::test {
+namespace sweepd::test::daemon_crash_safety_test {
 namespace {
 
 namespace pb = sweepd::protocol;
@@ -370,4 +370,4 @@ TEST(DaemonCrashSafety, EveryAcknowledgedModelAndEditSurvives20Kills) {
 }
 
 }  // namespace
-}  // namespace sweepd::test
+}  // namespace sweepd::test::daemon_crash_safety_test

@@ -11,7 +11,7 @@
 #include "tests/server/pose_frames.h"
 #include "tests/server/stored_binding.h"
 
-namespace sweepd::test {
+namespace sweepd::test::daemon_session_test {
 namespace {
 
 constexpr char kToken[] = "s3cret-token";
@@ -245,4 +245,4 @@ TEST_F(DaemonSession, StatsCountThisConnectionsPoses) {
 }
 
 }  // namespace
-}  // namespace sweepd::test
+}  // namespace sweepd::test::daemon_session_test

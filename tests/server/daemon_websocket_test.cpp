@@ -17,7 +17,7 @@
 #include "tests/server/pose_frames.h"
 #include "tests/server/test_certificates.h"
 
-namespace sweepd::test {
+namespace sweepd::test::daemon_websocket_test {
 namespace {
 
 constexpr char kToken[] = "ws-t0k";
@@ -340,4 +340,4 @@ TEST(DaemonWebSocketTls, WssCarriesTheSameFramesAndAPlainClientIsCut) {
 }
 
 }  // namespace
-}  // namespace sweepd::test
+}  // namespace sweepd::test::daemon_websocket_test

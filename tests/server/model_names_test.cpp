@@ -18,7 +18,7 @@
 #include "tests/server/client_run.h"
 #include "tests/server/daemon_process.h"
 
-namespace sweepd::test {
+namespace sweepd::test::model_names_test {
 namespace {
 
 const fs::path kClip = fs::path(SWEEPD_SHARED_DATA) / "motion/cmu_01_01.bvh";
@@ -145,4 +145,4 @@ TEST(ModelNames, UnknownModelNamesTheModelsTheServerHolds) {
 }
 
 }  // namespace
-}  // namespace sweepd::test
+}  // namespace sweepd::test::model_names_test

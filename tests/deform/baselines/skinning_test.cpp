@@ -16,7 +16,7 @@
 #include "mannequin/mannequin.h"
 #include "tests/deform/tube_mesh.h"
 
-namespace sweepd::deform {
+namespace sweepd::deform::skinning_test {
 
 using mannequin::make_mannequin;
 namespace {
@@ -230,4 +230,4 @@ TEST(Skinning, PosedNormalsAreUnitAndPositionsMatchWithOrWithoutNormals) {
 }
 
 }  // namespace
-}  // namespace sweepd::deform
+}  // namespace sweepd::deform::skinning_test

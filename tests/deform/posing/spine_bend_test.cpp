@@ -23,7 +23,7 @@
 #include "tests/mirrored_model.h"
 #include "tests/rescaled_model.h"
 
-namespace sweepd::deform {
+namespace sweepd::deform::spine_bend_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -79,4 +79,4 @@ TEST(SpineBend, AForwardBendDoesNotFoldTheBelly) {
 }
 
 }  // namespace
-}  // namespace sweepd::deform
+}  // namespace sweepd::deform::spine_bend_test

@@ -26,7 +26,7 @@
 #include "server/models/content_id.h"
 #include "tests/server/daemon_process.h"
 
-namespace sweepd::test {
+namespace sweepd::test::model_registry_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -376,4 +376,4 @@ TEST(ModelRegistry, ReplicasSharingAStoreServeAndKeepEachOthersEdits) {
 }
 
 }  // namespace
-}  // namespace sweepd::test
+}  // namespace sweepd::test::model_registry_test
