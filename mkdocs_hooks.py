@@ -10,7 +10,7 @@ import re
 from mkdocs.exceptions import PluginError
 
 MARKER = "<!-- README.md: test targets -->"
-TABLE = re.compile(r"<!-- test targets: start[^\n]*-->\n(.*?)\n<!-- test targets: end -->", re.S)
+TABLE = re.compile(r"<!-- test targets: start[^\n]*-->\s*\n(.*?)\n\s*<!-- test targets: end -->", re.S)
 
 
 def on_page_markdown(markdown, page, config, files):
