@@ -29,7 +29,8 @@ def mkdocs_strict(source, _build):
     with tempfile.TemporaryDirectory(prefix="sweepd-docs-site-") as site:
         try:
             run = subprocess.run(["mkdocs", "build", "--strict", "--config-file", str(source / "mkdocs.yml"),
-                                  "--site-dir", site], cwd=source, capture_output=True, text=True, timeout=300)
+                                  "--site-dir", site], cwd=source, capture_output=True, text=True, timeout=300,
+                                 env={**os.environ, "PYTHONDONTWRITEBYTECODE": "1"})  # no __pycache__ in the tree
         except FileNotFoundError:
             return fail("no mkdocs: deploy/install-deps.sh installs Debian's mkdocs and mkdocs-material")
         print(run.stdout + run.stderr)
