@@ -12,7 +12,7 @@
 BUILD := build/release
 JOBS ?= $(shell nproc)
 
-.PHONY: deps build check test sanitize sanitize-untrusted tsan demo bench fuzz docs-sheet docs-quality clean
+.PHONY: deps build check test sanitize sanitize-untrusted tsan demo bench fuzz docs docs-sheet docs-quality clean
 
 deps:
 	bash deploy/install-deps.sh
@@ -53,6 +53,11 @@ bench: build
 FUZZ_SECONDS ?= 60
 fuzz: deps
 	bash fuzz/run_fuzzers.sh $(FUZZ_SECONDS)
+
+# The docs site (mkdocs.yml: docs/, with protocol/README.md, deploy/README.md and README's test
+# table drawn in) into build/docs-site/; any warning fails it, as in tests/docs/docs_site_test.py.
+docs: deps
+	mkdocs build --strict --site-dir build/docs-site
 
 # README's contact sheet: sweep, LBS and DQS on the shared male at three frames of CMU 01_01
 # (197: a deep crouch, 600: standing, arms down, 1257: both elbows bent furthest), from the

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """exr_deflate_compare: how long OpenEXR's ZIP compression of a position map would take with
 zlib (what OpenEXR 3.1 calls) and with libdeflate (Debian's libdeflate0, through ctypes), on the
-same blocks — the measurement behind README "Position maps: where a frame's time goes".
+same blocks — the measurement behind docs/performance.md, "Position maps: where a frame's time goes".
 
     sweepctl positionmap body.glb --bvh clip.bvh --frame 300 --compression none -o map.exr
     /usr/bin/python3 bench/exr_deflate_compare.py map.exr [rounds, default 7]

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Runs the Release benchmarks and prints the README's performance tables: deformation in ns per
+# Runs the Release benchmarks and prints the performance tables of docs/performance.md: deformation in ns per
 # vertex (sweep, LBS, DQS) with the sweep/LBS ratio measured in the same run (and the sweep's
 # SSE2 loops where the CPU has AVX2), binding time, the daemon, the compact vertex streams,
 # the fleet and the Python package.

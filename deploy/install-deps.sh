@@ -29,6 +29,7 @@ packages=(
   clang libclang-rt-14-dev  # make sanitize, make tsan and make fuzz compile with Clang 14 and its sanitizer runtimes (CMakePresets.json)
   chromium  # headless, on SwiftShader: tests/server/browser_viewer_test.cpp and bench/viewer_bench.sh load the viewer
   blender  # headless (3.4): tests/cli/blender_point_cache_test.cpp plays sweepctl's PC2 and MDD caches in its Mesh Cache modifier
+  mkdocs mkdocs-material python3-pymdownx  # make docs: the site in docs/ (mkdocs.yml); tests/docs/docs_site_test.py builds it --strict
 )
 
 missing=()
