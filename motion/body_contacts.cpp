@@ -110,16 +110,27 @@ std::vector<int> BodyContacts::part_of_samples(const deform::RigMap& map,
                                                const BodySamples& samples) {
   const std::vector<int> part_of = part_of_joints(map, skeleton);
   // A knee's samples lie above its ankle at rest: a shin joint that carries the foot's skin
-  // (OpenPose's ankle is a leaf) must not make the sole a knee.
+  // (OpenPose's ankle is a leaf) must not make the sole a knee. Nor is the skin around the
+  // ankle that the foot also moves (its blend with the shin: the back of the ankle, beside a
+  // planted sole) a knee's: it moves as the foot rolls, and the foot is foot planting's.
   const std::vector<glm::mat4> rest = skeleton.world_rest_matrices();
-  const auto ankle_height = [&](int part) {
-    const int foot = part == kLeftKnee ? map.left_leg.foot : map.right_leg.foot;
-    return foot >= 0 ? rest[foot][3].y : -std::numeric_limits<float>::infinity();
+  const auto foot_of = [&](int part) {
+    return part == kLeftKnee ? map.left_leg.foot : map.right_leg.foot;
+  };
+  const auto moved_by_foot = [&](std::size_t i, int foot) {
+    for (int k = 0; k < deform::kInfluences; ++k)
+      if (samples.skin_weights(i)[k] > 0.0f &&
+          is_at_or_below(skeleton, samples.skin_joints(i)[k], foot))
+        return true;
+    return false;
   };
   std::vector<int> parts(samples.size(), -1);
   for (std::size_t i = 0; i < samples.size(); ++i) {
     const int p = part_of[samples.joint(i)];
-    if ((p == kLeftKnee || p == kRightKnee) && samples.rest(i).y <= ankle_height(p)) continue;
+    if (p == kLeftKnee || p == kRightKnee) {
+      const int foot = foot_of(p);
+      if (foot >= 0 && (samples.rest(i).y <= rest[foot][3].y || moved_by_foot(i, foot))) continue;
+    }
     parts[i] = p;
   }
   return parts;

@@ -9,7 +9,9 @@
 // neck, head), hips (the pelvis, hip links and thighs: seat and buttocks), each knee (the shin
 // and knee, below the rig map's knee joint down to the ankle), each hand (the wrist and below),
 // each arm (clavicle, upper arm, forearm: elbows). The feet are foot planting's, and so is
-// what lies at or below the ankle at rest.
+// what lies at or below the ankle at rest or is moved by the foot's joint at all (the skin
+// blended across the ankle: lying beside a planted sole it rolls with the foot, and holding
+// it as a knee would fight the foot's roll).
 // Definitions (the model in metres, Y up; L its hip height on straight legs, about 0.9 m):
 //   lowest   a part's lowest point on a frame: the lowest of its body samples (body_samples.h,
 //            the body floor's, skinned by linear blending), above the floor.
@@ -95,7 +97,8 @@ class BodyContacts {
                                          const deform::Skeleton& skeleton);
 
   // Per body sample (body_samples.h): its part, or -1; a knee's samples are those above its
-  // ankle at rest (a shin joint may carry the foot's skin). The body floor's groups.
+  // ankle at rest (a shin joint may carry the foot's skin) that the foot's joint (or one below
+  // it) does not move. The body floor's groups.
   static std::vector<int> part_of_samples(const deform::RigMap& map,
                                           const deform::Skeleton& skeleton,
                                           const BodySamples& samples);

@@ -84,12 +84,15 @@ TEST_P(BodyFloorTest, AKnockedDownBodyRestsOnTheFloor) {
 // head), the slide per contact of each part (cm: the horizontal path of its contact point over
 // the contact), with the holds and without them (Feet::kPlantedOnly: planted and lifted, as
 // before the holds), over the same contacts. Asserted, at most 2.5 cm a contact (the issue's
-// 2 cm foot-slide target plus 5 mm): backwards, every part but the knees (where the back and
+// 2 cm foot-slide target plus 5 mm): backwards, every part (where the back and
 // the hips rest together and bend against each other the root follows their mean, and each
 // keeps half of the difference: the heavy female's back 2.0 cm, hips 2.1 cm; every other body
-// 0.0-0.8 cm; before 1.7-12.3 cm); forwards, the hands (0.0-0.8 cm; before 5.6-18.3 cm).
-// Printed, not asserted: the knees (a knee beside a planted foot is foot planting's, the feet
-// win: up to 4.2 cm, before 0.7-5.3), and forwards the slim female's arms, whose forearm joint
+// 0.0-0.8 cm; before 1.7-12.3 cm); forwards, the hands (0.0-0.8 cm; before 5.6-18.3 cm) and the
+// knees (the mannequin's, 0.0 cm). What slid as a knee beside a planted foot here (up to
+// 4.3 cm) was the skin at the back of the ankle that the foot's joint also moves, 1-2.5 cm
+// above the floor beside the sole, rolling with the foot: it is the foot's now, no knee's
+// (BodyContacts::part_of_samples), and no knee rests backwards on this clip.
+// Printed, not asserted: forwards the slim female's arms, whose forearm joint
 // carries the hand (OpenPose: no wrist to hold; 3.0 cm, before 10.6) and the heavy male's back
 // in a 9-frame roll faster than the hold may follow (3.2 cm, before 5.8). The feet stay
 // planted: at most 2 cm a contact (measured 0.00 cm, as before). The root's per-frame move
@@ -124,7 +127,7 @@ TEST_P(BodyFloorTest, PartsRestingOnTheFloorHoldStill) {
         ++count;
         const bool knee = part == BodyContacts::kLeftKnee || part == BodyContacts::kRightKnee;
         const bool hand = part == BodyContacts::kLeftHand || part == BodyContacts::kRightHand;
-        if (pitch < 0 ? !knee : hand) {
+        if (pitch < 0 || hand || knee) {
           EXPECT_LE(after[i].slide, 0.025f)
               << BodyContacts::name(part) << " frames " << after[i].first << "-" << after[i].last;
         }
