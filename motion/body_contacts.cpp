@@ -110,16 +110,27 @@ std::vector<int> BodyContacts::part_of_samples(const deform::RigMap& map,
                                                const BodySamples& samples) {
   const std::vector<int> part_of = part_of_joints(map, skeleton);
   // A knee's samples lie above its ankle at rest: a shin joint that carries the foot's skin
-  // (OpenPose's ankle is a leaf) must not make the sole a knee.
+  // (OpenPose's ankle is a leaf) must not make the sole a knee. Nor is the skin around the
+  // ankle that the foot also moves (its blend with the shin: the back of the ankle, beside a
+  // planted sole) a knee's: it moves as the foot rolls, and the foot is foot planting's.
   const std::vector<glm::mat4> rest = skeleton.world_rest_matrices();
-  const auto ankle_height = [&](int part) {
-    const int foot = part == kLeftKnee ? map.left_leg.foot : map.right_leg.foot;
-    return foot >= 0 ? rest[foot][3].y : -std::numeric_limits<float>::infinity();
+  const auto foot_of = [&](int part) {
+    return part == kLeftKnee ? map.left_leg.foot : map.right_leg.foot;
+  };
+  const auto moved_by_foot = [&](std::size_t i, int foot) {
+    for (int k = 0; k < deform::kInfluences; ++k)
+      if (samples.skin_weights(i)[k] > 0.0f &&
+          is_at_or_below(skeleton, samples.skin_joints(i)[k], foot))
+        return true;
+    return false;
   };
   std::vector<int> parts(samples.size(), -1);
   for (std::size_t i = 0; i < samples.size(); ++i) {
     const int p = part_of[samples.joint(i)];
-    if ((p == kLeftKnee || p == kRightKnee) && samples.rest(i).y <= ankle_height(p)) continue;
+    if (p == kLeftKnee || p == kRightKnee) {
+      const int foot = foot_of(p);
+      if (foot >= 0 && (samples.rest(i).y <= rest[foot][3].y || moved_by_foot(i, foot))) continue;
+    }
     parts[i] = p;
   }
   return parts;
@@ -134,7 +145,8 @@ BodyContacts::BodyContacts(const deform::Skeleton& skeleton, double frame_time, 
 BodyContacts BodyContacts::find(const deform::Skeleton& skeleton, const deform::RigMap& map,
                                 float hip_height, const BodyFloor& body_floor, int frame_count,
                                 double frame_time,
-                                const std::function<deform::Pose(int)>& frame_pose) {
+                                const std::function<deform::Pose(int)>& frame_pose,
+                                const std::function<bool(int, int)>& foot_planted) {
   BodyContacts contacts(skeleton, frame_time, frame_count);
   contacts.samples_ = body_floor.samples();
   if (!contacts.samples_) return contacts;
@@ -181,14 +193,25 @@ BodyContacts BodyContacts::find(const deform::Skeleton& skeleton, const deform::
     }
   }
 
+  // A knee resting beside its planted foot (or within kFade of its planting) is the root's:
+  // its leg is foot planting's, so only the hip can hold it.
+  for (int side = 0; side < 2; ++side) {
+    std::vector<std::uint8_t>& bound = contacts.knee_bound_[side];
+    bound.assign(frame_count, 0);
+    if (!foot_planted) continue;
+    const std::vector<int> distance = contacts.planted_distance(side, foot_planted);
+    const std::vector<std::uint8_t>& knee = contacts.parts_[kLeftKnee + side].contact;
+    for (int f = 0; f < frame_count; ++f) bound[f] = knee[f] && distance[f] < contacts.taper();
+  }
   // The root hold: each frame's step takes off the mean step of the back's and hips' contact
-  // points; where neither rests, of the limbs' (knees, hands, arms) where two or more rest.
+  // points; where neither rests, of the knees' bound to their planted feet; where none of
+  // these rests, of the limbs' (knees, hands, arms) where two or more rest.
   contacts.root_held_.assign(frame_count, 0);
   for (int f = 0; f < frame_count; ++f) {
     int torso = 0, limbs = 0;
     for (int p = 0; p < kPartCount; ++p)
       if (contacts.parts_[p].contact[f]) ++(p == kBack || p == kHips ? torso : limbs);
-    contacts.root_held_[f] = torso > 0 || limbs > 1;
+    contacts.root_held_[f] = torso > 0 || limbs > 1 || contacts.knee_bound(f);
     contacts.holds_root_ = contacts.holds_root_ || contacts.root_held_[f];
   }
   contacts.root_shift_.assign(frame_count, glm::vec2(0.0f));
@@ -202,11 +225,22 @@ void BodyContacts::refine_root(const std::function<deform::Pose(int)>& frame_pos
   every.fill(true);
   const auto steps = contact_steps(frame_pose, every);
   std::vector<glm::vec2> step(frame_count_, glm::vec2(0.0f));
+  // A knee bound to its planted foot is held by its joint: the ankle stands still, so the shin
+  // stands still where the knee joint does (on the kneeling test clip its contact point, which
+  // the thigh's skinning also moves, slid 0.1-0.4 cm more when the root followed it instead).
+  const std::vector<std::array<std::optional<glm::vec2>, 2>> knee_steps =
+      knee_joint_steps(frame_pose);
   for (int f = 0; f < frame_count_; ++f) {
     const bool torso = parts_[kBack].contact[f] || parts_[kHips].contact[f];
+    const bool knees = knee_bound(f);
     int count = 0;
-    for (int p = 0; p < kPartCount; ++p)
-      if (steps[f][p] && torso == (p == kBack || p == kHips)) step[f] -= *steps[f][p], ++count;
+    for (int side = 0; side < 2 && knees; ++side)
+      if (knee_bound_[side][f] && knee_steps[f][side]) step[f] -= *knee_steps[f][side], ++count;
+    for (int p = 0; p < kPartCount; ++p) {
+      const bool torso_part = p == kBack || p == kHips;
+      if (knees || (torso ? !torso_part : torso_part)) continue;
+      if (steps[f][p]) step[f] -= *steps[f][p], ++count;
+    }
     if (count > 0) step[f] /= static_cast<float>(count);
   }
   // The holds are linear in the steps: what is left on these poses adds to the hold they had.
@@ -244,6 +278,24 @@ BodyContacts::contact_steps(const std::function<deform::Pose(int)>& frame_pose,
       const glm::vec3 moved =
           samples_->position(lowest, skin(f + 1)) - samples_->position(lowest, skin(f));
       steps[f][p] = glm::vec2(moved.x, moved.z);
+    }
+  }
+  return steps;
+}
+
+std::vector<std::array<std::optional<glm::vec2>, 2>> BodyContacts::knee_joint_steps(
+    const std::function<deform::Pose(int)>& frame_pose) const {
+  std::vector<std::array<std::optional<glm::vec2>, 2>> steps(frame_count_);
+  FrameSkins skin(skeleton_, rest_inverse_, frame_pose);
+  for (int f = 0; f + 1 < frame_count_; ++f) {
+    skin.keep_from(f);
+    for (int side = 0; side < 2; ++side) {
+      const int knee = legs_[side].lower;
+      if (knee < 0 || knee_bound_[side].empty() || !knee_bound_[side][f]) continue;
+      // A joint's world position: its skinning matrix carries its rest position there.
+      const glm::vec4 rest = glm::inverse(rest_inverse_[knee])[3];
+      const glm::vec3 moved = glm::vec3(skin(f + 1)[knee] * rest - skin(f)[knee] * rest);
+      steps[f][side] = glm::vec2(moved.x, moved.z);
     }
   }
   return steps;
@@ -327,19 +379,34 @@ void BodyContacts::plan_limbs(const std::function<deform::Pose(int)>& frame_pose
     holds_limbs_ = true;
     // A knee's hold tapers to nothing within kFade of its foot's planted frames (none there).
     if (knee_side < 0) continue;
-    const int taper = std::max(1, static_cast<int>(std::lround(kFade / frame_time_)));
-    std::vector<int> distance(frame_count_, taper);
-    for (int f = 0, last = -taper; f < frame_count_; ++f) {
-      if (foot_planted(knee_side, f)) last = f;
-      distance[f] = std::min(taper, f - last);
-    }
-    for (int f = frame_count_ - 1, next = frame_count_ - 1 + taper; f >= 0; --f) {
-      if (foot_planted(knee_side, f)) next = f;
-      distance[f] = std::min(distance[f], next - f);
-    }
+    const std::vector<int> distance = planted_distance(knee_side, foot_planted);
     for (int f = 0; f < frame_count_; ++f)
-      limb_shift_[part][f] *= static_cast<float>(distance[f]) / static_cast<float>(taper);
+      limb_shift_[part][f] *= static_cast<float>(distance[f]) / static_cast<float>(taper());
   }
+}
+
+int BodyContacts::taper() const {
+  return std::max(1, static_cast<int>(std::lround(kFade / frame_time_)));
+}
+
+std::vector<int> BodyContacts::planted_distance(
+    int side, const std::function<bool(int, int)>& foot_planted) const {
+  const int most = taper();
+  std::vector<int> distance(frame_count_, most);
+  for (int f = 0, last = -most; f < frame_count_; ++f) {
+    if (foot_planted(side, f)) last = f;
+    distance[f] = std::min(most, f - last);
+  }
+  for (int f = frame_count_ - 1, next = frame_count_ - 1 + most; f >= 0; --f) {
+    if (foot_planted(side, f)) next = f;
+    distance[f] = std::min(distance[f], next - f);
+  }
+  return distance;
+}
+
+bool BodyContacts::knee_bound(int frame) const {
+  return (!knee_bound_[0].empty() && knee_bound_[0][frame]) ||
+         (!knee_bound_[1].empty() && knee_bound_[1][frame]);
 }
 
 void BodyContacts::hold_limbs(double seconds, deform::Pose& pose) const {

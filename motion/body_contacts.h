@@ -9,7 +9,9 @@
 // neck, head), hips (the pelvis, hip links and thighs: seat and buttocks), each knee (the shin
 // and knee, below the rig map's knee joint down to the ankle), each hand (the wrist and below),
 // each arm (clavicle, upper arm, forearm: elbows). The feet are foot planting's, and so is
-// what lies at or below the ankle at rest.
+// what lies at or below the ankle at rest or is moved by the foot's joint at all (the skin
+// blended across the ankle: lying beside a planted sole it rolls with the foot, and holding
+// it as a knee would fight the foot's roll).
 // Definitions (the model in metres, Y up; L its hip height on straight legs, about 0.9 m):
 //   lowest   a part's lowest point on a frame: the lowest of its body samples (body_samples.h,
 //            the body floor's, skinned by linear blending), above the floor.
@@ -32,24 +34,33 @@
 //   root     the back and hips move with the root: the root is shifted across (never up or
 //            down) by the mean step of the back's and hips' contact points where either rests
 //            (where both rest and turn against each other, the root follows their mean and
-//            each keeps what is left); where neither rests but two or more limbs do (kneeling, all
-//            fours), by the mean of the limbs' ("several contacts agree"; one limb alone is held by
-//            its IK).
+//            each keeps what is left). A knee resting within 0.15 s of its foot's planting
+//            (kneeling: the ankle is foot planting's, so the leg has no freedom left but the
+//            hip's) moves with the root too, and wins over the back and hips: the root follows
+//            the mean step of such knees' joints (the ankle stands, so the shin stands where
+//            the knee joint does; a thigh resting beside that knee, which the hips part holds,
+//            goes with it). Where none of these rests but two or more limbs do (all fours),
+//            by the mean of the limbs' contact points ("several contacts agree"; one limb
+//            alone is held by its IK).
 //   knees    the thigh swings about the hip so that the knee moves across, keeping its height;
 //            the shin keeps its world rotation (two_bone_ik.h, move_limb_middle). Not while
-//            that side's foot is planted: the feet win (the leg is foot planting's); the
-//            knee's shift tapers linearly to nothing over the 0.15 s before and after.
+//            that side's foot is planted: the feet win (the leg is foot planting's, and the
+//            root holds the knee); the knee's shift tapers linearly to nothing over the 0.15 s
+//            before and after.
 //   arms     the same with the upper arm about the shoulder (an elbow or forearm resting).
 //   hands    the arm's two-bone IK moves the wrist across to where the hand's hold puts it;
 //            the hand keeps its world rotation. The hands win over the elbows.
 // Order: the root hold is applied before foot planting, and foot planting is built again on
 // the held root (a planted foot stays planted: the legs' IK takes up the root's shift); what
-// the back and hips still slide then (planting turns the thighs otherwise on a held root) is
-// added to the hold (refine_root) and foot planting is built once more; the limbs' holds come
-// after foot planting; the body floor is then built again over every hold, so no hold pushes a
-// part below the floor (a swung thigh or a bent elbow can dip the skin).
+// the back and hips (or the knees beside planted feet) still slide then (planting turns the
+// thighs otherwise on a held root) is added to the hold (refine_root), four times over,
+// planting again each time (the legs' IK takes up only part of a root shift at such a
+// knee); the limbs' holds come after foot planting; the body floor is then built again over
+// every hold, so no hold pushes a part below the floor (a swung thigh or a bent elbow can dip
+// the skin).
 // Conflicts: the feet win over everything (above); the root hold wins over the clip's path
-// where the back or hips rest (the body stays where it lay down); the clip wins where it moves
+// where the back or hips rest (the body stays where it lay down), and a knee beside its
+// planted foot wins over the back and hips (above); the clip wins where it moves
 // a resting part faster than a contact (see contact), and the hold then fades at 0.25 L/s. The
 // body floor's lift (vertical) wins over every hold: no part goes lower than it allows.
 // Inputs:  the model's skeleton, its rig map, L, the body floor built over the clip with
@@ -95,14 +106,18 @@ class BodyContacts {
                                          const deform::Skeleton& skeleton);
 
   // Per body sample (body_samples.h): its part, or -1; a knee's samples are those above its
-  // ankle at rest (a shin joint may carry the foot's skin). The body floor's groups.
+  // ankle at rest (a shin joint may carry the foot's skin) that the foot's joint (or one below
+  // it) does not move. The body floor's groups.
   static std::vector<int> part_of_samples(const deform::RigMap& map,
                                           const deform::Skeleton& skeleton,
                                           const BodySamples& samples);
 
+  // foot_planted(side, frame): whether foot planting holds that foot (on the poses that
+  // frame_pose gives; a knee resting near it is the root's), or empty.
   static BodyContacts find(const deform::Skeleton& skeleton, const deform::RigMap& map,
                            float hip_height, const BodyFloor& body_floor, int frame_count,
-                           double frame_time, const std::function<deform::Pose(int)>& frame_pose);
+                           double frame_time, const std::function<deform::Pose(int)>& frame_pose,
+                           const std::function<bool(int, int)>& foot_planted = {});
 
   // Whether any part rests on the floor on any frame.
   bool any() const;
@@ -110,9 +125,9 @@ class BodyContacts {
   bool holds_root() const { return holds_root_; }
   // Shifts `pose`'s root across by the root hold at `seconds` (clamped to the clip).
   void hold_root(double seconds, deform::Pose& pose) const;
-  // Adds to the root hold what the back and hips (or the limbs) still slide on frame_pose (the
-  // clip's poses with this hold, the feet planted again on it: planting turns the thighs
-  // otherwise on a held root).
+  // Adds to the root hold what the back and hips, the knees beside planted feet (their
+  // joints) or the limbs still slide on frame_pose (the clip's poses with this hold, the feet
+  // planted again on it: planting turns the thighs otherwise on a held root).
   void refine_root(const std::function<deform::Pose(int)>& frame_pose);
   // The limbs' holds (knees, arms, hands): their shifts measured on frame_pose (the clip's
   // poses with the root held and the feet planted), over the contacts found;
@@ -143,10 +158,22 @@ class BodyContacts {
   // frame_pose, where the part is in contact on both (else nothing).
   std::vector<std::array<std::optional<glm::vec2>, kPartCount>> contact_steps(
       const std::function<deform::Pose(int)>& frame_pose, std::array<bool, kPartCount> which) const;
+  // Per frame, per side: the horizontal step of the knee joint to the next frame, on
+  // frame_pose, where that knee is bound to its planted foot (knee_bound_) on the frame.
+  std::vector<std::array<std::optional<glm::vec2>, 2>> knee_joint_steps(
+      const std::function<deform::Pose(int)>& frame_pose) const;
   // Holds from steps: anchored where a run of held frames starts, then faded or bridged.
   std::vector<glm::vec2> hold(const std::vector<std::uint8_t>& held,
                               const std::vector<glm::vec2>& step) const;
   glm::vec2 at(const std::vector<glm::vec2>& values, double seconds) const;
+  // kFade in clip frames (at least one).
+  int taper() const;
+  // Per clip frame: how many frames from the nearest frame where that side's foot is planted,
+  // at most taper().
+  std::vector<int> planted_distance(int side,
+                                    const std::function<bool(int, int)>& foot_planted) const;
+  // Whether a knee bound to its planted foot rests on `frame` (the root holds it).
+  bool knee_bound(int frame) const;
   // No hold moves faster than 0.8 L/s (twice a contact's speed): one frame's step of a contact
   // point may be marker noise far above its speed over the window.
   void limit_rate(std::vector<glm::vec2>& values) const;
@@ -162,6 +189,8 @@ class BodyContacts {
   bool holds_root_ = false, holds_limbs_ = false;
   std::vector<glm::vec2> root_shift_;    // per clip frame (x, z)
   std::vector<std::uint8_t> root_held_;  // per clip frame: the root follows a contact
+  // Per side (left, right), per clip frame: the knee rests within kFade of its foot's planting.
+  std::array<std::vector<std::uint8_t>, 2> knee_bound_;
   // Per part (knees, hands, arms), per clip frame (x, z); empty where the part is not held.
   std::array<std::vector<glm::vec2>, kPartCount> limb_shift_;
 };

@@ -29,6 +29,13 @@ class BodySamples {
   std::uint32_t vertex(std::size_t i) const { return vertex_[i]; }
   int joint(std::size_t i) const { return joint_[i]; }
   const glm::vec3& rest(std::size_t i) const { return rest_[i]; }
+  // Its skin: influences (joint indices) and their weights.
+  const std::array<std::uint16_t, deform::kInfluences>& skin_joints(std::size_t i) const {
+    return skin_joints_[i];
+  }
+  const std::array<float, deform::kInfluences>& skin_weights(std::size_t i) const {
+    return skin_weights_[i];
+  }
   glm::vec3 position(std::size_t i, std::span<const glm::mat4> skinning) const;
   float height(std::size_t i, std::span<const glm::mat4> skinning) const;
 

@@ -218,20 +218,29 @@ Retargeter::Retargeter(std::shared_ptr<const Clip> motion, const deform::Model& 
   plant();
   lift();
   // Parts resting on the floor (motion/body_contacts.h), found on the lifted poses. Where the
-  // back or hips (or two limbs) rest, the root is held and the feet are planted again on the
+  // back or hips, a knee beside its planted foot, or two limbs rest, the root is held and the
+  // feet are planted again on the
   // held root; the limbs' holds are planned on those poses (their steps across do not depend on
   // the lift), and the body floor lifts the body again with every hold in place, so that no
   // hold puts a part below the floor.
   BodyContacts contacts = BodyContacts::find(
       skeleton_, *model_map_, model_hip_height_, *body_floor_, motion_->frame_count,
-      motion_->frame_time, [this](int frame) { return lifted_pose_at_frame(frame); });
+      motion_->frame_time, [this](int frame) { return lifted_pose_at_frame(frame); },
+      [this](int side, int frame) { return planting_ && planting_->planted(side, frame); });
   if (feet == Feet::kPlantedOnly) {
     measured_contacts_ = std::move(contacts);
   } else if (contacts.any()) {
     body_contacts_ = std::move(contacts);
     if (body_contacts_->holds_root()) {
-      plant();
-      body_contacts_->refine_root([this](int frame) { return feet_planted_pose_at_frame(frame); });
+      // The legs' IK takes up only part of a root shift at a knee that rests beside its
+      // planted foot (the knee moves less than the hip), so the hold is refined over a few
+      // passes, planting again each time: on the kneeling test clip the knees' slide after 4
+      // passes is within 0.1 cm of that after 8.
+      for (int pass = 0; pass < 4; ++pass) {
+        plant();
+        body_contacts_->refine_root(
+            [this](int frame) { return feet_planted_pose_at_frame(frame); });
+      }
       plant();
     }
     body_contacts_->plan_limbs(

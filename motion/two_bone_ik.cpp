@@ -56,10 +56,26 @@ void move_limb_end(const deform::Skeleton& skeleton, LimbJoints limb, glm::vec3 
   // The end moves across by the shift, then up or down, as far towards the shift's rise as the
   // limb reaches: the heights where the root-to-end distance lies within the limb's range.
   const float longest = (thigh + shin) * (1.0f - 1e-6f), shortest = std::abs(thigh - shin);
-  const glm::vec3 from_hip = ankle + glm::vec3(shift.x, 0.0f, shift.z) - hip;
-  const float across =
-      glm::dot(glm::vec2(from_hip.x, from_hip.z), glm::vec2(from_hip.x, from_hip.z));
-  if (across >= longest * longest) return;
+  glm::vec3 from_hip = ankle + glm::vec3(shift.x, 0.0f, shift.z) - hip;
+  float across = glm::dot(glm::vec2(from_hip.x, from_hip.z), glm::vec2(from_hip.x, from_hip.z));
+  if (across >= longest * longest) {
+    // Beyond the limb's reach across: the end goes as far towards the shift as the limb
+    // reaches, not nowhere (doing nothing here dropped a foot's whole shift for a frame, and
+    // the knee jumped by several centimetres where the shift came back).
+    const glm::vec2 start(ankle.x - hip.x, ankle.z - hip.z);
+    const glm::vec2 end(from_hip.x, from_hip.z);
+    const float limit = longest * longest * (1.0f - 1e-4f);
+    if (glm::dot(start, start) >= limit) return;
+    float lo = 0.0f, hi = 1.0f;  // the largest part of the shift that stays within reach
+    for (int i = 0; i < 24; ++i) {
+      const float mid = 0.5f * (lo + hi);
+      const glm::vec2 at = glm::mix(start, end, mid);
+      (glm::dot(at, at) < limit ? lo : hi) = mid;
+    }
+    const glm::vec2 at = glm::mix(start, end, lo);
+    from_hip.x = at.x, from_hip.z = at.y;
+    across = glm::dot(at, at);
+  }
   float rise = shift.y;
   const float deepest = std::sqrt(longest * longest - across);
   rise = std::clamp(rise, -from_hip.y - deepest, -from_hip.y + deepest);

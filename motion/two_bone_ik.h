@@ -9,7 +9,8 @@
 //            bend_if_straight, a direction the middle joint bends the lower bone towards where
 //            the limb is straight (zero: a straight limb is left as it is).
 //   Output:  pose's local rotations of upper, lower and end: the end joint moves across by the
-//            shift's horizontal part, then up or down by its vertical part as far as the limb
+//            shift's horizontal part (where that leaves the limb's reach across, as far along
+//            it as the limb reaches), then up or down by its vertical part as far as the limb
 //            reaches (the heights where the root-to-end distance lies within the limb's
 //            range); the limb bends in its own plane, the upper bone swings, and the end keeps
 //            its world rotation. Joints between these follow their parents.
