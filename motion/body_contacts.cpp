@@ -6,24 +6,16 @@
 #include <map>
 
 #include "deform/model/forward_kinematics.h"
+#include "motion/contact_timing.h"
 
 namespace sweepd::motion {
 
 namespace {
 
 // Fractions of the hip height (see the header): a 0.9 m hip gives 3.2 cm, 0.36 m/s, 0.23 m/s.
-constexpr float kContactHeight = 0.035f;
-constexpr float kContactSpeed = 0.4f;  // per second, as a foot's
+constexpr float kPartContactHeight = 0.035f;
 constexpr float kReturnSpeed = 0.25f;  // per second: a hold fades no faster
-constexpr double kFade = 0.15;         // s: a hold fades over this at least
 constexpr float kFastestHold = 0.8f;   // per second: twice a contact's speed
-constexpr double kSpeedWindow = 0.05;  // s: a contact's speed is measured this far each side
-
-bool is_at_or_below(const deform::Skeleton& skeleton, int joint, int ancestor) {
-  for (int j = joint; j >= 0; j = skeleton.joints[j].parent)
-    if (j == ancestor) return true;
-  return false;
-}
 
 // Skinning matrices of clip frames, computed when first asked for; frames before `keep_from`
 // are dropped.
@@ -164,7 +156,7 @@ BodyContacts BodyContacts::find(const deform::Skeleton& skeleton, const deform::
   const int parts = std::min(kPartCount, body_floor.group_count());
   if (parts == 0 || frame_count < 1) return contacts;
 
-  const float height = kContactHeight * hip_height, speed = kContactSpeed * hip_height;
+  const float height = kPartContactHeight * hip_height, speed = kContactSpeed * hip_height;
   const int reach = std::max(1, static_cast<int>(std::lround(kSpeedWindow / frame_time)));
   FrameSkins skin(contacts.skeleton_, contacts.rest_inverse_, frame_pose);
   const BodySamples& samples = *contacts.samples_;

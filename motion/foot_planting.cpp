@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "deform/model/forward_kinematics.h"
+#include "motion/contact_timing.h"
 #include "motion/two_bone_ik.h"
 
 namespace sweepd::motion {
@@ -13,18 +14,9 @@ namespace sweepd::motion {
 namespace {
 
 // Fractions of the hip height (see the header): a 0.9 m hip gives 6.3 cm and 0.36 m/s.
-constexpr float kContactHeight = 0.07f;
-constexpr float kContactSpeed = 0.4f;     // per second
+constexpr float kSoleContactHeight = 0.07f;
 constexpr float kMostFloat = 0.1f;        // a body floating higher has no floor to come down to
-constexpr double kFade = 0.15;            // s: an offset fades to zero this far from a contact
-constexpr double kSpeedWindow = 0.05;     // s: a contact's speed is measured this far each side
 constexpr double kStanceQuantile = 0.02;  // of a foot's heights over the clip: where it stands
-
-bool is_at_or_below(const deform::Skeleton& skeleton, int joint, int ancestor) {
-  for (int j = joint; j >= 0; j = skeleton.joints[j].parent)
-    if (j == ancestor) return true;
-  return false;
-}
 
 // The y of `world * local`, summed in glm's order for mat4 * vec4 so that it is bit-identical,
 // without the three rows nobody reads: the sole search runs over every sole vertex on every frame
@@ -179,7 +171,7 @@ void FootPlanting::plan(const std::vector<std::vector<Sole>>& soles, float hip_h
   // contact, so contacts are found again until none is added (twice at most in practice).
   hip_drop_.assign(n, settle);
   const auto is_down = [&](std::size_t i, int f) {
-    return soles[i][f].height - hip_drop_[f] <= kContactHeight * hip_height;
+    return soles[i][f].height - hip_drop_[f] <= kSoleContactHeight * hip_height;
   };
   for (Foot& foot : feet_) {
     foot.contact.assign(n, 0);
