@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "client/bind_warnings.h"
 #include "client/clip_upload.h"
 #include "client/mesh_request.h"
 #include "client/reconnect.h"
@@ -128,6 +129,9 @@ RemotePosedModel::RemotePosedModel(const PosingArguments& arguments, const Serve
                                                         : "uploaded";
     model_id_ = info.model_id();
     server_name_ = info.name()->str();
+    // (1.14) The server's self-check of the binding: regions where the sweep is still worse
+    // than skinning, as `sweepctl bind` prints them.
+    client::print_bind_warnings(stderr, info);
     model_ = client::served_model(*connection_, info);          // `info` is invalid from here on
     if (local_model_file_) model_.name = file.stem().string();  // as the local commands name it
     if (arguments.has_clip() && clip_posing == ClipPosing::kHere) {

@@ -72,6 +72,7 @@
 #include <thread>
 #include <vector>
 
+#include "client/bind_warnings.h"
 #include "client/client_tls_flags.h"
 #include "client/clip_file_flags.h"
 #include "client/connection.h"
@@ -309,14 +310,18 @@ class ServerSession {
       const pb::ModelInfo& info = job.model.load(channel_);
       model_id_ = info.model_id();
       const std::string model_name = info.name()->str();  // `info` is invalid after a receive
+      const std::vector<std::string> bind_warnings = sweepd::client::bind_warning_lines(info);
       const pb::ClipInfo& clip =
           sweepd::client::upload_clip_file(channel_, job.options.clip, model_id_);
       clip_id_ = clip.clip_id()->str();
-      // Once per job: the model's name on the server, the reader's warnings and (protocol
+      // Once per job: the model's name on the server, (protocol 1.14) where the server's
+      // self-check found its sweep worse than skinning, the reader's warnings and (protocol
       // 1.12) what playing the clip on the model leaves unmapped.
       std::call_once(job.reported, [&] {
         std::fprintf(stderr, "render_frames: model '%s' (id %u) on %s\n", model_name.c_str(),
                      model_id_, address.c_str());
+        for (const std::string& line : bind_warnings)
+          std::fprintf(stderr, "warning: %s\n", line.c_str());
         if (clip.warnings())
           for (const flatbuffers::String* warning : *clip.warnings())
             std::fprintf(stderr, "warning: %s: %s\n", job.options.clip.file().c_str(),

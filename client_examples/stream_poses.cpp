@@ -50,6 +50,7 @@
 #include <thread>
 #include <vector>
 
+#include "client/bind_warnings.h"
 #include "client/client_tls_flags.h"
 #include "client/clip_file_flags.h"
 #include "client/connection.h"
@@ -316,6 +317,8 @@ int run(Options& options) {
     if (first) {
       std::printf("model '%s' (id %u): %u vertices, %u joints\n", info.name()->c_str(),
                   session.model_id, info.vertex_count(), info.joint_names()->size());
+      // (protocol 1.14) where the server's self-check found the sweep worse than skinning.
+      sweepd::client::print_bind_warnings(stderr, info);
     }
     if (options.shared_memory) channel.map_shared_memory(session.window * session.slot_bytes);
     // `info` is invalid from the next receive on.

@@ -92,6 +92,9 @@ def run(options):
                 client_name="stream_poses.py", allow_plaintext=options.allow_plaintext) as sweepd:
         model = (sweepd.upload(options.model_file, options.model) if options.model_file
                  else sweepd.load(options.model or "mannequin"))
+        # Where the server's self-check found the sweep worse than skinning (protocol 1.14).
+        for warning in model.bind_warnings:
+            print(f"warning: model '{model.name}': {warning.text}", file=sys.stderr)
         # With the model (protocol 1.12), the warnings also name what the clip leaves unmapped.
         clip = sweepd.upload_clip(options.bvh, name=options.bvh, length_scale=options.bvh_scale,
                                   model=model)

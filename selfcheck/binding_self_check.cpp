@@ -277,25 +277,41 @@ CheckedBinding bind_checked(const deform::Model& model, const deform::RigMap& ri
   return checked;
 }
 
-std::vector<std::string> self_check_warnings(const BindingVerdict& verdict) {
-  std::vector<std::string> warnings;
+std::vector<RegionWarning> region_warnings(const BindingVerdict& verdict) {
+  std::vector<RegionWarning> warnings;
   for (const RegionVerdict& v : verdict.regions) {
     if (!v.worse()) continue;
+    RegionWarning w;
+    w.region = deform::to_string(v.region);
+    w.worse_poses = v.worse_poses;
+    w.pose_count = static_cast<int>(verdict.pose_names.size());
     char text[320];
-    int n = std::snprintf(text, sizeof text, "%s: worse than skinning in %d of %zu poses",
-                          deform::to_string(v.region), v.worse_poses, verdict.pose_names.size());
-    if (v.excess > 1.0)
+    int n = std::snprintf(text, sizeof text, "%s: worse than skinning in %d of %d poses",
+                          w.region.c_str(), w.worse_poses, w.pose_count);
+    if (v.excess > 1.0) {
+      w.sweep = v.sweep, w.baseline = v.baseline;
+      w.baseline_name = v.baseline_is_dqs ? "DQS" : "LBS";
+      w.pose = verdict.pose_names[v.pose];
       n += std::snprintf(text + n, sizeof text - n,
                          "; the sweep stretches an edge %.2fx where %s stretches it %.2fx (%s)",
-                         v.sweep, v.baseline_is_dqs ? "DQS" : "LBS", v.baseline,
-                         verdict.pose_names[v.pose].c_str());
-    if (v.flipped_pose >= 0)
+                         w.sweep, w.baseline_name.c_str(), w.baseline, w.pose.c_str());
+    }
+    if (v.flipped_pose >= 0) {
+      w.extra_flipped = v.extra_flipped;
+      w.flipped_pose = verdict.pose_names[v.flipped_pose];
       std::snprintf(text + n, sizeof text - n, "; %d more triangle%s flipped than skinning (%s)",
-                    v.extra_flipped, v.extra_flipped == 1 ? "" : "s",
-                    verdict.pose_names[v.flipped_pose].c_str());
-    warnings.push_back(text);
+                    w.extra_flipped, w.extra_flipped == 1 ? "" : "s", w.flipped_pose.c_str());
+    }
+    w.text = text;
+    warnings.push_back(std::move(w));
   }
   return warnings;
+}
+
+std::vector<std::string> self_check_warnings(const BindingVerdict& verdict) {
+  std::vector<std::string> texts;
+  for (RegionWarning& warning : region_warnings(verdict)) texts.push_back(std::move(warning.text));
+  return texts;
 }
 
 }  // namespace sweepd::selfcheck

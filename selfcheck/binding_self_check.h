@@ -118,4 +118,20 @@ CheckedBinding bind_checked(const deform::Model& model, const deform::RigMap& ri
 
 std::vector<std::string> self_check_warnings(const BindingVerdict& verdict);
 
+// The same warnings with their figures, for a client to read (protocol ModelInfo.bind_warnings):
+// one per region still worse, in the verdict's region order; `text` is self_check_warnings'.
+struct RegionWarning {
+  std::string region;                 // deform::to_string of the body part: "left arm"
+  int worse_poses = 0, pose_count = 0;
+  // At the pose of the largest stretch excess; 0, 0, "" and "" when the region loses by
+  // flipped triangles alone.
+  double sweep = 0.0, baseline = 0.0;
+  std::string baseline_name;          // "LBS" or "DQS"
+  std::string pose;                   // that pose's move
+  int extra_flipped = 0;              // RegionVerdict's; with flipped_pose "" when never more
+  std::string flipped_pose;
+  std::string text;
+};
+std::vector<RegionWarning> region_warnings(const BindingVerdict& verdict);
+
 }  // namespace sweepd::selfcheck

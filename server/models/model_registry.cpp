@@ -81,6 +81,17 @@ fs::path ModelRegistry::StoreSlot::file(std::string_view suffix) const {
   return store_dir_ / (content_id_ + std::string(suffix));
 }
 
+SelfCheck self_check(const selfcheck::BindingVerdict& verdict) {
+  SelfCheck checked;
+  checked.poses = static_cast<int>(verdict.pose_names.size());
+  checked.warnings = selfcheck::region_warnings(verdict);
+  return checked;
+}
+
+SelfCheck self_check(const deform::BoundModel& bound) {
+  return self_check(selfcheck::check_binding(bound, selfcheck::range_of_motion_peaks(bound)));
+}
+
 ModelRegistry::ModelRegistry(fs::path store_dir, std::uint32_t max_models)
     : store_dir_(std::move(store_dir)), max_models_(max_models) {
   fs::create_directories(store_dir_);
@@ -98,6 +109,7 @@ std::shared_ptr<RegisteredModel> ModelRegistry::read_stored(const std::string& c
   if (model->name.empty()) model->name = "model-" + content_id.substr(0, 8);
   model->bind_time_ns = label.bind_time_ns;
   model->runtime = std::make_shared<const deform::ModelRuntime>(model->bound);
+  model->self_check = self_check(model->bound);
   return model;
 }
 
@@ -304,7 +316,7 @@ ModelRegistry::StoreSlot ModelRegistry::claim(const std::string& name,
 }
 
 ModelHandle ModelRegistry::add(StoreSlot slot, const std::string& name, deform::BoundModel bound,
-                               std::uint64_t bind_time_ns) {
+                               std::uint64_t bind_time_ns, std::optional<SelfCheck> checked) {
   auto model = std::make_shared<RegisteredModel>();
   model->content_id = slot.content_id();
   model->id = slot.id();
@@ -314,6 +326,7 @@ ModelHandle ModelRegistry::add(StoreSlot slot, const std::string& name, deform::
   // The runtime (poser tables, collision regions, proxies) is built before taking the lock, so
   // lookups do not wait for it.
   model->runtime = std::make_shared<const deform::ModelRuntime>(model->bound);
+  model->self_check = checked ? std::move(*checked) : self_check(model->bound);
   // Both files are durable before the model is visible, and written outside the lookups'
   // lock: no client sees a model that a crash could take back, and lookups do not wait for an
   // fsync. The label goes first: the .sweepbind is what puts the model in the store.
@@ -348,6 +361,7 @@ ModelHandle ModelRegistry::replace(std::uint32_t id,
                                                  : std::make_shared<RegisteredModel>(*held);
     change(model->bound);
     model->runtime = std::make_shared<const deform::ModelRuntime>(model->bound);
+    model->self_check = self_check(model->bound);  // an edited key changes what the sweep does
     // Stored before it is swapped in, and outside the lookups' lock: poses do not wait for
     // fsync. Opened again under the lock, so the version held is this edit's.
     io::save_sweepbind(model->bound, file);

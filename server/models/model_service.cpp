@@ -49,6 +49,12 @@ nlohmann::json problem_fields(const StoreProblem& problem) {
   return fields;
 }
 
+// Each region the model's self-check found worse than skinning, for the operator.
+void log_bind_warnings(const RegisteredModel& model) {
+  for (const selfcheck::RegionWarning& warning : model.self_check.warnings)
+    log_event("bind_warning", {{"name", model.name}, {"warning", warning.text}});
+}
+
 }  // namespace
 
 std::string upload_name(std::string_view name) {
@@ -125,6 +131,7 @@ ModelHandle ModelService::held_or_stored(const std::string& content_id) {
                                 {"content_id", adopted->content_id},
                                 {"name", adopted->name},
                                 {"vertices", adopted->bound.model.vertex_count()}});
+    log_bind_warnings(*adopted);
   }
   return adopted;
 }
@@ -189,6 +196,7 @@ ModelHandle ModelService::bind_and_store(const ModelLoadRequest& request,
     }
   } sources{slot.file(".sweepbind"), {}, slot.file(".rig.json")};
   deform::BoundModel bound;
+  SelfCheck checked;
   try {
     deform::Model model;
     if (directory_file.empty()) {
@@ -228,12 +236,9 @@ ModelHandle ModelService::bind_and_store(const ModelLoadRequest& request,
     model.name = request.name;
     bound = deform::bind(model, rig, options);
     // The binding checks itself (issue 47): each body region where the sweep is still worse
-    // than skinning on the range of motion's peaks, said to the operator. About bind's own time
-    // again; the default mannequin skips it (the start-up; its figures are the corpus gate's).
-    const selfcheck::BindingVerdict verdict =
-        selfcheck::check_binding(bound, selfcheck::range_of_motion_peaks(bound));
-    for (const std::string& warning : selfcheck::self_check_warnings(verdict))
-      log_event("bind_warning", {{"name", request.name}, {"warning", warning}});
+    // than skinning on the range of motion's peaks, said to the operator (the log) and to the
+    // client (ModelInfo.bind_warnings). About bind's own time again.
+    checked = self_check(bound);
   } catch (const ModelError&) {
     throw;
   } catch (const io::LoadError& error) {
@@ -246,9 +251,10 @@ ModelHandle ModelService::bind_and_store(const ModelLoadRequest& request,
     throw ModelError(ErrorCode::ModelLoadFailed,
                      "model '" + request.name + "' could not be loaded: " + error.what());
   }
-  ModelHandle added =
-      registry_.add(std::move(slot), request.name, std::move(bound), nanoseconds_since(started));
+  ModelHandle added = registry_.add(std::move(slot), request.name, std::move(bound),
+                                    nanoseconds_since(started), std::move(checked));
   sources.kept = true;
+  log_bind_warnings(*added);
   return added;
 }
 
@@ -265,6 +271,7 @@ void ModelService::restore() {
                                  {"content_id", model->content_id},
                                  {"name", model->name},
                                  {"vertices", model->bound.model.vertex_count()}});
+    log_bind_warnings(*model);
   }
 }
 
@@ -277,13 +284,20 @@ void ModelService::add_default_model() {
   const auto started = std::chrono::steady_clock::now();
   deform::Model model = mannequin::make_mannequin({.target_vertices = config_.mannequin_vertices});
   deform::BoundModel bound = deform::bind(model, deform::detect_rig_map(model.skeleton));
-  const ModelHandle added =
-      registry_.add(std::move(slot), "mannequin", std::move(bound), nanoseconds_since(started));
+  const std::uint64_t bind_time_ns = nanoseconds_since(started);
+  // The mannequin checks itself too (its ModelInfo says so), timed apart: the start-up's cost.
+  const auto check_started = std::chrono::steady_clock::now();
+  SelfCheck checked = self_check(bound);
+  const std::uint64_t check_time_ns = nanoseconds_since(check_started);
+  const ModelHandle added = registry_.add(std::move(slot), "mannequin", std::move(bound),
+                                          bind_time_ns, std::move(checked));
   log_event("model_loaded", {{"model", added->id},
                              {"content_id", added->content_id},
                              {"name", added->name},
                              {"vertices", added->bound.model.vertex_count()},
-                             {"bind_time_ns", added->bind_time_ns}});
+                             {"bind_time_ns", added->bind_time_ns},
+                             {"self_check_time_ns", check_time_ns}});
+  log_bind_warnings(*added);
 }
 
 ModelHandle ModelService::edit_key_ellipse(std::uint32_t model_id,

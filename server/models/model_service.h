@@ -8,9 +8,11 @@
 // restore(): the registry's restore() (model_registry.h: what it mends), logged: each removed
 //   temporary file (store_temporary_removed), each entry not restored (restore_problem: file,
 //   reason, quarantined_to when it was moved aside), a store migrated to content ids
-//   (store_migrated), each restored model (model_restored).
+//   (store_migrated), each restored model (model_restored) and its self-check's warnings
+//   (bind_warning: run again on the stored binding, RegisteredModel::self_check).
 //   add_default_model(): with no model_dir and no model named "mannequin", adopts the
-//   procedural mannequin of config.mannequin_vertices from the store, or binds and stores it.
+//   procedural mannequin of config.mannequin_vertices from the store, or binds, checks and
+//   stores it (model_loaded with bind_time_ns and self_check_time_ns).
 // load(request): the model the request names, found before anything is bound:
 //   - a content id: the held model, or the store's (adopted: another replica stored it);
 //     UnknownModel when neither has it (the client uploads the bytes);

@@ -50,11 +50,20 @@ void build_model_info(flatbuffers::FlatBufferBuilder& builder, const RegisteredM
         builder, parts[k].name.c_str(), parts[k].first_vertex, parts[k].vertex_count,
         parts[k].material.c_str(), parts[k].first_index / 3, parts[k].index_count / 3,
         parts[k].rigid_joint, joined[k] != 0, parts[k].mesh));
+  // (1.14) The binding's self-check: regions where the sweep is still worse than skinning.
+  std::vector<flatbuffers::Offset<pb::BindWarning>> warnings;
+  for (const selfcheck::RegionWarning& w : model.self_check.warnings)
+    warnings.push_back(pb::CreateBindWarningDirect(
+        builder, w.region.c_str(), static_cast<std::uint32_t>(w.worse_poses),
+        static_cast<float>(w.sweep), static_cast<float>(w.baseline), w.baseline_name.c_str(),
+        w.pose.c_str(), static_cast<std::uint32_t>(w.extra_flipped), w.flipped_pose.c_str(),
+        w.text.c_str()));
   const auto info = pb::CreateModelInfoDirect(
       builder, model.id, model.name.c_str(), &joint_names, &joint_parents,
       static_cast<std::uint32_t>(bound.model.vertex_count()),
       static_cast<std::uint32_t>(bound.model.triangle_count()), bound.model.has_uvs(), summary,
-      &translations, &rotations, &scales, floor, model.content_id.c_str(), &meshes);
+      &translations, &rotations, &scales, floor, model.content_id.c_str(), &meshes,
+      static_cast<std::uint32_t>(model.self_check.poses), &warnings);
   pb::finish_message(builder, info, request_id);
 }
 

@@ -5,7 +5,8 @@ tests/server/python_package_test.cpp from a fresh venv, outside the source tree)
                           ANIMATED.glb UNIX_SOCKET
 
 Uploads BODY.glb (also with the smooth orientation curve), poses it with ROTATIONS (float32 x, y, z, w per joint) and writes
-OUT_DIR/positions.f32 and OUT_DIR/map.exr for the test to compare with the library. Checks on
+OUT_DIR/positions.f32, OUT_DIR/map.exr and (protocol 1.14) the binding's self-check warnings,
+OUT_DIR/bind_warnings.txt, for the test to compare with the library. Checks on
 the way that streamed poses equal the single pose, that protocol errors raise their own
 exception classes, that a silent server raises Timeout, and that bytes uploaded once are
 named by content id afterwards: not sent again to PORT, sent to OTHER_PORT (a daemon with a
@@ -145,6 +146,16 @@ def main(port, token, glb, rotations_file, out, other_port, clip_file, animated_
               == [(0, body.vertex_count, -1, True)], "mesh ranges")
         check(posed.normals.shape == (body.vertex_count, 3), "normals shape")
         posed.positions.astype(np.float32).tofile(f"{out}/positions.f32")
+        # Protocol 1.14: the binding's self-check, its poses and a BindWarning per region still
+        # worse than skinning, whose text begins with its figures; the texts go to
+        # OUT_DIR/bind_warnings.txt for the test to compare with the library's.
+        check(body.self_check_poses > 0, f"the binding was checked: {body.self_check_poses}")
+        for w in body.bind_warnings:
+            check(isinstance(w, sweepd_client.BindWarning), f"a BindWarning: {w!r}")
+            check(w.text.startswith(f"{w.region}: worse than skinning in {w.worse_poses} of "
+                                    f"{body.self_check_poses} poses"), f"warning: {w.text}")
+        with open(f"{out}/bind_warnings.txt", "w", encoding="utf-8") as texts:
+            texts.writelines(f"{w.text}\n" for w in body.bind_warnings)
 
         smooth = sweepd.upload(glb, name="uploaded_smooth", orientation="smooth")
         check(smooth.content_id != body.content_id, "the smooth curve is another binding")

@@ -12,6 +12,7 @@
 #include "io/gltf_save.h"
 #include "io/sweepbind.h"
 #include "mannequin/mannequin.h"
+#include "selfcheck/binding_self_check.h"
 #include "tests/deploy/shell_command.h"
 #include "tests/io/baked_gltf_clip.h"
 #include "tests/server/daemon_process.h"
@@ -116,6 +117,14 @@ TEST(PythonPackage, InstallsOfflineIntoAVenvAndPosesLikeTheLibrary) {
   // The acceptance's 1e-6 m: float32 on the wire, the same DeformJob on both sides.
   EXPECT_LE(largest, 1e-6f);
   EXPECT_GT(moved, 0.05f);  // the pose bent the body: the comparison is not of rest poses
+
+  // (1.14) Model.bind_warnings: the library's self-check of the stored binding, word for word
+  // (the same deterministic check on the same binding).
+  std::string expected_warnings;
+  for (const std::string& warning : selfcheck::self_check_warnings(
+           selfcheck::check_binding(bound, selfcheck::range_of_motion_peaks(bound))))
+    expected_warnings += warning + "\n";
+  EXPECT_EQ(read_text(directory / "bind_warnings.txt"), expected_warnings);
 
   const std::vector<std::uint8_t> exr = read_bytes(directory / "map.exr");
   ASSERT_GE(exr.size(), 4u);

@@ -12,8 +12,8 @@
 from .async_client import AsyncClient
 from .client import Client
 from .errors import ConnectionLost, ServerError, SweepdError, Timeout
-from .exchanges import Clip, MeshRange, Model, ModelSummary, Posed, RestMesh, Sheet
+from .exchanges import BindWarning, Clip, MeshRange, Model, ModelSummary, Posed, RestMesh, Sheet
 from .meshopt import MeshoptUnavailable
 
-__all__ = ["Client", "AsyncClient", "Clip", "MeshRange", "Model", "ModelSummary", "Posed", "RestMesh", "Sheet",
+__all__ = ["Client", "AsyncClient", "BindWarning", "Clip", "MeshRange", "Model", "ModelSummary", "Posed", "RestMesh", "Sheet",
            "SweepdError", "ConnectionLost", "Timeout", "ServerError", "MeshoptUnavailable"]

@@ -46,7 +46,7 @@ from . import meshopt
 from .connection import body_of, finish_frame, new_builder
 from .errors import ConnectionLost, SweepdError, Timeout, UnknownModel, server_error
 
-PROTOCOL_VERSION = (1, 13)  # a model's range of motion as a clip (1.13) is the newest it speaks
+PROTOCOL_VERSION = (1, 14)  # the binding's self-check in ModelInfo (1.14) is the newest it reads
 METHODS = {"sweep": DeformMethod.DeformMethod.Sweep, "lbs": DeformMethod.DeformMethod.Lbs,
            "dqs": DeformMethod.DeformMethod.Dqs}
 FEATURES = {"folding": Features.Features.Folding, "protrusion": Features.Features.Protrusion,
@@ -88,6 +88,21 @@ class MeshRange:
 
 
 @dataclass(frozen=True)
+class BindWarning:
+    """A body region where the server's self-check of the binding (protocol 1.14, issue 47)
+    found the sweep still worse than skinning on the model's range of motion."""
+    region: str                   # "left arm", "neck", ...
+    worse_poses: int              # of Model.self_check_poses
+    sweep_stretch: float          # at the worst pose, the sweep's largest edge length ratio
+    baseline_stretch: float       # the better baseline's there (both 0: flipped triangles alone)
+    baseline: str                 # "LBS" or "DQS" ("" with sweep_stretch 0)
+    pose: str                     # that pose's range-of-motion move, e.g. "elbow flexion 150°"
+    extra_flipped: int            # most triangles flipped beyond the baseline's in one pose
+    flipped_pose: str             # that move ("" when never)
+    text: str                     # the whole warning, as `sweepctl bind` prints it
+
+
+@dataclass(frozen=True)
 class Model:
     model_id: int
     name: str
@@ -98,6 +113,8 @@ class Model:
     triangle_count: int
     rig_convention: str
     meshes: list = ()             # MeshRange per mesh, in vertex order (empty before 1.6)
+    self_check_poses: int = 0     # poses the binding's self-check judged (0: before 1.14)
+    bind_warnings: list = ()      # BindWarning per region still worse than skinning (1.14)
 
 
 @dataclass(frozen=True)
@@ -153,6 +170,12 @@ class RestMesh:
 
 def _text(value):
     return value.decode() if value is not None else ""
+
+
+def _bind_warning(warning):
+    return BindWarning(_text(warning.Region()), warning.WorsePoses(), warning.SweepStretch(),
+                       warning.BaselineStretch(), _text(warning.Baseline()), _text(warning.Pose()),
+                       warning.ExtraFlipped(), _text(warning.FlippedPose()), _text(warning.Text()))
 
 
 def _mesh_range(mesh):
@@ -648,7 +671,10 @@ class Exchanges:
                       [info.JointParents(j) for j in range(info.JointParentsLength())],
                       info.VertexCount(), info.TriangleCount(),
                       _text(bind.RigConvention()) if bind else "",
-                      [_mesh_range(info.Meshes(k)) for k in range(info.MeshesLength())])
+                      [_mesh_range(info.Meshes(k)) for k in range(info.MeshesLength())],
+                      info.SelfCheckPoses(),
+                      [_bind_warning(info.BindWarnings(k))
+                       for k in range(info.BindWarningsLength())])
         self._models[model.name] = self._models[model.model_id] = model
         return model
 

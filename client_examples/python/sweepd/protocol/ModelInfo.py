@@ -232,7 +232,39 @@ class ModelInfo(object):
         o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(30))
         return o == 0
 
-def ModelInfoStart(builder): builder.StartObject(14)
+    # ModelInfo
+    def SelfCheckPoses(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(32))
+        if o != 0:
+            return self._tab.Get(flatbuffers.number_types.Uint32Flags, o + self._tab.Pos)
+        return 0
+
+    # ModelInfo
+    def BindWarnings(self, j):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(34))
+        if o != 0:
+            x = self._tab.Vector(o)
+            x += flatbuffers.number_types.UOffsetTFlags.py_type(j) * 4
+            x = self._tab.Indirect(x)
+            from sweepd.protocol.BindWarning import BindWarning
+            obj = BindWarning()
+            obj.Init(self._tab.Bytes, x)
+            return obj
+        return None
+
+    # ModelInfo
+    def BindWarningsLength(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(34))
+        if o != 0:
+            return self._tab.VectorLen(o)
+        return 0
+
+    # ModelInfo
+    def BindWarningsIsNone(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(34))
+        return o == 0
+
+def ModelInfoStart(builder): builder.StartObject(16)
 def Start(builder):
     return ModelInfoStart(builder)
 def ModelInfoAddModelId(builder, modelId): builder.PrependUint32Slot(0, modelId, 0)
@@ -295,6 +327,15 @@ def AddMeshes(builder, meshes):
 def ModelInfoStartMeshesVector(builder, numElems): return builder.StartVector(4, numElems, 4)
 def StartMeshesVector(builder, numElems):
     return ModelInfoStartMeshesVector(builder, numElems)
+def ModelInfoAddSelfCheckPoses(builder, selfCheckPoses): builder.PrependUint32Slot(14, selfCheckPoses, 0)
+def AddSelfCheckPoses(builder, selfCheckPoses):
+    return ModelInfoAddSelfCheckPoses(builder, selfCheckPoses)
+def ModelInfoAddBindWarnings(builder, bindWarnings): builder.PrependUOffsetTRelativeSlot(15, flatbuffers.number_types.UOffsetTFlags.py_type(bindWarnings), 0)
+def AddBindWarnings(builder, bindWarnings):
+    return ModelInfoAddBindWarnings(builder, bindWarnings)
+def ModelInfoStartBindWarningsVector(builder, numElems): return builder.StartVector(4, numElems, 4)
+def StartBindWarningsVector(builder, numElems):
+    return ModelInfoStartBindWarningsVector(builder, numElems)
 def ModelInfoEnd(builder): return builder.EndObject()
 def End(builder):
     return ModelInfoEnd(builder)
