@@ -5,7 +5,7 @@
 // the sample table); its normals are recomputed from the posed triangles (area-weighted), the
 // baselines' are turned. "sweep" runs the widest vertex loops the CPU has; where that is AVX2,
 // "sweep_sse2" rows time the x86-64 baseline's loops too.
-// bench/run_benchmarks.sh prints the table (with the sweep/LBS ratio) for the README.
+// bench/run_benchmarks.sh prints the table (with the sweep/LBS ratio) for docs/performance.md.
 //
 // Run a Release build: build/<dir>/bench/deform_bench [--benchmark_filter=...]
 // The "per_vertex" counter is the time per vertex (Google Benchmark prints it in seconds with

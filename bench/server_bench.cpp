@@ -26,7 +26,7 @@
 //      re-reading a binding another replica's edit replaced (decode and runtime tables, what
 //      the next pose for that model waits for, once per edit) → median ms of 5.
 // The poses are frames of CMU clip 01_01 retargeted by the bench (bench_poses.h).
-// Prints a Markdown table for the README; the targets are p50 ≤ 2 ms, p99 ≤ 5 ms,
+// Prints a Markdown table for docs/performance.md; the targets are p50 ≤ 2 ms, p99 ≤ 5 ms,
 // ≥ 1000 poses/s, ratio ≤ 2. Exit code 1 when the daemon or the data cannot be had, 2 for a
 // bad command line (--help lists the flags).
 #include <sys/resource.h>

@@ -13,7 +13,7 @@
 // protocol::encode_float16; meshopt: protocol::MeshoptEncoder, then the copy), and decoded as
 // the C++ client does (protocol::copy_positions / copy_normals). Bytes are whole frames, length
 // prefix included. Times are the fastest of 5 passes over the poses, one thread. Prints a
-// Markdown table for the README. Exit code 1 when a format's error is out of bounds.
+// Markdown table for docs/performance.md. Exit code 1 when a format's error is out of bounds.
 #include <algorithm>
 #include <chrono>
 #include <cmath>

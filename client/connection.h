@@ -82,7 +82,7 @@ class Connection {
   // Plain sockets without a receive timeout: a receive first polls the socket for up to
   // `spin` before it sleeps. A thread woken on an idle core runs again only after the
   // scheduler (and, on a virtual machine, the hypervisor) wakes that core: ~0.05 ms per
-  // wake-up on the 2-core VM of README's figures, a third of a 72k pose. Polling spends a core
+  // wake-up on the 2-core VM of docs/performance.md's figures, a third of a 72k pose. Polling spends a core
   // on the wait instead. Zero (the default) sleeps at once.
   void set_receive_spin(std::chrono::microseconds spin) { receive_spin_ = spin; }
 

@@ -1,6 +1,6 @@
 // encode_zip_exr: the ZIP-compressed scan-line EXR of io::encode_exr (io/exr_write.h), written
 // here instead of by OpenEXR's OutputFile so that its deflate is libdeflate's: the same blocks,
-// prepared the same way, in 0.52–0.63× the time of the zlib that OpenEXR 3.1 calls (README,
+// prepared the same way, in 0.52–0.63× the time of the zlib that OpenEXR 3.1 calls (docs/performance.md,
 // "Position maps: where a frame's time goes"; OpenEXR 3.2 and later use libdeflate themselves).
 //
 // Input: layers and options that validate_exr accepts, ExrCompression::kZip.

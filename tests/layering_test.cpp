@@ -1,4 +1,4 @@
-// The layers' include rules (README "Layout", deform/README.md): deform/ is the paper and
+// The layers' include rules (docs/architecture.md "Layout", deform/README.md): deform/ is the paper and
 // includes nothing from the layers built on it; mannequin/, metrics/ and motion/ stand on
 // deform/ only; console/ stands alone; protocol/ never includes deform/; nothing includes
 // server/ but server/ itself.

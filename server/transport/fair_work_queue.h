@@ -22,7 +22,7 @@
 // goes back to sleep in the pool (one worker at a time, yielding its core to any thread that
 // wants it). A sleeping worker is woken by the pool's condition variable, and on a virtual
 // machine a thread woken on an idle core runs only after the hypervisor wakes that core: a
-// client sending one pose at a time paid that wake-up on every pose (README, "server_bench").
+// client sending one pose at a time paid that wake-up on every pose (docs/performance.md, "server_bench").
 // A job a spinning worker takes leaves its token nothing to run: the token returns at once.
 #pragma once
 

@@ -31,7 +31,7 @@ void write_floats(const fs::path& file, const std::vector<glm::vec3>& positions,
 }
 
 // Frames 10-12 of cmu_01_01 on the shared male: a Z-up PC2 and MDD played with the modifier's
-// default axes, and a Y-up (glTF) PC2 played with the axes the README gives. Vertex i is
+// default axes, and a Y-up (glTF) PC2 played with the axes docs/sweepctl.md gives. Vertex i is
 // compared with sweepd's vertex i: the script first shows that the imported rest mesh is
 // sweepd's rest mesh vertex for vertex (the importer neither reorders nor splits this model's
 // vertices), so an index-wise match is the strict test (a set or nearest-vertex match would

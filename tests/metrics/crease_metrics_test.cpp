@@ -166,7 +166,7 @@ TEST(CreaseMetrics, SmoothCurveLowersTheLimbsCreaseAtKeysOnBothClipsWorstFrames)
     // and 58.7° -> 24.2°, legs 10.5° -> 10.1°). On cmu_01_01 the arms are the body's largest, so
     // the body's falls 46 %, past the 30 %, and the stretch falls (100.3 -> 78.2 %). On
     // cmu_01_03 the body's largest is the neck, which the smooth curve folds more (148.2° ->
-    // 173.3°; README, "Creases"), and the stretch rises 132.4 -> 143.4 %: the target is
+    // 173.3°; docs/quality.md, "Creases"), and the stretch rises 132.4 -> 143.4 %: the target is
     // not met there, not asserted, and linear stays the default. (Before the torso's key centres
     // were laid along its centre line, the torso folded at both clips' worst frames under both
     // curves, 59.9° and 180.0°, and hid the neck.) The torso itself reads higher under the

@@ -221,7 +221,7 @@ TEST_F(BrowserViewerTest, DecodesMeshoptPositionsWithFewerBytesThanFloat16) {
     return page["figures"]["replyBytes"].get<double>();
   };
   // Meshopt measured 0.63 of float16's 6 bytes a vertex on this daemon's 19k mannequin (0.74
-  // before the mannequin's vertices followed its surface; 0.58 at 72k, README,
+  // before the mannequin's vertices followed its surface; 0.58 at 72k, docs/performance.md,
   // "vertex_stream_bench"); 0.85 leaves room for the frames' headers and other poses.
   std::printf("bytes per pose: meshopt %.0f, float16 %.0f\n", bytes_per_pose(status),
               bytes_per_pose(halves));
