@@ -47,6 +47,7 @@ demo: build
 	bash deploy/demo.sh $(BUILD)
 
 bench: build
+	cmake --build $(BUILD) -j $(JOBS) --target benchmarks
 	bash bench/run_benchmarks.sh $(BUILD)
 
 # libFuzzer over every untrusted input (fuzz/run_fuzzers.sh): FUZZ_SECONDS per target.

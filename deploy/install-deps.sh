@@ -4,6 +4,7 @@
 # Where npm is present, also installs into .tools/ (used by tests): the Khronos glTF validator,
 # kubernetes-models + yaml (the offline schema check of deploy/k8s/), and into .tools/web/ the
 # browser viewer's packages exactly as client_examples/web/package-lock.json pins them.
+# A clone finds them in ~/.cache/sweepd/ when this machine installed the same ones before.
 set -euo pipefail
 
 packages=(
@@ -32,9 +33,12 @@ packages=(
   mkdocs mkdocs-material python3-pymdownx  # make docs: the site in docs/ (mkdocs.yml); tests/docs/docs_site_test.py builds it --strict
 )
 
+# One dpkg-query for all (one per package took 2-10 s on a loaded machine, in every make).
+installed=$(dpkg-query -W -f='${Package} ${Status}\n' "${packages[@]}" 2>/dev/null \
+  | awk '/ install ok installed$/ {print $1}' || true)
 missing=()
 for p in "${packages[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  grep -qxF "$p" <<<"$installed" || missing+=("$p")
 done
 
 if ((${#missing[@]})); then
@@ -57,6 +61,16 @@ npm_tools=(
   "gltf-validator|gltf-validator@2.0.0-dev.3.10|the glTF validator tests"
   "kubernetes-models|kubernetes-models@4.5.1 yaml@2.9.1|the Kubernetes schema check of deploy/k8s/"
 )
+# A clone on a machine that installed the same npm packages before takes them from the user's cache
+# (hard links: npm replaces files, it never rewrites one), as ccache serves compiled objects; a
+# fresh clone's make test saves the ~20 s of npm. Keyed by the packages and the viewer's lock file.
+tools_key=$(printf '%s\n' "${npm_tools[@]}" | cat - "$root/client_examples/web/package-lock.json" \
+  | sha256sum | cut -c1-16)
+tools_cache="${XDG_CACHE_HOME:-$HOME/.cache}/sweepd/npm-tools-$tools_key"
+if [ ! -e "$root/.tools" ] && [ -f "$tools_cache/complete" ]; then
+  cp -al "$tools_cache/tools" "$root/.tools" 2>/dev/null || cp -a "$tools_cache/tools" "$root/.tools"
+  echo "install-deps: npm packages from $tools_cache"
+fi
 if command -v npm >/dev/null; then
   for tool in "${npm_tools[@]}"; do
     IFS='|' read -r directory specs skips <<<"$tool"
@@ -79,6 +93,17 @@ if command -v npm >/dev/null; then
       rm -f "$web/package-lock.json"  # tried again on the next run
       echo "install-deps: warning: the viewer's npm packages could not be installed; the browser viewer is not built" >&2
     }
+  fi
+  # Into the cache once everything above is in place (a partial install is never cached).
+  complete=true
+  for tool in "${npm_tools[@]}"; do
+    [ -d "$modules/${tool%%|*}" ] || complete=false
+  done
+  cmp -s "$root/client_examples/web/package-lock.json" "$web/package-lock.json" || complete=false
+  if $complete && [ ! -f "$tools_cache/complete" ]; then
+    rm -rf "$tools_cache" && mkdir -p "$tools_cache"
+    { cp -al "$root/.tools" "$tools_cache/tools" 2>/dev/null || cp -a "$root/.tools" "$tools_cache/tools"; } \
+      && touch "$tools_cache/complete"
   fi
 else
   echo "install-deps: npm not found; the glTF validator tests, the Kubernetes schema check and the browser viewer will skip"
