@@ -428,7 +428,7 @@ void BodyContacts::hold_limbs(double seconds, deform::Pose& pose) const {
     // A straight arm bends at the elbow upwards, off the floor.
     if (wrist != glm::vec3(0.0f))
       move_limb_end(skeleton_, arms_[side], wrist, world, rotation, glm::vec3(0.0f, -1.0f, 0.0f),
-                    pose);
+                    kSoftReach, pose);
   }
 }
 

@@ -48,7 +48,7 @@ std::optional<FootPlanting> FootPlanting::build(
   for (int side = 0; side < 2; ++side) {
     const deform::LegJoints& leg = side == 0 ? map.left_leg : map.right_leg;
     if (leg.upper < 0 || leg.lower < 0 || leg.foot < 0) continue;
-    Foot foot{leg, {}, glm::vec4(0.0f), {}, {}, side};
+    Foot foot{leg, {}, glm::vec4(0.0f), {}, {}, {}, side};
     glm::vec3 centre(0.0f);
     const float ankle_height = rest[leg.foot][3].y;
     for (std::size_t v = 0; v < model.positions.size(); ++v) {
@@ -248,7 +248,25 @@ void FootPlanting::plan(const std::vector<std::vector<Sole>>& soles, float hip_h
     spread(across, held);
     spread(foot.offset, foot.contact);
     for (int f = 0; f < n; ++f) foot.offset[f].x = across[f].x, foot.offset[f].z = across[f].z;
+    soften(foot);
   }
+}
+
+void FootPlanting::soften(Foot& foot) const {
+  const int n = frame_count_;
+  const int ramp = std::max(1, static_cast<int>(std::lround(kFade / frame_time_)));
+  std::vector<int> distance(n, ramp);
+  for (int f = 0, last = -ramp; f < n; ++f) {
+    if (foot.contact[f]) last = f;
+    distance[f] = std::min(ramp, f - last);
+  }
+  for (int f = n - 1, next = n - 1 + ramp; f >= 0; --f) {
+    if (foot.contact[f]) next = f;
+    distance[f] = std::min(distance[f], next - f);
+  }
+  foot.softness.resize(n);
+  for (int f = 0; f < n; ++f)
+    foot.softness[f] = kSoftReach * static_cast<float>(distance[f]) / static_cast<float>(ramp);
 }
 
 void FootPlanting::pin(Foot& foot, const std::vector<Sole>& soles) const {
@@ -293,7 +311,8 @@ void FootPlanting::apply(double seconds, deform::Pose& pose) const {
     glm::vec3 shift = glm::mix(foot.offset[f0], foot.offset[f1], alpha);
     if (foot.contact[f0] && foot.contact[f1]) shift.y = -height;
     shift.y = std::max(shift.y, -height);  // never below the floor
-    if (shift != glm::vec3(0.0f)) move_ankle(foot, shift, world, rotation, pose);
+    const float softness = glm::mix(foot.softness[f0], foot.softness[f1], alpha);
+    if (shift != glm::vec3(0.0f)) move_ankle(foot, shift, softness, world, rotation, pose);
   }
 }
 
@@ -332,7 +351,7 @@ std::vector<FootPlanting::ContactSlide> FootPlanting::contact_slides(
   return slides;
 }
 
-void FootPlanting::move_ankle(const Foot& foot, glm::vec3 shift,
+void FootPlanting::move_ankle(const Foot& foot, glm::vec3 shift, float softness,
                               const std::vector<glm::mat4>& world,
                               const std::vector<glm::quat>& rotation, deform::Pose& pose) const {
   // A straight leg: the knee bends forward, so the shin turns away from the toes (the sole's
@@ -340,7 +359,7 @@ void FootPlanting::move_ankle(const Foot& foot, glm::vec3 shift,
   const glm::vec3 toes =
       glm::vec3(world[foot.leg.foot] * foot.centre) - glm::vec3(world[foot.leg.foot][3]);
   move_limb_end(skeleton_, {foot.leg.upper, foot.leg.lower, foot.leg.foot}, shift, world, rotation,
-                toes, pose);
+                toes, softness, pose);
 }
 
 }  // namespace sweepd::motion

@@ -47,7 +47,11 @@
 // pops; across, a contact's shift first holds while the sole stays within the contact height
 // after or before it (a foot peeling off or landing moves as the clip's does), unless the sole
 // stays that low through the whole gap. On no frame does a sole go below the floor. An ankle
-// that cannot reach its height moves as far as the leg reaches, straight up or down.
+// that cannot reach its target moves towards it as far as the leg reaches (two_bone_ik.h):
+// exactly on a contact frame (the body comes down so that it reaches, above), and with a soft
+// reach (kSoftReach) from 0.15 s away from the foot's contacts, eased linearly between, so that
+// a leg straightening as its target goes out of reach does not snap its knee (a fading shift
+// along a leg stretched on the floor stepped the knee by up to 13 cm in a frame).
 // A clip sampled between frames (pose_at_time) puts the sole on the floor exactly where both
 // frames are contact frames and interpolates the frames' offsets (across everywhere) and the
 // body's drop.
@@ -107,6 +111,7 @@ class FootPlanting {
     glm::vec4 centre;                   // the sole's centroid in the foot's rest frame
     std::vector<glm::vec3> offset;      // the ankle's move, per clip frame
     std::vector<std::uint8_t> contact;  // per clip frame
+    std::vector<float> softness;        // the leg IK's, per clip frame (see the header)
     int side = 0;                       // 0 the rig map's left leg, 1 its right
   };
   struct Sole {
@@ -132,8 +137,11 @@ class FootPlanting {
   void spread(std::vector<glm::vec3>& values, const std::vector<std::uint8_t>& known) const;
   // The horizontal shifts that hold each contact's sole still (see the header) into foot.offset.
   void pin(Foot& foot, const std::vector<Sole>& soles) const;
-  void move_ankle(const Foot& foot, glm::vec3 shift, const std::vector<glm::mat4>& world,
-                  const std::vector<glm::quat>& rotation, deform::Pose& pose) const;
+  // Per clip frame: no softness on a contact frame, kSoftReach from kFade away, linear between.
+  void soften(Foot& foot) const;
+  void move_ankle(const Foot& foot, glm::vec3 shift, float softness,
+                  const std::vector<glm::mat4>& world, const std::vector<glm::quat>& rotation,
+                  deform::Pose& pose) const;
 
   deform::Skeleton skeleton_;
   std::vector<glm::mat4> rest_inverse_;

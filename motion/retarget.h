@@ -195,6 +195,8 @@ class Retargeter final : public ClipPoses {
   }
 
   float root_scale() const { return root_scale_; }
+  // L: the model's hip height on straight legs (m), which foot planting and the holds scale by.
+  float model_hip_height() const { return model_hip_height_; }
   const Clip& motion() const override { return *motion_; }
 
   // Sampling is const and thread-safe; each call allocates a few per-joint scratch vectors

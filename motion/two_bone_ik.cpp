@@ -24,6 +24,17 @@ glm::quat parent_rotation(const deform::Skeleton& skeleton, const std::vector<gl
   return parent < 0 ? glm::identity<glm::quat>() : rotation[parent];
 }
 
+// How far a limb of length `longest` reaches towards a target `distance` from its root: all the
+// way up to `softness` short of its length, beyond that approaching the length exponentially
+// (soft IK). A hard limit bends a near-straight limb's middle joint with a square-root
+// singularity (a knee 1 mm short of straight stands about 2 cm out of line), so a target
+// crossing the reach snapped the knee; the soft reach's slope falls smoothly from 1 to 0.
+float soft_reach(float distance, float longest, float softness) {
+  const float soft_from = longest - softness;
+  if (softness <= 0.0f || distance <= soft_from) return std::min(distance, longest);
+  return longest - softness * std::exp(-(distance - soft_from) / softness);
+}
+
 }  // namespace
 
 void move_limb_middle(const deform::Skeleton& skeleton, LimbJoints limb, glm::vec3 shift,
@@ -49,41 +60,23 @@ void move_limb_middle(const deform::Skeleton& skeleton, LimbJoints limb, glm::ve
 
 void move_limb_end(const deform::Skeleton& skeleton, LimbJoints limb, glm::vec3 shift,
                    const std::vector<glm::mat4>& world, const std::vector<glm::quat>& rotation,
-                   glm::vec3 bend_if_straight, deform::Pose& pose) {
+                   glm::vec3 bend_if_straight, float softness, deform::Pose& pose) {
   const glm::vec3 hip(world[limb.upper][3]), knee(world[limb.lower][3]), ankle(world[limb.end][3]);
   const float thigh = glm::distance(hip, knee), shin = glm::distance(knee, ankle);
   if (thigh < 1e-6f || shin < 1e-6f) return;
-  // The end moves across by the shift, then up or down, as far towards the shift's rise as the
-  // limb reaches: the heights where the root-to-end distance lies within the limb's range.
+  // The end goes towards its target, along the direction from the root, as far as the soft
+  // reach allows. Keeping the move across and clamping only the height (as this did) gave the
+  // end's height a square-root singularity at the reach: an end 1 mm inside it moved 4 cm up or
+  // down, and the knee with it (the knocked-down clip, a foot's fading shift along a leg
+  // stretched on the floor).
   const float longest = (thigh + shin) * (1.0f - 1e-6f), shortest = std::abs(thigh - shin);
-  glm::vec3 from_hip = ankle + glm::vec3(shift.x, 0.0f, shift.z) - hip;
-  float across = glm::dot(glm::vec2(from_hip.x, from_hip.z), glm::vec2(from_hip.x, from_hip.z));
-  if (across >= longest * longest) {
-    // Beyond the limb's reach across: the end goes as far towards the shift as the limb
-    // reaches, not nowhere (doing nothing here dropped a foot's whole shift for a frame, and
-    // the knee jumped by several centimetres where the shift came back).
-    const glm::vec2 start(ankle.x - hip.x, ankle.z - hip.z);
-    const glm::vec2 end(from_hip.x, from_hip.z);
-    const float limit = longest * longest * (1.0f - 1e-4f);
-    if (glm::dot(start, start) >= limit) return;
-    float lo = 0.0f, hi = 1.0f;  // the largest part of the shift that stays within reach
-    for (int i = 0; i < 24; ++i) {
-      const float mid = 0.5f * (lo + hi);
-      const glm::vec2 at = glm::mix(start, end, mid);
-      (glm::dot(at, at) < limit ? lo : hi) = mid;
-    }
-    const glm::vec2 at = glm::mix(start, end, lo);
-    from_hip.x = at.x, from_hip.z = at.y;
-    across = glm::dot(at, at);
-  }
-  float rise = shift.y;
-  const float deepest = std::sqrt(longest * longest - across);
-  rise = std::clamp(rise, -from_hip.y - deepest, -from_hip.y + deepest);
+  glm::vec3 from_hip = ankle + shift - hip;
+  const float across = glm::dot(glm::vec2(from_hip.x, from_hip.z), glm::vec2(from_hip.x, from_hip.z));
   if (across < shortest * shortest) {  // not through the root's blind spot around it
     const float blind = std::sqrt(shortest * shortest - across);
-    if (from_hip.y + rise > -blind && from_hip.y + rise < blind) rise = -from_hip.y - blind;
+    if (from_hip.y > -blind && from_hip.y < blind) from_hip.y = -blind;
   }
-  const glm::vec3 target = from_hip + hip + glm::vec3(0.0f, rise, 0.0f);
+  const glm::vec3 target = from_hip + hip;
   const glm::vec3 u = (knee - hip) / thigh, s = (ankle - knee) / shin;
   glm::vec3 axis = glm::cross(u, s);
   const float bend = std::atan2(glm::length(axis), glm::dot(u, s));
@@ -92,7 +85,8 @@ void move_limb_end(const deform::Skeleton& skeleton, LimbJoints limb, glm::vec3 
     if (glm::length(axis) < 1e-6f) return;
   }
   axis = glm::normalize(axis);
-  const float reach = std::clamp(glm::distance(hip, target), shortest, longest);
+  const float reach =
+      std::max(shortest, soft_reach(glm::distance(hip, target), longest, softness * (thigh + shin)));
   const float inner = std::acos(std::clamp(
       (thigh * thigh + shin * shin - reach * reach) / (2.0f * thigh * shin), -1.0f, 1.0f));
   const glm::quat knee_turn = glm::angleAxis(static_cast<float>(M_PI) - inner - bend, axis);
