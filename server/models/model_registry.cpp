@@ -84,6 +84,18 @@ io::SweepbindChecksum store_binding(const deform::BoundModel& bound, const fs::p
   return io::sweepbind_checksum(bytes);
 }
 
+// Stores a binding's self-check beside it. A cache of the binding, so a store that does not take
+// it (read-only, full) fails nothing: the binding is stored, and the next restore checks it
+// again.
+void keep_self_check(const fs::path& sidecar, const SelfCheck& checked,
+                     const io::SweepbindChecksum& binding) {
+  try {
+    save_self_check(sidecar, checked, binding);
+  } catch (const std::exception&) {
+    // Not kept: see above.
+  }
+}
+
 }  // namespace
 
 fs::path ModelRegistry::StoreSlot::file(std::string_view suffix) const {
@@ -114,14 +126,9 @@ std::shared_ptr<RegisteredModel> ModelRegistry::read_stored(const std::string& c
     model->self_check = std::move(*stored);
   } else {
     // A store written before the sidecars, or a binding whose sidecar is stale: checked once
-    // more, and kept for the next restore when the store takes it (when not, it costs time
-    // again next time, nothing else).
+    // more, and kept for the next restore.
     model->self_check = self_check(model->bound);
-    try {
-      save_self_check(sidecar, model->self_check, checksum);
-    } catch (const std::exception&) {
-      // Not kept (a read-only or full store): the next restore checks it again.
-    }
+    keep_self_check(sidecar, model->self_check, checksum);
   }
   return model;
 }
@@ -343,12 +350,12 @@ ModelHandle ModelRegistry::add(StoreSlot slot, const std::string& name, deform::
   // The files are durable before the model is visible, and written outside the lookups'
   // lock: no client sees a model that a crash could take back, and lookups do not wait for an
   // fsync. The label goes first: the .sweepbind is what puts the model in the store; its
-  // sidecar, keyed by it, last.
+  // self-check's sidecar, keyed by it, last (a cache: not kept, it fails nothing).
   try {
     write_label(slot.file(".json"), *model);
     const io::SweepbindChecksum checksum = store_binding(model->bound, slot.file(".sweepbind"));
     model->file = BindingFile::open(slot.file(".sweepbind"));
-    save_self_check(slot.file(kSelfCheckSuffix), model->self_check, checksum);
+    keep_self_check(slot.file(kSelfCheckSuffix), model->self_check, checksum);
   } catch (const std::exception& error) {
     throw ModelError(ErrorCode::Internal,
                      "model '" + name + "' could not be stored: " + std::string(error.what()));
@@ -381,7 +388,7 @@ ModelHandle ModelRegistry::replace(std::uint32_t id,
     // fsync. Opened again under the lock, so the version held is this edit's.
     const io::SweepbindChecksum checksum = store_binding(model->bound, file);
     model->file = BindingFile::open(file);
-    save_self_check(store_dir_ / (held->content_id + kSelfCheckSuffix), model->self_check,
+    keep_self_check(store_dir_ / (held->content_id + kSelfCheckSuffix), model->self_check,
                     checksum);
   } catch (const ModelError&) {
     throw;

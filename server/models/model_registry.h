@@ -162,8 +162,9 @@ class ModelRegistry {
   // held. A model of this content id stored while the claim waited is held: find_content.
   StoreSlot claim(const std::string& name, const std::string& content_id);
   // Stores a bound model under the slot's content id with `checked`, its self-check, and
-  // returns it once durable (.json, .sweepbind, then the self-check's sidecar). Throws
-  // ModelError (the claim's codes again, or Internal: the store failed).
+  // returns it once durable (.json, then .sweepbind; then the self-check's sidecar, a cache
+  // whose failure fails nothing). Throws ModelError (the claim's codes again, or Internal: the
+  // store failed).
   ModelHandle add(StoreSlot slot, const std::string& name, deform::BoundModel bound,
                   std::uint64_t bind_time_ns, SelfCheck checked);
   // Edits model `id`'s binding: `change` gets a copy of the current one — the store's, read
