@@ -5,6 +5,8 @@
 #include <cstddef>
 #include <cstdio>
 #include <cstring>
+#include <stdexcept>
+#include <string>
 
 #include "io/byte_stream.h"
 #include "io/durable_file.h"
@@ -322,6 +324,16 @@ std::vector<std::uint8_t> encode_sweepbind(const BoundModel& bound) {
   file.put<std::uint32_t>(model_fingerprint(bound.model));
   file.bytes().insert(file.bytes().end(), payload.bytes().begin(), payload.bytes().end());
   return std::move(file.bytes());
+}
+
+SweepbindChecksum sweepbind_checksum(std::span<const std::uint8_t> bytes) {
+  if (bytes.size() < kHeaderSize)
+    throw std::invalid_argument("a .sweepbind header is " + std::to_string(kHeaderSize) +
+                                " bytes; got " + std::to_string(bytes.size()));
+  SweepbindChecksum checksum;
+  std::memcpy(&checksum.payload_size, bytes.data() + 16, sizeof checksum.payload_size);
+  std::memcpy(&checksum.crc32, bytes.data() + 24, sizeof checksum.crc32);
+  return checksum;
 }
 
 BoundModel decode_sweepbind(std::span<const std::uint8_t> bytes,

@@ -30,6 +30,17 @@ void save_sweepbind(const deform::BoundModel& bound, const std::filesystem::path
 deform::BoundModel load_sweepbind(const std::filesystem::path& file,
                                   const deform::Model* expected_model = nullptr);
 
+// What a file's header records of its payload (io/SWEEPBIND.md): its CRC-32 and size, which
+// name one binding. The server keys what it derives from a stored binding by them
+// (server/models/self_check_sidecar.h). `bytes`: an encoded .sweepbind (encode_sweepbind's, or
+// one decode_sweepbind accepted); shorter than a header throws std::invalid_argument.
+struct SweepbindChecksum {
+  std::uint32_t crc32 = 0;
+  std::uint64_t payload_size = 0;
+  bool operator==(const SweepbindChecksum&) const = default;
+};
+SweepbindChecksum sweepbind_checksum(std::span<const std::uint8_t> bytes);
+
 // CRC-32 of a model's positions and triangle indices: which mesh a binding belongs to.
 std::uint32_t model_fingerprint(const deform::Model& model);
 

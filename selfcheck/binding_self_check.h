@@ -28,6 +28,12 @@
 
 namespace sweepd::selfcheck {
 
+// Which self-check a stored verdict came from: raised whenever the poses (the range of motion's
+// moves) or the judgement (compare_with_skinning, the warnings' wording) change, so that a
+// verdict stored with an older one is checked again instead of read
+// (server/models/self_check_sidecar.h).
+inline constexpr int kSelfCheckRevision = 1;
+
 struct CheckPoses {
   std::vector<deform::Pose> poses;
   std::vector<std::string> names;  // one per pose: its range-of-motion move
@@ -131,6 +137,7 @@ struct RegionWarning {
   int extra_flipped = 0;              // RegionVerdict's; with flipped_pose "" when never more
   std::string flipped_pose;
   std::string text;
+  bool operator==(const RegionWarning&) const = default;
 };
 std::vector<RegionWarning> region_warnings(const BindingVerdict& verdict);
 

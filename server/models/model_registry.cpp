@@ -7,6 +7,7 @@
 
 #include "io/durable_file.h"
 #include "io/sweepbind.h"
+#include "server/models/self_check_sidecar.h"
 #include "server/models/store_edit_lock.h"
 #include "server/models/store_quarantine.h"
 
@@ -16,7 +17,8 @@ namespace {
 using protocol::ErrorCode;
 namespace fs = std::filesystem;
 
-constexpr const char* kSourceSuffixes[] = {".glb", ".fbx", ".dae", ".rig.json", ".json"};
+constexpr const char* kSourceSuffixes[] = {".glb",      ".fbx",  ".dae",
+                                           ".rig.json", ".json", kSelfCheckSuffix};
 
 std::span<const std::uint8_t> as_bytes(const std::string& text) {
   return {reinterpret_cast<const std::uint8_t*>(text.data()), text.size()};
@@ -75,21 +77,29 @@ fs::path quarantine_model(const fs::path& store_dir, const std::string& stem) {
   return moved;
 }
 
+// Writes `bound` durably as `file`; the checksum its sidecar is keyed by.
+io::SweepbindChecksum store_binding(const deform::BoundModel& bound, const fs::path& file) {
+  const std::vector<std::uint8_t> bytes = io::encode_sweepbind(bound);
+  io::write_file_durably(file, bytes);
+  return io::sweepbind_checksum(bytes);
+}
+
+// Stores a binding's self-check beside it. A cache of the binding, so a store that does not take
+// it (read-only, full) fails nothing: the binding is stored, and the next restore checks it
+// again.
+void keep_self_check(const fs::path& sidecar, const SelfCheck& checked,
+                     const io::SweepbindChecksum& binding) {
+  try {
+    save_self_check(sidecar, checked, binding);
+  } catch (const std::exception&) {
+    // Not kept: see above.
+  }
+}
+
 }  // namespace
 
 fs::path ModelRegistry::StoreSlot::file(std::string_view suffix) const {
   return store_dir_ / (content_id_ + std::string(suffix));
-}
-
-SelfCheck self_check(const selfcheck::BindingVerdict& verdict) {
-  SelfCheck checked;
-  checked.poses = static_cast<int>(verdict.pose_names.size());
-  checked.warnings = selfcheck::region_warnings(verdict);
-  return checked;
-}
-
-SelfCheck self_check(const deform::BoundModel& bound) {
-  return self_check(selfcheck::check_binding(bound, selfcheck::range_of_motion_peaks(bound)));
 }
 
 ModelRegistry::ModelRegistry(fs::path store_dir, std::uint32_t max_models)
@@ -103,13 +113,23 @@ std::shared_ptr<RegisteredModel> ModelRegistry::read_stored(const std::string& c
   model->id = handle_of(content_id);
   const fs::path file = store_dir_ / (content_id + ".sweepbind");
   model->file = BindingFile::open(file);
-  model->bound = io::decode_sweepbind(model->file->bytes(), file);
+  const std::vector<std::uint8_t> bytes = model->file->bytes();
+  model->bound = io::decode_sweepbind(bytes, file);
   const Label label = read_label(store_dir_ / (content_id + ".json"));
   model->name = label.name.empty() ? model->bound.model.name : label.name;
   if (model->name.empty()) model->name = "model-" + content_id.substr(0, 8);
   model->bind_time_ns = label.bind_time_ns;
   model->runtime = std::make_shared<const deform::ModelRuntime>(model->bound);
-  model->self_check = self_check(model->bound);
+  const io::SweepbindChecksum checksum = io::sweepbind_checksum(bytes);
+  const fs::path sidecar = store_dir_ / (content_id + kSelfCheckSuffix);
+  if (std::optional<SelfCheck> stored = load_self_check(sidecar, checksum)) {
+    model->self_check = std::move(*stored);
+  } else {
+    // A store written before the sidecars, or a binding whose sidecar is stale: checked once
+    // more, and kept for the next restore.
+    model->self_check = self_check(model->bound);
+    keep_self_check(sidecar, model->self_check, checksum);
+  }
   return model;
 }
 
@@ -316,7 +336,7 @@ ModelRegistry::StoreSlot ModelRegistry::claim(const std::string& name,
 }
 
 ModelHandle ModelRegistry::add(StoreSlot slot, const std::string& name, deform::BoundModel bound,
-                               std::uint64_t bind_time_ns, std::optional<SelfCheck> checked) {
+                               std::uint64_t bind_time_ns, SelfCheck checked) {
   auto model = std::make_shared<RegisteredModel>();
   model->content_id = slot.content_id();
   model->id = slot.id();
@@ -326,14 +346,16 @@ ModelHandle ModelRegistry::add(StoreSlot slot, const std::string& name, deform::
   // The runtime (poser tables, collision regions, proxies) is built before taking the lock, so
   // lookups do not wait for it.
   model->runtime = std::make_shared<const deform::ModelRuntime>(model->bound);
-  model->self_check = checked ? std::move(*checked) : self_check(model->bound);
-  // Both files are durable before the model is visible, and written outside the lookups'
+  model->self_check = std::move(checked);
+  // The files are durable before the model is visible, and written outside the lookups'
   // lock: no client sees a model that a crash could take back, and lookups do not wait for an
-  // fsync. The label goes first: the .sweepbind is what puts the model in the store.
+  // fsync. The label goes first: the .sweepbind is what puts the model in the store; its
+  // self-check's sidecar, keyed by it, last (a cache: not kept, it fails nothing).
   try {
     write_label(slot.file(".json"), *model);
-    io::save_sweepbind(model->bound, slot.file(".sweepbind"));
+    const io::SweepbindChecksum checksum = store_binding(model->bound, slot.file(".sweepbind"));
     model->file = BindingFile::open(slot.file(".sweepbind"));
+    keep_self_check(slot.file(kSelfCheckSuffix), model->self_check, checksum);
   } catch (const std::exception& error) {
     throw ModelError(ErrorCode::Internal,
                      "model '" + name + "' could not be stored: " + std::string(error.what()));
@@ -364,8 +386,10 @@ ModelHandle ModelRegistry::replace(std::uint32_t id,
     model->self_check = self_check(model->bound);  // an edited key changes what the sweep does
     // Stored before it is swapped in, and outside the lookups' lock: poses do not wait for
     // fsync. Opened again under the lock, so the version held is this edit's.
-    io::save_sweepbind(model->bound, file);
+    const io::SweepbindChecksum checksum = store_binding(model->bound, file);
     model->file = BindingFile::open(file);
+    keep_self_check(store_dir_ / (held->content_id + kSelfCheckSuffix), model->self_check,
+                    checksum);
   } catch (const ModelError&) {
     throw;
   } catch (const std::exception& error) {

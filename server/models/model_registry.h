@@ -7,7 +7,10 @@
 //   <cid>.sweepbind  the binding (io::save_sweepbind, CRC-checked) — written last: a model is
 //                    in the store once this file is;
 //   <cid>.glb        the uploaded bytes it was bound from (.fbx, .dae for an FBX or COLLADA
-//                    upload); <cid>.rig.json a client's rig map.
+//                    upload); <cid>.rig.json a client's rig map;
+//   <cid>.selfcheck.json  the binding's self-check verdicts, keyed by the binding's checksum
+//                    (self_check_sidecar.h) — written after the .sweepbind, read instead of
+//                    checking again when its key matches.
 // Every file is written by io::write_file_durably (a temporary named by its writer, fsync,
 // rename, directory fsync), so two replicas storing the same model at once each rename a whole
 // file over the other's identical one, and no reader sees a torn file. A model is acknowledged,
@@ -28,9 +31,10 @@
 //
 // It knows nothing of glTF, rigs or binding: ModelService (model_service.h), the one place
 // models change, loads and binds a model while it holds a StoreSlot (the right to store one
-// content id), then adds the bound model. What it derives from a binding it holds — the runtime,
-// and the self-check (SelfCheck: the .sweepbind does not record its verdicts) — it derives
-// again whenever the binding is read from the store or edited. Thread-safe: a bind holds only the slot, never the
+// content id), then adds the bound model with its self-check. The runtime it derives again
+// whenever the binding is read from the store or edited; the self-check it checks again at an
+// edit, and reads from the binding's sidecar when the binding is read from the store (checking
+// again only when the sidecar is not this binding's). Thread-safe: a bind holds only the slot, never the
 // lock lookups take, so lookups never wait for a bind; edits of a model apply one after the
 // other, each to the binding the last one stored.
 //
@@ -63,22 +67,11 @@
 #include "deform/binding/bound_model.h"
 #include "deform/job/model_runtime.h"
 #include "protocol/sweepd_generated.h"
-#include "selfcheck/binding_self_check.h"
 #include "server/models/binding_file.h"
 #include "server/models/content_id.h"
+#include "server/models/self_check.h"
 
 namespace sweepd::server {
-
-// The binding's self-check as a model holds it (ModelInfo 1.14, the bind_warning log): the
-// range-of-motion poses judged and each region where the sweep is still worse than skinning.
-struct SelfCheck {
-  int poses = 0;  // 0: not checked
-  std::vector<selfcheck::RegionWarning> warnings;
-};
-// Runs it on `bound` (selfcheck::check_binding on its range-of-motion peaks; the shared male
-// 14.5k vertices about 0.06 s) — the .sweepbind records the choices it made, not its verdicts.
-SelfCheck self_check(const deform::BoundModel& bound);
-SelfCheck self_check(const selfcheck::BindingVerdict& verdict);  // a verdict already made
 
 struct RegisteredModel {
   std::uint32_t id = 0;    // handle_of(content_id)
@@ -90,7 +83,8 @@ struct RegisteredModel {
   std::shared_ptr<const deform::ModelRuntime> runtime{};
   // The version of store_dir/<content_id>.sweepbind `bound` was read from or written as.
   std::shared_ptr<const BindingFile> file{};
-  // Of `bound` as held: run again whenever it is read from the store or edited.
+  // Of `bound` as held: given at add, run again at an edit, read from the sidecar (or run
+  // again when it has none for this binding) when read from the store.
   SelfCheck self_check{};
 };
 using ModelHandle = std::shared_ptr<const RegisteredModel>;
@@ -167,11 +161,12 @@ class ModelRegistry {
   // when the registry is full, {ModelLoadFailed} when another model of that name or handle is
   // held. A model of this content id stored while the claim waited is held: find_content.
   StoreSlot claim(const std::string& name, const std::string& content_id);
-  // Stores a bound model under the slot's content id and returns it once durable (.json, then
-  // .sweepbind), with its self-check: `checked`, or (nullopt) run here. Throws ModelError (the
-  // claim's codes again, or Internal: the store failed).
+  // Stores a bound model under the slot's content id with `checked`, its self-check, and
+  // returns it once durable (.json, then .sweepbind; then the self-check's sidecar, a cache
+  // whose failure fails nothing). Throws ModelError (the claim's codes again, or Internal: the
+  // store failed).
   ModelHandle add(StoreSlot slot, const std::string& name, deform::BoundModel bound,
-                  std::uint64_t bind_time_ns, std::optional<SelfCheck> checked = std::nullopt);
+                  std::uint64_t bind_time_ns, SelfCheck checked);
   // Edits model `id`'s binding: `change` gets a copy of the current one — the store's, read
   // under the model's StoreEditLock when another replica replaced it — (it may throw
   // ModelError to refuse, changing nothing); the result is stored durably, then swapped in and

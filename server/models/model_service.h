@@ -9,7 +9,7 @@
 //   temporary file (store_temporary_removed), each entry not restored (restore_problem: file,
 //   reason, quarantined_to when it was moved aside), a store migrated to content ids
 //   (store_migrated), each restored model (model_restored) and its self-check's warnings
-//   (bind_warning: run again on the stored binding, RegisteredModel::self_check).
+//   (bind_warning: stored with the binding, RegisteredModel::self_check).
 //   add_default_model(): with no model_dir and no model named "mannequin", adopts the
 //   procedural mannequin of config.mannequin_vertices from the store, or binds, checks and
 //   stores it (model_loaded with bind_time_ns and self_check_time_ns).

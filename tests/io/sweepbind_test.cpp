@@ -249,6 +249,19 @@ TEST(Sweepbind, RefusesWellFormedFilesWithInvalidContent) {
   EXPECT_NE(decode_error(encode_sweepbind(bad)).find("binding count"), std::string::npos);
 }
 
+// The checksum a server keys a binding's derived data by (server/models/self_check_sidecar.h):
+// the header's payload CRC-32 and size, so one key names one binding's bytes.
+TEST(Sweepbind, ItsChecksumIsTheHeadersPayloadCrcAndSize) {
+  const std::vector<std::uint8_t> bytes = encode_sweepbind(bound_mannequin());
+  const SweepbindChecksum checksum = sweepbind_checksum(bytes);
+  EXPECT_EQ(checksum.payload_size, bytes.size() - 32);
+  EXPECT_EQ(checksum.crc32, crc32(std::span<const std::uint8_t>(bytes).subspan(32)));
+  deform::BoundModel edited = bound_mannequin();
+  edited.sweeps[0].rest_keys[0].a *= 1.5f;  // one half-axis: another binding, another key
+  EXPECT_NE(sweepbind_checksum(encode_sweepbind(edited)), checksum);
+  EXPECT_THROW(sweepbind_checksum(std::span(bytes).first(31)), std::invalid_argument);
+}
+
 TEST(Sweepbind, MissingFileNamesIt) {
   try {
     load_sweepbind("/nonexistent/dir/model.sweepbind");

@@ -145,11 +145,13 @@ TEST(DaemonRestart, ACorruptStoreFileIsQuarantinedLoggedAndTheOtherModelsServe) 
   for (const fs::directory_entry& entry : fs::directory_iterator(store / "quarantine"))
     quarantined.push_back(entry.path().filename());
   std::sort(quarantined.begin(), quarantined.end());
-  ASSERT_EQ(quarantined.size(), 3u);  // the binding, its uploaded source and its label
+  // The binding, its uploaded source, its label and its self-check's sidecar.
+  ASSERT_EQ(quarantined.size(), 4u);
   EXPECT_TRUE(quarantined[0].string().starts_with(content_id + ".glb."));
   EXPECT_TRUE(quarantined[1].string().starts_with(content_id + ".json."));
-  EXPECT_TRUE(quarantined[2].string().starts_with(content_id + ".sweepbind."));
-  EXPECT_EQ(read_bytes(store / "quarantine" / quarantined[2]), damaged);
+  EXPECT_TRUE(quarantined[2].string().starts_with(content_id + ".selfcheck.json."));
+  EXPECT_TRUE(quarantined[3].string().starts_with(content_id + ".sweepbind."));
+  EXPECT_EQ(read_bytes(store / "quarantine" / quarantined[3]), damaged);
 
   // The other model serves; the same upload binds again, under the same content id and handle.
   FrameClient client(restarted.port());

@@ -3,9 +3,9 @@
 // in words. The words are the very lines `sweepctl bind` prints: both run
 // selfcheck::check_binding on the same binding (the daemon's bind options are sweepctl's
 // defaults, and the check is deterministic), so the texts are compared for equality, not
-// approximately. A stored model's ModelInfo after a restart carries them too (the .sweepbind
-// records the self-check's choices, not its verdicts: the daemon checks the stored binding
-// again), and so does the default mannequin's.
+// approximately. A stored model's ModelInfo after a restart carries them too (the daemon reads
+// the verdicts stored beside the binding: server/models/self_check_sidecar.h), and so does the
+// default mannequin's.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -157,7 +157,7 @@ TEST(ModelInfoBindWarnings, ARestartedDaemonsStoredModelCarriesThemToo) {
   ASSERT_NE(client.hello(""), nullptr);
   const pb::ModelInfo* info = load_model(client, "male", {});  // by name: the store's
   ASSERT_NE(info, nullptr) << restarted.log();
-  // Checked again on the stored binding, which is the uploaded one bit for bit: the same
+  // Read from the store beside the binding, which is the uploaded one bit for bit: the same
   // verdicts, figures included, exactly.
   EXPECT_EQ(read_check(*info).poses, uploaded.poses);
   EXPECT_EQ(read_check(*info).warnings, uploaded.warnings);

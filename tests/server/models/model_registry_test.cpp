@@ -16,6 +16,7 @@
 #include <atomic>
 #include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <thread>
 
 #include "deform/binding/bind.h"
@@ -23,7 +24,9 @@
 #include "io/durable_file.h"
 #include "io/sweepbind.h"
 #include "mannequin/mannequin.h"
+#include "selfcheck/binding_self_check.h"
 #include "server/models/content_id.h"
+#include "server/models/self_check_sidecar.h"
 #include "tests/server/daemon_process.h"
 
 namespace sweepd::test::model_registry_test {
@@ -39,11 +42,18 @@ const deform::BoundModel& small_bound_mannequin() {
   return bound;
 }
 
+// Its self-check, as a load gives it to add().
+const server::SelfCheck& small_mannequin_check() {
+  static const server::SelfCheck checked = server::self_check(small_bound_mannequin());
+  return checked;
+}
+
 // Test models' content ids: any 64 hex digits name a model to the registry.
 std::string id_for(const std::string& name) { return server::described_content_id(name); }
 
 server::ModelHandle add(server::ModelRegistry& registry, const std::string& name) {
-  return registry.add(registry.claim(name, id_for(name)), name, small_bound_mannequin(), 1);
+  return registry.add(registry.claim(name, id_for(name)), name, small_bound_mannequin(), 1,
+                      small_mannequin_check());
 }
 
 fs::path stored(const fs::path& directory, const std::string& name, const char* suffix) {
@@ -121,13 +131,13 @@ TEST(ModelRegistry, RestoreQuarantinesDamagedFilesAndLoadsEveryOtherModel) {
       checksum->quarantined_to.filename().string().starts_with(flipped_file.filename().string()));
   EXPECT_EQ(read_bytes(checksum->quarantined_to), flipped);
   EXPECT_EQ(read_bytes(cut->quarantined_to), truncated);
-  for (const char* suffix : {".sweepbind", ".glb", ".json"})
+  for (const char* suffix : {".sweepbind", ".glb", ".json", server::kSelfCheckSuffix})
     EXPECT_FALSE(fs::exists(stored(directory, "flipped", suffix))) << suffix;
   EXPECT_FALSE(fs::exists(truncated_file));
   std::size_t quarantined_sources = 0;
   for (const fs::directory_entry& entry : fs::directory_iterator(directory / "quarantine"))
     quarantined_sources += entry.path().filename().string().starts_with(id_for("flipped") + ".");
-  EXPECT_EQ(quarantined_sources, 3u) << ".sweepbind, .glb and .json";
+  EXPECT_EQ(quarantined_sources, 4u) << ".sweepbind, .glb, .json and .selfcheck.json";
   EXPECT_EQ(report.removed_temporaries.size(), 3u);
   for (const fs::path& file : {legacy, dead, old_remote}) EXPECT_FALSE(fs::exists(file)) << file;
   for (const fs::path& file : {live, fresh_remote}) EXPECT_TRUE(fs::exists(file)) << file;
@@ -200,8 +210,10 @@ TEST(ModelRegistry, ReplicasSharingAStoreAdoptEachOthersModels) {
   EXPECT_EQ(second.adopt(id_for("nobody")), nullptr) << "not in the store";
 
   // "villain" under two content ids, one per replica: each keeps its own, neither is moved.
-  second.add(second.claim("villain", id_for("villain 2")), "villain", small_bound_mannequin(), 1);
-  first.add(first.claim("villain", id_for("villain 1")), "villain", small_bound_mannequin(), 1);
+  second.add(second.claim("villain", id_for("villain 2")), "villain", small_bound_mannequin(), 1,
+             small_mannequin_check());
+  first.add(first.claim("villain", id_for("villain 1")), "villain", small_bound_mannequin(), 1,
+            small_mannequin_check());
   server::ModelRegistry third(directory, 16);
   const server::RestoreReport report = third.restore();
   ASSERT_EQ(report.problems.size(), 1u);
@@ -277,7 +289,7 @@ TEST(ModelRegistry, ASlotKeepsTheNextLoadOutUntilItsModelIsStored) {
   std::thread second([&] {
     server::ModelRegistry::StoreSlot slot = registry.claim("second", id_for("second"));
     second_claimed = true;
-    registry.add(std::move(slot), "second", small_bound_mannequin(), 1);
+    registry.add(std::move(slot), "second", small_bound_mannequin(), 1, small_mannequin_check());
   });
   // Lookups go on while a slot is held; the second claim waits. 100 ms is ample for an unblocked
   // thread to claim (it only checks a list); a slow machine could only hide a broken lock from
@@ -285,7 +297,7 @@ TEST(ModelRegistry, ASlotKeepsTheNextLoadOutUntilItsModelIsStored) {
   std::this_thread::sleep_for(std::chrono::milliseconds(100));
   EXPECT_FALSE(second_claimed);
   EXPECT_TRUE(registry.models().empty());
-  registry.add(std::move(first), "first", small_bound_mannequin(), 1);
+  registry.add(std::move(first), "first", small_bound_mannequin(), 1, small_mannequin_check());
   second.join();
   ASSERT_EQ(registry.models().size(), 2u);
   EXPECT_TRUE(fs::exists(stored(directory, "second", ".sweepbind")));
@@ -372,6 +384,114 @@ TEST(ModelRegistry, ReplicasSharingAStoreServeAndKeepEachOthersEdits) {
   EXPECT_EQ(read_bytes(problem->quarantined_to), damaged);
   EXPECT_FALSE(fs::exists(file));
   EXPECT_EQ(second.current(id), held) << "nothing in the store: the held copy";
+  fs::remove_all(directory);
+}
+
+// A self-check no binding of the small mannequin gives (the check finds it loses nowhere, or
+// not so): 7 poses and a warning whose figures need every digit of a double. A model that
+// shows it after a restore read it from the store; one that checked itself again shows
+// small_mannequin_check() instead.
+server::SelfCheck doctored_check() {
+  return {.poses = 7,
+          .warnings = {{.region = "left arm",
+                        .worse_poses = 3,
+                        .pose_count = 7,
+                        .sweep = 1.2345678901234567,
+                        .baseline = 1.0000000000000002,
+                        .baseline_name = "DQS",
+                        .pose = "elbow flexion 150°",
+                        .extra_flipped = 2,
+                        .flipped_pose = "shoulder abduction",
+                        .text = "left arm: as stored"}}};
+}
+
+nlohmann::json read_json(const fs::path& file) {
+  std::ifstream in(file);
+  return nlohmann::json::parse(in);
+}
+
+// Restores, adoptions and reloads read the verdicts stored with the binding (issue 47): the
+// check of 48 poses is not run again at every start.
+TEST(ModelRegistry, ARestoreReadsTheStoredSelfCheckInsteadOfCheckingAgain) {
+  const fs::path directory = fresh_directory("registry_self_check");
+  ASSERT_NE(doctored_check(), small_mannequin_check()) << "the test could not tell them apart";
+  {
+    server::ModelRegistry registry(directory, 16);
+    registry.add(registry.claim("checked", id_for("checked")), "checked", small_bound_mannequin(),
+                 1, doctored_check());
+  }
+  server::ModelRegistry restored(directory, 16);
+  EXPECT_TRUE(restored.restore().problems.empty());
+  const server::ModelHandle model = restored.find_content(id_for("checked"));
+  ASSERT_NE(model, nullptr);
+  // Field for field, doubles bit for bit (SelfCheck's operator== compares every field).
+  EXPECT_EQ(model->self_check, doctored_check());
+
+  server::ModelRegistry replica(directory, 16);
+  const server::ModelHandle adopted = replica.adopt(id_for("checked"));
+  ASSERT_NE(adopted, nullptr);
+  EXPECT_EQ(adopted->self_check, doctored_check()) << "an adoption reads it too";
+  fs::remove_all(directory);
+}
+
+// A sidecar that is not the binding's — another binding's checksum, an older self-check's
+// revision, torn, absent — is not read: the binding is checked again, and the sidecar written
+// anew with its key.
+TEST(ModelRegistry, AStoredSelfCheckOfAnotherBindingOrRevisionIsCheckedAgain) {
+  const fs::path directory = fresh_directory("registry_stale_self_check");
+  {
+    server::ModelRegistry registry(directory, 16);
+    registry.add(registry.claim("checked", id_for("checked")), "checked", small_bound_mannequin(),
+                 1, doctored_check());
+  }
+  const fs::path sidecar = stored(directory, "checked", server::kSelfCheckSuffix);
+  const nlohmann::json good = read_json(sidecar);
+  const io::SweepbindChecksum binding =
+      io::sweepbind_checksum(read_bytes(stored(directory, "checked", ".sweepbind")));
+  EXPECT_EQ(good["binding"]["crc32"], binding.crc32);
+  EXPECT_EQ(good["binding"]["payload_size"], binding.payload_size);
+
+  nlohmann::json other_binding = good, older_check = good;
+  other_binding["binding"]["crc32"] = binding.crc32 ^ 1u;
+  older_check["self_check_revision"] = selfcheck::kSelfCheckRevision - 1;
+  const std::string torn = good.dump().substr(0, 40);
+  for (const std::string& stale :
+       {other_binding.dump(), older_check.dump(), torn, std::string("absent")}) {
+    if (stale == "absent") {
+      fs::remove(sidecar);
+    } else {
+      write_bytes(sidecar,
+                  std::span(reinterpret_cast<const std::uint8_t*>(stale.data()), stale.size()));
+    }
+    server::ModelRegistry restored(directory, 16);
+    restored.restore();
+    const server::ModelHandle model = restored.find_content(id_for("checked"));
+    ASSERT_NE(model, nullptr) << stale;
+    EXPECT_EQ(model->self_check, small_mannequin_check()) << stale;
+    const nlohmann::json rewritten = read_json(sidecar);
+    EXPECT_EQ(rewritten["binding"], good["binding"]) << stale;
+    EXPECT_EQ(rewritten["self_check_revision"], selfcheck::kSelfCheckRevision) << stale;
+    EXPECT_EQ(rewritten["poses"], small_mannequin_check().poses) << stale;
+  }
+  fs::remove_all(directory);
+}
+
+// An edit changes what the sweep does: it checks the edited binding again and stores that.
+TEST(ModelRegistry, AnEditChecksTheBindingAgainAndStoresItsVerdicts) {
+  const fs::path directory = fresh_directory("registry_edit_self_check");
+  server::ModelRegistry registry(directory, 16);
+  const std::uint32_t id = registry
+                               .add(registry.claim("checked", id_for("checked")), "checked",
+                                    small_bound_mannequin(), 1, doctored_check())
+                               ->id;
+  // A key made 3 times wider: the check's figures change with it.
+  const server::ModelHandle edited = registry.replace(
+      id, [](deform::BoundModel& bound) { bound.sweeps[0].rest_keys[0].a *= 3.0f; });
+  EXPECT_EQ(edited->self_check, server::self_check(edited->bound));
+  EXPECT_NE(edited->self_check, doctored_check());
+  server::ModelRegistry restored(directory, 16);
+  restored.restore();
+  EXPECT_EQ(restored.find(id)->self_check, edited->self_check) << "the edit's verdicts stored";
   fs::remove_all(directory);
 }
 
