@@ -2,6 +2,7 @@
 
 #include <map>
 #include <string>
+#include <vector>
 
 #include "console/command_line.h"
 
@@ -123,14 +124,45 @@ void add_orientation_flag(CLI::App& command, deform::OrientationCurveKind& out) 
       ->type_name("CURVE");
 }
 
+namespace {
+
+// "" when every method of the comma-separated list is known, else the parser's message
+// (an empty list names the empty method).
+std::string method_list_problem(const std::string& list) {
+  std::vector<std::string> given = console::split_list(list);
+  if (given.empty()) given.push_back("");
+  for (const std::string& name : given)
+    if (std::string problem = deform::method_name_problem(name); !problem.empty()) return problem;
+  return "";
+}
+
+}  // namespace
+
+CLI::Option* add_method_list_flag(CLI::App& command, const std::string& flag,
+                                  const std::function<void(const deform::MethodChoice&)>& take,
+                                  const std::string& help) {
+  return command
+      .add_option_function<std::string>(
+          flag,
+          [take](const std::string& list) {
+            for (const std::string& name : console::split_list(list))
+              take(deform::parse_method_choice(name));
+          },
+          help)
+      ->check(CLI::Validator(method_list_problem, ""));
+}
+
 void add_method_flags(CLI::App& command, PosingArguments& out) {
-  console::add_choice(
-      command, "--method", out.method,
-      std::map<std::string, deform::DeformMethod>{{"sweep", deform::DeformMethod::kSweep},
-                                                  {"lbs", deform::DeformMethod::kLbs},
-                                                  {"dqs", deform::DeformMethod::kDqs}},
-      "sweep (default), lbs or dqs")
-      ->type_name("M");
+  command.add_option("--method", "sweep (default), lbs or dqs")
+      ->type_name("M")
+      ->check(CLI::Validator(
+          [](std::string& name) {
+            return deform::method_name_problem(name, deform::MethodNames::kPlainMethods);
+          },
+          ""))
+      ->each([&out](const std::string& name) {
+        out.method = deform::parse_method_choice(name, deform::MethodNames::kPlainMethods).method;
+      });
   using Feature = bool deform::AnatomicalFeatures::*;
   console::add_choice_list(
       command, "--features",

@@ -82,6 +82,7 @@
 #include "client/token_flags.h"
 #include "console/command_line.h"
 #include "console/progress_bar.h"
+#include "deform/job/method_choice.h"
 #include "io/file_bytes.h"
 #include "motion/frame_range.h"
 #include "protocol/messages.h"
@@ -91,6 +92,20 @@ namespace {
 namespace fs = std::filesystem;
 namespace pb = sweepd::protocol;
 using Clock = std::chrono::steady_clock;
+
+constexpr sweepd::deform::MethodNames kPoseMethods = sweepd::deform::MethodNames::kPlainMethods;
+
+pb::DeformMethod wire_method(sweepd::deform::DeformMethod method) {
+  switch (method) {
+    case sweepd::deform::DeformMethod::kLbs:
+      return pb::DeformMethod::Lbs;
+    case sweepd::deform::DeformMethod::kDqs:
+      return pb::DeformMethod::Dqs;
+    case sweepd::deform::DeformMethod::kSweep:
+      break;
+  }
+  return pb::DeformMethod::Sweep;
+}
 
 // Problems with the command line (exit code 2); anything else thrown is exit code 1.
 struct UsageError : std::invalid_argument {
@@ -142,10 +157,14 @@ void describe(CLI::App& app, Options& o) {
                               "zip (default), none, zips or piz");
   app.add_flag("--normals", o.normals, "also the N layer");
   app.add_flag("--half-normals", o.half_normals, "the N layer as float16 (implies --normals)");
-  const std::map<std::string, pb::DeformMethod> methods = {{"sweep", pb::DeformMethod::Sweep},
-                                                           {"lbs", pb::DeformMethod::Lbs},
-                                                           {"dqs", pb::DeformMethod::Dqs}};
-  sweepd::console::add_choice(app, "--method", o.method, methods, "sweep (default), lbs or dqs");
+  // The names as sweepctl and the daemon take them (the one parser), sent as the wire's enum.
+  app.add_option("--method", "sweep (default), lbs or dqs")
+      ->check(CLI::Validator(
+          [](std::string& name) { return sweepd::deform::method_name_problem(name, kPoseMethods); },
+          ""))
+      ->each([&o](const std::string& name) {
+        o.method = wire_method(sweepd::deform::parse_method_choice(name, kPoseMethods).method);
+      });
   app.add_option_function<int>(
          "--timeout", [&o](int seconds) { o.timeout_ms = seconds * 1000; },
          "SECONDS a server may take to answer before its frames go elsewhere (default 60)")
