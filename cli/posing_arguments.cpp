@@ -83,11 +83,11 @@ void add_posing_flags(CLI::App& command, PosingArguments& out, ClipFrames frames
   if (frames == ClipFrames::kOneOrRange) {
     const CLI::Validator range(
         [](std::string& text) -> std::string {
-          if (motion::parse_frame_range(text)) return "";
+          if (console::parse_frame_range(text)) return "";
           const std::size_t dash = text.find('-');
           if (dash != std::string::npos) {
-            const std::optional<int> a = motion::parse_frame_number(text.substr(0, dash));
-            const std::optional<int> b = motion::parse_frame_number(text.substr(dash + 1));
+            const std::optional<int> a = console::parse_frame_number(text.substr(0, dash));
+            const std::optional<int> b = console::parse_frame_number(text.substr(dash + 1));
             if (a && b && *a > *b)
               return "'" + text + "' is an empty range: its first frame comes after its last";
           }
@@ -98,7 +98,7 @@ void add_posing_flags(CLI::App& command, PosingArguments& out, ClipFrames frames
         ->type_name("A-B")
         ->check(range)
         ->each([&out](const std::string& text) {
-          out.frames = *motion::parse_frame_range(text);
+          out.frames = *console::parse_frame_range(text);
           out.frame_range = true;
           out.frame_given = true;
         })

@@ -39,13 +39,13 @@
 #include <optional>
 #include <string>
 
+#include "console/frame_range.h"
 #include "deform/job/anatomical_features.h"
 #include "deform/job/deform_method.h"
 #include "deform/job/method_choice.h"
 #include "deform/sweep/orientation_curve.h"
 #include "gpu/collision_backend.h"
 #include "motion/clip_up_axis.h"
-#include "motion/frame_range.h"
 #include "motion/retarget.h"
 
 namespace sweepd::cli {
@@ -62,7 +62,7 @@ struct PosingArguments {
   std::optional<double> time;       // --time: seconds into the clip
   float fps = 0.0f;                 // --fps: the rate --frame/--frames count at; 0: the clip's
   std::filesystem::path pose_file;  // optional pose JSON
-  motion::FrameRange frames;        // --frame N or --frames A-B (clip frames)
+  console::FrameRange frames;       // --frame N or --frames A-B (clip frames)
   bool frame_range = false;         // --frames given: a folder of frames
   // --bvh-up: the clip's up axis (--bvh's); nothing: detected from its skeleton.
   std::optional<motion::UpAxis> bvh_up;

@@ -17,9 +17,9 @@
 #include "cli/remote_posed_model.h"
 #include "cli/video_encoder.h"
 #include "console/command_line.h"
+#include "console/frame_range.h"
 #include "gpu/sheet/contact_sheet.h"
 #include "io/file_bytes.h"
-#include "motion/frame_range.h"
 
 namespace sweepd::cli {
 
@@ -38,9 +38,9 @@ std::string parse_frame_list(const std::string& text, std::vector<int>& frames) 
   frames.clear();
   std::istringstream items(text);
   for (std::string item; std::getline(items, item, ',');) {
-    if (const std::optional<int> frame = motion::parse_frame_number(item)) {
+    if (const std::optional<int> frame = console::parse_frame_number(item)) {
       frames.push_back(*frame);
-    } else if (const std::optional<motion::FrameRange> range = motion::parse_frame_range(item)) {
+    } else if (const std::optional<console::FrameRange> range = console::parse_frame_range(item)) {
       for (int f = range->first; f <= range->last; ++f) frames.push_back(f);
     } else {
       return "expected frames N or ranges A-B separated by commas, got '" + item + "'";
