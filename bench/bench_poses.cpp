@@ -4,7 +4,7 @@
 #include <filesystem>
 #include <limits>
 
-#include "client/model_skeleton.h"
+#include "cli/served_rest_skeleton.h"
 #include "io/bvh_load.h"
 #include "motion/retarget.h"
 #include "tests/test_paths.h"
@@ -19,7 +19,7 @@ std::vector<BenchPose> clip_poses(const pb::ModelInfo& info, int count) {
   // Retargeted here with the library (the benchmarks time the server's Pose path, so they send
   // rotations), onto the skeleton and floor that ModelInfo carries.
   const motion::Retargeter retargeter(io::load_bvh(clip, {.length_scale = 0.056444f}),
-                                      client::rest_skeleton(info), {}, info.floor_height());
+                                      cli::rest_skeleton(info), {}, info.floor_height());
   std::vector<BenchPose> poses;
   for (int i = 0; i < count; ++i) {
     BenchPose p;

@@ -20,10 +20,10 @@
 #include "cli/commands.h"
 #include "cli/local_sheet.h"
 #include "cli/posed_model.h"
-#include "io/file_bytes.h"
 #include "console/command_line.h"
 #include "console/progress_bar.h"
-#include "gpu/sheet/method_choice.h"
+#include "gpu/sheet/deform_with.h"
+#include "io/file_bytes.h"
 #include "metrics/region_quality.h"
 #include "motion/own_skeleton_clip.h"
 #include "motion/range_of_motion.h"
@@ -32,7 +32,7 @@ namespace sweepd::cli {
 
 namespace {
 
-using Method = sheet::MethodChoice;
+using Method = deform::MethodChoice;
 using deform::DeformMethod;
 
 constexpr double kTolerance = metrics::kSkinningTolerance;
@@ -403,9 +403,8 @@ Command add_check_command(CLI::App& sweepctl) {
   auto options = std::make_shared<CheckCommandOptions>();
   add_posing_flags(*command, options->posing, ClipFrames::kOne);
   add_collision_flag(*command, options->posing);
-  console::add_choice_list(
-      *command, "--method", sheet::methods_by_name(),
-      [options](const Method& method) { options->methods.push_back(method); },
+  add_method_list_flag(
+      *command, "--method", [options](const Method& method) { options->methods.push_back(method); },
       "comma-separated methods (default: sweep,lbs,dqs; lbs and dqs are always measured: the "
       "sweep methods are judged against them); sweep+features folds and protrudes with pairs "
       "from --collision's backend")
@@ -443,9 +442,9 @@ Command add_check_command(CLI::App& sweepctl) {
       ->delimiter(',');
   command->callback([options] {
     check_method_flags(options->posing);
-    if (options->methods.empty()) options->methods.push_back(sheet::methods_by_name().at("sweep"));
+    if (options->methods.empty()) options->methods.push_back(deform::methods_by_name().at("sweep"));
     for (const char* baseline : {"lbs", "dqs"}) {
-      const Method& m = sheet::methods_by_name().at(baseline);
+      const Method& m = deform::methods_by_name().at(baseline);
       if (std::none_of(options->methods.begin(), options->methods.end(),
                        [&](const Method& x) { return x.name == m.name; }))
         options->methods.push_back(m);

@@ -7,7 +7,7 @@
 //
 // LocalCollision(choice): probes EGL unless choice is cpu; throws gpu::CollisionBackendError
 //   for gpu without a usable EGL context (naming the problem).
-// It is the sheet::PairSource of sweepctl's comparing commands (gpu/sheet/method_choice.h).
+// It is the sheet::PairSource of sweepctl's comparing commands (gpu/sheet/deform_with.h).
 // begin(): the DeformJob's pair finder (makes the context current first; empty on cpu).
 // finish(report): one deformation's stage times (FeatureReport::times, and the GPU detector's
 //   upload, readback and dispatch). summary(): "collision: gpu (why); N frames: detect ... ms
@@ -25,7 +25,7 @@
 #include "gpu/collision.h"
 #include "gpu/collision_backend.h"
 #include "gpu/egl_context.h"
-#include "gpu/sheet/method_choice.h"
+#include "gpu/sheet/deform_with.h"
 
 namespace sweepd::cli {
 

@@ -29,7 +29,7 @@
 #include "deform/features/whole_body_detector.h"
 #include "deform/job/deform_job.h"
 #include "deform/model/forward_kinematics.h"
-#include "gpu/sheet/method_choice.h"
+#include "gpu/sheet/deform_with.h"
 #include "io/bvh_load.h"
 #include "io/rig_map_json.h"
 #include "metrics/crease_metrics.h"
@@ -46,7 +46,7 @@ const char* const kServerNote =
     "positions from the server; part regions and section planes from binding the served mesh "
     "here; sweep integral unavailable remotely";
 
-using Method = sheet::MethodChoice;
+using Method = deform::MethodChoice;
 
 struct MetricsCommandOptions {
   PosingArguments posing;
@@ -409,9 +409,8 @@ Command add_metrics_command(CLI::App& sweepctl, const ServerAddress& server) {
   auto options = std::make_shared<MetricsCommandOptions>();
   add_posing_flags(*command, options->posing, ClipFrames::kOneOrRange);
   add_collision_flag(*command, options->posing);
-  console::add_choice_list(
-      *command, "--method", sheet::methods_by_name(),
-      [options](const Method& method) { options->methods.push_back(method); },
+  add_method_list_flag(
+      *command, "--method", [options](const Method& method) { options->methods.push_back(method); },
       "comma-separated methods (default: sweep,sweep+volume,lbs,dqs); sweep+volume is the "
       "sweep method with volume preservation (arms, legs, torso), sweep+features with folding "
       "and protrusion, sweep+contact with those and whole-body contact (pairs from "
@@ -433,7 +432,7 @@ Command add_metrics_command(CLI::App& sweepctl, const ServerAddress& server) {
     if (options->methods.empty())
       for (const std::string& name :
            console::split_list(server.address.empty() ? kLocalMethods : kServerMethods))
-        options->methods.push_back(sheet::methods_by_name().at(name));
+        options->methods.push_back(deform::methods_by_name().at(name));
   });
   return {
       command,

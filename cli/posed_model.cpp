@@ -22,7 +22,7 @@ motion::JointNameMap load_joint_name_map(const std::filesystem::path& file) {
 }
 
 void require_clip_frames(const PosingArguments& arguments, int frame_count) {
-  if (const std::string problem = motion::frame_range_problem(arguments.frames, frame_count);
+  if (const std::string problem = console::frame_range_problem(arguments.frames, frame_count);
       !problem.empty())
     throw std::invalid_argument(arguments.clip_file().string() + ": " + problem);
 }

@@ -2,6 +2,7 @@
 
 #include <map>
 #include <string>
+#include <vector>
 
 #include "console/command_line.h"
 
@@ -82,11 +83,11 @@ void add_posing_flags(CLI::App& command, PosingArguments& out, ClipFrames frames
   if (frames == ClipFrames::kOneOrRange) {
     const CLI::Validator range(
         [](std::string& text) -> std::string {
-          if (motion::parse_frame_range(text)) return "";
+          if (console::parse_frame_range(text)) return "";
           const std::size_t dash = text.find('-');
           if (dash != std::string::npos) {
-            const std::optional<int> a = motion::parse_frame_number(text.substr(0, dash));
-            const std::optional<int> b = motion::parse_frame_number(text.substr(dash + 1));
+            const std::optional<int> a = console::parse_frame_number(text.substr(0, dash));
+            const std::optional<int> b = console::parse_frame_number(text.substr(dash + 1));
             if (a && b && *a > *b)
               return "'" + text + "' is an empty range: its first frame comes after its last";
           }
@@ -97,7 +98,7 @@ void add_posing_flags(CLI::App& command, PosingArguments& out, ClipFrames frames
         ->type_name("A-B")
         ->check(range)
         ->each([&out](const std::string& text) {
-          out.frames = *motion::parse_frame_range(text);
+          out.frames = *console::parse_frame_range(text);
           out.frame_range = true;
           out.frame_given = true;
         })
@@ -123,14 +124,45 @@ void add_orientation_flag(CLI::App& command, deform::OrientationCurveKind& out) 
       ->type_name("CURVE");
 }
 
+namespace {
+
+// "" when every method of the comma-separated list is known, else the parser's message
+// (an empty list names the empty method).
+std::string method_list_problem(const std::string& list) {
+  std::vector<std::string> given = console::split_list(list);
+  if (given.empty()) given.push_back("");
+  for (const std::string& name : given)
+    if (std::string problem = deform::method_name_problem(name); !problem.empty()) return problem;
+  return "";
+}
+
+}  // namespace
+
+CLI::Option* add_method_list_flag(CLI::App& command, const std::string& flag,
+                                  const std::function<void(const deform::MethodChoice&)>& take,
+                                  const std::string& help) {
+  return command
+      .add_option_function<std::string>(
+          flag,
+          [take](const std::string& list) {
+            for (const std::string& name : console::split_list(list))
+              take(deform::parse_method_choice(name));
+          },
+          help)
+      ->check(CLI::Validator(method_list_problem, ""));
+}
+
 void add_method_flags(CLI::App& command, PosingArguments& out) {
-  console::add_choice(
-      command, "--method", out.method,
-      std::map<std::string, deform::DeformMethod>{{"sweep", deform::DeformMethod::kSweep},
-                                                  {"lbs", deform::DeformMethod::kLbs},
-                                                  {"dqs", deform::DeformMethod::kDqs}},
-      "sweep (default), lbs or dqs")
-      ->type_name("M");
+  command.add_option("--method", "sweep (default), lbs or dqs")
+      ->type_name("M")
+      ->check(CLI::Validator(
+          [](std::string& name) {
+            return deform::method_name_problem(name, deform::MethodNames::kPlainMethods);
+          },
+          ""))
+      ->each([&out](const std::string& name) {
+        out.method = deform::parse_method_choice(name, deform::MethodNames::kPlainMethods).method;
+      });
   using Feature = bool deform::AnatomicalFeatures::*;
   console::add_choice_list(
       command, "--features",

@@ -16,6 +16,8 @@
 //                       --pose, --time excludes --frame and --frames
 //   add_method_flags    --method sweep|lbs|dqs, --features LIST and add_collision_flag's
 //                       (pose, render, positionmap; metrics has its own --method list)
+//   add_method_list_flag  FLAG LIST: comma-separated method names (deform/job/method_choice.h),
+//                       `take` gets each one's choice in the order given (metrics, check, sheet)
 //   add_collision_flag  --collision auto|gpu|cpu: where folding finds its pairs
 //                       (cli/local_collision.h) (through add_method_flags, and metrics)
 //   add_orientation_flag  --orientation linear|smooth: the orientation curve Q(t) of a binding
@@ -33,15 +35,17 @@
 
 #include <CLI/CLI.hpp>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 
+#include "console/frame_range.h"
 #include "deform/job/anatomical_features.h"
 #include "deform/job/deform_method.h"
+#include "deform/job/method_choice.h"
 #include "deform/sweep/orientation_curve.h"
 #include "gpu/collision_backend.h"
 #include "motion/clip_up_axis.h"
-#include "motion/frame_range.h"
 #include "motion/retarget.h"
 
 namespace sweepd::cli {
@@ -58,7 +62,7 @@ struct PosingArguments {
   std::optional<double> time;       // --time: seconds into the clip
   float fps = 0.0f;                 // --fps: the rate --frame/--frames count at; 0: the clip's
   std::filesystem::path pose_file;  // optional pose JSON
-  motion::FrameRange frames;        // --frame N or --frames A-B (clip frames)
+  console::FrameRange frames;       // --frame N or --frames A-B (clip frames)
   bool frame_range = false;         // --frames given: a folder of frames
   // --bvh-up: the clip's up axis (--bvh's); nothing: detected from its skeleton.
   std::optional<motion::UpAxis> bvh_up;
@@ -86,6 +90,9 @@ enum class ClipFrames { kOne, kOneOrRange };  // whether the command takes --fra
 CLI::Option* add_model_and_clip_flags(CLI::App& command, PosingArguments& out);
 void add_posing_flags(CLI::App& command, PosingArguments& out, ClipFrames frames);
 void add_method_flags(CLI::App& command, PosingArguments& out);
+CLI::Option* add_method_list_flag(CLI::App& command, const std::string& flag,
+                                  const std::function<void(const deform::MethodChoice&)>& take,
+                                  const std::string& help);
 void add_orientation_flag(CLI::App& command, deform::OrientationCurveKind& out);
 void add_collision_flag(CLI::App& command, PosingArguments& out);
 void check_method_flags(const PosingArguments& arguments, bool on_server = false);

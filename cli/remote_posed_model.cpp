@@ -5,9 +5,9 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "cli/served_model.h"
 #include "client/bind_warnings.h"
 #include "client/clip_upload.h"
-#include "client/mesh_request.h"
 #include "client/reconnect.h"
 #include "io/file_bytes.h"
 #include "io/pose_json.h"
@@ -132,7 +132,7 @@ RemotePosedModel::RemotePosedModel(const PosingArguments& arguments, const Serve
     // (1.14) The server's self-check of the binding: regions where the sweep is still worse
     // than skinning, as `sweepctl bind` prints them.
     client::print_bind_warnings(stderr, info);
-    model_ = client::served_model(*connection_, info);          // `info` is invalid from here on
+    model_ = served_model(*connection_, info);                  // `info` is invalid from here on
     if (local_model_file_) model_.name = file.stem().string();  // as the local commands name it
     if (arguments.has_clip() && clip_posing == ClipPosing::kHere) {
       player_ = clip_player(arguments, model_);
@@ -319,7 +319,7 @@ sheet::SheetPicture RemotePosedModel::contact_sheet(const sheet::SheetOptions& o
     builder.Clear();
     std::vector<std::uint32_t> frames(options.frames.begin(), options.frames.end());
     std::vector<std::string> methods;
-    for (const sheet::MethodChoice& m : options.methods) methods.push_back(m.name);
+    for (const deform::MethodChoice& m : options.methods) methods.push_back(m.name);
     const auto request = pb::CreateContactSheetRequest(
         builder, model_id_, builder.CreateString(clip_id_), builder.CreateVector(frames),
         builder.CreateVectorOfStrings(methods), static_cast<std::uint16_t>(options.cell_width),

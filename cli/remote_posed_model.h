@@ -73,10 +73,9 @@ class RemotePosedModel {
   const PosingArguments& arguments() const { return arguments_; }
   // How the model was found, for the command's report: "uploaded", "already loaded", "server".
   const std::string& origin() const { return origin_; }
-  // The name the server holds the model under (ModelInfo.name: an upload's file base name, or
-  // the name of the model it already held with the same bytes), and the command's report of
-  // it: "model 'NAME' (id N) on sweepd at HOST:PORT (ORIGIN)".
-  const std::string& server_name() const { return server_name_; }
+  // The command's report of the name the server holds the model under (ModelInfo.name: an
+  // upload's file base name, or the name of the model it already held with the same bytes):
+  // "model 'NAME' (id N) on sweepd at HOST:PORT (ORIGIN)".
   std::string served_as() const;
   // The clip's own frame rate (its file's, as the server read it); 0 without a clip.
   float clip_frames_per_second() const { return clip_frames_per_second_; }

@@ -17,9 +17,9 @@
 #include "cli/remote_posed_model.h"
 #include "cli/video_encoder.h"
 #include "console/command_line.h"
+#include "console/frame_range.h"
 #include "gpu/sheet/contact_sheet.h"
 #include "io/file_bytes.h"
-#include "motion/frame_range.h"
 
 namespace sweepd::cli {
 
@@ -38,9 +38,9 @@ std::string parse_frame_list(const std::string& text, std::vector<int>& frames) 
   frames.clear();
   std::istringstream items(text);
   for (std::string item; std::getline(items, item, ',');) {
-    if (const std::optional<int> frame = motion::parse_frame_number(item)) {
+    if (const std::optional<int> frame = console::parse_frame_number(item)) {
       frames.push_back(*frame);
-    } else if (const std::optional<motion::FrameRange> range = motion::parse_frame_range(item)) {
+    } else if (const std::optional<console::FrameRange> range = console::parse_frame_range(item)) {
       for (int f = range->first; f <= range->last; ++f) frames.push_back(f);
     } else {
       return "expected frames N or ranges A-B separated by commas, got '" + item + "'";
@@ -75,7 +75,7 @@ void print_picture(const SheetCommandOptions& options, const sheet::SheetPicture
               picture.width, picture.height, rows, columns, picture.renderer.c_str(),
               where.c_str());
   std::printf("worst edge stretch %%:\n%8s", "frame");
-  for (const sheet::MethodChoice& m : grid.methods) std::printf(" %14s", m.name.c_str());
+  for (const deform::MethodChoice& m : grid.methods) std::printf(" %14s", m.name.c_str());
   for (int row = 0; row < rows; ++row) {
     std::printf("\n%8d", grid.frames[row]);
     for (std::size_t m = 0; m < columns; ++m)
@@ -133,9 +133,9 @@ Command add_sheet_command(CLI::App& sweepctl, const ServerAddress& server) {
       ->check(frame_list)
       ->each([options](const std::string& text) { parse_frame_list(text, options->sheet.frames); })
       ->required();
-  console::add_choice_list(
-      *command, "--methods", sheet::methods_by_name(),
-      [options](const sheet::MethodChoice& method) { options->sheet.methods.push_back(method); },
+  add_method_list_flag(
+      *command, "--methods",
+      [options](const deform::MethodChoice& method) { options->sheet.methods.push_back(method); },
       "comma-separated methods, a column each (default: sweep,lbs,dqs)")
       ->type_name("LIST");
   CLI::Option* png =
@@ -206,7 +206,7 @@ Command add_sheet_command(CLI::App& sweepctl, const ServerAddress& server) {
                                  "); give fewer, or only --video");
     if (options->sheet.methods.empty())
       for (const char* name : {"sweep", "lbs", "dqs"})
-        options->sheet.methods.push_back(sheet::methods_by_name().at(name));
+        options->sheet.methods.push_back(deform::methods_by_name().at(name));
   });
   return {command, [options, &server] { return run_sheet(*options, server); }, true};
 }

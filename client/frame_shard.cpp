@@ -7,8 +7,8 @@ namespace sweepd::client {
 std::optional<FrameShard> parse_frame_shard(std::string_view text) {
   const std::size_t slash = text.find('/');
   if (slash == std::string_view::npos) return std::nullopt;
-  const std::optional<int> index = motion::parse_frame_number(text.substr(0, slash));
-  const std::optional<int> count = motion::parse_frame_number(text.substr(slash + 1));
+  const std::optional<int> index = console::parse_frame_number(text.substr(0, slash));
+  const std::optional<int> count = console::parse_frame_number(text.substr(slash + 1));
   if (!index || !count || *count < 1 || *index >= *count) return std::nullopt;
   return FrameShard{*index, *count};
 }
@@ -32,14 +32,14 @@ std::optional<FrameShard> frame_shard_from_environment(
   return shard;
 }
 
-std::optional<motion::FrameRange> shard_frames(const motion::FrameRange& range,
-                                               const FrameShard& shard) {
+std::optional<console::FrameRange> shard_frames(const console::FrameRange& range,
+                                                const FrameShard& shard) {
   // Shard i owns [first + floor(i * n / N), first + floor((i + 1) * n / N)).
   const long long n = range.count();
   const int begin = range.first + static_cast<int>(shard.index * n / shard.count);
   const int end = range.first + static_cast<int>((shard.index + 1LL) * n / shard.count);
   if (begin == end) return std::nullopt;
-  return motion::FrameRange{begin, end - 1};
+  return console::FrameRange{begin, end - 1};
 }
 
 }  // namespace sweepd::client

@@ -18,7 +18,7 @@
 #include <string>
 #include <string_view>
 
-#include "motion/frame_range.h"
+#include "console/frame_range.h"
 
 namespace sweepd::client {
 
@@ -32,7 +32,7 @@ std::optional<FrameShard> parse_frame_shard(std::string_view text);
 std::optional<FrameShard> frame_shard_from_environment(
     const std::function<std::optional<std::string>(const char*)>& get);
 
-std::optional<motion::FrameRange> shard_frames(const motion::FrameRange& range,
-                                               const FrameShard& shard);
+std::optional<console::FrameRange> shard_frames(const console::FrameRange& range,
+                                                const FrameShard& shard);
 
 }  // namespace sweepd::client

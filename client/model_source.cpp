@@ -48,13 +48,6 @@ const pb::ModelInfo& ModelSource::load(Connection& connection) {
   return info;
 }
 
-const pb::ModelInfo& ModelSource::load_named(Connection& connection) {
-  const pb::ModelInfo& info = request(connection, "", /*with_bytes=*/false);
-  std::lock_guard lock(mutex_);
-  remember(info);
-  return info;
-}
-
 void ModelSource::remember(const pb::ModelInfo& info) {
   if (content_id_.empty() && info.content_id()) content_id_ = info.content_id()->str();
 }

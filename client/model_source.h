@@ -4,13 +4,11 @@
 //
 // The first load() is the client's request as given: an upload (name + .glb bytes, and a rig
 // map and orientation curve if any) or a name the server knows (its default model, a model
-// directory file); load_named() instead asks for an upload's name alone, for a caller that
-// knows the server holds a model of that name (sweepctl lists the models first). The
-// ModelInfo answering it carries the model's content id (protocol 1.3). Every later load(), on
-// any connection, asks for that content id first (LoadModel{content_id}, no bytes: the server
-// holds the model, or adopts it from a store it shares with the replica that bound it); only a
-// server that answers UnknownModel gets the request as given again — the upload, once, on that
-// connection. A server older than 1.3 ignores content_id and answers the name as before.
+// directory file). The ModelInfo answering it carries the model's content id (protocol 1.3). Every
+// later load(), on any connection, asks for that content id first (LoadModel{content_id}, no bytes:
+// the server holds the model, or adopts it from a store it shares with the replica that bound it);
+// only a server that answers UnknownModel gets the request as given again — the upload, once, on
+// that connection. A server older than 1.3 ignores content_id and answers the name as before.
 //
 //   ModelSource source("body.glb", bytes);             // or ModelSource("mannequin", {})
 //   const protocol::ModelInfo& info = source.load(connection);   // on each new connection
@@ -49,9 +47,6 @@ class ModelSource {
               std::uint8_t orientation = 0);
 
   const protocol::ModelInfo& load(Connection& connection);
-  // LoadModel{name} without the bytes (the rig map and orientation as given); its content id is
-  // remembered as load()'s is, so that a later load() of a server lacking it gets the bytes.
-  const protocol::ModelInfo& load_named(Connection& connection);
   int uploads() const;
   const std::string& name() const { return name_; }
 

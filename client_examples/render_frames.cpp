@@ -23,10 +23,9 @@
 //    model (--model NAME, default "mannequin", or upload --model-file under --model NAME, else
 //    under the file's base name: "body" for dir/body.glb; the name the server holds is said
 //    on stderr once), upload the clip once
-//    with UploadClip (client/clip_file_flags.h: a BVH's text, or a glTF file's bytes and the
-//    animation's name, protocol 1.7) so that the server retargets it (each frame
-//    is asked for by clip id and frame number, not as a pose), then take frames from one
-//    shared queue
+//    with UploadClip (client_examples/clip_file_flags.h: a BVH's text, or a glTF file's bytes and
+//    the animation's name, protocol 1.7) so that the server retargets it (each frame is asked for
+//    by clip id and frame number, not as a pose), then take frames from one shared queue
 //    (client/frame_queue.h), up to the server's Welcome.max_poses_in_flight in flight. The
 //    model goes by its content id after the first server's answer (client/model_source.h):
 //    a replica sharing the store finds it there; one that answers UnknownModel (or
@@ -74,16 +73,17 @@
 
 #include "client/bind_warnings.h"
 #include "client/client_tls_flags.h"
-#include "client/clip_file_flags.h"
 #include "client/connection.h"
 #include "client/frame_queue.h"
 #include "client/frame_shard.h"
 #include "client/model_source.h"
 #include "client/token_flags.h"
+#include "client_examples/clip_file_flags.h"
 #include "console/command_line.h"
+#include "console/frame_range.h"
 #include "console/progress_bar.h"
+#include "deform/job/method_choice.h"
 #include "io/file_bytes.h"
-#include "motion/frame_range.h"
 #include "protocol/messages.h"
 
 namespace {
@@ -91,6 +91,20 @@ namespace {
 namespace fs = std::filesystem;
 namespace pb = sweepd::protocol;
 using Clock = std::chrono::steady_clock;
+
+constexpr sweepd::deform::MethodNames kPoseMethods = sweepd::deform::MethodNames::kPlainMethods;
+
+pb::DeformMethod wire_method(sweepd::deform::DeformMethod method) {
+  switch (method) {
+    case sweepd::deform::DeformMethod::kLbs:
+      return pb::DeformMethod::Lbs;
+    case sweepd::deform::DeformMethod::kDqs:
+      return pb::DeformMethod::Dqs;
+    case sweepd::deform::DeformMethod::kSweep:
+      break;
+  }
+  return pb::DeformMethod::Sweep;
+}
 
 // Problems with the command line (exit code 2); anything else thrown is exit code 1.
 struct UsageError : std::invalid_argument {
@@ -100,7 +114,7 @@ struct UsageError : std::invalid_argument {
 struct Options {
   std::string server, token, model, model_file, frames, shard;
   fs::path out_dir;
-  sweepd::client::ClipFile clip;
+  sweepd::client_examples::ClipFile clip;
   std::uint32_t width = 1024, height = 1024;
   pb::ExrCompression compression = pb::ExrCompression::Zip;
   pb::DeformMethod method = pb::DeformMethod::Sweep;
@@ -121,7 +135,7 @@ void describe(CLI::App& app, Options& o) {
                  "a model the server has, by name (default: mannequin); with --model-file, the "
                  "name to upload it under (default: the file's base name)");
   app.add_option("--model-file", o.model_file, "a .glb to upload");
-  sweepd::client::add_clip_file_flags(app, o.clip);
+  sweepd::client_examples::add_clip_file_flags(app, o.clip);
   app.add_option("--frames", o.frames, "A-B: the clip frames, inclusive, 0-based")->required();
   app.add_option("--shard", o.shard,
                  "I/N: render only the I-th (0-based) of N slices of the range (default: "
@@ -142,10 +156,14 @@ void describe(CLI::App& app, Options& o) {
                               "zip (default), none, zips or piz");
   app.add_flag("--normals", o.normals, "also the N layer");
   app.add_flag("--half-normals", o.half_normals, "the N layer as float16 (implies --normals)");
-  const std::map<std::string, pb::DeformMethod> methods = {{"sweep", pb::DeformMethod::Sweep},
-                                                           {"lbs", pb::DeformMethod::Lbs},
-                                                           {"dqs", pb::DeformMethod::Dqs}};
-  sweepd::console::add_choice(app, "--method", o.method, methods, "sweep (default), lbs or dqs");
+  // The names as sweepctl and the daemon take them (the one parser), sent as the wire's enum.
+  app.add_option("--method", "sweep (default), lbs or dqs")
+      ->check(CLI::Validator(
+          [](std::string& name) { return sweepd::deform::method_name_problem(name, kPoseMethods); },
+          ""))
+      ->each([&o](const std::string& name) {
+        o.method = wire_method(sweepd::deform::parse_method_choice(name, kPoseMethods).method);
+      });
   app.add_option_function<int>(
          "--timeout", [&o](int seconds) { o.timeout_ms = seconds * 1000; },
          "SECONDS a server may take to answer before its frames go elsewhere (default 60)")
@@ -156,17 +174,17 @@ void describe(CLI::App& app, Options& o) {
 }
 
 // "A-B" (or "A"); a usage error for anything else.
-sweepd::motion::FrameRange parse_range(const std::string& text) {
-  const std::optional<sweepd::motion::FrameRange> range = sweepd::motion::parse_frame_range(text);
+sweepd::console::FrameRange parse_range(const std::string& text) {
+  const std::optional<sweepd::console::FrameRange> range = sweepd::console::parse_frame_range(text);
   if (!range) throw UsageError("--frames " + text + ": expected A-B, e.g. 0-239");
   return *range;
 }
 
 // The range within a clip of `frame_count` frames (unknown: the server checks each frame).
-sweepd::motion::FrameRange clip_range(const std::string& text, std::optional<int> frame_count) {
-  const sweepd::motion::FrameRange range = parse_range(text);
+sweepd::console::FrameRange clip_range(const std::string& text, std::optional<int> frame_count) {
+  const sweepd::console::FrameRange range = parse_range(text);
   if (!frame_count) return range;
-  if (const std::string problem = sweepd::motion::frame_range_problem(range, *frame_count);
+  if (const std::string problem = sweepd::console::frame_range_problem(range, *frame_count);
       !problem.empty())
     throw UsageError("--frames " + text + ": " + problem);
   return range;
@@ -312,7 +330,7 @@ class ServerSession {
       const std::string model_name = info.name()->str();  // `info` is invalid after a receive
       const std::vector<std::string> bind_warnings = sweepd::client::bind_warning_lines(info);
       const pb::ClipInfo& clip =
-          sweepd::client::upload_clip_file(channel_, job.options.clip, model_id_);
+          sweepd::client_examples::upload_clip_file(channel_, job.options.clip, model_id_);
       clip_id_ = clip.clip_id()->str();
       // Once per job: the model's name on the server, (protocol 1.14) where the server's
       // self-check found its sweep worse than skinning, the reader's warnings and (protocol
@@ -459,8 +477,8 @@ int serve(const std::string& address, const Job& job) {
 }
 
 // This process's frames: the range, or its shard's slice of it.
-std::optional<sweepd::motion::FrameRange> own_frames(const Options& options,
-                                                     const sweepd::motion::FrameRange& range) {
+std::optional<sweepd::console::FrameRange> own_frames(const Options& options,
+                                                      const sweepd::console::FrameRange& range) {
   std::optional<sweepd::client::FrameShard> shard;
   if (!options.shard.empty()) {
     shard = sweepd::client::parse_frame_shard(options.shard);
@@ -478,7 +496,7 @@ std::optional<sweepd::motion::FrameRange> own_frames(const Options& options,
     }
   }
   if (!shard) return range;
-  const std::optional<sweepd::motion::FrameRange> mine =
+  const std::optional<sweepd::console::FrameRange> mine =
       sweepd::client::shard_frames(range, *shard);
   std::printf("shard %d/%d: ", shard->index, shard->count);
   if (mine) {
@@ -494,10 +512,10 @@ int run(Options& options) {
   // range is checked, and complete frames skipped, before any server is asked. The range of
   // motion's frames depend on the model's rig: each frame past its end fails naming them.
   options.clip.read();
-  const sweepd::motion::FrameRange range = clip_range(options.frames, options.clip.frame_count());
+  const sweepd::console::FrameRange range = clip_range(options.frames, options.clip.frame_count());
   const std::vector<std::string> servers = sweepd::console::split_list(options.server);
   if (servers.empty()) throw UsageError("--server: expected HOST:PORT[,HOST:PORT...]");
-  const std::optional<sweepd::motion::FrameRange> mine = own_frames(options, range);
+  const std::optional<sweepd::console::FrameRange> mine = own_frames(options, range);
   fs::create_directories(options.out_dir);
 
   // Resume: only frames without a complete file are rendered.

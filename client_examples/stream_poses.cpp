@@ -15,7 +15,7 @@
 //    bytes) under --model NAME, else under the file's base name ("body" for dir/body.glb, the
 //    name every client and every restart finds it by); otherwise the server's model --model
 //    (default: its "mannequin"; LoadModel by name). Prints the name the server holds it under.
-// 3. Upload the clip once (UploadClip, client/clip_file_flags.h): a BVH's text, or a glTF
+// 3. Upload the clip once (UploadClip, client_examples/clip_file_flags.h): a BVH's text, or a glTF
 //    file's bytes and the animation's name (protocol 1.7); the server reads it and retargets
 //    it onto the model, so this client needs no skeleton and no retargeter. Its warnings go to
 //    stderr: the reader's, and (1.12, the upload names the model) the clip joints that drive
@@ -52,11 +52,11 @@
 
 #include "client/bind_warnings.h"
 #include "client/client_tls_flags.h"
-#include "client/clip_file_flags.h"
 #include "client/connection.h"
 #include "client/model_source.h"
 #include "client/reconnect.h"
 #include "client/token_flags.h"
+#include "client_examples/clip_file_flags.h"
 #include "console/command_line.h"
 #include "io/file_bytes.h"
 #include "protocol/messages.h"
@@ -69,7 +69,7 @@ using Clock = std::chrono::steady_clock;
 struct Options {
   std::string host = "127.0.0.1", token, model, model_file;
   int port = 7878;
-  sweepd::client::ClipFile clip;
+  sweepd::client_examples::ClipFile clip;
   int frames = 0;  // 0: the whole clip
   bool flat_out = false, latest_wins = false, float16 = false;
   std::string unix_socket;     // empty: TCP to host:port
@@ -80,7 +80,7 @@ struct Options {
 // The command line (console/command_line.h: --help exits 0, a bad flag or value exits 2).
 void describe(CLI::App& app, Options& o) {
   app.description("Streams a clip to sweepd as poses and reports the round-trip latency.");
-  sweepd::client::add_clip_file_flags(app, o.clip);
+  sweepd::client_examples::add_clip_file_flags(app, o.clip);
   app.add_option("--host", o.host, "sweepd's host")->capture_default_str();
   app.add_option("--port", o.port, "sweepd's port")
       ->check(sweepd::console::whole_number(1, 65535))
@@ -323,7 +323,7 @@ int run(Options& options) {
     if (options.shared_memory) channel.map_shared_memory(session.window * session.slot_bytes);
     // `info` is invalid from the next receive on.
     const pb::ClipInfo& clip =
-        sweepd::client::upload_clip_file(channel, options.clip, session.model_id);
+        sweepd::client_examples::upload_clip_file(channel, options.clip, session.model_id);
     session.clip_id = clip.clip_id()->str();
     session.frame_time = 1.0 / clip.frames_per_second();
     session.clip_frames = static_cast<int>(clip.frame_count());

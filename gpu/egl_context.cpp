@@ -278,8 +278,4 @@ void Context::make_current() {
   }
 }
 
-void Context::release_current() {
-  eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
-}
-
 }  // namespace sweepd::gpu

@@ -53,9 +53,8 @@ class Context {
   const std::string& platform() const { return platform_; }
   bool software() const { return software_; }
 
-  // Makes the context current on (or releases it from) the calling thread.
+  // Makes the context current on the calling thread.
   void make_current();
-  void release_current();
 
  private:
   void destroy();

@@ -188,8 +188,6 @@ std::vector<int> poses_at_stake(const BindingVerdict& verdict, deform::BodyPart 
 
 int BindingVerdict::worse_pairs() const { return score(*this, every_pose(*this)).pairs; }
 
-double BindingVerdict::worse_excess() const { return score(*this, every_pose(*this)).excess; }
-
 BindingVerdict adapt_binding(deform::BoundModel& bound, const BindingChecker& checker,
                              BindingVerdict verdict) {
   std::optional<deform::SweepRebinder> rebinder;

@@ -67,8 +67,7 @@ struct BindingVerdict {
   // kStretchedEdge): how much of the region stretches.
   std::vector<std::vector<int>> stretched_at;
   int worse_regions() const;
-  int worse_pairs() const;      // (pose, region) pairs worse than skinning: the measure
-  double worse_excess() const;  // the excesses of those pairs, summed: its tie-break
+  int worse_pairs() const;  // (pose, region) pairs worse than skinning: the measure
 };
 
 // The poses' LBS and DQS figures, measured once; verdict() deforms a binding of the same model

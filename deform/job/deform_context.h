@@ -37,8 +37,6 @@ class DeformContext {
 
   // Binds the scratch to `runtime` (DeformJob::run calls it). A new runtime ends the stream.
   void prepare(const ModelRuntime& runtime);
-  // The next kPreviousFrame run starts a new stream (its I_C from a fixed-point loop).
-  void end_stream() { stream_ = false; }
 
   std::span<const glm::mat4> world_pose() const { return world_pose_; }
   std::span<const glm::mat4> skinning() const { return skinning_; }

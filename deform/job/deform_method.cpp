@@ -14,10 +14,4 @@ const char* to_string(DeformMethod method) {
   return "?";
 }
 
-std::optional<DeformMethod> parse_deform_method(std::string_view name) {
-  for (DeformMethod m : {DeformMethod::kSweep, DeformMethod::kLbs, DeformMethod::kDqs})
-    if (name == to_string(m)) return m;
-  return std::nullopt;
-}
-
 }  // namespace sweepd::deform

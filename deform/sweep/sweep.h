@@ -58,7 +58,6 @@ class Sweep {
   std::span<const double> parameters() const { return parameters_; }  // t_i, n+1 values
 
   glm::vec3 centre(float t) const { return glm::vec3(centre_.position(t)); }               // C(t)
-  glm::vec3 centre_derivative(float t) const { return glm::vec3(centre_.derivative(t)); }  // C'
   glm::quat orientation(float t) const { return glm::quat(orientation_.unit(t)); }         // unit
   glm::mat3 rotation(float t) const { return glm::mat3(orientation_.rotation(t)); }        // R(t)
   glm::vec3 normal(float t) const { return rotation(t)[2]; }                               // N(t)

@@ -111,7 +111,7 @@ ContactSheet::ContactSheet(SheetModel model, const SheetOptions& options, PairSo
   const std::vector<glm::mat4> rest = skeleton.world_rest_matrices();
   const int pelvis = model_.bound.rig.torso.pelvis();
   const int joint = options.focus.empty() ? -1 : focus_joint(model_.bound.rig, options.focus);
-  const MethodChoice& lbs = methods_by_name().at("lbs");
+  const deform::MethodChoice& lbs = deform::methods_by_name().at("lbs");
   std::vector<glm::vec3> centres, towards_eye;
   const float focus_radius = kFocusRadiusPerHeight * rest_height(model_.bound.model.positions);
   glm::vec3 half_extents(focus_radius);
@@ -149,7 +149,7 @@ void ContactSheet::render_row(std::size_t frame_index, std::span<std::uint8_t> r
 
 void ContactSheet::render_cell(std::size_t frame_index, std::size_t method,
                                std::span<std::uint8_t> rgba, int row) {
-  const MethodChoice& m = options_.methods[method];
+  const deform::MethodChoice& m = options_.methods[method];
   const int frame = options_.frames[frame_index];
   deform_with(m, model_.runtime, deform_context_, pairs_, model_.pose(frame), positions_);
   // Every method is shaded by its posed surface's own normals, as the sweep's are made: LBS's

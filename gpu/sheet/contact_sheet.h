@@ -39,7 +39,7 @@
 #include "deform/binding/bound_model.h"
 #include "gpu/camera.h"
 #include "gpu/preview_renderer.h"
-#include "gpu/sheet/method_choice.h"
+#include "gpu/sheet/deform_with.h"
 #include "gpu/sheet/stretch_heat.h"
 #include "metrics/quality_metrics.h"
 
@@ -52,7 +52,7 @@ const std::vector<std::string>& focus_names();
 int focus_joint(const deform::RigMap& rig, const std::string& name);
 
 struct SheetOptions {
-  std::vector<MethodChoice> methods;
+  std::vector<deform::MethodChoice> methods;
   std::vector<int> frames;
   int cell_width = 240, cell_height = 320;
   std::string focus;          // empty: the whole body

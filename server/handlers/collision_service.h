@@ -40,7 +40,7 @@
 #include "deform/features/self_intersection.h"
 #include "gpu/collision.h"
 #include "gpu/collision_backend.h"
-#include "gpu/sheet/method_choice.h"
+#include "gpu/sheet/deform_with.h"
 #include "server/handlers/gpu_thread.h"
 
 namespace sweepd::server {

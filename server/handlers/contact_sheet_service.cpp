@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "deform/job/method_choice.h"
 #include "gpu/gpu_worker.h"
 #include "gpu/preview_renderer.h"
 #include "motion/clip_sampling.h"
@@ -63,15 +64,11 @@ std::variant<SheetWork, RequestError> read_contact_sheet_request(
     return invalid(std::to_string(columns) + " methods: a sheet has 1 to " +
                    std::to_string(kMostSheetColumns) + " columns");
   for (const flatbuffers::String* name : *request.methods()) {
-    const auto& known = sheet::methods_by_name();
-    const auto method = known.find(name->str());
-    if (method == known.end()) {
-      std::vector<std::string> names;
-      for (const auto& [known_name, m] : known) names.push_back(known_name);
-      return invalid("unknown method '" + name->str() + "' (methods: " + comma_separated(names) +
-                     ")");
+    try {
+      options.methods.push_back(deform::parse_method_choice(name->str()));
+    } catch (const std::invalid_argument& unknown) {
+      return invalid(unknown.what());
     }
-    options.methods.push_back(method->second);
   }
 
   options.cell_width = request.cell_width();

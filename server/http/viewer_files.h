@@ -30,7 +30,6 @@ class ViewerFiles {
   explicit ViewerFiles(const std::filesystem::path& directory);
 
   const ViewerFile* find(std::string_view name) const;
-  std::size_t file_count() const { return files_.size(); }
 
  private:
   std::map<std::string, ViewerFile, std::less<>> files_;

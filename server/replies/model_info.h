@@ -2,8 +2,9 @@
 // model order (what Pose.rotations follow), vertex/triangle counts, UVs, a summary of the
 // binding (rig convention, sweeps, key ellipses, swept and skinned vertex counts), and the rest
 // skeleton with the mesh's floor, so a client holds the served model whole
-// (client/model_skeleton.h), and (1.14) the binding's self-check: each region where the sweep
-// is still worse than skinning (RegisteredModel::self_check). Finishes `builder` as one frame carrying `request_id`.
+// (cli/served_rest_skeleton.h), and (1.14) the binding's self-check: each region where the sweep
+// is still worse than skinning (RegisteredModel::self_check). Finishes `builder` as one frame
+// carrying `request_id`.
 #pragma once
 
 #include <cstdint>

@@ -197,10 +197,6 @@ void Server::run() {
   log_event("stopped");
 }
 
-void Server::request_shutdown() {
-  asio::post(io_, [this]() { begin_shutdown("request"); });
-}
-
 void Server::begin_shutdown(const char* reason) {
   if (shutting_down_) return;
   shutting_down_ = true;

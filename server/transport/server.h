@@ -8,7 +8,7 @@
 //   listener (config.unix_socket, a stale socket file is replaced; always plain). Throws
 //   std::runtime_error naming the address and the reason. Returns the bound TCP port (0 with
 //   no TCP listener); websocket_port() the bound WebSocket port (0: none).
-// run(): serves until SIGTERM/SIGINT or request_shutdown(), then stops accepting, lets every
+// run(): serves until SIGTERM/SIGINT, then stops accepting, lets every
 //   connection finish its in-flight work and say Bye, joins the workers and returns.
 // snapshot(timeout): thread-safe; a copy of the counters and gauges (ServerSnapshot) taken on
 //   the I/O thread, or nullopt when run() is not serving or the I/O thread did not answer
@@ -49,8 +49,6 @@ class Server {
   int open();
   int websocket_port() const { return websocket_port_; }
   void run();
-  // Thread-safe: asks run() to shut down as on SIGTERM.
-  void request_shutdown();
   std::optional<ServerSnapshot> snapshot(std::chrono::milliseconds timeout);
 
  private:

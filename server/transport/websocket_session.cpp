@@ -33,7 +33,6 @@ bool close_received(const Connection& connection) {
 // What both roles keep: bytes out, payloads in, and how the session ended.
 struct Traffic {
   std::vector<std::uint8_t> outgoing, payload;
-  std::uint64_t messages = 0;
   std::size_t pending_bytes = 0;  // received since the last whole message or control frame
   std::string failure;
   bool open = false, ended = false;
@@ -83,7 +82,6 @@ void wire(Connection& connection, Traffic& traffic) {
     }
     const std::string& bytes = message->get_payload();
     traffic.payload.insert(traffic.payload.end(), bytes.begin(), bytes.end());
-    ++traffic.messages;
   });
 }
 
@@ -188,7 +186,6 @@ void WebSocketSession::set_max_message_bytes(std::size_t bytes) {
 
 std::vector<std::uint8_t>& WebSocketSession::outgoing() { return endpoint_->traffic.outgoing; }
 std::vector<std::uint8_t>& WebSocketSession::payload() { return endpoint_->traffic.payload; }
-std::uint64_t WebSocketSession::messages_received() const { return endpoint_->traffic.messages; }
 
 WebSocketSession::State WebSocketSession::state() const {
   const Traffic& traffic = endpoint_->traffic;

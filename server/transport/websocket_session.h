@@ -20,7 +20,6 @@
 //   payload()                   binary messages' payloads received and not yet taken, joined
 //                               (sweepd's frames carry their own length prefix); the caller
 //                               erases what it takes
-//   messages_received()         binary messages received so far
 //   state()                     kHandshaking, kOpen, kEnded (closed, by either side, or failed)
 //   failure()                   why it ended, when this side ended it: a refused or broken
 //                               handshake ("HTTP 403: ..."), a text message, a message too big
@@ -60,7 +59,6 @@ class WebSocketSession {
 
   std::vector<std::uint8_t>& outgoing();
   std::vector<std::uint8_t>& payload();
-  std::uint64_t messages_received() const;
   State state() const;
   const std::string& failure() const;
   bool mid_message() const;

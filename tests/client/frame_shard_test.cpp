@@ -10,14 +10,15 @@ namespace sweepd::client {
 namespace {
 
 TEST(FrameShard, ShardsCoverTheRangeOnceInBalancedContiguousSlices) {
-  for (const motion::FrameRange range : {motion::FrameRange{0, 0}, motion::FrameRange{300, 305},
-                                         motion::FrameRange{7, 106}, motion::FrameRange{0, 2408}}) {
+  for (const console::FrameRange range :
+       {console::FrameRange{0, 0}, console::FrameRange{300, 305}, console::FrameRange{7, 106},
+        console::FrameRange{0, 2408}}) {
     for (int count = 1; count <= 12; ++count) {
       SCOPED_TRACE(std::to_string(range.first) + "-" + std::to_string(range.last) + " in " +
                    std::to_string(count));
       int next = range.first, smallest = range.count(), largest = 0, empty = 0;
       for (int index = 0; index < count; ++index) {
-        const std::optional<motion::FrameRange> slice = shard_frames(range, {index, count});
+        const std::optional<console::FrameRange> slice = shard_frames(range, {index, count});
         if (!slice) {
           ++empty;
           smallest = 0;

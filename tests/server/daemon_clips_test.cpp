@@ -10,9 +10,9 @@
 #include <fstream>
 #include <map>
 
+#include "cli/served_model.h"
 #include "client/clip_upload.h"
 #include "client/connection.h"
-#include "client/mesh_request.h"
 #include "client/model_source.h"
 #include "io/bvh_load.h"
 #include "io/file_bytes.h"
@@ -166,7 +166,7 @@ TEST_F(DaemonClips, ServerClipFrameEqualsSweepctlPoseBitForBit) {
   const pb::ModelInfo& male_info = male.load(*connection_);
   const std::uint32_t model = male_info.model_id();
   // The served model (ModelInfo + MeshRequest), named as sweepctl names a local file's model.
-  deform::Model frame_model = client::served_model(*connection_, male_info);
+  deform::Model frame_model = cli::served_model(*connection_, male_info);
   frame_model.name = kSharedMale.stem().string();
   const std::string text = clip_text();
   const pb::ClipInfo& info = client::upload_clip(*connection_, "cmu_01_01.bvh", text);

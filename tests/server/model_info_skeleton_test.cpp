@@ -4,7 +4,7 @@
 
 #include <filesystem>
 
-#include "client/model_skeleton.h"
+#include "cli/served_rest_skeleton.h"
 #include "deform/binding/bind.h"
 #include "deform/rig/rig_map.h"
 #include "io/bvh_load.h"
@@ -32,7 +32,7 @@ TEST(ModelInfoSkeleton, RebuildsTheMalesSkeletonAndRetargetsLikeTheLibrary) {
       *pb::GetSizePrefixedMessage(builder.GetBufferPointer())->body_as_ModelInfo();
 
   // Floats travel unchanged through FlatBuffers: the skeleton comes back bit-exact.
-  const deform::Skeleton skeleton = client::rest_skeleton(info);
+  const deform::Skeleton skeleton = cli::rest_skeleton(info);
   ASSERT_EQ(skeleton.size(), model.skeleton.size());
   for (int j = 0; j < skeleton.size(); ++j) {
     const deform::Joint &got = skeleton.joints[j], &want = model.skeleton.joints[j];
@@ -47,7 +47,7 @@ TEST(ModelInfoSkeleton, RebuildsTheMalesSkeletonAndRetargetsLikeTheLibrary) {
   // has no soles to plant, so the model's retargeting is compared with its feet free.
   const io::BvhOptions cmu{.length_scale = 0.056444f};
   const motion::Clip motion = io::load_bvh(data / "motion/cmu_01_01.bvh", cmu);
-  const motion::Retargeter remote(motion, client::rest_skeleton(info), {}, info.floor_height());
+  const motion::Retargeter remote(motion, cli::rest_skeleton(info), {}, info.floor_height());
   const motion::Retargeter local(motion, model, {}, motion::Feet::kFree);
   for (int frame : {0, 600, 1257}) {
     const deform::Pose a = remote.pose_at_frame(frame), b = local.pose_at_frame(frame);
@@ -63,7 +63,7 @@ TEST(ModelInfoSkeleton, AServerWithoutTheRestSkeletonIsAClearError) {
   builder.Finish(pb::CreateModelInfoDirect(builder, 1, "old", nullptr, &parents));
   const pb::ModelInfo& info = *flatbuffers::GetRoot<pb::ModelInfo>(builder.GetBufferPointer());
   try {
-    client::rest_skeleton(info);
+    cli::rest_skeleton(info);
     FAIL() << "no exception";
   } catch (const std::runtime_error& error) {
     EXPECT_NE(std::string(error.what()).find("protocol 1.0"), std::string::npos) << error.what();

@@ -42,7 +42,7 @@ TEST(ContactSheetShading, EveryMethodIsShadedByTheNormalsOfItsPosedSurface) {
 
   SheetOptions options;
   for (const char* name : {"sweep", "lbs", "dqs"})
-    options.methods.push_back(methods_by_name().at(name));
+    options.methods.push_back(deform::methods_by_name().at(name));
   options.frames = {0};
   options.cell_width = options.cell_height = 64;
   std::vector<DrawnCell> cells;
@@ -60,7 +60,7 @@ TEST(ContactSheetShading, EveryMethodIsShadedByTheNormalsOfItsPosedSurface) {
   std::vector<deform::FloatLanes> sums;
   deform::DeformContext context;
   for (std::size_t m = 0; m < cells.size(); ++m) {
-    const MethodChoice& method = options.methods[m];
+    const deform::MethodChoice& method = options.methods[m];
     // The method's own deformation, with the normals it makes itself.
     std::vector<glm::vec3> positions(vertices), own_normals(vertices), surface(vertices);
     deform::DeformJob{.runtime = runtime,

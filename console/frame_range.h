@@ -11,7 +11,7 @@
 #include <string>
 #include <string_view>
 
-namespace sweepd::motion {
+namespace sweepd::console {
 
 struct FrameRange {
   int first = 0, last = 0;  // inclusive, 0 <= first <= last
@@ -24,4 +24,4 @@ std::optional<int> parse_frame_number(std::string_view text);
 // "the clip has frames 0-N; frame L does not exist" when last >= frame_count, else "".
 std::string frame_range_problem(const FrameRange& range, int frame_count);
 
-}  // namespace sweepd::motion
+}  // namespace sweepd::console

@@ -1,26 +1,16 @@
-#include "gpu/sheet/method_choice.h"
+#include "gpu/sheet/deform_with.h"
 
 #include <algorithm>
 
 namespace sweepd::sheet {
 
-const std::map<std::string, MethodChoice>& methods_by_name() {
-  static const std::map<std::string, MethodChoice> methods = {
-      {"sweep", {"sweep", deform::DeformMethod::kSweep, false}},
-      {"sweep+volume", {"sweep+volume", deform::DeformMethod::kSweep, true}},
-      {"sweep+features", {"sweep+features", deform::DeformMethod::kSweep, false, true}},
-      {"sweep+contact", {"sweep+contact", deform::DeformMethod::kSweep, false, true, true}},
-      {"lbs", {"lbs", deform::DeformMethod::kLbs, false}},
-      {"dqs", {"dqs", deform::DeformMethod::kDqs, false}}};
-  return methods;
-}
-
-bool uses_collision(std::span<const MethodChoice> methods) {
+bool uses_collision(std::span<const deform::MethodChoice> methods) {
   return std::any_of(methods.begin(), methods.end(),
-                     [](const MethodChoice& m) { return m.collision; });
+                     [](const deform::MethodChoice& m) { return m.collision; });
 }
 
-const deform::SweepPoser& deform_with(const MethodChoice& m, const deform::ModelRuntime& runtime,
+const deform::SweepPoser& deform_with(const deform::MethodChoice& m,
+                                      const deform::ModelRuntime& runtime,
                                       deform::DeformContext& context, PairSource* pairs,
                                       deform::Pose pose, std::span<glm::vec3> positions) {
   deform::DeformJob job{.runtime = runtime,

@@ -1,13 +1,13 @@
-#include "client/mesh_request.h"
+#include "cli/served_model.h"
 
 #include <cstring>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
-#include "client/model_skeleton.h"
+#include "cli/served_rest_skeleton.h"
 
-namespace sweepd::client {
+namespace sweepd::cli {
 namespace {
 
 // Copies a Mesh array into `count` elements of `out` (each element: several scalars in a row).
@@ -48,7 +48,7 @@ std::vector<deform::MeshPart> mesh_parts(const protocol::ModelInfo& info) {
 
 }  // namespace
 
-deform::Model served_model(Connection& connection, const protocol::ModelInfo& info) {
+deform::Model served_model(client::Connection& connection, const protocol::ModelInfo& info) {
   deform::Model model;
   model.name = info.name() ? info.name()->str() : "";
   model.skeleton = rest_skeleton(info);
@@ -81,4 +81,4 @@ deform::Model served_model(Connection& connection, const protocol::ModelInfo& in
   return model;
 }
 
-}  // namespace sweepd::client
+}  // namespace sweepd::cli

@@ -1,11 +1,11 @@
-// Tests for motion::parse_frame_range / frame_range_problem: "A-B" and "A" parse, anything
+// Tests for console::parse_frame_range / frame_range_problem: "A-B" and "A" parse, anything
 // else (trailing letters, reversed, negative, empty) does not; a range past the clip's end is
 // named.
-#include "motion/frame_range.h"
+#include "console/frame_range.h"
 
 #include <gtest/gtest.h>
 
-namespace sweepd::motion {
+namespace sweepd::console {
 namespace {
 
 TEST(FrameRange, ParsesARangeOrOneFrame) {
@@ -31,4 +31,4 @@ TEST(FrameRange, NamesFramesPastTheClipsEnd) {
 }
 
 }  // namespace
-}  // namespace sweepd::motion
+}  // namespace sweepd::console

@@ -1,4 +1,4 @@
-#include "client/clip_file_flags.h"
+#include "client_examples/clip_file_flags.h"
 
 #include <filesystem>
 #include <stdexcept>
@@ -9,7 +9,7 @@
 #include "io/file_bytes.h"
 #include "io/model_clip_load.h"
 
-namespace sweepd::client {
+namespace sweepd::client_examples {
 
 void add_clip_file_flags(CLI::App& app, ClipFile& clip) {
   CLI::Option* bvh = app.add_option("--bvh", clip.bvh, "a BVH clip")->type_name("FILE");
@@ -57,18 +57,19 @@ std::optional<int> ClipFile::frame_count() const {
   return io::parse_bvh(text, bvh, {.length_scale = bvh_scale}).frame_count;
 }
 
-const protocol::ClipInfo& upload_clip_file(Connection& connection, const ClipFile& clip,
+const protocol::ClipInfo& upload_clip_file(client::Connection& connection, const ClipFile& clip,
                                            std::optional<std::uint32_t> model_id) {
   if (clip.range_of_motion) {
     if (!model_id) throw std::invalid_argument("the range of motion needs the model's id");
-    return upload_range_of_motion(connection, *model_id);
+    return client::upload_range_of_motion(connection, *model_id);
   }
   const std::string name = std::filesystem::path(clip.file()).filename().string();
   if (!clip.gltf.empty())
-    return upload_gltf_clip(connection, name, clip.contents, clip.animation, false, {}, model_id);
+    return client::upload_gltf_clip(connection, name, clip.contents, clip.animation, false, {},
+                                    model_id);
   const std::string_view text(reinterpret_cast<const char*>(clip.contents.data()),
                               clip.contents.size());
-  return upload_clip(connection, name, text, clip.bvh_scale, {}, model_id);
+  return client::upload_clip(connection, name, text, clip.bvh_scale, {}, model_id);
 }
 
-}  // namespace sweepd::client
+}  // namespace sweepd::client_examples

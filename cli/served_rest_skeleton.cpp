@@ -1,8 +1,8 @@
-#include "client/model_skeleton.h"
+#include "cli/served_rest_skeleton.h"
 
 #include <stdexcept>
 
-namespace sweepd::client {
+namespace sweepd::cli {
 
 deform::Skeleton rest_skeleton(const protocol::ModelInfo& info) {
   const auto* names = info.joint_names();
@@ -34,4 +34,4 @@ deform::Skeleton rest_skeleton(const protocol::ModelInfo& info) {
   return skeleton;
 }
 
-}  // namespace sweepd::client
+}  // namespace sweepd::cli

@@ -1,9 +1,5 @@
-// MethodChoice: the deformation methods that the comparing commands (sweepctl metrics and
-// sheet, the daemon's ContactSheetRequest) take by name in their method lists, and one
-// deformation of a pose with such a method.
-//   methods_by_name   "sweep", "sweep+volume" (volume preservation), "sweep+features" (folding
-//                     and protrusion), "sweep+contact" (those and whole-body contact), "lbs",
-//                     "dqs"
+// One deformation of a pose with a method the comparing commands (sweepctl metrics, check and
+// sheet, the daemon's ContactSheetRequest) took by name (deform/job/method_choice.h).
 //   uses_collision    whether any of the methods folds and protrudes (and so needs a PairSource)
 //   PairSource        where folding finds its intersecting pairs: sweepctl's --collision backend
 //                     (cli/local_collision.h) or the daemon's (server CollisionPairFinder).
@@ -18,24 +14,15 @@
 #pragma once
 
 #include <glm/glm.hpp>
-#include <map>
 #include <span>
-#include <string>
 
 #include "deform/job/deform_job.h"
+#include "deform/job/method_choice.h"
 
 namespace sweepd::sheet {
 
-struct MethodChoice {
-  std::string name;
-  deform::DeformMethod method;
-  bool preserve_volume;
-  bool collision = false;  // folding and protrusion, their pairs from the PairSource
-  bool contact = false;    // whole-body contact too (with collision), the same pairs
-};
-
-const std::map<std::string, MethodChoice>& methods_by_name();
-bool uses_collision(std::span<const MethodChoice> methods);
+// Folding, protrusion and contact find their pairs in the PairSource.
+bool uses_collision(std::span<const deform::MethodChoice> methods);
 
 class PairSource {
  public:
@@ -46,7 +33,8 @@ class PairSource {
   ~PairSource() = default;
 };
 
-const deform::SweepPoser& deform_with(const MethodChoice& m, const deform::ModelRuntime& runtime,
+const deform::SweepPoser& deform_with(const deform::MethodChoice& m,
+                                      const deform::ModelRuntime& runtime,
                                       deform::DeformContext& context, PairSource* pairs,
                                       deform::Pose pose, std::span<glm::vec3> positions);
 

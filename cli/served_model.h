@@ -7,16 +7,16 @@
 // Input: a connection after Hello and the model's ModelInfo (read before the call: the
 // exchange receives a new frame, after which `info` is no longer valid).
 // Output: a deform::Model named as the server names it, with the server's vertex order,
-// triangles, UVs (when the model has them), skin, skeleton and meshes (1.6); normals are the rest normals
-// computed from the mesh. Throws ServerError (e.g. UnknownModel) or std::runtime_error when
+// triangles, UVs (when the model has them), skin, skeleton and meshes (1.6); normals are the rest
+// normals computed from the mesh. Throws ServerError (e.g. UnknownModel) or std::runtime_error when
 // the Mesh does not match the ModelInfo, naming the array and its size.
 #pragma once
 
 #include "client/connection.h"
 #include "deform/model/model.h"
 
-namespace sweepd::client {
+namespace sweepd::cli {
 
-deform::Model served_model(Connection& connection, const protocol::ModelInfo& info);
+deform::Model served_model(client::Connection& connection, const protocol::ModelInfo& info);
 
-}  // namespace sweepd::client
+}  // namespace sweepd::cli

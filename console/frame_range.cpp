@@ -1,8 +1,8 @@
-#include "motion/frame_range.h"
+#include "console/frame_range.h"
 
 #include <charconv>
 
-namespace sweepd::motion {
+namespace sweepd::console {
 
 std::optional<int> parse_frame_number(std::string_view text) {
   int value = 0;
@@ -27,4 +27,4 @@ std::string frame_range_problem(const FrameRange& range, int frame_count) {
          std::to_string(range.last) + " does not exist";
 }
 
-}  // namespace sweepd::motion
+}  // namespace sweepd::console

@@ -29,7 +29,7 @@
 
 #include "client/connection.h"
 
-namespace sweepd::client {
+namespace sweepd::client_examples {
 
 struct ClipFile {
   std::string bvh;  // --bvh
@@ -45,7 +45,7 @@ struct ClipFile {
 };
 
 void add_clip_file_flags(CLI::App& app, ClipFile& clip);
-const protocol::ClipInfo& upload_clip_file(Connection& connection, const ClipFile& clip,
+const protocol::ClipInfo& upload_clip_file(client::Connection& connection, const ClipFile& clip,
                                            std::optional<std::uint32_t> model_id = std::nullopt);
 
-}  // namespace sweepd::client
+}  // namespace sweepd::client_examples
