@@ -35,9 +35,9 @@ namespace sweepd::motion {
 
 // The soft reach's width, a fraction of the limb's length (thigh and shin): within the length
 // less this, an end reaches its target exactly; beyond, its reach approaches the full length
-// exponentially over this width. At 2 % a leg with equal bones is bent 23° where soft IK takes
-// over, about the bend of a CMU walk's planted knee (the knee then moves about 2.5 times as far
-// as its ankle's distance from the hip changes; 2° from straight, about 30 times).
+// exponentially over this width. At 1 % a leg with equal bones is bent 16° where soft IK takes
+// over (its knee then moves about 3.5 times as far as its ankle's distance from the hip changes;
+// 2° from straight, about 30 times).
 inline constexpr float kSoftReach = 0.01f;
 
 struct LimbJoints {
