@@ -12,6 +12,7 @@
 #include "io/rig_map_json.h"
 #include "mannequin/mannequin.h"
 #include "selfcheck/binding_self_check.h"
+#include "server/handlers/client_string_limits.h"
 #include "server/log_event.h"
 
 namespace sweepd::server {
@@ -21,9 +22,8 @@ namespace {
 using protocol::ErrorCode;
 namespace fs = std::filesystem;
 
-constexpr std::size_t kMaxNameBytes = 200;
-
-// A model name the store can hold: 1 to kMaxNameBytes bytes.
+// A model name the store can hold: 1 to kMaxNameBytes bytes (a request's over-long name is
+// refused at intake, client_string_limits.h; an upload's base name is never longer).
 void check_name(const std::string& name) {
   if (name.empty() || name.size() > kMaxNameBytes) {
     throw ModelError(ErrorCode::ModelLoadFailed,
