@@ -99,7 +99,7 @@ std::optional<RequestError> find_overlong_string(const pb::Message& message) {
       break;
     case pb::Body::LoadModel: {
       const pb::LoadModel* load = message.body_as_LoadModel();
-      bounds.check("LoadModel.name", load->name(), kMaxNameBytes);
+      bounds.check("LoadModel.name", load->name(), kMaxPathBytes);
       bounds.check("LoadModel.content_id", load->content_id(), kMaxContentIdBytes);
       if (load->options() != nullptr)
         bounds.check_json("LoadModel.options.rig_map_json", load->options()->rig_map_json());

@@ -3,11 +3,15 @@
 // an over-long client name never reaches a log line). A string over its bound is refused with
 // InvalidArgument naming the field, its length and the bound; the connection is served on.
 //
-//   kMaxNameBytes 200      Hello.client_name, LoadModel.name, UploadClip.name and .animation,
+//   kMaxPathBytes 4096     LoadModel.name: a client may send its local path (PATH_MAX); with
+//                          bytes the server keeps the base name, without them the name is a
+//                          store or model directory name, either held to 200 bytes by the
+//                          model service (the store adds suffixes to it within NAME_MAX 255).
+//   kMaxNameBytes 255      Hello.client_name, UploadClip.name and .animation,
 //                          EditKeyEllipse.sweep, PoseByName.joint_names[i],
-//                          ContactSheetRequest.methods[i] and .focus: a model name becomes a
-//                          store file name (NAME_MAX 255 less the suffixes the store adds), and
-//                          every name is one field of a log line or an Error message.
+//                          ContactSheetRequest.methods[i] and .focus: NAME_MAX, so a label
+//                          taken from a file's name always fits, and each is one field of a log
+//                          line or an Error message, never a page of it.
 //   kMaxContentIdBytes 64  LoadModel.content_id, ClipFrame.clip_id (in PoseFromClip and
 //                          PositionMapRequest), ContactSheetRequest.clip_id: a SHA-256 in hex.
 //   kMaxJsonBytes 32 KiB   BindOptions.rig_map_json, UploadClip.joint_name_map: a map of every
@@ -29,7 +33,8 @@
 
 namespace sweepd::server {
 
-inline constexpr std::size_t kMaxNameBytes = 200;
+inline constexpr std::size_t kMaxNameBytes = 255;
+inline constexpr std::size_t kMaxPathBytes = 4096;
 inline constexpr std::size_t kMaxContentIdBytes = 64;
 inline constexpr std::size_t kMaxJsonBytes = 32 * 1024;
 

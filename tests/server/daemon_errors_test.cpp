@@ -412,7 +412,9 @@ TEST_P(DaemonErrors, ConnectionsBeyondTheLimitAreRefused) {
 // byte over its bound is refused at intake naming the field, its length and the bound, and the
 // session goes on; a value of exactly the bound passes intake to the stage after it.
 
-constexpr std::size_t kNameLimit = 200;     // names: a store file name within NAME_MAX 255
+constexpr std::size_t kNameLimit = 255;     // names: NAME_MAX, any file's name fits
+constexpr std::size_t kPathLimit = 4096;    // LoadModel.name, which may be a path: PATH_MAX
+constexpr std::size_t kStoredNameLimit = 200;  // the name a model is held under
 constexpr std::size_t kIdLimit = 64;        // content and clip ids: SHA-256 in hex
 constexpr std::size_t kJsonLimit = 32768;   // rig maps and joint name maps
 
@@ -466,11 +468,18 @@ TEST_P(DaemonErrors, LoadModelNamesIdsAndRigMapsAreBounded) {
                                                  content_id.empty() ? nullptr : content_id.c_str()),
         30));
   };
-  load(std::string(kNameLimit + 1, 'm'), "", "");
+  load(std::string(kPathLimit + 1, 'm'), "", "");
   expect_error_then_service(protocol::ErrorCode::InvalidArgument,
-                            over_limit("LoadModel.name", kNameLimit + 1, kNameLimit));
-  load(std::string(kNameLimit, 'm'), "", "");  // past intake: looked up, not found
-  expect_error(*broken_, protocol::ErrorCode::UnknownModel, "model '" + std::string(kNameLimit, 'm'));
+                            over_limit("LoadModel.name", kPathLimit + 1, kPathLimit));
+  // A path at the bound passes intake; the name it would be held under is bounded after it.
+  load("/" + std::string(kPathLimit - 1, 'm'), "", "");
+  expect_error(*broken_, protocol::ErrorCode::ModelLoadFailed,
+               "a model name must have 1 to 200 bytes; this one has 4096");
+  load(std::string(kStoredNameLimit + 1, 'm'), "", "");
+  expect_error(*broken_, protocol::ErrorCode::ModelLoadFailed, "this one has 201");
+  load(std::string(kStoredNameLimit, 'm'), "", "");  // looked up, not found
+  expect_error(*broken_, protocol::ErrorCode::UnknownModel,
+               "model '" + std::string(kStoredNameLimit, 'm'));
 
   load("absent", std::string(kIdLimit + 1, 'f'), "");
   expect_error_then_service(protocol::ErrorCode::InvalidArgument,
