@@ -11,29 +11,29 @@ namespace {
 
 namespace pb = protocol;
 
-// Walks one request's strings, keeping the first that is over its bound.
+// Walks one request's strings, keeping the first that is over its bound. A field's label is
+// made into a string only for a refusal: pose requests pass through here at stream rates.
 class StringBounds {
  public:
   explicit StringBounds(std::uint64_t sequence) : sequence_(sequence) {}
 
-  void check(const std::string& field, const flatbuffers::String* value, std::size_t limit) {
+  void check(std::string_view field, const flatbuffers::String* value, std::size_t limit) {
     if (value != nullptr) check(field, value->string_view(), limit);
   }
 
-  void check_each(const std::string& field,
+  void check_each(std::string_view field,
                   const flatbuffers::Vector<flatbuffers::Offset<flatbuffers::String>>* values,
                   std::size_t limit) {
     if (values == nullptr) return;
-    // The label is built only for a refusal: PoseByName sends its names with every pose.
     for (flatbuffers::uoffset_t i = 0; i < values->size() && !refusal_; ++i) {
       if (values->Get(i)->size() > limit)
-        check(field + "[" + std::to_string(i) + "]", values->Get(i), limit);
+        check(std::string(field) + "[" + std::to_string(i) + "]", values->Get(i), limit);
     }
   }
 
   // A JSON text and the joint names inside it (object keys and string values). Text that is
   // not JSON is left to the request's own reader, which names what is wrong with it.
-  void check_json(const std::string& field, const flatbuffers::String* value) {
+  void check_json(std::string_view field, const flatbuffers::String* value) {
     if (value == nullptr) return;
     check(field, value->string_view(), kMaxJsonBytes);
     if (refusal_) return;
@@ -41,24 +41,24 @@ class StringBounds {
     if (!json.is_discarded()) check_json_names(field, json);
   }
 
-  void check_clip_frame(const std::string& field, const pb::ClipFrame* clip) {
-    if (clip != nullptr) check(field + ".clip_id", clip->clip_id(), kMaxContentIdBytes);
+  void check_clip_id(std::string_view field, const pb::ClipFrame* clip) {
+    if (clip != nullptr) check(field, clip->clip_id(), kMaxContentIdBytes);
   }
 
   std::optional<RequestError> refusal() const { return refusal_; }
 
  private:
-  void check(const std::string& field, std::string_view value, std::size_t limit) {
+  void check(std::string_view field, std::string_view value, std::size_t limit) {
     if (refusal_ || value.size() <= limit) return;
     refusal_ = RequestError{pb::ErrorCode::InvalidArgument,
-                            field + " has " + std::to_string(value.size()) +
+                            std::string(field) + " has " + std::to_string(value.size()) +
                                 " bytes; the limit is " + std::to_string(limit) + " bytes",
                             sequence_};
   }
 
   // Iterative: 32 KiB of nested brackets would be thousands of frames deep on the I/O thread.
-  void check_json_names(const std::string& field, const nlohmann::json& root) {
-    const std::string label = field + " name";
+  void check_json_names(std::string_view field, const nlohmann::json& root) {
+    const std::string label = std::string(field) + " name";
     std::vector<const nlohmann::json*> pending = {&root};
     while (!pending.empty() && !refusal_) {
       const nlohmann::json& json = *pending.back();
@@ -117,11 +117,11 @@ std::optional<RequestError> find_overlong_string(const pb::Message& message) {
       break;
     }
     case pb::Body::PoseFromClip:
-      bounds.check_clip_frame("PoseFromClip.clip", message.body_as_PoseFromClip()->clip());
+      bounds.check_clip_id("PoseFromClip.clip.clip_id", message.body_as_PoseFromClip()->clip());
       break;
     case pb::Body::PositionMapRequest:
-      bounds.check_clip_frame("PositionMapRequest.clip",
-                              message.body_as_PositionMapRequest()->clip());
+      bounds.check_clip_id("PositionMapRequest.clip.clip_id",
+                           message.body_as_PositionMapRequest()->clip());
       break;
     case pb::Body::PoseByName:
       bounds.check_each("PoseByName.joint_names", message.body_as_PoseByName()->joint_names(),
