@@ -12,6 +12,7 @@
 #include <limits>
 #include <thread>
 
+#include "tests/scratch_directory.h"
 #include "tests/server/daemon_process.h"
 #include "tests/server/hostile_input.h"
 #include "tests/server/pose_frames.h"
@@ -647,6 +648,40 @@ TEST_P(DaemonErrors, ContactSheetClipIdsMethodsAndFocusAreBounded) {
   sheet(clip_id, "lbs", std::string(kNameLimit, 'f'));
   expect_error(*broken_, protocol::ErrorCode::InvalidArgument,
                "unknown focus '" + std::string(kNameLimit, 'f'));
+}
+
+// The Unix socket (and with it the shared-memory replies) runs the same intake: an over-long
+// client name and joint name are refused by name there too, and the session goes on.
+TEST(DaemonErrorsOnTheUnixSocket, OverlongStringsAreRefusedAndTheSessionGoesOn) {
+  const ScratchDirectory directory("errors_unix");
+  const fs::path socket = directory / "sweepd.sock";
+  DaemonProcess daemon(directory, {"--unix-socket", socket.string(), "--position-maps", "0"});
+  ASSERT_TRUE(daemon.running()) << daemon.log();
+  FrameClient client(socket);
+  ASSERT_TRUE(client.connected());
+  flatbuffers::FlatBufferBuilder builder;
+  ASSERT_TRUE(client.send_bytes(protocol::build_hello(builder, "", std::string(kNameLimit + 1, 'c'))));
+  expect_error(client, protocol::ErrorCode::InvalidArgument,
+               over_limit("Hello.client_name", kNameLimit + 1, kNameLimit));
+  builder.Clear();
+  ASSERT_TRUE(client.send_bytes(protocol::build_hello(builder, "", std::string(kNameLimit, 'c'))));
+  const protocol::Welcome* welcome = client.receive_as<protocol::Welcome>();
+  ASSERT_NE(welcome, nullptr);
+
+  builder.Clear();
+  const auto pose = protocol::add_pose(builder, pose_fields(daemon.model_id(), 60, {}));
+  const std::vector<std::string> names = {std::string(kNameLimit + 1, 'j')};
+  const protocol::Quat identity(0, 0, 0, 1);
+  client.send_bytes(protocol::finish_message(
+      builder, protocol::CreatePoseByName(builder, pose, builder.CreateVectorOfStrings(names),
+                                          builder.CreateVectorOfStructs(&identity, 1))));
+  expect_error(client, protocol::ErrorCode::InvalidArgument,
+               over_limit("PoseByName.joint_names[0]", kNameLimit + 1, kNameLimit));
+  const std::vector<protocol::Quat> rotations = to_wire(bent_rotations(kMannequinJoints));
+  ASSERT_TRUE(send_pose(client, pose_fields(daemon.model_id(), 61, rotations)));
+  const protocol::PosedVertices* reply = client.receive_as<protocol::PosedVertices>();
+  ASSERT_NE(reply, nullptr);
+  EXPECT_EQ(reply->sequence(), 61u);
 }
 
 INSTANTIATE_TEST_SUITE_P(Transports, DaemonErrors,
