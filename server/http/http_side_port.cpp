@@ -6,6 +6,7 @@
 #include <csignal>
 #include <stdexcept>
 
+#include "server/handlers/client_string_limits.h"
 #include "server/http/metrics_text.h"
 #include "server/http/process_stats.h"
 #include "server/log_event.h"
@@ -51,6 +52,14 @@ HttpSidePort::HttpSidePort(const std::string& address, int port, const Readiness
                                                httplib::Response& response) {
     const std::string name =
         request.matches[1].length() > 0 ? request.matches[1].str() : std::string("index.html");
+    // The name is echoed below: a name longer than any viewer file's is refused unechoed.
+    if (name.size() > kMaxNameBytes) {
+      response.status = 414;
+      response.set_content("the viewer file name has " + std::to_string(name.size()) +
+                               " bytes; the limit is " + std::to_string(kMaxNameBytes) + " bytes\n",
+                           "text/plain; charset=utf-8");
+      return;
+    }
     const ViewerFile* file = viewer_ != nullptr ? viewer_->find(name) : nullptr;
     if (file == nullptr) {
       response.status = 404;

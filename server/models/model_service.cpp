@@ -21,13 +21,16 @@ namespace {
 using protocol::ErrorCode;
 namespace fs = std::filesystem;
 
+// The name a model is held under. The request's whole name, which may be a client's path, is
+// bounded at intake (client_string_limits.h).
 constexpr std::size_t kMaxNameBytes = 200;
 
 // A model name the store can hold: 1 to kMaxNameBytes bytes.
 void check_name(const std::string& name) {
   if (name.empty() || name.size() > kMaxNameBytes) {
     throw ModelError(ErrorCode::ModelLoadFailed,
-                     "a model name must have 1 to " + std::to_string(kMaxNameBytes) + " bytes");
+                     "a model name must have 1 to " + std::to_string(kMaxNameBytes) +
+                         " bytes; this one has " + std::to_string(name.size()));
   }
 }
 

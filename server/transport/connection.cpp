@@ -7,6 +7,7 @@
 
 #include "protocol/descriptor_passing.h"
 #include "protocol/messages.h"
+#include "server/handlers/client_string_limits.h"
 #include "server/handlers/pose_intake.h"
 #include "server/log_event.h"
 #include "server/replies/clip_info.h"
@@ -292,13 +293,17 @@ void Connection::process_input() {
 void Connection::dispatch(const pb::Message& message) {
   const std::uint64_t request_id = message.request_id();
   environment_.traffic.count_request(message.body_type());
+  if (!authenticated_ && message.body_type() != pb::Body::Hello) {
+    send_error(pb::ErrorCode::NotAuthenticated, "the first message must be Hello", 0, request_id,
+               true);
+    return;
+  }
+  if (const std::optional<RequestError> refusal = find_overlong_string(message)) {
+    send_error(*refusal, request_id);
+    return;
+  }
   if (!authenticated_) {
-    if (const pb::Hello* hello = message.body_as_Hello()) {
-      authenticate(*hello, request_id);
-    } else {
-      send_error(pb::ErrorCode::NotAuthenticated, "the first message must be Hello", 0, request_id,
-                 true);
-    }
+    authenticate(*message.body_as_Hello(), request_id);
     return;
   }
   if (shutting_down_) {

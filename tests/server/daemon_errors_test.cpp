@@ -12,6 +12,7 @@
 #include <limits>
 #include <thread>
 
+#include "tests/scratch_directory.h"
 #include "tests/server/daemon_process.h"
 #include "tests/server/hostile_input.h"
 #include "tests/server/pose_frames.h"
@@ -46,6 +47,20 @@ class DaemonErrors : public ::testing::TestWithParam<Transport> {
     healthy_ = connect();
     ASSERT_NE(broken_->hello(""), nullptr);
     ASSERT_NE(healthy_->hello(""), nullptr);
+  }
+
+  void TearDown() override {
+    for (FrameClient* client : {broken_.get(), healthy_.get()}) say_bye(*client);
+  }
+
+  // Bye, then every reply read to the end of the stream. The server lets a connection's slot go
+  // on its I/O thread before it takes the next accept, so the next test's clients are not
+  // refused for the limit of 3 (they were, now and then, on a loaded machine).
+  static void say_bye(FrameClient& client) {
+    flatbuffers::FlatBufferBuilder builder;
+    client.send_bytes(protocol::finish_message(builder, protocol::CreateByeDirect(builder, "done")));
+    while (client.receive() != nullptr) {
+    }
   }
 
   // The error `broken_` gets next; then both clients must still be answered.
@@ -391,6 +406,282 @@ TEST_P(DaemonErrors, ConnectionsBeyondTheLimitAreRefused) {
   EXPECT_TRUE(fourth.closed_by_server());
   ASSERT_TRUE(send_pose(third, pose_fields(daemon_->model_id(), 3, rotations_)));
   EXPECT_NE(third.receive_as<protocol::PosedVertices>(), nullptr);
+}
+
+// ---------------------------------------------------------------------------------------
+// Client-chosen strings (server/handlers/client_string_limits.h, issue 49 item 4): a value one
+// byte over its bound is refused at intake naming the field, its length and the bound, and the
+// session goes on; a value of exactly the bound passes intake to the stage after it.
+
+constexpr std::size_t kNameLimit = 255;     // names: NAME_MAX, any file's name fits
+constexpr std::size_t kPathLimit = 4096;    // LoadModel.name, which may be a path: PATH_MAX
+constexpr std::size_t kStoredNameLimit = 200;  // the name a model is held under
+constexpr std::size_t kIdLimit = 64;        // content and clip ids: SHA-256 in hex
+constexpr std::size_t kJsonLimit = 32768;   // rig maps and joint name maps
+
+// The refusal's text for a value of `length` bytes in `field` bounded by `limit`.
+std::string over_limit(const std::string& field, std::size_t length, std::size_t limit) {
+  return field + " has " + std::to_string(length) + " bytes; the limit is " +
+         std::to_string(limit) + " bytes";
+}
+
+// JSON text `{}` padded with spaces to `bytes` bytes: valid, and empty.
+std::string padded_empty_json(std::size_t bytes) { return "{}" + std::string(bytes - 2, ' '); }
+
+TEST_P(DaemonErrors, AnOverlongClientNameIsRefusedAndTheNextHelloIsWelcomed) {
+  const std::unique_ptr<FrameClient> client = connect();
+  flatbuffers::FlatBufferBuilder builder;
+  ASSERT_TRUE(client->send_bytes(
+      protocol::build_hello(builder, "", std::string(kNameLimit + 1, 'c'))));
+  const protocol::Error* error = client->receive_as<protocol::Error>();
+  ASSERT_NE(error, nullptr);
+  EXPECT_EQ(error->code(), protocol::ErrorCode::InvalidArgument);
+  EXPECT_FALSE(error->fatal());
+  EXPECT_EQ(error->message()->str(),
+            over_limit("Hello.client_name", kNameLimit + 1, kNameLimit));
+  builder.Clear();
+  ASSERT_TRUE(client->send_bytes(protocol::build_hello(builder, "", std::string(kNameLimit, 'c'))));
+  ASSERT_NE(client->receive_as<protocol::Welcome>(), nullptr);
+  ASSERT_TRUE(send_pose(*client, pose_fields(daemon_->model_id(), 50, rotations_)));
+  const protocol::PosedVertices* reply = client->receive_as<protocol::PosedVertices>();
+  ASSERT_NE(reply, nullptr);
+  EXPECT_EQ(reply->sequence(), 50u);
+  say_bye(*client);
+}
+
+// The next reply of `client` is an Error with `code` whose message contains `message_part`.
+void expect_error(FrameClient& client, protocol::ErrorCode code, const std::string& message_part) {
+  const protocol::Error* error = client.receive_as<protocol::Error>();
+  ASSERT_NE(error, nullptr);
+  EXPECT_EQ(error->code(), code) << error->message()->str();
+  EXPECT_NE(error->message()->str().find(message_part), std::string::npos)
+      << error->message()->str();
+}
+
+TEST_P(DaemonErrors, LoadModelNamesIdsAndRigMapsAreBounded) {
+  const auto load = [&](const std::string& name, const std::string& content_id,
+                        const std::string& rig_map_json) {
+    flatbuffers::FlatBufferBuilder builder;
+    const auto options = protocol::CreateBindOptionsDirect(
+        builder, rig_map_json.empty() ? nullptr : rig_map_json.c_str());
+    broken_->send_bytes(protocol::finish_message(
+        builder, protocol::CreateLoadModelDirect(builder, name.c_str(), nullptr, options,
+                                                 content_id.empty() ? nullptr : content_id.c_str()),
+        30));
+  };
+  load(std::string(kPathLimit + 1, 'm'), "", "");
+  expect_error_then_service(protocol::ErrorCode::InvalidArgument,
+                            over_limit("LoadModel.name", kPathLimit + 1, kPathLimit));
+  // A path at the bound passes intake; the name it would be held under is bounded after it.
+  load("/" + std::string(kPathLimit - 1, 'm'), "", "");
+  expect_error(*broken_, protocol::ErrorCode::ModelLoadFailed,
+               "a model name must have 1 to 200 bytes; this one has 4096");
+  load(std::string(kStoredNameLimit + 1, 'm'), "", "");
+  expect_error(*broken_, protocol::ErrorCode::ModelLoadFailed, "this one has 201");
+  load(std::string(kStoredNameLimit, 'm'), "", "");  // looked up, not found
+  expect_error(*broken_, protocol::ErrorCode::UnknownModel,
+               "model '" + std::string(kStoredNameLimit, 'm'));
+
+  load("absent", std::string(kIdLimit + 1, 'f'), "");
+  expect_error_then_service(protocol::ErrorCode::InvalidArgument,
+                            over_limit("LoadModel.content_id", kIdLimit + 1, kIdLimit));
+  load("absent", std::string(kIdLimit, 'f'), "");
+  expect_error(*broken_, protocol::ErrorCode::UnknownModel, "no model with content id");
+
+  load("absent", "", padded_empty_json(kJsonLimit + 1));
+  expect_error_then_service(protocol::ErrorCode::InvalidArgument,
+                            over_limit("LoadModel.options.rig_map_json", kJsonLimit + 1, kJsonLimit));
+  load("absent", "", padded_empty_json(kJsonLimit));
+  expect_error(*broken_, protocol::ErrorCode::UnknownModel, "model 'absent'");
+
+  // A joint name inside the map is a name like any other.
+  load("absent", "", "{\"neck\": [\"" + std::string(kNameLimit + 1, 'j') + "\"]}");
+  expect_error_then_service(
+      protocol::ErrorCode::InvalidArgument,
+      over_limit("LoadModel.options.rig_map_json name", kNameLimit + 1, kNameLimit));
+  load("absent", "", "{\"neck\": [\"" + std::string(kNameLimit, 'j') + "\"]}");
+  expect_error(*broken_, protocol::ErrorCode::UnknownModel, "model 'absent'");
+}
+
+TEST_P(DaemonErrors, EditedSweepNamesAreBounded) {
+  const auto edit = [&](const std::string& sweep) {
+    flatbuffers::FlatBufferBuilder builder;
+    broken_->send_bytes(protocol::finish_message(
+        builder, protocol::CreateEditKeyEllipseDirect(builder, daemon_->model_id(), sweep.c_str()),
+        31));
+  };
+  edit(std::string(kNameLimit + 1, 's'));
+  expect_error_then_service(protocol::ErrorCode::InvalidArgument,
+                            over_limit("EditKeyEllipse.sweep", kNameLimit + 1, kNameLimit));
+  edit(std::string(kNameLimit, 's'));
+  const protocol::Error* error = broken_->receive_as<protocol::Error>();
+  ASSERT_NE(error, nullptr);
+  EXPECT_NE(error->message()->str().find("no sweep named '" + std::string(kNameLimit, 's')),
+            std::string::npos)
+      << error->message()->str();
+}
+
+TEST_P(DaemonErrors, UploadedClipNamesAnimationsAndJointNameMapsAreBounded) {
+  const std::string bvh = short_clip(2);
+  const auto upload = [&](const std::string& name, const std::string& joint_name_map,
+                          const std::string& animation) {
+    flatbuffers::FlatBufferBuilder builder;
+    broken_->send_bytes(protocol::finish_message(
+        builder,
+        protocol::CreateUploadClipDirect(
+            builder, name.c_str(), bvh.c_str(), 1.0f,
+            joint_name_map.empty() ? nullptr : joint_name_map.c_str(), nullptr,
+            animation.empty() ? nullptr : animation.c_str()),
+        32));
+  };
+  upload(std::string(kNameLimit + 1, 'n'), "", "");
+  expect_error_then_service(protocol::ErrorCode::InvalidArgument,
+                            over_limit("UploadClip.name", kNameLimit + 1, kNameLimit));
+  upload(std::string(kNameLimit, 'n'), "", "");
+  const protocol::ClipInfo* named = broken_->receive_as<protocol::ClipInfo>();
+  ASSERT_NE(named, nullptr);
+  EXPECT_EQ(named->name()->str(), std::string(kNameLimit, 'n'));
+
+  upload("short.bvh", padded_empty_json(kJsonLimit + 1), "");
+  expect_error_then_service(protocol::ErrorCode::InvalidArgument,
+                            over_limit("UploadClip.joint_name_map", kJsonLimit + 1, kJsonLimit));
+  upload("short.bvh", padded_empty_json(kJsonLimit), "");
+  ASSERT_NE(broken_->receive_as<protocol::ClipInfo>(), nullptr);
+
+  upload("short.bvh", "{\"" + std::string(kNameLimit + 1, 'j') + "\": \"Hips\"}", "");
+  expect_error_then_service(
+      protocol::ErrorCode::InvalidArgument,
+      over_limit("UploadClip.joint_name_map name", kNameLimit + 1, kNameLimit));
+  upload("short.bvh", "{\"" + std::string(kNameLimit, 'j') + "\": \"Hips\"}", "");
+  ASSERT_NE(broken_->receive_as<protocol::ClipInfo>(), nullptr);
+
+  upload("short.bvh", "", std::string(kNameLimit + 1, 'a'));
+  expect_error_then_service(protocol::ErrorCode::InvalidArgument,
+                            over_limit("UploadClip.animation", kNameLimit + 1, kNameLimit));
+  upload("short.bvh", "", std::string(kNameLimit, 'a'));  // past intake: BVH has no animations
+  expect_error(*broken_, protocol::ErrorCode::InvalidArgument, "choose a glTF animation");
+}
+
+TEST_P(DaemonErrors, ClipIdsOfPosesAndPositionMapsAreBounded) {
+  const auto clip_frame = [](const std::string& id) {
+    return [id](flatbuffers::FlatBufferBuilder& builder) {
+      return protocol::CreateClipFrameDirect(builder, id.c_str(), 0u);
+    };
+  };
+  send_clip_pose(*broken_, daemon_->model_id(), 40, clip_frame(std::string(kIdLimit + 1, 'a')));
+  expect_error_then_service(protocol::ErrorCode::InvalidArgument,
+                            over_limit("PoseFromClip.clip.clip_id", kIdLimit + 1, kIdLimit), 40);
+  send_clip_pose(*broken_, daemon_->model_id(), 41, clip_frame(std::string(kIdLimit, 'a')));
+  expect_error(*broken_, protocol::ErrorCode::UnknownClip, "upload it");
+
+  const auto map_request = [&](std::uint64_t sequence, const std::string& id) {
+    flatbuffers::FlatBufferBuilder builder;
+    const auto pose = protocol::add_pose(builder, pose_fields(daemon_->model_id(), sequence, {}));
+    const auto clip = protocol::CreateClipFrameDirect(builder, id.c_str(), 0u);
+    broken_->send_bytes(protocol::finish_message(
+        builder, protocol::CreatePositionMapRequest(builder, pose, 64, 64,
+                                                    protocol::ExrCompression::Zip,
+                                                    protocol::MapLayers::Position, false, clip)));
+  };
+  map_request(42, std::string(kIdLimit + 1, 'a'));
+  expect_error_then_service(protocol::ErrorCode::InvalidArgument,
+                            over_limit("PositionMapRequest.clip.clip_id", kIdLimit + 1, kIdLimit),
+                            42);
+  map_request(43, std::string(kIdLimit, 'a'));
+  expect_error(*broken_, protocol::ErrorCode::UnknownClip, "upload it");
+}
+
+TEST_P(DaemonErrors, JointNamesOfAPoseByNameAreBounded) {
+  const auto pose_by_name = [&](std::uint64_t sequence, const std::string& name) {
+    flatbuffers::FlatBufferBuilder builder;
+    const auto pose = protocol::add_pose(builder, pose_fields(daemon_->model_id(), sequence, {}));
+    const std::vector<std::string> names = {"LeftArm", name};
+    const std::vector<protocol::Quat> rotations(2, protocol::Quat(0, 0, 0, 1));
+    broken_->send_bytes(protocol::finish_message(
+        builder, protocol::CreatePoseByName(
+                     builder, pose, builder.CreateVectorOfStrings(names),
+                     builder.CreateVectorOfStructs(rotations.data(), rotations.size()))));
+  };
+  pose_by_name(44, std::string(kNameLimit + 1, 'j'));
+  expect_error_then_service(protocol::ErrorCode::InvalidArgument,
+                            over_limit("PoseByName.joint_names[1]", kNameLimit + 1, kNameLimit), 44);
+  pose_by_name(45, std::string(kNameLimit, 'j'));
+  expect_error(*broken_, protocol::ErrorCode::InvalidArgument,
+               "unknown joint names '" + std::string(kNameLimit, 'j'));
+}
+
+TEST_P(DaemonErrors, ContactSheetClipIdsMethodsAndFocusAreBounded) {
+  upload_clip(*broken_, short_clip(2), 46);
+  const protocol::ClipInfo* info = broken_->receive_as<protocol::ClipInfo>();
+  ASSERT_NE(info, nullptr);
+  const std::string clip_id = info->clip_id()->str();
+  const auto sheet = [&](const std::string& id, const std::string& method,
+                         const std::string& focus) {
+    flatbuffers::FlatBufferBuilder builder;
+    const auto id_offset = builder.CreateString(id);
+    const auto frames = builder.CreateVector(std::vector<std::uint32_t>{0});
+    const auto methods = builder.CreateVectorOfStrings(std::vector<std::string>{"sweep", method});
+    const auto focus_offset = builder.CreateString(focus);
+    broken_->send_bytes(protocol::finish_message(
+        builder,
+        protocol::CreateContactSheetRequest(builder, daemon_->model_id(), id_offset, frames,
+                                            methods, 240, 320, focus_offset),
+        47));
+  };
+  sheet(std::string(kIdLimit + 1, 'a'), "lbs", "");
+  expect_error_then_service(protocol::ErrorCode::InvalidArgument,
+                            over_limit("ContactSheetRequest.clip_id", kIdLimit + 1, kIdLimit));
+  sheet(std::string(kIdLimit, 'a'), "lbs", "");
+  expect_error(*broken_, protocol::ErrorCode::UnknownClip, "contact sheet: no clip with id");
+
+  sheet(clip_id, std::string(kNameLimit + 1, 'm'), "");
+  expect_error_then_service(
+      protocol::ErrorCode::InvalidArgument,
+      over_limit("ContactSheetRequest.methods[1]", kNameLimit + 1, kNameLimit));
+  sheet(clip_id, std::string(kNameLimit, 'm'), "");
+  expect_error(*broken_, protocol::ErrorCode::InvalidArgument,
+               "unknown method '" + std::string(kNameLimit, 'm'));
+
+  sheet(clip_id, "lbs", std::string(kNameLimit + 1, 'f'));
+  expect_error_then_service(protocol::ErrorCode::InvalidArgument,
+                            over_limit("ContactSheetRequest.focus", kNameLimit + 1, kNameLimit));
+  sheet(clip_id, "lbs", std::string(kNameLimit, 'f'));
+  expect_error(*broken_, protocol::ErrorCode::InvalidArgument,
+               "unknown focus '" + std::string(kNameLimit, 'f'));
+}
+
+// The Unix socket (and with it the shared-memory replies) runs the same intake: an over-long
+// client name and joint name are refused by name there too, and the session goes on.
+TEST(DaemonErrorsOnTheUnixSocket, OverlongStringsAreRefusedAndTheSessionGoesOn) {
+  const ScratchDirectory directory("errors_unix");
+  const fs::path socket = directory / "sweepd.sock";
+  DaemonProcess daemon(directory, {"--unix-socket", socket.string(), "--position-maps", "0"});
+  ASSERT_TRUE(daemon.running()) << daemon.log();
+  FrameClient client(socket);
+  ASSERT_TRUE(client.connected());
+  flatbuffers::FlatBufferBuilder builder;
+  ASSERT_TRUE(client.send_bytes(protocol::build_hello(builder, "", std::string(kNameLimit + 1, 'c'))));
+  expect_error(client, protocol::ErrorCode::InvalidArgument,
+               over_limit("Hello.client_name", kNameLimit + 1, kNameLimit));
+  builder.Clear();
+  ASSERT_TRUE(client.send_bytes(protocol::build_hello(builder, "", std::string(kNameLimit, 'c'))));
+  const protocol::Welcome* welcome = client.receive_as<protocol::Welcome>();
+  ASSERT_NE(welcome, nullptr);
+
+  builder.Clear();
+  const auto pose = protocol::add_pose(builder, pose_fields(daemon.model_id(), 60, {}));
+  const std::vector<std::string> names = {std::string(kNameLimit + 1, 'j')};
+  const protocol::Quat identity(0, 0, 0, 1);
+  client.send_bytes(protocol::finish_message(
+      builder, protocol::CreatePoseByName(builder, pose, builder.CreateVectorOfStrings(names),
+                                          builder.CreateVectorOfStructs(&identity, 1))));
+  expect_error(client, protocol::ErrorCode::InvalidArgument,
+               over_limit("PoseByName.joint_names[0]", kNameLimit + 1, kNameLimit));
+  const std::vector<protocol::Quat> rotations = to_wire(bent_rotations(kMannequinJoints));
+  ASSERT_TRUE(send_pose(client, pose_fields(daemon.model_id(), 61, rotations)));
+  const protocol::PosedVertices* reply = client.receive_as<protocol::PosedVertices>();
+  ASSERT_NE(reply, nullptr);
+  EXPECT_EQ(reply->sequence(), 61u);
 }
 
 INSTANTIATE_TEST_SUITE_P(Transports, DaemonErrors,

@@ -139,6 +139,19 @@ TEST_F(HttpSidePortTest, ReadyzIsReadyWhileServingAndNotWhileDrainingAfterSigter
   EXPECT_EQ(curl_get(http_port_, "/healthz").status, 0);  // gone with the process
 }
 
+// The viewer's file name is echoed in its 404: one longer than 255 bytes (the daemon's bound on
+// client-chosen names, NAME_MAX: client_string_limits.h) is refused without the echo, and the
+// daemon answers on; one of exactly 255 bytes is looked up (this daemon has no --viewer-dir).
+TEST_F(HttpSidePortTest, AViewerFileNamePastTheNameBoundIsRefusedUnechoed) {
+  const HttpReply overlong = curl_get(http_port_, "/viewer/" + std::string(256, 'v'));
+  EXPECT_EQ(overlong.status, 414);
+  EXPECT_EQ(overlong.body, "the viewer file name has 256 bytes; the limit is 255 bytes\n");
+  const HttpReply at_limit = curl_get(http_port_, "/viewer/" + std::string(255, 'v'));
+  EXPECT_EQ(at_limit.status, 404);
+  EXPECT_NE(at_limit.body.find("no viewer here"), std::string::npos) << at_limit.body;
+  EXPECT_EQ(curl_get(http_port_, "/healthz").status, 200);
+}
+
 TEST_F(HttpSidePortTest, MetricsPassPromtoolAndCountTheTrafficSent) {
   if (!have_program("promtool")) {
     GTEST_SKIP() << "promtool is not installed (Debian package prometheus; deploy/install-deps.sh)";
