@@ -39,6 +39,7 @@ struct BenchModel {
   deform::Model model;
   std::vector<glm::mat4> world, skinning;
   std::unique_ptr<deform::BoundModel> bound;
+  std::vector<std::unique_ptr<deform::SkinningTable>> tables;  // per instruction set
 };
 
 // Every joint turned 0.3 rad about one oblique axis (the cost does not depend on the angles).
@@ -62,14 +63,15 @@ void report_per_vertex(benchmark::State& state, std::size_t n) {
                                                      benchmark::Counter::kInvert);
 }
 
-using Skin = void (*)(const deform::Model&, std::span<const glm::mat4>, std::span<glm::vec3>,
-                      std::span<glm::vec3>);
+using Skin = void (*)(const deform::SkinningTable&, std::span<const glm::mat4>,
+                      std::span<glm::vec3>, std::span<glm::vec3>, int);
 
-void run(benchmark::State& state, const BenchModel* subject, Skin skin, bool with_normals) {
+void run(benchmark::State& state, const BenchModel* subject, const deform::SkinningTable* table,
+         Skin skin, bool with_normals) {
   const std::size_t n = subject->model.vertex_count();
   std::vector<glm::vec3> positions(n), normals(with_normals ? n : 0);
   for (auto _ : state) {
-    skin(subject->model, subject->skinning, positions, normals);
+    skin(*table, subject->skinning, positions, normals, 1);
     benchmark::DoNotOptimize(positions.data());
     benchmark::DoNotOptimize(normals.data());
     benchmark::ClobberMemory();
@@ -100,13 +102,14 @@ int main(int argc, char** argv) {
   for (int target : {15000, 72000, 250000}) {
     deform::Model model = mannequin::make_mannequin({.target_vertices = target});
     const std::string name = "mannequin_" + std::to_string(target / 1000) + "k";
-    models.push_back(std::make_unique<BenchModel>(BenchModel{name, std::move(model), {}, {}, {}}));
+    models.push_back(
+        std::make_unique<BenchModel>(BenchModel{name, std::move(model), {}, {}, {}, {}}));
   }
   const std::filesystem::path male =
       std::filesystem::path(SWEEPD_SHARED_DATA) / "models" / "makehuman_male_cmu.glb";
   if (std::filesystem::exists(male)) {
     models.push_back(
-        std::make_unique<BenchModel>(BenchModel{"male", io::load_gltf(male), {}, {}, {}}));
+        std::make_unique<BenchModel>(BenchModel{"male", io::load_gltf(male), {}, {}, {}, {}}));
   } else {
     std::fprintf(stderr, "shared male absent (%s): benchmarking the mannequins only\n",
                  male.string().c_str());
@@ -115,28 +118,32 @@ int main(int argc, char** argv) {
     bend(*subject);
     subject->bound = std::make_unique<deform::BoundModel>(
         deform::bind(subject->model, deform::detect_rig_map(subject->model.skeleton)));
-    // "sweep": the widest vertex loops this CPU has; "sweep_sse2": the x86-64 baseline's.
-    std::vector<std::pair<std::string, deform::VertexLoopInstructions>> sweeps = {
-        {"sweep", deform::widest_vertex_loop_instructions()}};
-    if (sweeps[0].second != deform::VertexLoopInstructions::kBaseline)
-      sweeps.emplace_back("sweep_sse2", deform::VertexLoopInstructions::kBaseline);
-    for (const auto& [method, instructions] : sweeps)
+    // "sweep", "lbs", "dqs": the widest vertex loops this CPU has; "…_sse2": the x86-64
+    // baseline's.
+    std::vector<std::pair<std::string, deform::VertexLoopInstructions>> sets = {
+        {"", deform::widest_vertex_loop_instructions()}};
+    if (sets[0].second != deform::VertexLoopInstructions::kBaseline)
+      sets.emplace_back("_sse2", deform::VertexLoopInstructions::kBaseline);
+    const auto row = [&](const std::string& method, const std::string& suffix, bool normals) {
+      return method + suffix + "/" + subject->name + "/" +
+             (normals ? "positions+normals" : "positions");
+    };
+    for (const auto& [suffix, instructions] : sets) {
+      subject->tables.push_back(
+          std::make_unique<deform::SkinningTable>(subject->model, instructions));
       for (const bool with_normals : {false, true}) {
-        const std::string name =
-            method + "/" + subject->name + "/" + (with_normals ? "positions+normals" : "positions");
-        benchmark::RegisterBenchmark(name.c_str(), run_sweep, subject.get(), instructions,
-                                     with_normals)
+        benchmark::RegisterBenchmark(row("sweep", suffix, with_normals).c_str(), run_sweep,
+                                     subject.get(), instructions, with_normals)
             ->Unit(benchmark::kMicrosecond);
+        for (const auto& [method, skin] :
+             {std::pair<const char*, Skin>{"lbs", deform::linear_blend_skinning},
+              std::pair<const char*, Skin>{"dqs", deform::dual_quaternion_skinning}})
+          benchmark::RegisterBenchmark(row(method, suffix, with_normals).c_str(), run,
+                                       subject.get(), subject->tables.back().get(), skin,
+                                       with_normals)
+              ->Unit(benchmark::kMicrosecond);
       }
-    for (const auto& [method, skin] :
-         {std::pair<const char*, Skin>{"lbs", deform::linear_blend_skinning},
-          std::pair<const char*, Skin>{"dqs", deform::dual_quaternion_skinning}})
-      for (const bool with_normals : {false, true}) {
-        const std::string name = std::string(method) + "/" + subject->name + "/" +
-                                 (with_normals ? "positions+normals" : "positions");
-        benchmark::RegisterBenchmark(name.c_str(), run, subject.get(), skin, with_normals)
-            ->Unit(benchmark::kMicrosecond);
-      }
+    }
   }
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();

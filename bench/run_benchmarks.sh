@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs the Release benchmarks and prints the performance tables of docs/performance.md: deformation in ns per
-# vertex (sweep, LBS, DQS) with the sweep/LBS ratio measured in the same run (and the sweep's
-# SSE2 loops where the CPU has AVX2), binding time, the daemon, the compact vertex streams,
+# vertex (sweep, LBS, DQS) with the sweep/LBS and DQS/LBS ratios measured in the same run (and
+# the SSE2 loops where the CPU has AVX2), stamped with commit, date, CPU and its flags; binding time, the daemon, the compact vertex streams,
 # the fleet and the Python package.
 set -euo pipefail
 # Usage: run_benchmarks.sh [build dir] [repetitions]
@@ -10,6 +10,12 @@ out=$(mktemp -d)
 # Each benchmark runs `repetitions` times (default 3) and the table keeps the fastest: the
 # machine is shared, and other load only ever adds time.
 repetitions=${2:-3}
+# What the figures were measured on: they mean little without it.
+flags=$(grep -m1 '^flags' /proc/cpuinfo | tr ' ' '\n' | grep -xE 'sse4_2|avx|avx2|fma|avx512f' | tr '\n' ' ' || true)
+echo "Measured $(date -u '+%Y-%m-%d %H:%M UTC') at commit $(git -C "$(dirname "$0")" rev-parse --short HEAD 2>/dev/null || echo unknown)" \
+  "on $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ //'), $(nproc) cores, flags: ${flags:-none of sse4_2 avx avx2 fma avx512f}," \
+  "load average $(cut -d' ' -f1-3 /proc/loadavg)"
+echo
 "$build/bench/deform_bench" --benchmark_format=json --benchmark_min_time=0.3 \
   --benchmark_repetitions="$repetitions" >"$out/deform.json"
 "$build/bench/bind_bench" --benchmark_format=json >"$out/bind.json"
@@ -23,18 +29,21 @@ for b in json.load(open(sys.argv[1]))["benchmarks"]:
     row = rows.setdefault((model, outputs), {})
     row[method] = min(row.get(method, float("inf")), b["per_vertex"] * 1e9)
     row["vertices"] = int(b["vertices"])
-# "sweep" runs the widest vertex loops the CPU has; "sweep_sse2" (present when that is AVX2) the
-# x86-64 baseline's, so the table shows both.
-sse2 = any("sweep_sse2" in r for r in rows.values())
-extra = " sweep SSE2 ns/vertex | SSE2 / LBS | SSE2 ms/pose |" if sse2 else ""
-print("| mesh | vertices | outputs | sweep ns/vertex | LBS ns/vertex | DQS ns/vertex | sweep / LBS | sweep ms/pose |" + extra)
-print("|---|---|---|---|---|---|---|---|" + ("---|---|---|" if sse2 else ""))
+# "sweep", "lbs", "dqs" run the widest vertex loops the CPU has; "…_sse2" (present when that is
+# AVX2) the x86-64 baseline's on the same data, each set compared with its own LBS.
+sets = [("", "")] + ([("_sse2", "SSE2 ")] if any("sweep_sse2" in r for r in rows.values()) else [])
+head = "| mesh | vertices | outputs |"
+for _, label in sets:
+    head += (f" {label}sweep ns/vertex | {label}LBS ns/vertex | {label}DQS ns/vertex |"
+             f" {label}sweep / LBS | {label}DQS / LBS | {label}sweep ms/pose |")
+print(head)
+print("|---|---|---|" + "---|---|---|---|---|---|" * len(sets))
 for (model, outputs), r in rows.items():
-    line = (f"| {model} | {r['vertices']:,} | {outputs} | {r['sweep']:.1f} | {r['lbs']:.1f} | "
-            f"{r['dqs']:.1f} | {r['sweep'] / r['lbs']:.2f} | {r['sweep'] * r['vertices'] / 1e6:.3f} |")
-    if sse2:
-        line += (f" {r['sweep_sse2']:.1f} | {r['sweep_sse2'] / r['lbs']:.2f} | "
-                 f"{r['sweep_sse2'] * r['vertices'] / 1e6:.3f} |")
+    line = f"| {model} | {r['vertices']:,} | {outputs} |"
+    for suffix, _ in sets:
+        sweep, lbs, dqs = r["sweep" + suffix], r["lbs" + suffix], r["dqs" + suffix]
+        line += (f" {sweep:.1f} | {lbs:.1f} | {dqs:.1f} | {sweep / lbs:.2f} | {dqs / lbs:.2f} |"
+                 f" {sweep * r['vertices'] / 1e6:.3f} |")
     print(line)
 print()
 print("| binding | vertices | ms |")

@@ -7,14 +7,14 @@
 
 #include <cstddef>
 
-#include "deform/model/model.h"
+#include "deform/baselines/skinning_table.h"
 
 namespace sweepd::deform {
 
-inline bool skinning_buffers_fit(const Model& model, std::size_t transforms, std::size_t positions,
-                                 std::size_t normals) {
-  return transforms == model.skeleton.joints.size() && positions == model.vertex_count() &&
-         (normals == 0 || normals == model.vertex_count());
+inline bool skinning_buffers_fit(const SkinningTable& table, std::size_t transforms,
+                                 std::size_t positions, std::size_t normals) {
+  return transforms == table.joint_count() && positions == table.vertex_count() &&
+         (normals == 0 || normals == table.vertex_count());
 }
 
 }  // namespace sweepd::deform

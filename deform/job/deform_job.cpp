@@ -76,12 +76,13 @@ DeformReport DeformJob::run_validated(DeformContext& context) {
       run_sweep(context, report);
       break;
     case DeformMethod::kLbs:
-      linear_blend_skinning_parallel(model, context.skinning_, positions, normals, options.threads);
+      linear_blend_skinning(runtime.skinning_table(), context.skinning_, positions, normals,
+                            options.threads);
       report.rounds = 1;
       break;
     case DeformMethod::kDqs:
-      dual_quaternion_skinning_parallel(model, context.skinning_, positions, normals,
-                                        options.threads);
+      dual_quaternion_skinning(runtime.skinning_table(), context.skinning_, positions, normals,
+                               options.threads);
       report.rounds = 1;
       break;
   }

@@ -32,6 +32,7 @@ ModelRuntime::ModelRuntime(const BoundModel& bound, const CollisionRegionOptions
       rest_volumes_(rest_sweep_volumes(bound)),
       collision_(make_collision_model(bound, regions, proxies)),
       world_rest_inverse_(world_rest_inverse_matrices(bound.model.skeleton)),
+      skinning_table_(bound.model),
       serial_(next_serial()) {}
 
 }  // namespace sweepd::deform

@@ -8,7 +8,7 @@
 //   "key ellipse edits: <reason>" when they do not fit), the sweep poser's tables (rest sweeps,
 //   sample-table layout, vertex kinds, welded-normals topology; sweep_poser_tables.h), I0 of
 //   every sweep (rest_sweep_volumes), the collision regions and bone proxies (collision_model.h)
-//   and the J inverse world rest matrices. All of it is built eagerly in the constructor (on the
+//   the J inverse world rest matrices and the skinning baselines' table (skinning_table.h). All of it is built eagerly in the constructor (on the
 //   shared male about 100 ms, most of it the collision regions), so nothing is built lazily
 //   and concurrent readers need no lock.
 // serial(): unique per runtime in the process; what a DeformContext is keyed to.
@@ -20,6 +20,7 @@
 #include <span>
 #include <vector>
 
+#include "deform/baselines/skinning_table.h"
 #include "deform/binding/bound_model.h"
 #include "deform/edits/angle_driven_key_edits.h"
 #include "deform/features/collision_model.h"
@@ -41,6 +42,7 @@ class ModelRuntime {
   std::span<const double> rest_volumes() const { return rest_volumes_; }
   const CollisionModel& collision() const { return collision_; }
   std::span<const glm::mat4> world_rest_inverse() const { return world_rest_inverse_; }
+  const SkinningTable& skinning_table() const { return skinning_table_; }
   std::uint64_t serial() const { return serial_; }
 
  private:
@@ -50,6 +52,7 @@ class ModelRuntime {
   std::vector<double> rest_volumes_;
   CollisionModel collision_;
   std::vector<glm::mat4> world_rest_inverse_;
+  SkinningTable skinning_table_;
   std::uint64_t serial_;
 };
 

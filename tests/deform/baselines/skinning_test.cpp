@@ -1,5 +1,5 @@
 // Tests for the skinning baselines: deform::linear_blend_skinning and
-// deform::dual_quaternion_skinning (and their parallel variants).
+// deform::dual_quaternion_skinning, over a SkinningTable or a Model.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 #include <numbers>
+#include <utility>
 #include <vector>
 
 #include "deform/baselines/dual_quaternion_skinning.h"
@@ -191,26 +192,134 @@ TEST(Skinning, DqsBlendsAntipodalQuaternionsTheShortWay) {
     ASSERT_LT(glm::distance(positions[v], short_way * model.positions[v]), 1e-5f) << "vertex " << v;
 }
 
-TEST(Skinning, ParallelVariantsAreBitIdentical) {
+// The instruction sets this CPU runs: SSE2 always, AVX2+FMA where it has them.
+std::vector<VertexLoopInstructions> instruction_sets() {
+  std::vector<VertexLoopInstructions> sets = {VertexLoopInstructions::kBaseline};
+  if (widest_vertex_loop_instructions() == VertexLoopInstructions::kAvx2Fma)
+    sets.push_back(VertexLoopInstructions::kAvx2Fma);
+  return sets;
+}
+
+using TableFunction = void (*)(const SkinningTable&, std::span<const glm::mat4>,
+                               std::span<glm::vec3>, std::span<glm::vec3>, int);
+const std::pair<const char*, TableFunction> kTableMethods[] = {{"LBS", linear_blend_skinning},
+                                                               {"DQS", dual_quaternion_skinning}};
+
+TEST(Skinning, ThreadCountsGiveBitIdenticalResultsOnEveryInstructionSet) {
   const Model model =
       std::filesystem::exists(shared_male()) ? io::load_gltf(shared_male()) : tube_arm();
   const std::vector<glm::mat4> skinning = skinning_for(model, bent_pose(model.skeleton));
   const std::size_t n = model.vertex_count();
   std::vector<glm::vec3> positions(n), normals(n), parallel_positions(n), parallel_normals(n);
-  using ParallelFunction = void (*)(const Model&, std::span<const glm::mat4>, std::span<glm::vec3>,
-                                    std::span<glm::vec3>, int);
-  const std::pair<SkinningFunction, ParallelFunction> pairs[] = {
-      {linear_blend_skinning, linear_blend_skinning_parallel},
-      {dual_quaternion_skinning, dual_quaternion_skinning_parallel}};
-  for (const auto& [single, parallel] : pairs) {
-    single(model, skinning, positions, normals);
-    for (int threads : {1, 2, 3, 7}) {
-      parallel(model, skinning, parallel_positions, parallel_normals, threads);
-      EXPECT_EQ(std::memcmp(positions.data(), parallel_positions.data(), n * sizeof(glm::vec3)), 0)
-          << threads << " threads on " << model.name;
-      EXPECT_EQ(std::memcmp(normals.data(), parallel_normals.data(), n * sizeof(glm::vec3)), 0)
-          << threads << " threads on " << model.name;
+  for (const VertexLoopInstructions instructions : instruction_sets()) {
+    const SkinningTable table(model, instructions);
+    for (const auto& [name, skin] : kTableMethods) {
+      skin(table, skinning, positions, normals, 1);
+      for (int threads : {2, 3, 7}) {
+        skin(table, skinning, parallel_positions, parallel_normals, threads);
+        EXPECT_EQ(std::memcmp(positions.data(), parallel_positions.data(), n * sizeof(glm::vec3)),
+                  0)
+            << name << ", " << threads << " threads on " << model.name;
+        EXPECT_EQ(std::memcmp(normals.data(), parallel_normals.data(), n * sizeof(glm::vec3)), 0)
+            << name << ", " << threads << " threads on " << model.name;
+      }
     }
+  }
+}
+
+// The textbook formulas, per vertex in double, as the reference the table's loops must match:
+// LBS blends the matrices with the weights divided by their sum; DQS blends the dual quaternions
+// (sign-flipped against the first weighted influence), normalises and applies the result.
+struct Reference {
+  glm::dvec3 lbs, dqs;
+};
+Reference reference_vertex(const Model& model, std::span<const glm::mat4> skinning, std::size_t v) {
+  const auto& w = model.skin_weights[v];
+  const auto& j = model.skin_joints[v];
+  double sum = 0.0;
+  for (const float weight : w) sum += weight;
+  glm::dmat4 blended(0.0);
+  glm::dquat real(0, 0, 0, 0), dual(0, 0, 0, 0);
+  int first = -1;
+  for (int k = 0; k < kInfluences; ++k) {
+    if (w[k] <= 0.0f) continue;
+    blended += glm::dmat4(skinning[j[k]]) * (w[k] / sum);
+    const DualQuaternion q = to_dual_quaternion(skinning[j[k]]);
+    if (first < 0) first = j[k];
+    const DualQuaternion q0 = to_dual_quaternion(skinning[first]);
+    const double sign = glm::dot(q.real, q0.real) < 0.0f ? -1.0 : 1.0;
+    real += glm::dquat(q.real) * (sign * w[k]);
+    dual += glm::dquat(q.dual) * (sign * w[k]);
+  }
+  const glm::dvec3 p(model.positions[v]);
+  const double length = glm::length(real);
+  real /= length;
+  dual /= length;
+  const glm::dquat translation = 2.0 * dual * glm::conjugate(real);
+  return {glm::dvec3(blended * glm::dvec4(p, 1.0)),
+          real * p + glm::dvec3(translation.x, translation.y, translation.z)};
+}
+
+TEST(Skinning, TableLoopsMatchTheTextbookFormulasOnEveryInstructionSet) {
+  std::vector<Model> models = {tube_arm(), make_mannequin({.target_vertices = 5000})};
+  if (std::filesystem::exists(shared_male())) models.push_back(io::load_gltf(shared_male()));
+  for (const Model& model : models) {
+    const std::vector<glm::mat4> skinning = skinning_for(model, bent_pose(model.skeleton));
+    const std::size_t n = model.vertex_count();
+    std::vector<glm::vec3> lbs(n), dqs(n);
+    // Float against double on a body about 2 m across, through a chain of ~20 matrices: 1e-5 m.
+    const double tolerance = 1e-5 * std::max(1.0f, height(model));
+    for (const VertexLoopInstructions instructions : instruction_sets()) {
+      const SkinningTable table(model, instructions);
+      linear_blend_skinning(table, skinning, lbs, {}, 1);
+      dual_quaternion_skinning(table, skinning, dqs, {}, 1);
+      double worst_lbs = 0.0, worst_dqs = 0.0;
+      for (std::size_t v = 0; v < n; ++v) {
+        const Reference expected = reference_vertex(model, skinning, v);
+        worst_lbs = std::max(worst_lbs, glm::distance(glm::dvec3(lbs[v]), expected.lbs));
+        worst_dqs = std::max(worst_dqs, glm::distance(glm::dvec3(dqs[v]), expected.dqs));
+      }
+      const char* set = instructions == VertexLoopInstructions::kAvx2Fma ? "AVX2" : "SSE2";
+      EXPECT_LT(worst_lbs, tolerance) << "LBS, " << set << ", " << model.name;
+      EXPECT_LT(worst_dqs, tolerance) << "DQS, " << set << ", " << model.name;
+      std::printf("%s %s: LBS %.3g m, DQS %.3g m from the reference\n", model.name.c_str(), set,
+                  worst_lbs, worst_dqs);
+    }
+  }
+}
+
+TEST(Skinning, TheTableGroupsVerticesByTheirWeightedJointsAndNormalisesTheWeights) {
+  Model model = tube_arm();
+  model.skin_weights[0] = {0.25f, 0.25f, 0.0f, 0.0f};  // sums to 0.5: divided at build
+  model.skin_weights[1] = {0.0f, 0.0f, 0.0f, 0.0f};    // no weight: stays at rest
+  const SkinningTable table(model);
+  std::size_t items = 0;
+  int previous = -1;
+  for (const SkinningTable::Group& group : table.groups()) {
+    EXPECT_GT(group.influences, previous) << "groups in increasing influence count";
+    previous = group.influences;
+    items += group.end - group.begin;
+    for (std::size_t i = group.begin; i < group.end; ++i) {
+      const std::uint32_t v = table.vertices()[i];
+      int weighted = 0;
+      for (const float w : model.skin_weights[v]) weighted += w > 0.0f;
+      EXPECT_EQ(weighted, group.influences) << "vertex " << v;
+      float sum = 0.0f;
+      for (int k = 0; k < group.influences; ++k)
+        sum += table.weights()[group.first_influence + (i - group.begin) * group.influences + k];
+      if (group.influences > 0) {
+        EXPECT_NEAR(sum, 1.0f, 1e-6f) << "vertex " << v;
+      }
+    }
+  }
+  EXPECT_EQ(table.vertex_count(), model.vertex_count());
+  EXPECT_EQ(items, table.item_count());
+  EXPECT_EQ(items % kSkinningChunk, 0u) << "each group padded to whole chunks";
+  const std::vector<glm::mat4> skinning = skinning_for(model, bent_pose(model.skeleton));
+  std::vector<glm::vec3> positions(model.vertex_count());
+  for (const auto& [name, skin] : kTableMethods) {
+    skin(table, skinning, positions, {}, 1);
+    EXPECT_EQ(positions[1], model.positions[1]) << name << ": the unweighted vertex stays at rest";
   }
 }
 
