@@ -51,6 +51,9 @@ class SweepdSettings(bpy.types.PropertyGroup):
     token: StringProperty(name="Token", subtype="PASSWORD",
                           description="sweepd's auth token (empty when it has none)")
     tls: BoolProperty(name="TLS", description="the server's listener speaks TLS")
+    plain_token: BoolProperty(name="Token over plain TCP",
+                              description="send the token unencrypted to a host that is not "
+                                          "this machine (a private network only; else use TLS)")
     tls_ca: StringProperty(name="CA file", subtype="FILE_PATH",
                            description="the certificate authority to trust (empty: the "
                                        "system's)")
@@ -153,6 +156,8 @@ class SWEEPD_PT_panel(bpy.types.Panel):
             box.prop(settings, name)
         if settings.tls:
             box.prop(settings, "tls_ca")
+        else:
+            box.prop(settings, "plain_token")
         box.prop(settings, "timeout")
         layout.operator(SWEEPD_OT_deform.bl_idname)
 

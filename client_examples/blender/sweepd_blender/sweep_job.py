@@ -107,7 +107,8 @@ def _client(settings):
         ca = bpy.path.abspath(settings.tls_ca) if settings.tls_ca else None
         tls = ssl.create_default_context(cafile=ca)
     return Client(settings.host, settings.port, token=settings.token, tls=tls,
-                  client_name="sweepd-blender", timeout=settings.timeout)
+                  client_name="sweepd-blender", timeout=settings.timeout,
+                  allow_plaintext=settings.plain_token)
 
 
 def _copy(source, name, offset):
