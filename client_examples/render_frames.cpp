@@ -162,8 +162,7 @@ void describe(CLI::App& app, Options& o) {
       app, "--format", o.format,
       std::map<std::string, OutputFormat>{
           {"exr", OutputFormat::kExr}, {"pc2", OutputFormat::kPc2}, {"mdd", OutputFormat::kMdd}},
-      "exr (default: a position map per frame), or one point cache of "
-      "the frames: pc2 or mdd");
+      "exr (default: a position map per frame), or one point cache of the frames: pc2 or mdd");
   sweepd::console::add_choice(app, "--axes", o.axes, sweepd::io::point_cache_axes_names(),
                               sweepd::io::kPointCacheAxesHelp)
       ->type_name("gltf|blender");
@@ -295,8 +294,7 @@ class CacheSink {
     if (!pb::copy_positions(reply,
                             {reinterpret_cast<float*>(positions.data()), positions.size() * 3}))
       throw std::runtime_error("frame " + std::to_string(frame) +
-                               ": the reply's positions do "
-                               "not match its vertex count");
+                               ": the reply's positions do not match its vertex count");
     const std::lock_guard lock(mutex_);
     if (!writer_) {
       writer_.emplace(
