@@ -2,8 +2,9 @@
 # its cached vertices lie from `sweepctl pose`'s (tests/server/blender_addon_test.cpp judges):
 #
 #   blender -b --factory-startup --python-exit-code 1 --python blender_addon.py -- \
-#       ADDON.zip HOST PORT TOKEN MODEL.glb OUT_DIR FIRST LAST SWEEPCTL
+#       ADDON.zip HOST PORT TOKEN MODEL.glb OUT_DIR FIRST LAST SWEEPCTL [TLS_CA]
 #
+# TLS_CA: the daemon speaks TLS; the add-on trusts this CA file.
 # Installs and enables the zip, imports MODEL.glb (a body with an animation: `sweepctl rom`'s),
 # sets the scene's range to FIRST-LAST, runs "Deform with sweepd" against the daemon, then poses
 # the .glb the add-on uploaded with sweepctl (the same file, its own animation, frames 0-N) and
@@ -29,8 +30,9 @@ from headless import deform, imported_body  # noqa: E402  (sets numpy.bool befor
 import bpy  # noqa: E402
 from mathutils import kdtree  # noqa: E402
 
-(addon_zip, host, port, token, model, out_dir, first, last,
- sweepctl) = sys.argv[sys.argv.index("--") + 1:]
+(addon_zip, host, port, token, model, out_dir, first, last, sweepctl,
+ *tls_ca) = sys.argv[sys.argv.index("--") + 1:]
+tls_ca = tls_ca[0] if tls_ca else None
 first, last = int(first), int(last)
 label = os.path.basename(model)
 
@@ -78,14 +80,14 @@ scene, mesh = body.scene, body.mesh
 # A wrong token first: the operator's error report (a RuntimeError to a script) names it, and
 # nothing is left behind.
 try:
-    deform(body, host, port, "wrong-" + token, first, last, cache_folder=out_dir)
+    deform(body, host, port, "wrong-" + token, first, last, cache_folder=out_dir, tls_ca=tls_ca)
     sys.exit("a wrong token was not refused")
 except RuntimeError as error:
     print(f"{label} refused: {str(error).splitlines()[0]}")
 if f"{mesh.name} (sweep)" in bpy.data.objects or os.path.exists(
         os.path.join(out_dir, bpy.path.clean_name(mesh.name) + ".pc2")):
     sys.exit("a refused run left a copy or a cache")
-deform(body, host, port, token, first, last, cache_folder=out_dir)
+deform(body, host, port, token, first, last, cache_folder=out_dir, tls_ca=tls_ca)
 
 sweep = bpy.data.objects[f"{mesh.name} (sweep)"]
 dqs = bpy.data.objects[f"{mesh.name} (DQS)"]

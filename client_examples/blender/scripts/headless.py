@@ -36,13 +36,15 @@ def imported_body(addon_zip, model):
     return Body(scene, armature, mesh)
 
 
-def deform(body, host, port, token, first, last, cache_folder=None):
-    """Runs Deform with sweepd over scene frames first-last; exits naming the result when it
-    does not finish (the operator's error is in the output above)."""
+def deform(body, host, port, token, first, last, cache_folder=None, tls_ca=None):
+    """Runs Deform with sweepd over scene frames first-last (over TLS trusting the CA file
+    `tls_ca` when given); exits naming the result when it does not finish (the operator's
+    error is in the output above)."""
     body.scene.frame_start, body.scene.frame_end = first, last
     settings = body.scene.sweepd
     settings.armature, settings.mesh = body.armature, body.mesh
     settings.host, settings.port, settings.token = host, int(port), token
+    settings.tls, settings.tls_ca = tls_ca is not None, tls_ca or ""
     if cache_folder:
         settings.cache_folder = cache_folder
     result = bpy.ops.sweepd.deform()
