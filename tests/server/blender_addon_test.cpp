@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "tests/deploy/shell_command.h"
+#include "tests/scratch_directory.h"
 #include "tests/server/client_run.h"
 #include "tests/server/daemon_process.h"
 #include "tests/server/sweepctl_remote.h"
@@ -42,7 +43,8 @@ TEST_P(BlenderAddon, CachedCopyHoldsSweepctlPoseFramesOfTheUploadedFile) {
     GTEST_SKIP() << "blender is not installed (Debian's package `blender`: "
                     "deploy/install-deps.sh installs it)";
   ASSERT_TRUE(fs::exists(addon)) << addon << ": the build's blender_addon target makes it";
-  const fs::path dir = fresh_directory("blender_addon");
+  const ScratchDirectory scratch("blender_addon");  // removed after the daemon has stopped
+  const fs::path& dir = scratch.path();
   std::vector<std::string> daemon_flags = {"--token", "t0k"};
   std::string tls_ca;
   if (GetParam().tls) {
@@ -95,7 +97,6 @@ TEST_P(BlenderAddon, CachedCopyHoldsSweepctlPoseFramesOfTheUploadedFile) {
   EXPECT_GT(moved, 0.01) << "the frames compared differ by centimetres, so a cache of the "
                             "wrong frame would fail\n"
                          << blender.output;
-  fs::remove_all(dir);
 }
 
 INSTANTIATE_TEST_SUITE_P(Bodies, BlenderAddon,
