@@ -35,5 +35,6 @@ Command add_edit_command(CLI::App& sweepctl);
 Command add_sheet_command(CLI::App& sweepctl, const ServerAddress& server);
 Command add_check_command(CLI::App& sweepctl);
 Command add_rom_command(CLI::App& sweepctl);
+Command add_join_cache_command(CLI::App& sweepctl);
 
 }  // namespace sweepd::cli

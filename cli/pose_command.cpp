@@ -3,7 +3,6 @@
 // (io/point_cache_save.h), streamed frame by frame. With --server the daemon deforms.
 #include <cstdio>
 #include <filesystem>
-#include <map>
 #include <memory>
 #include <optional>
 
@@ -179,12 +178,8 @@ Command add_pose_command(CLI::App& sweepctl, const ServerAddress& server) {
                    "point cache of the frames, FILE.pc2 (PC2) or FILE.mdd (MDD)")
       ->type_name("OUT")
       ->required();
-  CLI::Option* axes = console::add_choice(
-      *command, "--axes", options->axes,
-      std::map<std::string, io::PointCacheAxes>{{"gltf", io::PointCacheAxes::kGltf},
-                                                {"blender", io::PointCacheAxes::kBlender}},
-      "a point cache's axes: gltf (default: the model's own, +Y up) or blender (+Z up: "
-      "(x, y, z) -> (x, -z, y), as Blender's glTF importer turns the model)");
+  CLI::Option* axes = console::add_choice(*command, "--axes", options->axes,
+                                          io::point_cache_axes_names(), io::kPointCacheAxesHelp);
   axes->type_name("gltf|blender");
   command->callback([options, axes, &server] {
     check_method_flags(options->posing, !server.address.empty());

@@ -40,7 +40,8 @@ int main(int argc, char** argv) {
                                               cli::add_edit_command(app),
                                               cli::add_sheet_command(app, server),
                                               cli::add_check_command(app),
-                                              cli::add_rom_command(app)};
+                                              cli::add_rom_command(app),
+                                              cli::add_join_cache_command(app)};
   // Set after the commands are added: a subcommand inherits its parent's footer.
   app.footer("sweepctl COMMAND --help lists the command's flags.");
   app.callback([&] {

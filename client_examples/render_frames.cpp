@@ -1,5 +1,6 @@
 // render_frames: a render-farm client — one OpenEXR position map per frame of a clip (BVH, or
-// a glTF file's animation), rendered by one or more sweepd servers.
+// a glTF file's animation), or one PC2 or MDD point cache of the range, rendered by one or more
+// sweepd servers.
 //
 //   render_frames --server HOST:PORT[,HOST:PORT...] [--token T | --token-file FILE]
 //                 [--model NAME] [--model-file F.glb]
@@ -7,7 +8,7 @@
 //                  --range-of-motion)
 //                 --frames A-B [--shard I/N] -o DIR [--width W --height H]
 //                 [--compression zip|none|zips|piz] [--normals] [--half-normals]
-//                 [--method sweep|lbs|dqs]
+//                 [--method sweep|lbs|dqs] [--format exr|pc2|mdd [--axes gltf|blender]]
 //                 [--timeout SECONDS] [--attempts N]
 //
 // 1. Read the clip and check the range A-B (inclusive, 0-based) against its frames (with
@@ -41,6 +42,13 @@
 // 5. Each reply's EXR bytes are written to DIR/.<name>.<pid>.partial and renamed without
 //    replacing (renameat2 RENAME_NOREPLACE): a file under its name is complete and written
 //    once, even with two processes on one range.
+//    With --format pc2|mdd (point caches, io/point_cache_save.h) each frame is asked for as
+//    posed vertices (PoseFromClip, no normals) and written at its own place in one cache,
+//    DIR/<clip stem>.<first frame>-<last frame, 5 digits each>.pc2 (or .mdd) for this process's
+//    frames (its shard's slice), in the model's glTF axes, or Blender's Z-up with --axes blender
+//    (sweepctl pose's flag and names). The cache is DIR/<name>.partial until its last frame is
+//    in, then renamed: a complete cache is skipped on a rerun, a partial one rendered again
+//    whole. `sweepctl join-cache` joins the shards' caches into one.
 // 6. A progress bar on stderr (console/progress_bar.h); at the end, on stdout:
 //    "rendered R, skipped S of T frames in X s (F frames/s), retried Q, failed P", each failed
 //    frame's reason on stderr, and with several servers the frames each one rendered.
@@ -84,6 +92,8 @@
 #include "console/progress_bar.h"
 #include "deform/job/method_choice.h"
 #include "io/file_bytes.h"
+#include "io/load_error.h"
+#include "io/point_cache_save.h"
 #include "protocol/messages.h"
 
 namespace {
@@ -106,6 +116,8 @@ pb::DeformMethod wire_method(sweepd::deform::DeformMethod method) {
   return pb::DeformMethod::Sweep;
 }
 
+enum class OutputFormat { kExr, kPc2, kMdd };
+
 // Problems with the command line (exit code 2); anything else thrown is exit code 1.
 struct UsageError : std::invalid_argument {
   using std::invalid_argument::invalid_argument;
@@ -119,13 +131,18 @@ struct Options {
   pb::ExrCompression compression = pb::ExrCompression::Zip;
   pb::DeformMethod method = pb::DeformMethod::Sweep;
   bool normals = false, half_normals = false;
+  OutputFormat format = OutputFormat::kExr;
+  sweepd::io::PointCacheAxes axes = sweepd::io::PointCacheAxes::kGltf;
   int timeout_ms = 60000, attempts = 3;
   sweepd::client::ClientTls tls;
+  bool point_cache() const { return format != OutputFormat::kExr; }
 };
 
 // The command line (console/command_line.h: --help exits 0, a bad flag or value exits 2).
 void describe(CLI::App& app, Options& o) {
-  app.description("One OpenEXR position map per frame of a clip, rendered by sweepd.");
+  app.description(
+      "One OpenEXR position map per frame of a clip, or a PC2 or MDD point cache of the "
+      "frames, rendered by sweepd.");
   app.add_option("--server", o.server,
                  "sweepd's HOST:PORT, or several, comma-separated: HOST:PORT,HOST:PORT")
       ->required();
@@ -140,7 +157,15 @@ void describe(CLI::App& app, Options& o) {
   app.add_option("--shard", o.shard,
                  "I/N: render only the I-th (0-based) of N slices of the range (default: "
                  "JOB_COMPLETION_INDEX/JOB_COMPLETIONS when set)");
-  app.add_option("-o", o.out_dir, "DIR: where the .exr files go")->required();
+  app.add_option("-o", o.out_dir, "DIR: where the .exr files (or the point cache) go")->required();
+  sweepd::console::add_choice(
+      app, "--format", o.format,
+      std::map<std::string, OutputFormat>{
+          {"exr", OutputFormat::kExr}, {"pc2", OutputFormat::kPc2}, {"mdd", OutputFormat::kMdd}},
+      "exr (default: a position map per frame), or one point cache of the frames: pc2 or mdd");
+  sweepd::console::add_choice(app, "--axes", o.axes, sweepd::io::point_cache_axes_names(),
+                              sweepd::io::kPointCacheAxesHelp)
+      ->type_name("gltf|blender");
   app.add_option("--width", o.width, "map width in texels")
       ->check(sweepd::console::whole_number(1, 4096))
       ->capture_default_str();
@@ -171,6 +196,20 @@ void describe(CLI::App& app, Options& o) {
   app.add_option("--attempts", o.attempts, "tries per frame before it fails")
       ->check(sweepd::console::whole_number(1, 100))
       ->capture_default_str();
+}
+
+// The flags that apply to one output only: --axes to a point cache, the map's to EXR files.
+void check_format_flags(const CLI::App& app, const Options& options) {
+  if (!options.point_cache()) {
+    if (app.count("--axes") > 0)
+      throw UsageError("--axes applies to a point cache: --format pc2 or mdd");
+    return;
+  }
+  for (const char* flag : {"--width", "--height", "--compression", "--normals", "--half-normals"})
+    if (app.count(flag) > 0)
+      throw UsageError(std::string(flag) +
+                       " applies to EXR position maps, not to a point cache (--format " +
+                       (options.format == OutputFormat::kPc2 ? "pc2" : "mdd") + ")");
 }
 
 // "A-B" (or "A"); a usage error for anything else.
@@ -218,6 +257,81 @@ std::string incomplete_reason(const fs::path& file) {
   }
 }
 
+// The point cache of this process's frames: DIR/<clip stem>.AAAAA-BBBBB.pc2 (or .mdd).
+fs::path cache_file(const Options& options, const sweepd::console::FrameRange& frames) {
+  char range[32];
+  std::snprintf(range, sizeof range, "%05d-%05d", frames.first, frames.last);
+  return options.out_dir / (fs::path(options.clip.file()).stem().string() + "." + range +
+                            (options.format == OutputFormat::kPc2 ? ".pc2" : ".mdd"));
+}
+
+// Why `file` is not this run's complete cache of `frames`, or "" when it is.
+std::string incomplete_cache_reason(const fs::path& file,
+                                    const sweepd::console::FrameRange& frames) {
+  try {
+    const sweepd::io::PointCacheHeader header = sweepd::io::read_point_cache_header(file);
+    if (header.frame_count != frames.count())
+      return std::to_string(header.frame_count) + " frames, not " + std::to_string(frames.count());
+    if (header.format == sweepd::io::PointCacheFormat::kPc2 &&
+        header.start_frame != static_cast<float>(frames.first))
+      return "its start frame is " + std::to_string(header.start_frame);
+    return "";
+  } catch (const sweepd::io::LoadError& error) {
+    return error.reason();
+  }
+}
+
+// The one point cache the server threads write their frames into, each at its place: created
+// at the first frame (the model's vertex count and the clip's frame rate come from the
+// server), finished when every frame is in.
+class CacheSink {
+ public:
+  CacheSink(fs::path file, const Options& options, const sweepd::console::FrameRange& frames)
+      : file_(std::move(file)), options_(options), frames_(frames) {}
+
+  void write(int frame, const pb::PosedVertices& reply, float clip_frames_per_second) {
+    std::vector<glm::vec3> positions(reply.vertex_count());
+    if (!pb::copy_positions(reply,
+                            {reinterpret_cast<float*>(positions.data()), positions.size() * 3}))
+      throw std::runtime_error("frame " + std::to_string(frame) +
+                               ": the reply's positions do not match its vertex count");
+    const std::lock_guard lock(mutex_);
+    if (!writer_) {
+      writer_.emplace(
+          file_,
+          sweepd::io::PointCacheLayout{
+              .format = options_.format == OutputFormat::kPc2 ? sweepd::io::PointCacheFormat::kPc2
+                                                              : sweepd::io::PointCacheFormat::kMdd,
+              .axes = options_.axes,
+              .point_count = static_cast<int>(positions.size()),
+              .frame_count = frames_.count(),
+              .first_frame = frames_.first,
+              .frames_per_second = clip_frames_per_second > 0.0f ? clip_frames_per_second : 30.0});
+      point_count_ = static_cast<int>(positions.size());
+    }
+    if (static_cast<int>(positions.size()) != point_count_)
+      throw std::runtime_error("frame " + std::to_string(frame) + " has " +
+                               std::to_string(positions.size()) + " vertices, the cache " +
+                               std::to_string(point_count_) +
+                               ": the servers do not hold one model");
+    writer_->write_frame_at(frame - frames_.first, positions);
+  }
+  // Renames the complete cache into place; the vertex count.
+  int finish() {
+    writer_->finish();
+    return point_count_;
+  }
+  const fs::path& file() const { return file_; }
+
+ private:
+  std::mutex mutex_;
+  fs::path file_;
+  const Options& options_;
+  sweepd::console::FrameRange frames_;
+  std::optional<sweepd::io::PointCacheWriter> writer_;
+  int point_count_ = 0;
+};
+
 // The progress bar, shared by the server threads.
 class Progress {
  public:
@@ -252,6 +366,7 @@ struct Job {
   sweepd::client::FrameQueue& queue;
   Progress& progress;
   std::once_flag& reported;  // the model's name and the clip's warnings said once
+  CacheSink* cache;          // the point cache (--format pc2|mdd), else null: EXR files
 };
 
 // What an Error reply means for the frame and the server.
@@ -332,6 +447,7 @@ class ServerSession {
       const pb::ClipInfo& clip =
           sweepd::client_examples::upload_clip_file(channel_, job.options.clip, model_id_);
       clip_id_ = clip.clip_id()->str();
+      clip_frames_per_second_ = clip.frames_per_second();
       // Once per job: the model's name on the server, (protocol 1.14) where the server's
       // self-check found its sweep worse than skinning, the reader's warnings and (protocol
       // 1.12) what playing the clip on the model leaves unmapped.
@@ -384,16 +500,21 @@ class ServerSession {
         }
         continue;
       }
-      const pb::PositionMap* map = message.body_as_PositionMap();
-      if (!map || !map->exr()) throw std::runtime_error(name + ": the reply is not a position map");
-      if (map->sequence() != static_cast<std::uint64_t>(frame) + 1) {
-        throw std::runtime_error(name + ": the answer is for pose " +
-                                 std::to_string(map->sequence()));
-      }
-      const fs::path file = frame_file(job_.options, frame);
-      if (!write_file(file, *map)) {
-        std::fprintf(stderr, "\n%s: another process wrote it first; kept that file\n",
-                     file.c_str());
+      if (job_.cache) {
+        const pb::PosedVertices* posed = message.body_as_PosedVertices();
+        if (!posed) throw std::runtime_error(name + ": the reply is not posed vertices");
+        check_sequence(name, posed->sequence(), frame);
+        job_.cache->write(frame, *posed, clip_frames_per_second_);
+      } else {
+        const pb::PositionMap* map = message.body_as_PositionMap();
+        if (!map || !map->exr())
+          throw std::runtime_error(name + ": the reply is not a position map");
+        check_sequence(name, map->sequence(), frame);
+        const fs::path file = frame_file(job_.options, frame);
+        if (!write_file(file, *map)) {
+          std::fprintf(stderr, "\n%s: another process wrote it first; kept that file\n",
+                       file.c_str());
+        }
       }
       in_flight.pop_front();
       queue.rendered(frame);
@@ -403,8 +524,13 @@ class ServerSession {
   }
 
  private:
-  // A PositionMapRequest for `frame`: the held clip's frame number (the pose names only the
-  // model and method).
+  static void check_sequence(const std::string& name, std::uint64_t sequence, int frame) {
+    if (sequence != static_cast<std::uint64_t>(frame) + 1)
+      throw std::runtime_error(name + ": the answer is for pose " + std::to_string(sequence));
+  }
+
+  // A PositionMapRequest for `frame` (a PoseFromClip for a point cache: its positions, without
+  // normals): the held clip's frame number (the pose names only the model and method).
   void send_frame(int frame) {
     pb::PoseFields fields;
     fields.model_id = model_id_;
@@ -412,6 +538,13 @@ class ServerSession {
     fields.method = job_.options.method;
     flatbuffers::FlatBufferBuilder& builder = channel_.builder();
     builder.Clear();
+    if (job_.cache) {
+      const auto pose = pb::add_pose(builder, fields);
+      const auto clip = pb::CreateClipFrame(builder, builder.CreateString(clip_id_),
+                                            static_cast<std::uint32_t>(frame));
+      channel_.send(pb::finish_message(builder, pb::CreatePoseFromClip(builder, pose, clip)));
+      return;
+    }
     auto layers = pb::MapLayers::Position | pb::MapLayers::Coverage;
     if (job_.options.normals || job_.options.half_normals) layers = layers | pb::MapLayers::Normal;
     const auto pose = pb::add_pose(builder, fields);
@@ -426,7 +559,8 @@ class ServerSession {
   const Job& job_;
   sweepd::client::Connection channel_;
   std::uint32_t window_ = 1, model_id_ = 0;
-  std::string clip_id_;  // the server's id for the clip
+  std::string clip_id_;                  // the server's id for the clip
+  float clip_frames_per_second_ = 0.0f;  // its own rate: an MDD cache's frame times
 };
 
 // One server's thread: sessions until the queue has ended, connecting again after a failure
@@ -518,9 +652,24 @@ int run(Options& options) {
   const std::optional<sweepd::console::FrameRange> mine = own_frames(options, range);
   fs::create_directories(options.out_dir);
 
-  // Resume: only frames without a complete file are rendered.
+  // Resume: only frames without a complete file are rendered; a point cache is complete or
+  // rendered again whole.
   std::vector<int> todo;
-  for (int frame = mine ? mine->first : 0; mine && frame <= mine->last; ++frame) {
+  std::optional<CacheSink> cache;
+  if (options.point_cache() && mine) {
+    const fs::path file = cache_file(options, *mine);
+    const std::string reason = fs::exists(file) ? incomplete_cache_reason(file, *mine) : "absent";
+    if (!reason.empty()) {
+      if (reason != "absent")
+        std::fprintf(stderr,
+                     "%s is not a complete cache of frames %d-%d (%s): rendering it again\n",
+                     file.c_str(), mine->first, mine->last, reason.c_str());
+      cache.emplace(file, options, *mine);
+      for (int frame = mine->first; frame <= mine->last; ++frame) todo.push_back(frame);
+    }
+  }
+  for (int frame = mine ? mine->first : 0; mine && !options.point_cache() && frame <= mine->last;
+       ++frame) {
     const fs::path file = frame_file(options, frame);
     if (!fs::exists(file)) {
       todo.push_back(frame);
@@ -546,7 +695,7 @@ int run(Options& options) {
                   sweepd::io::read_file_bytes(options.model_file));
     Progress progress("rendering " + fs::path(options.clip.file()).stem().string(), skipped, total);
     std::once_flag reported;
-    const Job job{options, model, queue, progress, reported};
+    const Job job{options, model, queue, progress, reported, cache ? &*cache : nullptr};
     std::vector<std::thread> threads;
     for (std::size_t s = 0; s < servers.size(); ++s)
       threads.emplace_back([&, s] { rendered_by[s] = serve(servers[s], job); });
@@ -562,6 +711,13 @@ int run(Options& options) {
   if (servers.size() > 1 && !todo.empty()) {
     for (std::size_t s = 0; s < servers.size(); ++s)
       std::fprintf(stderr, "%s rendered %d frames\n", servers[s].c_str(), rendered_by[s]);
+  }
+  if (cache && tally.failed == 0) {  // else the unfinished cache is removed
+    const int points = cache->finish();
+    std::printf(
+        "wrote %s: frames %d-%d of %d vertices (%s, %s axes)\n", cache->file().c_str(), mine->first,
+        mine->last, points, options.format == OutputFormat::kPc2 ? "PC2" : "MDD",
+        options.axes == sweepd::io::PointCacheAxes::kBlender ? "Blender's Z-up" : "glTF's Y-up");
   }
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   std::printf(
@@ -581,6 +737,7 @@ int main(int argc, char** argv) {
   if (const std::optional<int> exit_code = sweepd::console::parse_command_line(app, argc, argv))
     return *exit_code;
   try {
+    check_format_flags(app, options);
     parse_range(options.frames);  // the syntax, before the clip is read
     return run(options);
   } catch (const UsageError& error) {

@@ -110,13 +110,6 @@ TEST(PointCacheSave, BlenderAxesPutGltfUpOnZAndFrontOnMinusY) {
   EXPECT_EQ(cache.positions[5], glm::vec3(1.5f, 3.125f, 2.25f)) << "(1.5, 2.25, -3.125) turned";
 }
 
-TEST(PointCacheSave, FormatFromTheExtension) {
-  EXPECT_EQ(point_cache_format("a/b.pc2"), PointCacheFormat::kPc2);
-  EXPECT_EQ(point_cache_format("b.MDD"), PointCacheFormat::kMdd);
-  EXPECT_EQ(point_cache_format("b.glb"), std::nullopt);
-  EXPECT_EQ(point_cache_format("pc2"), std::nullopt) << "a name without an extension";
-}
-
 void expect_refusal(const std::function<void()>& run, const std::string& reason) {
   try {
     run();
@@ -126,6 +119,60 @@ void expect_refusal(const std::function<void()>& run, const std::string& reason)
     EXPECT_NE(message.find("m.pc2"), std::string::npos) << message;
     EXPECT_NE(message.find(reason), std::string::npos) << message;
   }
+}
+
+// A render farm's frames arrive in any order: each lands at its own place, so the file is the
+// one written in order byte for byte.
+TEST(PointCacheSave, FramesWrittenOutOfOrderLandInTheirPlaces) {
+  test::ScratchDirectory dir("out_of_order");
+  for (const PointCacheFormat format : {PointCacheFormat::kPc2, PointCacheFormat::kMdd}) {
+    const std::string extension = format == PointCacheFormat::kPc2 ? ".pc2" : ".mdd";
+    const fs::path in_order = write_three_frames(dir.path() / ("a" + extension), format);
+    const fs::path shuffled = dir.path() / ("b" + extension);
+    PointCacheWriter writer(shuffled, {.format = format,
+                                       .point_count = 2,
+                                       .frame_count = 3,
+                                       .first_frame = 10,
+                                       .frames_per_second = 120.0});
+    for (const int index : {2, 0, 1}) writer.write_frame_at(index, three_frames()[index]);
+    writer.finish();
+    EXPECT_EQ(read_file_bytes(shuffled), read_file_bytes(in_order)) << extension;
+  }
+}
+
+// The header read back is the header written, and a file whose size is not what its header
+// promises is refused naming the file and how.
+TEST(PointCacheSave, HeaderReadBackAndTruncationRefused) {
+  test::ScratchDirectory dir("header");
+  const PointCacheHeader pc2 =
+      read_point_cache_header(write_three_frames(dir.path() / "m.pc2", PointCacheFormat::kPc2));
+  EXPECT_EQ(pc2.point_count, 2);
+  EXPECT_EQ(pc2.frame_count, 3);
+  EXPECT_EQ(pc2.start_frame, 10.0f);
+  EXPECT_EQ(pc2.sampling, 1.0f);
+  const PointCacheHeader mdd =
+      read_point_cache_header(write_three_frames(dir.path() / "m.mdd", PointCacheFormat::kMdd));
+  EXPECT_EQ(mdd.frame_count, 3);
+  ASSERT_EQ(mdd.times.size(), 3u);
+  EXPECT_EQ(mdd.times[2], static_cast<float>(12 / 120.0)) << "frame 12 at 120 fps";
+  fs::resize_file(dir.path() / "m.pc2", 32 + 2 * 24 + 5);
+  expect_refusal([&] { read_point_cache_header(dir.path() / "m.pc2"); },
+                 "85 bytes where its header promises 104 (3 frames of 2 points): truncated");
+  const std::vector<std::uint8_t> junk(40, 7);
+  {
+    std::FILE* out = std::fopen((dir.path() / "m.pc2").c_str(), "wb");
+    std::fwrite(junk.data(), 1, junk.size(), out);
+    std::fclose(out);
+  }
+  expect_refusal([&] { read_point_cache_header(dir.path() / "m.pc2"); },
+                 "not a PC2 file: it does not start with POINTCACHE2");
+}
+
+TEST(PointCacheSave, FormatFromTheExtension) {
+  EXPECT_EQ(point_cache_format("a/b.pc2"), PointCacheFormat::kPc2);
+  EXPECT_EQ(point_cache_format("b.MDD"), PointCacheFormat::kMdd);
+  EXPECT_EQ(point_cache_format("b.glb"), std::nullopt);
+  EXPECT_EQ(point_cache_format("pc2"), std::nullopt) << "a name without an extension";
 }
 
 TEST(PointCacheSave, RefusesBadLayoutsAndFramesAndLeavesNoFile) {
@@ -155,6 +202,15 @@ TEST(PointCacheSave, RefusesBadLayoutsAndFramesAndLeavesNoFile) {
         writer.finish();
       },
       "1 frames written of the 2");
+  expect_refusal([&] { PointCacheWriter(file, layout).write_frame_at(2, frame); },
+                 "frame index 2 outside the cache's 2");
+  expect_refusal(
+      [&] {
+        PointCacheWriter writer(file, layout);
+        writer.write_frame_at(1, frame);
+        writer.write_frame_at(1, frame);
+      },
+      "frame index 1 written twice");
   expect_refusal([&] { PointCacheWriter(dir.path() / "missing" / "m.pc2", layout); },
                  "cannot create it");
   EXPECT_TRUE(fs::is_empty(dir.path())) << "no cache and no .partial file left behind";
