@@ -78,10 +78,17 @@ void move_limb_end(const deform::Skeleton& skeleton, LimbJoints limb, glm::vec3 
   }
   const glm::vec3 target = from_hip + hip;
   const glm::vec3 u = (knee - hip) / thigh, s = (ankle - knee) / shin;
+  // The plane the limb bends in: its own, eased towards bend_if_straight's as it nears
+  // straight, where its own is the clip's noise (a knee the clip holds within a few degrees of
+  // straight, or overextended, turned its plane by tens of degrees between frames, and a knee
+  // bent by the IK swung sideways with it: 5-6 cm in a frame, RiggedFigure in cmu_01_03).
   glm::vec3 axis = glm::cross(u, s);
-  const float bend = std::atan2(glm::length(axis), glm::dot(u, s));
+  const glm::vec3 fallback = glm::cross(bend_if_straight, u);
+  const float straightish = std::sin(glm::radians(kPlaneFromPoseBend));
+  if (const float own = glm::length(axis); own < straightish && glm::length(fallback) > 1e-6f)
+    axis += (straightish - own) * glm::normalize(fallback);
   if (glm::length(axis) < 1e-4f) {
-    axis = glm::cross(bend_if_straight, u);
+    axis = fallback;
     if (glm::length(axis) < 1e-6f) return;
   }
   axis = glm::normalize(axis);
@@ -89,7 +96,9 @@ void move_limb_end(const deform::Skeleton& skeleton, LimbJoints limb, glm::vec3 
       std::max(shortest, soft_reach(glm::distance(hip, target), longest, softness * (thigh + shin)));
   const float inner = std::acos(std::clamp(
       (thigh * thigh + shin * shin - reach * reach) / (2.0f * thigh * shin), -1.0f, 1.0f));
-  const glm::quat knee_turn = glm::angleAxis(static_cast<float>(M_PI) - inner - bend, axis);
+  // Straightened, then bent about the axis: exactly the bend the reach needs, whichever plane.
+  const glm::quat knee_turn =
+      glm::angleAxis(static_cast<float>(M_PI) - inner, axis) * shortest_arc(s, u);
   const glm::vec3 moved = knee + knee_turn * (ankle - knee);
   if (glm::length(moved - hip) < 1e-6f || glm::length(target - hip) < 1e-6f) return;
   const glm::quat swing = shortest_arc(glm::normalize(moved - hip), glm::normalize(target - hip));
