@@ -18,7 +18,7 @@
 namespace sweepd::cli {
 
 namespace {
-constexpr int kServerGutter = 4;  // server/handlers/position_map_service.h
+constexpr int kServerGutter = 4;  // server/services/position_map_service.h
 
 protocol::ExrCompression wire_compression(io::ExrCompression compression) {
   switch (compression) {

@@ -25,12 +25,13 @@
 #include "mannequin/mannequin.h"
 #include "protocol/framing.h"
 #include "server/config.h"
-#include "server/handlers/contact_sheet_service.h"
-#include "server/handlers/model_requests.h"
+#include "server/handlers/edit_key_ellipse_handler.h"
+#include "server/handlers/load_model_handler.h"
 #include "server/handlers/pose_intake.h"
 #include "server/handlers/pose_request.h"
-#include "server/handlers/position_map_service.h"
 #include "server/models/clip_store.h"
+#include "server/services/contact_sheet_service.h"
+#include "server/services/position_map_service.h"
 
 namespace sweepd::fuzz {
 namespace {

@@ -12,6 +12,7 @@
 #include "io/rig_map_json.h"
 #include "mannequin/mannequin.h"
 #include "selfcheck/binding_self_check.h"
+#include "server/elapsed_time.h"
 #include "server/log_event.h"
 
 namespace sweepd::server {
@@ -37,12 +38,6 @@ void check_name(const std::string& name) {
 bool is_model_file(const fs::path& file) {
   const std::string extension = file.extension().string();
   return extension == ".glb" || extension == ".gltf";
-}
-
-std::uint64_t nanoseconds_since(std::chrono::steady_clock::time_point start) {
-  return static_cast<std::uint64_t>(
-      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start)
-          .count());
 }
 
 // A store problem's log fields: file, reason, and quarantined_to when it was moved.

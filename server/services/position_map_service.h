@@ -25,7 +25,7 @@
 
 #include "deform/model/model.h"
 #include "protocol/sweepd_generated.h"
-#include "server/handlers/gpu_thread.h"
+#include "server/services/gpu_thread.h"
 
 namespace sweepd::gpu {
 class PositionMapRenderer;

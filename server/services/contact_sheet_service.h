@@ -26,10 +26,10 @@
 
 #include "gpu/sheet/contact_sheet.h"
 #include "protocol/sweepd_generated.h"
-#include "server/handlers/position_map_service.h"
 #include "server/handlers/request_error.h"
 #include "server/models/clip_store.h"
 #include "server/models/model_lookup.h"
+#include "server/services/position_map_service.h"
 
 namespace sweepd::gpu {
 class PreviewRenderer;

@@ -1,4 +1,4 @@
-#include "server/handlers/gpu_thread.h"
+#include "server/services/gpu_thread.h"
 
 namespace sweepd::server {
 

@@ -41,7 +41,7 @@
 #include "gpu/collision.h"
 #include "gpu/collision_backend.h"
 #include "gpu/sheet/deform_with.h"
-#include "server/handlers/gpu_thread.h"
+#include "server/services/gpu_thread.h"
 
 namespace sweepd::server {
 

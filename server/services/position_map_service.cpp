@@ -1,4 +1,4 @@
-#include "server/handlers/position_map_service.h"
+#include "server/services/position_map_service.h"
 
 #include <optional>
 

@@ -1,4 +1,4 @@
-#include "server/handlers/collision_service.h"
+#include "server/services/collision_service.h"
 
 #include "server/log_event.h"
 

@@ -3,7 +3,7 @@
 // pairs, so its vertices equal the CPU backend's bit for bit; every such pose is counted as a
 // fallback in Stats (build_stats) and /metrics (format_metrics), and the reason is logged once.
 // Then the real gpu::CollisionDetector behind the same service gives the CPU's vertices too.
-#include "server/handlers/collision_service.h"
+#include "server/services/collision_service.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "server/handlers/contact_sheet_service.h"
+#include "server/services/contact_sheet_service.h"
 
 #include <algorithm>
 #include <cmath>
