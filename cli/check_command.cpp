@@ -23,7 +23,7 @@
 #include "console/command_line.h"
 #include "console/progress_bar.h"
 #include "gpu/sheet/deform_with.h"
-#include "io/file_bytes.h"
+#include "io/files/file_bytes.h"
 #include "metrics/region_quality.h"
 #include "motion/own_skeleton_clip.h"
 #include "motion/range_of_motion.h"

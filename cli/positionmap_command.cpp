@@ -12,8 +12,8 @@
 #include "console/command_line.h"
 #include "gpu/egl_context.h"
 #include "gpu/position_map_renderer.h"
-#include "io/exr_write.h"
-#include "io/file_bytes.h"
+#include "io/exr/exr_write.h"
+#include "io/files/file_bytes.h"
 
 namespace sweepd::cli {
 

@@ -19,7 +19,7 @@
 #include "console/command_line.h"
 #include "console/frame_range.h"
 #include "gpu/sheet/contact_sheet.h"
-#include "io/file_bytes.h"
+#include "io/files/file_bytes.h"
 
 namespace sweepd::cli {
 

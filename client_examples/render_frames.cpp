@@ -83,7 +83,7 @@
 #include "console/frame_range.h"
 #include "console/progress_bar.h"
 #include "deform/job/method_choice.h"
-#include "io/file_bytes.h"
+#include "io/files/file_bytes.h"
 #include "protocol/messages.h"
 
 namespace {

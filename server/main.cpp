@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "gpu/collision_backend.h"
-#include "io/durable_file.h"
+#include "io/files/durable_file.h"
 #include "server/config.h"
 #include "server/http/http_side_port.h"
 #include "server/log_event.h"

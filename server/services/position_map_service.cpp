@@ -4,7 +4,7 @@
 
 #include "gpu/gpu_worker.h"
 #include "gpu/position_map_renderer.h"
-#include "io/exr_write.h"
+#include "io/exr/exr_write.h"
 
 namespace sweepd::server {
 namespace {
