@@ -13,7 +13,7 @@
 #include "gpu/egl_context.h"
 #include "gpu/position_map_renderer.h"
 #include "io/exr/exr_write.h"
-#include "io/files/file_bytes.h"
+#include "io/files/write_whole_file.h"
 
 namespace sweepd::cli {
 
@@ -51,7 +51,7 @@ int positionmap(const PositionmapCommandOptions& options, const ServerAddress& s
     const std::vector<std::uint8_t> file = posed.position_map(
         posing.frames.first,
         {size, options.normals, wire_compression(options.compression), options.half_normals});
-    io::write_file_bytes(out, file);
+    io::write_whole_file(out, file, "sweepctl positionmap");
     std::printf("wrote %s (%dx%d, %s, sweepd at %s)\n", out.string().c_str(), size, size,
                 deform::to_string(posing.method), server.address.c_str());
     return 0;

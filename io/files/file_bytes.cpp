@@ -2,7 +2,6 @@
 
 #include <fstream>
 #include <iterator>
-#include <stdexcept>
 
 #include "io/files/load_error.h"
 
@@ -30,13 +29,6 @@ std::vector<std::uint8_t> read_file_bytes(const std::filesystem::path& file) {
 std::string read_file_text(const std::filesystem::path& file) {
   std::ifstream stream = open_for_reading(file);
   return {std::istreambuf_iterator<char>(stream), std::istreambuf_iterator<char>()};
-}
-
-void write_file_bytes(const std::filesystem::path& file, std::span<const std::uint8_t> bytes) {
-  std::ofstream stream(file, std::ios::binary);
-  stream.write(reinterpret_cast<const char*>(bytes.data()),
-               static_cast<std::streamsize>(bytes.size()));
-  if (!stream) throw std::runtime_error("cannot write " + file.string());
 }
 
 }  // namespace sweepd::io

@@ -5,13 +5,10 @@
 //   file  the file to read
 // Returns every byte of it; an empty file gives an empty result (the caller decides if that is
 // an error).
-// write_file_bytes: `bytes` as the whole of `file` (a server's EXR or PNG reply); throws
-// std::runtime_error naming the file when it cannot be written.
 #pragma once
 
 #include <cstdint>
 #include <filesystem>
-#include <span>
 #include <string>
 #include <vector>
 
@@ -19,6 +16,5 @@ namespace sweepd::io {
 
 std::vector<std::uint8_t> read_file_bytes(const std::filesystem::path& file);
 std::string read_file_text(const std::filesystem::path& file);
-void write_file_bytes(const std::filesystem::path& file, std::span<const std::uint8_t> bytes);
 
 }  // namespace sweepd::io

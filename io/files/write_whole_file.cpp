@@ -22,4 +22,9 @@ void write_whole_file(const std::filesystem::path& file, std::span<const std::ui
   }
 }
 
+void write_whole_file(const std::filesystem::path& file, std::string_view text,
+                      const char* writer) {
+  write_whole_file(file, {reinterpret_cast<const std::uint8_t*>(text.data()), text.size()}, writer);
+}
+
 }  // namespace sweepd::io

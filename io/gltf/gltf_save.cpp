@@ -4,10 +4,8 @@
 
 #include <algorithm>
 #include <array>
-#include <cerrno>
 #include <cmath>
 #include <cstring>
-#include <fstream>
 #include <limits>
 #include <map>
 #include <sstream>
@@ -15,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "io/files/write_whole_file.h"
 #include "io/gltf/glb_builder.h"
 #include "io/gltf/gltf_animations_save.h"
 
@@ -269,13 +268,7 @@ void save_gltf(const deform::Model& model, const std::filesystem::path& file,
   tinygltf::TinyGLTF writer;
   if (!writer.WriteGltfSceneToStream(&gltf, bytes, false, true))
     throw std::runtime_error("save_gltf " + file.string() + ": tinygltf could not serialise");
-  std::ofstream out(file, std::ios::binary | std::ios::trunc);
-  const std::string content = bytes.str();
-  out.write(content.data(), static_cast<std::streamsize>(content.size()));
-  out.close();
-  if (!out)
-    throw std::runtime_error("save_gltf " + file.string() + ": cannot write the file (" +
-                             std::strerror(errno) + ")");
+  write_whole_file(file, bytes.str(), "save_gltf");
 }
 
 }  // namespace sweepd::io

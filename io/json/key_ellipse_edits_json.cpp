@@ -122,9 +122,7 @@ void save_key_ellipse_edits_json(const deform::KeyEllipseEdits& edits,
                     {"joint", bound.model.skeleton.joints.at(edit.joint).name},
                     {"samples", samples}});
   }
-  const std::string text = json{{"edits", list}}.dump(2) + "\n";
-  write_whole_file(path, std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()),
-                   "save_key_ellipse_edits_json");
+  write_whole_file(path, json{{"edits", list}}.dump(2) + "\n", "save_key_ellipse_edits_json");
 }
 
 }  // namespace sweepd::io

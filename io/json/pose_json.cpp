@@ -1,12 +1,12 @@
 #include "io/json/pose_json.h"
 
 #include <cmath>
-#include <fstream>
 #include <stdexcept>
 #include <string>
 
 #include "io/json/json_file.h"
 #include "io/files/load_error.h"
+#include "io/files/write_whole_file.h"
 
 namespace sweepd::io {
 
@@ -110,9 +110,7 @@ void save_pose_json(const deform::Pose& pose, const deform::Skeleton& skeleton,
     if (q != skeleton.joints[j].rest_rotation)
       document["rotations"][skeleton.joints[j].name] = {q.w, q.x, q.y, q.z};
   }
-  std::ofstream file(path);
-  file << document.dump(2) << '\n';
-  if (!file) throw std::runtime_error(path.string() + ": cannot write the pose file");
+  write_whole_file(path, document.dump(2) + "\n", "save_pose_json");
 }
 
 }  // namespace sweepd::io

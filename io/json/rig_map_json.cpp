@@ -8,6 +8,7 @@
 #include <string>
 
 #include "io/files/load_error.h"
+#include "io/files/write_whole_file.h"
 
 namespace sweepd::io {
 
@@ -180,9 +181,7 @@ void save_rig_map_json(const deform::RigMap& map, const deform::Skeleton& skelet
   document["right_arm"] = roles(slots(copy.right_arm));
   document["left_leg"] = roles(slots(copy.left_leg));
   document["right_leg"] = roles(slots(copy.right_leg));
-  std::ofstream file(path);
-  file << document.dump(2) << '\n';
-  if (!file) throw std::runtime_error(path.string() + ": cannot write the rig map file");
+  write_whole_file(path, document.dump(2) + "\n", "save_rig_map_json");
 }
 
 }  // namespace sweepd::io
