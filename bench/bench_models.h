@@ -6,7 +6,7 @@
 #include <filesystem>
 
 #include "deform/model/model.h"
-#include "io/gltf_load.h"
+#include "io/gltf/gltf_load.h"
 #include "mannequin/mannequin.h"
 #include "tests/test_paths.h"
 

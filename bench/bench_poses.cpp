@@ -5,7 +5,7 @@
 #include <limits>
 
 #include "cli/served_rest_skeleton.h"
-#include "io/bvh_load.h"
+#include "io/bvh/bvh_load.h"
 #include "motion/retarget.h"
 #include "tests/test_paths.h"
 

@@ -26,7 +26,7 @@
 #include "deform/model/forward_kinematics.h"
 #include "deform/posing/sweep_poser.h"
 #include "deform/rig/rig_map.h"
-#include "io/gltf_load.h"
+#include "io/gltf/gltf_load.h"
 #include "mannequin/mannequin.h"
 #include "tests/test_paths.h"
 

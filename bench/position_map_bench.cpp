@@ -4,7 +4,7 @@
 // end with glFinish), then whole frames back to back the way the daemon's GPU worker makes
 // them, in frames per second. Encoding is timed on the calling thread only and with OpenEXR's
 // thread pool at the machine's core count; "Nh" is the normals as half floats. ZIP is deflated
-// by libdeflate at level 1 (io/exr_zip_encode.h, ExrOptions' default), once at level 6, and
+// by libdeflate at level 1 (io/exr/exr_zip_encode.h, ExrOptions' default), once at level 6, and
 // once by OpenEXR's own writer with zlib at level 1 (ExrOptions::openexr_zip), as before.
 // Last, the ZIP encode alone of one frame, libdeflate and OpenEXR's zlib interleaved frame by
 // frame so that the machine's load falls on both alike: medians and their ratio.
@@ -25,7 +25,7 @@
 #include "deform/rig/rig_map.h"
 #include "gpu/egl_context.h"
 #include "gpu/position_map_renderer.h"
-#include "io/exr_write.h"
+#include "io/exr/exr_write.h"
 #include "mannequin/mannequin.h"
 
 namespace {

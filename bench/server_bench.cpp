@@ -53,7 +53,7 @@
 #include "client/connection.h"
 #include "console/command_line.h"
 #include "deform/job/deform_job.h"
-#include "io/sweepbind.h"
+#include "io/sweepbind/sweepbind.h"
 #include "tests/test_paths.h"
 
 namespace {

@@ -21,8 +21,8 @@
 #include "console/progress_bar.h"
 #include "deform/blending/rigid_islands.h"
 #include "deform/mesh/welded_mesh.h"
-#include "io/gltf_save.h"
-#include "io/sweepbind.h"
+#include "io/gltf/gltf_save.h"
+#include "io/sweepbind/sweepbind.h"
 #include "selfcheck/binding_self_check.h"
 
 namespace sweepd::cli {

@@ -23,7 +23,7 @@
 #include "console/command_line.h"
 #include "console/progress_bar.h"
 #include "gpu/sheet/deform_with.h"
-#include "io/file_bytes.h"
+#include "io/files/write_whole_file.h"
 #include "metrics/region_quality.h"
 #include "motion/own_skeleton_clip.h"
 #include "motion/range_of_motion.h"
@@ -350,7 +350,7 @@ void write_sheet(const CheckCommandOptions& options, const PosedModel& posed,
     return clip ? clip->pose_at_frame(frame) : posed.pose(0);
   });
   const sheet::SheetPicture picture = local.picture();
-  io::write_file_bytes(options.sheet, picture.png);
+  io::write_whole_file(options.sheet, picture.png, "sweepctl check");
   std::string rows;
   for (int frame : grid.frames) rows += (rows.empty() ? "" : "; ") + report.frame_label(frame);
   std::fprintf(stderr, "wrote %s (%dx%d, stretch heat, frames %s)\n",

@@ -1,5 +1,5 @@
 // sweepctl edit: stores key-ellipse edits (paper §4.2; the JSON format is in
-// io/key_ellipse_edits_json.h) in a bound model's .sweepbind file, replacing the edits it had,
+// io/json/key_ellipse_edits_json.h) in a bound model's .sweepbind file, replacing the edits it had,
 // so every later pose of that model applies them.
 #include <cstdio>
 #include <filesystem>
@@ -7,8 +7,8 @@
 
 #include "cli/commands.h"
 #include "deform/rig/rig_map.h"
-#include "io/key_ellipse_edits_json.h"
-#include "io/sweepbind.h"
+#include "io/json/key_ellipse_edits_json.h"
+#include "io/sweepbind/sweepbind.h"
 
 namespace sweepd::cli {
 
@@ -51,7 +51,7 @@ Command add_edit_command(CLI::App& sweepctl) {
       ->check(bound_model);
   command
       ->add_option("EDITS", options->edits,
-                   "key-ellipse edits, EDITS.json (format in io/key_ellipse_edits_json.h); they "
+                   "key-ellipse edits, EDITS.json (format in io/json/key_ellipse_edits_json.h); they "
                    "replace the model's edits ({\"edits\": []} removes them)")
       ->type_name("")
       ->required();

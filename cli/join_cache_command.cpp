@@ -1,13 +1,13 @@
 // sweepctl join-cache A.pc2 B.pc2 ... -o ALL.pc2: point caches of consecutive frame ranges (the
 // shards `render_frames --format pc2|mdd --shard I/N` writes) joined into one
-// (io/point_cache_join.h checks one point count and contiguous frames).
+// (io/point_cache/point_cache_join.h checks one point count and contiguous frames).
 #include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <vector>
 
 #include "cli/commands.h"
-#include "io/point_cache_join.h"
+#include "io/point_cache/point_cache_join.h"
 
 namespace sweepd::cli {
 

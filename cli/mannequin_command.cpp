@@ -7,7 +7,7 @@
 #include "cli/commands.h"
 #include "cli/text_format.h"
 #include "console/command_line.h"
-#include "io/gltf_save.h"
+#include "io/gltf/gltf_save.h"
 #include "mannequin/mannequin.h"
 
 namespace sweepd::cli {

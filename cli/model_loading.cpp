@@ -3,7 +3,7 @@
 #include <cstdio>
 
 #include "io/model_load.h"
-#include "io/rig_map_json.h"
+#include "io/json/rig_map_json.h"
 
 namespace sweepd::cli {
 

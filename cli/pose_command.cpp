@@ -1,6 +1,6 @@
 // sweepctl pose: a model deformed into a pose (a clip frame, a pose file), written as .glb —
 // one frame, or a range of frames into a folder — or clip frames as a PC2 or MDD point cache
-// (io/point_cache_save.h), streamed frame by frame. With --server the daemon deforms.
+// (io/point_cache/point_cache_save.h), streamed frame by frame. With --server the daemon deforms.
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -11,8 +11,8 @@
 #include "cli/remote_posed_model.h"
 #include "console/command_line.h"
 #include "console/progress_bar.h"
-#include "io/gltf_save.h"
-#include "io/point_cache_save.h"
+#include "io/gltf/gltf_save.h"
+#include "io/point_cache/point_cache_save.h"
 
 namespace sweepd::cli {
 

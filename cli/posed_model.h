@@ -24,7 +24,7 @@
 
 namespace sweepd::cli {
 
-// The --bvh-map file's joint name map (io/joint_name_map_json.h); empty when no file is given.
+// The --bvh-map file's joint name map (io/json/joint_name_map_json.h); empty when no file is given.
 motion::JointNameMap load_joint_name_map(const std::filesystem::path& file);
 // Throws std::invalid_argument naming the clip when the arguments' frames lie past its end.
 void require_clip_frames(const PosingArguments& arguments, int frame_count);

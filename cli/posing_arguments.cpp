@@ -106,7 +106,7 @@ void add_posing_flags(CLI::App& command, PosingArguments& out, ClipFrames frames
   }
   command
       .add_option("--pose", out.pose_file,
-                  "a hand-written pose (format in io/pose_json.h) instead of a clip")
+                  "a hand-written pose (format in io/json/pose_json.h) instead of a clip")
       ->type_name("POSE.json")
       ->excludes(bvh)
       ->excludes(clip)

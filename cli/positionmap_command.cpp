@@ -12,13 +12,13 @@
 #include "console/command_line.h"
 #include "gpu/egl_context.h"
 #include "gpu/position_map_renderer.h"
-#include "io/exr_write.h"
-#include "io/file_bytes.h"
+#include "io/exr/exr_write.h"
+#include "io/files/write_whole_file.h"
 
 namespace sweepd::cli {
 
 namespace {
-constexpr int kServerGutter = 4;  // server/handlers/position_map_service.h
+constexpr int kServerGutter = 4;  // server/services/position_map_service.h
 
 protocol::ExrCompression wire_compression(io::ExrCompression compression) {
   switch (compression) {
@@ -51,7 +51,7 @@ int positionmap(const PositionmapCommandOptions& options, const ServerAddress& s
     const std::vector<std::uint8_t> file = posed.position_map(
         posing.frames.first,
         {size, options.normals, wire_compression(options.compression), options.half_normals});
-    io::write_file_bytes(out, file);
+    io::write_whole_file(out, file, "sweepctl positionmap");
     std::printf("wrote %s (%dx%d, %s, sweepd at %s)\n", out.string().c_str(), size, size,
                 deform::to_string(posing.method), server.address.c_str());
     return 0;

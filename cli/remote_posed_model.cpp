@@ -9,8 +9,8 @@
 #include "client/bind_warnings.h"
 #include "client/clip_upload.h"
 #include "client/reconnect.h"
-#include "io/file_bytes.h"
-#include "io/pose_json.h"
+#include "io/files/file_bytes.h"
+#include "io/json/pose_json.h"
 
 namespace sweepd::cli {
 namespace {

@@ -10,7 +10,7 @@
 #include "console/command_line.h"
 #include "gpu/egl_context.h"
 #include "gpu/preview_renderer.h"
-#include "io/png_write.h"
+#include "io/png/png_write.h"
 
 namespace sweepd::cli {
 

@@ -7,7 +7,7 @@
 
 #include "cli/commands.h"
 #include "cli/model_loading.h"
-#include "io/gltf_save.h"
+#include "io/gltf/gltf_save.h"
 #include "motion/range_of_motion.h"
 
 namespace sweepd::cli {

@@ -19,7 +19,7 @@
 #include "console/command_line.h"
 #include "console/frame_range.h"
 #include "gpu/sheet/contact_sheet.h"
-#include "io/file_bytes.h"
+#include "io/files/write_whole_file.h"
 
 namespace sweepd::cli {
 
@@ -94,7 +94,7 @@ int run_sheet(SheetCommandOptions& options, const ServerAddress& server) {
     RemotePosedModel remote(options.posing, server);           // uploads the model and the clip
     std::fprintf(stderr, "%s\n", remote.served_as().c_str());  // the name the server holds
     const sheet::SheetPicture picture = remote.contact_sheet(grid);
-    io::write_file_bytes(options.png, picture.png);
+    io::write_whole_file(options.png, picture.png, "sweepctl sheet");
     print_picture(options, picture, ", sweepd at " + server.address);
     if (sheet::uses_collision(grid.methods)) collision = remote.collision_summary();
   } else {
@@ -102,7 +102,7 @@ int run_sheet(SheetCommandOptions& options, const ServerAddress& server) {
     LocalSheet local(posed, grid);
     if (!options.png.empty()) {
       const sheet::SheetPicture picture = local.picture();
-      io::write_file_bytes(options.png, picture.png);
+      io::write_whole_file(options.png, picture.png, "sweepctl sheet");
       print_picture(options, picture, "");
     }
     if (!options.video.empty()) draw_video(local.contact(), options);

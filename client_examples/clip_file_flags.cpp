@@ -5,8 +5,8 @@
 #include <string_view>
 
 #include "client/clip_upload.h"
-#include "io/bvh_load.h"
-#include "io/file_bytes.h"
+#include "io/bvh/bvh_load.h"
+#include "io/files/file_bytes.h"
 #include "io/model_clip_load.h"
 
 namespace sweepd::client_examples {

@@ -42,7 +42,7 @@
 // 5. Each reply's EXR bytes are written to DIR/.<name>.<pid>.partial and renamed without
 //    replacing (renameat2 RENAME_NOREPLACE): a file under its name is complete and written
 //    once, even with two processes on one range.
-//    With --format pc2|mdd (point caches, io/point_cache_save.h) each frame is asked for as
+//    With --format pc2|mdd (point caches, io/point_cache/point_cache_save.h) each frame is asked for as
 //    posed vertices (PoseFromClip, no normals) and written at its own place in one cache,
 //    DIR/<clip stem>.<first frame>-<last frame, 5 digits each>.pc2 (or .mdd) for this process's
 //    frames (its shard's slice), in the model's glTF axes, or Blender's Z-up with --axes blender
@@ -91,9 +91,9 @@
 #include "console/frame_range.h"
 #include "console/progress_bar.h"
 #include "deform/job/method_choice.h"
-#include "io/file_bytes.h"
-#include "io/load_error.h"
-#include "io/point_cache_save.h"
+#include "io/files/file_bytes.h"
+#include "io/files/load_error.h"
+#include "io/point_cache/point_cache_save.h"
 #include "protocol/messages.h"
 
 namespace {

@@ -58,7 +58,7 @@
 #include "client/token_flags.h"
 #include "client_examples/clip_file_flags.h"
 #include "console/command_line.h"
-#include "io/file_bytes.h"
+#include "io/files/file_bytes.h"
 #include "protocol/messages.h"
 
 namespace {

@@ -14,7 +14,7 @@ packages=(
   libegl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri mesa-utils-bin
   nlohmann-json3-dev libstb-dev libgtest-dev libgmock-dev libbenchmark-dev
   flatbuffers-compiler libflatbuffers-dev python3 python3-flatbuffers zlib1g-dev libcli11-dev
-  libdeflate-dev  # deflate of ZIP position maps (io/exr_zip_encode.h): 0.52-0.63x zlib's time
+  libdeflate-dev  # deflate of ZIP position maps (io/exr/exr_zip_encode.h): 0.52-0.63x zlib's time
   libmeshoptimizer-dev  # the protocol's Meshopt position format (protocol/meshopt_vertices.h); Python's sweepd-client loads its libmeshoptimizer.so.2d
   strace  # tests/server/daemon_upload_confinement_test.cpp traces the daemon's file calls
   libcpp-httplib-dev  # sweepd's HTTP side port (server/http/): /healthz, /readyz, /metrics
@@ -24,7 +24,7 @@ packages=(
   libsystemd-dev  # sd_notify for the Type=notify unit (server/systemd_notifier.h)
   python3-numpy python3-venv python3-setuptools python3-pip  # client_examples/python (sweepd-client), pip-installed offline in tests/server/python_package_test.cpp
   ffmpeg  # sweepctl sheet --video pipes its frames to ffmpeg (cli/video_encoder.h)
-  libassimp-dev  # FBX and COLLADA models (io/assimp_load.h): sweepctl MODEL files, tests/io/assimp_load_test
+  libassimp-dev  # FBX and COLLADA models (io/assimp/assimp_load.h): sweepctl MODEL files, tests/io/assimp/assimp_load_test
   assimp-utils  # the `assimp` command (assimp export in.glb out.fbx): FBX by hand, as the tests make it
   haproxy  # deploy/haproxy.cfg: checked with haproxy -c and run in front of two daemons (tests/deploy/)
   clang libclang-rt-14-dev  # make sanitize, make tsan and make fuzz compile with Clang 14 and its sanitizer runtimes (CMakePresets.json)

@@ -1,5 +1,5 @@
 // choose_animation: which of a file's animations a user's `--clip NAME|INDEX` means, for every
-// reader of animations in files (io/gltf_clip_load.h, io/assimp_clip_load.h): the first
+// reader of animations in files (io/gltf/gltf_clip_load.h, io/assimp/assimp_clip_load.h): the first
 // animation with that exact name, else, when the text is a decimal index (at most 9 digits),
 // the animation at that index.
 // Input:  names  the file's animations in file order ("" for one without a name)
@@ -20,7 +20,7 @@
 #include <string>
 #include <vector>
 
-#include "io/load_error.h"
+#include "io/files/load_error.h"
 #include "motion/clip.h"
 
 namespace sweepd::io {

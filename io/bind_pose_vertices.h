@@ -1,6 +1,6 @@
 // add_influence: adds (joint, weight) to a vertex's influences, merging a joint named twice.
 //
-// BindPoseVertices: how the model loaders (io/gltf_load, io/assimp_load) turn a file's skinned
+// BindPoseVertices: how the model loaders (io/gltf/gltf_load, io/assimp/assimp_load) turn a file's skinned
 // vertices into deform::Model vertices in the bind pose, and count and say what they changed.
 //
 // append: one vertex.

@@ -1,9 +1,9 @@
 #include "io/model_clip_load.h"
 
-#include "io/assimp_clip_load.h"
-#include "io/assimp_load.h"
-#include "io/file_bytes.h"
-#include "io/gltf_clip_load.h"
+#include "io/assimp/assimp_clip_load.h"
+#include "io/assimp/assimp_load.h"
+#include "io/files/file_bytes.h"
+#include "io/gltf/gltf_clip_load.h"
 #include "io/model_load.h"
 
 namespace sweepd::io {

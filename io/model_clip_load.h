@@ -1,5 +1,5 @@
 // load_model_clip / load_model_animations: an animation of any model file sweepctl takes —
-// glTF 2.0 (io/gltf_clip_load.h), FBX or COLLADA (io/assimp_clip_load.h) — with the reader chosen
+// glTF 2.0 (io/gltf/gltf_clip_load.h), FBX or COLLADA (io/assimp/assimp_clip_load.h) — with the reader chosen
 // from the file's first bytes, as io::load_model chooses the model reader, so the clip's joints
 // are those of the model load_model reads from the same file.
 //
@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "io/animation_choice.h"
-#include "io/load_error.h"
+#include "io/files/load_error.h"
 #include "motion/clip.h"
 
 namespace sweepd::io {

@@ -5,8 +5,8 @@
 #include <fstream>
 #include <span>
 
-#include "io/assimp_load.h"
-#include "io/gltf_load.h"
+#include "io/assimp/assimp_load.h"
+#include "io/gltf/gltf_load.h"
 
 namespace sweepd::io {
 

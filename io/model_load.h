@@ -1,6 +1,6 @@
 // load_model: reads a skinned human from any model file sweepctl takes — glTF 2.0 (.glb, .gltf),
 // FBX (binary or ASCII) or COLLADA (.dae) — choosing the reader from the file's first bytes, not
-// its name: io/assimp_load.h for FBX and COLLADA, io/gltf_load.h (its own directory's files only)
+// its name: io/assimp/assimp_load.h for FBX and COLLADA, io/gltf/gltf_load.h (its own directory's files only)
 // for everything else.
 //
 // Input:  file    the model file
@@ -11,7 +11,7 @@
 #include <filesystem>
 
 #include "deform/model/model.h"
-#include "io/load_error.h"
+#include "io/files/load_error.h"
 #include "io/load_report.h"
 
 namespace sweepd::io {

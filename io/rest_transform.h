@@ -1,4 +1,4 @@
-// Rest transforms as the model loaders (io/gltf_load, io/assimp_load) turn a file's matrices into
+// Rest transforms as the model loaders (io/gltf/gltf_load, io/assimp/assimp_load) turn a file's matrices into
 // deform::Joint fields and carry a file's vertices into the bind pose.
 //
 // decompose_rest_transform

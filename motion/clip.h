@@ -1,6 +1,6 @@
 // Clip: the animation clip of motion/ — a joint hierarchy with per-frame channel values (a BVH
-// file read by io/bvh_load.h, or a clip built in code) or with keyframe tracks (a glTF
-// animation read by io/gltf_clip_load.h; motion/keyframe_track.h).
+// file read by io/bvh/bvh_load.h, or a clip built in code) or with keyframe tracks (a glTF
+// animation read by io/gltf/gltf_clip_load.h; motion/keyframe_track.h).
 //
 // Joints are in file order, which is parents first (parent index < own index; roots have -1).
 // Each joint has a rest offset from its parent and the channels it animates, in file order.

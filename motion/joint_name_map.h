@@ -1,5 +1,5 @@
 // JointNameMap: which clip joint drives which model joint, when names and rig roles do not
-// say it (motion/retarget.h, matching step 1). Plain data: io/joint_name_map_json.h reads it
+// say it (motion/retarget.h, matching step 1). Plain data: io/json/joint_name_map_json.h reads it
 // from a file; a caller may also build it in code.
 //
 //   source  names the map in error messages (a file name, or "" for a map built in code)

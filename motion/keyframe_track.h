@@ -1,6 +1,6 @@
 // KeyframeTrack: one animated property of one clip joint as keyframes (a glTF 2.0 animation
 // channel with its sampler), and its sampling per the glTF 2.0 specification (section 3.11 and
-// Appendix C). io/gltf_clip_load.h reads them; motion::Clip::local_pose_at_time samples them.
+// Appendix C). io/gltf/gltf_clip_load.h reads them; motion::Clip::local_pose_at_time samples them.
 //
 //   joint          index into Clip::joints
 //   path           kTranslation (3 components: the joint's local translation, replacing its

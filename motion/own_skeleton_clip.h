@@ -1,5 +1,5 @@
 // OwnSkeletonClip: a clip that animates the model's own skeleton (a glTF animation read from the
-// model's file with io/gltf_clip_load.h, whose joints are the same skin's joints in the same
+// model's file with io/gltf/gltf_clip_load.h, whose joints are the same skin's joints in the same
 // order), played joint for joint with no retargeting: each model joint takes its clip joint's
 // local rotation, and the root translation is the clip's root translation.
 //

@@ -1,10 +1,10 @@
-// Retargeting: plays a clip (motion/clip.h: a BVH file read by io/bvh_load.h, or a glTF
-// animation read by io/gltf_clip_load.h) on a model's skeleton, as deform::Poses
+// Retargeting: plays a clip (motion/clip.h: a BVH file read by io/bvh/bvh_load.h, or a glTF
+// animation read by io/gltf/gltf_clip_load.h) on a model's skeleton, as deform::Poses
 // (motion/clip_poses.h).
 //
 // Joint matching (each BVH joint drives at most one model joint and vice versa), in order:
 //   1. name_map   an optional JointNameMap (motion/joint_name_map.h; from a JSON file
-//                 {"BVH joint name": "model joint name", ...} through io/joint_name_map_json.h);
+//                 {"BVH joint name": "model joint name", ...} through io/json/joint_name_map_json.h);
 //                 a pair without a model joint leaves that BVH joint unmapped. Unknown names
 //                 are std::invalid_argument naming the map's source.
 //   2. name       the same joint name on both sides (exact, case-sensitive).

@@ -9,13 +9,13 @@
 #include <vector>
 
 #include "gpu/collision_backend.h"
-#include "io/durable_file.h"
+#include "io/files/durable_file.h"
 #include "server/config.h"
-#include "server/handlers/collision_service.h"
-#include "server/handlers/gpu_thread.h"
 #include "server/http/http_side_port.h"
 #include "server/log_event.h"
 #include "server/models/model_service.h"
+#include "server/services/collision_service.h"
+#include "server/services/gpu_thread.h"
 #include "server/systemd_notifier.h"
 #include "server/transport/server.h"
 #include "server/transport/tls_context.h"

@@ -6,7 +6,7 @@
 // rig_naming.h), then, for every part the names did not settle, from the skeleton's shape
 // (rig_topology.h). A part found neither way (no legs, no head) is absent: the binding leaves
 // it to the model's own skinning and the map names it in a warning. Only a skeleton with no
-// torso chain is refused. A JSON file can override the map (io/rig_map_json.h).
+// torso chain is refused. A JSON file can override the map (io/json/rig_map_json.h).
 //
 // All joint ids are indices into Skeleton::joints; -1 marks an optional role that is absent.
 // Limb chains list only their role joints, root first; in-between joints (twist or segment

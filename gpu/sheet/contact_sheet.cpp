@@ -10,7 +10,7 @@
 #include <utility>
 
 #include "gpu/sheet/caption_text.h"
-#include "io/png_write.h"
+#include "io/png/png_write.h"
 
 namespace sweepd::sheet {
 

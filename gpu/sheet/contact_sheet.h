@@ -19,7 +19,7 @@
 // Inputs: a SheetModel (the bound model, its runtime and the pose of a clip frame); SheetOptions
 //   (methods, frames, cell size, focus, heat); the PairSource of sweep+features (null: the CPU
 //   reference); a DrawCell, where the cells are rendered — sweepctl's own gpu::Context on its
-//   thread, or the daemon's GPU thread (server/handlers/contact_sheet_service.h). The
+//   thread, or the daemon's GPU thread (server/services/contact_sheet_service.h). The
 //   constructor runs the framing pass (one LBS deformation per frame, no GL). render_row(i,
 //   rgba, row) renders frame frames[i] into row `row` of a picture width() pixels wide (rgba:
 //   width() × rows × cell_height × 4 bytes, row 0 at the top).

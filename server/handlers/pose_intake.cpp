@@ -5,7 +5,7 @@
 
 #include "motion/clip_sampling.h"
 #include "motion/named_joints.h"
-#include "server/handlers/position_map_service.h"
+#include "server/services/position_map_service.h"
 
 namespace sweepd::server {
 namespace {

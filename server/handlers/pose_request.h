@@ -43,10 +43,10 @@
 #include "deform/job/deform_method.h"
 #include "deform/model/pose.h"
 #include "protocol/messages.h"
-#include "server/handlers/collision_service.h"
-#include "server/handlers/position_map_service.h"
 #include "server/handlers/request_error.h"
 #include "server/models/model_registry.h"
+#include "server/services/collision_service.h"
+#include "server/services/position_map_service.h"
 #include "server/transport/shared_region.h"
 
 namespace sweepd::server {

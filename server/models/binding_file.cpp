@@ -7,7 +7,7 @@
 #include <cerrno>
 #include <cstring>
 
-#include "io/load_error.h"
+#include "io/files/load_error.h"
 
 namespace sweepd::server {
 namespace {

@@ -3,7 +3,7 @@
 // over it, and re-reads it before serving the model again.
 //
 // BindingFile::open(file): opens `file` and keeps it open for as long as the BindingFile lives.
-//   Every writer renames a new file over the name (io/durable_file.h), never writes in place,
+//   Every writer renames a new file over the name (io/files/durable_file.h), never writes in place,
 //   so a version is an inode; holding it open keeps the kernel from giving its number to a new
 //   file, and (device, inode, size, mtime) names this version for good. Throws io::LoadError
 //   (missing, unreadable).

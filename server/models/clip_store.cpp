@@ -3,9 +3,9 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "io/bvh_load.h"
-#include "io/joint_name_map_json.h"
-#include "io/load_error.h"
+#include "io/bvh/bvh_load.h"
+#include "io/json/joint_name_map_json.h"
+#include "io/files/load_error.h"
 #include "io/model_clip_load.h"
 #include "motion/name_list.h"
 #include "motion/own_skeleton_clip.h"

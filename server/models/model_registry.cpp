@@ -5,8 +5,8 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
-#include "io/durable_file.h"
-#include "io/sweepbind.h"
+#include "io/files/durable_file.h"
+#include "io/sweepbind/sweepbind.h"
 #include "server/models/self_check_sidecar.h"
 #include "server/models/store_edit_lock.h"
 #include "server/models/store_quarantine.h"

@@ -6,12 +6,13 @@
 
 #include "deform/binding/bind.h"
 #include "deform/rig/rig_map.h"
-#include "io/assimp_load.h"
-#include "io/durable_file.h"
-#include "io/gltf_load.h"
-#include "io/rig_map_json.h"
+#include "io/assimp/assimp_load.h"
+#include "io/files/durable_file.h"
+#include "io/gltf/gltf_load.h"
+#include "io/json/rig_map_json.h"
 #include "mannequin/mannequin.h"
 #include "selfcheck/binding_self_check.h"
+#include "server/elapsed_time.h"
 #include "server/log_event.h"
 
 namespace sweepd::server {
@@ -37,12 +38,6 @@ void check_name(const std::string& name) {
 bool is_model_file(const fs::path& file) {
   const std::string extension = file.extension().string();
   return extension == ".glb" || extension == ".gltf";
-}
-
-std::uint64_t nanoseconds_since(std::chrono::steady_clock::time_point start) {
-  return static_cast<std::uint64_t>(
-      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start)
-          .count());
 }
 
 // A store problem's log fields: file, reason, and quarantined_to when it was moved.
@@ -204,7 +199,7 @@ ModelHandle ModelService::bind_and_store(const ModelLoadRequest& request,
     deform::Model model;
     if (directory_file.empty()) {
       // An upload reads nothing but itself: a glTF its GLB chunk and data: URIs, an FBX or
-      // COLLADA file (io/assimp_load.h) its bytes. Kept under its format's suffix.
+      // COLLADA file (io/assimp/assimp_load.h) its bytes. Kept under its format's suffix.
       const std::string_view assimp_suffix = io::assimp_model_suffix(request.gltf);
       sources.upload = slot.file(assimp_suffix.empty() ? ".glb" : assimp_suffix);
       io::write_file_durably(sources.upload, request.gltf);

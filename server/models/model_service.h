@@ -21,7 +21,7 @@
 //     restart); their content id (content_id.h) held or in the store returns that
 //     model — under its own name: names are labels, so an upload sent again after a reconnect
 //     or to another replica costs no binding; else the bytes are kept as <cid>.glb (<cid>.fbx,
-//     <cid>.dae: the format is read from the first bytes, io/assimp_load.h), loaded,
+//     <cid>.dae: the format is read from the first bytes, io/assimp/assimp_load.h), loaded,
 //     bound and stored;
 //   - a name alone: the held model of that name, else the store's, else
 //     `name`[.glb|.gltf] from config.model_dir, bound as an upload of its bytes would be.
@@ -65,7 +65,7 @@ struct ModelLoadRequest {
   std::string content_id;              // content_id.h, or empty
   std::string name;                    // stored name; with no gltf: a model_dir file name
   std::span<const std::uint8_t> gltf;  // uploaded .glb/.gltf/.fbx/.dae bytes, or empty
-  std::string rig_map_json;            // io/rig_map_json.h override, or empty: detect
+  std::string rig_map_json;            // io/json/rig_map_json.h override, or empty: detect
   int keys_per_link = 0;               // 0: the bind default
   int orientation = 0;                 // 0: linear Q(t), 1: smooth (BindOptions)
 };

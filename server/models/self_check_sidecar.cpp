@@ -6,7 +6,7 @@
 #include <span>
 #include <string>
 
-#include "io/durable_file.h"
+#include "io/files/durable_file.h"
 
 namespace sweepd::server {
 namespace {

@@ -23,7 +23,7 @@
 #include <filesystem>
 #include <optional>
 
-#include "io/sweepbind.h"
+#include "io/sweepbind/sweepbind.h"
 #include "server/models/self_check.h"
 
 namespace sweepd::server {

@@ -8,7 +8,7 @@
 #include <ctime>
 #include <string>
 
-#include "io/durable_file.h"
+#include "io/files/durable_file.h"
 
 namespace sweepd::server {
 

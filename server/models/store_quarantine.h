@@ -5,7 +5,7 @@
 //   (e.g. quarantine/3.sweepbind.20261124T193000Z; .1, .2, ... appended when that name is
 //   taken), fsyncs both directories and returns the new path. Throws std::filesystem_error when
 //   the move fails.
-// remove_temporary_files(store_dir): removes the store's temporaries (io/durable_file.h) whose
+// remove_temporary_files(store_dir): removes the store's temporaries (io/files/durable_file.h) whose
 //   writer is gone — written on this host by a process that no longer runs, untouched for an
 //   hour (another host's crash: a store shared by replicas), or named FILE.tmp by an older
 //   sweepd — each left by a crash before its

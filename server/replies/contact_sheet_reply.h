@@ -6,7 +6,7 @@
 #include <cstdint>
 
 #include "protocol/sweepd_generated.h"
-#include "server/handlers/contact_sheet_service.h"
+#include "server/services/contact_sheet_service.h"
 
 namespace sweepd::server {
 

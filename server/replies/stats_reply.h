@@ -10,8 +10,8 @@
 #include <span>
 
 #include "protocol/sweepd_generated.h"
-#include "server/handlers/collision_service.h"
 #include "server/models/model_registry.h"
+#include "server/services/collision_service.h"
 #include "server/transport/connection_counters.h"
 
 namespace sweepd::server {

@@ -1,8 +1,11 @@
 // Connection: one client session of sweepd, on TCP, WebSocket or a Unix socket — the transport. It
-// moves frames, enforces authentication, limits, backpressure and reply order, and dispatches each
-// request: handlers (server/handlers/) turn it into work and a reply, encoders
-// (server/replies/) build the reply frames, and every model change goes through ModelService
-// (server/models/). It holds no model state of its own.
+// moves frames, enforces authentication, limits, backpressure and reply order, and hands each
+// request to its handler (server/handlers/request_table.h: one handler per message type),
+// which answers through the connection as a RequestSession; encoders (server/replies/) build the
+// reply frames, and every model change goes through ModelService (server/models/). It holds no
+// model state of its own. Its code, by concern: connection.cpp (the session: handshakes,
+// deadlines, reading, authentication, dispatch), connection_poses.cpp (the pose queue and its
+// worker jobs), connection_writing.cpp (the reply queue, writing, closing).
 //
 // Runs on the server's single I/O thread; only deformation and model loading go to the
 // worker pool (poses whose folding runs on the GPU thread to the pool of GPU waiters, see
@@ -45,49 +48,25 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
-#include <map>
 #include <memory>
 #include <optional>
 #include <string>
-#include <vector>
+#include <variant>
 
 #include "protocol/framing.h"
-#include "server/config.h"
-#include "server/handlers/contact_sheet_service.h"
-#include "server/handlers/model_requests.h"
 #include "server/handlers/pose_request.h"
 #include "server/handlers/request_error.h"
-#include "server/models/clip_store.h"
-#include "server/models/model_service.h"
+#include "server/handlers/request_session.h"
 #include "server/transport/connection_counters.h"
+#include "server/transport/connection_environment.h"
 #include "server/transport/connection_stream.h"
 #include "server/transport/fair_work_queue.h"
-#include "server/transport/reply_builder_pool.h"
 #include "server/transport/reply_send_gate.h"
 #include "server/transport/shared_region.h"
-#include "server/transport/traffic_counters.h"
 
 namespace sweepd::server {
 
-struct ConnectionEnvironment {
-  const ServerConfig& config;
-  ModelService& models;
-  FairWorkQueue& workers;          // poses, maps, loads and uploads, fair between connections
-  asio::thread_pool& gpu_waiters;  // poses whose pair detection waits on the GPU thread
-  PositionMapService& position_maps;
-  ContactSheetService& contact_sheets;  // ContactSheetRequest (1.11)
-  ClipStore& clips;                     // UploadClip's clips (1.4)
-  CollisionService& collision;
-  std::chrono::steady_clock::time_point started;
-  std::function<void(std::uint64_t connection_id)> on_close;
-  std::function<std::vector<ConnectionCounters>()> all_counters;
-  std::map<std::uint32_t, ModelCounters> model_counters;
-  protocol::BufferBudget& buffer_budget;  // frames being read and replies waiting, all clients
-  ReplyBuilderPool& builders;             // idle reply builders, all clients
-  TrafficCounters traffic;                // requests, errors and latencies of every connection
-};
-
-class Connection : public std::enable_shared_from_this<Connection> {
+class Connection final : public std::enable_shared_from_this<Connection>, public RequestSession {
  public:
   Connection(ConnectionStream stream, std::uint64_t id, std::string peer,
              ConnectionEnvironment& environment);
@@ -104,6 +83,21 @@ class Connection : public std::enable_shared_from_this<Connection> {
   std::size_t poses_waiting() const { return waiting_poses_.size(); }
   bool pose_running() const { return pose_running_; }
 
+  // RequestSession, for the request handlers.
+  std::uint64_t connection_id() const override { return id(); }
+  ConnectionEnvironment& environment() override { return environment_; }
+  flatbuffers::FlatBufferBuilder take_builder() override;
+  void send(flatbuffers::FlatBufferBuilder builder) override { queue_reply(std::move(builder)); }
+  void send_error(const RequestError& error, std::uint64_t request_id) override;
+  void queue_pose(std::variant<PoseRequest, RequestError> intake,
+                  std::uint64_t request_id) override;
+  void run_in_order(Pool pool, std::function<Reply()> work) override;
+  void drain() override;  // stop taking work; close once in-flight work is answered
+  bool unix_socket() override { return stream_.unix_socket(); }
+  const SharedRegion* shared_region() const override { return shared_region_.get(); }
+  void send_region(std::shared_ptr<const SharedRegion> region,
+                   flatbuffers::FlatBufferBuilder reply) override;
+
  private:
   using Clock = std::chrono::steady_clock;
 
@@ -114,24 +108,6 @@ class Connection : public std::enable_shared_from_this<Connection> {
   bool reading_paused() const;
   void dispatch(const protocol::Message& message);
   void authenticate(const protocol::Hello& hello, std::uint64_t request_id);
-  // A Pose, or the pose of a PositionMapRequest (`map` set), checked and queued.
-  void queue_pose(const protocol::Pose& pose, std::uint64_t request_id,
-                  const protocol::PositionMapRequest* map = nullptr);
-  // A PoseFromClip / PoseByName (1.4), or a clip's PositionMapRequest: like queue_pose.
-  void queue_intake(std::variant<PoseRequest, RequestError> intake, std::uint64_t request_id);
-  // An UploadClip read on a worker (a BVH of megabytes takes milliseconds); reading pauses
-  // until its ClipInfo or error is queued, as for change_model.
-  void upload_clip(const protocol::UploadClip& upload, std::uint64_t request_id);
-  // A model load or edit on a worker; reading pauses until its reply (ModelInfo or the
-  // error) is queued, so replies stay in request order. `log_outcome` runs on the I/O thread.
-  void change_model(std::uint64_t request_id, std::function<ModelChange()> change,
-                    LogModelChange log_outcome);
-  // A ContactSheetRequest (1.11) rendered on the GPU waiters' pool (its cells wait on the GPU
-  // thread), its pixels taken from the buffer budget meanwhile; reading pauses until its reply
-  // is queued, as for change_model.
-  void render_contact_sheet(const protocol::ContactSheetRequest& request, std::uint64_t request_id);
-  // MapSharedMemory (1.10): the connection's SharedRegion, its descriptor sent with the reply.
-  void map_shared_memory(const protocol::MapSharedMemory& request, std::uint64_t request_id);
 
   void start_next_pose();
   // A pose answered: the connection's, the traffic's and the model's counters.
@@ -140,15 +116,13 @@ class Connection : public std::enable_shared_from_this<Connection> {
   void deliver_pose(flatbuffers::FlatBufferBuilder builder, std::optional<std::size_t> sent);
   // Queues a reply to be written, or (`already_sent` > 0: a worker's short send) the rest of
   // one, ahead of the queue.
-  void send(flatbuffers::FlatBufferBuilder builder, std::size_t already_sent = 0);
+  void queue_reply(flatbuffers::FlatBufferBuilder builder, std::size_t already_sent = 0);
   void send_error(protocol::ErrorCode code, const std::string& message, std::uint64_t sequence,
                   std::uint64_t request_id, bool fatal = false);
-  void send_error(const RequestError& error, std::uint64_t request_id);
   void write_next();
   // The SharedMemory reply's first bytes with the region's descriptor; false while the socket
   // takes nothing (write_next runs again once it does).
   bool write_descriptor();
-  void drain();  // stop taking work; close once in-flight work is answered
   void close_if_done();
   void close_now();
   // Logs `connection_cut` with the reason and answers a fatal error (closed once it is sent;
@@ -163,7 +137,6 @@ class Connection : public std::enable_shared_from_this<Connection> {
   void arm_idle_deadline();
   void arm_send_deadline();
   bool has_work() const;
-  flatbuffers::FlatBufferBuilder take_builder();
 
   ConnectionStream stream_;
   ConnectionEnvironment& environment_;

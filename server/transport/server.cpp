@@ -4,7 +4,7 @@
 #include <future>
 #include <thread>
 
-#include "io/exr_write.h"
+#include "io/exr/exr_write.h"
 #include "server/log_event.h"
 
 namespace sweepd::server {

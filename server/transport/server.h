@@ -30,11 +30,11 @@
 #include <optional>
 
 #include "server/config.h"
-#include "server/handlers/collision_service.h"
-#include "server/handlers/gpu_thread.h"
-#include "server/handlers/position_map_service.h"
 #include "server/models/model_service.h"
 #include "server/readiness.h"
+#include "server/services/collision_service.h"
+#include "server/services/gpu_thread.h"
+#include "server/services/position_map_service.h"
 #include "server/transport/connection.h"
 #include "server/transport/server_snapshot.h"
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "server/handlers/collision_service.h"
+#include "server/services/collision_service.h"
 #include "server/transport/traffic_counters.h"
 
 namespace sweepd::server {

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "io/gltf_load.h"
+#include "io/gltf/gltf_load.h"
 #include "tests/cli/sweepctl_process.h"
 #include "tests/deploy/shell_command.h"
 

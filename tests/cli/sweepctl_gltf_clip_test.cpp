@@ -12,8 +12,8 @@
 #include <filesystem>
 #include <string>
 
-#include "io/gltf_load.h"
-#include "io/pose_json.h"
+#include "io/gltf/gltf_load.h"
+#include "io/json/pose_json.h"
 #include "tests/cli/sweepctl_process.h"
 #include "tests/io/baked_gltf_clip.h"
 

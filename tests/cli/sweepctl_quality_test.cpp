@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "io/sweepbind.h"
+#include "io/sweepbind/sweepbind.h"
 #include "tests/scratch_directory.h"
 
 namespace sweepctl_quality_test {

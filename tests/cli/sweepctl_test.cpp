@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "deform/mesh/mesh_topology.h"
-#include "io/gltf_load.h"
-#include "io/gltf_save.h"
+#include "io/gltf/gltf_load.h"
+#include "io/gltf/gltf_save.h"
 #include "mannequin/mannequin.h"
 #include "tests/cli/sweepctl_process.h"
 #include "tests/deform/rig/legless_cut.h"

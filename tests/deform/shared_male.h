@@ -14,7 +14,7 @@
 #include "deform/model/joint_flexion.h"
 #include "deform/model/pose.h"
 #include "deform/rig/rig_map.h"
-#include "io/gltf_load.h"
+#include "io/gltf/gltf_load.h"
 #include "tests/test_paths.h"
 
 namespace sweepd::deform::test {

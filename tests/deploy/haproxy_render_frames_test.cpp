@@ -21,7 +21,7 @@
 #include <future>
 #include <thread>
 
-#include "io/gltf_save.h"
+#include "io/gltf/gltf_save.h"
 #include "mannequin/mannequin.h"
 #include "tests/io/position_map_exr.h"
 #include "tests/server/client_run.h"

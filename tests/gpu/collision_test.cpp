@@ -21,7 +21,7 @@
 #include "deform/features/whole_body_detector.h"
 #include "deform/job/deform_job.h"
 #include "deform/rig/rig_map.h"
-#include "io/gltf_load.h"
+#include "io/gltf/gltf_load.h"
 #include "mannequin/mannequin.h"
 #include "tests/deform/collision_shapes.h"
 #include "tests/deform/shared_male.h"

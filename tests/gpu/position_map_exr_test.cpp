@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "gpu/position_map_renderer.h"
-#include "io/exr_write.h"
+#include "io/exr/exr_write.h"
 #include "mannequin/mannequin.h"
 #include "tests/gpu/uv_reference.h"
 #include "tests/io/exr_memory_stream.h"

@@ -10,7 +10,7 @@
 #include <numbers>
 #include <vector>
 
-#include "io/png_write.h"
+#include "io/png/png_write.h"
 #include "mannequin/mannequin.h"
 
 namespace sweepd::gpu::preview_renderer_test {

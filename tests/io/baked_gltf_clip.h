@@ -7,7 +7,7 @@
 //   bake_cmu_clip(model, keys)   keys = K keyframes, 1/30 s apart, every 8th frame of the clip
 //   write_baked_gltf(model, baked, file)
 //   write_baked_fbx(glb, fbx)    that .glb as ASCII FBX with its three animation stacks, written
-//                                by assimp's exporter (io/assimp_convert.h); returns its bytes
+//                                by assimp's exporter (io/assimp/assimp_convert.h); returns its bytes
 #pragma once
 
 #include <assimp/scene.h>
@@ -22,9 +22,9 @@
 #include <vector>
 
 #include "deform/model/model.h"
-#include "io/assimp_convert.h"
-#include "io/bvh_load.h"
-#include "io/gltf_save.h"
+#include "io/assimp/assimp_convert.h"
+#include "io/bvh/bvh_load.h"
+#include "io/gltf/gltf_save.h"
 #include "motion/retarget.h"
 #include "tests/test_paths.h"
 

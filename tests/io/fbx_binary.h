@@ -2,7 +2,7 @@
 // a binary FBX ("Kaydara FBX Binary", the FBX SDK's layout): the same nodes and values, typed
 // as binary FBX types them, and object names as binary files store them ("Class::name" becomes
 // "name\0\x01Class"). The tests' only way to a binary FBX: Debian's assimp 5.2.5 writes binary
-// FBX that its own importer refuses (io/assimp_convert.h), and no other writer is packaged.
+// FBX that its own importer refuses (io/assimp/assimp_convert.h), and no other writer is packaged.
 //
 // Types: arrays by their node's name (int32 for indices and flags, int64 for key times, float32
 // for key values, float64 otherwise); a Properties70 P: value by its property type (int, enum,

@@ -1,5 +1,5 @@
 // A small point cache reader for the tests, written from the formats as Blender's
-// MOD_meshcache_pc2.c / MOD_meshcache_mdd.c read them (not from io/point_cache_save.cpp), so a
+// MOD_meshcache_pc2.c / MOD_meshcache_mdd.c read them (not from io/point_cache/point_cache_save.cpp), so a
 // writer that misplaces a field or a byte fails to read back:
 //   cache_field(bytes, offset, little)   a 32-bit field, little- or big-endian
 //   read_point_cache(file)               a .pc2 (little-endian) or .mdd (big-endian) file's
@@ -15,7 +15,7 @@
 #include <glm/glm.hpp>
 #include <vector>
 
-#include "io/file_bytes.h"
+#include "io/files/file_bytes.h"
 
 namespace sweepd::test {
 

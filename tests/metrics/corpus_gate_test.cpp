@@ -26,8 +26,8 @@
 #include <vector>
 
 #include "deform/binding/bind.h"
-#include "io/bvh_load.h"
-#include "io/gltf_load.h"
+#include "io/bvh/bvh_load.h"
+#include "io/gltf/gltf_load.h"
 #include "mannequin/mannequin.h"
 #include "metrics/region_quality.h"
 #include "motion/own_skeleton_clip.h"

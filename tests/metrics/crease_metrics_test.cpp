@@ -11,7 +11,7 @@
 #include <cstdio>
 #include <memory>
 
-#include "io/bvh_load.h"
+#include "io/bvh/bvh_load.h"
 #include "mannequin/mannequin.h"
 #include "metrics/quality_metrics.h"
 #include "motion/retarget.h"

@@ -24,7 +24,7 @@
 #include <string>
 #include <vector>
 
-#include "io/bvh_load.h"
+#include "io/bvh/bvh_load.h"
 #include "metrics/quality_metrics.h"
 #include "motion/retarget.h"
 #include "tests/deform/shared_male.h"

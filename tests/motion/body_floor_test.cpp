@@ -24,7 +24,7 @@
 #include <vector>
 
 #include "deform/model/forward_kinematics.h"
-#include "io/bvh_load.h"
+#include "io/bvh/bvh_load.h"
 #include "motion/retarget.h"
 #include "tests/deform/shared_male.h"
 #include "tests/motion/kneeling_clip.h"

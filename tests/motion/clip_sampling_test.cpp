@@ -9,7 +9,7 @@
 #include <cstring>
 #include <limits>
 
-#include "io/bvh_load.h"
+#include "io/bvh/bvh_load.h"
 #include "motion/retarget.h"
 
 namespace sweepd::motion::clip_sampling_test {

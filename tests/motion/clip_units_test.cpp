@@ -22,8 +22,8 @@
 #include <vector>
 
 #include "deform/model/forward_kinematics.h"
-#include "io/bvh_load.h"
-#include "io/gltf_load.h"
+#include "io/bvh/bvh_load.h"
+#include "io/gltf/gltf_load.h"
 #include "motion/clip_up_axis.h"
 #include "motion/retarget.h"
 #include "tests/motion/foot_tracks.h"

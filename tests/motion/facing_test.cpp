@@ -23,8 +23,8 @@
 
 #include "deform/model/forward_kinematics.h"
 #include "deform/rig/rig_map.h"
-#include "io/bvh_load.h"
-#include "io/gltf_load.h"
+#include "io/bvh/bvh_load.h"
+#include "io/gltf/gltf_load.h"
 #include "motion/retarget.h"
 #include "tests/motion/clip_world_positions.h"
 #include "tests/motion/test_bodies.h"

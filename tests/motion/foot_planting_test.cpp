@@ -34,8 +34,8 @@
 #include <string>
 #include <vector>
 
-#include "io/bvh_load.h"
-#include "io/gltf_load.h"
+#include "io/bvh/bvh_load.h"
+#include "io/gltf/gltf_load.h"
 #include "mannequin/mannequin.h"
 #include "motion/retarget.h"
 #include "tests/mirrored_model.h"

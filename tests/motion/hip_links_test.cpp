@@ -22,8 +22,8 @@
 
 #include "deform/model/forward_kinematics.h"
 #include "deform/rig/rig_map.h"
-#include "io/bvh_load.h"
-#include "io/gltf_load.h"
+#include "io/bvh/bvh_load.h"
+#include "io/gltf/gltf_load.h"
 #include "mannequin/mannequin.h"
 #include "motion/retarget.h"
 #include "tests/body_variants.h"

@@ -35,7 +35,7 @@
 #include <vector>
 
 #include "deform/model/forward_kinematics.h"
-#include "io/bvh_load.h"
+#include "io/bvh/bvh_load.h"
 #include "motion/retarget.h"
 #include "tests/motion/kneeling_clip.h"
 #include "tests/motion/knocked_down_clip.h"

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "deform/model/forward_kinematics.h"
-#include "io/gltf_load.h"
+#include "io/gltf/gltf_load.h"
 #include "motion/own_skeleton_clip.h"
 #include "motion/range_of_motion.h"
 #include "tests/body_variants.h"

@@ -15,8 +15,8 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "io/bvh_load.h"
-#include "io/gltf_load.h"
+#include "io/bvh/bvh_load.h"
+#include "io/gltf/gltf_load.h"
 #include "mannequin/mannequin.h"
 #include "motion/retarget.h"
 

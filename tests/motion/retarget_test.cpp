@@ -14,8 +14,8 @@
 
 #include "deform/baselines/linear_blend_skinning.h"
 #include "deform/model/forward_kinematics.h"
-#include "io/bvh_load.h"
-#include "io/gltf_load.h"
+#include "io/bvh/bvh_load.h"
+#include "io/gltf/gltf_load.h"
 #include "mannequin/mannequin.h"
 #include "tests/motion/clip_world_positions.h"
 

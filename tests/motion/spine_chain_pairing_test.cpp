@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "deform/rig/rig_map.h"
-#include "io/bvh_load.h"
-#include "io/gltf_load.h"
+#include "io/bvh/bvh_load.h"
+#include "io/gltf/gltf_load.h"
 #include "motion/clip_up_axis.h"
 #include "motion/retarget.h"
 #include "tests/test_paths.h"

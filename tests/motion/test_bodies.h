@@ -14,7 +14,7 @@
 #include <utility>
 
 #include "deform/model/model.h"
-#include "io/gltf_load.h"
+#include "io/gltf/gltf_load.h"
 #include "mannequin/mannequin.h"
 #include "tests/mirrored_model.h"
 #include "tests/test_paths.h"

@@ -18,8 +18,8 @@
 #include <thread>
 
 #include "deform/model/joint_flexion.h"
-#include "io/bvh_load.h"
-#include "io/gltf_load.h"
+#include "io/bvh/bvh_load.h"
+#include "io/gltf/gltf_load.h"
 #include "motion/retarget.h"
 #include "tests/server/daemon_process.h"
 #include "tests/server/pose_frames.h"

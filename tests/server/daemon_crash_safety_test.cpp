@@ -20,8 +20,8 @@
 #include <thread>
 
 #include "deform/rig/rig_map.h"
-#include "io/gltf_save.h"
-#include "io/sweepbind.h"
+#include "io/gltf/gltf_save.h"
+#include "io/sweepbind/sweepbind.h"
 #include "mannequin/mannequin.h"
 #include "tests/server/daemon_process.h"
 #include "tests/server/pose_frames.h"

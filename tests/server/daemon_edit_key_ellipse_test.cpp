@@ -11,7 +11,7 @@
 
 #include "client/connection.h"
 #include "deform/edits/rest_key_edit.h"
-#include "io/sweepbind.h"
+#include "io/sweepbind/sweepbind.h"
 #include "tests/server/daemon_process.h"
 #include "tests/server/pose_frames.h"
 #include "tests/server/stored_binding.h"

@@ -7,7 +7,7 @@
 #include <cstring>
 
 #include "deform/job/anatomical_features.h"
-#include "io/sweepbind.h"
+#include "io/sweepbind/sweepbind.h"
 #include "tests/server/daemon_process.h"
 #include "tests/server/pose_frames.h"
 #include "tests/server/stored_binding.h"

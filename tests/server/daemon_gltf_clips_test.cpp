@@ -20,8 +20,8 @@
 
 #include "client/clip_upload.h"
 #include "client/connection.h"
-#include "io/file_bytes.h"
-#include "io/gltf_load.h"
+#include "io/files/file_bytes.h"
+#include "io/gltf/gltf_load.h"
 #include "metrics/quality_metrics.h"
 #include "tests/io/baked_gltf_clip.h"
 #include "tests/server/sweepctl_remote.h"

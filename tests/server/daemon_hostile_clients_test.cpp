@@ -12,7 +12,7 @@
 #include <sstream>
 #include <thread>
 
-#include "io/sweepbind.h"
+#include "io/sweepbind/sweepbind.h"
 #include "tests/server/daemon_process.h"
 #include "tests/server/hostile_input.h"
 #include "tests/server/pose_frames.h"

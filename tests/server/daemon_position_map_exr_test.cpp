@@ -10,7 +10,7 @@
 
 #include "gpu/egl_context.h"
 #include "gpu/position_map_renderer.h"
-#include "io/sweepbind.h"
+#include "io/sweepbind/sweepbind.h"
 #include "tests/io/exr_memory_stream.h"
 #include "tests/io/position_map_exr.h"
 #include "tests/server/daemon_process.h"

@@ -7,8 +7,8 @@
 #include <algorithm>
 #include <cstring>
 
-#include "io/gltf_save.h"
-#include "io/sweepbind.h"
+#include "io/gltf/gltf_save.h"
+#include "io/sweepbind/sweepbind.h"
 #include "mannequin/mannequin.h"
 #include "tests/deform/rig/legless_cut.h"
 #include "tests/server/daemon_process.h"

@@ -5,7 +5,7 @@
 
 #include <cstring>
 
-#include "io/sweepbind.h"
+#include "io/sweepbind/sweepbind.h"
 #include "protocol/float16.h"
 #include "tests/server/daemon_process.h"
 #include "tests/server/pose_frames.h"

@@ -7,8 +7,8 @@
 #include "cli/served_rest_skeleton.h"
 #include "deform/binding/bind.h"
 #include "deform/rig/rig_map.h"
-#include "io/bvh_load.h"
-#include "io/gltf_load.h"
+#include "io/bvh/bvh_load.h"
+#include "io/gltf/gltf_load.h"
 #include "motion/retarget.h"
 #include "server/replies/model_info.h"
 

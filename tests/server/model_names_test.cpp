@@ -11,7 +11,7 @@
 
 #include "client/connection.h"
 #include "client/model_source.h"
-#include "io/gltf_save.h"
+#include "io/gltf/gltf_save.h"
 #include "mannequin/mannequin.h"
 #include "protocol/messages.h"
 #include "server/models/model_service.h"

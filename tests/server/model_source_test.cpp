@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "io/gltf_save.h"
+#include "io/gltf/gltf_save.h"
 #include "mannequin/mannequin.h"
 #include "tests/server/daemon_process.h"
 

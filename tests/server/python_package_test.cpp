@@ -9,8 +9,8 @@
 
 #include <cstring>
 
-#include "io/gltf_save.h"
-#include "io/sweepbind.h"
+#include "io/gltf/gltf_save.h"
+#include "io/sweepbind/sweepbind.h"
 #include "mannequin/mannequin.h"
 #include "selfcheck/binding_self_check.h"
 #include "tests/deploy/shell_command.h"

@@ -12,8 +12,8 @@
 #include <fstream>
 #include <map>
 
-#include "io/gltf_load.h"
-#include "io/gltf_save.h"
+#include "io/gltf/gltf_load.h"
+#include "io/gltf/gltf_save.h"
 #include "tests/server/client_run.h"
 #include "tests/server/daemon_process.h"
 

@@ -10,8 +10,8 @@
 #include <array>
 #include <future>
 
-#include "io/gltf_load.h"
-#include "io/gltf_save.h"
+#include "io/gltf/gltf_load.h"
+#include "io/gltf/gltf_save.h"
 #include "mannequin/mannequin.h"
 #include "tests/io/baked_gltf_clip.h"
 #include "tests/server/client_run.h"

@@ -9,7 +9,7 @@
 
 #include "client/clip_upload.h"
 #include "client/connection.h"
-#include "io/file_bytes.h"
+#include "io/files/file_bytes.h"
 #include "protocol/messages.h"
 #include "tests/server/sweepctl_remote.h"
 

@@ -15,11 +15,11 @@
 
 #include "client/connection.h"
 #include "deform/job/deform_job.h"
-#include "io/assimp_convert.h"
-#include "io/bvh_load.h"
-#include "io/gltf_load.h"
-#include "io/gltf_save.h"
-#include "io/sweepbind.h"
+#include "io/assimp/assimp_convert.h"
+#include "io/bvh/bvh_load.h"
+#include "io/gltf/gltf_load.h"
+#include "io/gltf/gltf_save.h"
+#include "io/sweepbind/sweepbind.h"
 #include "mannequin/mannequin.h"
 #include "metrics/quality_metrics.h"
 #include "motion/retarget.h"
@@ -302,7 +302,7 @@ TEST_F(SweepctlRemote, UploadedFbxAndColladaPoseAsTheLocalFilesByteForByte) {
       << broken.output;
   // An FBX on which libassimp's importer itself crashes (Debian's assimp 5.2.5 frees memory
   // twice; found by fuzz/fbx) is tried in a child process and refused naming the crash
-  // (io/assimp_crash_guard.h); the daemon serves on.
+  // (io/assimp/assimp_crash_guard.h); the daemon serves on.
   const fs::path crashing =
       fs::path(SWEEPD_SOURCE_DIR) / "fuzz/regressions/fbx/assimp_double_free.fbx";
   const ClientRun crashed =

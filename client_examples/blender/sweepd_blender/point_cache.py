@@ -1,5 +1,5 @@
 """A PC2 point cache written from NumPy frames: the format Blender's Mesh Cache modifier reads
-(MOD_meshcache_pc2.c), laid out as sweepd's own writer lays it out (io/point_cache_save.h):
+(MOD_meshcache_pc2.c), laid out as sweepd's own writer lays it out (io/point_cache/point_cache_save.h):
 "POINTCACHE2\\0", int32 version 1, int32 point count, float32 start frame, float32 sampling 1,
 int32 sample count, then float32 x y z per point per sample, little-endian."""
 import os

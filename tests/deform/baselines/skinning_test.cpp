@@ -13,7 +13,7 @@
 #include "deform/baselines/dual_quaternion_skinning.h"
 #include "deform/baselines/linear_blend_skinning.h"
 #include "deform/model/forward_kinematics.h"
-#include "io/gltf_load.h"
+#include "io/gltf/gltf_load.h"
 #include "mannequin/mannequin.h"
 #include "tests/deform/tube_mesh.h"
 

@@ -11,7 +11,7 @@
 
 #include "deform/binding/sweep_coordinates.h"
 #include "deform/rig/rig_map.h"
-#include "io/gltf_load.h"
+#include "io/gltf/gltf_load.h"
 #include "mannequin/mannequin.h"
 
 namespace sweepd::deform {

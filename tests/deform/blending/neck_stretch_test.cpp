@@ -13,7 +13,7 @@
 
 #include "deform/model/forward_kinematics.h"
 #include "deform/posing/key_posing.h"
-#include "io/bvh_load.h"
+#include "io/bvh/bvh_load.h"
 #include "motion/retarget.h"
 #include "tests/deform/mesh_edges.h"
 #include "tests/deform/shared_male.h"

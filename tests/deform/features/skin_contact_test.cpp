@@ -21,7 +21,7 @@
 #include "deform/features/whole_body_detector.h"
 #include "deform/mesh/enclosed_volume.h"
 #include "deform/rig/rig_map.h"
-#include "io/bvh_load.h"
+#include "io/bvh/bvh_load.h"
 #include "mannequin/mannequin.h"
 #include "motion/retarget.h"
 #include "tests/deform/collision_shapes.h"

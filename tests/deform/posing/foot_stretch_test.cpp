@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "deform/job/deform_job.h"
-#include "io/bvh_load.h"
+#include "io/bvh/bvh_load.h"
 #include "motion/retarget.h"
 #include "tests/deform/shared_male.h"
 

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "deform/binding/bind.h"
-#include "io/gltf_load.h"
+#include "io/gltf/gltf_load.h"
 #include "mannequin/mannequin.h"
 #include "metrics/crease_metrics.h"
 #include "tests/deform/shared_male.h"

@@ -14,7 +14,7 @@
 #include "deform/job/deform_job.h"
 #include "deform/model/forward_kinematics.h"
 #include "deform/rig/rig_map.h"
-#include "io/gltf_load.h"
+#include "io/gltf/gltf_load.h"
 #include "tests/deform/posed_section.h"
 #include "tests/deform/shared_male.h"
 

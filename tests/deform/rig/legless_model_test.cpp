@@ -11,7 +11,7 @@
 
 #include "deform/binding/bind.h"
 #include "deform/rig/rig_map.h"
-#include "io/gltf_load.h"
+#include "io/gltf/gltf_load.h"
 #include "mannequin/mannequin.h"
 #include "tests/deform/rig/legless_cut.h"
 #include "tests/deform/rig/same_rig_parts.h"

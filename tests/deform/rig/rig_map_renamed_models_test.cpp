@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "deform/rig/rig_map.h"
-#include "io/gltf_load.h"
+#include "io/gltf/gltf_load.h"
 #include "mannequin/mannequin.h"
 #include "tests/deform/rig/same_rig_parts.h"
 #include "tests/deform/rig/swept_parts_pose.h"

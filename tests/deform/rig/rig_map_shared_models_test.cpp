@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "deform/rig/rig_map.h"
-#include "io/gltf_load.h"
+#include "io/gltf/gltf_load.h"
 
 namespace sweepd::deform {
 namespace {

@@ -14,8 +14,8 @@
 #include <memory>
 #include <string>
 
-#include "io/file_bytes.h"
-#include "io/gltf_load.h"
+#include "io/files/file_bytes.h"
+#include "io/gltf/gltf_load.h"
 #include "mannequin/mannequin.h"
 #include "motion/range_of_motion.h"
 #include "tests/io/baked_gltf_clip.h"

@@ -21,8 +21,8 @@
 
 #include "deform/binding/bind.h"
 #include "deform/rig/rig_map.h"
-#include "io/durable_file.h"
-#include "io/sweepbind.h"
+#include "io/files/durable_file.h"
+#include "io/sweepbind/sweepbind.h"
 #include "mannequin/mannequin.h"
 #include "selfcheck/binding_self_check.h"
 #include "server/models/content_id.h"

@@ -9,7 +9,7 @@
 #include <iterator>
 #include <optional>
 
-#include "io/gltf_save.h"
+#include "io/gltf/gltf_save.h"
 #include "mannequin/mannequin.h"
 #include "server/models/content_id.h"
 #include "tests/scratch_directory.h"

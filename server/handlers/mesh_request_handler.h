@@ -1,0 +1,12 @@
+// MeshRequest (1.1): a held model's rest mesh (Mesh), built at once on the I/O thread, or
+// UnknownModel for an id no model has.
+#pragma once
+
+#include "protocol/sweepd_generated.h"
+#include "server/handlers/request_session.h"
+
+namespace sweepd::server {
+
+void handle_mesh_request(const protocol::Message& message, RequestSession& session);
+
+}  // namespace sweepd::server

@@ -1,0 +1,14 @@
+// UploadClip (1.4): a BVH, a glTF animation or the range of motion read into the clip store
+// on a worker (a BVH of megabytes takes milliseconds), with the connection's reading paused
+// until its ClipInfo or error is queued. Played on the model the client names (1.12), what that
+// leaves unmapped is said in the ClipInfo's warnings.
+#pragma once
+
+#include "protocol/sweepd_generated.h"
+#include "server/handlers/request_session.h"
+
+namespace sweepd::server {
+
+void handle_upload_clip(const protocol::Message& message, RequestSession& session);
+
+}  // namespace sweepd::server
