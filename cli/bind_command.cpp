@@ -126,7 +126,7 @@ void print_rigid_islands(const deform::Model& model) {
 struct BindCommandOptions {
   std::filesystem::path model, out, rig, debug_gltf;
   deform::BindOptions bind;
-  bool adapt = false;  // --adapt: fit losing sweeps again (selfcheck::adapt_binding)
+  bool adapt = true;  // --no-adapt: keep bind's sweeps as fitted (selfcheck::adapt_binding)
 };
 
 int bind_model(const BindCommandOptions& options) {
@@ -217,10 +217,11 @@ Command add_bind_command(CLI::App& sweepctl) {
                    "line loop, for a glTF viewer")
       ->type_name("OUT.glb");
   command->add_flag(
-      "--adapt", options->adapt,
+      "--adapt,!--no-adapt", options->adapt,
       "where the self-check finds a sweep worse than skinning, fit it again with fewer link "
       "keys and/or the other orientation curve and keep what leaves fewer (pose, region) pairs "
-      "worse (recorded per sweep in the binding; several times bind's own time)");
+      "worse and no pair worse or nearer to losing (recorded per sweep in the binding; on by "
+      "default, at most about bind's own time again; --no-adapt keeps the sweeps as fitted)");
   return {command, [options] { return bind_model(*options); }};
 }
 
