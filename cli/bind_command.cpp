@@ -190,7 +190,8 @@ Command add_bind_command(CLI::App& sweepctl) {
       "the peaks of the body's range of motion (`sweepctl rom`) deformed with the sweep, LBS\n"
       "and DQS, and a warning for each body region where the sweep stretches an edge (length\n"
       "ratio l / l_rest) more than 1.02x the better of the two, or flips more triangles;\n"
-      "`sweepctl check` measures the same on every 5th frame.");
+      "`sweepctl check` measures the same on every 5th frame. A sweep that loses is fitted\n"
+      "again where a refit wins without bringing any pose nearer to losing (--no-adapt: not).");
   auto options = std::make_shared<BindCommandOptions>();
   command->add_option("MODEL", options->model, "a rigged .glb/.gltf/.fbx/.dae model")
       ->type_name("")
