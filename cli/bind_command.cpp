@@ -126,7 +126,7 @@ void print_rigid_islands(const deform::Model& model) {
 struct BindCommandOptions {
   std::filesystem::path model, out, rig, debug_gltf;
   deform::BindOptions bind;
-  bool adapt = false;  // --adapt: fit losing sweeps again (selfcheck::adapt_binding)
+  bool adapt = true;  // --no-adapt: keep bind's sweeps as fitted (selfcheck::adapt_binding)
 };
 
 int bind_model(const BindCommandOptions& options) {
@@ -190,7 +190,8 @@ Command add_bind_command(CLI::App& sweepctl) {
       "the peaks of the body's range of motion (`sweepctl rom`) deformed with the sweep, LBS\n"
       "and DQS, and a warning for each body region where the sweep stretches an edge (length\n"
       "ratio l / l_rest) more than 1.02x the better of the two, or flips more triangles;\n"
-      "`sweepctl check` measures the same on every 5th frame.");
+      "`sweepctl check` measures the same on every 5th frame. A sweep that loses is fitted\n"
+      "again where a refit wins without bringing any pose nearer to losing (--no-adapt: not).");
   auto options = std::make_shared<BindCommandOptions>();
   command->add_option("MODEL", options->model, "a rigged .glb/.gltf/.fbx/.dae model")
       ->type_name("")
@@ -217,10 +218,11 @@ Command add_bind_command(CLI::App& sweepctl) {
                    "line loop, for a glTF viewer")
       ->type_name("OUT.glb");
   command->add_flag(
-      "--adapt", options->adapt,
+      "--adapt,!--no-adapt", options->adapt,
       "where the self-check finds a sweep worse than skinning, fit it again with fewer link "
       "keys and/or the other orientation curve and keep what leaves fewer (pose, region) pairs "
-      "worse (recorded per sweep in the binding; several times bind's own time)");
+      "worse and no pair worse or nearer to losing (recorded per sweep in the binding; on by "
+      "default, at most about bind's own time again; --no-adapt keeps the sweeps as fitted)");
   return {command, [options] { return bind_model(*options); }};
 }
 

@@ -100,4 +100,69 @@ void SweptStretchMeter::measure(std::span<const glm::vec3> positions,
   }
 }
 
+std::vector<std::uint8_t> SweptStretchMeter::regions_touched(
+    std::span<const std::uint8_t> moving) const {
+  std::vector<std::uint8_t> touched(regions_.size(), 0);
+  for (std::size_t e = 0; e < edge_region_.size(); ++e)
+    if (moving[vertices_[edges_[2 * e]]] || moving[vertices_[edges_[2 * e + 1]]])
+      touched[edge_region_[e]] = 1;
+  for (std::size_t t = 0; t < triangle_region_.size(); ++t)
+    for (int k = 0; k < 3; ++k)
+      if (moving[vertices_[triangles_[3 * t + k]]]) touched[triangle_region_[t]] = 1;
+  return touched;
+}
+
+SweptStretchMeter SweptStretchMeter::part(std::span<const std::uint8_t> moving,
+                                          bool touching) const {
+  const std::vector<std::uint8_t> touched = regions_touched(moving);
+  SweptStretchMeter part;
+  part.regions_ = regions_;
+  part.region_swept_ = region_swept_;
+  part.inverse_rest_ = inverse_rest_;
+  // Kept items' vertices renumbered in ascending model order, as the whole meter's are.
+  std::vector<std::uint32_t> compact(vertices_.size(), 0);
+  std::vector<bool> read(vertices_.size(), false);
+  auto kept = [&](const std::uint32_t* corner, int n, int region) {
+    if (!touched[region]) return false;
+    bool moved = false;
+    for (int k = 0; k < n; ++k) moved = moved || moving[vertices_[corner[k]]];
+    if (moved != touching) return false;
+    for (int k = 0; k < n; ++k) read[corner[k]] = true;
+    return true;
+  };
+  for (std::size_t e = 0; e < inverse_squared_rest_.size(); ++e)
+    if (kept(&edges_[2 * e], 2, edge_region_[e])) {
+      part.edges_.insert(part.edges_.end(), {edges_[2 * e], edges_[2 * e + 1]});
+      part.inverse_squared_rest_.push_back(inverse_squared_rest_[e]);
+      part.edge_region_.push_back(edge_region_[e]);
+    }
+  for (std::size_t t = 0; t < rest_normal_.size(); ++t)
+    if (kept(&triangles_[3 * t], 3, triangle_region_[t])) {
+      part.triangles_.insert(part.triangles_.end(),
+                             {triangles_[3 * t], triangles_[3 * t + 1], triangles_[3 * t + 2]});
+      part.triangle_region_.push_back(triangle_region_[t]);
+      part.triangle_joint_.push_back(triangle_joint_[t]);
+      part.rest_normal_.push_back(rest_normal_[t]);
+    }
+  for (std::size_t i = 0; i < vertices_.size(); ++i)
+    if (read[i]) {
+      compact[i] = static_cast<std::uint32_t>(part.vertices_.size());
+      part.vertices_.push_back(vertices_[i]);
+    }
+  for (std::uint32_t& v : part.edges_) v = compact[v];
+  for (std::uint32_t& v : part.triangles_) v = compact[v];
+  return part;
+}
+
+void SweptStretchMeter::combine(std::vector<RegionFigures>& figures,
+                                std::vector<int>& stretched_edges,
+                                const std::vector<RegionFigures>& other_figures,
+                                const std::vector<int>& other_stretched_edges) {
+  for (std::size_t r = 0; r < figures.size(); ++r) {
+    figures[r].swept_stretch = std::max(figures[r].swept_stretch, other_figures[r].swept_stretch);
+    figures[r].swept_flipped += other_figures[r].swept_flipped;
+    stretched_edges[r] += other_stretched_edges[r];
+  }
+}
+
 }  // namespace sweepd::metrics

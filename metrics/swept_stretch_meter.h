@@ -42,7 +42,23 @@ class SweptStretchMeter {
   void measure(std::span<const glm::vec3> positions, std::span<const glm::mat4> joint_world,
                std::vector<RegionFigures>& figures, std::vector<int>& stretched_edges) const;
 
+  // The regions with an edge or triangle that has a vertex flagged in `moving` (one flag per
+  // model vertex): the regions whose figures change when those vertices move alone.
+  std::vector<std::uint8_t> regions_touched(std::span<const std::uint8_t> moving) const;
+  // The same meter over part of its edges and triangles in those regions: with `touching`, the
+  // ones with a flagged vertex, else the others. Its regions and their swept flags are the whole
+  // meter's; in a touched region the two parts' figures combine into the whole's (combine), and
+  // a region not touched is in neither part (its figures are the caller's to keep): what a
+  // caller that moves the flagged vertices alone measures again.
+  SweptStretchMeter part(std::span<const std::uint8_t> moving, bool touching) const;
+  // Into figures and stretched_edges (one part's), the other part's: the larger stretch, the
+  // flipped triangles and stretched edges summed.
+  static void combine(std::vector<RegionFigures>& figures, std::vector<int>& stretched_edges,
+                      const std::vector<RegionFigures>& other_figures,
+                      const std::vector<int>& other_stretched_edges);
+
  private:
+  SweptStretchMeter() = default;
   std::vector<deform::BodyPart> regions_;
   std::vector<bool> region_swept_;          // per region: it has a swept edge
   std::vector<std::uint32_t> vertices_;     // the model vertices read, ascending

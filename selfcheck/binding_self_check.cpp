@@ -9,6 +9,7 @@
 #include "deform/baselines/dual_quaternion_skinning.h"
 #include "deform/baselines/linear_blend_skinning.h"
 #include "deform/binding/bind.h"
+#include "deform/binding/bound_part.h"
 #include "deform/blending/sweep_blending.h"
 #include "deform/model/forward_kinematics.h"
 #include "deform/posing/sweep_poser.h"
@@ -63,36 +64,70 @@ BindingChecker::BindingChecker(const deform::BoundModel& bound, const CheckPoses
 }
 
 BindingVerdict BindingChecker::verdict(const deform::BoundModel& bound) const {
-  std::vector<int> every(poses_.poses.size());
-  for (std::size_t p = 0; p < every.size(); ++p) every[p] = static_cast<int>(p);
-  return verdict(bound, every);
+  return judge(measure(meter_, sweep_positions(bound, meter_.vertices())));
 }
 
-BindingVerdict BindingChecker::verdict(const deform::BoundModel& bound,
-                                       const std::vector<int>& poses) const {
-  deform::SweepPoser poser(bound);
-  std::vector<glm::vec3> positions(bound.model.vertex_count()), measured;
-  std::vector<metrics::RegionFigures> sweep;
-  std::vector<int> stretched;
+std::vector<std::vector<glm::vec3>> BindingChecker::sweep_positions(
+    const deform::BoundModel& bound, std::span<const std::uint32_t> vertices) const {
+  std::vector<std::vector<glm::vec3>> positions(poses_.poses.size());
+  std::vector<int> every(poses_.poses.size());
+  for (std::size_t p = 0; p < every.size(); ++p) every[p] = static_cast<int>(p);
+  pose_each(bound, vertices, every, [&](int p, std::span<const glm::vec3> posed) {
+    positions[p].assign(posed.begin(), posed.end());
+    return true;
+  });
+  return positions;
+}
+
+void BindingChecker::pose_each(
+    const deform::BoundModel& bound, std::span<const std::uint32_t> vertices,
+    std::span<const int> order,
+    const std::function<bool(int, std::span<const glm::vec3>)>& each) const {
+  std::vector<glm::vec3> positions(vertices.size());
+  if (vertices.empty()) {
+    for (const int p : order)
+      if (!each(p, positions)) return;
+    return;
+  }
+  const deform::BoundModel part = deform::bound_part(bound, vertices);
+  deform::SweepPoser poser(part);
+  for (const int p : order) {
+    poser.set_pose(world_[p]);
+    poser.deform(skinning_[p], positions, {});
+    if (!each(p, positions)) return;
+  }
+}
+
+metrics::SkinningComparison BindingChecker::compare(int pose, int region,
+                                                    const metrics::RegionFigures& sweep) const {
+  return metrics::compare_with_skinning(sweep, lbs_[pose][region], dqs_[pose][region]);
+}
+
+SweepFigures BindingChecker::measure(const metrics::SweptStretchMeter& part,
+                                     const std::vector<std::vector<glm::vec3>>& positions) const {
+  SweepFigures sweep;
+  sweep.figures.resize(positions.size());
+  sweep.stretched.resize(positions.size());
+  for (std::size_t p = 0; p < positions.size(); ++p)
+    part.measure(positions[p], world_[p], sweep.figures[p], sweep.stretched[p]);
+  return sweep;
+}
+
+BindingVerdict BindingChecker::judge(const SweepFigures& sweep) const {
   BindingVerdict verdict;
   verdict.pose_names = poses_.names;
   for (const deform::BodyPart region : meter_.regions())
     verdict.regions.push_back({.region = region});
-  verdict.worse_at.resize(poses_.poses.size());
-  verdict.excess_at.resize(poses_.poses.size());
-  verdict.stretched_at.resize(poses_.poses.size());
-  for (const int p : poses) {
-    verdict.worse_at[p].assign(verdict.regions.size(), 0);
-    verdict.excess_at[p].assign(verdict.regions.size(), 0.0f);
-    poser.set_pose(world_[p]);
-    poser.deform(skinning_[p], positions, {});
-    meter_.gather(positions, measured);
-    meter_.measure(measured, world_[p], sweep, stretched);
-    verdict.stretched_at[p] = stretched;
+  verdict.stretched_at = sweep.stretched;
+  for (std::size_t p = 0; p < poses_.poses.size(); ++p) {
+    verdict.worse_at.emplace_back(verdict.regions.size(), 0);
+    verdict.excess_at.emplace_back(verdict.regions.size(), 0.0f);
+    const std::vector<metrics::RegionFigures>& figures = sweep.figures[p];
     const std::vector<metrics::RegionFigures>& lbs = lbs_[p];
     const std::vector<metrics::RegionFigures>& dqs = dqs_[p];
     for (std::size_t r = 0; r < verdict.regions.size(); ++r) {
-      const metrics::SkinningComparison c = metrics::compare_with_skinning(sweep[r], lbs[r], dqs[r]);
+      const metrics::SkinningComparison c = compare(static_cast<int>(p), static_cast<int>(r),
+                                                    figures[r]);
       if (!c.swept) continue;
       RegionVerdict& v = verdict.regions[r];
       v.swept = true;
@@ -102,11 +137,11 @@ BindingVerdict BindingChecker::verdict(const deform::BoundModel& bound,
       if (v.pose < 0 || c.excess > v.excess) {
         v.excess = c.excess, v.sweep = c.sweep, v.baseline = c.baseline;
         v.baseline_is_dqs = dqs[r].swept_stretch < lbs[r].swept_stretch;
-        v.pose = p;
+        v.pose = static_cast<int>(p);
       }
       const int extra =
-          sweep[r].swept_flipped - std::min(lbs[r].swept_flipped, dqs[r].swept_flipped);
-      if (extra > v.extra_flipped) v.extra_flipped = extra, v.flipped_pose = p;
+          figures[r].swept_flipped - std::min(lbs[r].swept_flipped, dqs[r].swept_flipped);
+      if (extra > v.extra_flipped) v.extra_flipped = extra, v.flipped_pose = static_cast<int>(p);
     }
   }
   return verdict;
@@ -118,8 +153,8 @@ BindingVerdict check_binding(const deform::BoundModel& bound, const CheckPoses& 
 
 namespace {
 
-// A verdict's measure over some poses: the worse (pose, region) pairs, and their summed excess;
-// beside it, the swept edges stretched beyond 1.3x.
+// A verdict's measure: the worse (pose, region) pairs and their summed excess; beside it, the
+// swept edges stretched beyond 1.3x.
 struct Score {
   int pairs = 0;
   double excess = 0.0;
@@ -131,28 +166,14 @@ struct Score {
   }
 };
 
-Score score(const BindingVerdict& verdict, const std::vector<int>& poses) {
+Score score(const BindingVerdict& verdict) {
   Score s;
-  for (const int p : poses)
+  for (std::size_t p = 0; p < verdict.worse_at.size(); ++p)
     for (std::size_t r = 0; r < verdict.worse_at[p].size(); ++r) {
       if (verdict.worse_at[p][r]) ++s.pairs, s.excess += verdict.excess_at[p][r];
       s.stretched += verdict.stretched_at[p][r];
     }
   return s;
-}
-
-std::vector<int> every_pose(const BindingVerdict& verdict) {
-  std::vector<int> poses;
-  for (std::size_t p = 0; p < verdict.worse_at.size(); ++p)
-    if (!verdict.worse_at[p].empty()) poses.push_back(static_cast<int>(p));
-  return poses;
-}
-
-// The regions sweep `part` reaches: its own, the skinned part at its end, and the torso it
-// blends into; the torso's sweep reaches them all.
-bool reaches(deform::BodyPart part, deform::BodyPart region) {
-  return part == deform::BodyPart::kTorso || region == part || region == deform::BodyPart::kTorso ||
-         (deform::end_part(part) != deform::BodyPart::kNone && region == deform::end_part(part));
 }
 
 // Whether sweep `part`'s own regions (its part and the skinned part at its end) lose anywhere.
@@ -163,49 +184,178 @@ bool sweep_loses(const BindingVerdict& verdict, deform::BodyPart part) {
   });
 }
 
-// Whether every region `after` finds worse than skinning was worse `before` too.
-bool no_region_newly_worse(const BindingVerdict& before, const BindingVerdict& after) {
-  for (std::size_t r = 0; r < after.regions.size(); ++r)
-    if (after.regions[r].worse() && !before.regions[r].worse()) return false;
-  return true;
+// A candidate's measure in one (pose, region) pair may not exceed its current one, where that
+// is at least this close to losing (stretch excess 0.9): a candidate that wins the peaks by
+// trading a pair it wins for one it nearly loses made clips the range of motion does not hold
+// worse (the shared male's arms on the smooth curve: cmu_01_03 703 → 708 worse pairs).
+constexpr float kNearlyWorse = 0.9f;
+constexpr float kSameExcess = 1e-4f;  // the meter's float roundings
+
+// Whether a candidate's pair `tried` may replace the current one: not worse than skinning where
+// it was not, and no larger stretch excess than the current one or kNearlyWorse, whichever is
+// larger.
+bool pair_acceptable(const BindingVerdict& current, int pose, int region,
+                     const metrics::SkinningComparison& tried) {
+  if (!tried.swept) return true;
+  if (tried.worse && !current.worse_at[pose][region]) return false;
+  return tried.excess <= std::max(current.excess_at[pose][region], kNearlyWorse) + kSameExcess;
 }
 
-// The poses where a region sweep `part` reaches is worse, or within 10 % of it.
-constexpr float kNearlyWorse = 0.9f;
-std::vector<int> poses_at_stake(const BindingVerdict& verdict, deform::BodyPart part) {
-  std::vector<int> poses;
-  for (const int p : every_pose(verdict))
-    for (std::size_t r = 0; r < verdict.regions.size(); ++r)
-      if (reaches(part, verdict.regions[r].region) &&
-          (verdict.worse_at[p][r] || verdict.excess_at[p][r] > kNearlyWorse)) {
-        poses.push_back(p);
-        break;
-      }
-  return poses;
+// Whether `after` (every pair acceptable) may replace `before`: fewer pairs worse, no more edges
+// stretched beyond 1.3x.
+bool better(const BindingVerdict& before, const BindingVerdict& after) {
+  const Score was = score(before), is = score(after);
+  return is.pairs < was.pairs && is.stretched <= was.stretched;
 }
+
+// Where each of `part`'s vertices is in `whole`'s (both ascending model indices).
+std::vector<std::uint32_t> places_in(const std::vector<std::uint32_t>& whole,
+                                     const std::vector<std::uint32_t>& part) {
+  std::vector<std::uint32_t> places;
+  for (const std::uint32_t v : part)
+    places.push_back(static_cast<std::uint32_t>(
+        std::lower_bound(whole.begin(), whole.end(), v) - whole.begin()));
+  return places;
+}
+
+std::vector<std::vector<glm::vec3>> gathered(const std::vector<std::vector<glm::vec3>>& positions,
+                                             const std::vector<std::uint32_t>& places) {
+  std::vector<std::vector<glm::vec3>> out(positions.size());
+  for (std::size_t p = 0; p < positions.size(); ++p)
+    for (const std::uint32_t i : places) out[p].push_back(positions[p][i]);
+  return out;
+}
+
+// The sweep's positions of the measured vertices (the checker's meter's, in its order) and its
+// figures, per pose: the body as the adaptation has it so far.
+struct BodyState {
+  std::vector<std::vector<glm::vec3>> positions;
+  SweepFigures figures;
+};
+
+// One sweep's candidates judged by what they change: in the regions its vertices touch, the
+// edges and triangles with a vertex on the sweep are measured again on those vertices and their
+// neighbours posed alone, the others' figures once from the body's positions; the regions it
+// does not touch keep the body's figures.
+class SweepTrial {
+ public:
+  SweepTrial(const deform::BoundModel& bound, int sweep, const BindingChecker& checker,
+             const BodyState& body, const BindingVerdict& current)
+      : checker_(checker), body_(body) {
+    std::vector<std::uint8_t> moving(bound.vertices.size(), 0);
+    for (std::uint32_t v = 0; v < bound.vertices.size(); ++v)
+      for (int k = 0; k < deform::kSweepsPerVertex; ++k)
+        if (bound.vertices[v].sweep[k] == sweep) {
+          moving[v] = 1;
+          on_sweep_.push_back(v);
+          break;
+        }
+    const metrics::SweptStretchMeter& whole = checker.meter();
+    touched_ = whole.regions_touched(moving);
+    const metrics::SweptStretchMeter beside = whole.part(moving, false);
+    beside_ = checker.measure(beside, gathered(body.positions,
+                                               places_in(whole.vertices(), beside.vertices())));
+    changed_.emplace(whole.part(moving, true));
+    changed_places_ = places_in(whole.vertices(), changed_->vertices());
+    // The poses by the largest stretch excess of a touched region not yet worse, descending:
+    // where a candidate most likely loses a pair, so that a losing one stops early.
+    std::vector<float> nearest(current.worse_at.size(), 0.0f);
+    for (std::size_t p = 0; p < nearest.size(); ++p) {
+      order_.push_back(static_cast<int>(p));
+      for (std::size_t r = 0; r < touched_.size(); ++r)
+        if (touched_[r] && !current.worse_at[p][r])
+          nearest[p] = std::max(nearest[p], current.excess_at[p][r]);
+    }
+    std::stable_sort(order_.begin(), order_.end(),
+                     [&](int a, int b) { return nearest[a] > nearest[b]; });
+  }
+  // The model vertices the sweep's candidates re-bind.
+  const std::vector<std::uint32_t>& on_sweep() const { return on_sweep_; }
+
+  // `bound` (this sweep re-bound) measured: the figures of the whole meter, and the changed
+  // vertices' positions; none when a (pose, region) pair is not acceptable against `current`
+  // (pair_acceptable: the poses are measured nearest to losing first, and it stops there).
+  std::optional<SweepFigures> measure(const deform::BoundModel& bound,
+                                      const BindingVerdict& current,
+                                      std::vector<std::vector<glm::vec3>>& changed_positions) const {
+    SweepFigures figures = body_.figures;
+    changed_positions.assign(figures.figures.size(), {});
+    bool acceptable = true;
+    checker_.pose_each(bound, changed_->vertices(), order_, [&](int p, std::span<const glm::vec3> at) {
+      changed_positions[p].assign(at.begin(), at.end());
+      std::vector<metrics::RegionFigures> measured;
+      std::vector<int> stretched;
+      changed_->measure(at, checker_.world(p), measured, stretched);
+      metrics::SweptStretchMeter::combine(measured, stretched, beside_.figures[p],
+                                          beside_.stretched[p]);
+      for (std::size_t r = 0; r < touched_.size(); ++r) {
+        if (!touched_[r]) continue;
+        figures.figures[p][r] = measured[r];
+        figures.stretched[p][r] = stretched[r];
+        const auto region = static_cast<int>(r);
+        if (!pair_acceptable(current, p, region, checker_.compare(p, region, measured[r])))
+          acceptable = false;
+      }
+      return acceptable;
+    });
+    if (!acceptable) return std::nullopt;
+    return figures;
+  }
+  // A candidate's measure made the body's.
+  void keep(const std::vector<std::vector<glm::vec3>>& changed_positions, SweepFigures figures,
+            BodyState& body) const {
+    for (std::size_t p = 0; p < body.positions.size(); ++p)
+      for (std::size_t i = 0; i < changed_places_.size(); ++i)
+        body.positions[p][changed_places_[i]] = changed_positions[p][i];
+    body.figures = std::move(figures);
+  }
+
+ private:
+  const BindingChecker& checker_;
+  const BodyState& body_;
+  std::vector<std::uint32_t> on_sweep_;
+  std::vector<std::uint8_t> touched_;  // per region
+  SweepFigures beside_;
+  std::optional<metrics::SweptStretchMeter> changed_;
+  std::vector<std::uint32_t> changed_places_;
+  std::vector<int> order_;  // the poses, in the order measured
+};
 
 }  // namespace
 
-int BindingVerdict::worse_pairs() const { return score(*this, every_pose(*this)).pairs; }
+int BindingVerdict::worse_pairs() const { return score(*this).pairs; }
 
-BindingVerdict adapt_binding(deform::BoundModel& bound, const BindingChecker& checker,
-                             BindingVerdict verdict) {
+Adaptation adapt_binding(deform::BoundModel& bound, const BindingChecker& checker) {
+  BodyState body;
+  body.positions = checker.sweep_positions(bound, checker.meter().vertices());
+  body.figures = checker.measure(checker.meter(), body.positions);
+  Adaptation adaptation;
+  adaptation.before = checker.judge(body.figures);
+  BindingVerdict verdict = adaptation.before;
   std::optional<deform::SweepRebinder> rebinder;
   for (int s = 0; s < static_cast<int>(bound.sweeps.size()); ++s) {
     const deform::BodyPart part = bound.sweeps[s].part;
     if (!sweep_loses(verdict, part)) continue;
     if (!rebinder) rebinder.emplace(bound);
-    const std::vector<int> at_stake = poses_at_stake(verdict, part);
+    const SweepTrial trial(bound, s, checker, body, verdict);
     const deform::SweepChoice current = bound.sweeps[s].choice;
     const deform::OrientationCurveKind other =
         current.orientation_curve == deform::OrientationCurveKind::kLinear
             ? deform::OrientationCurveKind::kSmooth
             : deform::OrientationCurveKind::kLinear;
     const int fewer = current.keys_per_link == 1 ? 2 : 1;
+    // Only the sweep and its vertices' bindings change: those are kept to restore.
     const deform::BoundSweep kept_sweep = bound.sweeps[s];
-    const std::vector<deform::VertexBinding> kept_vertices = bound.vertices;
-    Score best_score = score(verdict, at_stake);
-    std::optional<deform::SweepChoice> best;
+    std::vector<deform::VertexBinding> kept_vertices;
+    for (const std::uint32_t v : trial.on_sweep()) kept_vertices.push_back(bound.vertices[v]);
+    struct Best {
+      deform::BoundSweep sweep;
+      std::vector<deform::VertexBinding> vertices;
+      BindingVerdict verdict;
+      SweepFigures figures;
+      std::vector<std::vector<glm::vec3>> positions;
+    };
+    std::optional<Best> best;
     for (const auto& [keys, curve] : {std::pair{fewer, current.orientation_curve},
                                       std::pair{current.keys_per_link, other},
                                       std::pair{fewer, other}}) {
@@ -219,25 +369,29 @@ BindingVerdict adapt_binding(deform::BoundModel& bound, const BindingChecker& ch
       } catch (const std::invalid_argument&) {
         continue;  // this choice cannot be fitted: not a candidate
       }
-      const Score tried = score(checker.verdict(bound, at_stake), at_stake);
-      if (tried < best_score && tried.stretched <= best_score.stretched)
-        best_score = tried, best = choice;
+      std::vector<std::vector<glm::vec3>> positions;
+      std::optional<SweepFigures> figures = trial.measure(bound, verdict, positions);
+      BindingVerdict tried;
+      if (figures) tried = checker.judge(*figures);
+      if (figures && better(verdict, tried) && (!best || score(tried) < score(best->verdict))) {
+        best = Best{bound.sweeps[s], {}, std::move(tried), std::move(*figures),
+                    std::move(positions)};
+        for (const std::uint32_t v : trial.on_sweep()) best->vertices.push_back(bound.vertices[v]);
+      }
       bound.sweeps[s] = kept_sweep;
-      bound.vertices = kept_vertices;
+      for (std::size_t i = 0; i < kept_vertices.size(); ++i)
+        bound.vertices[trial.on_sweep()[i]] = kept_vertices[i];
     }
     if (!best) continue;
-    rebinder->rebind(bound, s, *best);
-    BindingVerdict tried = checker.verdict(bound);  // every pose: better over the whole body?
-    if (tried.worse_pairs() < verdict.worse_pairs() && no_region_newly_worse(verdict, tried) &&
-        score(tried, every_pose(tried)).stretched <= score(verdict, every_pose(verdict)).stretched) {
-      verdict = std::move(tried);
-      bound.sweeps[s].choice.worse_after = static_cast<std::uint32_t>(verdict.worse_pairs());
-    } else {
-      bound.sweeps[s] = kept_sweep;
-      bound.vertices = kept_vertices;
-    }
+    bound.sweeps[s] = std::move(best->sweep);
+    for (std::size_t i = 0; i < best->vertices.size(); ++i)
+      bound.vertices[trial.on_sweep()[i]] = best->vertices[i];
+    trial.keep(best->positions, std::move(best->figures), body);
+    verdict = std::move(best->verdict);
+    bound.sweeps[s].choice.worse_after = static_cast<std::uint32_t>(verdict.worse_pairs());
   }
-  return verdict;
+  adaptation.after = std::move(verdict);
+  return adaptation;
 }
 
 std::vector<std::string> adaptation_notes(const deform::BoundModel& bound) {
@@ -266,9 +420,14 @@ CheckedBinding bind_checked(const deform::Model& model, const deform::RigMap& ri
   checked.bound = deform::bind(model, rig, options, progress);
   const auto bound_at = std::chrono::steady_clock::now();
   const BindingChecker checker(checked.bound, range_of_motion_peaks(checked.bound));
-  checked.before = checker.verdict(checked.bound);
-  checked.verdict =
-      adapt ? adapt_binding(checked.bound, checker, checked.before) : checked.before;
+  if (adapt) {
+    Adaptation adaptation = adapt_binding(checked.bound, checker);
+    checked.before = std::move(adaptation.before);
+    checked.verdict = std::move(adaptation.after);
+  } else {
+    checked.before = checker.verdict(checked.bound);
+    checked.verdict = checked.before;
+  }
   const auto done = std::chrono::steady_clock::now();
   checked.bind_seconds = std::chrono::duration<double>(bound_at - started).count();
   checked.check_seconds = std::chrono::duration<double>(done - bound_at).count();

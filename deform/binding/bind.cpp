@@ -198,11 +198,27 @@ SweepRebinder::SweepRebinder(const BoundModel& bound)
   }
 }
 
-void SweepRebinder::rebind(BoundModel& bound, int s, const SweepChoice& choice) const {
+void SweepRebinder::rebind(BoundModel& bound, int s, const SweepChoice& choice) {
   const BoundSweep& old = bound.sweeps[s];
-  bound.sweeps[s] = fit_sweep(mesh_, world_rest_, {old.part, old.chain, x_hints_[s]},
-                              bound.options, choice);
-  const Sweep sweep = rest_sweep(bound.sweeps[s], bound.options);
+  // The keys depend on the key count alone: a choice with the bound sweep's count changes its
+  // orientation curve only, and another count is fitted once.
+  BoundSweep sweep_fitted;
+  if (choice.keys_per_link == old.choice.keys_per_link) {
+    sweep_fitted = old;
+  } else {
+    const std::pair<int, int> key{s, choice.keys_per_link};
+    auto fitted = fitted_.find(key);
+    if (fitted == fitted_.end())
+      fitted = fitted_
+                   .emplace(key, fit_sweep(mesh_, world_rest_, {old.part, old.chain, x_hints_[s]},
+                                           bound.options, choice))
+                   .first;
+    sweep_fitted = fitted->second;
+  }
+  sweep_fitted.choice = choice;
+  const Sweep sweep = rest_sweep(sweep_fitted, bound.options);
+  sweep_fitted.rest_volume = sweep_volume(sweep);
+  bound.sweeps[s] = std::move(sweep_fitted);
   const SweepPlanes planes = sample_planes(sweep, bound.options.plane_samples_per_span);
   for (std::size_t v = 0; v < bound.vertices.size(); ++v) {
     VertexBinding& binding = bound.vertices[v];

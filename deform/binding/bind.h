@@ -12,7 +12,9 @@
 
 #include <functional>
 #include <glm/glm.hpp>
+#include <map>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "deform/binding/bound_model.h"
@@ -32,13 +34,17 @@ BoundModel bind(const Model& model, const RigMap& rig, const BindOptions& option
 // blend shares, the other sweeps and everything else stay. What the binding's self-check tries
 // where a sweep loses to skinning. Built once per bound model (it welds the body's mesh, as
 // bind does); rebind throws std::invalid_argument as bind does when the sweep cannot be fitted.
+// The key ellipses depend on the key count alone: a choice with the sweep's own count keeps its
+// keys (only the orientation curve changes), and each other count is fitted once per sweep and
+// kept for the next choice with it.
 class SweepRebinder {
  public:
   explicit SweepRebinder(const BoundModel& bound);
-  void rebind(BoundModel& bound, int sweep, const SweepChoice& choice) const;
+  void rebind(BoundModel& bound, int sweep, const SweepChoice& choice);
 
  private:
   WeldedMesh mesh_;
+  std::map<std::pair<int, int>, BoundSweep> fitted_;  // (sweep, keys per link): its fit
   std::vector<glm::mat4> world_rest_;
   std::vector<glm::vec3> x_hints_;  // per sweep: its first key's first axis hint
 };

@@ -232,11 +232,13 @@ ModelHandle ModelService::bind_and_store(const ModelLoadRequest& request,
     if (request.keys_per_link > 0) options.intermediate_keys_per_link = request.keys_per_link;
     options.orientation_curve = static_cast<deform::OrientationCurveKind>(request.orientation);
     model.name = request.name;
-    bound = deform::bind(model, rig, options);
-    // The binding checks itself (issue 47): each body region where the sweep is still worse
-    // than skinning on the range of motion's peaks, said to the operator (the log) and to the
-    // client (ModelInfo.bind_warnings). About bind's own time again.
-    checked = self_check(bound);
+    // The binding checks itself (issue 47) and adapts the sweeps that lose to skinning where a
+    // refit wins (selfcheck::adapt_binding, recorded in the binding); each body region where the
+    // sweep is still worse on the range of motion's peaks is said to the operator (the log)
+    // and to the client (ModelInfo.bind_warnings). At most about bind's own time again.
+    selfcheck::CheckedBinding adapted = selfcheck::bind_checked(model, rig, options, true);
+    bound = std::move(adapted.bound);
+    checked = self_check(adapted.verdict);
   } catch (const ModelError&) {
     throw;
   } catch (const io::LoadError& error) {

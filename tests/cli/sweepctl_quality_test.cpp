@@ -130,10 +130,10 @@ TEST(SweepctlBind, ChecksItselfAndInspectSaysTheSameOfTheStoredBinding) {
   REQUIRE_DATA();
   const fs::path plain = scratch() / "checked.sweepbind", adapted = scratch() / "adapted.sweepbind";
   std::string bind, bind_adapted, inspect, inspect_adapted;
-  ASSERT_EQ(sweepctl("bind " + kMale.string() + " -o " + plain.string(), bind), 0) << bind;
-  ASSERT_EQ(sweepctl("bind " + kMale.string() + " -o " + adapted.string() + " --adapt",
-                     bind_adapted),
+  ASSERT_EQ(sweepctl("bind " + kMale.string() + " -o " + plain.string() + " --no-adapt", bind),
             0)
+      << bind;
+  ASSERT_EQ(sweepctl("bind " + kMale.string() + " -o " + adapted.string(), bind_adapted), 0)
       << bind_adapted;
   ASSERT_EQ(sweepctl("inspect " + plain.string(), inspect), 0) << inspect;
   ASSERT_EQ(sweepctl("inspect " + adapted.string(), inspect_adapted), 0) << inspect_adapted;
@@ -156,17 +156,18 @@ TEST(SweepctlBind, ChecksItselfAndInspectSaysTheSameOfTheStoredBinding) {
   EXPECT_EQ(worse_pairs(inspected[0]), worse_pairs(checked[0]));
   EXPECT_EQ(lines_starting(inspect, "warning: "), warnings);
   EXPECT_TRUE(lines_starting(inspect, "adapted: ").empty()) << inspect;
-  // --adapt leaves fewer pairs worse (the male's arms and legs), says which sweeps it fitted
-  // again, and the stored binding carries them: inspect counts what bind counted after.
+  // By default bind adapts: never more pairs worse than as bound (on the male today it keeps
+  // every sweep: each candidate nears a pair to losing), it says which sweeps it fitted again,
+  // and the stored binding carries them: inspect counts what bind counted after.
   const auto adapted_line = lines_starting(bind_adapted, "self-check (48 range-of-motion peaks");
   ASSERT_EQ(adapted_line.size(), 1u) << bind_adapted;
   const std::size_t after_at = adapted_line[0].find(" as bound, ");
   ASSERT_NE(after_at, std::string::npos) << adapted_line[0];
   const int after = std::atoi(adapted_line[0].c_str() + after_at + 11);
   EXPECT_EQ(worse_pairs(adapted_line[0]), worse_pairs(checked[0]));
-  EXPECT_LT(after, worse_pairs(checked[0])) << adapted_line[0];
+  EXPECT_LE(after, worse_pairs(checked[0])) << adapted_line[0];
   const auto notes = lines_starting(bind_adapted, "adapted: ");
-  EXPECT_FALSE(notes.empty()) << bind_adapted;
+  EXPECT_EQ(notes.empty(), after == worse_pairs(checked[0])) << bind_adapted;
   EXPECT_EQ(lines_starting(inspect_adapted, "adapted: "), notes);
   const auto inspected_adapted = lines_starting(inspect_adapted, "self-check (48");
   ASSERT_EQ(inspected_adapted.size(), 1u) << inspect_adapted;

@@ -1,8 +1,8 @@
 // The corpus gate (issue 47 item 6), as far as it holds today. Every shared body — the shared
 // male, the RiggedFigure, the four corpus bodies — and the mannequin at 6k, 20k and 72k
-// vertices, each as is, mirrored and at 0.6x, on the peaks of
-// its range of motion (motion/range_of_motion.h) and every 100th frame of both CMU clips: per
-// frame and body region, is the sweep worse than the better of LBS and DQS
+// vertices, each as is, mirrored and at 0.6x, bound as bind binds by default (adapted), on the
+// peaks of its range of motion (motion/range_of_motion.h) and every 100th frame of both CMU
+// clips: per frame and body region, is the sweep worse than the better of LBS and DQS
 // (metrics::compare_with_skinning: its swept edges stretch more than 1.02x the better
 // baseline's, as length ratios l / l_rest, or more of its swept triangles flip)?
 //
@@ -33,6 +33,7 @@
 #include "motion/own_skeleton_clip.h"
 #include "motion/range_of_motion.h"
 #include "motion/retarget.h"
+#include "selfcheck/binding_self_check.h"
 #include "tests/body_variants.h"
 #include "tests/deform/shared_male.h"
 
@@ -45,17 +46,23 @@ using deform::DeformMethod;
 constexpr int kClipStep = 100;
 
 // Worse (frame, region) pairs per body, summed over as is, mirrored and 0.6x and over the range
-// of motion's peaks and both clips, measured at this stop (target: 0).
+// of motion's peaks and both clips, measured with the adapted binding at this stop (target: 0).
+// Bound without adapting, the same bodies measured the same here but the OpenPose body (488:
+// mirrored, adapted, 1 pair fewer on the range of motion and on cmu_01_03) and the 72k mannequin
+// (415: its neck refitted with one link key, 36 → 33 on the range of motion, 60 → 55 on
+// cmu_01_03, 38 → 39 on cmu_01_01: a head edge 1.0007x the 1.02 line at one frame). The
+// RiggedFigure, OpenPose and heavy male figures are above the last stop's (988, 479, 630) bound
+// either way: that ledger was measured on another machine (see the 2 % below).
 const std::map<std::string, int> kLedger = {
-    {"makehuman_male_cmu", 468},
-    {"RiggedFigure", 988},
-    {"makehuman_child_mixamo_unity", 667},
-    {"makehuman_female_old_heavy_mixamo", 484},
-    {"makehuman_female_slim_openpose", 479},
-    {"makehuman_male_old_heavy_unreal", 630},
-    {"mannequin:6000", 264},
-    {"mannequin:20000", 392},
-    {"mannequin:72000", 415},
+    {"makehuman_male_cmu", 465},
+    {"RiggedFigure", 991},
+    {"makehuman_child_mixamo_unity", 659},
+    {"makehuman_female_old_heavy_mixamo", 474},
+    {"makehuman_female_slim_openpose", 486},
+    {"makehuman_male_old_heavy_unreal", 634},
+    {"mannequin:6000", 263},
+    {"mannequin:20000", 391},
+    {"mannequin:72000", 408},
 };
 
 struct ClipCount {
@@ -114,8 +121,12 @@ TEST_P(CorpusGate, TheSweepIsWorseThanSkinningNowhereNewAndKeepsItsAdvantage) {
   int worse = 0;
   for (const test_models::BodyVariant& variant :
        test_models::plain_mirrored_and_rescaled({{body, &model}}, 0.6f)) {
+    // Bound as sweepctl bind and sweepd bind it: adapted where the self-check finds a refit
+    // that wins (selfcheck::adapt_binding).
     const deform::BoundModel bound =
-        deform::bind(variant.model, deform::detect_rig_map(variant.model.skeleton));
+        selfcheck::bind_checked(variant.model, deform::detect_rig_map(variant.model.skeleton),
+                                {}, true)
+            .bound;
     std::vector<std::pair<std::string, std::vector<deform::Pose>>> clips;
     const motion::RangeOfMotion rom = motion::range_of_motion(variant.model.skeleton, bound.rig);
     const motion::OwnSkeletonClip rom_player(rom.clip, variant.model.skeleton);

@@ -69,6 +69,67 @@ TEST(SweptStretchMeter, GivesRegionMetersSweptFiguresOnTheRangeOfMotionPeaks) {
   }
 }
 
+TEST(SweptStretchMeter, ItsPartsTouchingAVertexSetAndNotCombineIntoTheWhole) {
+  const deform::BoundModel& bound = mannequin_binding();
+  const metrics::SweptStretchMeter whole(bound);
+  // The vertices on the left arm's sweep: what the adaptation re-binds.
+  int arm = -1;
+  for (std::size_t s = 0; s < bound.sweeps.size(); ++s)
+    if (bound.sweeps[s].part == BodyPart::kLeftArm) arm = static_cast<int>(s);
+  ASSERT_GE(arm, 0);
+  std::vector<std::uint8_t> moving(bound.vertices.size(), 0);
+  int on_arm = 0;
+  for (std::size_t v = 0; v < bound.vertices.size(); ++v)
+    for (int k = 0; k < deform::kSweepsPerVertex; ++k)
+      if (bound.vertices[v].sweep[k] == arm) moving[v] = 1, ++on_arm;
+  ASSERT_GT(on_arm, 100);
+  const metrics::SweptStretchMeter touching = whole.part(moving, true);
+  const metrics::SweptStretchMeter rest = whole.part(moving, false);
+  const std::vector<std::uint8_t> touched = whole.regions_touched(moving);
+  EXPECT_LT(touching.vertices().size(), whole.vertices().size() / 2);
+  EXPECT_LT(rest.vertices().size(), whole.vertices().size());
+  EXPECT_EQ(touching.regions(), whole.regions());
+  // The arm, the hand at its end and the torso it blends into; not the legs.
+  for (std::size_t r = 0; r < whole.regions().size(); ++r) {
+    const BodyPart region = whole.regions()[r];
+    if (region == BodyPart::kLeftArm || region == BodyPart::kTorso) {
+      EXPECT_TRUE(touched[r]);
+    }
+    if (region == BodyPart::kLeftLeg || region == BodyPart::kRightLeg) {
+      EXPECT_FALSE(touched[r]);
+    }
+  }
+  const CheckPoses poses = range_of_motion_peaks(bound);
+  deform::test::Posing posing(bound);
+  std::vector<glm::vec3> positions(bound.model.vertex_count()), measured;
+  for (std::size_t p = 0; p < poses.poses.size(); p += 5) {
+    deform::Pose pose = poses.poses[p];
+    posing.deform(pose, DeformMethod::kSweep, positions);
+    std::vector<metrics::RegionFigures> expected, figures, rest_figures;
+    std::vector<int> expected_stretched, stretched, rest_stretched;
+    whole.gather(positions, measured);
+    whole.measure(measured, posing.world_pose(), expected, expected_stretched);
+    touching.gather(positions, measured);
+    touching.measure(measured, posing.world_pose(), figures, stretched);
+    rest.gather(positions, measured);
+    rest.measure(measured, posing.world_pose(), rest_figures, rest_stretched);
+    metrics::SweptStretchMeter::combine(figures, stretched, rest_figures, rest_stretched);
+    for (std::size_t r = 0; r < figures.size(); ++r) {
+      SCOPED_TRACE(poses.names[p] + ", " + deform::to_string(whole.regions()[r]));
+      EXPECT_EQ(figures[r].swept, expected[r].swept);
+      if (!touched[r]) {  // in neither part: the rest values
+        EXPECT_EQ(figures[r].swept_stretch, 1.0);
+        EXPECT_EQ(figures[r].swept_flipped, 0);
+        continue;
+      }
+      // The same edges and triangles, each measured once by one part: exactly the whole's.
+      EXPECT_EQ(figures[r].swept_stretch, expected[r].swept_stretch);
+      EXPECT_EQ(figures[r].swept_flipped, expected[r].swept_flipped);
+      EXPECT_EQ(stretched[r], expected_stretched[r]);
+    }
+  }
+}
+
 TEST(BindingSelfCheck, ReachesTheVerdictThatRegionMeterReachesOnTheSamePoses) {
   const deform::BoundModel& bound = mannequin_binding();
   const CheckPoses poses = range_of_motion_peaks(bound);
@@ -141,18 +202,47 @@ TEST(BindingSelfCheck, ARegionSpoiledOnPurposeIsWorseInEveryPoseAndNamed) {
   })) << warnings.front();
 }
 
+// Every other vertex on the left arm's sweep, the shoulder's blend included, turned 0.3 rad
+// about the arm: every region the sweep touches stretches far more than as bound in every pose,
+// and a re-fitted sweep binds them again, so a candidate must win everywhere it reaches.
+int spoil_left_arm(deform::BoundModel& bound) {
+  int arm = -1;
+  for (std::size_t s = 0; s < bound.sweeps.size(); ++s)
+    if (bound.sweeps[s].part == BodyPart::kLeftArm) arm = static_cast<int>(s);
+  for (std::size_t v = 0; v < bound.vertices.size(); v += 2)
+    for (int k = 0; k < deform::kSweepsPerVertex; ++k)
+      if (bound.vertices[v].sweep[k] == arm) bound.vertices[v].coordinate[k].theta += 0.3f;
+  return arm;
+}
+
 TEST(BindingSelfCheck, AdaptationKeepsOnlyChoicesThatLeaveFewerPairsWorseAndRecordsThem) {
   deform::BoundModel bound = mannequin_binding();
+  const int arm = spoil_left_arm(bound);
+  ASSERT_GE(arm, 0);
   CheckPoses poses = range_of_motion_peaks(bound);
   const BindingChecker checker(bound, poses);
-  const BindingVerdict before = checker.verdict(bound);
-  // The 6k mannequin loses to skinning on its range of motion today (the corpus gate's
-  // ledger: 264 pairs over its variants and clips), so there is something to adapt.
+  const Adaptation adaptation = adapt_binding(bound, checker);
+  const BindingVerdict& before = adaptation.before;
+  const BindingVerdict& after = adaptation.after;
   ASSERT_GT(before.worse_pairs(), 0);
-  const BindingVerdict after = adapt_binding(bound, checker, before);
-  EXPECT_LE(after.worse_pairs(), before.worse_pairs());
-  // What it returns is what the adapted binding measures.
-  EXPECT_EQ(checker.verdict(bound).worse_pairs(), after.worse_pairs());
+  // The spoiled arm is fitted again: fewer pairs worse.
+  EXPECT_EQ(bound.sweeps[arm].choice.origin, deform::SweepChoiceOrigin::kSelfCheck);
+  EXPECT_LT(after.worse_pairs(), before.worse_pairs());
+  // No pair's stretch excess rose where it was within 10 % of losing (kNearlyWorse), beyond
+  // the meter's float roundings: a choice may not trade a pair for one it nearly loses.
+  for (std::size_t p = 0; p < poses.poses.size(); ++p)
+    for (std::size_t r = 0; r < after.regions.size(); ++r)
+      EXPECT_LE(after.excess_at[p][r], std::max(before.excess_at[p][r], 0.9f) + 1e-4f)
+          << poses.names[p] << ", " << deform::to_string(after.regions[r].region);
+  // What it returns is what the adapted binding measures, pose by pose (it measured only what
+  // each candidate changed).
+  const BindingVerdict measured = checker.verdict(bound);
+  EXPECT_EQ(measured.worse_at, after.worse_at);
+  EXPECT_EQ(measured.stretched_at, after.stretched_at);
+  // And what it started from is the binding's own verdict.
+  deform::BoundModel spoiled = mannequin_binding();
+  spoil_left_arm(spoiled);
+  EXPECT_EQ(checker.verdict(spoiled).worse_at, before.worse_at);
   int adapted = 0;
   for (const deform::BoundSweep& sweep : bound.sweeps) {
     const deform::SweepChoice& c = sweep.choice;
@@ -170,7 +260,7 @@ TEST(BindingSelfCheck, AdaptationKeepsOnlyChoicesThatLeaveFewerPairsWorseAndReco
               sweep.chain.size() + (sweep.chain.size() - 1) * c.keys_per_link);
   }
   EXPECT_EQ(adapted, static_cast<int>(adaptation_notes(bound).size()));
-  // No region became worse than skinning, and no more edges stretch beyond 1.3x in all.
+  // No more edges stretch beyond 1.3x in all.
   long stretched_before = 0, stretched_after = 0;
   for (std::size_t p = 0; p < poses.poses.size(); ++p)
     for (std::size_t r = 0; r < before.regions.size(); ++r) {
@@ -178,12 +268,12 @@ TEST(BindingSelfCheck, AdaptationKeepsOnlyChoicesThatLeaveFewerPairsWorseAndReco
       stretched_after += after.stretched_at[p][r];
     }
   EXPECT_LE(stretched_after, stretched_before);
-  for (std::size_t r = 0; r < after.regions.size(); ++r)
-    EXPECT_TRUE(!after.regions[r].worse() || before.regions[r].worse())
-        << deform::to_string(after.regions[r].region);
-  if (adapted > 0) {
-    EXPECT_LT(after.worse_pairs(), before.worse_pairs());
-  }
+  // No (pose, region) pair became worse than skinning.
+  for (std::size_t p = 0; p < poses.poses.size(); ++p)
+    for (std::size_t r = 0; r < after.regions.size(); ++r)
+      EXPECT_TRUE(!after.worse_at[p][r] || before.worse_at[p][r])
+          << poses.names[p] << ", " << deform::to_string(after.regions[r].region);
+  EXPECT_GE(adapted, 1);
   // The adapted binding still reconstructs its rest pose (every vertex re-bound on its sweep).
   const std::vector<glm::vec3> rest = deform::rest_positions_from_binding(bound);
   float worst = 0.0f;
