@@ -50,15 +50,16 @@ BindingChecker::BindingChecker(const deform::BoundModel& bound, const CheckPoses
     measured_part.skin_joints.push_back(model.skin_joints[v]);
     measured_part.skin_weights.push_back(model.skin_weights[v]);
   }
+  const deform::SkinningTable measured_table(measured_part);  // built once, for every pose
   std::vector<glm::vec3> skinned(measured_part.positions.size());
   lbs_.resize(poses.poses.size());
   dqs_.resize(poses.poses.size());
   for (std::size_t p = 0; p < poses.poses.size(); ++p) {
     deform::forward_kinematics(model.skeleton, poses.poses[p], world_[p]);
     deform::skinning_matrices(world_[p], rest_inverse, skinning_[p]);
-    deform::linear_blend_skinning(measured_part, skinning_[p], skinned, {});
+    deform::linear_blend_skinning(measured_table, skinning_[p], skinned, {});
     meter_.measure(skinned, world_[p], lbs_[p]);
-    deform::dual_quaternion_skinning(measured_part, skinning_[p], skinned, {});
+    deform::dual_quaternion_skinning(measured_table, skinning_[p], skinned, {});
     meter_.measure(skinned, world_[p], dqs_[p]);
   }
 }
