@@ -140,7 +140,8 @@ void DeformJob::run_sweep(DeformContext& context, DeformReport& report) {
     std::copy(measured.begin(), measured.end(), context.measured_.begin());
     context.stream_ = true;
   }
-  if (!normals.empty()) runtime.welded_normals().compute(positions, normals, context.normal_sums_);
+  if (!normals.empty())
+    runtime.welded_normals().compute(positions, normals, context.normal_sums_, options.threads);
 }
 
 }  // namespace sweepd::deform

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <stdexcept>
 #include <string>
 
@@ -10,6 +11,7 @@
 #endif
 
 #include "deform/mesh/mesh_topology.h"
+#include "deform/simd/vertex_blocks.h"
 
 namespace sweepd::deform {
 
@@ -38,60 +40,92 @@ FloatLanes inverse_square_roots(FloatLanes x) {
 
 WeldedNormals::WeldedNormals(std::span<const glm::vec3> rest_positions,
                              std::span<const std::uint32_t> indices)
-    : corner_vertex_(indices.begin(), indices.end()) {
+{
   if (indices.size() % 3 != 0)
     throw std::invalid_argument("welded normals: " + std::to_string(indices.size()) +
                                 " triangle indices, not a multiple of 3");
-  for (const std::uint32_t v : corner_vertex_)
+  for (const std::uint32_t v : indices)
     if (v >= rest_positions.size())
       throw std::invalid_argument("welded normals: triangle corner " + std::to_string(v) +
                                   " past " + std::to_string(rest_positions.size()) + " vertices");
   std::size_t welded_count = 0;
   welded_ = weld_coincident_positions(rest_positions, &welded_count);
-  sum_count_ = (welded_count + 3) / 4 * 4;
-  corner_welded_.reserve(corner_vertex_.size());
-  for (const std::uint32_t v : corner_vertex_) corner_welded_.push_back(welded_[v]);
+  // Triangles ordered by their first welded vertex, so that the triangles a vertex gathers lie
+  // near those of the vertices before it (the gather reads them from memory, not the cache, when
+  // a mesh lists its triangles in another order than its vertices).
+  const std::size_t triangles = indices.size() / 3;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> order(triangles);
+  for (std::size_t t = 0; t < triangles; ++t)
+    order[t] = {std::min({welded_[indices[3 * t]], welded_[indices[3 * t + 1]],
+                          welded_[indices[3 * t + 2]]}),
+                static_cast<std::uint32_t>(t)};
+  std::sort(order.begin(), order.end());
+  corner_vertex_.reserve(indices.size());
+  for (const auto& [first, t] : order)
+    corner_vertex_.insert(corner_vertex_.end(), indices.begin() + 3 * t, indices.begin() + 3 * t + 3);
+  // Each welded vertex's triangles in ascending order (a triangle with two corners on one
+  // welded vertex counts twice, as a scatter would add it twice): the first kSlots in its slots,
+  // unused slots naming the zero entry past the last triangle, the rest (poles) in `more_`.
+  std::vector<std::vector<std::uint32_t>> around(welded_count);
+  for (std::size_t corner = 0; corner < corner_vertex_.size(); ++corner)
+    around[welded_[corner_vertex_[corner]]].push_back(static_cast<std::uint32_t>(corner / 3));
+  slots_.assign(welded_count * kSlots, static_cast<std::uint32_t>(triangles));
+  first_more_.assign(welded_count + 1, 0);
+  for (std::size_t w = 0; w < welded_count; ++w) {
+    for (std::size_t i = 0; i < around[w].size(); ++i)
+      (i < kSlots ? slots_[w * kSlots + i] : more_.emplace_back()) = around[w][i];
+    first_more_[w + 1] = static_cast<std::uint32_t>(more_.size());
+  }
 }
 
 void WeldedNormals::compute(std::span<const glm::vec3> positions, std::span<glm::vec3> normals,
-                            std::vector<FloatLanes>& frame_sums) const {
+                            std::vector<FloatLanes>& scratch, int threads) const {
   if (positions.size() != welded_.size() || normals.size() != positions.size())
     throw std::invalid_argument("welded normals: " + std::to_string(positions.size()) +
                                 " positions and " + std::to_string(normals.size()) +
                                 " normals for " + std::to_string(welded_.size()) + " vertices");
-  frame_sums.resize(sum_count());
-  std::fill(frame_sums.begin(), frame_sums.end(), FloatLanes{0.0f, 0.0f, 0.0f, 0.0f});
-  const std::uint32_t* vertex = corner_vertex_.data();
-  const std::uint32_t* welded = corner_welded_.data();
-  FloatLanes* sums = frame_sums.data();
-  for (std::size_t corner = 0; corner < corner_vertex_.size(); corner += 3) {
-    const FloatLanes a = lanes_of(positions[vertex[corner]]);
-    const FloatLanes area_normal = cross(lanes_of(positions[vertex[corner + 1]]) - a,
-                                         lanes_of(positions[vertex[corner + 2]]) - a);
-    sums[welded[corner]] += area_normal;
-    sums[welded[corner + 1]] += area_normal;
-    sums[welded[corner + 2]] += area_normal;
-  }
-  // Unit sums, four at a time (one square root and one division for four on x86-64); frame_sums
-  // holds a multiple of four (the padding stays zero).
-  for (std::size_t w = 0; w < frame_sums.size(); w += 4) {
-    FloatLanes* n = sums + w;
-    const FloatLanes x0y0x1y1 = __builtin_shufflevector(n[0] * n[0], n[1] * n[1], 0, 4, 1, 5);
-    const FloatLanes x2y2x3y3 = __builtin_shufflevector(n[2] * n[2], n[3] * n[3], 0, 4, 1, 5);
-    const FloatLanes z0z1 = __builtin_shufflevector(n[0] * n[0], n[1] * n[1], 2, 6, 3, 7);
-    const FloatLanes z2z3 = __builtin_shufflevector(n[2] * n[2], n[3] * n[3], 2, 6, 3, 7);
-    const FloatLanes length_squared = (__builtin_shufflevector(x0y0x1y1, x2y2x3y3, 0, 1, 4, 5) +
-                                       __builtin_shufflevector(x0y0x1y1, x2y2x3y3, 2, 3, 6, 7)) +
-                                      __builtin_shufflevector(z0z1, z2z3, 0, 1, 4, 5);
-    const FloatLanes inverse_length = inverse_square_roots(length_squared);
-    for (int k = 0; k < 4; ++k)
-      n[k] =
-          length_squared[k] > 0.0f ? n[k] * inverse_length[k] : FloatLanes{0.0f, 1.0f, 0.0f, 0.0f};
-  }
-  for (std::size_t v = 0; v < normals.size(); ++v) {
-    const FloatLanes& n = sums[welded_[v]];
-    normals[v] = glm::vec3(n[0], n[1], n[2]);
-  }
+  scratch.resize(scratch_count());
+  FloatLanes* area_normals = scratch.data();
+  area_normals[scratch_count() - 1] = FloatLanes{0.0f, 0.0f, 0.0f, 0.0f};  // unused slots' entry
+  run_in_vertex_blocks(scratch_count() - 1, threads, [&](std::size_t begin, std::size_t end) {
+    const std::uint32_t* vertex = corner_vertex_.data();
+    for (std::size_t t = begin; t < end; ++t) {
+      const FloatLanes a = lanes_of(positions[vertex[3 * t]]);
+      area_normals[t] = cross(lanes_of(positions[vertex[3 * t + 1]]) - a,
+                              lanes_of(positions[vertex[3 * t + 2]]) - a);
+    }
+  });
+  // Unit sums, four vertices at a time (one square root and one division for four on x86-64).
+  run_in_vertex_blocks(
+      normals.size(), threads,
+      [&](std::size_t begin, std::size_t end) {
+        for (std::size_t v0 = begin; v0 < end; v0 += 4) {
+          const std::size_t count = std::min<std::size_t>(4, end - v0);
+          FloatLanes n[4] = {};
+          for (std::size_t k = 0; k < count; ++k) {
+            const std::uint32_t w = welded_[v0 + k];
+            const std::uint32_t* slot = &slots_[std::size_t{w} * kSlots];
+            for (std::size_t i = 0; i < kSlots; ++i) n[k] += area_normals[slot[i]];
+            for (std::uint32_t i = first_more_[w]; i < first_more_[w + 1]; ++i)
+              n[k] += area_normals[more_[i]];
+          }
+          const FloatLanes x0y0x1y1 = __builtin_shufflevector(n[0] * n[0], n[1] * n[1], 0, 4, 1, 5);
+          const FloatLanes x2y2x3y3 = __builtin_shufflevector(n[2] * n[2], n[3] * n[3], 0, 4, 1, 5);
+          const FloatLanes z0z1 = __builtin_shufflevector(n[0] * n[0], n[1] * n[1], 2, 6, 3, 7);
+          const FloatLanes z2z3 = __builtin_shufflevector(n[2] * n[2], n[3] * n[3], 2, 6, 3, 7);
+          const FloatLanes length_squared =
+              (__builtin_shufflevector(x0y0x1y1, x2y2x3y3, 0, 1, 4, 5) +
+               __builtin_shufflevector(x0y0x1y1, x2y2x3y3, 2, 3, 6, 7)) +
+              __builtin_shufflevector(z0z1, z2z3, 0, 1, 4, 5);
+          const FloatLanes inverse_length = inverse_square_roots(length_squared);
+          for (std::size_t k = 0; k < count; ++k) {
+            const FloatLanes unit = length_squared[k] > 0.0f ? n[k] * inverse_length[k]
+                                                             : FloatLanes{0.0f, 1.0f, 0.0f, 0.0f};
+            normals[v0 + k] = glm::vec3(unit[0], unit[1], unit[2]);
+          }
+        }
+      },
+      4);
 }
 
 }  // namespace sweepd::deform

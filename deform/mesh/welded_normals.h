@@ -4,9 +4,13 @@
 // Construction (once): the rest positions (to weld coincident vertices) and the triangle
 // indices (3 per triangle). compute(): positions of the deformed mesh (rest vertex count) →
 // normals (as many): the normalised sum of the cross products of the triangles around the
-// welded vertex, (0, 1, 0) where that sum is zero. The per-frame sums live in the caller's
-// `sums` (resized to sum_count() on first use), so one WeldedNormals is shared read-only by
-// threads that each own their sums (deform/job/model_runtime.h).
+// welded vertex, (0, 1, 0) where that sum is zero. The per-frame triangle normals live in the
+// caller's `scratch` (resized to scratch_count() on first use), so one WeldedNormals is shared
+// read-only by threads that each own their scratch (deform/job/model_runtime.h).
+// Two passes, each split over `threads` (run_in_vertex_blocks): every triangle's area normal,
+// then every vertex gathers its welded vertex's triangles in ascending order — the order a
+// scatter over the triangles would add them — so results are bit-identical for any thread
+// count.
 #pragma once
 
 #include <cstdint>
@@ -23,14 +27,18 @@ class WeldedNormals {
   WeldedNormals(std::span<const glm::vec3> rest_positions, std::span<const std::uint32_t> indices);
 
   void compute(std::span<const glm::vec3> positions, std::span<glm::vec3> normals,
-               std::vector<FloatLanes>& sums) const;
-  std::size_t sum_count() const { return sum_count_; }
+               std::vector<FloatLanes>& scratch, int threads = 1) const;
+  std::size_t scratch_count() const { return corner_vertex_.size() / 3 + 1; }
 
  private:
-  std::vector<std::uint32_t> corner_vertex_;  // per triangle corner: its vertex
-  std::vector<std::uint32_t> corner_welded_;  // per triangle corner: its welded vertex
-  std::vector<std::uint32_t> welded_;         // per vertex: its welded vertex
-  std::size_t sum_count_ = 0;                 // welded vertices, padded to a multiple of 4
+  std::vector<std::uint32_t> corner_vertex_;     // per triangle corner: its vertex
+  std::vector<std::uint32_t> welded_;            // per vertex: its welded vertex
+  // A welded vertex's triangles: kSlots per vertex (a fixed count: the gather loop does not
+  // branch), the rest in more_[first_more_[w], first_more_[w + 1]).
+  static constexpr std::size_t kSlots = 8;
+  std::vector<std::uint32_t> slots_;
+  std::vector<std::uint32_t> first_more_;
+  std::vector<std::uint32_t> more_;
 };
 
 }  // namespace sweepd::deform

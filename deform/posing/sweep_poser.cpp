@@ -146,7 +146,7 @@ void SweepPoser::deform(std::span<const glm::mat4> skinning, std::span<glm::vec3
   run_in_vertex_blocks(kinds.item_count(), threads, [&](std::size_t begin, std::size_t end) {
     kinds.evaluate(table_, skinning, positions, begin, end);
   });
-  if (!normals.empty()) tables_->normals->compute(positions, normals, normal_sums_);
+  if (!normals.empty()) tables_->normals->compute(positions, normals, normal_sums_, threads);
 }
 
 glm::vec3 SweepPoser::reference_position(std::size_t v, std::span<const glm::mat4> skinning) const {

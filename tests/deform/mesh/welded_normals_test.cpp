@@ -1,11 +1,12 @@
 // WeldedNormals: seam copies share the welded normal, area weighting, the fallback for vertices
 // outside every triangle, bad indices and buffer sizes refused, and agreement with a direct
-// per-triangle sum on the shared male.
+// per-triangle sum on the shared male, bit-identical for any thread count.
 #include "deform/mesh/welded_normals.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 #include <vector>
 
@@ -71,7 +72,15 @@ TEST(WeldedNormals, MatchesADirectSumOnThePosedMale) {
   std::vector<glm::vec3> posed(model.vertex_count()), fast(model.vertex_count());
   deformer.deform(pose, DeformMethod::kLbs, posed, {});
   std::vector<FloatLanes> scratch;
-  WeldedNormals(model.positions, model.indices).compute(posed, fast, scratch);
+  const WeldedNormals welded(model.positions, model.indices);
+  welded.compute(posed, fast, scratch);
+  // Split over threads: every vertex adds the same triangles in the same order.
+  for (const int threads : {2, 3, 7}) {
+    std::vector<glm::vec3> split(model.vertex_count());
+    welded.compute(posed, split, scratch, threads);
+    EXPECT_EQ(0, std::memcmp(fast.data(), split.data(), fast.size() * sizeof(glm::vec3)))
+        << threads << " threads";
+  }
   // Direct: every triangle's cross product added to its corners, then seam copies (coincident
   // rest positions) summed by a search over all vertices with the same rest position.
   std::vector<glm::vec3> sums(model.vertex_count(), glm::vec3(0.0f));
