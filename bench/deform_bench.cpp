@@ -10,14 +10,17 @@
 // Run a Release build: build/<dir>/bench/deform_bench [--benchmark_filter=...]
 // The "per_vertex" counter is the time per vertex (Google Benchmark prints it in seconds with
 // an SI prefix: "2.1n" = 2.1 ns). The pose bends every joint; its cost is outside the timing
-// except for the per-frame matrix conversion DQS does itself.
+// except for the per-frame matrix conversion DQS does itself. The "split" rows time one 250k pose
+// split over 1, 2, 4, … threads (up to the cores) in wall time: one client's latency.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "deform/baselines/dual_quaternion_skinning.h"
@@ -80,13 +83,13 @@ void run(benchmark::State& state, const BenchModel* subject, const deform::Skinn
 }
 
 void run_sweep(benchmark::State& state, const BenchModel* subject,
-               deform::VertexLoopInstructions instructions, bool with_normals) {
+               deform::VertexLoopInstructions instructions, bool with_normals, int threads) {
   const std::size_t n = subject->model.vertex_count();
   std::vector<glm::vec3> positions(n), normals(with_normals ? n : 0);
   deform::SweepPoser poser(*subject->bound, instructions);
   for (auto _ : state) {
     poser.set_pose(subject->world);
-    poser.deform(subject->skinning, positions, normals);
+    poser.deform(subject->skinning, positions, normals, threads);
     benchmark::DoNotOptimize(positions.data());
     benchmark::DoNotOptimize(normals.data());
     benchmark::ClobberMemory();
@@ -133,7 +136,7 @@ int main(int argc, char** argv) {
           std::make_unique<deform::SkinningTable>(subject->model, instructions));
       for (const bool with_normals : {false, true}) {
         benchmark::RegisterBenchmark(row("sweep", suffix, with_normals).c_str(), run_sweep,
-                                     subject.get(), instructions, with_normals)
+                                     subject.get(), instructions, with_normals, 1)
             ->Unit(benchmark::kMicrosecond);
         for (const auto& [method, skin] :
              {std::pair<const char*, Skin>{"lbs", deform::linear_blend_skinning},
@@ -144,6 +147,22 @@ int main(int argc, char** argv) {
               ->Unit(benchmark::kMicrosecond);
       }
     }
+  }
+  // One pose split over threads (issue 50 item 3): wall time, the latency a client sees.
+  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  for (const auto& subject : models) {
+    if (subject->name != "mannequin_250k") continue;
+    for (const bool with_normals : {false, true})
+      for (int threads = 1; threads <= cores; threads *= 2)
+        benchmark::RegisterBenchmark(("split/" + subject->name + "/" +
+                                      (with_normals ? "positions+normals" : "positions") +
+                                      "/threads:" + std::to_string(threads))
+                                         .c_str(),
+                                     run_sweep, subject.get(),
+                                     deform::widest_vertex_loop_instructions(), with_normals,
+                                     threads)
+            ->Unit(benchmark::kMicrosecond)
+            ->UseRealTime();
   }
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();

@@ -21,11 +21,15 @@ echo
 "$build/bench/bind_bench" --benchmark_format=json >"$out/bind.json"
 /usr/bin/python3 - "$out/deform.json" "$out/bind.json" <<'PY'
 import json, sys
-rows = {}
+rows, split = {}, {}
 for b in json.load(open(sys.argv[1]))["benchmarks"]:
     if b.get("run_type", "iteration") != "iteration":
         continue  # aggregates of the repetitions
     method, model, outputs = b["run_name"].split("/")[:3]
+    if method == "split":  # one pose over threads: wall milliseconds
+        key = (model, outputs, int(b["run_name"].split("threads:")[1].split("/")[0]))
+        split[key] = min(split.get(key, float("inf")), b["real_time"] / 1e3)
+        continue
     row = rows.setdefault((model, outputs), {})
     row[method] = min(row.get(method, float("inf")), b["per_vertex"] * 1e9)
     row["vertices"] = int(b["vertices"])
@@ -45,6 +49,11 @@ for (model, outputs), r in rows.items():
         line += (f" {sweep:.1f} | {lbs:.1f} | {dqs:.1f} | {sweep / lbs:.2f} | {dqs / lbs:.2f} |"
                  f" {sweep * r['vertices'] / 1e6:.3f} |")
     print(line)
+print()
+print("| one pose over threads (sweep) | outputs | threads | ms per pose (wall) | against 1 thread |")
+print("|---|---|---|---|---|")
+for (model, outputs, threads), ms in sorted(split.items()):
+    print(f"| {model} | {outputs} | {threads} | {ms:.2f} | {ms / split[(model, outputs, 1)]:.2f} |")
 print()
 print("| binding | vertices | ms |")
 print("|---|---|---|")

@@ -122,7 +122,7 @@ const std::vector<Setting>& settings() {
       integer_setting("max_frame_errors", &ServerConfig::max_frame_errors, 1, 1'000'000),
       integer_setting("max_model_vertices", &ServerConfig::max_model_vertices, 1, 100'000'000),
       integer_setting("worker_threads", &ServerConfig::worker_threads, 0, 1024),
-      integer_setting("deform_threads", &ServerConfig::deform_threads, 1, 1024),
+      integer_setting("deform_threads", &ServerConfig::deform_threads, 0, 1024),
       integer_setting("worker_spin_us", &ServerConfig::worker_spin_us, 0, 100'000),
       integer_setting("mannequin_vertices", &ServerConfig::mannequin_vertices, 1000, 500000),
       integer_setting("position_maps", &ServerConfig::position_maps, 0, 1),
@@ -330,7 +330,8 @@ Flags (each also a key of the JSON config file, with '_' for '-'):
   --max-frame-errors N      close a connection after N bad frames (default 16)
   --max-model-vertices N    largest model accepted for loading (default 2000000)
   --worker-threads N        deformation workers; 0 = one per core (default 0)
-  --deform-threads N        threads one pose is split over (default 1)
+  --deform-threads N        threads one pose is split over; 0 = one, plus the idle workers'
+                            cores for a pose of 40,000 vertices or more (default 0)
   --worker-spin-us N        a worker that finished a job polls N microseconds for the next
                             before it sleeps, sparing a client that sends one pose at a time
                             a sleeping worker's wake-up (0.03 ms a pose on a 2-core VM), at

@@ -79,7 +79,7 @@ struct ServerConfig {
   std::uint32_t max_frame_errors = 16;
   std::uint32_t max_model_vertices = 2'000'000;  // uploads above it: MemoryLimit
   int worker_threads = 0;                        // 0: one per core
-  int deform_threads = 1;                        // threads one pose is split over
+  int deform_threads = 0;                        // threads one pose is split over; 0: idle cores
   // A worker that finished a job polls for the next one this long before it sleeps
   // (server/transport/fair_work_queue.h); 0: it sleeps at once.
   int worker_spin_us = 0;

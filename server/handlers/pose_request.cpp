@@ -152,8 +152,14 @@ std::pair<std::uint64_t, std::uint64_t> PosedVerticesWriter::deform(PoseRequest&
   // no deformation state.
   thread_local deform::DeformContext context;
   const Clock::time_point start = Clock::now();
+  // Split over the cores no other job holds, when there are any and the pose is large.
+  const SpareCores::Loan extra =
+      deform_threads_ == 0
+          ? spare_cores_.borrow(static_cast<int>(positions.size() / kVerticesPerSplit) - 1)
+          : SpareCores::Loan{};
   // Validated once, when the pose arrived (read_pose_request).
-  deform::DeformJob job = request.job(deform_threads_, positions, normals);
+  deform::DeformJob job =
+      request.job(deform_threads_ == 0 ? 1 + extra.count() : deform_threads_, positions, normals);
   const bool collide =
       request.method == deform::DeformMethod::kSweep && request.features.collision();
   if (collide) job.options.detect = pair_finder_.begin();

@@ -47,6 +47,7 @@
 #include "server/models/model_registry.h"
 #include "server/services/collision_service.h"
 #include "server/services/position_map_service.h"
+#include "server/services/spare_cores.h"
 #include "server/transport/shared_region.h"
 
 namespace sweepd::server {
@@ -97,8 +98,13 @@ std::optional<RequestError> place_in_shared_region(PoseRequest& request,
 
 class PosedVerticesWriter {
  public:
-  PosedVerticesWriter(int deform_threads, CollisionService& collision)
-      : deform_threads_(deform_threads), pair_finder_(collision) {}
+  // deform_threads: threads one pose is split over; 0: one, plus the cores no other job holds
+  // (SpareCores) for a pose of kVerticesPerSplit vertices or more per thread.
+  PosedVerticesWriter(int deform_threads, SpareCores& spare_cores, CollisionService& collision)
+      : deform_threads_(deform_threads), spare_cores_(spare_cores), pair_finder_(collision) {}
+
+  // Below this many vertices per thread, starting a thread costs more than it saves.
+  static constexpr std::size_t kVerticesPerSplit = 20000;
 
   // Returns the time spent deforming (features included), in nanoseconds.
   std::uint64_t write(PoseRequest& request, std::uint32_t dropped_before,
@@ -115,6 +121,7 @@ class PosedVerticesWriter {
                                                  std::span<glm::vec3> normals);
 
   int deform_threads_;
+  SpareCores& spare_cores_;
   CollisionPairFinder pair_finder_;
   std::vector<glm::vec3> positions_scratch_, normals_scratch_;  // float16, meshopt, maps
   protocol::MeshoptEncoder meshopt_;

@@ -39,7 +39,7 @@ Connection::Connection(ConnectionStream stream, std::uint64_t id, std::string pe
           &environment.buffer_budget),
       read_buffer_(kReadChunkBytes),
       gate_(stream_.plain_socket_handle()),
-      writer_(environment.config.deform_threads, environment.collision) {
+      writer_(environment.config.deform_threads, environment.spare_cores, environment.collision) {
   counters_.connection_id = id;
   counters_.peer = std::move(peer);
   secured_ = stream_.pending_handshake().empty();

@@ -30,6 +30,7 @@ struct ConnectionEnvironment {
   const ServerConfig& config;
   ModelService& models;
   FairWorkQueue& workers;          // poses, maps, loads and uploads, fair between connections
+  SpareCores& spare_cores;         // the workers' cores no job holds (deform_threads 0)
   asio::thread_pool& gpu_waiters;  // poses whose pair detection waits on the GPU thread
   PositionMapService& position_maps;
   ContactSheetService& contact_sheets;  // ContactSheetRequest (1.11)

@@ -7,8 +7,9 @@
 
 namespace sweepd::server {
 
-FairWorkQueue::FairWorkQueue(asio::thread_pool& pool, Clock clock, std::chrono::microseconds spin)
-    : pool_(pool), clock_(std::move(clock)), spin_(spin) {}
+FairWorkQueue::FairWorkQueue(asio::thread_pool& pool, Clock clock, std::chrono::microseconds spin,
+                             SpareCores* cores)
+    : pool_(pool), clock_(std::move(clock)), cores_(cores), spin_(spin) {}
 
 std::uint64_t FairWorkQueue::steady_nanoseconds() {
   return static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(
@@ -17,6 +18,7 @@ std::uint64_t FairWorkQueue::steady_nanoseconds() {
 }
 
 void FairWorkQueue::post(FairShare& share, std::function<void()> job) {
+  if (cores_) cores_->job_queued();
   {
     const std::lock_guard lock(mutex_);
     const std::uint64_t tag = std::max(virtual_time_, share.next_tag);
@@ -51,6 +53,7 @@ bool FairWorkQueue::run_next() {
   const std::uint64_t start = clock_();
   job.run();
   const std::uint64_t cost = clock_() - start;
+  if (cores_) cores_->job_done();
   const std::lock_guard lock(mutex_);  // before `job` (which may own the share) is destroyed
   job.share->last_cost = cost;
   job.share->next_tag = std::max(job.share->next_tag, tag + cost);

@@ -35,6 +35,8 @@
 #include <mutex>
 #include <utility>
 
+#include "server/services/spare_cores.h"
+
 namespace sweepd::server {
 
 struct FairShare {              // guarded by the queue
@@ -48,8 +50,9 @@ class FairWorkQueue {
 
   // `clock` measures what each job costs: the steady clock, or a test's own. `spin`: how long
   // a worker that finished a job polls for the next one before it sleeps (zero: not at all).
+  // `cores`, when given, is told of every job from post() until it has run (SpareCores).
   explicit FairWorkQueue(asio::thread_pool& pool, Clock clock = steady_nanoseconds,
-                         std::chrono::microseconds spin = {});
+                         std::chrono::microseconds spin = {}, SpareCores* cores = nullptr);
 
   void post(FairShare& share, std::function<void()> job);
 
@@ -66,6 +69,7 @@ class FairWorkQueue {
 
   asio::thread_pool& pool_;
   Clock clock_;
+  SpareCores* cores_;
   std::chrono::microseconds spin_;
   std::atomic<std::size_t> queued_{0};  // jobs_.size(), read without the lock while spinning
   std::atomic<bool> spinning_{false};   // a worker is polling

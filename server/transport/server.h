@@ -35,6 +35,7 @@
 #include "server/services/collision_service.h"
 #include "server/services/gpu_thread.h"
 #include "server/services/position_map_service.h"
+#include "server/services/spare_cores.h"
 #include "server/transport/connection.h"
 #include "server/transport/server_snapshot.h"
 
@@ -66,6 +67,7 @@ class Server {
   std::atomic<bool> serving_{false};  // io_.run() is (about to be) running
   asio::io_context io_;
   asio::thread_pool worker_pool_;
+  SpareCores spare_cores_;  // the workers' cores no job holds: one large pose may split over them
   FairWorkQueue workers_;  // joined with worker_pool_ (its tokens hold it)
   asio::thread_pool gpu_waiters_;
   PositionMapService position_maps_;
