@@ -68,6 +68,11 @@ std::size_t encode_meshopt_normals(std::span<const float> normals, std::span<std
 
 }  // namespace
 
+std::size_t meshopt_bytes_bound(std::size_t vertex_count, bool normals) {
+  return meshopt_encodeVertexBufferBound(vertex_count, kPositionVertexBytes) +
+         (normals ? meshopt_encodeVertexBufferBound(vertex_count, kNormalVertexBytes) : 0);
+}
+
 PositionGrid MeshoptEncoder::encode(std::span<const float> positions,
                                     std::span<const float> normals) {
   const std::size_t vertex_count = positions.size() / 3;

@@ -12,6 +12,7 @@
 // Normals: q = round(clamp(n, −1, 1) * 127), int8 x, y, z and a 0 per vertex (4-byte vertices);
 //   decoded n = max(q / 127, −1), |decoded − n| ≤ 1/254 per component (not renormalised).
 //
+// meshopt_bytes_bound(n, normals) the codec's bound for n vertices (its worst case).
 // MeshoptEncoder::encode(positions, normals)
 //                       positions (3n floats), normals (3n, or empty for none) → the encoded
 //                       streams, positions() and normals() (empty for no normals), valid until
@@ -41,6 +42,9 @@ struct PositionGrid {
   Vec3 origin{};
   float step = kMeshoptPositionStep;
 };
+
+// The most bytes encode() can write for n vertices: positions, and normals when asked for.
+std::size_t meshopt_bytes_bound(std::size_t vertex_count, bool normals);
 
 class MeshoptEncoder {
  public:

@@ -26,11 +26,11 @@ std::optional<io::ExrCompression> exr_compression(protocol::ExrCompression compr
   }
 }
 
+}  // namespace
+
 bool has_layer(protocol::MapLayers layers, protocol::MapLayers layer) {
   return (static_cast<unsigned>(layers) & static_cast<unsigned>(layer)) != 0;
 }
-
-}  // namespace
 
 std::string check_position_map_request(const protocol::PositionMapRequest& request,
                                        const deform::Model& model) {

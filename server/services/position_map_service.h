@@ -35,6 +35,9 @@ namespace sweepd::server {
 
 inline constexpr std::uint32_t kMaxPositionMapSide = 4096;
 
+// Whether a request's layer flags include `layer`.
+bool has_layer(protocol::MapLayers layers, protocol::MapLayers layer);
+
 class PositionMapUnavailable : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;

@@ -3,6 +3,7 @@
 #include <utility>
 
 #include "server/elapsed_time.h"
+#include "server/handlers/reply_size.h"
 #include "server/transport/connection.h"
 
 namespace sweepd::server {
@@ -20,6 +21,10 @@ void Connection::queue_pose(std::variant<PoseRequest, RequestError> intake,
   }
   PoseRequest& request = std::get<PoseRequest>(intake);
   if (auto error = place_in_shared_region(request, shared_region_)) {
+    send_error(*error, request_id);
+    return;
+  }
+  if (auto error = check_reply_fits(request, environment_.config.max_frame_bytes)) {
     send_error(*error, request_id);
     return;
   }

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <limits>
@@ -34,7 +35,10 @@ class DaemonErrors : public ::testing::TestWithParam<Transport> {
     daemon_ = new DaemonProcess(
         *directory_, with(DaemonProcess::websocket_flags(*directory_),
                           {"--max-frame-bytes", std::to_string(kMaxFrameBytes), "--max-connections",
-                           "3", "--position-maps", "0", "--hello-timeout-ms", "300"}));
+                           "3", "--position-maps", "0", "--hello-timeout-ms", "300",
+                           // 4,000 vertices: a Float32 pose's reply (48 KB) fits the 64 KiB
+                           // frames; with normals (96 KB) it does not.
+                           "--mannequin-vertices", "4000"}));
   }
   static void TearDownTestSuite() {
     delete daemon_;
@@ -215,6 +219,51 @@ TEST_P(DaemonErrors, PositionMapsSwitchedOffAreNotAvailable) {
   broken_->send_bytes(protocol::finish_message(
       builder, protocol::CreatePositionMapRequest(builder, pose, 64, 64), 12));
   expect_error_then_service(protocol::ErrorCode::NotAvailable, "switched off", 47);
+}
+
+// Issue 49 item 2: a reply that could not fit the frame limit announced in Welcome is refused
+// before any work, naming its size, the limit and what to ask for instead; what it suggests fits.
+TEST_P(DaemonErrors, AReplyPastTheAnnouncedFrameLimitIsRefusedAtIntakeWithWhatFits) {
+  protocol::PoseFields fields = pose_fields(daemon_->model_id(), 48, rotations_);
+  fields.normals = true;  // Float32 positions and normals: 24 bytes a vertex, 96 KB
+  ASSERT_TRUE(send_pose(*broken_, fields));
+  expect_error_then_service(protocol::ErrorCode::InvalidArgument,
+                            "over this server's max_frame_bytes 65,536 (announced in Welcome); "
+                            "ask for Float16 or Meshopt vertices, no normals",
+                            48);
+  fields.sequence = 49;
+  fields.positions = protocol::PositionFormat::Float16;  // 12 bytes a vertex: 48 KB
+  ASSERT_TRUE(send_pose(*broken_, fields));
+  const protocol::PosedVertices* reply = broken_->receive_as<protocol::PosedVertices>();
+  ASSERT_NE(reply, nullptr);
+  EXPECT_EQ(reply->sequence(), 49u);
+  EXPECT_EQ(reply->normals_f16()->size(), 3u * reply->vertex_count());
+
+  // A map: refused before its renderer is asked (this daemon has none: it would answer
+  // NotAvailable), with the size of the same aspect that fits.
+  flatbuffers::FlatBufferBuilder builder;
+  const auto pose = protocol::add_pose(builder, pose_fields(daemon_->model_id(), 50, rotations_));
+  broken_->send_bytes(protocol::finish_message(
+      builder, protocol::CreatePositionMapRequest(builder, pose, 512, 256), 15));
+  const protocol::Error* error = broken_->receive_as<protocol::Error>();
+  ASSERT_NE(error, nullptr);
+  EXPECT_EQ(error->code(), protocol::ErrorCode::InvalidArgument);
+  const std::string message = error->message()->str();
+  EXPECT_NE(message.find("its reply can reach 1,586,176 bytes"), std::string::npos) << message;
+  const std::size_t fits = message.find(" fits)");
+  ASSERT_NE(fits, std::string::npos) << message;
+  const std::size_t open = message.rfind('(', fits);
+  unsigned width = 0, height = 0;
+  ASSERT_EQ(std::sscanf(message.c_str() + open, "(%u x %u", &width, &height), 2) << message;
+  EXPECT_GT(width, 2 * height - 4);  // about the asked 2:1
+  EXPECT_LT(width, 2 * height + 4);
+  // 12 bytes a texel, 16 a scan line, 9 KiB of headers: the suggestion fits the limit.
+  EXPECT_LE(12u * width * height + 16u * height + 9u * 1024u, kMaxFrameBytes);
+  builder.Clear();
+  const auto smaller = protocol::add_pose(builder, pose_fields(daemon_->model_id(), 51, rotations_));
+  broken_->send_bytes(protocol::finish_message(
+      builder, protocol::CreatePositionMapRequest(builder, smaller, width, height), 16));
+  expect_error_then_service(protocol::ErrorCode::NotAvailable, "switched off", 51);
 }
 
 TEST_P(DaemonErrors, BodyTypeFromANewerPeerIsAnUnknownMessage) {
