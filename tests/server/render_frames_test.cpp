@@ -14,6 +14,7 @@
 #include <map>
 
 #include "deform/job/deform_job.h"
+#include "deform/model/pose_hash.h"
 #include "gpu/egl_context.h"
 #include "gpu/position_map_renderer.h"
 #include "io/bvh/bvh_load.h"
@@ -92,6 +93,18 @@ class RenderFrames : public ClipClientTest {
     SCOPED_TRACE("frame " + std::to_string(frame));
     const Map served = read_map(frame_file(frame), side);
     const Map expected = library_map(frame, side);
+    // The file says what it is: the clip frame its name has (render_frames numbers its
+    // requests from 1, which the header used to carry), the model the server holds, the hash
+    // of the pose the library makes of that frame, in metres (issue 52 item 6).
+    Imf::InputFile file(frame_file(frame).c_str());
+    const io::test_support::PositionMapHeader header =
+        io::test_support::read_position_map_header(file.header());
+    EXPECT_EQ(header.frame, frame);
+    EXPECT_EQ(header.model, "mannequin");
+    EXPECT_EQ(header.pose_hash,
+              io::test_support::pose_hash_text(deform::pose_hash(clip_on_model_->pose_at_frame(frame))));
+    EXPECT_EQ(header.space, "object");
+    EXPECT_EQ(header.units, "metres");
     // The server retargets the uploaded clip with the library on the model itself, as here:
     // the same floats. 10 µm leaves room for rasterisation on two GL contexts, far below a
     // frame-to-frame change (RendersEachFrameOnce...).
