@@ -25,9 +25,9 @@
 #include "io/model_clip_load.h"
 #include "io/model_load.h"
 #include "io/sweepbind/sweepbind.h"
-#include "selfcheck/binding_self_check.h"
 #include "motion/clip_up_axis.h"
 #include "motion/retarget.h"
+#include "selfcheck/binding_self_check.h"
 
 namespace sweepd::cli {
 

@@ -279,13 +279,22 @@ void print_contact_slides(const PosedModel& posed) {
   }
 }
 
+// Whether the frames measured are the clip's frame numbers: not one pose of a --time sample, a
+// --pose file or the rest pose, whose worst has no frame (-1 in CSV, null in JSON).
+bool measures_clip_frames(const PosingArguments& posing) {
+  return posing.has_clip() && !posing.time;
+}
+
 void print_json(const std::vector<MethodReport>& reports, const PosingArguments& posing,
                 std::size_t frames, const std::string& source) {
   nlohmann::json out;
   out["model"] = posing.model.string();
   if (!source.empty()) out["source"] = source;
   if (posing.has_clip()) out["clip"] = posing.clip_file().string();
+  if (posing.time) out["time_seconds"] = *posing.time;
+  if (!posing.pose_file.empty()) out["pose"] = posing.pose_file.string();
   out["frames"] = frames;
+  const bool clip_frames = measures_clip_frames(posing);
   for (const MethodReport& r : reports) {
     nlohmann::json method;
     method["method"] = r.method;
@@ -294,21 +303,24 @@ void print_json(const std::vector<MethodReport>& reports, const PosingArguments&
       method["metrics"].push_back({{"name", s.name},
                                    {"worst", s.worst},
                                    {"mean", s.mean()},
-                                   {"worst_frame", s.worst_frame}});
+                                   {"worst_frame", clip_frames && s.worst_frame >= 0
+                                                       ? nlohmann::json(s.worst_frame)
+                                                       : nlohmann::json()}});
     method["contact_pairs_per_frame"] = r.contact_pairs;
     out["methods"].push_back(method);
   }
   std::printf("%s\n", out.dump(2).c_str());
 }
 
-void print_csv(const std::vector<MethodReport>& reports) {
+void print_csv(const std::vector<MethodReport>& reports, const PosingArguments& posing) {
+  const bool clip_frames = measures_clip_frames(posing);
   std::printf("method,metric,worst,mean,worst_frame\n");
   for (const MethodReport& r : reports) {
     std::printf("%s,rest-pose error m,%.9g,%.9g,-1\n", r.method.c_str(), r.rest_error_m,
                 r.rest_error_m);
     for (const Series& s : r.series)
       std::printf("%s,%s,%.9g,%.9g,%d\n", r.method.c_str(), s.name.c_str(), s.worst, s.mean(),
-                  s.worst_frame);
+                  clip_frames ? s.worst_frame : -1);
   }
 }
 
@@ -379,7 +391,7 @@ int metrics(const MetricsCommandOptions& options, const ServerAddress* server) {
     print_json(reports, posing, frames.size(), source);
   } else if (format == "csv") {
     if (!source.empty()) std::fprintf(stderr, "%s\n", source.c_str());
-    print_csv(reports);
+    print_csv(reports, posing);
   } else {
     print_table(reports, frames.size(), source);
     if (local) print_contact_slides(*local);

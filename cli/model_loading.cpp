@@ -2,8 +2,8 @@
 
 #include <cstdio>
 
-#include "io/model_load.h"
 #include "io/json/rig_map_json.h"
+#include "io/model_load.h"
 
 namespace sweepd::cli {
 

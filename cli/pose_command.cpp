@@ -167,8 +167,8 @@ Command add_pose_command(CLI::App& sweepctl, const ServerAddress& server) {
   CLI::App* command =
       sweepctl.add_subcommand("pose", "deform a model into a pose or clip frames, write .glb");
   command->footer(
-      "With --server the daemon deforms: MODEL is then a local .glb/.gltf (uploaded) or a\n"
-      "model name on the server.");
+      "With --server the daemon deforms: MODEL is then a local .glb/.gltf/.fbx/.dae (uploaded)\n"
+      "or a model name on the server.");
   auto options = std::make_shared<PoseCommandOptions>();
   add_posing_flags(*command, options->posing, ClipFrames::kOneOrRange);
   add_method_flags(*command, options->posing);

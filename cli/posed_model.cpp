@@ -8,8 +8,8 @@
 #include "deform/binding/bind.h"
 #include "io/bvh/bvh_load.h"
 #include "io/json/joint_name_map_json.h"
-#include "io/model_clip_load.h"
 #include "io/json/pose_json.h"
+#include "io/model_clip_load.h"
 #include "io/sweepbind/sweepbind.h"
 #include "motion/clip_sampling.h"
 #include "motion/own_skeleton_clip.h"
@@ -131,17 +131,6 @@ void PosedModel::run_job(int frame, std::span<glm::vec3> positions, std::span<gl
   if (collision_) job.options.detect = collision_->begin();
   feature_report_ = job.run(context_).features;
   if (collision_) collision_->finish(feature_report_);
-}
-
-std::uint64_t pose_hash(const deform::Pose& pose) {
-  std::uint64_t hash = 0xcbf29ce484222325ull;
-  auto mix = [&](const void* data, std::size_t size) {
-    const auto* bytes = static_cast<const unsigned char*>(data);
-    for (std::size_t i = 0; i < size; ++i) hash = (hash ^ bytes[i]) * 0x100000001b3ull;
-  };
-  mix(pose.local_rotations.data(), pose.local_rotations.size() * sizeof(glm::quat));
-  mix(&pose.root_translation, sizeof(pose.root_translation));
-  return hash;
 }
 
 }  // namespace sweepd::cli

@@ -7,7 +7,6 @@
 // motion::sample_clip.
 #pragma once
 
-#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -87,8 +86,5 @@ class PosedModel {
   deform::FeatureReport feature_report_;
   std::optional<LocalCollision> collision_;
 };
-
-// A stable 64-bit hash (FNV-1a) of a pose's numbers: names a frame's pose in EXR headers.
-std::uint64_t pose_hash(const deform::Pose& pose);
 
 }  // namespace sweepd::cli

@@ -10,6 +10,7 @@
 #include "cli/posed_model.h"
 #include "cli/remote_posed_model.h"
 #include "console/command_line.h"
+#include "deform/model/pose_hash.h"
 #include "gpu/egl_context.h"
 #include "gpu/position_map_renderer.h"
 #include "io/exr/exr_write.h"
@@ -75,7 +76,7 @@ int positionmap(const PositionmapCommandOptions& options, const ServerAddress& s
   exr.half_normals = options.half_normals;
   exr.model = posed.model().name;
   exr.frame = posing.frames.first;
-  exr.pose_hash = pose_hash(posed.pose(posing.frames.first));
+  exr.pose_hash = deform::pose_hash(posed.pose(posing.frames.first));
   io::write_exr(out, {size, size, p, n, a}, exr);
   std::printf("wrote %s (%dx%d, %s, %s)\n", out.string().c_str(), size, size,
               deform::to_string(posing.method), context.renderer().c_str());
@@ -89,8 +90,8 @@ Command add_positionmap_command(CLI::App& sweepctl, const ServerAddress& server)
       sweepctl.add_subcommand("positionmap", "posed positions in UV space as an OpenEXR map");
   command->footer(
       "With --server the daemon deforms and renders (its 4-texel gutter), and its EXR file is\n"
-      "written as it comes: MODEL is then a local .glb/.gltf (uploaded) or a model name on the\n"
-      "server.");
+      "written as it comes: MODEL is then a local .glb/.gltf/.fbx/.dae (uploaded) or a model\n"
+      "name on the server.");
   auto options = std::make_shared<PositionmapCommandOptions>();
   add_posing_flags(*command, options->posing, ClipFrames::kOne);
   add_method_flags(*command, options->posing);

@@ -1,7 +1,7 @@
 // RemotePosedModel: what `sweepctl --server HOST:PORT pose|positionmap|metrics` share — the
 // posing commands' model and pose source, with the deformation done by a sweepd daemon.
 //
-// MODEL is a local .glb/.gltf (uploaded with LoadModel, named by its file's base name,
+// MODEL is a local .glb/.gltf/.fbx/.dae (uploaded with LoadModel, named by its file's base name,
 // client/model_source.h: model_name_of_file; always with its bytes, which a server holding them
 // answers at once without binding — by name alone it would take another file of that base
 // name — and "already loaded" when the server listed them under that name) or, when no such file

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <exception>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "cli/commands.h"
@@ -24,10 +25,7 @@ int main(int argc, char** argv) {
   // A flag given twice takes its last value (every command inherits the default).
   app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   CLI::Option* server_flag =
-      app.add_option("--server", server.address,
-                     "run pose, positionmap or metrics on a sweepd daemon: MODEL is a local "
-                     ".glb/.gltf (uploaded; not .fbx/.dae) or a model name there")
-          ->type_name("HOST:PORT");
+      app.add_option("--server", server.address)->type_name("HOST:PORT");  // described below
   client::add_token_flags(app, server.token, server_flag);
   client::add_client_tls_flags(app, server.tls, server_flag);
   const std::vector<cli::Command> commands = {cli::add_inspect_command(app),
@@ -44,11 +42,21 @@ int main(int argc, char** argv) {
                                               cli::add_join_cache_command(app)};
   // Set after the commands are added: a subcommand inherits its parent's footer.
   app.footer("sweepctl COMMAND --help lists the command's flags.");
+  // The commands --server applies to, named from the commands themselves so that the help and
+  // the refusal cannot drift from what runs remotely.
+  std::vector<std::string> remote;
+  for (const cli::Command& command : commands)
+    if (command.runs_on_server) remote.push_back(command.app->get_name());
+  std::string remote_commands = remote.front();  // "pose, positionmap, metrics and sheet"
+  for (std::size_t i = 1; i < remote.size(); ++i)
+    remote_commands += (i + 1 < remote.size() ? ", " : " and ") + remote[i];
+  server_flag->description("run " + remote_commands +
+                           " on a sweepd daemon: MODEL is a local .glb/.gltf/.fbx/.dae (uploaded) "
+                           "or a model name there");
   app.callback([&] {
     for (const cli::Command& command : commands)
       if (command.app->parsed() && !server.address.empty() && !command.runs_on_server)
-        throw CLI::ValidationError(
-            "runs locally only; --server applies to pose, positionmap, metrics and sheet");
+        throw CLI::ValidationError("runs locally only; --server applies to " + remote_commands);
   });
   if (const std::optional<int> exit_code = console::parse_command_line(app, argc, argv))
     return *exit_code;

@@ -50,8 +50,9 @@
 //    in, then renamed: a complete cache is skipped on a rerun, a partial one rendered again
 //    whole. `sweepctl join-cache` joins the shards' caches into one.
 // 6. A progress bar on stderr (console/progress_bar.h); at the end, on stdout:
-//    "rendered R, skipped S of T frames in X s (F frames/s), retried Q, failed P", each failed
-//    frame's reason on stderr, and with several servers the frames each one rendered.
+//    "rendered R, skipped S of T frames in X s (F frames/s), retried Q, failed P"; on stderr
+//    the failed frames, a line per cause ("560 frames failed (1441-2000): ..."), and with
+//    several servers the frames each one rendered.
 //
 // Exit codes: 0 every frame present (or --help); 1 a frame failed (unreachable servers, unknown
 // model, a frame's Error, a write failure), named on stderr; 2 a usage error (flags, "12x"
@@ -85,9 +86,11 @@
 #include "client/frame_queue.h"
 #include "client/frame_shard.h"
 #include "client/model_source.h"
+#include "client/pose_error.h"
 #include "client/token_flags.h"
 #include "client_examples/clip_file_flags.h"
 #include "console/command_line.h"
+#include "console/frame_failures.h"
 #include "console/frame_range.h"
 #include "console/progress_bar.h"
 #include "deform/job/method_choice.h"
@@ -481,25 +484,34 @@ class ServerSession {
         channel_.close("frames rendered");
         return;
       }
-      const int frame = in_flight.front();
-      const std::string name = "frame " + std::to_string(frame);
       const pb::Message& message = channel_.receive();
       if (const pb::Error* error = message.body_as_Error()) {
-        const std::string why = name + ": server error " + pb::EnumNameErrorCode(error->code()) +
-                                ": " + (error->message() ? error->message()->str() : "");
+        // A refused pose's Error comes at once, ahead of the replies to the poses before it
+        // (protocol/README.md): its sequence names its frame; one naming none is the oldest's.
+        const auto refused =
+            std::find(in_flight.begin(), in_flight.end(), static_cast<int>(error->sequence()) - 1);
+        const int frame = refused != in_flight.end() ? *refused : in_flight.front();
+        const std::string name = "frame " + std::to_string(frame);
+        // The queue keeps the cause per frame (summed up per cause at the end), the
+        // exceptions name the frame.
+        const std::string cause = sweepd::client::pose_error_cause(*error);
+        const std::string why = name + ": " + cause;
         const ErrorMeaning meaning = meaning_of(error->code());
-        if (meaning == ErrorMeaning::kServerUnfit) throw ServerUnfit(why);
+        // Unfit for every frame (it renders no maps): the cause, not this frame, fails the rest.
+        if (meaning == ErrorMeaning::kServerUnfit) throw ServerUnfit(cause);
         // The server closes, or no longer holds the model: connect again.
         if (error->fatal() || meaning == ErrorMeaning::kModelLost) throw std::runtime_error(why);
-        in_flight.pop_front();
+        in_flight.erase(refused != in_flight.end() ? refused : in_flight.begin());
         if (meaning == ErrorMeaning::kFrameInvalid) {
-          queue.fail(frame, why);
+          queue.fail(frame, cause);
         } else {
-          queue.retry(frame, why);
+          queue.retry(frame, cause);
           std::this_thread::sleep_for(std::chrono::milliseconds(200));  // let it catch up
         }
         continue;
       }
+      const int frame = in_flight.front();  // replies come in the order the poses were sent
+      const std::string name = "frame " + std::to_string(frame);
       if (job_.cache) {
         const pb::PosedVertices* posed = message.body_as_PosedVertices();
         if (!posed) throw std::runtime_error(name + ": the reply is not posed vertices");
@@ -706,8 +718,8 @@ int run(Options& options) {
     }
   }
   const sweepd::client::FrameQueue::Tally tally = queue.tally();
-  for (const auto& [frame, why] : tally.failures)
-    std::fprintf(stderr, "render_frames: frame %d failed: %s\n", frame, why.c_str());
+  for (const std::string& line : sweepd::console::frame_failure_lines(tally.failures))
+    std::fprintf(stderr, "render_frames: %s\n", line.c_str());  // a line per cause
   if (servers.size() > 1 && !todo.empty()) {
     for (std::size_t s = 0; s < servers.size(); ++s)
       std::fprintf(stderr, "%s rendered %d frames\n", servers[s].c_str(), rendered_by[s]);

@@ -30,8 +30,9 @@
 //    lacks it (client/model_source.h), the clip is uploaded again. InOrder, each pose it left
 //    unanswered is asked for again, once (a pose unanswered twice is an error); LatestWins, they
 //    count as dropped. The report then says how many times it connected again.
-// 6. Print poses sent/answered/dropped/errors, round-trip latency percentiles, and the
-//    server's own deformation time for the model (from Stats), to show the overhead.
+// 6. Print the poses that failed, a line per cause with their count and frames, then poses
+//    sent/answered/dropped/errors, round-trip latency percentiles, and the server's own
+//    deformation time for the model (from Stats), to show the overhead.
 //
 // The wire is the protocol alone (protocol/, with the blocking connection of client/).
 // CMU clips are in inches: --bvh-scale defaults to 0.056444 (CMU units to metres).
@@ -43,6 +44,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <semaphore>
@@ -54,10 +56,12 @@
 #include "client/client_tls_flags.h"
 #include "client/connection.h"
 #include "client/model_source.h"
+#include "client/pose_error.h"
 #include "client/reconnect.h"
 #include "client/token_flags.h"
 #include "client_examples/clip_file_flags.h"
 #include "console/command_line.h"
+#include "console/frame_failures.h"
 #include "io/files/file_bytes.h"
 #include "protocol/messages.h"
 
@@ -135,6 +139,7 @@ struct Stream {
   std::vector<char> settled;
   std::vector<double> latencies_ms;
   std::uint64_t answered = 0, dropped = 0, errors = 0;
+  std::map<int, std::string> failures;  // frame -> why; said per cause at the end
 };
 
 // Whether an Error for a pose means this connection cannot go on: the server no longer has
@@ -194,15 +199,18 @@ bool stream_on(sweepd::client::Connection& channel, const Options& options, cons
           stream.settled[frame] = 1;
         } else if (const pb::Error* error = message.body_as_Error()) {
           sequence = error->sequence();
-          const std::string why = std::string("error ") + pb::EnumNameErrorCode(error->code()) +
-                                  ": " + (error->message() ? error->message()->str() : "");
+          const std::string why = sweepd::client::pose_error_cause(*error);
           if (ends_connection(*error)) {
             lose(why);
             break;
           }
           ++stream.errors;
-          if (sequence >= 1 && sequence <= stream.settled.size()) stream.settled[sequence - 1] = 1;
-          std::fprintf(stderr, "%s\n", why.c_str());
+          if (sequence >= 1 && sequence <= stream.settled.size()) {
+            stream.settled[sequence - 1] = 1;
+            stream.failures[static_cast<int>(sequence - 1)] = why;
+          } else {  // no frame to file it under
+            std::fprintf(stderr, "%s\n", why.c_str());
+          }
         } else {  // a Bye (the server drains, then closes), or else no pose's reply
           const pb::Bye* bye = message.body_as_Bye();
           lose(std::string("the server said Bye") +
@@ -282,7 +290,7 @@ std::vector<int> unsettled(Stream& stream, const Options& options, int next) {
       ++stream.dropped;
     } else {
       ++stream.errors;
-      std::fprintf(stderr, "frame %d: unanswered on two connections\n", frame);
+      stream.failures[frame] = "unanswered on two connections";
     }
   }
   return again;
@@ -365,6 +373,8 @@ int run(Options& options) {
   }
   channel->close("clip finished");
 
+  for (const std::string& line : sweepd::console::frame_failure_lines(stream.failures))
+    std::fprintf(stderr, "stream_poses: %s\n", line.c_str());  // a line per cause
   if (reconnections > 0) {
     std::printf("reconnected %d times, model uploaded %d times\n", reconnections, model.uploads());
   }

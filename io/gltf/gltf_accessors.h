@@ -21,8 +21,8 @@
 #include <string>
 #include <vector>
 
-#include "io/gltf/gltf_uri_policy.h"
 #include "io/files/load_error.h"
+#include "io/gltf/gltf_uri_policy.h"
 #include "io/load_report.h"
 
 namespace sweepd::io::gltf {

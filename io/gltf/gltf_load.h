@@ -37,8 +37,8 @@
 #include <filesystem>
 
 #include "deform/model/model.h"
-#include "io/gltf/gltf_uri_policy.h"
 #include "io/files/load_error.h"
+#include "io/gltf/gltf_uri_policy.h"
 #include "io/load_report.h"
 
 namespace sweepd::io {

@@ -1,7 +1,7 @@
 #include "io/json/joint_name_map_json.h"
 
-#include "io/json/json_file.h"
 #include "io/files/load_error.h"
+#include "io/json/json_file.h"
 
 namespace sweepd::io {
 

@@ -3,9 +3,9 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "io/json/json_file.h"
 #include "io/files/load_error.h"
 #include "io/files/write_whole_file.h"
+#include "io/json/json_file.h"
 
 namespace sweepd::io {
 

@@ -4,9 +4,9 @@
 #include <stdexcept>
 #include <string>
 
-#include "io/json/json_file.h"
 #include "io/files/load_error.h"
 #include "io/files/write_whole_file.h"
+#include "io/json/json_file.h"
 
 namespace sweepd::io {
 

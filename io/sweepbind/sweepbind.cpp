@@ -8,9 +8,9 @@
 #include <stdexcept>
 #include <string>
 
-#include "io/sweepbind/byte_stream.h"
 #include "io/files/durable_file.h"
 #include "io/files/file_bytes.h"
+#include "io/sweepbind/byte_stream.h"
 
 namespace sweepd::io {
 

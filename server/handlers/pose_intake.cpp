@@ -46,8 +46,11 @@ std::variant<PoseRequest, RequestError> intake(const ModelLookup& models,
       return RequestError{protocol::ErrorCode::InvalidArgument, std::move(map_problem),
                           pose.sequence()};
     }
-    request.position_map = PositionMapParams{map->width(), map->height(), map->layers(),
-                                             map->compression(), map->half_normals()};
+    const bool clip_frame = map->clip() != nullptr && map->clip()->frame().has_value();
+    request.position_map =
+        PositionMapParams{map->width(),       map->height(),       map->layers(),
+                          map->compression(), map->half_normals(),
+                          clip_frame ? std::uint64_t{*map->clip()->frame()} : pose.sequence()};
   }
   return request;
 }

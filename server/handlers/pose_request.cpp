@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "deform/model/pose_hash.h"
 #include "protocol/float16.h"
 
 namespace sweepd::server {
@@ -241,7 +242,8 @@ std::uint64_t PosedVerticesWriter::write_position_map(PoseRequest& request,
                   .layers = params.layers,
                   .compression = params.compression,
                   .half_normals = params.half_normals,
-                  .frame = request.sequence},
+                  .frame = params.frame,
+                  .pose_hash = deform::pose_hash(request.pose)},
                  exr_scratch_);
   protocol::PositionMapFrame frame(builder, {.request_id = request.request_id,
                                              .model_id = request.model->id,

@@ -58,6 +58,9 @@ struct PositionMapParams {
   protocol::MapLayers layers = protocol::MapLayers::Position;
   protocol::ExrCompression compression = protocol::ExrCompression::Zip;
   bool half_normals = false;
+  // The EXR header's "frame": the clip frame asked for (PositionMapRequest.clip.frame), else the
+  // pose's sequence, the client's frame number.
+  std::uint64_t frame = 0;
 };
 
 struct PoseRequest {

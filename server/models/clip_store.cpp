@@ -4,8 +4,8 @@
 #include <stdexcept>
 
 #include "io/bvh/bvh_load.h"
-#include "io/json/joint_name_map_json.h"
 #include "io/files/load_error.h"
+#include "io/json/joint_name_map_json.h"
 #include "io/model_clip_load.h"
 #include "motion/name_list.h"
 #include "motion/own_skeleton_clip.h"

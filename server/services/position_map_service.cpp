@@ -105,6 +105,7 @@ void PositionMapService::render(const PositionMapJob& job, std::vector<std::uint
   options.half_normals = job.half_normals;
   options.model = job.model->name;
   options.frame = static_cast<int>(job.frame);
+  options.pose_hash = job.pose_hash;
   io::encode_exr({width, height, p, n, a}, options, exr);
 }
 

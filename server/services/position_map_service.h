@@ -51,7 +51,8 @@ struct PositionMapJob {
   protocol::MapLayers layers = protocol::MapLayers::Position;
   protocol::ExrCompression compression = protocol::ExrCompression::Zip;
   bool half_normals = false;  // N channels as float16
-  std::uint64_t frame = 0;    // written into the EXR header ("frame")
+  std::uint64_t frame = 0;      // written into the EXR header ("frame")
+  std::uint64_t pose_hash = 0;  // and "poseHash" (deform/model/pose_hash.h)
 };
 
 // What is wrong with a request for `model`, or "" when it can be rendered.

@@ -14,9 +14,9 @@
 
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <stdexcept>
-#include <nlohmann/json.hpp>
 #include <string>
 
 #include "tests/cli/sweepctl_process.h"

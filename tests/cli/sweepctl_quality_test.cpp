@@ -44,6 +44,15 @@ int sweepctl(const std::string& arguments, std::string& output) {
 const fs::path kMale = fs::path(SWEEPD_SHARED_DATA) / "models/makehuman_male_cmu.glb";
 const fs::path kClip = fs::path(SWEEPD_SHARED_DATA) / "motion/cmu_01_01.bvh";
 
+// `sweepctl metrics ARGUMENTS --json`'s report; null (and a failure) when it exits non-zero.
+nlohmann::json metrics_report(const std::string& arguments) {
+  std::string out;
+  const int status = sweepctl("metrics " + arguments + " --json", out);
+  EXPECT_EQ(status, 0) << out;
+  if (status != 0) return nullptr;
+  return nlohmann::json::parse(out.substr(0, out.rfind('}') + 1));
+}
+
 #define REQUIRE_DATA() \
   if (!fs::exists(kMale) || !fs::exists(kClip)) GTEST_SKIP() << "shared data absent"
 
@@ -52,13 +61,9 @@ TEST(SweepctlMetrics, ElbowPoseAsJsonShowsVolumePreservationAtWork) {
   const fs::path pose = scratch() / "elbow.json";
   std::ofstream(pose)
       << R"({"rotations": {"LeftForeArm": {"axis": [-0.7, -0.7, 0], "degrees": 70}}})";
-  std::string out;
-  ASSERT_EQ(sweepctl("metrics " + kMale.string() + " --pose " + pose.string() +
-                         " --method sweep,sweep+volume,lbs --json",
-                     out),
-            0)
-      << out;
-  const auto report = nlohmann::json::parse(out.substr(0, out.rfind('}') + 1));
+  const nlohmann::json report =
+      metrics_report(kMale.string() + " --pose " + pose.string() + " --method sweep,sweep+volume,lbs");
+  ASSERT_FALSE(report.is_null());
   ASSERT_EQ(report["methods"].size(), 3u);
   auto metric = [&](int method, const std::string& name) {
     for (const auto& m : report["methods"][method]["metrics"])
@@ -76,6 +81,21 @@ TEST(SweepctlMetrics, ElbowPoseAsJsonShowsVolumePreservationAtWork) {
   for (const auto& m : report["methods"][2]["metrics"])
     EXPECT_EQ(m["name"].get<std::string>().find("sweep integral"), std::string::npos);
   EXPECT_LT(report["methods"][2]["rest_error_m"].get<double>(), 1e-5);  // LBS at rest: exact
+  // A pose file has no frame: the report names the file and gives no frame of the worst
+  // (issue 52 item 6: it said frame 0).
+  EXPECT_EQ(report["pose"], pose.string());
+  for (const auto& m : report["methods"][0]["metrics"]) EXPECT_TRUE(m["worst_frame"].is_null()) << m;
+}
+
+TEST(SweepctlMetrics, ATimeInTheClipIsReportedAsItsTimeNotAsFrameZero) {
+  REQUIRE_DATA();
+  const nlohmann::json report =
+      metrics_report(kMale.string() + " --bvh " + kClip.string() + " --time 5 --method lbs");
+  ASSERT_FALSE(report.is_null());
+  EXPECT_EQ(report["time_seconds"], 5.0);
+  EXPECT_EQ(report["frames"], 1);
+  ASSERT_FALSE(report["methods"][0]["metrics"].empty());
+  for (const auto& m : report["methods"][0]["metrics"]) EXPECT_TRUE(m["worst_frame"].is_null()) << m;
 }
 
 TEST(SweepctlMetrics, ClipFramesGiveWorstMeanAndFrameAsCsvAndTable) {

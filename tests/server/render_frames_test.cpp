@@ -14,6 +14,7 @@
 #include <map>
 
 #include "deform/job/deform_job.h"
+#include "deform/model/pose_hash.h"
 #include "gpu/egl_context.h"
 #include "gpu/position_map_renderer.h"
 #include "io/bvh/bvh_load.h"
@@ -92,6 +93,18 @@ class RenderFrames : public ClipClientTest {
     SCOPED_TRACE("frame " + std::to_string(frame));
     const Map served = read_map(frame_file(frame), side);
     const Map expected = library_map(frame, side);
+    // The file says what it is: the clip frame its name has (render_frames numbers its
+    // requests from 1, which the header used to carry), the model the server holds, the hash
+    // of the pose the library makes of that frame, in metres (issue 52 item 6).
+    Imf::InputFile file(frame_file(frame).c_str());
+    const io::test_support::PositionMapHeader header =
+        io::test_support::read_position_map_header(file.header());
+    EXPECT_EQ(header.frame, frame);
+    EXPECT_EQ(header.model, "mannequin");
+    EXPECT_EQ(header.pose_hash,
+              io::test_support::pose_hash_text(deform::pose_hash(clip_on_model_->pose_at_frame(frame))));
+    EXPECT_EQ(header.space, "object");
+    EXPECT_EQ(header.units, "metres");
     // The server retargets the uploaded clip with the library on the model itself, as here:
     // the same floats. 10 µm leaves room for rasterisation on two GL contexts, far below a
     // frame-to-frame change (RendersEachFrameOnce...).
@@ -261,7 +274,12 @@ TEST_F(RenderFrames, AFramesServerErrorNamesTheFrameAndLeavesNoFile) {
       run_render_frames("--server 127.0.0.1:" + std::to_string(no_maps.port()) + " --bvh " +
                         clip_.string() + " --frames 7-9 -o " + (directory_ / "frames").string());
   EXPECT_EQ(run.exit_code, 1);
-  EXPECT_NE(run.output.find("frame 7: server error NotAvailable"), std::string::npos) << run.output;
+  // One cause for the three frames, said once with their count (issue 52 item 6).
+  EXPECT_NE(run.output.find("render_frames: 3 frames failed (7-9): 127.0.0.1:" +
+                            std::to_string(no_maps.port()) + ": server error NotAvailable"),
+            std::string::npos)
+      << run.output;
+  EXPECT_EQ(run.output.find("frame 8 failed"), std::string::npos) << run.output;
   int files = 0;
   for ([[maybe_unused]] const auto& entry : fs::directory_iterator(directory_ / "frames")) ++files;
   EXPECT_EQ(files, 0) << "neither a frame nor a partial file";
@@ -280,6 +298,19 @@ TEST_F(RenderFrames, TheModelsRangeOfMotionRendersWithoutAClipFile) {
   EXPECT_EQ(past.exit_code, 1) << past.output;
   EXPECT_NE(past.output.find("frame 1441 failed: "), std::string::npos) << past.output;
   EXPECT_NE(past.output.find("past the clip's last frame 1440"), std::string::npos) << past.output;
+  // Many frames past it: one line with their count, "frame N" for each one's own number, not a
+  // line per frame (issue 52 item 6).
+  const ClientRun many = run_render_frames(arguments + "1430-1469");
+  EXPECT_EQ(many.exit_code, 1) << many.output;
+  const std::size_t line = many.output.find(
+      "render_frames: 29 frames failed (1441-1469): server error InvalidArgument: clip 'range of "
+      "motion' on model ");
+  ASSERT_NE(line, std::string::npos) << many.output;
+  EXPECT_NE(many.output.find(": frame N is past the clip's last frame 1440", line), std::string::npos)
+      << many.output;
+  EXPECT_EQ(many.output.find("frame 1450"), std::string::npos) << many.output;
+  EXPECT_NE(many.output.find("rendered 11, skipped 0 of 40 frames"), std::string::npos)
+      << many.output;
 }
 
 TEST_F(RenderFrames, BadInputIsNamedWithItsExitCode) {

@@ -7,6 +7,7 @@
 #include <ImfInputFile.h>
 #include <gtest/gtest.h>
 
+#include "tests/io/position_map_exr.h"
 #include "tests/server/sweepctl_remote.h"
 
 namespace sweepd::test {
@@ -44,6 +45,19 @@ TEST_F(SweepctlRemote, RemotePositionMapDecodesToTheLocalPositions) {
   ASSERT_EQ(local.exit_code, 0) << local.output;
   const ClientRun remote = run_sweepctl(server() + " " + map + path("remote.exr").string());
   ASSERT_EQ(remote.exit_code, 0) << remote.output << log();
+
+  // The header says the same of both: the clip frame asked for, the pose's hash (the server's
+  // retargeting is the library's), the units (issue 52 item 6).
+  const io::test_support::PositionMapHeader local_header = io::test_support::read_position_map_header(
+      Imf::InputFile(path("local.exr").c_str()).header());
+  const io::test_support::PositionMapHeader remote_header =
+      io::test_support::read_position_map_header(Imf::InputFile(path("remote.exr").c_str()).header());
+  EXPECT_EQ(local_header.frame, kClipFrame);
+  EXPECT_EQ(remote_header.frame, kClipFrame);
+  EXPECT_EQ(remote_header.pose_hash, local_header.pose_hash);
+  EXPECT_NE(remote_header.pose_hash, io::test_support::pose_hash_text(0)) << "a hash, not none";
+  EXPECT_EQ(remote_header.units, "metres");
+  EXPECT_EQ(remote_header.model, local_header.model);
 
   const std::vector<std::string> channels = {"P.X", "P.Y", "P.Z", "A"};
   const auto expected = read_planes(path("local.exr"), channels);

@@ -10,8 +10,8 @@
 
 #include "deform/binding/bind.h"
 #include "deform/rig/rig_map.h"
-#include "io/sweepbind/byte_stream.h"
 #include "io/files/durable_file.h"
+#include "io/sweepbind/byte_stream.h"
 #include "mannequin/mannequin.h"
 
 namespace sweepd::io {
