@@ -56,7 +56,7 @@ namespace {
 namespace fs = std::filesystem;
 
 const fs::path kData = SWEEPD_SHARED_DATA;
-constexpr double kFps = 120.0;  // the CMU clips' own rate
+constexpr double kFps = 120.0;     // the CMU clips' own rate
 constexpr int kSteadyFrames = 18;  // 0.15 s
 constexpr int kSpreadFrames = 36;  // 0.3 s
 
@@ -99,6 +99,7 @@ TEST(FootPlanting, EveryBodysSolesLandOnTheFloorAndHoldStill) {
       const Retargeter free(motion, body.model, {}, Feet::kFree);
       ASSERT_NE(planted.foot_planting(), nullptr) << body.name;
       const test::FootTracks on = feet.track(planted, kFps), off = feet.track(free, kFps);
+      // The free feet turned as the planted ones are: what the corrections are measured from.
       const test::FootTracks steadied = test::feet_turned_as(off, on);
       float slide = 0.0f, root_step = 0.0f;
       for (const FootPlanting::ContactSlide& contact : planted.foot_planting()->contact_slides(
@@ -134,7 +135,8 @@ TEST(FootPlanting, EveryBodysSolesLandOnTheFloorAndHoldStill) {
               step = 0.0f, step_across = 0.0f;
         const FootPlanting& planting = *planted.foot_planting();
         const auto near_contact = [&](int f) {
-          for (int g = std::max(0, f - kSteadyFrames); g <= std::min(on.frames() - 1, f + kSteadyFrames); ++g)
+          for (int g = std::max(0, f - kSteadyFrames);
+               g <= std::min(on.frames() - 1, f + kSteadyFrames); ++g)
             if (planting.planted(side, g)) return true;
           return false;
         };
@@ -150,18 +152,19 @@ TEST(FootPlanting, EveryBodysSolesLandOnTheFloorAndHoldStill) {
             footfall = std::max(footfall, glm::length(sum) / static_cast<float>(end - run));
           run = end;
         }
-        // The clip's foot turned as the planted one is: what the corrections are measured from.
-        const test::FootTracks& turned_clip = steadied;
         for (int f = 0; f < on.frames(); ++f) {
           lowest = std::min(lowest, on.height[side][f]);
           const float turn = angle(on.foot_rotation[side][f], off.foot_rotation[side][f]);
           if (!near_contact(f)) {
-            turned_away = std::max(turned_away, 1.0f - std::abs(glm::dot(on.foot_rotation[side][f],
-                                                                         off.foot_rotation[side][f])));
+            turned_away = std::max(
+                turned_away,
+                1.0f - std::abs(glm::dot(on.foot_rotation[side][f], off.foot_rotation[side][f])));
           } else {
             float spread = 0.0f;
-            for (int g = std::max(0, f - kSpreadFrames); g <= std::min(on.frames() - 1, f + kSpreadFrames); ++g)
-              spread = std::max(spread, angle(off.foot_rotation[side][g], off.foot_rotation[side][f]));
+            for (int g = std::max(0, f - kSpreadFrames);
+                 g <= std::min(on.frames() - 1, f + kSpreadFrames); ++g)
+              spread =
+                  std::max(spread, angle(off.foot_rotation[side][g], off.foot_rotation[side][f]));
             turned_beyond = std::max(turned_beyond, turn - spread);
             turned = std::max(turned, turn);
           }
@@ -173,11 +176,13 @@ TEST(FootPlanting, EveryBodysSolesLandOnTheFloorAndHoldStill) {
             const auto lift = [&](int g) {
               return on.ankle_height[side][g] - off.ankle_height[side][g];
             };
-            step = std::max(step, std::abs(lift(f) - lift(f - 1)) -
-                                      std::abs(turned_clip.height[side][f] - turned_clip.height[side][f - 1]));
+            step = std::max(step,
+                            std::abs(lift(f) - lift(f - 1)) -
+                                std::abs(steadied.height[side][f] - steadied.height[side][f - 1]));
             const auto shift = [&](int g) { return on.ankle[side][g] - off.ankle[side][g]; };
-            const std::size_t point = turned_clip.lowest[side][f - 1];
-            const glm::vec3 moved = turned_clip.points[side][f][point] - turned_clip.points[side][f - 1][point];
+            const std::size_t point = steadied.lowest[side][f - 1];
+            const glm::vec3 moved =
+                steadied.points[side][f][point] - steadied.points[side][f - 1][point];
             step_across = std::max(step_across, glm::distance(shift(f), shift(f - 1)) -
                                                     glm::length(glm::vec2(moved.x, moved.z)));
           }

@@ -48,7 +48,8 @@ struct FootTracks {
 inline FootTracks feet_turned_as(FootTracks clip, const FootTracks& turned) {
   for (int side = 0; side < 2; ++side)
     for (int f = 0; f < clip.frames(); ++f) {
-      const glm::quat turn = turned.foot_rotation[side][f] * glm::inverse(clip.foot_rotation[side][f]);
+      const glm::quat turn =
+          turned.foot_rotation[side][f] * glm::inverse(clip.foot_rotation[side][f]);
       const glm::vec3 ankle(clip.ankle[side][f].x, clip.ankle_height[side][f] + clip.floor,
                             clip.ankle[side][f].y);
       float lowest = std::numeric_limits<float>::infinity();

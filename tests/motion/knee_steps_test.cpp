@@ -129,14 +129,14 @@ TEST_P(KneeStepsTest, KneesStepNoFurtherThanTheClipMovesThemPlusTheHolds) {
     const auto worst = std::max_element(on.begin(), on.end());
     const float clip_worst = *std::max_element(off.begin(), off.end());
     const float margin = 2.0f * kFastestHold * held.model_hip_height() * named.clip.frame_time;
-    std::printf("%s%s %-12s largest knee step %5.1f mm (frame %4d), the clip's %5.1f mm, margin "
-                "%4.1f mm%s\n",
-                GetParam().file, GetParam().mirror ? " mirrored" : "", named.name, 1000 * *worst,
-                static_cast<int>(worst - on.begin()), 1000 * clip_worst, 1000 * margin,
-                named.asserted ? "" : " (not asserted)");
+    std::printf(
+        "%s%s %-12s largest knee step %5.1f mm (frame %4d), the clip's %5.1f mm, margin "
+        "%4.1f mm%s\n",
+        GetParam().file, GetParam().mirror ? " mirrored" : "", named.name, 1000 * *worst,
+        static_cast<int>(worst - on.begin()), 1000 * clip_worst, 1000 * margin,
+        named.asserted ? "" : " (not asserted)");
     if (named.asserted) {
-      EXPECT_LE(*worst, clip_worst + margin)
-          << named.name << ", frame " << worst - on.begin();
+      EXPECT_LE(*worst, clip_worst + margin) << named.name << ", frame " << worst - on.begin();
     }
   }
 }
