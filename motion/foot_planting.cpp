@@ -17,6 +17,14 @@ namespace {
 constexpr float kSoleContactHeight = 0.07f;
 constexpr float kMostFloat = 0.1f;        // a body floating higher has no floor to come down to
 constexpr double kStanceQuantile = 0.02;  // of a foot's heights over the clip: where it stands
+// A planted leg's reach, short of its length by this fraction at least: its knee bent by about 5°
+// (equal bones), where the IK's knee angle is well conditioned (see sole_of).
+constexpr float kStraightestPlant = 0.001f;
+// m: sole points this close to the lowest share its step (see measure_soles): far above float
+// round-off on a metre-sized body, far below a sole that is not flat.
+constexpr float kPivotTie = 1e-5f;
+// s: the Gaussian weights' deviation of the line fitted to a planted foot's rotations.
+constexpr double kSteadyRoll = 0.05;
 
 // The y of `world * local`, summed in glm's order for mat4 * vec4 so that it is bit-identical,
 // without the three rows nobody reads: the sole search runs over every sole vertex on every frame
@@ -25,6 +33,15 @@ constexpr double kStanceQuantile = 0.02;  // of a foot's heights over the clip: 
 float height_of(const glm::mat4& world, const glm::vec4& local) {
   return (world[0].y * local.x + world[1].y * local.y) +
          (world[2].y * local.z + world[3].y * local.w);
+}
+
+// A rotation as its axis times its angle (rad), well conditioned for small turns (acos of the
+// quaternion's w is not: it loses half the float's digits near the identity).
+glm::dvec3 turn_vector(glm::quat q) {
+  if (q.w < 0.0f) q = -q;
+  const glm::dvec3 v(q.x, q.y, q.z);
+  const double sine = glm::length(v);
+  return sine > 0.0 ? v * (2.0 * std::atan2(sine, double{q.w}) / sine) : glm::dvec3(0.0);
 }
 
 }  // namespace
@@ -48,7 +65,7 @@ std::optional<FootPlanting> FootPlanting::build(
   for (int side = 0; side < 2; ++side) {
     const deform::LegJoints& leg = side == 0 ? map.left_leg : map.right_leg;
     if (leg.upper < 0 || leg.lower < 0 || leg.foot < 0) continue;
-    Foot foot{leg, {}, glm::vec4(0.0f), {}, {}, {}, side};
+    Foot foot{leg, {}, glm::vec4(0.0f), {}, {}, {}, {}, side};
     glm::vec3 centre(0.0f);
     const float ankle_height = rest[leg.foot][3].y;
     for (std::size_t v = 0; v < model.positions.size(); ++v) {
@@ -66,6 +83,28 @@ std::optional<FootPlanting> FootPlanting::build(
   }
   if (planting.feet_.empty()) return std::nullopt;
 
+  // The soles as the clip moves the feet, and contacts from them; then the planted feet's roll
+  // steadied (see the header) and everything found again on the steadied feet, the contacts
+  // found first kept (a foot is steadied only on and around them).
+  std::vector<std::vector<glm::quat>> foot_rotation;
+  planting.plan(planting.measure_soles(frame_pose, &foot_rotation), hip_height);
+  if (!planting.steady_feet(foot_rotation)) return planting;
+  planting.plan(planting.measure_soles(
+                    [&](int f) {
+                      deform::Pose pose = frame_pose(f);
+                      planting.steady(f, f, 0.0f, pose);
+                      return pose;
+                    },
+                    nullptr),
+                hip_height, true);
+  return planting;
+}
+
+std::vector<std::vector<FootPlanting::Sole>> FootPlanting::measure_soles(
+    const std::function<deform::Pose(int)>& frame_pose,
+    std::vector<std::vector<glm::quat>>* foot_rotation) const {
+  const int frame_count = frame_count_;
+  const double frame_time = frame_time_;
   // Each frame's soles, with the speed of each one's lowest point: that point of the foot,
   // kSpeedWindow before and after (not the lowest point of those frames, which jumps between
   // heel and toes while the foot rolls, and can stand still under a foot that swings), in
@@ -74,33 +113,51 @@ std::optional<FootPlanting> FootPlanting::build(
   // cmu_01_03) does not decide it.
   const int reach = std::max(1, static_cast<int>(std::lround(kSpeedWindow / frame_time)));
   const int ring = 2 * reach + 1;
-  std::vector<std::vector<glm::mat4>> world(ring,
-                                            std::vector<glm::mat4>(model.skeleton.joints.size()));
+  std::vector<std::vector<glm::mat4>> world(ring, std::vector<glm::mat4>(skeleton_.joints.size()));
   const auto posed = [&](int f) -> const std::vector<glm::mat4>& { return world[f % ring]; };
-  for (int f = 0; f < std::min(reach, frame_count); ++f)
-    deform::forward_kinematics(model.skeleton, frame_pose(f), world[f % ring]);
-  std::vector<std::vector<Sole>> soles(planting.feet_.size());
+  if (foot_rotation) foot_rotation->assign(feet_.size(), std::vector<glm::quat>(frame_count));
+  const auto pose_frame = [&](int f) {
+    const deform::Pose pose = frame_pose(f);
+    deform::forward_kinematics(skeleton_, pose, world[f % ring]);
+    if (!foot_rotation) return;
+    const std::vector<glm::quat> rotation = world_rotations(skeleton_, pose);
+    for (std::size_t i = 0; i < feet_.size(); ++i)
+      (*foot_rotation)[i][f] = rotation[feet_[i].leg.foot];
+  };
+  for (int f = 0; f < std::min(reach, frame_count); ++f) pose_frame(f);
+  std::vector<std::vector<Sole>> soles(feet_.size());
   for (int f = 0; f < frame_count; ++f) {
-    if (f + reach < frame_count)
-      deform::forward_kinematics(model.skeleton, frame_pose(f + reach), world[(f + reach) % ring]);
+    if (f + reach < frame_count) pose_frame(f + reach);
     const int a = std::max(f - reach, 0), b = std::min(f + reach, frame_count - 1);
-    for (std::size_t i = 0; i < planting.feet_.size(); ++i) {
-      const Foot& foot = planting.feet_[i];
-      Sole sole = planting.sole_of(foot, posed(f));
+    for (std::size_t i = 0; i < feet_.size(); ++i) {
+      const Foot& foot = feet_[i];
+      Sole sole = sole_of(foot, posed(f));
       const SolePoint& point = foot.sole[sole.lowest];
       const glm::vec3 moved(posed(b)[point.joint] * point.local -
                             posed(a)[point.joint] * point.local);
       sole.speed = b > a ? glm::length(moved) / static_cast<float>((b - a) * frame_time) : 0.0f;
       if (f + 1 < frame_count) {
-        const glm::vec3 step(posed(f + 1)[point.joint] * point.local -
-                             posed(f)[point.joint] * point.local);
+        // The step of the points within kPivotTie of the lowest, weighted down to nothing at
+        // kPivotTie above it: a flat foot's heel and toes tie for lowest, and round-off chose
+        // between points 4.5e-8 m apart whose steps differed by 3.9e-5 m (the male in cmu_01_03
+        // frame 1660, the clip read in metres against centimetres), which moved the held foot.
+        const float low = sole.height + floor_;
+        glm::vec3 step(0.0f);
+        float weights = 0.0f;
+        for (const SolePoint& tied : foot.sole) {
+          const float w = 1.0f - (height_of(posed(f)[tied.joint], tied.local) - low) / kPivotTie;
+          if (w <= 0.0f) continue;
+          step += w * glm::vec3(posed(f + 1)[tied.joint] * tied.local -
+                                posed(f)[tied.joint] * tied.local);
+          weights += w;
+        }
+        step /= weights;
         sole.step = glm::vec2(step.x, step.z);
       }
       soles[i].push_back(sole);
     }
   }
-  planting.plan(soles, hip_height);
-  return planting;
+  return soles;
 }
 
 FootPlanting::Sole FootPlanting::sole_of(const Foot& foot,
@@ -115,7 +172,16 @@ FootPlanting::Sole FootPlanting::sole_of(const Foot& foot,
   const glm::vec3 hip(world[foot.leg.upper][3]), knee(world[foot.leg.lower][3]),
       ankle(world[foot.leg.foot][3]);
   lowest.to_ankle = ankle - hip;
-  lowest.leg = glm::distance(hip, knee) + glm::distance(knee, ankle);
+  // A planted leg straightens no further than the clip's own, or than kSoftReach short of its
+  // length where the clip's is bent more: a nearly straight knee under a held ankle moves
+  // several times as far as the hip (a model straightening a knee the clip bends 23° to 0.2°
+  // stepped it 5 cm in a frame, the male in cmu_01_01 frame 980).
+  // Never quite straight, though (kStraightestPlant): at a straight knee the IK's bend angle is
+  // the arc cosine of a number at 1, where float round-off moves the knee by up to 0.07 mm (the
+  // same clip read in metres and in centimetres, cmu_01_03 frame 2476).
+  const float length = glm::distance(hip, knee) + glm::distance(knee, ankle);
+  lowest.leg = std::clamp(glm::length(lowest.to_ankle), (1.0f - kSoftReach) * length,
+                          (1.0f - kStraightestPlant) * length);
   return lowest;
 }
 
@@ -157,7 +223,8 @@ float FootPlanting::stance(const std::vector<Sole>& soles) {
   return heights[at];
 }
 
-void FootPlanting::plan(const std::vector<std::vector<Sole>>& soles, float hip_height) {
+void FootPlanting::plan(const std::vector<std::vector<Sole>>& soles, float hip_height,
+                        bool keep_contacts) {
   const int n = frame_count_;
   // A body the retargeting floats (its proportions are not the clip's) comes down on every
   // frame by the lower foot's stance; one that floats higher than kMostFloat never stands.
@@ -174,7 +241,7 @@ void FootPlanting::plan(const std::vector<std::vector<Sole>>& soles, float hip_h
     return soles[i][f].height - hip_drop_[f] <= kSoleContactHeight * hip_height;
   };
   for (Foot& foot : feet_) {
-    foot.contact.assign(n, 0);
+    if (!keep_contacts) foot.contact.assign(n, 0);
     foot.offset.assign(n, glm::vec3(0.0f));
   }
   const int fade_frames = static_cast<int>(kFade / frame_time_);
@@ -203,7 +270,7 @@ void FootPlanting::plan(const std::vector<std::vector<Sole>>& soles, float hip_h
         last = f;
       }
     }
-    if (!added) break;
+    if (!added && !(keep_contacts && round == 0)) break;
     std::vector<float> need(n, 0.0f);
     for (std::size_t i = 0; i < feet_.size(); ++i) {
       pin(feet_[i], soles[i]);
@@ -228,7 +295,9 @@ void FootPlanting::plan(const std::vector<std::vector<Sole>>& soles, float hip_h
     // Across, a contact's shift holds while the sole stays down after it and before it, and
     // fades beyond: fading at once slowed a foot peeling off to a hover above the floor (the
     // child's in cmu_01_03, 2.3 cm up and slower than a viewer's 0.19 m/s). A gap down
-    // throughout is bridged.
+    // throughout is bridged, and so is one where the two holds would leave less than kFade
+    // between them (the heavy male's right foot in cmu_01_01, down all but frame 1165 of a
+    // 0.3 s gap, had its shift jump 4.4 cm across in two frames).
     std::vector<glm::vec3> across = foot.offset;
     std::vector<std::uint8_t> held = foot.contact;
     for (int f = 0; f < n;) {
@@ -242,7 +311,8 @@ void FootPlanting::plan(const std::vector<std::vector<Sole>>& soles, float hip_h
       for (; f > 0 && a < end && is_down(i, a); ++a) across[a] = across[f - 1], held[a] = 1;
       for (; end < n && b > a && is_down(i, b - 1); --b)
         across[b - 1] = across[end], held[b - 1] = 1;
-      if (f > 0 && end < n && a == b) std::fill(held.begin() + f, held.begin() + end, 0);
+      if (f > 0 && end < n && (b - a) * frame_time_ < kFade)
+        std::fill(held.begin() + f, held.begin() + end, 0);
       f = end;
     }
     spread(across, held);
@@ -294,6 +364,61 @@ void FootPlanting::pin(Foot& foot, const std::vector<Sole>& soles) const {
   }
 }
 
+bool FootPlanting::steady_feet(const std::vector<std::vector<glm::quat>>& foot_rotation) {
+  const int n = frame_count_;
+  const double sigma = kSteadyRoll / frame_time_;  // frames
+  const int half = static_cast<int>(std::ceil(3.0 * sigma));
+  bool any = false;
+  for (std::size_t i = 0; i < feet_.size(); ++i) {
+    Foot& foot = feet_[i];
+    const std::vector<glm::quat>& rotation = foot_rotation[i];
+    foot.steadying.assign(n, glm::vec3(0.0f));
+    // Each contact frame's rotation: the contact's rotations about it, Gaussian-weighted, on
+    // its own frames only (the foot landing or peeling off is not averaged in).
+    for (int first = 0; first < n;) {
+      if (!foot.contact[first]) {
+        ++first;
+        continue;
+      }
+      int last = first;
+      while (last + 1 < n && foot.contact[last + 1]) ++last;
+      for (int f = first; f <= last; ++f) {
+        // A line fitted to the rotations about f (as turns from f's own, weighted least
+        // squares): its value at f. A plain mean lags where the foot keeps rolling one way (heel
+        // lifting at the contact's end); the line follows the roll and drops the jitter.
+        double weights = 0.0, moment = 0.0, spread_sq = 0.0;
+        glm::dvec3 sum(0.0), sum_moment(0.0);
+        for (int g = std::max(first, f - half); g <= std::min(last, f + half); ++g) {
+          const double x = g - f, w = std::exp(-0.5 * x * x / (sigma * sigma));
+          const glm::dvec3 v = turn_vector(rotation[g] * glm::inverse(rotation[f]));
+          weights += w, moment += w * x, spread_sq += w * x * x;
+          sum += w * v, sum_moment += w * x * v;
+        }
+        const double det = weights * spread_sq - moment * moment;
+        const glm::dvec3 at_f =
+            det > 1e-9 ? (spread_sq * sum - moment * sum_moment) / det : sum / weights;
+        if (glm::length(at_f) > 1e-6) foot.steadying[f] = glm::vec3(at_f), any = true;
+      }
+      first = last + 1;
+    }
+    spread(foot.steadying, foot.contact);
+  }
+  return any;
+}
+
+void FootPlanting::steady(int f0, int f1, float alpha, deform::Pose& pose) const {
+  const std::vector<glm::quat> rotation = world_rotations(skeleton_, pose);
+  for (const Foot& foot : feet_) {
+    const glm::vec3 turn = glm::mix(foot.steadying[f0], foot.steadying[f1], alpha);
+    const float angle = glm::length(turn);
+    if (angle <= 0.0f) continue;
+    const int j = foot.leg.foot, parent = skeleton_.joints[j].parent;
+    const glm::quat above = parent < 0 ? glm::identity<glm::quat>() : rotation[parent];
+    pose.local_rotations[j] =
+        glm::normalize(glm::inverse(above) * glm::angleAxis(angle, turn / angle) * rotation[j]);
+  }
+}
+
 void FootPlanting::apply(double seconds, deform::Pose& pose) const {
   const double position =
       std::clamp(seconds / frame_time_, 0.0, static_cast<double>(frame_count_ - 1));
@@ -303,6 +428,7 @@ void FootPlanting::apply(double seconds, deform::Pose& pose) const {
   // The pelvis first: every joint comes down with it.
   const float drop = glm::mix(hip_drop_[f0], hip_drop_[f1], alpha);
   pose.root_translation.y -= drop;
+  steady(f0, f1, alpha, pose);
   std::vector<glm::mat4> world(skeleton_.joints.size());
   deform::forward_kinematics(skeleton_, pose, world);
   const std::vector<glm::quat> rotation = world_rotations(skeleton_, pose);

@@ -29,10 +29,25 @@
 //            A contact broken for no longer than the speed window's 0.1 s, the sole within
 //            the contact height throughout, goes on through the break (one noisy frame makes
 //            the window fast for that long).
+// Steadied feet: a planted foot's world rotation is the clip's with its noise taken out (in
+// cmu_01_03 frames 400-424 the clip's planted foot turns 5-20 degrees a frame and back, and a
+// held ankle under a bent leg turned that into knee steps several times the clip's): on each
+// contact frame, a line fitted by weighted least squares to the contact's own rotations about
+// the frame (as turns from the frame's; Gaussian weights of deviation 0.05 s, to 3 deviations,
+// the foot landing or peeling off not included), taken at the frame; the turn from the clip's
+// rotation fades out as offsets do (below). The soles are then measured again on the steadied
+// feet and the contacts found first kept, more found (so a foot is turned only within 0.15 s
+// of its contacts, or across a short gap between two).
+// Straightest planted leg: on a contact frame a leg reaches no further than the clip's own leg
+// (its hip-to-ankle distance), and no less than kSoftReach short of its length (a nearly
+// straight knee under a held ankle moves several times as far as the hip: a model straightening
+// a knee the clip bends 23 degrees stepped it 5 cm in a frame), and at least 0.1 % short of it
+// (the knee bent about 5 degrees: at a straight knee float round-off moves the knee).
 // On a contact frame the ankle moves up or down by the sole's height, so the sole touches the
-// floor, and across so that the sole does not slide: the foot keeps its world orientation
-// (heel-to-toe roll is the clip's), and each frame's ankle is shifted so that the point of the
-// sole lowest at the frame before stands where it stood then (a foot rolling on that point
+// floor, and across so that the sole does not slide: the foot keeps its (steadied) world
+// orientation (heel-to-toe roll is the clip's), and each frame's ankle is shifted so that the
+// point of the sole lowest at the frame before (with the points within 0.01 mm of it: a flat
+// foot's ties) stands where it stood then (a foot rolling on that point
 // keeps it still; the clip's own point drifts: cmu_01_03's contacts on the male move it 5.8 cm
 // net on average, 15 cm at most, and jitter up to 3.5 cm in a frame, so that summed frame by
 // frame it travelled 35 cm a contact on average and 84 cm at most). Each contact's
@@ -46,7 +61,8 @@
 // across a gap shorter than 0.3 s, goes linearly from one contact's to the next's, so nothing
 // pops; across, a contact's shift first holds while the sole stays within the contact height
 // after or before it (a foot peeling off or landing moves as the clip's does), unless the sole
-// stays that low through the whole gap. On no frame does a sole go below the floor. An ankle
+// stays that low through the whole gap, or the two holds would leave less than 0.15 s between
+// them. On no frame does a sole go below the floor. An ankle
 // that cannot reach its target moves towards it as far as the leg reaches (two_bone_ik.h):
 // exactly on a contact frame (the body comes down so that it reaches, above), and with a soft
 // reach (kSoftReach) from 0.15 s away from the foot's contacts, eased linearly between, so that
@@ -112,6 +128,7 @@ class FootPlanting {
     std::vector<glm::vec3> offset;      // the ankle's move, per clip frame
     std::vector<std::uint8_t> contact;  // per clip frame
     std::vector<float> softness;        // the leg IK's, per clip frame (see the header)
+    std::vector<glm::vec3> steadying;   // per clip frame: the foot's world turn, axis * angle
     int side = 0;                       // 0 the rig map's left leg, 1 its right
   };
   struct Sole {
@@ -124,6 +141,15 @@ class FootPlanting {
   };
 
   FootPlanting(const deform::Model& model, float floor, double frame_time);
+  // Every clip frame's soles (and, where foot_rotation is given, each foot's world rotation).
+  std::vector<std::vector<Sole>> measure_soles(
+      const std::function<deform::Pose(int)>& frame_pose,
+      std::vector<std::vector<glm::quat>>* foot_rotation) const;
+  // Each foot's steadying turns from the contacts found and its world rotation per frame (see
+  // the header); whether any foot turns.
+  bool steady_feet(const std::vector<std::vector<glm::quat>>& foot_rotation);
+  // Turns each foot of `pose`, clip frames f0 and f1 mixed by alpha, by its steadying.
+  void steady(int f0, int f1, float alpha, deform::Pose& pose) const;
   Sole sole_of(const Foot& foot, const std::vector<glm::mat4>& world) const;
   // Where the uncorrected foot stands over the clip, above the model's floor (see the header).
   static float stance(const std::vector<Sole>& soles);
@@ -131,8 +157,9 @@ class FootPlanting {
   // the ankle moved across by `shift` (x, z).
   static float hip_drop(const Sole& sole, glm::vec2 shift);
   // Contacts, the pelvis's drop and the feet's offsets (across and up) from the uncorrected soles
-  // per frame.
-  void plan(const std::vector<std::vector<Sole>>& soles, float hip_height);
+  // per frame; keep_contacts: the feet's contacts so far stay, and more are found.
+  void plan(const std::vector<std::vector<Sole>>& soles, float hip_height,
+            bool keep_contacts = false);
   // Fills the frames not `known` from the known ones: a fade or a bridge (see the header).
   void spread(std::vector<glm::vec3>& values, const std::vector<std::uint8_t>& known) const;
   // The horizontal shifts that hold each contact's sole still (see the header) into foot.offset.

@@ -38,8 +38,31 @@ struct FootTracks {
   std::vector<glm::quat> foot_rotation[2];        // the foot joint's world rotation
   std::vector<std::vector<glm::vec3>> points[2];  // every sole vertex
   std::vector<std::size_t> lowest[2];             // the index of the lowest
+  float floor = 0.0f;                             // the rest mesh's lowest y
   int frames() const { return static_cast<int>(height[0].size()); }
 };
+
+// `clip`'s feet turned about their ankles to `turned`'s world rotations, frame by frame: the sole
+// points, heights and lowest points; the ankles stay (foot planting steadies a planted foot's
+// rotation, motion/foot_planting.h, so the clip's own foot is compared turned alike).
+inline FootTracks feet_turned_as(FootTracks clip, const FootTracks& turned) {
+  for (int side = 0; side < 2; ++side)
+    for (int f = 0; f < clip.frames(); ++f) {
+      const glm::quat turn =
+          turned.foot_rotation[side][f] * glm::inverse(clip.foot_rotation[side][f]);
+      const glm::vec3 ankle(clip.ankle[side][f].x, clip.ankle_height[side][f] + clip.floor,
+                            clip.ankle[side][f].y);
+      float lowest = std::numeric_limits<float>::infinity();
+      for (std::size_t k = 0; k < clip.points[side][f].size(); ++k) {
+        glm::vec3& p = clip.points[side][f][k];
+        p = ankle + turn * (p - ankle);
+        if (p.y < lowest) lowest = p.y, clip.lowest[side][f] = k;
+      }
+      clip.height[side][f] = lowest - clip.floor;
+      clip.foot_rotation[side][f] = turned.foot_rotation[side][f];
+    }
+  return clip;
+}
 
 class FeetOf {
  public:
@@ -74,6 +97,7 @@ class FeetOf {
   // The feet over the clip sampled at `fps` from 0 to its end.
   FootTracks track(const motion::ClipPoses& clip, double fps) {
     FootTracks tracks;
+    tracks.floor = floor_;
     for (int f = 0; f / fps <= clip.duration(); ++f) {
       const deform::Pose pose = clip.pose_at_time(f / fps);
       deform::forward_kinematics(model_.skeleton, pose, world_);
