@@ -42,15 +42,17 @@ constexpr float kShareSmoothingReach = 0.05f;
 constexpr float kHeadHandoverStartWeight = 0.5f;
 constexpr float kHeadHandoverLength = 1.0f;
 // The skinned share rises from 0 to 1 over no less than kHandoverReach × the longest sweep's
-// chain along the surface (8.6 cm on the shared male). Where two methods meet, an edge stretches
+// chain along the surface (4.3 cm on the shared male). Where two methods meet, an edge stretches
 // by the share's change across it times how far apart the sweep and skinning put its vertices:
 // the wrists' and the neck's plane pairs (0.12 of a short last link) and the painted weights
 // made steps of 0.2-0.6 across one edge, and those edges were most of the corpus gate's worse
 // (frame, region) pairs (wrists 913, neck and head 794 of 4768; issue 47). Corpus gate, every
-// body as is, mirrored and at 0.6x: 4771 -> 3705 worse pairs at 0.1, no (body, clip) count and
-// no worst limb or torso stretch higher; at 0.2, 3303, but the RiggedFigure's count and the
-// OpenPose body's and the 72k mannequin's worst stretch rise.
-constexpr float kHandoverReach = 0.1f;
+// body as is, mirrored and at 0.6x: 4768 -> 4204 worse pairs; every body's sum lower, no worst
+// limb or torso stretch higher. A longer reach wins more pairs (0.1: 3705) but hands the
+// forearm's twist to skinning: a 150° pronation kept 0.73 of a forearm section (0.93 at 0.05
+// and without the limit; LBS 0.68), and from 0.07 a leg's crease at its keys turns the smooth
+// orientation curve's gain into a loss (cmu_01_03).
+constexpr float kHandoverReach = 0.05f;
 
 float smoothstep01(float x) {
   x = std::clamp(x, 0.0f, 1.0f);
