@@ -47,11 +47,11 @@ constexpr float kHeadHandoverLength = 1.0f;
 // the wrists' and the neck's plane pairs (0.12 of a short last link) and the painted weights
 // made steps of 0.2-0.6 across one edge, and those edges were most of the corpus gate's worse
 // (frame, region) pairs (wrists 913, neck and head 794 of 4768; issue 47). Corpus gate, every
-// body as is, mirrored and at 0.6x: 4768 -> 4204 worse pairs; every body's sum lower, no worst
-// limb or torso stretch higher. A longer reach wins more pairs (0.1: 3705) but hands the
-// forearm's twist to skinning: a 150° pronation kept 0.73 of a forearm section (0.93 at 0.05
-// and without the limit; LBS 0.68), and from 0.07 a leg's crease at its keys turns the smooth
-// orientation curve's gain into a loss (cmu_01_03).
+// body as is, mirrored and at 0.6x: 4768 -> 4204 worse pairs; each body's sum lower but the
+// RiggedFigure's (988, unchanged), no worst limb or torso stretch higher. A longer reach wins
+// more pairs (0.1: 3705) but hands the forearm's twist to skinning: a 150° pronation kept 0.73
+// of a forearm section (0.93 at 0.05 and without the limit; LBS 0.68), and from 0.07 a leg's
+// crease at its keys turns the smooth orientation curve's gain into a loss (cmu_01_03).
 constexpr float kHandoverReach = 0.05f;
 
 float smoothstep01(float x) {
