@@ -5,7 +5,6 @@
 #include <stdexcept>
 
 #include "cli/model_loading.h"
-#include "deform/binding/bind.h"
 #include "io/bvh/bvh_load.h"
 #include "io/json/joint_name_map_json.h"
 #include "io/json/pose_json.h"
@@ -14,6 +13,7 @@
 #include "motion/clip_sampling.h"
 #include "motion/own_skeleton_clip.h"
 #include "motion/retarget.h"
+#include "selfcheck/binding_self_check.h"
 
 namespace sweepd::cli {
 
@@ -83,9 +83,14 @@ PosedModel::PosedModel(const PosingArguments& arguments) : arguments_(arguments)
   if (arguments.model.extension() == ".sweepbind") {
     bound_ = std::make_unique<deform::BoundModel>(io::load_sweepbind(arguments.model));
   } else {
+    // Bound as sweepctl bind and sweepd bind it: adapted where the self-check finds a refit
+    // that wins (selfcheck::adapt_binding), so that check, pose, render and sheet show what
+    // a user's .sweepbind and the daemon deform with.
     const LoadedModel loaded = load_model_and_rig(arguments.model, arguments.rig);
     bound_ = std::make_unique<deform::BoundModel>(
-        deform::bind(loaded.model, loaded.rig, {.orientation_curve = arguments.orientation}));
+        selfcheck::bind_checked(loaded.model, loaded.rig,
+                                {.orientation_curve = arguments.orientation}, true)
+            .bound);
   }
   runtime_ = std::make_unique<deform::ModelRuntime>(*bound_);
   clip_ = clip_player(arguments, bound_->model);

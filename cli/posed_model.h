@@ -1,7 +1,8 @@
-// PosedModel: what sweepctl's posing commands (pose, render, positionmap, metrics) deform here —
-// a bound model from a .glb/.gltf (bound on the spot) or a .sweepbind file, posed from their
-// PosingArguments (cli/posing_arguments.h) with its deformation method; folding's pairs come
-// from the --collision backend (cli/local_collision.h). Its clip is a BVH or --clip-from's
+// PosedModel: what sweepctl's posing commands (pose, render, positionmap, metrics, check, sheet)
+// deform here — a bound model from a .glb/.gltf (bound on the spot as sweepctl bind binds it:
+// adapted) or a .sweepbind file, posed from their PosingArguments (cli/posing_arguments.h) with
+// its deformation method; folding's pairs come from the --collision backend
+// (cli/local_collision.h). Its clip is a BVH or --clip-from's
 // glTF animation retargeted (motion::Retargeter), or --clip's animation of the model's own
 // file played joint for joint (motion::OwnSkeletonClip); frames and times are sampled through
 // motion::sample_clip.

@@ -11,7 +11,8 @@ namespace sweepd::cli {
 CLI::Option* add_model_and_clip_flags(CLI::App& command, PosingArguments& out) {
   command
       .add_option("MODEL", out.model,
-                  "a rigged .glb/.gltf/.fbx/.dae (bound on the spot) or a .sweepbind file")
+                  "a rigged .glb/.gltf/.fbx/.dae (bound on the spot as bind binds it: adapted) or a "
+                  ".sweepbind file")
       ->type_name("")
       ->required();
   command.add_option("--rig", out.rig, "rig map override when binding a model file")

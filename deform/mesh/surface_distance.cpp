@@ -10,18 +10,26 @@ namespace sweepd::deform {
 
 std::vector<float> distance_along_edges(const VertexAdjacency& adjacency,
                                         const std::vector<bool>& is_source) {
-  const std::size_t n = adjacency.vertex_count();
-  if (is_source.size() != n)
+  if (is_source.size() != adjacency.vertex_count())
     throw std::invalid_argument("distance_along_edges: one source flag per vertex expected");
+  std::vector<float> start(is_source.size(), std::numeric_limits<float>::infinity());
+  for (std::size_t v = 0; v < start.size(); ++v)
+    if (is_source[v]) start[v] = 0.0f;
+  return distance_along_edges(adjacency, start);
+}
 
-  std::vector<float> distance(n, std::numeric_limits<float>::infinity());
+std::vector<float> distance_along_edges(const VertexAdjacency& adjacency,
+                                        std::span<const float> start) {
+  const std::size_t n = adjacency.vertex_count();
+  if (start.size() != n)
+    throw std::invalid_argument("distance_along_edges: one start distance per vertex expected");
+
+  std::vector<float> distance(start.begin(), start.end());
   using Entry = std::pair<float, std::uint32_t>;  // tentative distance, vertex
   std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
   for (std::size_t v = 0; v < n; ++v)
-    if (is_source[v]) {
-      distance[v] = 0.0f;
-      queue.push({0.0f, static_cast<std::uint32_t>(v)});
-    }
+    if (distance[v] < std::numeric_limits<float>::infinity())
+      queue.push({distance[v], static_cast<std::uint32_t>(v)});
   while (!queue.empty()) {
     const auto [d, v] = queue.top();
     queue.pop();

@@ -281,16 +281,17 @@ void ModelService::add_default_model() {
                                                       std::to_string(config_.mannequin_vertices));
   if (held_or_stored(content_id)) return;
   ModelRegistry::StoreSlot slot = registry_.claim("mannequin", content_id);
-  const auto started = std::chrono::steady_clock::now();
-  deform::Model model = mannequin::make_mannequin({.target_vertices = config_.mannequin_vertices});
-  deform::BoundModel bound = deform::bind(model, deform::detect_rig_map(model.skeleton));
-  const std::uint64_t bind_time_ns = nanoseconds_since(started);
-  // The mannequin checks itself too (its ModelInfo says so), timed apart: the start-up's cost.
-  const auto check_started = std::chrono::steady_clock::now();
-  SelfCheck checked = self_check(bound);
-  const std::uint64_t check_time_ns = nanoseconds_since(check_started);
-  const ModelHandle added = registry_.add(std::move(slot), "mannequin", std::move(bound),
-                                          bind_time_ns, std::move(checked));
+  const deform::Model model =
+      mannequin::make_mannequin({.target_vertices = config_.mannequin_vertices});
+  // Bound as an uploaded model is (and sweepctl bind binds): it checks itself and adapts where a
+  // refit wins (its ModelInfo says so); the self-check and adaptation timed apart: the
+  // start-up's cost.
+  selfcheck::CheckedBinding adapted =
+      selfcheck::bind_checked(model, deform::detect_rig_map(model.skeleton), {}, true);
+  const auto bind_time_ns = static_cast<std::uint64_t>(adapted.bind_seconds * 1e9);
+  const auto check_time_ns = static_cast<std::uint64_t>(adapted.check_seconds * 1e9);
+  const ModelHandle added = registry_.add(std::move(slot), "mannequin", std::move(adapted.bound),
+                                          bind_time_ns, self_check(adapted.verdict));
   log_event("model_loaded", {{"model", added->id},
                              {"content_id", added->content_id},
                              {"name", added->name},

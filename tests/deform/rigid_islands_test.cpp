@@ -46,7 +46,7 @@ std::vector<std::uint32_t> add_plate(Model& model, glm::vec3 centre, glm::vec3 h
   return ids;
 }
 
-class RigidIslands : public testing::Test {
+class RigidIslands : public ::testing::Test {
  protected:
   void SetUp() override {
     const BoundModel* male = test::shared_male();

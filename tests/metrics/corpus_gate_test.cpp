@@ -46,23 +46,22 @@ using deform::DeformMethod;
 constexpr int kClipStep = 100;
 
 // Worse (frame, region) pairs per body, summed over as is, mirrored and 0.6x and over the range
-// of motion's peaks and both clips, measured with the adapted binding at this stop (target: 0).
-// Bound without adapting, the same bodies measured the same here but the OpenPose body (488:
-// mirrored, adapted, 1 pair fewer on the range of motion and on cmu_01_03) and the 72k mannequin
-// (415: its neck refitted with one link key, 36 → 33 on the range of motion, 60 → 55 on
-// cmu_01_03, 38 → 39 on cmu_01_01: a head edge 1.0007x the 1.02 line at one frame). The
-// RiggedFigure, OpenPose and heavy male figures are above the last stop's (988, 479, 630) bound
-// either way: that ledger was measured on another machine (see the 2 % below).
+// of motion's peaks and both clips, measured with the adapted binding (target: 0). Lowered when
+// the skinned share's rise was limited along the surface (deform/blending/sweep_blending.h,
+// kHandoverReach): from male 465, RiggedFigure 991, child 659, heavy female 474, OpenPose 486,
+// heavy male 634, mannequins 263 / 391 / 408 (4771 in all) to the figures below (4207). The
+// RiggedFigure measures 988 here, with or without the limit: its entry stays at the last stop's
+// 991, within the 2 % below (another machine's rounding).
 const std::map<std::string, int> kLedger = {
-    {"makehuman_male_cmu", 465},
+    {"makehuman_male_cmu", 399},
     {"RiggedFigure", 991},
-    {"makehuman_child_mixamo_unity", 659},
-    {"makehuman_female_old_heavy_mixamo", 474},
-    {"makehuman_female_slim_openpose", 486},
-    {"makehuman_male_old_heavy_unreal", 634},
-    {"mannequin:6000", 263},
-    {"mannequin:20000", 391},
-    {"mannequin:72000", 408},
+    {"makehuman_child_mixamo_unity", 516},
+    {"makehuman_female_old_heavy_mixamo", 451},
+    {"makehuman_female_slim_openpose", 435},
+    {"makehuman_male_old_heavy_unreal", 531},
+    {"mannequin:6000", 233},
+    {"mannequin:20000", 309},
+    {"mannequin:72000", 342},
 };
 
 struct ClipCount {

@@ -174,8 +174,9 @@ TEST(ModelInfoBindWarnings, ARestartedDaemonsStoredModelCarriesThemToo) {
   }
 }
 
-// The default mannequin checks itself at start-up too: its ModelInfo says it was checked, with
-// the warnings the library gives for the same mannequin.
+// The default mannequin checks itself at start-up too, bound as an upload is (adapted): its
+// ModelInfo says it was checked, with the warnings the library gives for the same mannequin
+// bound so.
 TEST(ModelInfoBindWarnings, TheDefaultMannequinIsCheckedToo) {
   const ScratchDirectory directory("model_info_bind_warnings_mannequin");
   DaemonProcess daemon(directory, {"--mannequin-vertices", "1000"});
@@ -186,9 +187,8 @@ TEST(ModelInfoBindWarnings, TheDefaultMannequinIsCheckedToo) {
   ASSERT_NE(info, nullptr) << daemon.log();
   const Checked checked = read_check(*info);
   const deform::Model model = mannequin::make_mannequin({.target_vertices = 1000});
-  const deform::BoundModel bound = deform::bind(model, deform::detect_rig_map(model.skeleton));
   const selfcheck::BindingVerdict verdict =
-      selfcheck::check_binding(bound, selfcheck::range_of_motion_peaks(bound));
+      selfcheck::bind_checked(model, deform::detect_rig_map(model.skeleton), {}, true).verdict;
   EXPECT_EQ(checked.poses, verdict.pose_names.size());
   EXPECT_GT(checked.poses, 0u);
   EXPECT_EQ(texts(checked), selfcheck::self_check_warnings(verdict));

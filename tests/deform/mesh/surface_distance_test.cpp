@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace sweepd::deform {
@@ -58,6 +59,26 @@ TEST(SurfaceDistance, FollowsTheShortestEdgePathFromTheNearestSource) {
   EXPECT_NEAR(both[2 * 3], 1.0f, 1e-5f);
   EXPECT_NEAR(both[2 * 2], 2.0f, 1e-5f);
   EXPECT_NEAR(both[2 * 4], 0.0f, 0.0f);
+}
+
+TEST(SurfaceDistance, FromStartDistancesTakesTheLeastStartPlusPath) {
+  const Strip s = strip(4);
+  const float inf = std::numeric_limits<float>::infinity();
+  std::vector<float> start(s.positions.size(), inf);
+  start[0] = 3.0f;    // (0,0), starting 3 away
+  start[2 * 4] = 0.5f;  // (4,0), starting 0.5 away
+  const std::vector<float> d = distance_along_edges(vertex_adjacency(s.positions, s.indices), start);
+  // Along the bottom row (i,0) is i from (0,0) and 4 - i from (4,0): min(3 + i, 0.5 + 4 - i).
+  // (0,0) keeps its own 3 (through (4,0): 4.5). 1e-5: float sums of a few unit lengths.
+  for (int i = 0; i <= 4; ++i)
+    EXPECT_NEAR(d[2 * i], std::min(3.0f + float(i), 4.5f - float(i)), 1e-5f) << "bottom " << i;
+  // A vertex's own start is a path of length 0; one left at +infinity is reached by paths.
+  EXPECT_NEAR(d[2 * 4 + 1], 1.5f, 1e-5f);  // (4,1): up from (4,0)
+  for (std::size_t v = s.positions.size() - 3; v < s.positions.size(); ++v)
+    EXPECT_TRUE(std::isinf(d[v])) << v;
+  EXPECT_THROW(distance_along_edges(vertex_adjacency(s.positions, s.indices),
+                                    std::vector<float>(3, 0.0f)),
+               std::invalid_argument);
 }
 
 TEST(SurfaceDistance, RefusesMismatchedInput) {
