@@ -6,10 +6,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <map>
 #include <string>
 
+#include "deform/rig/rig_naming.h"
 #include "io/gltf/gltf_load.h"
 #include "tests/test_paths.h"
 
@@ -113,6 +115,37 @@ TEST(HumanBodyBones, AJointNamedAsABoneTheRolesGaveIsNotDrivenTwice) {
   for (int joint : bones)
     if (joint >= 0) ++drives[joint];
   for (const auto& [joint, count] : drives) EXPECT_EQ(count, 1) << skeleton.joints[joint].name;
+}
+
+// The class, not one file: on every body of the shared data (the corpus, the shared male, the
+// RiggedFigure) each joint with a role in its rig map is reached by a bone, but hip links (no
+// HumanBodyBones bone is one), and each torso joint up to UpperChest's.
+TEST(HumanBodyBones, EveryRoleOfEveryShippedBodyIsReached) {
+  std::vector<fs::path> bodies = {"makehuman_male_cmu.glb", "RiggedFigure/RiggedFigure.gltf"};
+  const fs::path corpus = fs::path(SWEEPD_SHARED_DATA) / "models/corpus";
+  if (!fs::exists(corpus)) GTEST_SKIP() << "no shared data";
+  for (const auto& entry : fs::directory_iterator(corpus))
+    bodies.push_back(fs::relative(entry.path(), corpus.parent_path()));
+  for (const fs::path& body : bodies) {
+    const Skeleton skeleton = skeleton_of(body.string());
+    ASSERT_FALSE(skeleton.joints.empty()) << body;
+    const RigMap map = detect_rig_map(skeleton);
+    const auto bones = map_human_body_bones(skeleton, map);
+    const std::vector<int> at_rest = joints_without_human_body_bone(skeleton, bones);
+    const auto reached = [&](int joint) { return std::ranges::find(at_rest, joint) == at_rest.end(); };
+    const std::array<int, kRigRoleCount> roles = rig_roles(map);
+    for (int role = 0; role < kRigRoleCount; ++role) {
+      const bool hip_link = role == 6 || role == 15;  // rig_roles' order: leg.hip per side
+      if (roles[role] < 0 || hip_link) continue;
+      EXPECT_TRUE(reached(roles[role])) << body << ": " << skeleton.joints[roles[role]].name;
+    }
+    for (std::size_t i = 0; i < map.torso.chain.size() && i < 4; ++i)
+      EXPECT_TRUE(reached(map.torso.chain[i])) << body << ": " << skeleton.joints[map.torso.chain[i]].name;
+    std::string names;
+    for (int joint : at_rest) names += " " + skeleton.joints[joint].name;
+    std::printf("%s: %zu of %d joints reached; at rest:%s\n", body.string().c_str(),
+                skeleton.joints.size() - at_rest.size(), skeleton.size(), names.c_str());
+  }
 }
 
 }  // namespace
