@@ -66,7 +66,8 @@ void handle_subscribe_stream(const pb::Message& message, RequestSession& session
                           const ModelHandle& posed_model, const deform::Pose& frame_pose,
                           std::uint64_t frame) {
     const std::shared_ptr<RequestSession> subscriber = weak.lock();
-    if (!subscriber) return false;
+    // Gone, or closing: a frame queued now would keep a draining connection open.
+    if (!subscriber || subscriber->draining()) return false;
     PoseRequest request = frame_request;
     request.model = posed_model;
     request.pose = frame_pose;

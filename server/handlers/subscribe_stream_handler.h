@@ -7,7 +7,8 @@
 // no pose, a pose carrying rotations, a root translation or a method, feature or output the
 // server refuses) or UnknownModel (the stream's model is not held: load it first). Each frame's
 // pose is checked as a client's is (rotations normalised); a frame that fails is answered with
-// that pose's Error.
+// that pose's Error. The subscription ends with its connection, and once the connection drains
+// (Bye, shutdown).
 #pragma once
 
 #include "protocol/sweepd_generated.h"

@@ -78,6 +78,7 @@ class RecordingSession final : public RequestSession {
   void drain() override { drained = true; }
   pb::PoseDelivery delivery() const override { return pb::PoseDelivery::InOrder; }
   std::weak_ptr<RequestSession> weak_session() override { return {}; }
+  bool draining() const override { return drained; }
   bool unix_socket() override { return on_unix_socket; }
   const SharedRegion* shared_region() const override { return region.get(); }
   void send_region(std::shared_ptr<const SharedRegion>, flatbuffers::FlatBufferBuilder) override {
