@@ -16,9 +16,12 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <random>
+#include <thread>
 
 #include "client/clip_upload.h"
 #include "client/connection.h"
@@ -261,6 +264,48 @@ TEST_F(DaemonVmc, SubscriptionsTheServerCannotServeAreRefusedNamingWhy) {
   for (int wait = 0; wait < 100 && metric(metrics(), "sweepd_vmc_frames_total") < 1.0; ++wait)
     usleep(20000);
   EXPECT_EQ(metric(metrics(), "sweepd_vmc_frames_without_model_total"), 1.0);
+}
+
+// Bye ends a subscription while its stream goes on: the daemon answers the frames it holds and
+// closes, instead of queueing the next frame into a connection that is closing (a sender faster
+// than the deformation of a 10k mannequin would otherwise hold it open for as long as it sends).
+TEST(DaemonVmcSubscription, ByeEndsItWhileTheStreamGoesOn) {
+  ScratchDirectory directory("vmc_bye");
+  DaemonProcess daemon(directory.path(), {"--vmc-listen", "127.0.0.1:0", "--vmc-port-file",
+                                          (directory / "vmc_port").string(),
+                                          "--mannequin-vertices", "10000"});
+  ASSERT_TRUE(daemon.running()) << daemon.log();
+  const std::string vmc_port = std::to_string(std::stoi(read_text(directory / "vmc_port")));
+  std::atomic<bool> stop{false};
+  std::thread sender([&] {
+    lo_address to = lo_address_new("127.0.0.1", vmc_port.c_str());
+    while (!stop) {
+      lo_send(to, "/VMC/Ext/T", "f", 1.0f);
+      std::this_thread::sleep_for(std::chrono::microseconds(200));
+    }
+    lo_address_free(to);
+  });
+  FrameClient client(daemon.port());
+  ASSERT_NE(client.hello("", pb::PoseDelivery::LatestWins), nullptr);
+  flatbuffers::FlatBufferBuilder builder;
+  const auto pose = pb::add_pose(builder, pb::PoseFields{});
+  client.send_bytes(pb::finish_message(
+      builder, pb::CreateSubscribeStream(builder, builder.CreateString("mannequin"), pose), 5));
+  EXPECT_NE(client.receive_as<pb::StreamSubscribed>(), nullptr);
+  EXPECT_NE(client.receive_as<pb::PosedVertices>(), nullptr) << "the stream's frames come";
+  builder.Clear();
+  client.send_bytes(pb::finish_message(builder, pb::CreateByeDirect(builder, "done")));
+  int frames_after_bye = 0;
+  while (const pb::Message* message = client.receive()) {
+    EXPECT_EQ(message->body_type(), pb::Body::PosedVertices);
+    if (++frames_after_bye > 50) break;
+  }
+  stop = true;
+  sender.join();
+  // Frames the server wrote before it read the Bye (at most --max-poses-in-flight, 8, unread
+  // replies), the one being deformed and the one waiting; a connection kept open by the stream
+  // sends on until the loop stops at 51.
+  EXPECT_LE(frames_after_bye, 10);
 }
 
 TEST(DaemonVmcFlags, AVmcReceiverOnATakenPortIsAStartUpErrorNamingIt) {
