@@ -22,6 +22,7 @@ packages=(
   curl prometheus  # tests/server/daemon_http_side_port_test.cpp: curl, promtool, a real scrape
   libwebsocketpp-dev  # sweepd's WebSocket listener (--ws-listen, server/transport/websocket_session.h); header-only
   libsystemd-dev  # sd_notify for the Type=notify unit (server/systemd_notifier.h)
+  liblo-dev liblo-tools  # the VMC receiver's OSC messages (server/services/vmc/osc_packet.h, found by pkg-config); oscsend in tests/server/daemon_vmc_test.cpp
   python3-numpy python3-venv python3-setuptools python3-pip  # client_examples/python (sweepd-client), pip-installed offline in tests/server/python_package_test.cpp
   ffmpeg  # sweepctl sheet --video pipes its frames to ffmpeg (cli/video_encoder.h)
   libassimp-dev  # FBX and COLLADA models (io/assimp/assimp_load.h): sweepctl MODEL files, tests/io/assimp/assimp_load_test

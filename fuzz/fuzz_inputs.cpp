@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <cstring>
 #include <exception>
 #include <filesystem>
 #include <fstream>
@@ -12,6 +13,7 @@
 #include "deform/binding/bind.h"
 #include "deform/edits/rest_key_edit.h"
 #include "deform/job/deform_job.h"
+#include "deform/rig/human_body_bones.h"
 #include "deform/rig/rig_map.h"
 #include "io/assimp/assimp_clip_load.h"
 #include "io/assimp/assimp_load.h"
@@ -32,6 +34,8 @@
 #include "server/models/clip_store.h"
 #include "server/services/contact_sheet_service.h"
 #include "server/services/position_map_service.h"
+#include "server/services/vmc/osc_packet.h"
+#include "server/services/vmc/vmc_stream.h"
 
 namespace sweepd::fuzz {
 namespace {
@@ -250,6 +254,24 @@ bool fuzz_json(std::span<const std::uint8_t> bytes) {
       }
     }
   });
+}
+
+bool fuzz_vmc(std::span<const std::uint8_t> bytes) {
+  std::vector<std::byte> datagram(bytes.size());
+  std::memcpy(datagram.data(), bytes.data(), bytes.size());
+  const std::optional<server::OscPacket> packet = server::read_osc_packet(datagram);
+  if (!packet) return false;
+  server::VmcStream stream;
+  server::VmcCounters counters;
+  stream.apply(*packet, counters);
+  const deform::BoundModel& bound = model()->bound;
+  server::PoseRequest request;
+  request.model = model();
+  request.pose = stream.pose_for(bound.model.skeleton,
+                                 deform::map_human_body_bones(bound.model.skeleton, bound.rig));
+  if (const deform::JobProblem problem = request.job(0, {}, {}).validate()) return false;
+  deform(request);
+  return counters.dropped_messages == 0;
 }
 
 }  // namespace sweepd::fuzz

@@ -10,6 +10,9 @@
 //   fuzz_sweepbind       io::decode_sweepbind
 //   fuzz_json            the first byte picks the JSON input: rig map, pose, key-ellipse edits,
 //                        joint-name map, sweepd's config file
+//   fuzz_vmc             one VMC datagram (--vmc-listen): server::read_osc_packet (liblo), its
+//                        messages applied to a VMC stream, the pose it gives the mannequin
+//                        validated and deformed as a subscriber's frame is
 // Each returns true when the input was accepted whole, false when it was refused cleanly (a
 // std::exception naming the problem: the expected outcome for bad input); anything else — a
 // crash, a sanitizer report, an exception the callers would not catch — is a finding.
@@ -32,5 +35,6 @@ bool fuzz_fbx(std::span<const std::uint8_t> bytes);
 bool fuzz_bvh(std::span<const std::uint8_t> bytes);
 bool fuzz_sweepbind(std::span<const std::uint8_t> bytes);
 bool fuzz_json(std::span<const std::uint8_t> bytes);
+bool fuzz_vmc(std::span<const std::uint8_t> bytes);
 
 }  // namespace sweepd::fuzz

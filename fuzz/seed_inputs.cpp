@@ -1,5 +1,7 @@
 #include "fuzz/seed_inputs.h"
 
+#include <lo/lo.h>
+
 #include <unistd.h>
 
 #include <filesystem>
@@ -158,6 +160,31 @@ std::string bvh_of(const deform::Skeleton& skeleton) {
 
 }  // namespace
 
+// A VMC sender's frame as liblo writes it: the root, two bones (Unity's frame), then OK and T.
+Input vmc_frame() {
+  lo_bundle bundle = lo_bundle_new(LO_TT_IMMEDIATE);
+  const auto transform = [](const char* name, float turn) {
+    lo_message message = lo_message_new();
+    lo_message_add_string(message, name);
+    for (const float value : {0.0f, 0.9f, 0.0f, 0.0f, 0.0f, turn, 1.0f}) lo_message_add_float(message, value);
+    return message;
+  };
+  lo_bundle_add_message(bundle, "/VMC/Ext/Root/Pos", transform("root", 0.0f));
+  lo_bundle_add_message(bundle, "/VMC/Ext/Bone/Pos", transform("Hips", 0.1f));
+  lo_bundle_add_message(bundle, "/VMC/Ext/Bone/Pos", transform("LeftUpperArm", 0.5f));
+  lo_message ok = lo_message_new();
+  lo_message_add_int32(ok, 1);
+  lo_bundle_add_message(bundle, "/VMC/Ext/OK", ok);
+  lo_message time = lo_message_new();
+  lo_message_add_float(time, 0.5f);
+  lo_bundle_add_message(bundle, "/VMC/Ext/T", time);
+  std::size_t size = lo_bundle_length(bundle);
+  Input bytes(size);
+  lo_bundle_serialise(bundle, bytes.data(), &size);
+  lo_bundle_free_recursive(bundle);
+  return bytes;
+}
+
 std::map<std::string, std::vector<Input>> seed_inputs() {
   const deform::Model model = mannequin::make_mannequin({.target_vertices = 2000});
   const deform::RigMap rig = deform::detect_rig_map(model.skeleton);
@@ -204,6 +231,7 @@ std::map<std::string, std::vector<Input>> seed_inputs() {
                      "scale": [1.0, 1.1]}]}]})"),
       json_input(3, R"({"LFingers": "LeftHand", "Head": null})"),
       json_input(4, R"({"port": 7000, "max_models": 4, "token": "t"})")};
+  seeds["vmc"] = {vmc_frame()};
   fs::remove_all(directory);
   return seeds;
 }

@@ -1,6 +1,7 @@
 #include "server/config.h"
 
 #include <asio/ip/address.hpp>
+#include <algorithm>
 #include <charconv>
 #include <fstream>
 #include <functional>
@@ -65,6 +66,31 @@ Setting address_and_port_setting(const char* key, std::string ServerConfig::*add
           }};
 }
 
+// "ADDR", "ADDR:PORT", "[V6ADDR]" or "[V6ADDR]:PORT" (a bare V6ADDR has no port) into `address`
+// and `port`; `default_port` where none is given.
+Setting address_and_optional_port_setting(const char* key, std::string ServerConfig::*address_field,
+                                          int ServerConfig::*port_field, int default_port) {
+  return {key, [address_field, port_field, default_port](
+                   ServerConfig& config, const std::string& value, const std::string& where) {
+            std::string address = value;
+            std::string port;
+            if (!value.empty() && value.front() == '[') {
+              const std::size_t close = value.find(']');
+              if (close == std::string::npos || (close + 1 < value.size() && value[close + 1] != ':'))
+                throw ConfigError(where + ": '" + value + "' is not ADDR[:PORT]");
+              address = value.substr(1, close - 1);
+              if (close + 1 < value.size()) port = value.substr(close + 2);
+            } else if (std::count(value.begin(), value.end(), ':') == 1) {
+              address = value.substr(0, value.find(':'));
+              port = value.substr(value.find(':') + 1);
+            }
+            if (address.empty()) throw ConfigError(where + ": '" + value + "' names no address");
+            config.*address_field = address;
+            config.*port_field = port.empty() ? default_port
+                                              : static_cast<int>(parse_integer(port, where, 0, 65535));
+          }};
+}
+
 // A comma-separated list, added to what earlier flags or the file gave.
 Setting list_setting(const char* key, std::vector<std::string> ServerConfig::*field) {
   return {key, [field](ServerConfig& config, const std::string& value, const std::string&) {
@@ -98,6 +124,10 @@ const std::vector<Setting>& settings() {
       address_and_port_setting("ws_listen", &ServerConfig::ws_address, &ServerConfig::ws_port),
       text_setting("ws_port_file", &ServerConfig::ws_port_file),
       list_setting("ws_allowed_origin", &ServerConfig::ws_allowed_origins),
+      address_and_optional_port_setting("vmc_listen", &ServerConfig::vmc_address,
+                                        &ServerConfig::vmc_port, 39539),
+      text_setting("vmc_port_file", &ServerConfig::vmc_port_file),
+      text_setting("vmc_model", &ServerConfig::vmc_model),
       text_setting("model_dir", &ServerConfig::model_dir),
       text_setting("store_dir", &ServerConfig::store_dir),
       text_setting("token", &ServerConfig::token),
@@ -296,6 +326,13 @@ Flags (each also a key of the JSON config file, with '_' for '-'):
   --ws-allowed-origin LIST  browser Origins (scheme://host[:port], comma-separated, or *) that
                             may connect; repeatable. Default: requests without Origin (not a
                             browser) and pages served by the host the request names
+  --vmc-listen ADDR[:PORT]  receive VMC pose streams (OSC 1.0 over UDP, protocol.vmc.info):
+                            their bones pose the model --vmc-model names, whose posed meshes
+                            go to SubscribeStream's subscribers; PORT 0 picks a free one
+                            ([V6ADDR]:PORT for IPv6; default port 39539; default: off)
+  --vmc-port-file FILE      write the bound VMC port to FILE once listening
+  --vmc-model NAME          the held model VMC streams pose, and the stream's name
+                            (default mannequin)
   --model-dir DIR           .glb/.gltf files clients may load by name
   --store-dir DIR           where bound models are kept (default ./sweepd-store)
   --token TOKEN             shared token clients must send in Hello (default: none)

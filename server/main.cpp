@@ -140,9 +140,10 @@ int main(int argc, char** argv) {
       });
     }
     const int port = server->open();
-    // The WebSocket port first: whoever waits for the port file finds both.
+    // The WebSocket and VMC ports first: whoever waits for the port file finds them all.
     if (!config.ws_port_file.empty())
       write_port_file(config.ws_port_file, server->websocket_port());
+    if (!config.vmc_port_file.empty()) write_port_file(config.vmc_port_file, server->vmc_port());
     if (!config.port_file.empty()) write_port_file(config.port_file, port);
     std::printf("sweepd listening port=%d\n", port);
     std::fflush(stdout);

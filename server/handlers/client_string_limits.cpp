@@ -134,6 +134,10 @@ std::optional<RequestError> find_overlong_string(const pb::Message& message) {
       bounds.check("ContactSheetRequest.focus", request->focus(), kMaxNameBytes);
       break;
     }
+    case pb::Body::SubscribeStream:
+      bounds.check("SubscribeStream.stream", message.body_as_SubscribeStream()->stream(),
+                   kMaxNameBytes);
+      break;
     default:
       break;
   }

@@ -11,6 +11,10 @@
 // run_in_order(pool, work): `work` runs on `pool`; the connection reads no further request
 //   until the Reply it returns has run on the I/O thread, so replies stay in request order.
 // drain: Bye — finish and answer what was received, then close.
+// delivery: the pose delivery the client chose in Hello. weak_session: this session, held
+//   weakly, for work that outlives the request (a stream's subscription, 1.15): it locks to
+//   null once the connection is gone. draining: Bye, a fatal error or shutdown has begun: the
+//   connection takes no new work (a subscription stops queueing frames, so that it closes).
 // shared_region / send_region (1.10): the connection's shared memory region, and the reply
 //   that carries a newly made one's descriptor (a Unix socket only: unix_socket()).
 #pragma once
@@ -45,6 +49,9 @@ class RequestSession {
                           std::uint64_t request_id) = 0;
   virtual void run_in_order(Pool pool, std::function<Reply()> work) = 0;
   virtual void drain() = 0;
+  virtual protocol::PoseDelivery delivery() const = 0;
+  virtual std::weak_ptr<RequestSession> weak_session() = 0;
+  virtual bool draining() const = 0;
   virtual bool unix_socket() = 0;
   virtual const SharedRegion* shared_region() const = 0;
   virtual void send_region(std::shared_ptr<const SharedRegion> region,

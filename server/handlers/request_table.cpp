@@ -13,6 +13,7 @@
 #include "server/handlers/pose_handler.h"
 #include "server/handlers/position_map_request_handler.h"
 #include "server/handlers/stats_request_handler.h"
+#include "server/handlers/subscribe_stream_handler.h"
 #include "server/handlers/upload_clip_handler.h"
 
 namespace sweepd::server {
@@ -38,6 +39,7 @@ constexpr Registration kRequests[] = {
     {pb::Body::UploadClip, handle_upload_clip},
     {pb::Body::ContactSheetRequest, handle_contact_sheet_request},
     {pb::Body::MapSharedMemory, handle_map_shared_memory},
+    {pb::Body::SubscribeStream, handle_subscribe_stream},
     {pb::Body::StatsRequest, handle_stats_request},
     {pb::Body::Hello, handle_hello},
     {pb::Body::Bye, handle_bye},

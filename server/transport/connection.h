@@ -93,6 +93,9 @@ class Connection final : public std::enable_shared_from_this<Connection>, public
                   std::uint64_t request_id) override;
   void run_in_order(Pool pool, std::function<Reply()> work) override;
   void drain() override;  // stop taking work; close once in-flight work is answered
+  protocol::PoseDelivery delivery() const override { return delivery_; }
+  std::weak_ptr<RequestSession> weak_session() override { return shared_from_this(); }
+  bool draining() const override { return draining_; }
   bool unix_socket() override { return stream_.unix_socket(); }
   const SharedRegion* shared_region() const override { return shared_region_.get(); }
   void send_region(std::shared_ptr<const SharedRegion> region,

@@ -58,6 +58,11 @@ Server::Server(const ServerConfig& config, ModelService& models, Readiness& read
                    buffer_budget_,
                    builders_,
                    {}} {
+  if (config.vmc_port >= 0) {
+    vmc_ = std::make_unique<VmcReceiver>(io_, models, config.vmc_address, config.vmc_port,
+                                         config.vmc_model);
+    environment_.vmc = vmc_.get();
+  }
   // Position maps' EXR compression runs on OpenEXR's process-wide pool: one thread per worker,
   // so that a ZIP frame is compressed in parallel scan-line blocks instead of on one core.
   io::set_exr_threads(static_cast<int>(worker_count(config)));
@@ -114,6 +119,13 @@ int Server::open() {
                             {"tls", tls_.has_value()},
                             {"allowed_origins", config_.ws_allowed_origins}});
     accept_next(*websocket_acceptor_);
+  }
+  if (vmc_) {
+    vmc_port_ = vmc_->open();
+    log_event("listening", {{"address", config_.vmc_address},
+                            {"vmc_port", vmc_port_},
+                            {"stream", vmc_->stream_name()}});
+    vmc_->start();
   }
   if (!config_.unix_socket.empty()) {
     std::error_code ignored;
@@ -209,6 +221,7 @@ void Server::begin_shutdown(const char* reason) {
   if (tcp_acceptor_) tcp_acceptor_->close(ignored);
   if (websocket_acceptor_) websocket_acceptor_->close(ignored);
   if (unix_acceptor_) unix_acceptor_->close(ignored);
+  if (vmc_) vmc_->close();
   // Copy: a connection that closes at once removes itself from the map (deferred anyway).
   const auto connections = connections_;
   for (const auto& [id, connection] : connections) connection->shut_down();
@@ -238,6 +251,7 @@ ServerSnapshot Server::gather_snapshot() const {
   snapshot.websocket_connections_accepted = websocket_connections_accepted_;
   snapshot.buffered_bytes = buffer_budget_.used();
   snapshot.collision = environment_.collision.snapshot();
+  if (vmc_) snapshot.vmc = vmc_->snapshot();
   for (const ModelHandle& model : environment_.models.models()) {
     ModelSnapshot& entry = snapshot.models.emplace_back();
     entry.id = model->id;

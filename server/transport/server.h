@@ -5,7 +5,8 @@
 //   thread, for position maps) and `collision` (the collision backend) outlive the server.
 // open(): binds the TCP listener (config.listen_address:port; port 0 picks a free one), the
 //   WebSocket listener (config.ws_address:ws_port; TLS like the TCP one) and the Unix-socket
-//   listener (config.unix_socket, a stale socket file is replaced; always plain). Throws
+//   listener (config.unix_socket, a stale socket file is replaced; always plain) and the VMC
+//   receiver's UDP socket (config.vmc_address:vmc_port, server/services/vmc/vmc_receiver.h). Throws
 //   std::runtime_error naming the address and the reason. Returns the bound TCP port (0 with
 //   no TCP listener); websocket_port() the bound WebSocket port (0: none).
 // run(): serves until SIGTERM/SIGINT, then stops accepting, lets every
@@ -49,6 +50,7 @@ class Server {
 
   int open();
   int websocket_port() const { return websocket_port_; }
+  int vmc_port() const { return vmc_port_; }  // 0: no VMC receiver
   void run();
   std::optional<ServerSnapshot> snapshot(std::chrono::milliseconds timeout);
 
@@ -81,6 +83,8 @@ class Server {
   std::optional<asio::ip::tcp::acceptor> websocket_acceptor_;
   int websocket_port_ = 0;
   std::optional<asio::local::stream_protocol::acceptor> unix_acceptor_;
+  std::unique_ptr<VmcReceiver> vmc_;  // null without --vmc-listen
+  int vmc_port_ = 0;
   ConnectionEnvironment environment_;
   std::map<std::uint64_t, std::shared_ptr<Connection>> connections_;
   std::uint64_t next_connection_id_ = 1;

@@ -4,10 +4,12 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "server/services/collision_service.h"
+#include "server/services/vmc/vmc_receiver.h"
 #include "server/transport/traffic_counters.h"
 
 namespace sweepd::server {
@@ -31,6 +33,7 @@ struct ServerSnapshot {
   std::uint64_t store_bytes = 0;     // the store directory's files (ModelService::store_bytes)
   std::vector<ModelSnapshot> models;
   CollisionSnapshot collision;  // the collision backend and its GPU fallbacks
+  std::optional<VmcSnapshot> vmc;  // the VMC receiver's counters (--vmc-listen); none: off
 };
 
 }  // namespace sweepd::server

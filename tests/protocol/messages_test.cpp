@@ -388,6 +388,29 @@ std::vector<Sample> one_of_each_body() {
          EXPECT_EQ(sheet->worst_stretch()->Get(1), 1.25f);
          EXPECT_EQ(sheet->renderer()->str(), "gl");
        }},
+      {Body::SubscribeStream,
+       [](FlatBufferBuilder& b) {
+         PoseFields fields;
+         fields.method = DeformMethod::Dqs;
+         fields.normals = true;
+         const auto pose = add_pose(b, fields);
+         return finish_message(b, CreateSubscribeStream(b, b.CreateString("mannequin"), pose), 18);
+       },
+       [](const Message& m) {
+         const SubscribeStream* request = m.body_as_SubscribeStream();
+         EXPECT_EQ(request->stream()->str(), "mannequin");
+         EXPECT_EQ(request->pose()->method(), DeformMethod::Dqs);
+         EXPECT_TRUE(request->pose()->normals());
+       }},
+      {Body::StreamSubscribed,
+       [](FlatBufferBuilder& b) {
+         return finish_message(b, CreateStreamSubscribed(b, b.CreateString("mannequin"), 7), 18);
+       },
+       [](const Message& m) {
+         EXPECT_EQ(m.body_as_StreamSubscribed()->stream()->str(), "mannequin");
+         EXPECT_EQ(m.body_as_StreamSubscribed()->model_id(), 7u);
+         EXPECT_EQ(m.request_id(), 18u);
+       }},
   };
 }
 

@@ -161,6 +161,28 @@ TEST(ServerConfig, WebSocketListenerIsOffByDefaultAndKeepsTheTokenOffPlainNetwor
   EXPECT_EQ(error_of({"--ws-listen", "127.0.0.1:7879", "--token", "t"}), "");
 }
 
+TEST(ServerConfig, VmcReceiverIsOffByDefaultAndTakesAnAddressWithOrWithoutAPort) {
+  EXPECT_EQ(parse({}).vmc_port, -1);
+  EXPECT_EQ(parse({}).vmc_model, "mannequin");
+  const auto listens = [](std::string_view value) {
+    const server::ServerConfig config = parse({"--vmc-listen", value});
+    return config.vmc_address + " " + std::to_string(config.vmc_port);
+  };
+  EXPECT_EQ(listens("127.0.0.1"), "127.0.0.1 39539") << "VMC's receiver port when left out";
+  EXPECT_EQ(listens("0.0.0.0:0"), "0.0.0.0 0");
+  EXPECT_EQ(listens("[::1]:40000"), "::1 40000");
+  EXPECT_EQ(listens("[::1]"), "::1 39539");
+  EXPECT_EQ(listens("::1"), "::1 39539") << "a bare IPv6 address has no port";
+  const server::ServerConfig config =
+      parse({"--vmc-listen", "127.0.0.1", "--vmc-port-file", "vmc_port", "--vmc-model", "body"});
+  EXPECT_EQ(config.vmc_port_file, "vmc_port");
+  EXPECT_EQ(config.vmc_model, "body");
+  EXPECT_EQ(error_of({"--vmc-listen", "127.0.0.1:70000"}),
+            "--vmc-listen: 70000 is out of range [0, 65535]");
+  EXPECT_EQ(error_of({"--vmc-listen", ":39539"}), "--vmc-listen: ':39539' names no address");
+  EXPECT_EQ(error_of({"--vmc-listen", "[::1]39539"}), "--vmc-listen: '[::1]39539' is not ADDR[:PORT]");
+}
+
 TEST(ServerConfig, TlsFlagsGoTogetherAndAreConfigKeys) {
   EXPECT_NE(error_of({"--tls-cert", "c.pem"}).find("--tls-cert: needs --tls-key"),
             std::string::npos);

@@ -2,7 +2,7 @@
 tests/server/python_package_test.cpp from a fresh venv, outside the source tree).
 
   python_package_check.py PORT TOKEN BODY.glb ROTATIONS.f32 OUT_DIR OTHER_PORT CLIP.bvh
-                          ANIMATED.glb UNIX_SOCKET
+                          ANIMATED.glb UNIX_SOCKET VMC_PORT
 
 Uploads BODY.glb (also with the smooth orientation curve), poses it with ROTATIONS (float32 x, y, z, w per joint) and writes
 OUT_DIR/positions.f32, OUT_DIR/map.exr and (protocol 1.14) the binding's self-check warnings,
@@ -25,6 +25,9 @@ poses and clip frames as the blocking Client, bit for bit, and raises the same e
 On UNIX_SOCKET (the same daemon's) replies in shared memory (protocol 1.10) equal the TCP
 replies bit for bit, single, streamed and clip frames, and the refusals are named. A contact
 sheet (protocol 1.11) of a close-up with the heat map is written as OUT_DIR/sheet.png.
+A VMC stream (protocol 1.15: the daemon's --vmc-listen on VMC_PORT, sent by liblo-tools'
+oscsend) is subscribed to with stream(): its frame of one Bone/Pos equals pose_by_name of the
+same rotation mirrored from Unity's frame, and stream() without latest_wins is refused.
 Prints "ok" and exits 0, or names the failed check and exits 1.
 """
 
@@ -33,6 +36,7 @@ import os
 import socket
 import subprocess
 import sys
+import threading
 
 import numpy as np
 import sweepd_client
@@ -131,8 +135,41 @@ def check_shared_memory(unix_socket, port, token, body, rotations, posed, clip, 
         expect_error(errors.NotAvailable, lambda: tcp.map_shared_memory(slot))
 
 
+def check_vmc_stream(port, token, vmc_port):
+    """A Bone/Pos of LeftUpperArm (Unity's frame), then T, sent until the subscriber has a frame:
+    the mannequin's stream frame is its LeftArm turned by the mirrored rotation, the rest at rest:
+    pose_by_name's pose. 0.6, 0.8 about z in Unity is -0.6, 0.8 in glTF (docs/vmc.md)."""
+    got_frame = threading.Event()
+
+    def send():
+        for _ in range(100):
+            if got_frame.is_set():
+                return
+            subprocess.run(["oscsend", "127.0.0.1", vmc_port, "/VMC/Ext/Bone/Pos", "sfffffff",
+                            "LeftUpperArm", "0", "0", "0", "0", "0", "0.6", "0.8"], check=True)
+            subprocess.run(["oscsend", "127.0.0.1", vmc_port, "/VMC/Ext/T", "f", "1"], check=True)
+            got_frame.wait(0.2)
+
+    sender = threading.Thread(target=send)
+    sender.start()
+    try:
+        with Client("127.0.0.1", int(port), token=token, latest_wins=True, timeout=60) as sweepd:
+            streamed = next(iter(sweepd.stream("mannequin")))
+            got_frame.set()
+            expected = sweepd.pose_by_name("mannequin", {"LeftArm": (0.0, 0.0, -0.6, 0.8)})
+            check(np.abs(streamed.positions - expected.positions).max() <= 1e-5,
+                  "the stream's frame is pose_by_name's pose")
+            rest = sweepd.pose("mannequin")
+            check(np.abs(streamed.positions - rest.positions).max() > 0.05, "the arm moved")
+    finally:
+        got_frame.set()
+        sender.join()
+    with Client("127.0.0.1", int(port), token=token) as sweepd:
+        expect_error(errors.InvalidArgument, lambda: next(iter(sweepd.stream("mannequin"))))
+
+
 def main(port, token, glb, rotations_file, out, other_port, clip_file, animated_file,
-         unix_socket):
+         unix_socket, vmc_port):
     check("site-packages" in sweepd_client.__file__, f"imported from {sweepd_client.__file__}")
     with Client("127.0.0.1", int(port), token=token, timeout=60) as sweepd:
         check(any(m.name == "mannequin" for m in sweepd.models()), "the default model is listed")
@@ -329,6 +366,7 @@ def main(port, token, glb, rotations_file, out, other_port, clip_file, animated_
         check(np.array_equal(sweepd.pose(other, clip=rom, frame=15).positions,
                              rom_peak.positions), "the range of motion asked for there again")
 
+    check_vmc_stream(port, token, vmc_port)
     expect_error(errors.AuthFailed, lambda: Client("127.0.0.1", int(port), token="wrong"))
     silent = socket.socket()
     silent.bind(("127.0.0.1", 0))

@@ -75,7 +75,9 @@ TEST(PythonPackage, InstallsOfflineIntoAVenvAndPosesLikeTheLibrary) {
   io::testing::write_baked_gltf(body, io::testing::bake_cmu_clip(body, 6), animated);
   const fs::path unix_socket = directory / "sweepd.sock";
   DaemonProcess daemon(directory, {"--token", "t0k", "--mannequin-vertices", "1000",
-                                   "--unix-socket", unix_socket.string()});
+                                   "--unix-socket", unix_socket.string(), "--vmc-listen",
+                                   "127.0.0.1:0", "--vmc-port-file",
+                                   (directory / "vmc_port").string()});
   ASSERT_TRUE(daemon.running()) << daemon.log();
   // A second server with a store of its own: the package must upload to it again.
   fs::create_directories(directory / "other");
@@ -97,7 +99,8 @@ TEST(PythonPackage, InstallsOfflineIntoAVenvAndPosesLikeTheLibrary) {
                   " " + std::to_string(daemon.port()) + " t0k " + quoted(glb) + " " +
                   quoted(directory / "rotations.f32") + " " + quoted(directory) + " " +
                   std::to_string(other.port()) + " " + quoted(kClip) + " " + quoted(animated) +
-                  " " + quoted(unix_socket));
+                  " " + quoted(unix_socket) + " " +
+                  std::to_string(std::stoi(read_text(directory / "vmc_port"))));
   ASSERT_EQ(check.exit_code, 0) << check.output << daemon.log();
   EXPECT_NE(check.output.find("ok"), std::string::npos) << check.output;
 

@@ -8,7 +8,7 @@
         exr = sweepd.position_map(body, rotations, width=512, height=512)
 
 The constructor's arguments (Exchanges.__init__) and the requests — models, load, upload,
-mesh, upload_clip, pose, poses, pose_by_name, position_map, stats: their arguments and
+mesh, upload_clip, pose, poses, pose_by_name, position_map, stream, stats: their arguments and
 results are the exchanges' (exchanges.py) — run here over a blocking socket; AsyncClient
 (async_client.py) runs the same ones under asyncio. Errors raise the exceptions of
 sweepd_client.errors.

@@ -40,13 +40,14 @@ from sweepd.protocol import (BindOptions, Body, Bye, ClipFrame, ClipInfo, Contac
                              MapSharedMemory, Mesh, MeshRequest, ModelInfo, ModelList, Pose,
                              PoseByName, PoseDelivery, PosedVertices, PoseFromClip,
                              PositionFormat, PositionMap, PositionMapRequest, SharedMemory, Stats,
-                             StatsRequest, UploadClip, Vec3, Welcome)
+                             StatsRequest, StreamSubscribed, SubscribeStream, UploadClip, Vec3,
+                             Welcome)
 
 from . import meshopt
 from .connection import body_of, finish_frame, new_builder
 from .errors import ConnectionLost, SweepdError, Timeout, UnknownModel, server_error
 
-PROTOCOL_VERSION = (1, 14)  # the binding's self-check in ModelInfo (1.14) is the newest it reads
+PROTOCOL_VERSION = (1, 15)  # stream subscriptions (1.15) are the newest it sends
 METHODS = {"sweep": DeformMethod.DeformMethod.Sweep, "lbs": DeformMethod.DeformMethod.Lbs,
            "dqs": DeformMethod.DeformMethod.Dqs}
 FEATURES = {"folding": Features.Features.Folding, "protrusion": Features.Features.Protrusion,
@@ -468,6 +469,27 @@ class Exchanges:
             pending -= 1 + posed.dropped_before
             yield posed
 
+    def _stream(self, stream, *, method="sweep", features=(), float16=False, normals=False,
+                encoding=None):
+        """Protocol 1.15: subscribes to a stream the server receives (a VMC stream, sweepd
+        --vmc-listen; `stream` is its name, the model --vmc-model names) and yields a Posed per
+        frame of it, for as long as the caller iterates: Posed.sequence is the stream's frame
+        number. Latest wins: the client must be made with
+        latest_wins=True (the server refuses otherwise), and a caller slower than the stream gets
+        its newest frame (Posed.dropped_before counts those it missed)."""
+        output = _output(method, features, float16, encoding, normals)
+        builder = new_builder(256)
+        name = builder.CreateString(stream)
+        pose = self._add_pose(builder, 0, output)
+        SubscribeStream.Start(builder)
+        SubscribeStream.AddStream(builder, name)
+        SubscribeStream.AddPose(builder, pose)
+        yield Send(finish_frame(builder, Body.Body.SubscribeStream, SubscribeStream.End(builder)))
+        yield Receive(StreamSubscribed.StreamSubscribed)
+        while True:
+            yield _posed((yield Receive(PosedVertices.PosedVertices)), self._region,
+                         output.normals)
+
     def _pose_by_name(self, model, rotations, root=None, *, method="sweep", features=(),
                       float16=False, normals=False, encoding=None):
         """One pose from {joint name: (x, y, z, w)}, in the model's joint names or any rig
@@ -769,7 +791,7 @@ def with_requests(request):
     """A client class decorator: one public method per request of Exchanges (models, load,
     upload, mesh, upload_clip, pose, pose_by_name, position_map, contact_sheet,
     map_shared_memory, stats),
-    made by request(exchange), and poses, which returns the client's
+    made by request(exchange), and poses and stream, which return the client's
     self._drive(Run(exchange)): a generator of Posed (an async one for AsyncClient)."""
     def install(cls):
         for name, exchange in (("models", Exchanges._list_models), ("load", Exchanges._load),
@@ -787,6 +809,11 @@ def with_requests(request):
         def poses(self, *args, **kwargs):
             return self._drive(Run(Exchanges._poses(self, *args, **kwargs)))
         cls.poses = poses
+
+        @functools.wraps(Exchanges._stream)
+        def stream(self, *args, **kwargs):
+            return self._drive(Run(Exchanges._stream(self, *args, **kwargs)))
+        cls.stream = stream
         return cls
     return install
 

@@ -32,11 +32,13 @@ const std::set<pb::Body> kRequests = {pb::Body::Hello,
                                       pb::Body::PoseFromClip,
                                       pb::Body::PoseByName,
                                       pb::Body::MapSharedMemory,
-                                      pb::Body::ContactSheetRequest};
+                                      pb::Body::ContactSheetRequest,
+                                      pb::Body::SubscribeStream};
 const std::set<pb::Body> kReplies = {
     pb::Body::NONE,          pb::Body::Welcome,     pb::Body::ModelList,    pb::Body::ModelInfo,
     pb::Body::PosedVertices, pb::Body::PositionMap, pb::Body::Stats,        pb::Body::Error,
-    pb::Body::Mesh,          pb::Body::ClipInfo,    pb::Body::SharedMemory, pb::Body::ContactSheet};
+    pb::Body::Mesh,          pb::Body::ClipInfo,    pb::Body::SharedMemory, pb::Body::ContactSheet,
+    pb::Body::StreamSubscribed};
 
 TEST(RequestTable, EveryRequestOfTheSchemaHasAHandlerAndNoReplyHasOne) {
   for (const pb::Body type : pb::EnumValuesBody()) {
@@ -74,6 +76,9 @@ class RecordingSession final : public RequestSession {
   void queue_pose(std::variant<PoseRequest, RequestError>, std::uint64_t) override { ++poses; }
   void run_in_order(Pool, std::function<Reply()>) override { ++off_thread; }
   void drain() override { drained = true; }
+  pb::PoseDelivery delivery() const override { return pb::PoseDelivery::InOrder; }
+  std::weak_ptr<RequestSession> weak_session() override { return {}; }
+  bool draining() const override { return drained; }
   bool unix_socket() override { return on_unix_socket; }
   const SharedRegion* shared_region() const override { return region.get(); }
   void send_region(std::shared_ptr<const SharedRegion>, flatbuffers::FlatBufferBuilder) override {

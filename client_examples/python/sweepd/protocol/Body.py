@@ -29,3 +29,5 @@ class Body(object):
     SharedMemory = 23
     ContactSheetRequest = 24
     ContactSheet = 25
+    SubscribeStream = 26
+    StreamSubscribed = 27

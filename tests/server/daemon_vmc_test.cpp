@@ -1,0 +1,332 @@
+// VMC pose streams into sweepd (issue 51 item 1): a sender built on liblo (Debian's liblo-dev,
+// the library Linux VMC tools send with) replays a CMU clip retargeted onto a corpus body (the
+// Mixamo-rigged heavy female, whose every moving joint has a HumanBodyBones name) as VMC: each
+// frame one bundle of Bone/Pos messages, the model's own local rotations (and its hips' root
+// translation) mirrored into Unity's frame, then OK and T. A subscriber (SubscribeStream, latest
+// wins) gets each frame's mesh; it equals PoseFromClip's mesh of the same clip frame within
+// 1e-5 m (the conversion is exact: the same vertices). Torn and random datagrams afterwards
+// change nothing but the drop counter: the next frame's mesh is the last one, bit for bit, and
+// /metrics counts packets, bundles, bones, drops and senders. Subscriptions the server cannot
+// serve are refused naming why.
+#include <arpa/inet.h>
+#include <gtest/gtest.h>
+#include <lo/lo.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <random>
+#include <thread>
+
+#include "client/clip_upload.h"
+#include "client/connection.h"
+#include "deform/rig/human_body_bones.h"
+#include "io/bvh/bvh_load.h"
+#include "io/files/file_bytes.h"
+#include "io/sweepbind/sweepbind.h"
+#include "metrics/quality_metrics.h"
+#include "motion/retarget.h"
+#include "server/handlers/client_string_limits.h"
+#include "server/services/vmc/unity_frame.h"
+#include "tests/server/client_run.h"
+#include "tests/server/daemon_process.h"
+#include "tests/server/http_probe.h"
+#include "tests/server/services/vmc/vmc_packets.h"
+#include "tests/server/stored_binding.h"
+#include "tests/server/sweepctl_remote.h"
+
+namespace sweepd::test {
+namespace {
+
+namespace pb = sweepd::protocol;
+using server::kMaxNameBytes;
+
+const fs::path kModels = fs::path(SWEEPD_SHARED_DATA) / "models";
+const fs::path kMotion = fs::path(SWEEPD_SHARED_DATA) / "motion";
+constexpr const char* kBody = "makehuman_female_old_heavy_mixamo";
+// Nanometres apart at most: the same pose, deformed by the same code.
+constexpr double kSameMesh = 1e-5;
+
+std::vector<glm::vec3> positions_of(const pb::PosedVertices& reply) {
+  std::vector<glm::vec3> positions(reply.vertex_count());
+  EXPECT_TRUE(pb::copy_positions(reply, {&positions[0].x, 3 * positions.size()}));
+  return positions;
+}
+
+// Raw bytes to a UDP port on loopback (what liblo cannot send: packets that are not OSC).
+void send_datagram(int port, std::span<const std::byte> bytes) {
+  const int socket = ::socket(AF_INET, SOCK_DGRAM, 0);
+  sockaddr_in to{};
+  to.sin_family = AF_INET;
+  to.sin_port = htons(static_cast<std::uint16_t>(port));
+  to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ::sendto(socket, bytes.data(), bytes.size(), 0, reinterpret_cast<const sockaddr*>(&to),
+           sizeof(to));
+  ::close(socket);
+}
+
+class DaemonVmc : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!fs::exists(kModels / (std::string(kBody) + ".glb")) &&
+        !fs::exists(kModels / "corpus" / (std::string(kBody) + ".glb")))
+      GTEST_SKIP() << "no shared data";
+    daemon_ = std::make_unique<DaemonProcess>(
+        directory_.path(),
+        std::vector<std::string>{"--vmc-listen", "127.0.0.1:0", "--vmc-port-file",
+                                 (directory_ / "vmc_port").string(), "--vmc-model", kBody,
+                                 "--http-listen", "127.0.0.1:0", "--http-port-file",
+                                 (directory_ / "http_port").string()});
+    ASSERT_TRUE(daemon_->running()) << daemon_->log();
+    vmc_port_ = std::stoi(read_text(directory_ / "vmc_port"));
+    http_port_ = std::stoi(read_text(directory_ / "http_port"));
+    main_ = connect(pb::PoseDelivery::InOrder);
+  }
+  std::unique_ptr<client::Connection> connect(pb::PoseDelivery delivery) {
+    auto connection =
+        std::make_unique<client::Connection>("127.0.0.1:" + std::to_string(daemon_->port()));
+    connection->set_receive_timeout(std::chrono::seconds(60));
+    connection->hello("", "daemon_vmc_test", delivery);
+    return connection;
+  }
+  // SubscribeStream on `connection`: the reply's model id, or the ServerError thrown.
+  std::uint32_t subscribe(client::Connection& connection, const std::string& stream) {
+    flatbuffers::FlatBufferBuilder& builder = connection.builder();
+    builder.Clear();
+    const auto pose = pb::add_pose(builder, pb::PoseFields{});
+    connection.send(pb::finish_message(
+        builder, pb::CreateSubscribeStream(builder, builder.CreateString(stream), pose), 5));
+    const pb::StreamSubscribed& reply = connection.expect<pb::StreamSubscribed>();
+    EXPECT_EQ(reply.stream()->str(), stream);
+    return reply.model_id();
+  }
+  // PoseFromClip's mesh of `frame` of the uploaded clip on the main connection.
+  std::vector<glm::vec3> clip_frame(std::uint32_t model, const std::string& clip_id,
+                                    std::uint32_t frame) {
+    flatbuffers::FlatBufferBuilder& builder = main_->builder();
+    builder.Clear();
+    pb::PoseFields fields;
+    fields.model_id = model;
+    fields.sequence = frame + 1;
+    const auto pose = pb::add_pose(builder, fields);
+    const auto clip = pb::CreateClipFrame(builder, builder.CreateString(clip_id), frame);
+    main_->send(pb::finish_message(builder, pb::CreatePoseFromClip(builder, pose, clip)));
+    return positions_of(main_->expect<pb::PosedVertices>());
+  }
+  std::string metrics() { return curl_get(http_port_, "/metrics").body; }
+
+  ScratchDirectory directory_{"vmc"};
+  std::unique_ptr<DaemonProcess> daemon_;
+  std::unique_ptr<client::Connection> main_;
+  int vmc_port_ = 0, http_port_ = 0;
+};
+
+// The VMC bones of `pose` on `model`: each HumanBodyBones bone the model has, its joint's local
+// rotation (and, on joint 0, the root translation; elsewhere the rest translation) in Unity's
+// frame.
+std::vector<VmcBone> vmc_bones(const deform::BoundModel& model, const deform::Pose& pose) {
+  const deform::Skeleton& skeleton = model.model.skeleton;
+  const auto bones = deform::map_human_body_bones(skeleton, model.rig);
+  std::vector<VmcBone> sent;
+  for (int bone = 0; bone < deform::kHumanBodyBoneCount; ++bone) {
+    const int joint = bones[bone];
+    if (joint < 0) continue;
+    const glm::vec3 position =
+        joint == 0 ? pose.root_translation : skeleton.joints[joint].rest_translation;
+    sent.push_back({std::string(deform::kHumanBodyBones[bone]), server::unity_mirrored(position),
+                    server::unity_mirrored(pose.local_rotations[joint])});
+  }
+  return sent;
+}
+
+TEST_F(DaemonVmc, ARetargetedClipSentAsVmcPosesTheSubscribersMeshAsPoseFromClipDoes) {
+  const fs::path body = kModels / "corpus" / (std::string(kBody) + ".glb");
+  const std::vector<std::uint8_t> glb = read_bytes(body);
+  const pb::ModelInfo& info = main_->load_model(kBody, glb);
+  const std::uint32_t model = info.model_id();
+  const deform::BoundModel bound = io::load_sweepbind(stored_binding(directory_ / "store", model));
+  ASSERT_EQ(deform::map_human_body_bones(bound.model.skeleton, bound.rig)[0], 0)
+      << "the hips are joint 0: their Bone/Pos carries the root translation";
+
+  std::unique_ptr<client::Connection> subscriber = connect(pb::PoseDelivery::LatestWins);
+  EXPECT_EQ(subscribe(*subscriber, kBody), model);
+
+  lo_address sender = lo_address_new("127.0.0.1", std::to_string(vmc_port_).c_str());
+  std::uint64_t frames_sent = 0, bones_sent = 0;
+  std::vector<glm::vec3> last_mesh;
+  double largest_apart = 0.0;
+  for (const char* clip_file : {"cmu_01_01.bvh", "cmu_01_03.bvh"}) {
+    const std::vector<char> text = file_bytes(kMotion / clip_file);
+    const std::string clip_id =
+        client::upload_clip(*main_, clip_file, {text.data(), text.size()}).clip_id()->str();
+    const motion::Retargeter played(io::load_bvh(kMotion / clip_file), bound.model);
+    const int frame_count = played.frame_count();
+    for (int step = 0; step < 6; ++step) {
+      const int frame = step * (frame_count - 1) / 5;
+      const std::vector<VmcBone> bones = vmc_bones(bound, played.pose_at_frame(frame));
+      lo_bundle bundle = vmc_frame_bundle(bones, static_cast<float>(frame) / 120.0f);
+      ASSERT_EQ(lo_send_bundle(sender, bundle), static_cast<int>(lo_bundle_length(bundle)));
+      lo_bundle_free_recursive(bundle);
+      ++frames_sent;
+      bones_sent += bones.size();
+      const pb::PosedVertices& streamed = subscriber->expect<pb::PosedVertices>();
+      EXPECT_EQ(streamed.sequence(), frames_sent);
+      EXPECT_EQ(streamed.model_id(), model);
+      last_mesh = positions_of(streamed);
+      const std::vector<glm::vec3> expected =
+          clip_frame(model, clip_id, static_cast<std::uint32_t>(frame));
+      const double apart = metrics::largest_distance(last_mesh, expected);
+      EXPECT_LE(apart, kSameMesh) << clip_file << " frame " << frame;
+      largest_apart = std::max(largest_apart, apart);
+      if (frame > 0) {
+        EXPECT_GT(metrics::largest_distance(last_mesh, bound.model.positions), 0.05)
+            << clip_file << " frame " << frame << " is not the rest pose";
+      }
+    }
+  }
+  std::printf("VMC against PoseFromClip: %llu frames, at most %g m apart\n",
+              static_cast<unsigned long long>(frames_sent), largest_apart);
+  EXPECT_EQ(bones_sent, frames_sent * 22) << "Mixamo's body: 22 HumanBodyBones, fingers aside";
+
+  // Torn and random datagrams: each a dropped packet, nothing else.
+  const std::string before = metrics();
+  std::vector<std::vector<std::byte>> hostile;
+  const std::vector<std::byte> bone = osc_bytes(
+      vmc_bone_message({"LeftUpperArm", {}, glm::angleAxis(1.0f, glm::vec3(0, 0, 1))}),
+      "/VMC/Ext/Bone/Pos");
+  for (std::size_t size = 1; size < bone.size(); size += 3)
+    hostile.emplace_back(bone.begin(), bone.begin() + static_cast<long>(size));
+  std::mt19937 random(51);
+  for (int i = 0; i < 20; ++i) {
+    std::vector<std::byte> bytes(static_cast<std::size_t>(8 + random() % 200));
+    for (std::byte& b : bytes) b = static_cast<std::byte>(random());
+    std::memcpy(bytes.data(), i % 2 ? "#bundle" : "/VMC/Ext", 8);
+    hostile.push_back(std::move(bytes));
+  }
+  for (const auto& bytes : hostile) send_datagram(vmc_port_, bytes);
+  // A lone T ends the next frame: the last frame's pose again.
+  ASSERT_GT(lo_send(sender, "/VMC/Ext/T", "f", 99.0f), 0);
+  const pb::PosedVertices& again = subscriber->expect<pb::PosedVertices>();
+  EXPECT_EQ(again.sequence(), frames_sent + 1);
+  EXPECT_EQ(positions_of(again), last_mesh) << "the hostile datagrams moved nothing";
+  lo_address_free(sender);
+
+  const std::string after = metrics();
+  const auto grew = [&](const std::string& series) {
+    return metric(after, series) - metric(before, series);
+  };
+  EXPECT_EQ(grew("sweepd_vmc_dropped_total{what=\"packet\"}"), static_cast<double>(hostile.size()));
+  EXPECT_EQ(grew("sweepd_vmc_packets_total"), static_cast<double>(hostile.size() + 1));
+  EXPECT_EQ(grew("sweepd_vmc_dropped_total{what=\"message\"}"), 0.0);
+  EXPECT_EQ(grew("sweepd_vmc_bones_total"), 0.0);
+  EXPECT_EQ(grew("sweepd_vmc_bundles_total"), 0.0);
+  EXPECT_EQ(grew("sweepd_vmc_frames_total"), 1.0);
+  EXPECT_EQ(metric(after, "sweepd_vmc_bones_total"), static_cast<double>(bones_sent));
+  EXPECT_EQ(metric(after, "sweepd_vmc_bundles_total"), static_cast<double>(frames_sent));
+  EXPECT_EQ(metric(after, "sweepd_vmc_frames_without_model_total"), 0.0);
+  EXPECT_GE(metric(after, "sweepd_vmc_senders"), 2.0) << "liblo's sender and the raw socket's";
+  EXPECT_EQ(metric(after, "sweepd_vmc_subscribers"), 1.0);
+}
+
+TEST_F(DaemonVmc, SubscriptionsTheServerCannotServeAreRefusedNamingWhy) {
+  const auto refusal = [&](client::Connection& connection, const std::string& stream) {
+    try {
+      subscribe(connection, stream);
+    } catch (const client::ServerError& error) {
+      return std::string(error.what());
+    }
+    return std::string("subscribed");
+  };
+  std::unique_ptr<client::Connection> latest = connect(pb::PoseDelivery::LatestWins);
+  EXPECT_EQ(refusal(*latest, kBody),
+            std::string("server error UnknownModel: SubscribeStream: the stream '") + kBody +
+                "' poses the model '" + kBody + "', which this server does not hold: load it");
+  EXPECT_EQ(refusal(*latest, "mannequin"),
+            std::string("server error InvalidArgument: SubscribeStream: no stream named 'mannequin' (this "
+                        "server's stream is '") + kBody + "')");
+  const std::string long_name(kMaxNameBytes + 1, 's');
+  EXPECT_EQ(refusal(*latest, long_name),
+            "server error InvalidArgument: SubscribeStream.stream has " + std::to_string(kMaxNameBytes + 1) +
+                " bytes; the limit is " + std::to_string(kMaxNameBytes) + " bytes")
+      << "a client's string is bounded before it is echoed";
+  EXPECT_EQ(refusal(*main_, kBody),
+            "server error InvalidArgument: SubscribeStream: a stream is sent latest wins: say delivery "
+            "LatestWins in Hello");
+  // Frames end while the model is not held: counted, sent nowhere.
+  lo_address sender = lo_address_new("127.0.0.1", std::to_string(vmc_port_).c_str());
+  ASSERT_GT(lo_send(sender, "/VMC/Ext/OK", "i", 1), 0);
+  lo_address_free(sender);
+  for (int wait = 0; wait < 100 && metric(metrics(), "sweepd_vmc_frames_total") < 1.0; ++wait)
+    usleep(20000);
+  EXPECT_EQ(metric(metrics(), "sweepd_vmc_frames_without_model_total"), 1.0);
+}
+
+// Bye ends a subscription while its stream goes on: the daemon answers the frames it holds and
+// closes, instead of queueing the next frame into a connection that is closing (a sender faster
+// than the deformation of a 10k mannequin would otherwise hold it open for as long as it sends).
+TEST(DaemonVmcSubscription, ByeEndsItWhileTheStreamGoesOn) {
+  ScratchDirectory directory("vmc_bye");
+  DaemonProcess daemon(directory.path(), {"--vmc-listen", "127.0.0.1:0", "--vmc-port-file",
+                                          (directory / "vmc_port").string(),
+                                          "--mannequin-vertices", "10000"});
+  ASSERT_TRUE(daemon.running()) << daemon.log();
+  const std::string vmc_port = std::to_string(std::stoi(read_text(directory / "vmc_port")));
+  std::atomic<bool> stop{false};
+  std::thread sender([&] {
+    lo_address to = lo_address_new("127.0.0.1", vmc_port.c_str());
+    while (!stop) {
+      lo_send(to, "/VMC/Ext/T", "f", 1.0f);
+      std::this_thread::sleep_for(std::chrono::microseconds(200));
+    }
+    lo_address_free(to);
+  });
+  FrameClient client(daemon.port());
+  ASSERT_NE(client.hello("", pb::PoseDelivery::LatestWins), nullptr);
+  flatbuffers::FlatBufferBuilder builder;
+  const auto pose = pb::add_pose(builder, pb::PoseFields{});
+  client.send_bytes(pb::finish_message(
+      builder, pb::CreateSubscribeStream(builder, builder.CreateString("mannequin"), pose), 5));
+  EXPECT_NE(client.receive_as<pb::StreamSubscribed>(), nullptr);
+  EXPECT_NE(client.receive_as<pb::PosedVertices>(), nullptr) << "the stream's frames come";
+  builder.Clear();
+  client.send_bytes(pb::finish_message(builder, pb::CreateByeDirect(builder, "done")));
+  int frames_after_bye = 0;
+  while (const pb::Message* message = client.receive()) {
+    EXPECT_EQ(message->body_type(), pb::Body::PosedVertices);
+    if (++frames_after_bye > 50) break;
+  }
+  stop = true;
+  sender.join();
+  // Frames the server wrote before it read the Bye (at most --max-poses-in-flight, 8, unread
+  // replies), the one being deformed and the one waiting; a connection kept open by the stream
+  // sends on until the loop stops at 51.
+  EXPECT_LE(frames_after_bye, 10);
+}
+
+TEST(DaemonVmcFlags, AVmcReceiverOnATakenPortIsAStartUpErrorNamingIt) {
+  ScratchDirectory directory("vmc_taken");
+  const int taken = ::socket(AF_INET, SOCK_DGRAM, 0);
+  sockaddr_in at{};
+  at.sin_family = AF_INET;
+  at.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ASSERT_EQ(::bind(taken, reinterpret_cast<const sockaddr*>(&at), sizeof(at)), 0);
+  socklen_t length = sizeof(at);
+  ::getsockname(taken, reinterpret_cast<sockaddr*>(&at), &length);
+  const std::string port = std::to_string(ntohs(at.sin_port));
+  const ClientRun run = run_client(std::string(SWEEPD_DAEMON) + " --port 0 --store-dir " +
+                                   (directory / "store").string() +
+                                   " --mannequin-vertices 1000 --vmc-listen 127.0.0.1:" + port);
+  ::close(taken);
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.output.find("sweepd: --vmc-listen 127.0.0.1:" + port + ": Address already in use"),
+            std::string::npos)
+      << run.output;
+}
+
+}  // namespace
+}  // namespace sweepd::test
