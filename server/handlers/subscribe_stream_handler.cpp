@@ -2,6 +2,7 @@
 
 #include <string>
 
+#include "server/handlers/reply_size.h"
 #include "server/log_event.h"
 #include "server/replies/stream_subscribed.h"
 #include "server/services/vmc/vmc_receiver.h"
@@ -58,32 +59,38 @@ void handle_subscribe_stream(const pb::Message& message, RequestSession& session
     refuse(problem->code, problem->message);
     return;
   }
+  // Every frame's reply has this size: refused now, not once per frame.
+  if (auto too_large =
+          check_reply_fits(frame_request, session.environment().config.max_frame_bytes)) {
+    refuse(too_large->code, too_large->message);
+    return;
+  }
   flatbuffers::FlatBufferBuilder builder = session.take_builder();
   build_stream_subscribed(builder, name, model->id, request_id);
   session.send(std::move(builder));
   log_event("stream_subscribed", {{"connection", session.connection_id()}, {"stream", name}});
-  receiver->subscribe([weak = session.weak_session(), frame_request, request_id](
-                          const ModelHandle& posed_model, const deform::Pose& frame_pose,
-                          std::uint64_t frame) {
-    const std::shared_ptr<RequestSession> subscriber = weak.lock();
-    // Gone, or closing: a frame queued now would keep a draining connection open.
-    if (!subscriber || subscriber->draining()) return false;
-    PoseRequest request = frame_request;
-    request.model = posed_model;
-    request.pose = frame_pose;
-    request.sequence = frame;
-    if (const deform::JobProblem problem = request.job(0, {}, {}).validate()) {
-      subscriber->queue_pose(RequestError{pb::ErrorCode::InvalidPose,
-                                          "stream frame " + std::to_string(frame) + " for model " +
-                                              std::to_string(posed_model->id) + ": " +
-                                              problem.message,
-                                          frame, posed_model->id},
-                             request_id);
-    } else {
-      subscriber->queue_pose(std::move(request), request_id);
-    }
-    return true;
-  });
+  receiver->subscribe(
+      [weak = session.weak_session(), frame_request, request_id](
+          const ModelHandle& posed_model, const deform::Pose& frame_pose, std::uint64_t frame) {
+        const std::shared_ptr<RequestSession> subscriber = weak.lock();
+        // Gone, or closing: a frame queued now would keep a draining connection open.
+        if (!subscriber || subscriber->draining()) return false;
+        PoseRequest request = frame_request;
+        request.model = posed_model;
+        request.pose = frame_pose;
+        request.sequence = frame;
+        if (const deform::JobProblem problem = request.job(0, {}, {}).validate()) {
+          subscriber->queue_pose(
+              RequestError{pb::ErrorCode::InvalidPose,
+                           "stream frame " + std::to_string(frame) + " for model " +
+                               std::to_string(posed_model->id) + ": " + problem.message,
+                           frame, posed_model->id},
+              request_id);
+        } else {
+          subscriber->queue_pose(std::move(request), request_id);
+        }
+        return true;
+      });
 }
 
 }  // namespace sweepd::server
