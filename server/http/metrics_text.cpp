@@ -124,6 +124,19 @@ void add_server(Page& page, const ServerSnapshot& server) {
   page.single("sweepd_websocket_connections_open", "gauge",
               "Of the connections open now, those on the WebSocket listener.",
               server.websocket_connections_open);
+  page.single("sweepd_strangers_open", "gauge",
+              "Of the connections open now, those not authenticated (nor cut) yet.",
+              server.strangers_open);
+  page.single("sweepd_strangers_shed_total", "counter",
+              "Unauthenticated connections closed to make room for a newer one "
+              "(--max-strangers, --max-strangers-per-address).",
+              traffic.strangers_shed);
+  page.single("sweepd_auth_failures_total", "counter", "Hello tokens compared and found wrong.",
+              traffic.auth_failures);
+  page.single("sweepd_auth_backoff_refusals_total", "counter",
+              "Hellos refused without comparing their token: their address waits after too "
+              "many wrong ones (--auth-free-failures, --auth-backoff-ms).",
+              traffic.auth_backoff_refusals);
   page.single("sweepd_poses_waiting", "gauge",
               "Poses queued behind a running one, all connections (the queue depth).",
               server.poses_waiting);
