@@ -10,6 +10,10 @@
 //   fuzz_sweepbind       io::decode_sweepbind
 //   fuzz_json            the first byte picks the JSON input: rig map, pose, key-ellipse edits,
 //                        joint-name map, sweepd's config file
+//   fuzz_http            the HTTP side port's request head (server/http/http_request_head.h),
+//                        read again after each piece as the side port reads it (pieces cut
+//                        where the first byte says), then answered as the side port answers
+//                        from memory (server/http/side_port_answers.h, a two-file viewer)
 // Each returns true when the input was accepted whole, false when it was refused cleanly (a
 // std::exception naming the problem: the expected outcome for bad input); anything else — a
 // crash, a sanitizer report, an exception the callers would not catch — is a finding.
@@ -32,5 +36,6 @@ bool fuzz_fbx(std::span<const std::uint8_t> bytes);
 bool fuzz_bvh(std::span<const std::uint8_t> bytes);
 bool fuzz_sweepbind(std::span<const std::uint8_t> bytes);
 bool fuzz_json(std::span<const std::uint8_t> bytes);
+bool fuzz_http(std::span<const std::uint8_t> bytes);
 
 }  // namespace sweepd::fuzz

@@ -13,6 +13,10 @@
 
 namespace sweepd::server {
 
+// The most the side port reads of a head before it answers 431: a browser's or a kubelet's
+// request head is well under 1 KiB.
+inline constexpr std::size_t kMaxRequestHeadBytes = 8192;
+
 struct HttpRequestHead {
   enum class Status { kIncomplete, kComplete, kTooLarge, kBad };
   Status status = Status::kIncomplete;

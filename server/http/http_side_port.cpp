@@ -19,7 +19,8 @@ class HttpSidePort::Exchange : public std::enable_shared_from_this<Exchange> {
 
   void start() {
     arm_deadline(kHeadDeadline, [](Exchange& self) {
-      self.answer({408, kPlainText,
+      self.answer({408,
+                   kPlainText,
                    "the request head was not whole within " +
                        std::to_string(kHeadDeadline.count()) + " ms\n",
                    {}},
@@ -58,27 +59,29 @@ class HttpSidePort::Exchange : public std::enable_shared_from_this<Exchange> {
   }
 
   void read_more() {
-    socket_.async_read_some(
-        asio::buffer(chunk_), [self = shared_from_this()](std::error_code error, std::size_t n) {
-          if (self->closed_ || self->head_read_) return;
-          if (error) {
-            self->close();
-            return;
-          }
-          self->received_.append(self->chunk_.data(), n);
-          self->read_head();
-        });
+    socket_.async_read_some(asio::buffer(chunk_),
+                            [self = shared_from_this()](std::error_code error, std::size_t n) {
+                              if (self->closed_ || self->head_read_) return;
+                              if (error) {
+                                self->close();
+                                return;
+                              }
+                              self->received_.append(self->chunk_.data(), n);
+                              self->read_head();
+                            });
   }
 
   void read_head() {
-    const HttpRequestHead head = read_request_head(received_, kMaxHeadBytes);
+    const HttpRequestHead head = read_request_head(received_, kMaxRequestHeadBytes);
     switch (head.status) {
       case HttpRequestHead::Status::kIncomplete:
         read_more();
         return;
       case HttpRequestHead::Status::kTooLarge:
-        answer({431, kPlainText,
-                "the request head passed " + std::to_string(kMaxHeadBytes) + " bytes\n", {}},
+        answer({431,
+                kPlainText,
+                "the request head passed " + std::to_string(kMaxRequestHeadBytes) + " bytes\n",
+                {}},
                false);
         return;
       case HttpRequestHead::Status::kBad:
@@ -173,20 +176,22 @@ std::shared_ptr<HttpSidePort::Exchange> HttpSidePort::find(std::uint64_t id) con
 
 void HttpSidePort::answer_metrics(std::shared_ptr<Exchange> exchange, bool head_only) {
   if (metrics_waiting_ >= kMaxMetricsWaiting) {
-    exchange->answer({503, kPlainText,
-                      std::to_string(metrics_waiting_) +
-                          " /metrics requests are being answered; ask again\n",
-                      {}},
-                     head_only);
+    exchange->answer(
+        {503,
+         kPlainText,
+         std::to_string(metrics_waiting_) + " /metrics requests are being answered; ask again\n",
+         {}},
+        head_only);
     return;
   }
   ++metrics_waiting_;
   asio::post(metrics_thread_, [this, exchange = std::move(exchange), head_only]() {
     const std::optional<ServerSnapshot> server = snapshot_();
-    HttpAnswer page{200, kMetricsContentType,
-                    format_metrics(server ? &*server : nullptr, read_process_stats(),
-                                   readiness_.stage()),
-                    {}};
+    HttpAnswer page{
+        200,
+        kMetricsContentType,
+        format_metrics(server ? &*server : nullptr, read_process_stats(), readiness_.stage()),
+        {}};
     asio::post(io_, [this, exchange, head_only, page = std::move(page)]() {
       --metrics_waiting_;
       exchange->answer(page, head_only);

@@ -13,9 +13,9 @@
 // /metrics, which waits for the protocol's I/O thread (`snapshot`: Server::snapshot, copied
 // there, or nullopt), is formatted on a second thread, at most kMaxMetricsWaiting at once (more
 // get 503). A request head must be whole within kHeadDeadline (else 408 and closed: slow
-// headers hold nothing for long) and at most kMaxHeadBytes (else 431). Connections whose head
-// is not whole yet are held at most kMaxReadingPerAddress from one address and kMaxReading in
-// all; past either the oldest is closed (StrangerSlots), so slow or many peers cannot keep a
+// headers hold nothing for long) and at most kMaxRequestHeadBytes (else 431). Connections whose
+// head is not whole yet are held at most kMaxReadingPerAddress from one address and kMaxReading
+// in all; past either the oldest is closed (StrangerSlots), so slow or many peers cannot keep a
 // probe's connection from being read. Every answer closes its connection (Connection: close),
 // and must be taken within kAnswerDeadline.
 // Binds in the constructor (throws std::runtime_error naming the address), serves until
@@ -44,7 +44,6 @@ class HttpSidePort {
 
   static constexpr std::chrono::milliseconds kHeadDeadline{2000};
   static constexpr std::chrono::milliseconds kAnswerDeadline{5000};
-  static constexpr std::size_t kMaxHeadBytes = 8192;
   static constexpr std::size_t kMaxReading = 64;
   static constexpr std::size_t kMaxReadingPerAddress = 8;
   static constexpr int kMaxMetricsWaiting = 4;

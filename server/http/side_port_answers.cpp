@@ -7,15 +7,24 @@ namespace {
 
 const char* reason_phrase(int status) {
   switch (status) {
-    case 200: return "OK";
-    case 400: return "Bad Request";
-    case 404: return "Not Found";
-    case 405: return "Method Not Allowed";
-    case 408: return "Request Timeout";
-    case 414: return "URI Too Long";
-    case 431: return "Request Header Fields Too Large";
-    case 503: return "Service Unavailable";
-    default: return "Unknown";
+    case 200:
+      return "OK";
+    case 400:
+      return "Bad Request";
+    case 404:
+      return "Not Found";
+    case 405:
+      return "Method Not Allowed";
+    case 408:
+      return "Request Timeout";
+    case 414:
+      return "URI Too Long";
+    case 431:
+      return "Request Header Fields Too Large";
+    case 503:
+      return "Service Unavailable";
+    default:
+      return "Unknown";
   }
 }
 
@@ -27,7 +36,8 @@ HttpAnswer viewer_answer(std::string_view path, const ViewerFiles* viewer) {
   const std::string file_name = name.empty() ? std::string("index.html") : std::string(name);
   // The name is echoed below: a name longer than any viewer file's is refused unechoed.
   if (file_name.size() > kMaxNameBytes) {
-    return {414, kPlainText,
+    return {414,
+            kPlainText,
             "the viewer file name has " + std::to_string(file_name.size()) +
                 " bytes; the limit is " + std::to_string(kMaxNameBytes) + " bytes\n",
             {}};
@@ -35,7 +45,8 @@ HttpAnswer viewer_answer(std::string_view path, const ViewerFiles* viewer) {
   // The name is looked up among the files read at start-up; it never reaches the file system.
   const ViewerFile* file = viewer != nullptr ? viewer->find(file_name) : nullptr;
   if (file == nullptr) {
-    return {404, kPlainText,
+    return {404,
+            kPlainText,
             viewer == nullptr ? "no viewer here: sweepd serves /viewer when started with "
                                 "--viewer-dir DIR (the build's client_examples/web/viewer)\n"
                               : "no file '" + file_name + "' in the viewer\n",
@@ -52,14 +63,16 @@ HttpAnswer viewer_answer(std::string_view path, const ViewerFiles* viewer) {
 std::optional<HttpAnswer> answer_at_once(const HttpRequestHead& head, const Readiness& readiness,
                                          const ViewerFiles* viewer) {
   if (head.method != "GET" && head.method != "HEAD") {
-    return HttpAnswer{405, kPlainText, "the side port answers GET and HEAD only\n",
-                      {{"Allow", "GET, HEAD"}}};
+    return HttpAnswer{
+        405, kPlainText, "the side port answers GET and HEAD only\n", {{"Allow", "GET, HEAD"}}};
   }
   if (head.path == "/healthz") return HttpAnswer{200, kPlainText, "ok\n", {}};
   if (head.path == "/readyz") {
     const Readiness::Stage stage = readiness.stage();
-    return HttpAnswer{stage == Readiness::Stage::kAccepting ? 200 : 503, kPlainText,
-                      std::string(Readiness::describe(stage)) + "\n", {}};
+    return HttpAnswer{stage == Readiness::Stage::kAccepting ? 200 : 503,
+                      kPlainText,
+                      std::string(Readiness::describe(stage)) + "\n",
+                      {}};
   }
   if (head.path == "/metrics") return std::nullopt;
   if (head.path == "/viewer" || head.path.starts_with("/viewer/")) {

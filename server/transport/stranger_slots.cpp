@@ -12,13 +12,14 @@ StrangerSlots::StrangerSlots(std::size_t total, std::size_t per_address)
   }
 }
 
-std::vector<StrangerSlots::Shed> StrangerSlots::admit(std::uint64_t id, const std::string& address) {
+std::vector<StrangerSlots::Shed> StrangerSlots::admit(std::uint64_t id,
+                                                      const std::string& address) {
   std::vector<Shed> shed;
   if (held_by(address) >= per_address_) shed.push_back({shed_oldest_of(address), true});
   if (address_of_.size() >= total_) {
-    const auto crowding = std::max_element(
-        count_of_.begin(), count_of_.end(),
-        [](const auto& a, const auto& b) { return a.second < b.second; });
+    const auto crowding =
+        std::max_element(count_of_.begin(), count_of_.end(),
+                         [](const auto& a, const auto& b) { return a.second < b.second; });
     shed.push_back({shed_oldest_of(crowding->first), false});
   }
   address_of_.emplace(id, address);

@@ -21,7 +21,8 @@ namespace fs = std::filesystem;
 
 const std::map<std::string, std::function<bool(std::span<const std::uint8_t>)>> kTargets = {
     {"frames", fuzz_frames}, {"gltf", fuzz_gltf},           {"fbx", fuzz_fbx},
-    {"bvh", fuzz_bvh},       {"sweepbind", fuzz_sweepbind}, {"json", fuzz_json}};
+    {"bvh", fuzz_bvh},       {"sweepbind", fuzz_sweepbind}, {"json", fuzz_json},
+    {"http", fuzz_http}};
 
 const std::map<std::string, std::vector<Input>>& seeds() {
   static const auto all = seed_inputs();
@@ -39,8 +40,9 @@ TEST(FuzzInputs, EverySeedIsAnInputItsParserAccepts) {
 }
 
 TEST(FuzzInputs, DamagedInputsAreRefusedNotAccepted) {
-  // The same entry points say no: a truncated .glb, FBX, .sweepbind and frame stream.
-  for (const std::string target : {"frames", "gltf", "fbx", "sweepbind"}) {
+  // The same entry points say no: a truncated .glb, FBX, .sweepbind, frame stream and request
+  // head.
+  for (const std::string target : {"frames", "gltf", "fbx", "sweepbind", "http"}) {
     Input cut = seeds().at(target).front();
     cut.resize(cut.size() / 2);
     EXPECT_FALSE(kTargets.at(target)(cut)) << target;

@@ -28,8 +28,8 @@ class StrangersTest : public ::testing::Test {
     directory_ = fresh_directory(::testing::UnitTest::GetInstance()->current_test_info()->name());
     const fs::path http_port_file = directory_ / "http_port";
     daemon_ = std::make_unique<DaemonProcess>(
-        directory_, with({"--position-maps", "0", "--token", kToken, "--http-listen",
-                          "127.0.0.1:0", "--http-port-file", http_port_file.string()},
+        directory_, with({"--position-maps", "0", "--token", kToken, "--http-listen", "127.0.0.1:0",
+                          "--http-port-file", http_port_file.string()},
                          flags));
     ASSERT_TRUE(daemon_->running()) << daemon_->log();
     http_port_ = std::stoi(read_text(http_port_file));
@@ -97,8 +97,8 @@ TEST_F(StrangersTest, SilentPeersHoldingEveryStrangerSlotDoNotKeepAnHonestClient
   expect_pose_served(second, 2);
   FrameClient third(daemon_->port());
   flatbuffers::FlatBufferBuilder builder;
-  ASSERT_TRUE(third.send_bytes(protocol::build_hello(builder, kToken, "third",
-                                                     protocol::PoseDelivery::InOrder, 1)));
+  ASSERT_TRUE(third.send_bytes(
+      protocol::build_hello(builder, kToken, "third", protocol::PoseDelivery::InOrder, 1)));
   const protocol::Error* error = third.receive_as<protocol::Error>();
   ASSERT_NE(error, nullptr);
   EXPECT_EQ(error->code(), protocol::ErrorCode::ConnectionLimit);
@@ -174,12 +174,12 @@ TEST_F(StrangersTest, AWrongTokenBurstIsSlowedCountedAndLoggedOnce) {
   const std::string log = daemon_->log_with({"\"event\":\"auth_failure_burst\""});
   EXPECT_EQ(log_lines(log, "auth_failed", ""), 1u) << log;
   EXPECT_EQ(log_lines(log, "auth_failure_burst",
-                      "\"refused_unchecked\":" + std::to_string(refused) +
-                          ",\"seconds\""),
+                      "\"refused_unchecked\":" + std::to_string(refused) + ",\"seconds\""),
             1u)
       << log;
-  EXPECT_EQ(log_lines(log, "auth_failure_burst", "\"wrong_tokens\":" + std::to_string(compared) + "}"),
-            1u)
+  EXPECT_EQ(
+      log_lines(log, "auth_failure_burst", "\"wrong_tokens\":" + std::to_string(compared) + "}"),
+      1u)
       << log;
 }
 

@@ -31,9 +31,9 @@ TEST(HttpRequestHead, TooLargeAndBadHeadsAreNamed) {
   const std::string endless = "GET / HTTP/1.1\r\nX: " + std::string(100, 'a');
   EXPECT_EQ(read_request_head(endless, 64).status, Status::kTooLarge);
   EXPECT_EQ(read_request_head(endless + "\r\n\r\n", 64).status, Status::kTooLarge);
-  for (const char* line : {"GET\r\n\r\n", "GET /x\r\n\r\n", "GET x HTTP/1.1\r\n\r\n",
-                           "GET /x HTTP/2\r\n\r\n", "G(T /x HTTP/1.1\r\n\r\n",
-                           " /x HTTP/1.1\r\n\r\n", "GET /a b HTTP/1.1\r\n\r\n"}) {
+  for (const char* line :
+       {"GET\r\n\r\n", "GET /x\r\n\r\n", "GET x HTTP/1.1\r\n\r\n", "GET /x HTTP/2\r\n\r\n",
+        "G(T /x HTTP/1.1\r\n\r\n", " /x HTTP/1.1\r\n\r\n", "GET /a b HTTP/1.1\r\n\r\n"}) {
     const HttpRequestHead head = read_request_head(line, 8192);
     EXPECT_EQ(head.status, Status::kBad) << line;
     EXPECT_FALSE(head.problem.empty()) << line;
