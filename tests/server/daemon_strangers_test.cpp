@@ -185,9 +185,10 @@ TEST_F(StrangersTest, AWrongTokenBurstIsSlowedCountedAndLoggedOnce) {
 
 TEST_F(StrangersTest, AStrangerThatNeverSaysHelloIsClosedAfterTheDeadline) {
   start({"--hello-timeout-ms", "300"});
+  // Before connecting: the server's deadline starts at its accept, after this.
+  const auto connected = std::chrono::steady_clock::now();
   FrameClient silent(daemon_->port());
   ASSERT_EQ(metric_once("sweepd_strangers_open", 1), 1.0);
-  const auto connected = std::chrono::steady_clock::now();
   const protocol::Error* error = silent.receive_as<protocol::Error>();
   ASSERT_NE(error, nullptr);
   EXPECT_EQ(error->code(), protocol::ErrorCode::NotAuthenticated);
