@@ -118,6 +118,7 @@ HttpSidePort::HttpSidePort(const std::string& address, int port, const Readiness
       snapshot_(std::move(snapshot)),
       viewer_(viewer),
       acceptor_(io_),
+      accept_retry_(io_),
       reading_(kMaxReading, kMaxReadingPerAddress) {
   std::signal(SIGPIPE, SIG_IGN);
   try {
@@ -147,8 +148,14 @@ HttpSidePort::~HttpSidePort() {
 void HttpSidePort::accept_next() {
   acceptor_.async_accept([this](std::error_code error, asio::ip::tcp::socket socket) {
     if (error == asio::error::operation_aborted) return;
-    if (!error) admit(std::move(socket));
-    accept_next();
+    if (!error) {
+      admit(std::move(socket));
+      accept_next();
+      return;
+    }
+    // Out of descriptors, say: trying again at once would spin this thread.
+    accept_retry_.expires_after(std::chrono::milliseconds(100));
+    accept_retry_.async_wait([this](std::error_code) { accept_next(); });
   });
 }
 

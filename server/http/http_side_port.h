@@ -72,6 +72,7 @@ class HttpSidePort {
   const ViewerFiles* viewer_;
   asio::io_context io_;
   asio::ip::tcp::acceptor acceptor_;
+  asio::steady_timer accept_retry_;  // after a failed accept
   asio::thread_pool metrics_thread_{1};
   int metrics_waiting_ = 0;  // on the side port's thread
   StrangerSlots reading_;    // connections whose request head is not whole yet

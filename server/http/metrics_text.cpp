@@ -114,7 +114,7 @@ void add_server(Page& page, const ServerSnapshot& server) {
   page.single("sweepd_sent_bytes_total", "counter", "Bytes written to client sockets.",
               all.bytes_out);
   page.single("sweepd_connections_accepted_total", "counter",
-              "Connections accepted since start (including those refused at the limit).",
+              "Connections accepted since start (including those shed or refused at Hello).",
               server.connections_accepted);
   page.single("sweepd_connections_open", "gauge", "Client connections open now.",
               server.connections_open);
