@@ -4,7 +4,8 @@
 // /metrics counts it), and authenticated connections have their own limit; a burst of wrong
 // tokens is slowed (past the free failures no token of the address is compared until its wait
 // ends; the refusals and the compared failures are counted exactly on /metrics and logged once
-// per burst); a stranger that never says Hello is closed after the Hello deadline.
+// per burst); a stranger that never says Hello is closed after the Hello deadline; WebSocket
+// and Unix-socket strangers are held and shed by the same rule.
 #include <gtest/gtest.h>
 
 #include <thread>
@@ -23,9 +24,11 @@ const std::string kToken = "t0k";
 // A daemon with a token and the HTTP side port, whose /metrics the tests read.
 class StrangersTest : public ::testing::Test {
  protected:
-  void start(const std::vector<std::string>& flags) {
+  void SetUp() override {
     if (!have_program("curl")) GTEST_SKIP() << "curl is not installed (deploy/install-deps.sh)";
     directory_ = fresh_directory(::testing::UnitTest::GetInstance()->current_test_info()->name());
+  }
+  void start(const std::vector<std::string>& flags) {
     const fs::path http_port_file = directory_ / "http_port";
     daemon_ = std::make_unique<DaemonProcess>(
         directory_, with({"--position-maps", "0", "--token", kToken, "--http-listen", "127.0.0.1:0",
@@ -106,6 +109,45 @@ TEST_F(StrangersTest, SilentPeersHoldingEveryStrangerSlotDoNotKeepAnHonestClient
   EXPECT_EQ(error->message()->str(),
             "the server already holds its limit of 2 authenticated connections");
   expect_pose_served(honest, 3);
+}
+
+// The other doors: a WebSocket peer is a stranger of its TCP address like a TCP peer, every
+// Unix-socket peer one of the address "unix". Four silent WebSocket peers (all 127.0.0.1 may
+// hold) and two silent Unix-socket peers fill the six stranger slots; an honest Unix-socket
+// client then sheds the oldest stranger of the address holding most (the first WebSocket peer,
+// not a Unix one), and both honest clients, on the Unix socket and on WebSocket, are served.
+TEST_F(StrangersTest, WebSocketAndUnixSocketStrangersAreShedByTheSameRule) {
+  const ScratchDirectory sockets("strangers_unix");
+  const fs::path unix_socket = sockets / "sweepd.sock";
+  start(with(DaemonProcess::websocket_flags(directory_),
+             {"--unix-socket", unix_socket.string(), "--max-strangers", "6",
+              "--max-strangers-per-address", "4", "--hello-timeout-ms", "60000"}));
+  std::vector<std::unique_ptr<FrameClient>> websocket, unix_peers;
+  for (int i = 0; i < 4; ++i) {
+    websocket.push_back(
+        std::make_unique<FrameClient>(daemon_->websocket_port(), WebSocketUpgrade{}));
+    ASSERT_EQ(websocket.back()->websocket_status(), 101);
+  }
+  for (int i = 0; i < 2; ++i) {
+    unix_peers.push_back(std::make_unique<FrameClient>(unix_socket));
+    ASSERT_TRUE(unix_peers.back()->connected());
+  }
+  ASSERT_EQ(metric_once("sweepd_strangers_open", 6), 6.0);
+
+  FrameClient honest_unix(unix_socket);
+  ASSERT_NE(honest_unix.hello(kToken), nullptr);
+  expect_pose_served(honest_unix, 1);
+  EXPECT_EQ(last_error_before_close(*websocket.front()), protocol::ErrorCode::ConnectionLimit);
+  EXPECT_EQ(metric_now("sweepd_strangers_shed_total"), 1.0);
+  EXPECT_EQ(log_lines(daemon_->log(), "connection_cut",
+                      "the server already holds 6 connections that have not said Hello"),
+            1u);
+
+  FrameClient honest_websocket(daemon_->websocket_port(), WebSocketUpgrade{});
+  ASSERT_NE(honest_websocket.hello(kToken), nullptr);
+  expect_pose_served(honest_websocket, 2);
+  EXPECT_EQ(metric_now("sweepd_strangers_shed_total"), 1.0);
+  EXPECT_EQ(metric_once("sweepd_strangers_open", 5), 5.0);
 }
 
 // One Hello with `token` on a new connection: the fatal error's text, or "" for a Welcome.
