@@ -153,7 +153,8 @@ void HttpSidePort::accept_next() {
       accept_next();
       return;
     }
-    // Out of descriptors, say: trying again at once would spin this thread.
+    // Out of descriptors, say: trying again at once would spin this thread (as the protocol's
+    // listeners, server/transport/server.cpp).
     accept_retry_.expires_after(std::chrono::milliseconds(100));
     accept_retry_.async_wait([this](std::error_code) { accept_next(); });
   });

@@ -16,6 +16,8 @@ namespace {
 // I/O thread to be woken again. The kernel caps it at net.core.wmem_max; memory is used only
 // while a client is slow to read.
 constexpr int kSendBufferBytes = 4 << 20;
+// After a failed accept (EMFILE, ENFILE, ENOBUFS), how long until the next is tried.
+constexpr std::chrono::milliseconds kAcceptRetry{100};
 
 std::size_t worker_count(const ServerConfig& config) {
   if (config.worker_threads > 0) return static_cast<std::size_t>(config.worker_threads);
@@ -163,6 +165,13 @@ void Server::accept_next(Acceptor& acceptor) {
       }
     } else {
       log_event("accept_failed", {{"reason", error.message()}});
+      // Out of descriptors, say: accepting again at once would spin the I/O thread (and this
+      // log) until one is free; the pending connection waits in the backlog meanwhile.
+      auto retry = std::make_shared<asio::steady_timer>(io_, kAcceptRetry);
+      retry->async_wait([this, &acceptor, retry](std::error_code) {
+        if (!shutting_down_) accept_next(acceptor);
+      });
+      return;
     }
     accept_next(acceptor);
   });

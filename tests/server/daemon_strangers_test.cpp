@@ -242,5 +242,37 @@ TEST_F(StrangersTest, AStrangerThatNeverSaysHelloIsClosedAfterTheDeadline) {
   EXPECT_EQ(metric_once("sweepd_strangers_open", 0), 0.0);
 }
 
+// Out of descriptors (a daemon held to 64 by prlimit; 12 in use at rest), a failed accept is
+// tried again after 100 ms, not at once: the old loop spun the I/O thread and wrote an
+// accept_failed line per try. 120 silent peers that never close (the shed ones wait for their
+// peer's end up to 2 s, server/transport/lingering_close.h) exhaust them; once they close, an
+// honest client is served.
+TEST(StrangersOutOfDescriptors, AFailedAcceptIsTriedAgainLaterNotAtOnce) {
+  if (!have_program("prlimit")) GTEST_SKIP() << "prlimit is not installed (util-linux)";
+  const ScratchDirectory directory("strangers_fds");
+  DaemonProcess daemon(directory, {"--position-maps", "0"},
+                       {"/usr/bin/prlimit", "--nofile=64", "--"});
+  ASSERT_TRUE(daemon.running()) << daemon.log();
+  const auto started = std::chrono::steady_clock::now();
+  {
+    std::vector<std::unique_ptr<FrameClient>> silent;
+    for (int i = 0; i < 120; ++i) silent.push_back(std::make_unique<FrameClient>(daemon.port()));
+    std::this_thread::sleep_for(std::chrono::seconds(1));
+  }
+  const double elapsed_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
+  const std::string log = daemon.log_with({"\"event\":\"accept_failed\""});
+  const std::size_t failed = log_lines(log, "accept_failed", "Too many open files");
+  std::printf("accept_failed lines in %.0f ms out of descriptors: %zu\n", elapsed_ms, failed);
+  EXPECT_GE(failed, 1u) << "the peers did not exhaust the descriptors";
+  // One try per 100 ms, with a margin of a few for the time the log was read in.
+  EXPECT_LE(failed, static_cast<std::size_t>(elapsed_ms / 100) + 5) << elapsed_ms << " ms";
+  FrameClient honest(daemon.port());
+  ASSERT_NE(honest.hello(""), nullptr) << daemon.log();
+  const std::vector<protocol::Quat> wire = to_wire(bent_rotations(kMannequinJoints));
+  ASSERT_TRUE(send_pose(honest, pose_fields(daemon.model_id(), 1, wire)));
+  EXPECT_NE(honest.receive_as<protocol::PosedVertices>(), nullptr);
+}
+
 }  // namespace
 }  // namespace sweepd::test::daemon_strangers_test
