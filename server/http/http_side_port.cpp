@@ -19,6 +19,8 @@ class HttpSidePort::Exchange : public std::enable_shared_from_this<Exchange> {
 
   void start() {
     arm_deadline(kHeadDeadline, [](Exchange& self) {
+      // A wait that expired just as the head became whole may still run: it answers nothing.
+      if (!self.reading_head()) return;
       self.answer({408,
                    kPlainText,
                    "the request head was not whole within " +
@@ -91,6 +93,8 @@ class HttpSidePort::Exchange : public std::enable_shared_from_this<Exchange> {
         break;
     }
     head_read_ = true;
+    // The head deadline no longer applies: /metrics may take its second on the other thread.
+    arm_deadline(kAnswerDeadline, [](Exchange& self) { self.close(); });
     const bool head_only = head.method == "HEAD";
     if (std::optional<HttpAnswer> now =
             answer_at_once(head, side_port_.readiness_, side_port_.viewer_)) {
