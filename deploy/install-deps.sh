@@ -17,7 +17,6 @@ packages=(
   libdeflate-dev  # deflate of ZIP position maps (io/exr/exr_zip_encode.h): 0.52-0.63x zlib's time
   libmeshoptimizer-dev  # the protocol's Meshopt position format (protocol/meshopt_vertices.h); Python's sweepd-client loads its libmeshoptimizer.so.2d
   strace  # tests/server/daemon_upload_confinement_test.cpp traces the daemon's file calls
-  libcpp-httplib-dev  # sweepd's HTTP side port (server/http/): /healthz, /readyz, /metrics
   libssl-dev openssl  # TLS in sweepd and its clients (Asio's ssl over OpenSSL); the TLS tests make certificates with openssl
   curl prometheus  # tests/server/daemon_http_side_port_test.cpp: curl, promtool, a real scrape
   libwebsocketpp-dev  # sweepd's WebSocket listener (--ws-listen, server/transport/websocket_session.h); header-only

@@ -13,6 +13,10 @@
 //   fuzz_vmc             one VMC datagram (--vmc-listen): server::read_osc_packet (liblo), its
 //                        messages applied to a VMC stream, the pose it gives the mannequin
 //                        validated and deformed as a subscriber's frame is
+//   fuzz_http            the HTTP side port's request head (server/http/http_request_head.h),
+//                        read again after each piece as the side port reads it (pieces cut
+//                        where the first byte says), then answered as the side port answers
+//                        from memory (server/http/side_port_answers.h, a two-file viewer)
 // Each returns true when the input was accepted whole, false when it was refused cleanly (a
 // std::exception naming the problem: the expected outcome for bad input); anything else — a
 // crash, a sanitizer report, an exception the callers would not catch — is a finding.
@@ -36,5 +40,6 @@ bool fuzz_bvh(std::span<const std::uint8_t> bytes);
 bool fuzz_sweepbind(std::span<const std::uint8_t> bytes);
 bool fuzz_json(std::span<const std::uint8_t> bytes);
 bool fuzz_vmc(std::span<const std::uint8_t> bytes);
+bool fuzz_http(std::span<const std::uint8_t> bytes);
 
 }  // namespace sweepd::fuzz

@@ -232,6 +232,20 @@ std::map<std::string, std::vector<Input>> seed_inputs() {
       json_input(3, R"({"LFingers": "LeftHand", "Head": null})"),
       json_input(4, R"({"port": 7000, "max_models": 4, "token": "t"})")};
   seeds["vmc"] = {vmc_frame()};
+  // Side-port requests as curl, Prometheus and a kubelet send them, whole at once (first byte
+  // 255) and a byte at a time (0).
+  for (const char* request :
+       {"GET /readyz HTTP/1.1\r\nHost: 127.0.0.1:9464\r\nUser-Agent: kube-probe/1.29\r\n"
+        "Accept: */*\r\nConnection: close\r\n\r\n",
+        "GET /metrics HTTP/1.1\r\nHost: sweepd:9464\r\nAccept: text/plain;version=0.0.4\r\n"
+        "Accept-Encoding: gzip\r\nX-Prometheus-Scrape-Timeout-Seconds: 10\r\n\r\n",
+        "HEAD /viewer/viewer.js?ws=ws://127.0.0.1:7879 HTTP/1.0\n\n"}) {
+    for (const std::uint8_t piece : {255, 0}) {
+      Input input = as_input(request);
+      input.insert(input.begin(), piece);
+      seeds["http"].push_back(std::move(input));
+    }
+  }
   fs::remove_all(directory);
   return seeds;
 }

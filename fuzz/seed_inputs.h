@@ -2,9 +2,10 @@
 // writers from the small procedural mannequin, so the corpora start from what the parsers
 // accept: a session of frames (Hello, Pose, LoadModel, EditKeyEllipse, PositionMapRequest), the
 // mannequin as .glb, the smallest mannequin and a four-joint animation as FBX (assimp's
-// exporter), a BVH written from its skeleton, its .sweepbind, each JSON input, and a VMC frame
-// (a liblo bundle). Keys: "frames", "gltf", "fbx", "bvh", "sweepbind", "json" (fuzz_json's first
-// byte picks the kind), "vmc". fuzz/make_seeds writes them to corpus folders;
+// exporter), a BVH written from its skeleton, its .sweepbind, each JSON input, a VMC frame (a
+// liblo bundle) and HTTP side-port requests. Keys: "frames", "gltf", "fbx", "bvh", "sweepbind",
+// "json" (fuzz_json's first byte picks the kind), "vmc", "http". fuzz/make_seeds writes them to
+// corpus folders;
 // tests/fuzz/fuzz_inputs_test.cpp replays them.
 #pragma once
 

@@ -142,6 +142,12 @@ const std::vector<Setting>& settings() {
       integer_setting("max_connections", &ServerConfig::max_connections, 1, 100000),
       integer_setting("max_poses_in_flight", &ServerConfig::max_poses_in_flight, 1, 4096),
       integer_setting("hello_timeout_ms", &ServerConfig::hello_timeout_ms, 1, 3'600'000),
+      integer_setting("max_strangers", &ServerConfig::max_strangers, 1, 100000),
+      integer_setting("max_strangers_per_address", &ServerConfig::max_strangers_per_address, 1,
+                      100000),
+      integer_setting("auth_free_failures", &ServerConfig::auth_free_failures, 0, 1'000'000),
+      integer_setting("auth_backoff_ms", &ServerConfig::auth_backoff_ms, 1, 3'600'000),
+      integer_setting("auth_backoff_max_ms", &ServerConfig::auth_backoff_max_ms, 1, 86'400'000),
       integer_setting("max_hello_frame_bytes", &ServerConfig::max_hello_frame_bytes, 256, 1u << 30),
       integer_setting("frame_timeout_ms", &ServerConfig::frame_timeout_ms, 1, 3'600'000),
       integer_setting("idle_timeout_ms", &ServerConfig::idle_timeout_ms, 0, 86'400'000),
@@ -349,10 +355,20 @@ Flags (each also a key of the JSON config file, with '_' for '-'):
   --max-models N            most models held (default 16)
   --max-clips N             most motion clips held, in memory (UploadClip; default 64)
   --max-clip-bytes N        uploaded bytes (BVH text, glTF files) of all clips held (default 268435456)
-  --max-connections N       most simultaneous connections (default 64)
+  --max-connections N       most authenticated connections at once; connections that have
+                            not said Hello yet count apart (default 64)
   --max-poses-in-flight N   queued poses per connection before backpressure (default 8)
   --hello-timeout-ms N      close connections that send no Hello in time, the TLS handshake
-                            included (default 10000)
+                            included (default 5000)
+  --max-strangers N         most connections that have not authenticated yet; past it the
+                            oldest of the address holding most is closed (default 128)
+  --max-strangers-per-address N
+                            the same from one peer address; past it that address's oldest
+                            is closed (default 32)
+  --auth-free-failures N    wrong tokens an address may send before it must wait (default 5)
+  --auth-backoff-ms N       after each further wrong token, no token of that address is
+                            compared for N ms, doubling per failure (default 500)
+  --auth-backoff-max-ms N   the longest such wait (default 30000)
   --max-hello-frame-bytes N largest frame before Hello; larger is fatal (default 65536)
   --frame-timeout-ms N      a frame begun must be whole within N ms, else the connection is
                             closed (default 60000)

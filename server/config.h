@@ -68,9 +68,20 @@ struct ServerConfig {
   // text, glTF files) in all.
   std::uint32_t max_clips = 64;
   std::uint64_t max_clip_bytes = 256ull << 20;
-  std::uint32_t max_connections = 64;
+  std::uint32_t max_connections = 64;  // authenticated connections (members)
   std::uint32_t max_poses_in_flight = 8;
-  std::uint32_t hello_timeout_ms = 10000;  // a connection silent this long before Hello: closed
+  std::uint32_t hello_timeout_ms = 5000;  // a connection silent this long before Hello: closed
+  // Strangers (server/transport/stranger_slots.h): connections that have not authenticated yet,
+  // at most this many in all and from one address; past either, the oldest is shed. They never
+  // count against max_connections.
+  std::uint32_t max_strangers = 128;
+  std::uint32_t max_strangers_per_address = 32;
+  // Wrong tokens (server/transport/auth_backoff.h): an address may fail auth_free_failures
+  // times; after each further failure its next token is compared only after auth_backoff_ms,
+  // doubling per failure, at most auth_backoff_max_ms.
+  std::uint32_t auth_free_failures = 5;
+  std::uint32_t auth_backoff_ms = 500;
+  std::uint32_t auth_backoff_max_ms = 30000;
   // Hostile clients (protocol/README.md, "Limits"): the largest frame before Hello; a frame
   // begun must be whole within frame_timeout_ms; a connection with no request and no work for
   // idle_timeout_ms (0: never) is closed; a reply not taken by the client within

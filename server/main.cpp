@@ -121,6 +121,8 @@ int main(int argc, char** argv) {
                        {"tls", config.tls_cert.empty() ? "off" : "on"},
                        {"allow_plaintext", config.allow_plaintext},
                        {"max_connections", config.max_connections},
+                       {"max_strangers", config.max_strangers},
+                       {"max_strangers_per_address", config.max_strangers_per_address},
                        {"max_models", config.max_models},
                        {"max_frame_bytes", config.max_frame_bytes},
                        {"max_poses_in_flight", config.max_poses_in_flight},

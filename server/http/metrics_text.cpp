@@ -147,7 +147,7 @@ void add_server(Page& page, const ServerSnapshot& server) {
   page.single("sweepd_sent_bytes_total", "counter", "Bytes written to client sockets.",
               all.bytes_out);
   page.single("sweepd_connections_accepted_total", "counter",
-              "Connections accepted since start (including those refused at the limit).",
+              "Connections accepted since start (including those shed or refused at Hello).",
               server.connections_accepted);
   page.single("sweepd_connections_open", "gauge", "Client connections open now.",
               server.connections_open);
@@ -157,6 +157,19 @@ void add_server(Page& page, const ServerSnapshot& server) {
   page.single("sweepd_websocket_connections_open", "gauge",
               "Of the connections open now, those on the WebSocket listener.",
               server.websocket_connections_open);
+  page.single("sweepd_strangers_open", "gauge",
+              "Of the connections open now, those not authenticated (nor cut) yet.",
+              server.strangers_open);
+  page.single("sweepd_strangers_shed_total", "counter",
+              "Unauthenticated connections closed to make room for a newer one "
+              "(--max-strangers, --max-strangers-per-address).",
+              traffic.strangers_shed);
+  page.single("sweepd_auth_failures_total", "counter", "Hello tokens compared and found wrong.",
+              traffic.auth_failures);
+  page.single("sweepd_auth_backoff_refusals_total", "counter",
+              "Hellos refused without comparing their token: their address waits after too "
+              "many wrong ones (--auth-free-failures, --auth-backoff-ms).",
+              traffic.auth_backoff_refusals);
   page.single("sweepd_poses_waiting", "gauge",
               "Poses queued behind a running one, all connections (the queue depth).",
               server.poses_waiting);

@@ -26,8 +26,9 @@ bool starts_like_tls_handshake(std::uint64_t declared_bytes) {
 }  // namespace
 
 Connection::Connection(ConnectionStream stream, std::uint64_t id, std::string peer,
-                       ConnectionEnvironment& environment)
+                       std::string address, ConnectionEnvironment& environment)
     : stream_(std::move(stream)),
+      address_(std::move(address)),
       environment_(environment),
       hello_deadline_(stream_.get_executor()),
       frame_deadline_(stream_.get_executor()),
@@ -58,13 +59,9 @@ void Connection::start() {
   secure_then([self = shared_from_this()]() { self->read_more(); });
 }
 
-void Connection::refuse(pb::ErrorCode code, const std::string& message) {
-  log_event("connection_refused",
-            {{"connection", id()}, {"peer", counters_.peer}, {"reason", message}});
-  arm_hello_deadline();  // bounds the TLS handshake the refusal waits for
-  secure_then([self = shared_from_this(), code, message]() {
-    self->send_error(code, message, 0, 0, true);
-  });
+void Connection::shed(const std::string& reason) {
+  ++environment_.traffic.strangers_shed;
+  cut(pb::ErrorCode::ConnectionLimit, reason);
 }
 
 void Connection::secure_then(std::function<void()> next) {
@@ -309,15 +306,17 @@ void Connection::authenticate(const pb::Hello& hello, std::uint64_t request_id) 
                0, request_id, true);
     return;
   }
-  const std::string_view token =
-      hello.auth_token() ? hello.auth_token()->string_view() : std::string_view();
-  const std::string& secret = environment_.config.token;
-  if (!secret.empty() && !constant_time_equal(secret, token)) {
-    log_event("auth_failed", {{"connection", id()}, {"peer", counters_.peer}});
-    send_error(pb::ErrorCode::AuthFailed, "the auth token is wrong", 0, request_id, true);
+  if (!environment_.config.token.empty() && !token_accepted(hello, request_id)) return;
+  if (environment_.members_open >= environment_.config.max_connections) {
+    send_error(pb::ErrorCode::ConnectionLimit,
+               "the server already holds its limit of " +
+                   std::to_string(environment_.config.max_connections) +
+                   " authenticated connections",
+               0, request_id, true);
     return;
   }
   authenticated_ = true;
+  ++environment_.members_open;
   hello_deadline_.cancel();
   reader_.set_max_frame_bytes(environment_.config.max_frame_bytes);
   stream_.set_max_message_bytes(environment_.config.max_frame_bytes + protocol::kLengthPrefixBytes);
@@ -330,6 +329,32 @@ void Connection::authenticate(const pb::Hello& hello, std::uint64_t request_id) 
   build_welcome(builder, environment_.config, environment_.position_maps.enabled(),
                 stream_.unix_socket(), id(), request_id);
   send(std::move(builder));
+}
+
+bool Connection::token_accepted(const pb::Hello& hello, std::uint64_t request_id) {
+  const auto now = Clock::now();
+  AuthBackoff& backoff = environment_.auth_backoff;
+  if (const std::chrono::milliseconds wait = backoff.wait(address_, now); wait.count() > 0) {
+    ++environment_.traffic.auth_backoff_refusals;
+    send_error(pb::ErrorCode::AuthFailed,
+               "too many wrong tokens from " + address_ + ": no token from it is checked for " +
+                   std::to_string(wait.count()) + " ms",
+               0, request_id, true);
+    return false;
+  }
+  const std::string_view token =
+      hello.auth_token() ? hello.auth_token()->string_view() : std::string_view();
+  if (constant_time_equal(environment_.config.token, token)) return true;
+  ++environment_.traffic.auth_failures;
+  // Once per burst; the burst's counts are logged when it ends (auth_failure_burst).
+  if (backoff.failed(address_, now)) {
+    log_event("auth_failed", {{"connection", id()},
+                              {"peer", counters_.peer},
+                              {"burst", "first wrong token from this address; the rest are "
+                                        "counted in its auth_failure_burst line"}});
+  }
+  send_error(pb::ErrorCode::AuthFailed, "the auth token is wrong", 0, request_id, true);
+  return false;
 }
 
 void Connection::run_in_order(Pool pool, std::function<Reply()> work) {

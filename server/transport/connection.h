@@ -22,7 +22,11 @@
 // frame ends the session with a WebSocket close code and a `connection_cut`. Frames are read
 // with protocol::FrameReader; the first must be Hello (token compared in constant time), anything
 // else before it — or no Hello within config.hello_timeout_ms — is a fatal NotAuthenticated, and
-// before it a frame may have at most config.max_hello_frame_bytes (a fatal FrameTooLarge). Frame
+// before it a frame may have at most config.max_hello_frame_bytes (a fatal FrameTooLarge). Until
+// Hello a connection is a stranger (Server sheds the oldest past config.max_strangers); a wrong
+// token is counted per peer address (AuthBackoff: past config.auth_free_failures the address's
+// next token waits), and a right one is admitted while fewer than config.max_connections are
+// authenticated (else a fatal ConnectionLimit). Frame
 // errors (BadFrame, WrongIdentifier, FrameTooLarge, ResourceExhausted) and request errors
 // (UnknownModel, WrongJointCount, InvalidPose, ...) are answered with an Error and the session goes
 // on, until config.max_frame_errors bad frames close it.
@@ -68,12 +72,16 @@ namespace sweepd::server {
 
 class Connection final : public std::enable_shared_from_this<Connection>, public RequestSession {
  public:
-  Connection(ConnectionStream stream, std::uint64_t id, std::string peer,
+  // `peer`: the address and port, as logged; `address`: the peer's address alone (unix: all
+  // Unix-socket peers), whose strangers and failed authentications are counted together.
+  Connection(ConnectionStream stream, std::uint64_t id, std::string peer, std::string address,
              ConnectionEnvironment& environment);
 
   void start();
-  // Answers with a fatal error (e.g. ConnectionLimit) and closes, reading nothing.
-  void refuse(protocol::ErrorCode code, const std::string& message);
+  // Not authenticated yet, and not cut or closed: it holds one of the strangers' slots.
+  bool stranger() const { return !authenticated_ && !draining_ && !closed_; }
+  // A stranger whose slot a newer one takes: a fatal ConnectionLimit naming `reason`, closed.
+  void shed(const std::string& reason);
   // SIGTERM: new work is answered with ShuttingDown; in-flight work finishes; then Bye.
   void shut_down();
 
@@ -111,6 +119,8 @@ class Connection final : public std::enable_shared_from_this<Connection>, public
   bool reading_paused() const;
   void dispatch(const protocol::Message& message);
   void authenticate(const protocol::Hello& hello, std::uint64_t request_id);
+  // Compares the token unless the peer's address must wait (AuthBackoff); false: refused.
+  bool token_accepted(const protocol::Hello& hello, std::uint64_t request_id);
 
   void start_next_pose();
   // A pose answered: the connection's, the traffic's and the model's counters.
@@ -142,6 +152,7 @@ class Connection final : public std::enable_shared_from_this<Connection>, public
   bool has_work() const;
 
   ConnectionStream stream_;
+  std::string address_;
   ConnectionEnvironment& environment_;
   asio::steady_timer hello_deadline_;
   asio::steady_timer frame_deadline_;  // armed while a frame is part-read

@@ -1,7 +1,8 @@
 // ConnectionEnvironment: what the server lends every connection — its configuration, the
-// services requests use (models, clips, collision, position maps, contact sheets, the VMC stream), the pools
-// work runs on, the buffer budget and reply builders shared by all clients, and the counters
-// Stats and /metrics read. Owned by Server; a connection and its request handlers
+// services requests use (models, clips, collision, position maps, contact sheets, the VMC
+// stream), the pools work runs on, the buffer budget and reply builders shared by all clients,
+// the failed authentications of each address and the count of authenticated connections, and
+// the counters Stats and /metrics read. Owned by Server; a connection and its request handlers
 // (server/handlers/) reach it by reference, on the I/O thread unless a field says otherwise.
 #pragma once
 
@@ -20,6 +21,7 @@
 #include "server/services/contact_sheet_service.h"
 #include "server/services/position_map_service.h"
 #include "server/services/vmc/vmc_receiver.h"
+#include "server/transport/auth_backoff.h"
 #include "server/transport/connection_counters.h"
 #include "server/transport/fair_work_queue.h"
 #include "server/transport/reply_builder_pool.h"
@@ -44,6 +46,8 @@ struct ConnectionEnvironment {
   protocol::BufferBudget& buffer_budget;  // frames being read and replies waiting, all clients
   ReplyBuilderPool& builders;             // idle reply builders, all clients
   TrafficCounters traffic;                // requests, errors and latencies of every connection
+  AuthBackoff& auth_backoff;              // failed authentications per peer address
+  std::size_t members_open = 0;           // authenticated connections (max_connections)
   VmcReceiver* vmc = nullptr;             // the VMC stream (--vmc-listen); null: none received
 };
 

@@ -176,6 +176,7 @@ void Connection::close_if_done() {
 void Connection::close_now() {
   if (closed_) return;
   closed_ = true;
+  if (authenticated_) --environment_.members_open;
   hello_deadline_.cancel();
   frame_deadline_.cancel();
   idle_deadline_.cancel();

@@ -16,6 +16,8 @@ namespace {
 // I/O thread to be woken again. The kernel caps it at net.core.wmem_max; memory is used only
 // while a client is slow to read.
 constexpr int kSendBufferBytes = 4 << 20;
+// After a failed accept (EMFILE, ENFILE, ENOBUFS), how long until the next is tried.
+constexpr std::chrono::milliseconds kAcceptRetry{100};
 
 std::size_t worker_count(const ServerConfig& config) {
   if (config.worker_threads > 0) return static_cast<std::size_t>(config.worker_threads);
@@ -42,6 +44,8 @@ Server::Server(const ServerConfig& config, ModelService& models, Readiness& read
       builders_(2 * static_cast<std::size_t>(worker_count(config)) + 4),
       signals_(io_, SIGTERM, SIGINT),
       tls_(std::move(tls)),
+      auth_backoff_(config.auth_free_failures, std::chrono::milliseconds(config.auth_backoff_ms),
+                    std::chrono::milliseconds(config.auth_backoff_max_ms)),
       environment_{config,
                    models,
                    workers_,
@@ -57,7 +61,10 @@ Server::Server(const ServerConfig& config, ModelService& models, Readiness& read
                    {},
                    buffer_budget_,
                    builders_,
-                   {}} {
+                   {},
+                   auth_backoff_},
+      strangers_(config.max_strangers, config.max_strangers_per_address),
+      auth_burst_sweep_(io_) {
   if (config.vmc_port >= 0) {
     vmc_ = std::make_unique<VmcReceiver>(io_, models, config.vmc_address, config.vmc_port,
                                          config.vmc_model);
@@ -153,7 +160,8 @@ void Server::accept_next(Acceptor& acceptor) {
       if constexpr (std::is_same_v<Acceptor, asio::ip::tcp::acceptor>) {
         socket.set_option(asio::ip::tcp::no_delay(true), ignored);
         const auto endpoint = socket.remote_endpoint(ignored);
-        std::string peer = endpoint.address().to_string() + ":" + std::to_string(endpoint.port());
+        std::string address = endpoint.address().to_string();
+        std::string peer = address + ":" + std::to_string(endpoint.port());
         std::unique_ptr<WebSocketSession> websocket;
         if (websocket_acceptor_ && &acceptor == &*websocket_acceptor_) {
           // Before Hello at most a Hello-sized message; Connection raises it after Hello.
@@ -164,31 +172,67 @@ void Server::accept_next(Acceptor& acceptor) {
         }
         admit(ConnectionStream(ConnectionStream::Socket(std::move(socket)), tls_ ? &*tls_ : nullptr,
                                std::move(websocket)),
-              std::move(peer));
+              std::move(peer), std::move(address));
       } else {
         admit(ConnectionStream(ConnectionStream::Socket(std::move(socket)), nullptr, nullptr),
-              "unix:" + config_.unix_socket.string());
+              "unix:" + config_.unix_socket.string(), "unix");
       }
     } else {
       log_event("accept_failed", {{"reason", error.message()}});
+      // Out of descriptors, say: accepting again at once would spin the I/O thread (and this
+      // log) until one is free; the pending connection waits in the backlog meanwhile.
+      auto retry = std::make_shared<asio::steady_timer>(io_, kAcceptRetry);
+      retry->async_wait([this, &acceptor, retry](std::error_code) {
+        if (!shutting_down_) accept_next(acceptor);
+      });
+      return;
     }
     accept_next(acceptor);
   });
 }
 
-void Server::admit(ConnectionStream stream, std::string peer) {
+void Server::admit(ConnectionStream stream, std::string peer, std::string address) {
   const std::uint64_t id = next_connection_id_++;
   if (stream.websocket()) ++websocket_connections_accepted_;
-  auto connection = std::make_shared<Connection>(std::move(stream), id, peer, environment_);
-  if (connections_.size() >= config_.max_connections) {
-    connection->refuse(protocol::ErrorCode::ConnectionLimit,
-                       "the server already holds its limit of " +
-                           std::to_string(config_.max_connections) + " connections");
-    return;
-  }
+  auto connection =
+      std::make_shared<Connection>(std::move(stream), id, std::move(peer), address, environment_);
   connections_.emplace(id, connection);
   builders_.set_connections(connections_.size());
+  strangers_.forget([this](std::uint64_t stranger) {
+    const auto found = connections_.find(stranger);
+    return found != connections_.end() && found->second->stranger();
+  });
+  for (const StrangerSlots::Shed& shed : strangers_.admit(id, address)) {
+    connections_.at(shed.id)->shed(
+        shed.address_full
+            ? "shed for a newer connection: " + address + " already holds " +
+                  std::to_string(strangers_.per_address()) +
+                  " connections that have not said Hello (--max-strangers-per-address)"
+            : "shed for a newer connection: the server already holds " +
+                  std::to_string(strangers_.total()) +
+                  " connections that have not said Hello (--max-strangers)");
+  }
   connection->start();
+}
+
+void Server::sweep_auth_bursts() {
+  auth_burst_sweep_.expires_after(std::chrono::seconds(1));
+  auth_burst_sweep_.async_wait([this](std::error_code error) {
+    if (error || shutting_down_) return;
+    log_auth_bursts(auth_backoff_.end_quiet_bursts(AuthBackoff::Clock::now()));
+    sweep_auth_bursts();
+  });
+}
+
+void Server::log_auth_bursts(const std::vector<AuthBackoff::Burst>& bursts) {
+  const auto now = AuthBackoff::Clock::now();
+  for (const AuthBackoff::Burst& burst : bursts) {
+    log_event("auth_failure_burst",
+              {{"address", burst.address},
+               {"wrong_tokens", burst.failures},
+               {"refused_unchecked", burst.refused},
+               {"seconds", std::chrono::duration<double>(now - burst.started).count()}});
+  }
 }
 
 void Server::run() {
@@ -199,6 +243,7 @@ void Server::run() {
   asio::post(io_, [this]() {
     if (!shutting_down_) readiness_.set(Readiness::Stage::kAccepting);
   });
+  sweep_auth_bursts();
   serving_ = true;
   io_.run();
   serving_ = false;
@@ -218,6 +263,11 @@ void Server::begin_shutdown(const char* reason) {
   log_event("shutdown", {{"reason", reason}, {"connections", connections_.size()}});
   std::error_code ignored;
   signals_.cancel(ignored);
+  auth_burst_sweep_.cancel();
+  // The bursts still going are logged now, with what they counted so far: two of the longest
+  // waits ahead ends every one (AuthBackoff: quiet once its wait and max_wait have passed).
+  log_auth_bursts(
+      auth_backoff_.end_quiet_bursts(AuthBackoff::Clock::now() + 2 * auth_backoff_.max_wait()));
   if (tcp_acceptor_) tcp_acceptor_->close(ignored);
   if (websocket_acceptor_) websocket_acceptor_->close(ignored);
   if (unix_acceptor_) unix_acceptor_->close(ignored);
@@ -245,6 +295,7 @@ ServerSnapshot Server::gather_snapshot() const {
     snapshot.poses_waiting += connection->poses_waiting();
     snapshot.poses_running += connection->pose_running() ? 1 : 0;
     snapshot.websocket_connections_open += connection->websocket() ? 1 : 0;
+    snapshot.strangers_open += connection->stranger() ? 1 : 0;
   }
   snapshot.connections_open = connections_.size();
   snapshot.connections_accepted = next_connection_id_ - 1;

@@ -15,7 +15,11 @@
 //   the I/O thread, or nullopt when run() is not serving or the I/O thread did not answer
 //   within `timeout`. Costs the I/O thread one pass over the open connections and models.
 // `readiness` is set to accepting once run() serves and to draining on shutdown.
-// Connections beyond config.max_connections get a fatal Error{ConnectionLimit}.
+// Every connection is admitted as a stranger (StrangerSlots: past config.max_strangers in all
+// or config.max_strangers_per_address from its address, the oldest stranger is shed with a
+// fatal Error{ConnectionLimit}); a Hello with the right token past config.max_connections
+// authenticated connections gets that error instead. Wrong tokens are counted per address
+// (AuthBackoff); each burst of them is logged once it ends (`auth_failure_burst`).
 // All socket work runs on the thread that calls run(); deformation and model loading run on
 // a pool of config.worker_threads (0: one per core); poses whose folding waits on the GPU
 // thread (the gpu collision backend) run on a second pool of as many threads, which mostly
@@ -39,6 +43,7 @@
 #include "server/services/spare_cores.h"
 #include "server/transport/connection.h"
 #include "server/transport/server_snapshot.h"
+#include "server/transport/stranger_slots.h"
 
 namespace sweepd::server {
 
@@ -60,7 +65,10 @@ class Server {
   // Binds config address:port; the bound port. Throws naming `what`, the address and why.
   int listen_tcp(std::optional<asio::ip::tcp::acceptor>& acceptor, const std::string& address,
                  int port, const char* what);
-  void admit(ConnectionStream stream, std::string peer);
+  void admit(ConnectionStream stream, std::string peer, std::string address);
+  // Every second: logs the bursts of wrong tokens that have ended.
+  void sweep_auth_bursts();
+  void log_auth_bursts(const std::vector<AuthBackoff::Burst>& bursts);
   void begin_shutdown(const char* reason);
   ServerSnapshot gather_snapshot() const;  // on the I/O thread
 
@@ -85,7 +93,10 @@ class Server {
   std::optional<asio::local::stream_protocol::acceptor> unix_acceptor_;
   std::unique_ptr<VmcReceiver> vmc_;  // null without --vmc-listen
   int vmc_port_ = 0;
+  AuthBackoff auth_backoff_;
   ConnectionEnvironment environment_;
+  StrangerSlots strangers_;
+  asio::steady_timer auth_burst_sweep_;
   std::map<std::uint64_t, std::shared_ptr<Connection>> connections_;
   std::uint64_t next_connection_id_ = 1;
   std::uint64_t websocket_connections_accepted_ = 0;

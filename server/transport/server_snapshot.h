@@ -25,6 +25,7 @@ struct ServerSnapshot {
   ConnectionTotals all_connections;        // closed and open together
   std::uint64_t connections_accepted = 0;  // admitted or refused, since start
   std::uint64_t connections_open = 0;
+  std::uint64_t strangers_open = 0;  // of those, not authenticated (nor cut) yet
   // Of those, on the WebSocket listener (--ws-listen).
   std::uint64_t websocket_connections_accepted = 0, websocket_connections_open = 0;
   std::uint64_t poses_waiting = 0;  // queued behind a running pose, all connections

@@ -1,5 +1,6 @@
 // TrafficCounters: what the whole server has seen since it started, for /metrics — requests
-// by message type, errors by code, pose and position-map latency histograms, and the sums of
+// by message type, errors by code, pose and position-map latency histograms, failed
+// authentications and shed strangers, and the sums of
 // the connections already closed (the open ones keep theirs in ConnectionCounters, so a total
 // is closed + open). Kept on the I/O thread only, like ConnectionCounters; the HTTP side port
 // reads a copy (ServerSnapshot).
@@ -40,6 +41,9 @@ struct TrafficCounters {
   LatencyHistogram pose_latency;          // frame read → reply queued, plain poses
   LatencyHistogram position_map_latency;  // the same for PositionMapRequest
   ConnectionTotals closed_connections;
+  // Issue 49 item 1: tokens compared and wrong, Hellos refused unchecked while their address
+  // waited (AuthBackoff), and strangers shed for a newer one (StrangerSlots).
+  std::uint64_t auth_failures = 0, auth_backoff_refusals = 0, strangers_shed = 0;
 
   void count_request(protocol::Body type) {
     const auto index = static_cast<std::size_t>(type);

@@ -442,15 +442,21 @@ TEST_P(DaemonErrors, SilentConnectionIsClosedAfterTheHelloTimeout) {
 }
 
 TEST_P(DaemonErrors, ConnectionsBeyondTheLimitAreRefused) {
-  // The limit is 3 (broken_, healthy_, third), over TCP and WebSocket together: the fourth is
-  // refused on whichever listener it comes.
+  // The limit is 3 authenticated connections (broken_, healthy_, third), over TCP and WebSocket
+  // together: the fourth is refused at its Hello on whichever listener it comes (before Hello it
+  // holds a stranger's slot, which members never wait for: daemon_strangers_test.cpp).
   const std::unique_ptr<FrameClient> third_client = connect();
   FrameClient& third = *third_client;
   ASSERT_NE(third.hello(""), nullptr);
   FrameClient fourth(daemon_->port());
+  flatbuffers::FlatBufferBuilder builder;
+  ASSERT_TRUE(fourth.send_bytes(
+      protocol::build_hello(builder, "", "fourth", protocol::PoseDelivery::InOrder, 1)));
   const protocol::Error* error = fourth.receive_as<protocol::Error>();
   ASSERT_NE(error, nullptr);
   EXPECT_EQ(error->code(), protocol::ErrorCode::ConnectionLimit);
+  EXPECT_EQ(error->message()->str(),
+            "the server already holds its limit of 3 authenticated connections");
   EXPECT_TRUE(error->fatal());
   EXPECT_TRUE(fourth.closed_by_server());
   ASSERT_TRUE(send_pose(third, pose_fields(daemon_->model_id(), 3, rotations_)));

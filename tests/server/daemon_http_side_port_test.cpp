@@ -7,8 +7,13 @@
 // binary is absent (deploy/install-deps.sh installs all three).
 #include <gtest/gtest.h>
 
+#include <sys/socket.h>
+
+#include <atomic>
+#include <cerrno>
 #include <cstdlib>
 #include <nlohmann/json.hpp>
+#include <thread>
 
 #include "tests/server/daemon_process.h"
 #include "tests/server/http_probe.h"
@@ -137,6 +142,127 @@ TEST_F(HttpSidePortTest, ReadyzIsReadyWhileServingAndNotWhileDrainingAfterSigter
   EXPECT_LE(replies, kPoses);
   EXPECT_EQ(daemon_->wait(), 0) << daemon_->log();
   EXPECT_EQ(curl_get(http_port_, "/healthz").status, 0);  // gone with the process
+}
+
+// A peer that opens the side port and sends a request head one byte every 100 ms, never
+// ending it (slowloris); closed_after() waits (at most 15 s) until the server closes it and
+// says what it was sent first, if anything (a 408, or nothing when shed).
+class SlowHeadPeer {
+ public:
+  explicit SlowHeadPeer(int port) : connected_(std::chrono::steady_clock::now()) {
+    fd_ = socket(AF_INET, SOCK_STREAM, 0);
+    const sockaddr_in address = loopback_address(port);
+    open_ = connect(fd_, reinterpret_cast<const sockaddr*>(&address), sizeof(address)) == 0;
+    const timeval timeout{15, 0};
+    setsockopt(fd_, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof(timeout));
+    send_text("GET /metrics HTTP/1.1\r\nHost: sweepd\r\n");
+  }
+  ~SlowHeadPeer() { close(fd_); }
+  bool connected() const { return open_; }
+  void trickle() { send_text("X"); }
+
+  struct Closed {
+    std::string first_bytes;
+    std::chrono::milliseconds after{};  // since it connected
+    bool closed = false;               // false: still open after 15 s
+  };
+  Closed closed_after() {
+    Closed result;
+    char chunk[512];
+    for (;;) {
+      const ssize_t n = recv(fd_, chunk, sizeof(chunk), 0);
+      if (n > 0) {
+        result.first_bytes.append(chunk, static_cast<std::size_t>(n));
+        continue;
+      }
+      result.closed = n == 0 || errno == ECONNRESET;
+      break;
+    }
+    result.after = std::chrono::duration_cast<std::chrono::milliseconds>(
+        std::chrono::steady_clock::now() - connected_);
+    return result;
+  }
+
+ private:
+  void send_text(const std::string& text) {
+    if (open_) send(fd_, text.data(), text.size(), MSG_NOSIGNAL);
+  }
+
+  int fd_ = -1;
+  bool open_ = false;
+  std::chrono::steady_clock::time_point connected_;
+};
+
+// Trickles a byte to every peer each 100 ms until destroyed.
+class Trickler {
+ public:
+  explicit Trickler(std::vector<std::unique_ptr<SlowHeadPeer>>& peers)
+      : thread_([this, &peers] {
+          while (running_) {
+            for (auto& peer : peers) peer->trickle();
+            std::this_thread::sleep_for(std::chrono::milliseconds(100));
+          }
+        }) {}
+  ~Trickler() {
+    running_ = false;
+    thread_.join();
+  }
+
+ private:
+  std::atomic<bool> running_{true};
+  std::thread thread_;
+};
+
+// Probes answer under abuse (issue 49 item 3): 64 peers sending request heads slowly, more
+// than the side port holds from one address, do not keep /readyz or /healthz from being
+// answered (each probe sheds the oldest slow peer); every slow peer is closed, none kept; and
+// peers below the per-address bound are answered 408 and closed once the head deadline
+// (2 s) has passed, not before. The probes' latency is printed, not asserted (a loaded machine
+// answers later; curl's own start is in it).
+TEST_F(HttpSidePortTest, ProbesAreAnsweredBesideManySlowPeersAndSlowHeadsAreCut) {
+  constexpr int kManySlow = 64;
+  std::vector<std::unique_ptr<SlowHeadPeer>> many;
+  for (int i = 0; i < kManySlow; ++i) {
+    many.push_back(std::make_unique<SlowHeadPeer>(http_port_));
+    ASSERT_TRUE(many.back()->connected());
+  }
+  double slowest_probe_ms = 0;
+  {
+    Trickler trickler(many);
+    for (int p = 0; p < 10; ++p) {
+      const auto asked = std::chrono::steady_clock::now();
+      const HttpReply ready = curl_get(http_port_, "/readyz");
+      const HttpReply alive = curl_get(http_port_, "/healthz");
+      slowest_probe_ms = std::max(
+          slowest_probe_ms, std::chrono::duration<double, std::milli>(
+                                std::chrono::steady_clock::now() - asked).count() / 2);
+      EXPECT_EQ(ready.status, 200) << "probe " << p;
+      EXPECT_EQ(ready.body, "accepting\n");
+      EXPECT_EQ(alive.status, 200) << "probe " << p;
+    }
+    for (auto& peer : many) EXPECT_TRUE(peer->closed_after().closed);
+  }
+  std::printf("side port: the slowest of 10 /readyz and /healthz probes (curl's start "
+              "included) beside %d slow peers: %.1f ms\n",
+              kManySlow, slowest_probe_ms);
+
+  // Below the per-address bound: nothing is shed; the head deadline cuts each.
+  constexpr int kFewSlow = 4;
+  std::vector<std::unique_ptr<SlowHeadPeer>> few;
+  for (int i = 0; i < kFewSlow; ++i) few.push_back(std::make_unique<SlowHeadPeer>(http_port_));
+  Trickler trickler(few);
+  EXPECT_EQ(curl_get(http_port_, "/readyz").status, 200);
+  for (auto& peer : few) {
+    const SlowHeadPeer::Closed closed = peer->closed_after();
+    EXPECT_TRUE(closed.closed);
+    EXPECT_TRUE(closed.first_bytes.starts_with("HTTP/1.1 408 Request Timeout\r\n"))
+        << closed.first_bytes;
+    EXPECT_NE(closed.first_bytes.find("the request head was not whole within 2000 ms"),
+              std::string::npos)
+        << closed.first_bytes;
+    // Not before the deadline (a little slack for the clocks of two processes).
+    EXPECT_GE(closed.after.count(), 1900);
+  }
 }
 
 // The viewer's file name is echoed in its 404: one longer than 255 bytes (the daemon's bound on
