@@ -374,6 +374,49 @@ TEST(DaemonVmcSubscription, ByeEndsItWhileTheStreamGoesOn) {
   EXPECT_LE(frames_after_bye, 10);
 }
 
+// A subscriber whose stream's frames keep coming is not idle, though it sends no request (an
+// OBS page watches a stream for hours): 30 frames over 1.5 s, five idle timeouts of 300 ms, all
+// come. Once they stop, the idle timeout closes it as any other connection.
+TEST(DaemonVmcSubscription, ItsFramesKeepASubscriberFromIdlingOut) {
+  ScratchDirectory directory("vmc_idle");
+  DaemonProcess daemon(directory.path(), {"--vmc-listen", "127.0.0.1:0", "--vmc-port-file",
+                                          (directory / "vmc_port").string(),
+                                          "--mannequin-vertices", "1000", "--idle-timeout-ms",
+                                          "300"});
+  ASSERT_TRUE(daemon.running()) << daemon.log();
+  const std::string vmc_port = std::to_string(std::stoi(read_text(directory / "vmc_port")));
+  FrameClient client(daemon.port());
+  ASSERT_NE(client.hello("", pb::PoseDelivery::LatestWins), nullptr);
+  flatbuffers::FlatBufferBuilder builder;
+  const auto pose = pb::add_pose(builder, pb::PoseFields{});
+  client.send_bytes(pb::finish_message(
+      builder, pb::CreateSubscribeStream(builder, builder.CreateString("mannequin"), pose), 5));
+  ASSERT_NE(client.receive_as<pb::StreamSubscribed>(), nullptr);
+  constexpr int kFrames = 30;
+  std::thread sender([&] {
+    lo_address to = lo_address_new("127.0.0.1", vmc_port.c_str());
+    for (int frame = 0; frame < kFrames; ++frame) {
+      lo_send(to, "/VMC/Ext/T", "f", static_cast<float>(frame));
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    lo_address_free(to);
+  });
+  std::uint64_t last_sequence = 0;
+  std::string ended_by = "the end of the stream";
+  while (const pb::Message* message = client.receive()) {
+    if (const pb::PosedVertices* frame = message->body_as_PosedVertices()) {
+      last_sequence = frame->sequence();
+    } else {
+      const pb::Error* error = message->body_as_Error();
+      ended_by = error != nullptr ? error->message()->str() : "another message";
+      break;
+    }
+  }
+  sender.join();
+  EXPECT_EQ(last_sequence, static_cast<std::uint64_t>(kFrames)) << "cut by " << ended_by;
+  EXPECT_NE(ended_by.find("idle: no request for 300 ms"), std::string::npos) << ended_by;
+}
+
 TEST(DaemonVmcFlags, AVmcReceiverOnATakenPortIsAStartUpErrorNamingIt) {
   ScratchDirectory directory("vmc_taken");
   const int taken = ::socket(AF_INET, SOCK_DGRAM, 0);
