@@ -332,6 +332,16 @@ TEST_F(DaemonVmc, SubscriptionsTheServerCannotServeAreRefusedNamingWhy) {
   EXPECT_EQ(metric(metrics(), "sweepd_vmc_frames_without_model_total"), 1.0);
 }
 
+// Hello (latest wins) and SubscribeStream to the stream "mannequin" on a raw frame client.
+void subscribe_to_the_mannequin(FrameClient& client) {
+  ASSERT_NE(client.hello("", pb::PoseDelivery::LatestWins), nullptr);
+  flatbuffers::FlatBufferBuilder builder;
+  const auto pose = pb::add_pose(builder, pb::PoseFields{});
+  client.send_bytes(pb::finish_message(
+      builder, pb::CreateSubscribeStream(builder, builder.CreateString("mannequin"), pose), 5));
+  ASSERT_NE(client.receive_as<pb::StreamSubscribed>(), nullptr);
+}
+
 // Bye ends a subscription while its stream goes on: the daemon answers the frames it holds and
 // closes, instead of queueing the next frame into a connection that is closing (a sender faster
 // than the deformation of a 10k mannequin would otherwise hold it open for as long as it sends).
@@ -352,14 +362,9 @@ TEST(DaemonVmcSubscription, ByeEndsItWhileTheStreamGoesOn) {
     lo_address_free(to);
   });
   FrameClient client(daemon.port());
-  ASSERT_NE(client.hello("", pb::PoseDelivery::LatestWins), nullptr);
-  flatbuffers::FlatBufferBuilder builder;
-  const auto pose = pb::add_pose(builder, pb::PoseFields{});
-  client.send_bytes(pb::finish_message(
-      builder, pb::CreateSubscribeStream(builder, builder.CreateString("mannequin"), pose), 5));
-  EXPECT_NE(client.receive_as<pb::StreamSubscribed>(), nullptr);
+  subscribe_to_the_mannequin(client);
   EXPECT_NE(client.receive_as<pb::PosedVertices>(), nullptr) << "the stream's frames come";
-  builder.Clear();
+  flatbuffers::FlatBufferBuilder builder;
   client.send_bytes(pb::finish_message(builder, pb::CreateByeDirect(builder, "done")));
   int frames_after_bye = 0;
   while (const pb::Message* message = client.receive()) {
@@ -386,12 +391,7 @@ TEST(DaemonVmcSubscription, ItsFramesKeepASubscriberFromIdlingOut) {
   ASSERT_TRUE(daemon.running()) << daemon.log();
   const std::string vmc_port = std::to_string(std::stoi(read_text(directory / "vmc_port")));
   FrameClient client(daemon.port());
-  ASSERT_NE(client.hello("", pb::PoseDelivery::LatestWins), nullptr);
-  flatbuffers::FlatBufferBuilder builder;
-  const auto pose = pb::add_pose(builder, pb::PoseFields{});
-  client.send_bytes(pb::finish_message(
-      builder, pb::CreateSubscribeStream(builder, builder.CreateString("mannequin"), pose), 5));
-  ASSERT_NE(client.receive_as<pb::StreamSubscribed>(), nullptr);
+  subscribe_to_the_mannequin(client);
   constexpr int kFrames = 30;
   std::thread sender([&] {
     lo_address to = lo_address_new("127.0.0.1", vmc_port.c_str());
