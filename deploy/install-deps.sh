@@ -2,8 +2,9 @@
 # Installs every Debian 12 package sweepd needs to build, test and run; idempotent.
 # Runs `apt-get update` once, and only when something is missing. Works as root or via sudo.
 # Where npm is present, also installs into .tools/ (used by tests): the Khronos glTF validator,
-# kubernetes-models + yaml (the offline schema check of deploy/k8s/), and into .tools/web/ the
-# browser viewer's packages exactly as client_examples/web/package-lock.json pins them.
+# kubernetes-models + yaml (the offline schema check of deploy/k8s/), osc (a VMC sender), and
+# into .tools/web/ the browser viewer's packages exactly as client_examples/web/package-lock.json
+# pins them.
 # A clone finds them in ~/.cache/sweepd/ when this machine installed the same ones before.
 set -euo pipefail
 
@@ -60,10 +61,12 @@ modules="$root/.tools/node_modules"
 npm_tools=(
   "gltf-validator|gltf-validator@2.0.0-dev.3.10|the glTF validator tests"
   "kubernetes-models|kubernetes-models@4.5.1 yaml@2.9.1|the Kubernetes schema check of deploy/k8s/"
+  "osc|osc@2.4.5|the VMC test's sender on npm osc (tests/tools/vmc_osc_send.js)"
 )
 # A clone on a machine that installed the same npm packages before takes them from the user's cache
-# (hard links: npm replaces files, it never rewrites one), as ccache serves compiled objects; a
-# fresh clone's make test saves the ~20 s of npm. Keyed by the packages and the viewer's lock file.
+# (hard links: npm replaces the packages' files, and its own two are copied before it runs), as
+# ccache serves compiled objects; a fresh clone's make test saves the ~20 s of npm. Keyed by the
+# packages and the viewer's lock file.
 tools_key=$(printf '%s\n' "${npm_tools[@]}" | cat - "$root/client_examples/web/package-lock.json" \
   | sha256sum | cut -c1-16)
 tools_cache="${XDG_CACHE_HOME:-$HOME/.cache}/sweepd/npm-tools-$tools_key"
@@ -76,6 +79,13 @@ if command -v npm >/dev/null; then
     IFS='|' read -r directory specs skips <<<"$tool"
     if [ ! -d "$modules/$directory" ]; then
       echo "install-deps: installing $specs (npm) into .tools/"
+      # npm rewrites these two in place: this clone's own copies, so that the cache they are
+      # hard links into (below) stays as it was.
+      for file in package.json package-lock.json; do
+        if [ -f "$root/.tools/$file" ]; then
+          cp "$root/.tools/$file" "$root/.tools/$file.own" && mv "$root/.tools/$file.own" "$root/.tools/$file"
+        fi
+      done
       # shellcheck disable=SC2086  # specs is a list of package@version
       npm install --silent --no-audit --no-fund --prefix "$root/.tools" $specs >/dev/null \
         || echo "install-deps: warning: $specs could not be installed; $skips will skip" >&2

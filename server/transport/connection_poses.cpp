@@ -15,6 +15,9 @@ namespace pb = sweepd::protocol;
 void Connection::queue_pose(std::variant<PoseRequest, RequestError> intake,
                             std::uint64_t request_id) {
   ++counters_.poses_received;
+  // A pose is activity: a stream's subscriber, which sends no request while its frames come
+  // (SubscribeStream), is not idle.
+  arm_idle_deadline();
   if (const RequestError* error = std::get_if<RequestError>(&intake)) {
     send_error(*error, request_id);
     return;

@@ -5,20 +5,27 @@
 // (the page uploads it and streams it with PoseFromClip), waits for 30 pose sets drawn and takes
 // a screenshot. The test checks the page's status (streaming, no error) and, in each method's
 // viewport, the screenshot's pixels: the body in that method's colour covers a plausible part
-// of the viewport, the rest is the clear colour. Also: what /viewer serves and refuses.
+// of the viewport, the rest is the clear colour. With ?stream=, the page shows the VMC stream a
+// liblo sender sends (--vmc-listen), and what it received is what a TCP subscriber gets. Also:
+// what /viewer serves and refuses.
 // Skipped, naming what is missing, without chromium, node, the built page or the shared clip.
 #include <gtest/gtest.h>
 #include <stb/stb_image.h>  // implemented in Debian's libstb
 
 #include <algorithm>
 #include <array>
+#include <atomic>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <thread>
 
+#include "client/connection.h"
 #include "tests/server/daemon_process.h"
 #include "tests/server/http_probe.h"
+#include "tests/server/services/vmc/vmc_packets.h"
 #include "tests/server/sweepctl_remote.h"
 
 namespace sweepd::test::browser_viewer_test {
@@ -52,9 +59,11 @@ class BrowserViewer : public ::testing::Test {
         with(DaemonProcess::websocket_flags(directory_),
              {"--http-listen", "127.0.0.1:0", "--http-port-file",
               (directory_ / "http_port").string(), "--viewer-dir", (directory_ / "viewer").string(),
-              "--token", kToken, "--position-maps", "0"}));
+              "--token", kToken, "--position-maps", "0", "--vmc-listen", "127.0.0.1:0",
+              "--vmc-port-file", (directory_ / "vmc_port").string()}));
     ASSERT_TRUE(daemon_->running()) << daemon_->log();
     http_port_ = std::stoi(read_text(directory_ / "http_port"));
+    vmc_port_ = std::stoi(read_text(directory_ / "vmc_port"));
   }
   void TearDown() override {
     daemon_.reset();
@@ -64,6 +73,7 @@ class BrowserViewer : public ::testing::Test {
   fs::path directory_;
   std::unique_ptr<DaemonProcess> daemon_;
   int http_port_ = 0;
+  int vmc_port_ = 0;  // the stream "mannequin" (--vmc-model's default)
 };
 
 // The same daemon, with Debian's chromium and node to load the page.
@@ -80,6 +90,8 @@ class BrowserViewerTest : public BrowserViewer {
   const fs::path& directory() const { return directory_; }
   int http_port() const { return http_port_; }
   int websocket_port() const { return daemon_->websocket_port(); }
+  int tcp_port() const { return daemon_->port(); }
+  int vmc_port() const { return vmc_port_; }
   std::string daemon_log() const { return daemon_->log(); }
 };
 
@@ -227,6 +239,94 @@ TEST_F(BrowserViewerTest, DecodesMeshoptPositionsWithFewerBytesThanFloat16) {
               bytes_per_pose(halves));
   EXPECT_LT(bytes_per_pose(status), 0.85 * bytes_per_pose(halves))
       << bytes_per_pose(status) << " against " << bytes_per_pose(halves);
+}
+
+namespace pb = sweepd::protocol;
+
+// Sends the same VMC frame every 30 ms until destroyed, as a sender built on liblo does: the
+// mannequin moved 0.4 m along Unity's +x (Root/Pos) and its left upper arm turned 40° about z.
+class VmcSender {
+ public:
+  explicit VmcSender(int port)
+      : thread_([this, port] {
+          lo_address to = lo_address_new("127.0.0.1", std::to_string(port).c_str());
+          const VmcBone arm{"LeftUpperArm", {}, glm::angleAxis(glm::radians(40.0f),
+                                                               glm::vec3(0.0f, 0.0f, 1.0f))};
+          for (int frame = 0; !stop_; ++frame) {
+            lo_bundle bundle = vmc_frame_bundle({arm}, static_cast<float>(frame) * 0.03f);
+            lo_bundle_add_message(bundle, "/VMC/Ext/Root/Pos",
+                                  vmc_bone_message({"root", {0.4f, 0.0f, 0.0f}, glm::quat(1, 0, 0, 0)}));
+            lo_send_bundle(to, bundle);
+            lo_bundle_free_recursive(bundle);
+            std::this_thread::sleep_for(std::chrono::milliseconds(30));
+          }
+          lo_address_free(to);
+        }) {}
+  ~VmcSender() {
+    stop_ = true;
+    thread_.join();
+  }
+
+ private:
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
+
+// The mean vertex of one frame of the stream, deformed by `method`, as a TCP subscriber gets it
+// (float32 positions); and its vertex count.
+std::pair<glm::dvec3, std::uint32_t> subscribed_frame(int port, pb::DeformMethod method) {
+  client::Connection connection("127.0.0.1:" + std::to_string(port));
+  connection.set_receive_timeout(std::chrono::seconds(60));
+  connection.hello(kToken, "browser_viewer_test", pb::PoseDelivery::LatestWins);
+  flatbuffers::FlatBufferBuilder& builder = connection.builder();
+  pb::PoseFields fields;
+  fields.method = method;
+  const auto pose = pb::add_pose(builder, fields);
+  connection.send(pb::finish_message(
+      builder, pb::CreateSubscribeStream(builder, builder.CreateString("mannequin"), pose), 1));
+  connection.expect<pb::StreamSubscribed>();
+  const pb::PosedVertices& frame = connection.expect<pb::PosedVertices>();
+  std::vector<glm::vec3> positions(frame.vertex_count());
+  EXPECT_TRUE(pb::copy_positions(frame, {&positions[0].x, 3 * positions.size()}));
+  glm::dvec3 sum(0.0);
+  for (const glm::vec3& p : positions) sum += glm::dvec3(p);
+  return {sum / static_cast<double>(positions.size()), frame.vertex_count()};
+}
+
+// The page a streamer adds to OBS: /viewer?stream=mannequin. Each method's viewport subscribes
+// on its own connection; the test checks what the page received (its figures), not only pixels.
+TEST_F(BrowserViewerTest, ShowsAVmcStreamAsATcpSubscriberReceivesIt) {
+  const VmcSender sender(vmc_port());
+  const fs::path screenshot = directory() / "stream.png";
+  const nlohmann::json status =
+      run_page(*this, "--stream --frames 20", screenshot, "&stream=mannequin");
+  ASSERT_FALSE(status.is_null());
+  EXPECT_EQ(status.value("state", ""), "streaming") << status.dump();
+  EXPECT_FALSE(status.contains("error")) << status.dump();
+  EXPECT_GE(status["figures"]["frames"].get<int>(), 20);
+  const std::array<std::pair<const char*, pb::DeformMethod>, 3> methods = {{
+      {"sweep", pb::DeformMethod::Sweep}, {"lbs", pb::DeformMethod::Lbs},
+      {"dqs", pb::DeformMethod::Dqs}}};
+  for (const auto& [name, method] : methods) {
+    const nlohmann::json& page = status["figures"]["stream"][name];
+    ASSERT_TRUE(page.is_object()) << name << ": " << status.dump();
+    EXPECT_GE(page["frames"].get<int>(), 5) << name;
+    // The stream's frame numbers: the page joined after the first and may have been sent
+    // fewer frames than the stream had (latest wins), never more.
+    EXPECT_GE(page["sequence"].get<int>(), page["frames"].get<int>()) << name;
+    const auto [mean, vertex_count] = subscribed_frame(tcp_port(), method);
+    EXPECT_EQ(page["vertexCount"].get<std::uint32_t>(), vertex_count) << name;
+    // Every frame is the same pose, so the page's last frame is the subscriber's. The page's
+    // vertices came as float16: within 1-2 m of the origin a half float is off by at most
+    // 0.49 mm, and so is their mean.
+    for (int axis = 0; axis < 3; ++axis) {
+      EXPECT_NEAR(page["meanVertex"][axis].get<double>(), mean[axis], 1e-3) << name << " " << axis;
+    }
+    // Unity's +x is glTF's -x: the body went 0.4 m that way (the turned arm moves the mean
+    // by 1.3 cm more, measured).
+    EXPECT_NEAR(mean.x, -0.4, 0.05) << name;
+  }
+  expect_a_body_in_each_viewport(status, screenshot);
 }
 
 }  // namespace

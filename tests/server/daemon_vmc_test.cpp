@@ -4,7 +4,8 @@
 // frame one bundle of Bone/Pos messages, the model's own local rotations (and its hips' root
 // translation) mirrored into Unity's frame, then OK and T. A subscriber (SubscribeStream, latest
 // wins) gets each frame's mesh; it equals PoseFromClip's mesh of the same clip frame within
-// 1e-5 m (the conversion is exact: the same vertices). Torn and random datagrams afterwards
+// 1e-5 m (the conversion is exact: the same vertices). A sender on the npm `osc` package
+// (tests/tools/vmc_osc_send.js) replays the same frames, with the same result. Torn and random datagrams afterwards
 // change nothing but the drop counter: the next frame's mesh is the last one, bit for bit, and
 // /metrics counts packets, bundles, bones, drops and senders. Subscriptions the server cannot
 // serve are refused naming why.
@@ -18,8 +19,11 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
+#include <functional>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <thread>
 
@@ -70,6 +74,14 @@ void send_datagram(int port, std::span<const std::byte> bytes) {
   ::close(socket);
 }
 
+// What a replay of the clips sent: frames and bones, the subscriber's last mesh, and the
+// subscriber (latest wins) that received them.
+struct Replay {
+  std::uint64_t frames = 0, bones = 0;
+  std::vector<glm::vec3> last_mesh;
+  std::unique_ptr<client::Connection> subscriber;
+};
+
 class DaemonVmc : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -119,6 +131,8 @@ class DaemonVmc : public ::testing::Test {
     return positions_of(main_->expect<pb::PosedVertices>());
   }
   std::string metrics() { return curl_get(http_port_, "/metrics").body; }
+  Replay replay_clips(const char* sender,
+                      const std::function<void(const std::vector<VmcBone>&, float)>& send_frame);
 
   ScratchDirectory directory_{"vmc"};
   std::unique_ptr<DaemonProcess> daemon_;
@@ -144,21 +158,21 @@ std::vector<VmcBone> vmc_bones(const deform::BoundModel& model, const deform::Po
   return sent;
 }
 
-TEST_F(DaemonVmc, ARetargetedClipSentAsVmcPosesTheSubscribersMeshAsPoseFromClipDoes) {
+// Six frames each of CMU 01_01 and 01_03, retargeted onto the body, sent by `send_frame`
+// (a frame's bones and its time) one at a time: each frame's mesh the subscriber gets equals
+// PoseFromClip's mesh of the same clip frame within kSameMesh. `sender` names the sender.
+Replay DaemonVmc::replay_clips(
+    const char* sender,
+    const std::function<void(const std::vector<VmcBone>&, float)>& send_frame) {
+  Replay replay;
   const fs::path body = kModels / "corpus" / (std::string(kBody) + ".glb");
   const std::vector<std::uint8_t> glb = read_bytes(body);
-  const pb::ModelInfo& info = main_->load_model(kBody, glb);
-  const std::uint32_t model = info.model_id();
+  const std::uint32_t model = main_->load_model(kBody, glb).model_id();
   const deform::BoundModel bound = io::load_sweepbind(stored_binding(directory_ / "store", model));
-  ASSERT_EQ(deform::map_human_body_bones(bound.model.skeleton, bound.rig)[0], 0)
+  EXPECT_EQ(deform::map_human_body_bones(bound.model.skeleton, bound.rig)[0], 0)
       << "the hips are joint 0: their Bone/Pos carries the root translation";
-
-  std::unique_ptr<client::Connection> subscriber = connect(pb::PoseDelivery::LatestWins);
-  EXPECT_EQ(subscribe(*subscriber, kBody), model);
-
-  lo_address sender = lo_address_new("127.0.0.1", std::to_string(vmc_port_).c_str());
-  std::uint64_t frames_sent = 0, bones_sent = 0;
-  std::vector<glm::vec3> last_mesh;
+  replay.subscriber = connect(pb::PoseDelivery::LatestWins);
+  EXPECT_EQ(subscribe(*replay.subscriber, kBody), model);
   double largest_apart = 0.0;
   for (const char* clip_file : {"cmu_01_01.bvh", "cmu_01_03.bvh"}) {
     const std::vector<char> text = file_bytes(kMotion / clip_file);
@@ -169,29 +183,41 @@ TEST_F(DaemonVmc, ARetargetedClipSentAsVmcPosesTheSubscribersMeshAsPoseFromClipD
     for (int step = 0; step < 6; ++step) {
       const int frame = step * (frame_count - 1) / 5;
       const std::vector<VmcBone> bones = vmc_bones(bound, played.pose_at_frame(frame));
-      lo_bundle bundle = vmc_frame_bundle(bones, static_cast<float>(frame) / 120.0f);
-      ASSERT_EQ(lo_send_bundle(sender, bundle), static_cast<int>(lo_bundle_length(bundle)));
-      lo_bundle_free_recursive(bundle);
-      ++frames_sent;
-      bones_sent += bones.size();
-      const pb::PosedVertices& streamed = subscriber->expect<pb::PosedVertices>();
-      EXPECT_EQ(streamed.sequence(), frames_sent);
+      send_frame(bones, static_cast<float>(frame) / 120.0f);
+      ++replay.frames;
+      replay.bones += bones.size();
+      const pb::PosedVertices& streamed = replay.subscriber->expect<pb::PosedVertices>();
+      EXPECT_EQ(streamed.sequence(), replay.frames);
       EXPECT_EQ(streamed.model_id(), model);
-      last_mesh = positions_of(streamed);
+      replay.last_mesh = positions_of(streamed);
       const std::vector<glm::vec3> expected =
           clip_frame(model, clip_id, static_cast<std::uint32_t>(frame));
-      const double apart = metrics::largest_distance(last_mesh, expected);
+      const double apart = metrics::largest_distance(replay.last_mesh, expected);
       EXPECT_LE(apart, kSameMesh) << clip_file << " frame " << frame;
       largest_apart = std::max(largest_apart, apart);
       if (frame > 0) {
-        EXPECT_GT(metrics::largest_distance(last_mesh, bound.model.positions), 0.05)
+        EXPECT_GT(metrics::largest_distance(replay.last_mesh, bound.model.positions), 0.05)
             << clip_file << " frame " << frame << " is not the rest pose";
       }
     }
   }
-  std::printf("VMC against PoseFromClip: %llu frames, at most %g m apart\n",
-              static_cast<unsigned long long>(frames_sent), largest_apart);
-  EXPECT_EQ(bones_sent, frames_sent * 22) << "Mixamo's body: 22 HumanBodyBones, fingers aside";
+  std::printf("VMC from %s against PoseFromClip: %llu frames, at most %g m apart\n", sender,
+              static_cast<unsigned long long>(replay.frames), largest_apart);
+  EXPECT_EQ(replay.bones, replay.frames * 22) << "Mixamo's body: 22 HumanBodyBones, fingers aside";
+  return replay;
+}
+
+TEST_F(DaemonVmc, ARetargetedClipSentAsVmcPosesTheSubscribersMeshAsPoseFromClipDoes) {
+  lo_address sender = lo_address_new("127.0.0.1", std::to_string(vmc_port_).c_str());
+  const Replay replay =
+      replay_clips("liblo", [&](const std::vector<VmcBone>& bones, float seconds) {
+        lo_bundle bundle = vmc_frame_bundle(bones, seconds);
+        ASSERT_EQ(lo_send_bundle(sender, bundle), static_cast<int>(lo_bundle_length(bundle)));
+        lo_bundle_free_recursive(bundle);
+      });
+  const std::uint64_t frames_sent = replay.frames, bones_sent = replay.bones;
+  client::Connection* subscriber = replay.subscriber.get();
+  const std::vector<glm::vec3>& last_mesh = replay.last_mesh;
 
   // Torn and random datagrams: each a dropped packet, nothing else.
   const std::string before = metrics();
@@ -233,6 +259,46 @@ TEST_F(DaemonVmc, ARetargetedClipSentAsVmcPosesTheSubscribersMeshAsPoseFromClipD
   EXPECT_EQ(metric(after, "sweepd_vmc_subscribers"), 1.0);
 }
 
+// The same replay from a sender on the npm `osc` package (osc.js, what Node and browser VMC
+// tools send with): tests/tools/vmc_osc_send.js reads each frame on its stdin as a JSON line
+// and sends it as one bundle. The floats are the test's float32 values (JSON keeps a double's
+// every digit, and a float32 is a double exactly), so the meshes match as liblo's do.
+TEST_F(DaemonVmc, ARetargetedClipSentByTheNpmOscPackagePosesTheSubscribersMeshAsPoseFromClipDoes) {
+  const fs::path source = SWEEPD_SOURCE_DIR;
+  const fs::path modules = source / ".tools/node_modules";
+  if (!have_program("node")) GTEST_SKIP() << "node is not installed (deploy/install-deps.sh)";
+  if (!fs::exists(modules / "osc/package.json")) {
+    GTEST_SKIP() << "the npm package osc is not in " << modules
+                 << " (deploy/install-deps.sh installs it)";
+  }
+  const fs::path log = directory_ / "vmc_osc_send.log";
+  const std::string command = "NODE_PATH='" + modules.string() + "' node '" +
+                              (source / "tests/tools/vmc_osc_send.js").string() + "' --port " +
+                              std::to_string(vmc_port_) + " > '" + log.string() + "' 2>&1";
+  // A sender that died must fail the test, not end it by SIGPIPE.
+  const auto previous_handler = std::signal(SIGPIPE, SIG_IGN);
+  FILE* node = popen(command.c_str(), "w");
+  ASSERT_NE(node, nullptr);
+  const Replay replay =
+      replay_clips("npm osc", [&](const std::vector<VmcBone>& bones, float seconds) {
+        nlohmann::json frame = {{"seconds", seconds}, {"bones", nlohmann::json::array()}};
+        for (const VmcBone& bone : bones) {
+          const glm::vec3& p = bone.position;
+          const glm::quat& q = bone.rotation;
+          frame["bones"].push_back({bone.name, p.x, p.y, p.z, q.x, q.y, q.z, q.w});
+        }
+        ASSERT_GE(std::fputs((frame.dump() + "\n").c_str(), node), 0) << read_text(log);
+        ASSERT_EQ(std::fflush(node), 0) << read_text(log);
+      });
+  EXPECT_EQ(pclose(node), 0) << read_text(log);
+  std::signal(SIGPIPE, previous_handler);
+  const std::string after = metrics();
+  EXPECT_EQ(metric(after, "sweepd_vmc_bundles_total"), static_cast<double>(replay.frames));
+  EXPECT_EQ(metric(after, "sweepd_vmc_bones_total"), static_cast<double>(replay.bones));
+  EXPECT_EQ(metric(after, "sweepd_vmc_dropped_total{what=\"packet\"}"), 0.0);
+  EXPECT_EQ(metric(after, "sweepd_vmc_dropped_total{what=\"message\"}"), 0.0);
+}
+
 TEST_F(DaemonVmc, SubscriptionsTheServerCannotServeAreRefusedNamingWhy) {
   const auto refusal = [&](client::Connection& connection, const std::string& stream) {
     try {
@@ -266,6 +332,16 @@ TEST_F(DaemonVmc, SubscriptionsTheServerCannotServeAreRefusedNamingWhy) {
   EXPECT_EQ(metric(metrics(), "sweepd_vmc_frames_without_model_total"), 1.0);
 }
 
+// Hello (latest wins) and SubscribeStream to the stream "mannequin" on a raw frame client.
+void subscribe_to_the_mannequin(FrameClient& client) {
+  ASSERT_NE(client.hello("", pb::PoseDelivery::LatestWins), nullptr);
+  flatbuffers::FlatBufferBuilder builder;
+  const auto pose = pb::add_pose(builder, pb::PoseFields{});
+  client.send_bytes(pb::finish_message(
+      builder, pb::CreateSubscribeStream(builder, builder.CreateString("mannequin"), pose), 5));
+  ASSERT_NE(client.receive_as<pb::StreamSubscribed>(), nullptr);
+}
+
 // Bye ends a subscription while its stream goes on: the daemon answers the frames it holds and
 // closes, instead of queueing the next frame into a connection that is closing (a sender faster
 // than the deformation of a 10k mannequin would otherwise hold it open for as long as it sends).
@@ -286,14 +362,9 @@ TEST(DaemonVmcSubscription, ByeEndsItWhileTheStreamGoesOn) {
     lo_address_free(to);
   });
   FrameClient client(daemon.port());
-  ASSERT_NE(client.hello("", pb::PoseDelivery::LatestWins), nullptr);
-  flatbuffers::FlatBufferBuilder builder;
-  const auto pose = pb::add_pose(builder, pb::PoseFields{});
-  client.send_bytes(pb::finish_message(
-      builder, pb::CreateSubscribeStream(builder, builder.CreateString("mannequin"), pose), 5));
-  EXPECT_NE(client.receive_as<pb::StreamSubscribed>(), nullptr);
+  subscribe_to_the_mannequin(client);
   EXPECT_NE(client.receive_as<pb::PosedVertices>(), nullptr) << "the stream's frames come";
-  builder.Clear();
+  flatbuffers::FlatBufferBuilder builder;
   client.send_bytes(pb::finish_message(builder, pb::CreateByeDirect(builder, "done")));
   int frames_after_bye = 0;
   while (const pb::Message* message = client.receive()) {
@@ -306,6 +377,44 @@ TEST(DaemonVmcSubscription, ByeEndsItWhileTheStreamGoesOn) {
   // replies), the one being deformed and the one waiting; a connection kept open by the stream
   // sends on until the loop stops at 51.
   EXPECT_LE(frames_after_bye, 10);
+}
+
+// A subscriber whose stream's frames keep coming is not idle, though it sends no request (an
+// OBS page watches a stream for hours): 30 frames over 1.5 s, five idle timeouts of 300 ms, all
+// come. Once they stop, the idle timeout closes it as any other connection.
+TEST(DaemonVmcSubscription, ItsFramesKeepASubscriberFromIdlingOut) {
+  ScratchDirectory directory("vmc_idle");
+  DaemonProcess daemon(directory.path(), {"--vmc-listen", "127.0.0.1:0", "--vmc-port-file",
+                                          (directory / "vmc_port").string(),
+                                          "--mannequin-vertices", "1000", "--idle-timeout-ms",
+                                          "300"});
+  ASSERT_TRUE(daemon.running()) << daemon.log();
+  const std::string vmc_port = std::to_string(std::stoi(read_text(directory / "vmc_port")));
+  FrameClient client(daemon.port());
+  subscribe_to_the_mannequin(client);
+  constexpr int kFrames = 30;
+  std::thread sender([&] {
+    lo_address to = lo_address_new("127.0.0.1", vmc_port.c_str());
+    for (int frame = 0; frame < kFrames; ++frame) {
+      lo_send(to, "/VMC/Ext/T", "f", static_cast<float>(frame));
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    lo_address_free(to);
+  });
+  std::uint64_t last_sequence = 0;
+  std::string ended_by = "the end of the stream";
+  while (const pb::Message* message = client.receive()) {
+    if (const pb::PosedVertices* frame = message->body_as_PosedVertices()) {
+      last_sequence = frame->sequence();
+    } else {
+      const pb::Error* error = message->body_as_Error();
+      ended_by = error != nullptr ? error->message()->str() : "another message";
+      break;
+    }
+  }
+  sender.join();
+  EXPECT_EQ(last_sequence, static_cast<std::uint64_t>(kFrames)) << "cut by " << ended_by;
+  EXPECT_NE(ended_by.find("idle: no request for 300 ms"), std::string::npos) << ended_by;
 }
 
 TEST(DaemonVmcFlags, AVmcReceiverOnATakenPortIsAStartUpErrorNamingIt) {

@@ -3,7 +3,7 @@
 // answers on fd 4, each JSON message ended by a NUL byte). Used by
 // tests/server/browser_viewer_test.cpp and bench/viewer_bench.sh.
 //
-//   node tests/tools/viewer_headless.mjs --url URL [--bvh FILE | --turn JOINT:X,Y,Z]
+//   node tests/tools/viewer_headless.mjs --url URL [--bvh FILE | --turn JOINT:X,Y,Z | --stream]
 //        [--frames N] [--seconds S] [--screenshot OUT.png] [--status OUT.json]
 //        [--width 1200] [--height 700]
 //
@@ -11,7 +11,8 @@
 // --bvh it gives the page's clip input the BVH FILE (the page uploads it and streams it) and
 // waits until N pose sets are drawn and S seconds have passed while streaming; with --turn it
 // picks JOINT in the page and moves its sliders to X, Y, Z degrees in N steps, each step's pose
-// drawn. Writes the page's status (#status's data attributes: state, error, figures, viewports)
+// drawn; with --stream (the URL says stream=NAME) it waits until N of the stream's frames are
+// drawn (someone else sends them) and S seconds have passed. Writes the page's status (#status's data attributes: state, error, figures, viewports)
 // as JSON and a screenshot. Exit 0 when the page did so without error; 1 with the reason.
 import { spawn } from 'node:child_process';
 import { mkdtempSync, rmSync, writeFileSync } from 'node:fs';
@@ -24,6 +25,7 @@ const { values: options } = parseArgs({
     url: { type: 'string' },
     bvh: { type: 'string' },
     turn: { type: 'string' },
+    stream: { type: 'boolean', default: false },
     frames: { type: 'string', default: '30' },
     seconds: { type: 'string', default: '0' },
     screenshot: { type: 'string' },
@@ -128,6 +130,15 @@ async function run() {
       await send('Target.attachToTarget', { targetId: page.targetId, flatten: true });
   await send('Page.enable', {}, sessionId);
   await send('Page.navigate', { url: options.url }, sessionId);
+  if (options.stream) {
+    // Frames drawn are the stream's: the rest pose is not counted.
+    const since = Date.now();
+    const wanted = `${options.frames} of the stream's frames drawn`;
+    const streamed = await waitFor(sessionId, wanted, (s) =>
+      s.state === 'streaming' && (s.figures?.frames ?? 0) >= Number(options.frames) &&
+      Date.now() - since >= Number(options.seconds) * 1000);
+    return finish(sessionId, streamed);
+  }
   // Ready, and the rest pose drawn: the page says 'ready' before its first reply arrives, and
   // --turn counts each step's frame after the rest pose's.
   let status = await waitFor(sessionId, 'the rest pose',
@@ -144,6 +155,10 @@ async function run() {
       Date.now() - streamingSince >= Number(options.seconds) * 1000);
   }
   if (options.turn) status = await turnJoint(sessionId, options.turn);
+  return finish(sessionId, status);
+}
+
+async function finish(sessionId, status) {
   if (options.screenshot) {
     const { data } = await send('Page.captureScreenshot', { format: 'png' }, sessionId);
     writeFileSync(options.screenshot, Buffer.from(data, 'base64'));

@@ -1,6 +1,7 @@
 // sweepd's browser viewer: connects to sweepd over WebSocket, shows the model's rest mesh and
 // then its poses, deformed by sweep, LBS and DQS side by side: a clip uploaded from a BVH file
-// and played on the server (PoseFromClip), or joints turned with the sliders (PoseByName).
+// and played on the server (PoseFromClip), or joints turned with the sliders (PoseByName); or,
+// with ?stream=NAME, the frames of a VMC stream sweepd receives (SubscribeStream).
 import * as THREE from 'three';
 import { BodyViews } from './body_views.js';
 import { ClipPlayer } from './clip_player.js';
@@ -10,6 +11,7 @@ import { PoseStream } from './pose_stream.js';
 import { bodyAs, listModels, loadModel, meshRequest, pb, poseByName, poseFromClip,
          uploadClip } from './protocol_messages.js';
 import { StreamStats } from './stream_stats.js';
+import { StreamWatch } from './stream_watch.js';
 import { SweepdConnection } from './sweepd_connection.js';
 import { readUrlOptions } from './url_options.js';
 import { decoderReady } from './vertex_decoding.js';
@@ -42,17 +44,54 @@ function jointNames(info) {
   return Array.from({ length: info.jointNamesLength() }, (_, i) => info.jointNames(i));
 }
 
+// The method checkboxes, checked as the URL says; `show(methods)` whenever they change.
+function followMethodBoxes(options, show) {
+  const methodBoxes = [...element('methods').querySelectorAll('input')];
+  methodBoxes.forEach((box) => { box.checked = options.methods.includes(box.value); });
+  const showChecked = () => show(methodBoxes.filter((box) => box.checked).map((box) => box.value));
+  methodBoxes.forEach((box) => box.addEventListener('change', showChecked));
+  showChecked();
+}
+
+// ?stream=NAME: the stream's frames as they arrive; the clip and joint controls are hidden (the
+// page a streamer adds to OBS as a browser source).
+function watchStream(options, connection, modelId, views, stats) {
+  document.body.classList.add('watching');
+  // The subscriptions have their own connections; this one, idle from here on, would be cut.
+  connection.close();
+  const watch = new StreamWatch({
+    url: options.ws, token: options.token, stream: options.stream, modelId,
+    positions: options.positions, views, stats,
+    onFrame: (sequence) => status.set('streaming', `stream ${options.stream}: frame ${sequence}`),
+    onError: (error) => status.fail(error),
+  });
+  followMethodBoxes(options, (methods) => {
+    views.setVisible(methods);
+    watch.setMethods(methods);
+  });
+  status.set('ready', `rest pose: waiting for the frames of stream ${options.stream}`);
+  let lastFigures = 0;
+  views.renderer.setAnimationLoop((now) => {
+    if (views.drawIfNeeded() && watch.drawn() > 0) stats.frameDrawn(now);
+    if (now - lastFigures > 250) {
+      lastFigures = now;
+      status.figures({ ...stats.figures(now), stream: watch.figures() }, views.viewportRects());
+    }
+  });
+}
+
 async function start() {
   const options = readUrlOptions(window.location);
   status.set('connecting', `connecting to ${options.ws}`);
   const connection = await SweepdConnection.open(options.ws, options.token);
   status.set('loading');
-  const info = await chooseModel(connection, options.model);
+  const info = await chooseModel(connection, options.stream ?? options.model);
   const mesh = bodyAs(await connection.request((id) => meshRequest(id, info.modelId())), pb.Mesh);
   const views = new BodyViews(element('canvas'));
   views.setRestMesh(mesh);
   const stats = new StreamStats();
   if (options.positions === 'meshopt') await decoderReady;
+  if (options.stream) return watchStream(options, connection, info.modelId(), views, stats);
   const stream = new PoseStream(connection, info.modelId(), options.positions, views, stats,
                                 (e) => status.fail(e));
   const player = new ClipPlayer();
@@ -96,15 +135,10 @@ async function start() {
     player.seek(Number(event.target.value), performance.now());
   });
   element('rest-pose').addEventListener('click', () => sliders.reset());
-  const methodBoxes = [...element('methods').querySelectorAll('input')];
-  methodBoxes.forEach((box) => { box.checked = options.methods.includes(box.value); });
-  const showMethods = () => {
-    const methods = methodBoxes.filter((box) => box.checked).map((box) => box.value);
+  followMethodBoxes(options, (methods) => {
     views.setVisible(methods);
     stream.setMethods(methods);
-  };
-  methodBoxes.forEach((box) => box.addEventListener('change', showMethods));
-  showMethods();
+  });
   async function upload(file) {
     status.set('uploading', `uploading ${file.name}`);
     const text = await file.text();

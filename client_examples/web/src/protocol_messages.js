@@ -7,7 +7,7 @@ import * as pb from '@sweepd/protocol';
 export { pb };
 
 const kVersionMajor = 1;
-const kVersionMinor = 5;
+const kVersionMinor = 15;  // SubscribeStream (the page's ?stream=)
 
 export const kMethods = {
   sweep: pb.DeformMethod.Sweep,
@@ -37,7 +37,8 @@ function frame(requestId, body) {
   return builder.asUint8Array();
 }
 
-export function hello(requestId, token) {
+// `delivery`: pb.PoseDelivery.InOrder (the page's own poses) or LatestWins (a stream).
+export function hello(requestId, token, delivery = pb.PoseDelivery.InOrder) {
   return frame(requestId, (b) => {
     const tokenOffset = b.createString(token), nameOffset = b.createString('sweepd viewer');
     pb.Hello.startHello(b);
@@ -45,7 +46,7 @@ export function hello(requestId, token) {
     pb.Hello.addVersionMinor(b, kVersionMinor);
     pb.Hello.addAuthToken(b, tokenOffset);
     pb.Hello.addClientName(b, nameOffset);
-    pb.Hello.addDelivery(b, pb.PoseDelivery.InOrder);
+    pb.Hello.addDelivery(b, delivery);
     return [pb.Body.Hello, pb.Hello.endHello(b)];
   });
 }
@@ -86,7 +87,7 @@ export function uploadClip(requestId, name, bvh, lengthScale) {
   });
 }
 
-// The pose fields both pose requests share: positions in the format asked for (float16 or
+// The pose fields the pose requests and SubscribeStream share: positions in the format asked for (float16 or
 // meshopt), no normals (the page shades flat), no features.
 function poseFields(b, pose) {
   pb.Pose.startPose(b);
@@ -115,6 +116,20 @@ export function poseFromClip(requestId, pose, clipId, frameIndex) {
     pb.PoseFromClip.addPose(b, poseOffset);
     pb.PoseFromClip.addClip(b, clip);
     return [pb.Body.PoseFromClip, pb.PoseFromClip.endPoseFromClip(b)];
+  });
+}
+
+// The frames of the stream `stream` (VMC, docs/vmc.md), each deformed and sent as `pose` says
+// (its method and positions; the stream gives the rotations): answered by StreamSubscribed,
+// then a PosedVertices per frame, all with this request's id.
+export function subscribeStream(requestId, stream, pose) {
+  return frame(requestId, (b) => {
+    const streamOffset = b.createString(stream);
+    const poseOffset = poseFields(b, { ...pose, modelId: 0, sequence: 0 });
+    pb.SubscribeStream.startSubscribeStream(b);
+    pb.SubscribeStream.addStream(b, streamOffset);
+    pb.SubscribeStream.addPose(b, poseOffset);
+    return [pb.Body.SubscribeStream, pb.SubscribeStream.endSubscribeStream(b)];
   });
 }
 

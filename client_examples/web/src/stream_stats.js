@@ -1,7 +1,8 @@
 // StreamStats: the streaming figures the page shows and the benchmark reads. Frame rate: pose
 // sets drawn per second, over the last second and since the first; round trip: a pose request
 // sent to its reply received (performance.now()), p50 and p99 over the last kWindow poses;
-// bytes: the last reply's size. reset() starts again (a new clip).
+// bytes: the last reply's size (frameReceived: a stream's frame, which has no round trip).
+// reset() starts again (a new clip).
 const kWindow = 10000;
 
 function percentile(sorted, q) {
@@ -24,6 +25,10 @@ export class StreamStats {
   roundTrip(milliseconds, bytes) {
     if (this.roundTrips.length === kWindow) this.roundTrips.shift();
     this.roundTrips.push(milliseconds);
+    this.replyBytes = bytes;
+  }
+
+  frameReceived(bytes) {
     this.replyBytes = bytes;
   }
 

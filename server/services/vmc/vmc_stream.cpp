@@ -18,7 +18,8 @@ constexpr std::string_view kTransform = "sfffffff";
 constexpr std::string_view kRootWithScale = "sfffffffffffff";
 
 // The position and rotation of a transform message (kTransform's layout), if finite and the
-// rotation is not zero.
+// rotation is not zero; otherwise false, and `position` and `rotation` keep their values (a
+// dropped Root/Pos must not leave the root half written).
 bool read_transform(const OscMessage& message, glm::vec3& position, glm::quat& rotation) {
   lo_arg** argument = message.arguments();
   float value[7];
@@ -26,11 +27,11 @@ bool read_transform(const OscMessage& message, glm::vec3& position, glm::quat& r
     value[i] = argument[1 + i]->f;
     if (!std::isfinite(value[i])) return false;
   }
-  position = {value[0], value[1], value[2]};
-  rotation = glm::quat(value[6], value[3], value[4], value[5]);
-  const float length = glm::length(rotation);
+  const glm::quat read(value[6], value[3], value[4], value[5]);
+  const float length = glm::length(read);
   if (!(length > 1e-6f)) return false;
-  rotation /= length;
+  position = {value[0], value[1], value[2]};
+  rotation = read / length;
   return true;
 }
 

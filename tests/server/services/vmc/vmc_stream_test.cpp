@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include "deform/rig/rig_map.h"
 #include "server/services/vmc/unity_frame.h"
 #include "tests/server/services/vmc/vmc_packets.h"
@@ -160,6 +162,24 @@ TEST_F(VmcStreamTest, TheRootTransformMovesAndTurnsTheWholeBody) {
   const glm::quat expected = glm::angleAxis(glm::radians(-90.0f), glm::vec3(0, 1, 0));
   EXPECT_LT(apart(posed.local_rotations[0], expected), 1e-6f);
   EXPECT_LT(glm::length(posed.root_translation - glm::vec3(-1.0f, 1.0f, 2.0f)), 1e-6f);
+}
+
+// A Root/Pos dropped for its zero rotation (or a value that is not finite) leaves the root as
+// it was: before, its position was taken and the zero rotation kept, and every later frame was
+// an invalid pose (found by the browser viewer's test, whose sender made that mistake).
+TEST_F(VmcStreamTest, ADroppedRootTransformLeavesTheRootAsItWas) {
+  const glm::quat turn = glm::angleAxis(glm::radians(90.0f), glm::vec3(0, 1, 0));
+  apply_message(test::vmc_bone_message({"root", {1.0f, 0.0f, 2.0f}, turn}), "/VMC/Ext/Root/Pos");
+  const deform::Pose before = pose();
+  apply_message(test::vmc_bone_message({"root", {5.0f, 0.0f, 0.0f}, glm::quat(0, 0, 0, 0)}),
+                "/VMC/Ext/Root/Pos");
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  apply_message(test::vmc_bone_message({"root", {5.0f, 0.0f, 0.0f}, glm::quat(nan, 0, 0, 0)}),
+                "/VMC/Ext/Root/Pos");
+  EXPECT_EQ(counters_.dropped_messages, 2u);
+  const deform::Pose after = pose();
+  EXPECT_EQ(after.local_rotations, before.local_rotations);
+  EXPECT_EQ(after.root_translation, before.root_translation);
 }
 
 }  // namespace
