@@ -10,7 +10,8 @@
 //             (metrics/crease_metrics.h's, over every edge, not only the swept ones)
 //   flipped   triangles whose normal points away (negative dot) from their rest normal turned
 //             by their first vertex's strongest joint: skin folded over itself, which no
-//             rotation of the body explains
+//             rotation of the body explains (a triangle of zero rest area has no rest normal
+//             and never counts)
 // and the same over the swept part of the region alone (edges and triangles with a vertex that
 // a sweep moves: VertexBinding::skin_weight < 1): where the sweep method differs from its own
 // skinned remainder (LBS), so where comparing it with skinning judges the sweep.
