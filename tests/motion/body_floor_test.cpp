@@ -203,15 +203,17 @@ TEST_P(BodyFloorTest, UprightClipsRaiseNothing) {
 // A knee resting beside its own planted foot (tests/motion/kneeling_clip.h: kneeling on the
 // left knee, the left foot's top on the floor behind it, the right foot planted ahead, the root
 // swaying slowly): the leg is foot planting's, so only the root can hold the knee
-// (motion/body_contacts.h). Slide per contact, held and unheld (Feet::kPlantedOnly), every
-// part. Before (the knee not held where its foot is planted): 3.4-14.3 cm. Measured: knees
-// 0.2-1.8 cm, the heavy female's 2.7 cm (her thigh rests beside the knee as hips, 1.3-1.7 cm,
-// and its skin carries the kneecap); hips 0.1-2.3 cm (before 2.6-11.9). Asserted: every
-// part at most 3 cm a contact (the 2 cm plus 1 cm: the heavy female's knee does not
-// make 2.5 cm), a knee at most a quarter of what it slid unheld where that was over 2 cm, the
-// feet at most 2 cm, and the swept body's lowest vertex (every 10th frame) at or above -1 cm
-// (measured -0.45 to 0.61 cm). The heavy male's knee stays above contact height on this clip (why
-// was not looked into): nothing rests but his feet, which is checked as such.
+// (motion/body_contacts.h: by the knee's joint on the clip's own legs). Slide per contact, held
+// and unheld (Feet::kPlantedOnly), every part. Before (the knee not held where its foot is
+// planted): 3.4-14.3 cm; held by the knee's joint on the planted legs, 0.2-2.7 cm (the hip
+// swayed about the standing knee, and the heavy female's kneecap skin, which her thigh also
+// moves, slid 2.7 cm). Measured: knees 0.00-0.01 cm, hips 0.00-0.17 cm (before 2.6-11.9):
+// this clip sways the legs with the root, rigidly, so the clip's hip keeps its place over the
+// knee and the held legs stand. Asserted: every part at most 2 cm a contact (the issue's
+// target), a knee at most a quarter of what it slid unheld where that was over 2 cm, the feet
+// at most 2 cm, and the swept body's lowest vertex (every 10th frame) at or above -1 cm
+// (measured -0.4 to 0.6 cm). The heavy male's knee stays above contact height on this clip
+// (why was not looked into): nothing rests but his feet, which is checked as such.
 TEST_P(BodyFloorTest, AKneeBesideItsPlantedFootHoldsStill) {
   const std::optional<deform::Model> body = test_models::load_body(GetParam());
   if (!body) GTEST_SKIP() << "shared data absent: " << GetParam().file;
@@ -239,7 +241,7 @@ TEST_P(BodyFloorTest, AKneeBesideItsPlantedFootHoldsStill) {
   for (std::size_t i = 0; i < after.size(); ++i) {
     std::printf("  %-10s frames %3d-%3d: %5.2f -> %5.2f cm\n", BodyContacts::name(after[i].part),
                 after[i].first, after[i].last, 100 * before[i].slide, 100 * after[i].slide);
-    EXPECT_LE(after[i].slide, 0.03f) << BodyContacts::name(after[i].part);
+    EXPECT_LE(after[i].slide, 0.02f) << BodyContacts::name(after[i].part);
     const bool knee =
         after[i].part == BodyContacts::kLeftKnee || after[i].part == BodyContacts::kRightKnee;
     if (knee && before[i].slide > 0.02f) {
