@@ -138,7 +138,8 @@ BodyContacts BodyContacts::find(const deform::Skeleton& skeleton, const deform::
                                 float hip_height, const BodyFloor& body_floor, int frame_count,
                                 double frame_time,
                                 const std::function<deform::Pose(int)>& frame_pose,
-                                const std::function<bool(int, int)>& foot_planted) {
+                                const std::function<bool(int, int)>& foot_planted,
+                                const std::function<deform::Pose(int)>& clip_legs_pose) {
   BodyContacts contacts(skeleton, frame_time, frame_count);
   contacts.samples_ = body_floor.samples();
   if (!contacts.samples_) return contacts;
@@ -207,21 +208,26 @@ BodyContacts BodyContacts::find(const deform::Skeleton& skeleton, const deform::
     contacts.holds_root_ = contacts.holds_root_ || contacts.root_held_[f];
   }
   contacts.root_shift_.assign(frame_count, glm::vec2(0.0f));
-  contacts.refine_root(frame_pose);
+  contacts.refine_root(frame_pose, clip_legs_pose ? clip_legs_pose : frame_pose);
   return contacts;
 }
 
-void BodyContacts::refine_root(const std::function<deform::Pose(int)>& frame_pose) {
+void BodyContacts::refine_root(const std::function<deform::Pose(int)>& frame_pose,
+                               const std::function<deform::Pose(int)>& clip_legs_pose) {
   if (!holds_root_) return;
   std::array<bool, kPartCount> every;
   every.fill(true);
   const auto steps = contact_steps(frame_pose, every);
   std::vector<glm::vec2> step(frame_count_, glm::vec2(0.0f));
-  // A knee bound to its planted foot is held by its joint: the ankle stands still, so the shin
-  // stands still where the knee joint does (on the kneeling test clip its contact point, which
-  // the thigh's skinning also moves, slid 0.1-0.4 cm more when the root followed it instead).
+  // A knee bound to its planted foot is held by its joint on the clip's own legs: there the
+  // clip sets the hip's place relative to the knee, and a root shift moves the knee as much
+  // as the hip. On the planted legs the IK takes up most of a root shift (the ankle stands),
+  // and holding the knee there let the hip sway about it as the clip's root swayed: the
+  // thigh turned about the knee, and the kneecap's skin, which the thigh also moves, slid
+  // with it (the heavy female's 2.7 cm on the kneeling test clip; her contact point, held
+  // instead, slid more with every pass).
   const std::vector<std::array<std::optional<glm::vec2>, 2>> knee_steps =
-      knee_joint_steps(frame_pose);
+      knee_joint_steps(clip_legs_pose);
   for (int f = 0; f < frame_count_; ++f) {
     const bool torso = parts_[kBack].contact[f] || parts_[kHips].contact[f];
     const bool knees = knee_bound(f);
@@ -276,9 +282,9 @@ BodyContacts::contact_steps(const std::function<deform::Pose(int)>& frame_pose,
 }
 
 std::vector<std::array<std::optional<glm::vec2>, 2>> BodyContacts::knee_joint_steps(
-    const std::function<deform::Pose(int)>& frame_pose) const {
+    const std::function<deform::Pose(int)>& clip_legs_pose) const {
   std::vector<std::array<std::optional<glm::vec2>, 2>> steps(frame_count_);
-  FrameSkins skin(skeleton_, rest_inverse_, frame_pose);
+  FrameSkins skin(skeleton_, rest_inverse_, clip_legs_pose);
   for (int f = 0; f + 1 < frame_count_; ++f) {
     skin.keep_from(f);
     for (int side = 0; side < 2; ++side) {

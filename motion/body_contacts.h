@@ -37,11 +37,12 @@
 //            each keeps what is left). A knee resting within 0.15 s of its foot's planting
 //            (kneeling: the ankle is foot planting's, so the leg has no freedom left but the
 //            hip's) moves with the root too, and wins over the back and hips: the root follows
-//            the mean step of such knees' joints (the ankle stands, so the shin stands where
-//            the knee joint does; a thigh resting beside that knee, which the hips part holds,
-//            goes with it). Where none of these rests but two or more limbs do (all fours),
-//            by the mean of the limbs' contact points ("several contacts agree"; one limb
-//            alone is held by its IK).
+//            the mean step of such knees' joints on the clip's own legs (the poses before foot
+//            planting: the hip keeps the place the clip gives it relative to the knee, and the
+//            ankle stands, so the whole leg stands; a thigh resting beside that knee, which the
+//            hips part holds, goes with it). Where none of these rests but two or more limbs
+//            do (all fours), by the mean of the limbs' contact points ("several contacts
+//            agree"; one limb alone is held by its IK).
 //   knees    the thigh swings about the hip so that the knee moves across, keeping its height;
 //            the shin keeps its world rotation (two_bone_ik.h, move_limb_middle). Not while
 //            that side's foot is planted: the feet win (the leg is foot planting's, and the
@@ -52,12 +53,11 @@
 //            the hand keeps its world rotation. The hands win over the elbows.
 // Order: the root hold is applied before foot planting, and foot planting is built again on
 // the held root (a planted foot stays planted: the legs' IK takes up the root's shift); what
-// the back and hips (or the knees beside planted feet) still slide then (planting turns the
-// thighs otherwise on a held root) is added to the hold (refine_root), four times over,
-// planting again each time (the legs' IK takes up only part of a root shift at such a
-// knee); the limbs' holds come after foot planting; the body floor is then built again over
-// every hold, so no hold pushes a part below the floor (a swung thigh or a bent elbow can dip
-// the skin).
+// the back and hips still slide then (planting turns the thighs otherwise on a held root),
+// and what the knees beside planted feet still move on the clip's own legs, is added to the
+// hold (refine_root), four times over, planting again each time; the limbs' holds come
+// after foot planting; the body floor is then built again over every hold, so no hold
+// pushes a part below the floor (a swung thigh or a bent elbow can dip the skin).
 // Conflicts: the feet win over everything (above); the root hold wins over the clip's path
 // where the back or hips rest (the body stays where it lay down), and a knee beside its
 // planted foot wins over the back and hips (above); the clip wins where it moves
@@ -113,11 +113,14 @@ class BodyContacts {
                                           const BodySamples& samples);
 
   // foot_planted(side, frame): whether foot planting holds that foot (on the poses that
-  // frame_pose gives; a knee resting near it is the root's), or empty.
+  // frame_pose gives; a knee resting near it is the root's), or empty; clip_legs_pose: each
+  // clip frame's pose before foot planting (the root held as frame_pose's is), on which such
+  // a knee's joint is held, or empty (then frame_pose's).
   static BodyContacts find(const deform::Skeleton& skeleton, const deform::RigMap& map,
                            float hip_height, const BodyFloor& body_floor, int frame_count,
                            double frame_time, const std::function<deform::Pose(int)>& frame_pose,
-                           const std::function<bool(int, int)>& foot_planted = {});
+                           const std::function<bool(int, int)>& foot_planted = {},
+                           const std::function<deform::Pose(int)>& clip_legs_pose = {});
 
   // Whether any part rests on the floor on any frame.
   bool any() const;
@@ -125,10 +128,12 @@ class BodyContacts {
   bool holds_root() const { return holds_root_; }
   // Shifts `pose`'s root across by the root hold at `seconds` (clamped to the clip).
   void hold_root(double seconds, deform::Pose& pose) const;
-  // Adds to the root hold what the back and hips, the knees beside planted feet (their
-  // joints) or the limbs still slide on frame_pose (the clip's poses with this hold, the feet
-  // planted again on it: planting turns the thighs otherwise on a held root).
-  void refine_root(const std::function<deform::Pose(int)>& frame_pose);
+  // Adds to the root hold what the back and hips or the limbs still slide on frame_pose (the
+  // clip's poses with this hold, the feet planted again on it: planting turns the thighs
+  // otherwise on a held root), and what the joints of the knees beside planted feet still
+  // move on clip_legs_pose (as find's, with this hold).
+  void refine_root(const std::function<deform::Pose(int)>& frame_pose,
+                   const std::function<deform::Pose(int)>& clip_legs_pose);
   // The limbs' holds (knees, arms, hands): their shifts measured on frame_pose (the clip's
   // poses with the root held and the feet planted), over the contacts found;
   // foot_planted(side, frame): whether foot planting holds that foot (its knee is then not
@@ -159,9 +164,9 @@ class BodyContacts {
   std::vector<std::array<std::optional<glm::vec2>, kPartCount>> contact_steps(
       const std::function<deform::Pose(int)>& frame_pose, std::array<bool, kPartCount> which) const;
   // Per frame, per side: the horizontal step of the knee joint to the next frame, on
-  // frame_pose, where that knee is bound to its planted foot (knee_bound_) on the frame.
+  // clip_legs_pose, where that knee is bound to its planted foot (knee_bound_) on the frame.
   std::vector<std::array<std::optional<glm::vec2>, 2>> knee_joint_steps(
-      const std::function<deform::Pose(int)>& frame_pose) const;
+      const std::function<deform::Pose(int)>& clip_legs_pose) const;
   // Holds from steps: anchored where a run of held frames starts, then faded or bridged.
   std::vector<glm::vec2> hold(const std::vector<std::uint8_t>& held,
                               const std::vector<glm::vec2>& step) const;

@@ -226,20 +226,20 @@ Retargeter::Retargeter(std::shared_ptr<const Clip> motion, const deform::Model& 
   BodyContacts contacts = BodyContacts::find(
       skeleton_, *model_map_, model_hip_height_, *body_floor_, motion_->frame_count,
       motion_->frame_time, [this](int frame) { return lifted_pose_at_frame(frame); },
-      [this](int side, int frame) { return planting_ && planting_->planted(side, frame); });
+      [this](int side, int frame) { return planting_ && planting_->planted(side, frame); },
+      [this](int frame) { return unplanted_pose_at_frame(frame); });
   if (feet == Feet::kPlantedOnly) {
     measured_contacts_ = std::move(contacts);
   } else if (contacts.any()) {
     body_contacts_ = std::move(contacts);
     if (body_contacts_->holds_root()) {
-      // The legs' IK takes up only part of a root shift at a knee that rests beside its
-      // planted foot (the knee moves less than the hip), so the hold is refined over a few
-      // passes, planting again each time: on the kneeling test clip the knees' slide after 4
-      // passes is within 0.1 cm of that after 8.
+      // Planting again on the held root turns the thighs, and with them the back's and
+      // hips' contact points, so the hold is refined over a few passes, planting again each
+      // time.
       for (int pass = 0; pass < 4; ++pass) {
         plant();
-        body_contacts_->refine_root(
-            [this](int frame) { return feet_planted_pose_at_frame(frame); });
+        body_contacts_->refine_root([this](int frame) { return feet_planted_pose_at_frame(frame); },
+                                    [this](int frame) { return unplanted_pose_at_frame(frame); });
       }
       plant();
     }
