@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <utility>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #if defined(__SSE2__)
 #include <immintrin.h>
@@ -36,11 +36,25 @@ FloatLanes inverse_square_roots(FloatLanes x) {
 #endif
 }
 
+// Four sums made unit vectors in place ((0, 1, 0) for a zero sum): one square root and one
+// division for four on x86-64, each lane computed alone, so the grouping changes no bit.
+void normalise_four(FloatLanes* n) {
+  const FloatLanes x0y0x1y1 = __builtin_shufflevector(n[0] * n[0], n[1] * n[1], 0, 4, 1, 5);
+  const FloatLanes x2y2x3y3 = __builtin_shufflevector(n[2] * n[2], n[3] * n[3], 0, 4, 1, 5);
+  const FloatLanes z0z1 = __builtin_shufflevector(n[0] * n[0], n[1] * n[1], 2, 6, 3, 7);
+  const FloatLanes z2z3 = __builtin_shufflevector(n[2] * n[2], n[3] * n[3], 2, 6, 3, 7);
+  const FloatLanes length_squared = (__builtin_shufflevector(x0y0x1y1, x2y2x3y3, 0, 1, 4, 5) +
+                                     __builtin_shufflevector(x0y0x1y1, x2y2x3y3, 2, 3, 6, 7)) +
+                                    __builtin_shufflevector(z0z1, z2z3, 0, 1, 4, 5);
+  const FloatLanes inverse_length = inverse_square_roots(length_squared);
+  for (int k = 0; k < 4; ++k)
+    n[k] = length_squared[k] > 0.0f ? n[k] * inverse_length[k] : FloatLanes{0.0f, 1.0f, 0.0f, 0.0f};
+}
+
 }  // namespace
 
 WeldedNormals::WeldedNormals(std::span<const glm::vec3> rest_positions,
-                             std::span<const std::uint32_t> indices)
-{
+                             std::span<const std::uint32_t> indices) {
   if (indices.size() % 3 != 0)
     throw std::invalid_argument("welded normals: " + std::to_string(indices.size()) +
                                 " triangle indices, not a multiple of 3");
@@ -62,7 +76,10 @@ WeldedNormals::WeldedNormals(std::span<const glm::vec3> rest_positions,
   std::sort(order.begin(), order.end());
   corner_vertex_.reserve(indices.size());
   for (const auto& [first, t] : order)
-    corner_vertex_.insert(corner_vertex_.end(), indices.begin() + 3 * t, indices.begin() + 3 * t + 3);
+    corner_vertex_.insert(corner_vertex_.end(), indices.begin() + 3 * t,
+                          indices.begin() + 3 * t + 3);
+  corner_welded_.reserve(corner_vertex_.size());
+  for (const std::uint32_t v : corner_vertex_) corner_welded_.push_back(welded_[v]);
   // Each welded vertex's triangles in ascending order (a triangle with two corners on one
   // welded vertex counts twice, as a scatter would add it twice): the first kSlots in its slots,
   // unused slots naming the zero entry past the last triangle, the rest (poles) in `more_`.
@@ -85,9 +102,41 @@ void WeldedNormals::compute(std::span<const glm::vec3> positions, std::span<glm:
                                 " positions and " + std::to_string(normals.size()) +
                                 " normals for " + std::to_string(welded_.size()) + " vertices");
   scratch.resize(scratch_count());
-  FloatLanes* area_normals = scratch.data();
-  area_normals[scratch_count() - 1] = FloatLanes{0.0f, 0.0f, 0.0f, 0.0f};  // unused slots' entry
-  run_in_vertex_blocks(scratch_count() - 1, threads, [&](std::size_t begin, std::size_t end) {
+  if (threads <= 1) {
+    scatter(positions, normals, scratch.data());
+  } else {
+    gather(positions, normals, scratch.data(), threads);
+  }
+}
+
+void WeldedNormals::scatter(std::span<const glm::vec3> positions, std::span<glm::vec3> normals,
+                            FloatLanes* sums) const {
+  const std::size_t welded_count = first_more_.size() - 1;
+  std::fill(sums, sums + (welded_count + 3) / 4 * 4, FloatLanes{0.0f, 0.0f, 0.0f, 0.0f});
+  const std::uint32_t* vertex = corner_vertex_.data();
+  const std::uint32_t* welded = corner_welded_.data();
+  for (std::size_t corner = 0; corner < corner_vertex_.size(); corner += 3) {
+    const FloatLanes a = lanes_of(positions[vertex[corner]]);
+    const FloatLanes area_normal = cross(lanes_of(positions[vertex[corner + 1]]) - a,
+                                         lanes_of(positions[vertex[corner + 2]]) - a);
+    sums[welded[corner]] += area_normal;
+    sums[welded[corner + 1]] += area_normal;
+    sums[welded[corner + 2]] += area_normal;
+  }
+  for (std::size_t w = 0; w < welded_count; w += 4) normalise_four(sums + w);
+  for (std::size_t v = 0; v < normals.size(); ++v) {
+    const FloatLanes& n = sums[welded_[v]];
+    normals[v] = glm::vec3(n[0], n[1], n[2]);
+  }
+}
+
+void WeldedNormals::gather(std::span<const glm::vec3> positions, std::span<glm::vec3> normals,
+                           FloatLanes* area_normals, int threads) const {
+  const std::size_t triangles = corner_vertex_.size() / 3;
+  // Unused slots' entry: adding −0 leaves every float as it is (−0 included), so a vertex's sum
+  // is the scatter's to the bit.
+  area_normals[triangles] = FloatLanes{-0.0f, -0.0f, -0.0f, -0.0f};
+  run_in_vertex_blocks(triangles, threads, [&](std::size_t begin, std::size_t end) {
     const std::uint32_t* vertex = corner_vertex_.data();
     for (std::size_t t = begin; t < end; ++t) {
       const FloatLanes a = lanes_of(positions[vertex[3 * t]]);
@@ -95,7 +144,6 @@ void WeldedNormals::compute(std::span<const glm::vec3> positions, std::span<glm:
                               lanes_of(positions[vertex[3 * t + 2]]) - a);
     }
   });
-  // Unit sums, four vertices at a time (one square root and one division for four on x86-64).
   run_in_vertex_blocks(
       normals.size(), threads,
       [&](std::size_t begin, std::size_t end) {
@@ -109,20 +157,9 @@ void WeldedNormals::compute(std::span<const glm::vec3> positions, std::span<glm:
             for (std::uint32_t i = first_more_[w]; i < first_more_[w + 1]; ++i)
               n[k] += area_normals[more_[i]];
           }
-          const FloatLanes x0y0x1y1 = __builtin_shufflevector(n[0] * n[0], n[1] * n[1], 0, 4, 1, 5);
-          const FloatLanes x2y2x3y3 = __builtin_shufflevector(n[2] * n[2], n[3] * n[3], 0, 4, 1, 5);
-          const FloatLanes z0z1 = __builtin_shufflevector(n[0] * n[0], n[1] * n[1], 2, 6, 3, 7);
-          const FloatLanes z2z3 = __builtin_shufflevector(n[2] * n[2], n[3] * n[3], 2, 6, 3, 7);
-          const FloatLanes length_squared =
-              (__builtin_shufflevector(x0y0x1y1, x2y2x3y3, 0, 1, 4, 5) +
-               __builtin_shufflevector(x0y0x1y1, x2y2x3y3, 2, 3, 6, 7)) +
-              __builtin_shufflevector(z0z1, z2z3, 0, 1, 4, 5);
-          const FloatLanes inverse_length = inverse_square_roots(length_squared);
-          for (std::size_t k = 0; k < count; ++k) {
-            const FloatLanes unit = length_squared[k] > 0.0f ? n[k] * inverse_length[k]
-                                                             : FloatLanes{0.0f, 1.0f, 0.0f, 0.0f};
-            normals[v0 + k] = glm::vec3(unit[0], unit[1], unit[2]);
-          }
+          normalise_four(n);
+          for (std::size_t k = 0; k < count; ++k)
+            normals[v0 + k] = glm::vec3(n[k][0], n[k][1], n[k][2]);
         }
       },
       4);
