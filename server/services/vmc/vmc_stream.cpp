@@ -1,6 +1,7 @@
 #include "server/services/vmc/vmc_stream.h"
 
 #include <cmath>
+#include <cstring>
 #include <string_view>
 
 #include "server/services/vmc/unity_frame.h"
@@ -24,7 +25,8 @@ bool read_transform(const OscMessage& message, glm::vec3& position, glm::quat& r
   lo_arg** argument = message.arguments();
   float value[7];
   for (int i = 0; i < 7; ++i) {
-    value[i] = argument[1 + i]->f;
+    // liblo's argument pointers are 4-byte aligned, its lo_arg union 8: copy, not lo_arg::f.
+    std::memcpy(&value[i], argument[1 + i], sizeof(float));
     if (!std::isfinite(value[i])) return false;
   }
   const glm::quat read(value[6], value[3], value[4], value[5]);
@@ -51,8 +53,8 @@ bool VmcStream::apply(const OscPacket& packet, VmcCounters& counters) {
     if (address == kBonePos) {
       read = message.types == kTransform && apply_bone(message, counters);
     } else if (address == kRootPos) {
-      read = (message.types == kTransform || message.types == kRootWithScale) &&
-             apply_root(message);
+      read =
+          (message.types == kTransform || message.types == kRootWithScale) && apply_root(message);
     } else if (address == kOk) {
       const std::size_t count = message.types.size();
       read = (count == 1 || count == 3 || count == 4) && only_ints(message.types);
@@ -69,7 +71,8 @@ bool VmcStream::apply(const OscPacket& packet, VmcCounters& counters) {
 }
 
 bool VmcStream::apply_bone(const OscMessage& message, VmcCounters& counters) {
-  const int bone = deform::human_body_bone_index(&message.arguments()[0]->s);
+  const int bone =
+      deform::human_body_bone_index(reinterpret_cast<const char*>(message.arguments()[0]));
   BoneState state;
   if (bone < 0 || !read_transform(message, state.position, state.rotation)) return false;
   state.sent = true;
