@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "console/text_format.h"
 #include "protocol/meshopt_vertices.h"
 #include "server/services/position_map_service.h"
 
@@ -26,12 +27,6 @@ std::uint64_t texel_bytes(const PositionMapParams& map) {
 std::uint64_t map_bytes(const PositionMapParams& map, std::uint64_t width, std::uint64_t height) {
   // Texels, then per scan line at most one chunk: its offset in the table and its header.
   return width * height * texel_bytes(map) + 16 * height + kExrHeaderBytes + kFrameFieldsBytes;
-}
-
-std::string with_commas(std::uint64_t n) {
-  std::string digits = std::to_string(n);
-  for (int at = static_cast<int>(digits.size()) - 3; at > 0; at -= 3) digits.insert(at, ",");
-  return digits;
 }
 
 }  // namespace
@@ -58,8 +53,10 @@ std::optional<RequestError> check_reply_fits(const PoseRequest& request,
   const std::uint64_t bytes = largest_reply_bytes(request);
   if (bytes <= max_frame_bytes) return std::nullopt;
   std::string message = "pose " + std::to_string(request.sequence) + ": its reply can reach " +
-                        with_commas(bytes) + " bytes, over this server's max_frame_bytes " +
-                        with_commas(max_frame_bytes) + " (announced in Welcome); ";
+                        console::with_thousands(static_cast<std::int64_t>(bytes)) +
+                        " bytes, over this server's max_frame_bytes " +
+                        console::with_thousands(static_cast<std::int64_t>(max_frame_bytes)) +
+                        " (announced in Welcome); ";
   if (const std::optional<PositionMapParams>& map = request.position_map) {
     // The largest map of the same aspect and layers that fits (none when the headers alone
     // do not).
