@@ -74,7 +74,7 @@ void print_picture(const SheetCommandOptions& options, const sheet::SheetPicture
   std::printf("wrote %s (%dx%d: %d frames x %zu methods, %s%s)\n", options.png.string().c_str(),
               picture.width, picture.height, rows, columns, picture.renderer.c_str(),
               where.c_str());
-  std::printf("worst edge stretch %%:\n%8s", "frame");
+  std::printf("largest edge length change |l/l_rest - 1|, %%:\n%8s", "frame");
   for (const deform::MethodChoice& m : grid.methods) std::printf(" %14s", m.name.c_str());
   for (int row = 0; row < rows; ++row) {
     std::printf("\n%8d", grid.frames[row]);

@@ -223,6 +223,16 @@ double QualityMeter::largest_edge_stretch(std::span<const glm::vec3> positions) 
   return largest;
 }
 
+std::pair<double, double> QualityMeter::edge_ratio_range(
+    std::span<const glm::vec3> positions) const {
+  std::pair<double, double> range{1.0, 1.0};
+  for (std::size_t e = 0; e < rest_edge_length_.size(); ++e) {
+    const double ratio = edge_ratio(positions, e);
+    range = {std::min(range.first, ratio), std::max(range.second, ratio)};
+  }
+  return range;
+}
+
 double QualityMeter::edge_ratio(std::span<const glm::vec3> positions, std::size_t e) const {
   if (rest_edge_length_[e] <= 0.0f) return 1.0;
   const float length = glm::length(positions[edges_[2 * e]] - positions[edges_[2 * e + 1]]);

@@ -70,6 +70,9 @@ class QualityMeter {
   // measure's largest_edge_stretch alone: the edges' lengths against their rest lengths, without
   // the self-intersection count and the limb sections that make up most of measure's time.
   double largest_edge_stretch(std::span<const glm::vec3> positions) const;
+  // The shortest and the longest edge as length ratios l / l_rest (squash, stretch): what a
+  // picture's caption says, where |l / l_rest - 1| would read 2.97 for an edge 3.97x its length.
+  std::pair<double, double> edge_ratio_range(std::span<const glm::vec3> positions) const;
 
   const deform::PartVolumeRegions& regions() const { return regions_; }
   // The welded edges one by one (metrics/region_quality.h sorts them into body regions): an

@@ -179,8 +179,11 @@ void ContactSheet::render_cell(std::size_t frame_index, std::size_t method,
         static_cast<std::size_t>(width) * 4,
         rgba.begin() +
             (static_cast<std::size_t>(top + caption_height_ + y) * picture_width + left) * 4);
+  // Edge lengths as ratios l / l_rest, the shortest and the longest (issue 47: "stretch 297 %"
+  // read as within 3x when an edge was 3.97x its rest length).
+  const auto [squash, longest] = meter_.edge_ratio_range(positions_);
   char detail[64];
-  std::snprintf(detail, sizeof detail, "frame %d  stretch %.0f%%", frame, 100.0 * stretch);
+  std::snprintf(detail, sizeof detail, "frame %d  edges %.2f-%.2fx", frame, squash, longest);
   const int height = static_cast<int>(rgba.size() / 4 / picture_width);
   // Each line is cut to the cell's width, so captions stay inside their cell.
   const std::string lines[2] = {m.name + (options_.focus.empty() ? "" : "  " + options_.focus),

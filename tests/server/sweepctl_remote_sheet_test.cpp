@@ -18,10 +18,10 @@ namespace {
 
 namespace pb = sweepd::protocol;
 
-// The printed table of worst stretch per cell: from "worst edge stretch" to the collision line
+// The printed table of each cell's largest edge length change: from its header to the collision line
 // (which says where the pairs were found) or the time taken.
 std::string stretch_table(const std::string& output) {
-  const std::size_t start = output.find("worst edge stretch");
+  const std::size_t start = output.find("largest edge length change");
   const std::size_t end = std::min(output.find("\ncollision", start), output.find("took ", start));
   return start == std::string::npos ? "" : output.substr(start, end - start);
 }
