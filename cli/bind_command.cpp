@@ -16,7 +16,7 @@
 #include "cli/posing_arguments.h"
 #include "cli/segment_colours.h"
 #include "cli/self_check_report.h"
-#include "cli/text_format.h"
+#include "console/text_format.h"
 #include "console/command_line.h"
 #include "console/progress_bar.h"
 #include "deform/blending/rigid_islands.h"
@@ -44,7 +44,7 @@ std::string skinned_by_part(const deform::BoundModel& bound) {
             [](const auto& a, const auto& b) { return a.second > b.second; });
   std::string text;
   for (const auto& [part, n] : parts)
-    text += (text.empty() ? "" : ", ") + part + " " + with_thousands(n);
+    text += (text.empty() ? "" : ", ") + part + " " + console::with_thousands(n);
   return text.empty() ? "none" : text;
 }
 
@@ -58,8 +58,8 @@ void print_sweep(const deform::BoundModel& bound, int s) {
   }
   std::printf(
       "\nsweep %-10s %zu keys, %s vertices (%s shared with another sweep), volume %.5f m3\n",
-      deform::to_string(sweep.part), sweep.rest_keys.size(), with_thousands(primary).c_str(),
-      with_thousands(blended).c_str(), sweep.rest_volume);
+      deform::to_string(sweep.part), sweep.rest_keys.size(), console::with_thousands(primary).c_str(),
+      console::with_thousands(blended).c_str(), sweep.rest_volume);
   std::printf("  %-26s %-26s %7s %7s %8s %6s\n", "key", "centre (m)", "a (m)", "b (m)", "fit err",
               "area");
   for (std::size_t k = 0; k < sweep.rest_keys.size(); ++k) {
@@ -115,10 +115,10 @@ void print_rigid_islands(const deform::Model& model) {
   std::string text;
   for (const auto& [joint, n] : count) {
     total += n;
-    text += (text.empty() ? "" : ", ") + joint + " " + with_thousands(n);
+    text += (text.empty() ? "" : ", ") + joint + " " + console::with_thousands(n);
   }
   std::printf("rigid islands (one joint each, skinned so they stay rigid): %s vertices (%s)\n",
-              with_thousands(total).c_str(), text.c_str());
+              console::with_thousands(total).c_str(), text.c_str());
 }
 
 // The self-check's verdict: one line, then a warning per region where the sweep is still worse
@@ -155,14 +155,14 @@ int bind_model(const BindCommandOptions& options) {
   std::printf("bound %s: %s vertices, %zu sweeps, rig '%s' (%.2f s, of which the self-check%s "
               "%.2f s over %zu poses)\n",
               options.model.filename().string().c_str(),
-              with_thousands(loaded.model.vertex_count()).c_str(), bound.sweeps.size(),
+              console::with_thousands(loaded.model.vertex_count()).c_str(), bound.sweeps.size(),
               bound.rig.convention.c_str(), seconds, options.adapt ? " and adaptation" : "",
               checked.check_seconds, verdict.pose_names.size());
   for (int s = 0; s < static_cast<int>(bound.sweeps.size()); ++s) print_sweep(bound, s);
   // Coverage said out loud: the vertices no sweep moves, by the body part of their strongest
   // joint (hands, feet and head always; a one-joint torso or neck, a forearm without a hand joint
   // or an absent limb where the rig's warnings say so).
-  std::printf("\nskinned only: %s vertices (%s)\n", with_thousands(skinned).c_str(),
+  std::printf("\nskinned only: %s vertices (%s)\n", console::with_thousands(skinned).c_str(),
               skinned_by_part(bound).c_str());
   print_rigid_islands(bound.model);
   std::printf("rest-pose error: max %.3g m (%.3g x height)\n", worst, worst / (hi - lo));

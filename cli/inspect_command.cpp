@@ -16,7 +16,7 @@
 
 #include "cli/commands.h"
 #include "cli/self_check_report.h"
-#include "cli/text_format.h"
+#include "console/text_format.h"
 #include "deform/binding/mesh_parts_joined.h"
 #include "deform/mesh/mesh_topology.h"
 #include "deform/rig/rig_map.h"
@@ -241,9 +241,9 @@ int inspect_model(const InspectCommandOptions& options) {
   std::printf("file:        %s\n", file.string().c_str());
   std::printf("kind:        skinned model (%s)%s%s\n", report.format.c_str(),
               report.generator.empty() ? "" : ", generator ", report.generator.c_str());
-  std::printf("vertices:    %s\n", with_thousands(model.vertex_count()).c_str());
+  std::printf("vertices:    %s\n", console::with_thousands(model.vertex_count()).c_str());
   std::printf("triangles:   %s (from %d primitive%s)\n",
-              with_thousands(model.triangle_count()).c_str(), report.source_primitive_count,
+              console::with_thousands(model.triangle_count()).c_str(), report.source_primitive_count,
               report.source_primitive_count == 1 ? "" : "s");
   std::printf("joints:      %d\n", skeleton.size());
   std::printf("UVs:         %s\n", model.has_uvs() ? "present" : "absent");
@@ -251,8 +251,8 @@ int inspect_model(const InspectCommandOptions& options) {
               hi.x, hi.y, hi.z);
   std::printf("height:      %.3f m (Y extent)\n", hi.y - lo.y);
   std::printf("topology:    %s welded positions, %s edges, %zu component%s, %s\n",
-              with_thousands(topology.welded_vertices).c_str(),
-              with_thousands(topology.edges).c_str(), topology.components,
+              console::with_thousands(topology.welded_vertices).c_str(),
+              console::with_thousands(topology.edges).c_str(), topology.components,
               topology.components == 1 ? "" : "s",
               topology.closed_manifold() ? "closed 2-manifold" : "NOT closed 2-manifold");
   if (!topology.closed_manifold())
@@ -281,7 +281,7 @@ int inspect_binding(const InspectCommandOptions& options) {
   const deform::BoundModel bound = io::load_sweepbind(options.file);
   std::printf("file:        %s\n", options.file.string().c_str());
   std::printf("kind:        binding (.sweepbind) of '%s'\n", bound.model.name.c_str());
-  std::printf("vertices:    %s\n", with_thousands(bound.model.vertex_count()).c_str());
+  std::printf("vertices:    %s\n", console::with_thousands(bound.model.vertex_count()).c_str());
   std::printf("joints:      %d\n", bound.model.skeleton.size());
   std::printf("sweeps:      %zu\n", bound.sweeps.size());
   for (const deform::BoundSweep& sweep : bound.sweeps)
@@ -310,8 +310,8 @@ int inspect_motion(const InspectCommandOptions& options) {
               up == motion::UpAxis::kZ ? "; posing turns it Y-up, --bvh-up overrides" : "");
   std::printf("joints:      %zu\n", clip.joints.size());
   std::printf("channels:    %d per frame\n", clip.channel_count);
-  std::printf("frames:      %s (header says %s)\n", with_thousands(clip.frame_count).c_str(),
-              with_thousands(clip.header_frame_count).c_str());
+  std::printf("frames:      %s (header says %s)\n", console::with_thousands(clip.frame_count).c_str(),
+              console::with_thousands(clip.header_frame_count).c_str());
   std::printf("frame time:  %.7f s (%.2f fps), duration %.2f s\n", clip.frame_time,
               clip.frames_per_second(), clip.frame_count * clip.frame_time);
   std::vector<std::string> warnings = clip.warnings;

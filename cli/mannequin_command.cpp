@@ -5,7 +5,7 @@
 #include <memory>
 
 #include "cli/commands.h"
-#include "cli/text_format.h"
+#include "console/text_format.h"
 #include "console/command_line.h"
 #include "io/gltf/gltf_save.h"
 #include "mannequin/mannequin.h"
@@ -39,8 +39,8 @@ Command add_mannequin_command(CLI::App& sweepctl) {
             const double seconds =
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             std::printf("wrote %s: %s vertices, %s triangles, %d joints (%.2f s)\n",
-                        options->out.string().c_str(), with_thousands(model.vertex_count()).c_str(),
-                        with_thousands(model.triangle_count()).c_str(), model.skeleton.size(),
+                        options->out.string().c_str(), console::with_thousands(model.vertex_count()).c_str(),
+                        console::with_thousands(model.triangle_count()).c_str(), model.skeleton.size(),
                         seconds);
             return 0;
           }};

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <string>
 
+#include "console/text_format.h"
 #include "protocol/meshopt_vertices.h"
-#include "server/services/work_budget.h"
 #include "server/services/position_map_service.h"
 
 namespace sweepd::server {
@@ -38,8 +38,10 @@ std::uint64_t largest_png_bytes(std::uint64_t width, std::uint64_t height) {
 }
 
 std::string over_the_limit(std::uint64_t bytes, std::uint32_t max_frame_bytes) {
-  return "its reply can reach " + with_commas(bytes) + " bytes, over this server's " +
-         "max_frame_bytes " + with_commas(max_frame_bytes) + " (announced in Welcome); ";
+  return "its reply can reach " + console::with_thousands(static_cast<std::int64_t>(bytes)) +
+         " bytes, over this server's max_frame_bytes " +
+         console::with_thousands(static_cast<std::int64_t>(max_frame_bytes)) +
+         " (announced in Welcome); ";
 }
 
 }  // namespace

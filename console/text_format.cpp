@@ -1,6 +1,6 @@
-#include "cli/text_format.h"
+#include "console/text_format.h"
 
-namespace sweepd::cli {
+namespace sweepd::console {
 
 std::string with_thousands(std::int64_t n) {
   std::string digits = std::to_string(n < 0 ? -n : n);
@@ -8,4 +8,4 @@ std::string with_thousands(std::int64_t n) {
   return n < 0 ? "-" + digits : digits;
 }
 
-}  // namespace sweepd::cli
+}  // namespace sweepd::console
