@@ -1,8 +1,10 @@
 #include "server/handlers/work_size.h"
 
+#include <algorithm>
 #include <utility>
 #include <variant>
 
+#include "console/text_format.h"
 #include "server/handlers/reply_size.h"
 
 namespace sweepd::server {
@@ -40,6 +42,22 @@ std::uint64_t sheet_work_bytes(const sheet::SheetOptions& options) {
 }
 
 std::uint64_t clip_upload_work_bytes(std::uint64_t upload_bytes) { return 4 * upload_bytes; }
+
+std::string describe(const WorkRefusal& refusal) {
+  const auto thousands = [](std::uint64_t n) {
+    return console::with_thousands(static_cast<std::int64_t>(n));
+  };
+  const std::uint64_t fitting = refusal.limit - std::min(refusal.limit, refusal.in_use);
+  return "needs " + thousands(refusal.bytes) + " bytes of working memory, over " +
+         (refusal.over_share
+              ? "this client's share of the server's work budget (--work-budget-client-bytes " +
+                    thousands(refusal.limit) + ", " + thousands(refusal.in_use) +
+                    " held by its other requests now"
+              : "what the server's work budget has free now (--work-budget-bytes " +
+                    thousands(refusal.limit) + ", " + thousands(refusal.in_use) +
+                    " held by all clients") +
+         ": " + thousands(fitting) + " fit)";
+}
 
 RequestError work_refused(const std::string& what, const WorkRefusal& refusal,
                           const std::string& smaller) {

@@ -44,7 +44,12 @@ std::uint64_t clip_upload_work_bytes(std::uint64_t upload_bytes);
 std::optional<RequestError> reserve_pose_work(PoseRequest& request, WorkBudget& budget,
                                               std::uint64_t client);
 
-// The same words for any refused request: "<what>: needs N bytes ...; <smaller>, or retry when
+// "needs 1,234 bytes of working memory, over what the server's work budget has free now
+// (--work-budget-bytes 5,678, 5,000 held by all clients: 678 fit)", or the same of the client's
+// share (--work-budget-client-bytes).
+std::string describe(const WorkRefusal& refusal);
+
+// The ResourceExhausted for any refused request: "<what>: <describe>; <smaller>, or retry when
 // this server's other work has finished".
 RequestError work_refused(const std::string& what, const WorkRefusal& refusal,
                           const std::string& smaller);

@@ -1,7 +1,5 @@
 #include "server/services/work_budget.h"
 
-#include <algorithm>
-
 namespace sweepd::server {
 
 WorkReservation::~WorkReservation() { budget_.give_back(client_, bytes_); }
@@ -43,25 +41,6 @@ std::uint64_t WorkBudget::used() const {
 std::uint64_t WorkBudget::refusals() const {
   std::lock_guard lock(mutex_);
   return refusals_;
-}
-
-std::string with_commas(std::uint64_t n) {
-  std::string digits = std::to_string(n);
-  for (int at = static_cast<int>(digits.size()) - 3; at > 0; at -= 3) digits.insert(at, ",");
-  return digits;
-}
-
-std::string describe(const WorkRefusal& refusal) {
-  const std::uint64_t fitting = refusal.limit - std::min(refusal.limit, refusal.in_use);
-  return "needs " + with_commas(refusal.bytes) + " bytes of working memory, over " +
-         (refusal.over_share
-              ? "this client's share of the server's work budget (--work-budget-client-bytes " +
-                    with_commas(refusal.limit) + ", " + with_commas(refusal.in_use) +
-                    " held by its other requests now"
-              : "what the server's work budget has free now (--work-budget-bytes " +
-                    with_commas(refusal.limit) + ", " + with_commas(refusal.in_use) +
-                    " held by all clients") +
-         ": " + with_commas(fitting) + " fit)";
 }
 
 }  // namespace sweepd::server

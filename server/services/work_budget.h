@@ -3,19 +3,17 @@
 // reply frames, clip uploads' decoded data — and a share of it that no one client may pass, so
 // that a few clients asking for the largest valid work at once cannot take the daemon past the
 // memory an operator allowed (issue 49 item 2). A request's bytes are estimated at intake (an
-// upper bound: work_estimates.h) and reserved for the work's life; a request that does not fit
+// upper bound: server/handlers/work_size.h) and reserved for the work's life; a request that does not fit
 // now is refused at once, as the buffer budget refuses (nothing waits). Thread-safe.
 //
 // reserve(client, bytes): a reservation holding the bytes until its last copy is destroyed, or
 //   the WorkRefusal saying which limit they pass (the budget's or the client's share) and what
-//   is free of it now.
-// describe(refusal): "needs N bytes of working memory, over ..." with the figures, for errors.
+//   is free of it now (work_size.h's describe says it in an error).
 #pragma once
 
 #include <cstdint>
 #include <memory>
 #include <mutex>
-#include <string>
 #include <unordered_map>
 #include <variant>
 
@@ -69,13 +67,5 @@ class WorkBudget {
   std::uint64_t refusals_ = 0;
   std::unordered_map<std::uint64_t, std::uint64_t> held_;  // per client, only while nonzero
 };
-
-// "needs 1,234 bytes of working memory, over what the server's work budget has free now
-// (--work-budget-bytes 5,678, 5,000 held by all clients: 678 fit)", or the same of the client's
-// share (--work-budget-client-bytes).
-std::string describe(const WorkRefusal& refusal);
-
-// 1234567 as "1,234,567": the figures errors name.
-std::string with_commas(std::uint64_t n);
 
 }  // namespace sweepd::server

@@ -8,6 +8,8 @@
 #include <thread>
 #include <vector>
 
+#include "server/handlers/work_size.h"  // describe: a refusal in words
+
 namespace sweepd::server {
 namespace {
 
