@@ -6,10 +6,12 @@
 // Every request is answered or refused by name (ResourceExhausted naming the bytes and the
 // budget), none is lost, and the daemon's peak resident size (VmHWM) stays within the budget
 // plus a base of 300 MB (the target: the mannequin, threads, libraries and Mesa's
-// llvmpipe). Before the budget, main's daemon (cc4c762) answered all 22 at a peak of 1,512 MB.
+// llvmpipe); /metrics counts the refusals and ends with every reservation given back. Before
+// the budget, main's daemon (cc4c762) answered all 22 at a peak of 1,512 MB.
 #include <gtest/gtest.h>
 
 #include <barrier>
+#include <chrono>
 #include <fstream>
 #include <mutex>
 #include <thread>
@@ -17,6 +19,7 @@
 #include "io/files/file_bytes.h"
 #include "tests/scratch_directory.h"
 #include "tests/server/daemon_process.h"
+#include "tests/server/http_probe.h"
 #include "tests/server/pose_frames.h"
 
 namespace sweepd::test {
@@ -67,10 +70,13 @@ void read_outcome(FrameClient& client, const std::string& what, Outcomes& outcom
 
 TEST(DaemonWorkBudget, TheLargestValidWorkFromManyClientsStaysWithinTheBudgetOrIsRefusedByName) {
   const fs::path directory = fresh_directory("work_budget");
+  const fs::path http_port_file = directory / "http_port";
   DaemonProcess daemon(directory, {"--work-budget-bytes", std::to_string(kBudgetBytes),
                                    "--work-budget-client-bytes", std::to_string(kBudgetBytes),
-                                   "--worker-threads", "8"});
+                                   "--worker-threads", "8", "--http-listen", "127.0.0.1:0",
+                                   "--http-port-file", http_port_file.string()});
   ASSERT_TRUE(daemon.running()) << daemon.log();
+  const int http_port = std::stoi(read_text(http_port_file));
   const std::string clip = io::read_file_text(fs::path(SWEEPD_SHARED_DATA) / "motion" / "cmu_01_01.bvh");
   const std::vector<protocol::Quat> rotations = to_wire(bent_rotations(31));
   const std::uint64_t resident_at_rest = status_bytes(daemon.pid(), "VmRSS");
@@ -154,6 +160,18 @@ TEST(DaemonWorkBudget, TheLargestValidWorkFromManyClientsStaysWithinTheBudgetOrI
   EXPECT_GE(outcomes.refused, 6);
   EXPECT_GE(outcomes.answered, 8 + 1);  // the eight poses and at least one map or sheet
   EXPECT_LE(peak, kBudgetBytes + kBaseBytes);
+
+  // /metrics tells the same: every refusal counted, the budget as configured, and every
+  // reservation given back once its reply is out (the last one a moment after its reply).
+  std::string page = curl_get(http_port, "/metrics").body;
+  EXPECT_EQ(metric(page, "sweepd_work_refusals_total"), outcomes.refused) << page;
+  EXPECT_EQ(metric(page, "sweepd_work_budget_bytes"), static_cast<double>(kBudgetBytes));
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (metric(page, "sweepd_work_bytes") != 0 && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    page = curl_get(http_port, "/metrics").body;
+  }
+  EXPECT_EQ(metric(page, "sweepd_work_bytes"), 0) << page;
   clients.clear();
   fs::remove_all(directory);
 }
