@@ -94,6 +94,12 @@ struct ServerConfig {
   std::uint32_t send_timeout_ms = 30000;
   std::uint64_t max_send_queue_bytes = 256ull << 20;
   std::uint64_t max_buffered_bytes = 1ull << 30;
+  // Requests' working memory (server/services/work_budget.h): position maps, contact sheets,
+  // poses' reply frames, clip uploads, estimated at intake; all clients together at most
+  // work_budget_bytes, one client at most work_budget_client_bytes (ResourceExhausted past
+  // either).
+  std::uint64_t work_budget_bytes = 2ull << 30;
+  std::uint64_t work_budget_client_bytes = 1ull << 30;
   std::uint32_t max_frame_errors = 16;
   std::uint32_t max_model_vertices = 2'000'000;  // uploads above it: MemoryLimit
   int worker_threads = 0;                        // 0: one per core

@@ -8,6 +8,8 @@
 #include <variant>
 
 #include "server/elapsed_time.h"
+#include "server/handlers/reply_size.h"
+#include "server/handlers/work_size.h"
 #include "server/log_event.h"
 #include "server/replies/contact_sheet_reply.h"
 
@@ -16,11 +18,12 @@ namespace {
 
 namespace pb = sweepd::protocol;
 
-// On the GPU waiters' pool: the sheet drawn, its pixels given back to the budget, and the reply
-// the I/O thread sends.
+// On the GPU waiters' pool: the sheet drawn, and the reply the I/O thread sends. The working
+// memory stays reserved until the reply is built.
 RequestSession::Reply draw_sheet(ConnectionEnvironment& environment,
-                           std::shared_ptr<const SheetWork> work, std::size_t pixel_bytes,
-                           std::uint64_t request_id) {
+                                 std::shared_ptr<const SheetWork> work,
+                                 std::shared_ptr<const WorkReservation> reserved,
+                                 std::uint64_t request_id) {
   const auto start = std::chrono::steady_clock::now();
   auto picture = std::make_shared<sheet::SheetPicture>();
   std::optional<RequestError> failure;
@@ -31,8 +34,7 @@ RequestSession::Reply draw_sheet(ConnectionEnvironment& environment,
     failure = RequestError{error_code_of(error), error.what()};
   }
   const std::uint64_t took_ns = nanoseconds_since(start);
-  environment.buffer_budget.give_back(pixel_bytes);
-  return [work, picture, failure, took_ns, request_id](RequestSession& session) {
+  return [work, picture, failure, took_ns, request_id, reserved](RequestSession& session) {
     if (failure) {
       log_event("contact_sheet_failed",
                 {{"connection", session.connection_id()}, {"reason", failure->message}});
@@ -63,13 +65,17 @@ void handle_contact_sheet_request(const pb::Message& message, RequestSession& se
     return;
   }
   auto work = std::make_shared<const SheetWork>(std::move(std::get<SheetWork>(read)));
-  // The picture's pixels are held while it is drawn: they count against the buffer budget of
-  // every client, as frames and replies do.
-  const std::size_t pixel_bytes = work->options.pixel_count() * 4;
-  if (!environment.buffer_budget.take(pixel_bytes)) {
-    session.send_error({pb::ErrorCode::ResourceExhausted,
-                        "contact sheet: the server's buffer budget has no room for its " +
-                            std::to_string(pixel_bytes) + " bytes of pixels now; retry later"},
+  if (auto error = check_sheet_fits(work->options, environment.config.max_frame_bytes)) {
+    session.send_error(*error, request_id);
+    return;
+  }
+  // The picture, its PNG and the renderer's targets are held while it is drawn: reserved from
+  // the work budget every client shares.
+  auto reserved =
+      environment.work_budget.reserve(session.connection_id(), sheet_work_bytes(work->options));
+  if (const WorkRefusal* refusal = std::get_if<WorkRefusal>(&reserved)) {
+    session.send_error(work_refused("contact sheet", *refusal,
+                                    "ask for smaller cells, fewer frames or fewer methods"),
                        request_id);
     return;
   }
@@ -78,9 +84,9 @@ void handle_contact_sheet_request(const pb::Message& message, RequestSession& se
                                     {"frames", work->options.frames.size()},
                                     {"methods", work->options.methods.size()}});
   session.run_in_order(RequestSession::Pool::kGpuWaiters,
-                       [environment = &environment, work, pixel_bytes, request_id]() {
-                         return draw_sheet(*environment, work, pixel_bytes, request_id);
-                       });
+                       [environment = &environment, work,
+                        reserved = std::get<std::shared_ptr<const WorkReservation>>(reserved),
+                        request_id]() { return draw_sheet(*environment, work, reserved, request_id); });
 }
 
 }  // namespace sweepd::server

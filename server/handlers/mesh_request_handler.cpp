@@ -3,6 +3,7 @@
 #include <string>
 #include <utility>
 
+#include "server/handlers/reply_size.h"
 #include "server/replies/mesh_reply.h"
 
 namespace sweepd::server {
@@ -19,6 +20,11 @@ void handle_mesh_request(const pb::Message& message, RequestSession& session) {
         {pb::ErrorCode::UnknownModel, "mesh request: no model with id " + std::to_string(model_id) +
                                           " (" + held_models_clause(models) + ")"},
         request_id);
+    return;
+  }
+  if (auto error = check_mesh_fits(model->bound.model, model_id,
+                                   session.environment().config.max_frame_bytes)) {
+    session.send_error(*error, request_id);
     return;
   }
   flatbuffers::FlatBufferBuilder builder = session.take_builder();

@@ -229,6 +229,7 @@ std::uint64_t PosedVerticesWriter::write_position_map(PoseRequest& request,
                                                       flatbuffers::FlatBufferBuilder& builder) {
   const Clock::time_point started = Clock::now();
   const PositionMapParams& params = *request.position_map;
+  std::vector<std::uint8_t> exr;
   const std::size_t vertex_count = request.model->bound.model.vertex_count();
   positions_scratch_.resize(vertex_count);
   normals_scratch_.resize(vertex_count);
@@ -244,15 +245,17 @@ std::uint64_t PosedVerticesWriter::write_position_map(PoseRequest& request,
                   .half_normals = params.half_normals,
                   .frame = params.frame,
                   .pose_hash = deform::pose_hash(request.pose)},
-                 exr_scratch_);
+                 exr);
   protocol::PositionMapFrame frame(builder, {.request_id = request.request_id,
                                              .model_id = request.model->id,
                                              .sequence = request.sequence,
                                              .width = params.width,
                                              .height = params.height,
-                                             .exr_bytes = exr_scratch_.size()});
+                                             .exr_bytes = exr.size()});
   // encode_exr writes a growing vector, so the file is copied once into the frame.
-  std::copy(exr_scratch_.begin(), exr_scratch_.end(), frame.exr().begin());
+  // The file is not kept between maps: a connection would hold its largest map's bytes, outside
+  // the work budget, for as long as it stays open.
+  std::copy(exr.begin(), exr.end(), frame.exr().begin());
   fill_timings(frame.timings(), request, started, work_ns);
   return work_ns.first + work_ns.second;
 }

@@ -48,6 +48,7 @@
 #include "server/services/collision_service.h"
 #include "server/services/position_map_service.h"
 #include "server/services/spare_cores.h"
+#include "server/services/work_budget.h"
 #include "server/transport/shared_region.h"
 
 namespace sweepd::server {
@@ -79,6 +80,9 @@ struct PoseRequest {
   // and the region (held by the request: the connection may close while it runs).
   std::optional<std::uint64_t> shared_offset = std::nullopt;
   std::shared_ptr<const SharedRegion> shared_region;
+  // Its working memory, reserved from the server's work budget at intake (work_size.h) and
+  // given back when the request, queued or running, is gone.
+  std::shared_ptr<const WorkReservation> work;
 
   deform::DeformJob job(int threads, std::span<glm::vec3> positions, std::span<glm::vec3> normals);
 };
@@ -128,7 +132,6 @@ class PosedVerticesWriter {
   CollisionPairFinder pair_finder_;
   std::vector<glm::vec3> positions_scratch_, normals_scratch_;  // float16, meshopt, maps
   protocol::MeshoptEncoder meshopt_;
-  std::vector<std::uint8_t> exr_scratch_;
 };
 
 }  // namespace sweepd::server

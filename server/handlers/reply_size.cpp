@@ -29,6 +29,21 @@ std::uint64_t map_bytes(const PositionMapParams& map, std::uint64_t width, std::
   return width * height * texel_bytes(map) + 16 * height + kExrHeaderBytes + kFrameFieldsBytes;
 }
 
+// A PNG of width x height RGBA pixels as stb_image_write makes it, at worst: its filtered rows
+// (a filter byte each) deflated with fixed Huffman codes, 9 bits a byte at worst, in one IDAT;
+// then signature, IHDR, IDAT and IEND chunks, zlib's header and checksum.
+std::uint64_t largest_png_bytes(std::uint64_t width, std::uint64_t height) {
+  const std::uint64_t filtered = height * (4 * width + 1);
+  return filtered + filtered / 8 + 1 + 64;
+}
+
+std::string over_the_limit(std::uint64_t bytes, std::uint32_t max_frame_bytes) {
+  return "its reply can reach " + console::with_thousands(static_cast<std::int64_t>(bytes)) +
+         " bytes, over this server's max_frame_bytes " +
+         console::with_thousands(static_cast<std::int64_t>(max_frame_bytes)) +
+         " (announced in Welcome); ";
+}
+
 }  // namespace
 
 std::uint64_t largest_reply_bytes(const PoseRequest& request) {
@@ -52,11 +67,8 @@ std::optional<RequestError> check_reply_fits(const PoseRequest& request,
                                              std::uint32_t max_frame_bytes) {
   const std::uint64_t bytes = largest_reply_bytes(request);
   if (bytes <= max_frame_bytes) return std::nullopt;
-  std::string message = "pose " + std::to_string(request.sequence) + ": its reply can reach " +
-                        console::with_thousands(static_cast<std::int64_t>(bytes)) +
-                        " bytes, over this server's max_frame_bytes " +
-                        console::with_thousands(static_cast<std::int64_t>(max_frame_bytes)) +
-                        " (announced in Welcome); ";
+  std::string message =
+      "pose " + std::to_string(request.sequence) + ": " + over_the_limit(bytes, max_frame_bytes);
   if (const std::optional<PositionMapParams>& map = request.position_map) {
     // The largest map of the same aspect and layers that fits (none when the headers alone
     // do not).
@@ -86,6 +98,56 @@ std::optional<RequestError> check_reply_fits(const PoseRequest& request,
   }
   return RequestError{protocol::ErrorCode::InvalidArgument, std::move(message), request.sequence,
                       request.model->id};
+}
+
+std::uint64_t largest_sheet_reply_bytes(const sheet::SheetOptions& options) {
+  const std::uint64_t columns = options.methods.size(), rows = options.frames.size();
+  // The renderer's name (GL_RENDERER) is a line of text: 1 KiB holds it.
+  return largest_png_bytes(options.cell_width * columns, options.cell_height * rows) +
+         4 * rows * columns + 1024 + kFrameFieldsBytes;
+}
+
+std::optional<RequestError> check_sheet_fits(const sheet::SheetOptions& options,
+                                             std::uint32_t max_frame_bytes) {
+  const std::uint64_t bytes = largest_sheet_reply_bytes(options);
+  if (bytes <= max_frame_bytes) return std::nullopt;
+  // The largest cell of the same aspect that fits, if it is not below the smallest cell.
+  sheet::SheetOptions smaller = options;
+  const double scale = std::sqrt(static_cast<double>(max_frame_bytes) / static_cast<double>(bytes));
+  smaller.cell_width = static_cast<int>(options.cell_width * scale);
+  smaller.cell_height = static_cast<int>(options.cell_height * scale);
+  while (largest_sheet_reply_bytes(smaller) > max_frame_bytes && smaller.cell_width > 0 &&
+         smaller.cell_height > 0) {
+    smaller.cell_width = smaller.cell_width * 99 / 100;
+    smaller.cell_height = smaller.cell_height * 99 / 100;
+  }
+  const bool cell_fits = smaller.cell_width >= sheet::ContactSheet::kSmallestCell &&
+                         smaller.cell_height >= sheet::ContactSheet::kSmallestCell;
+  return RequestError{
+      protocol::ErrorCode::InvalidArgument,
+      "contact sheet: " + over_the_limit(bytes, max_frame_bytes) + "ask for " +
+          (cell_fits ? "smaller cells (" + std::to_string(smaller.cell_width) + " x " +
+                           std::to_string(smaller.cell_height) + " fits), "
+                     : std::string()) +
+          "fewer frames or methods, or a server started with a larger --max-frame-bytes"};
+}
+
+std::uint64_t mesh_reply_bytes(const deform::Model& model) {
+  const std::uint64_t n = model.vertex_count();
+  // Each vector: its length and up to 8 bytes of alignment besides its elements.
+  return 4 * model.indices.size() + 8 * model.uvs.size() + 12 * n + 2 * deform::kInfluences * n +
+         4 * deform::kInfluences * n + 5 * 12 + kFrameFieldsBytes;
+}
+
+std::optional<RequestError> check_mesh_fits(const deform::Model& model, std::uint32_t model_id,
+                                            std::uint32_t max_frame_bytes) {
+  const std::uint64_t bytes = mesh_reply_bytes(model);
+  if (bytes <= max_frame_bytes) return std::nullopt;
+  return RequestError{protocol::ErrorCode::InvalidArgument,
+                      "mesh request: model " + std::to_string(model_id) + ": " +
+                          over_the_limit(bytes, max_frame_bytes) +
+                          "a mesh is sent whole, so ask a server started with a larger "
+                          "--max-frame-bytes, or read the model's own file for its mesh"};
 }
 
 }  // namespace sweepd::server

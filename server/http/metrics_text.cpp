@@ -178,6 +178,15 @@ void add_server(Page& page, const ServerSnapshot& server) {
   page.single("sweepd_buffered_bytes", "gauge",
               "Bytes of frames being read and replies waiting, all connections.",
               server.buffered_bytes);
+  page.single("sweepd_work_bytes", "gauge",
+              "Bytes of working memory reserved by requests running or queued, all connections.",
+              server.work_bytes);
+  page.single("sweepd_work_budget_bytes", "gauge",
+              "The work budget (--work-budget-bytes): the most working memory requests hold.",
+              server.work_budget_bytes);
+  page.single("sweepd_work_refusals_total", "counter",
+              "Requests refused because their working memory did not fit the work budget.",
+              server.work_refusals);
   page.single("sweepd_store_bytes", "gauge", "Bytes of the model store's files on disk.",
               server.store_bytes);
   page.single("sweepd_models_held", "gauge", "Models held (bound and servable).",

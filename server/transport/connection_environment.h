@@ -1,6 +1,7 @@
 // ConnectionEnvironment: what the server lends every connection — its configuration, the
 // services requests use (models, clips, collision, position maps, contact sheets, the VMC
-// stream), the pools work runs on, the buffer budget and reply builders shared by all clients,
+// stream), the pools work runs on, the buffer budget, the work budget and reply builders shared
+// by all clients,
 // the failed authentications of each address and the count of authenticated connections, and
 // the counters Stats and /metrics read. Owned by Server; a connection and its request handlers
 // (server/handlers/) reach it by reference, on the I/O thread unless a field says otherwise.
@@ -21,6 +22,7 @@
 #include "server/services/contact_sheet_service.h"
 #include "server/services/position_map_service.h"
 #include "server/services/vmc/vmc_receiver.h"
+#include "server/services/work_budget.h"
 #include "server/transport/auth_backoff.h"
 #include "server/transport/connection_counters.h"
 #include "server/transport/fair_work_queue.h"
@@ -44,6 +46,7 @@ struct ConnectionEnvironment {
   std::function<std::vector<ConnectionCounters>()> all_counters;
   std::map<std::uint32_t, ModelCounters> model_counters;
   protocol::BufferBudget& buffer_budget;  // frames being read and replies waiting, all clients
+  WorkBudget& work_budget;                // requests' working memory, all clients (any thread)
   ReplyBuilderPool& builders;             // idle reply builders, all clients
   TrafficCounters traffic;                // requests, errors and latencies of every connection
   AuthBackoff& auth_backoff;              // failed authentications per peer address

@@ -4,6 +4,7 @@
 
 #include "server/elapsed_time.h"
 #include "server/handlers/reply_size.h"
+#include "server/handlers/work_size.h"
 #include "server/transport/connection.h"
 
 namespace sweepd::server {
@@ -28,6 +29,10 @@ void Connection::queue_pose(std::variant<PoseRequest, RequestError> intake,
     return;
   }
   if (auto error = check_reply_fits(request, environment_.config.max_frame_bytes)) {
+    send_error(*error, request_id);
+    return;
+  }
+  if (auto error = reserve_pose_work(request, environment_.work_budget, id())) {
     send_error(*error, request_id);
     return;
   }

@@ -11,6 +11,9 @@ flatbuffers::FlatBufferBuilder ReplyBuilderPool::take() {
 }
 
 void ReplyBuilderPool::give_back(flatbuffers::FlatBufferBuilder builder) {
+  // A builder a position map or a contact sheet grew is freed: kept, every idle builder could
+  // come to hold a frame's worth of memory that no budget counts (issue 49 item 2).
+  if (builder.GetSize() > kLargestKeptBytes) return;
   if (idle_.size() < cap()) idle_.push_back(std::move(builder));
 }
 

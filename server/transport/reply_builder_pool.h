@@ -9,7 +9,9 @@
 // the server's CPU per pose (0.87 against 0.41 ms at 8 clients, bench/server_bench).
 //
 // take():                  a cleared builder, reused or new (1 KiB to start).
-// give_back(builder):      keeps it for the next take() while fewer than the cap are idle.
+// give_back(builder):      keeps it for the next take() while fewer than the cap are idle and
+//                          its reply was at most kLargestKeptBytes (a 72k pose with normals
+//                          is 1.7 MB; a map or sheet's builder is freed).
 // set_connections(count):  the open connections the cap allows for; frees idle ones above it.
 // Used on the server's I/O thread only (not thread-safe).
 #pragma once
@@ -23,6 +25,7 @@ namespace sweepd::server {
 
 class ReplyBuilderPool {
  public:
+  static constexpr std::size_t kLargestKeptBytes = 8u << 20;
   explicit ReplyBuilderPool(std::size_t base) : base_(base) {}
 
   flatbuffers::FlatBufferBuilder take();

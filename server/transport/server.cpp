@@ -39,6 +39,7 @@ Server::Server(const ServerConfig& config, ModelService& models, Readiness& read
       contact_sheets_(position_maps_),
       clips_(config.max_clips, config.max_clip_bytes),
       buffer_budget_(config.max_buffered_bytes),
+      work_budget_(config.work_budget_bytes, config.work_budget_client_bytes),
       // Enough idle builders for every worker's reply and the I/O thread's, and (added as
       // connections open) one for each connection's queued replies.
       builders_(2 * static_cast<std::size_t>(worker_count(config)) + 4),
@@ -60,6 +61,7 @@ Server::Server(const ServerConfig& config, ModelService& models, Readiness& read
                    {},
                    {},
                    buffer_budget_,
+                   work_budget_,
                    builders_,
                    {},
                    auth_backoff_},
@@ -301,6 +303,9 @@ ServerSnapshot Server::gather_snapshot() const {
   snapshot.connections_accepted = next_connection_id_ - 1;
   snapshot.websocket_connections_accepted = websocket_connections_accepted_;
   snapshot.buffered_bytes = buffer_budget_.used();
+  snapshot.work_bytes = work_budget_.used();
+  snapshot.work_budget_bytes = work_budget_.limit();
+  snapshot.work_refusals = work_budget_.refusals();
   snapshot.collision = environment_.collision.snapshot();
   if (vmc_) snapshot.vmc = vmc_->snapshot();
   for (const ModelHandle& model : environment_.models.models()) {

@@ -84,6 +84,7 @@ class Server {
   ContactSheetService contact_sheets_;  // renders on position_maps_'s GPU worker
   ClipStore clips_;                     // UploadClip's clips, shared by every connection
   protocol::BufferBudget buffer_budget_;
+  WorkBudget work_budget_;
   ReplyBuilderPool builders_;
   asio::signal_set signals_;
   std::optional<asio::ssl::context> tls_;  // the TCP listener's TLS; none: plain

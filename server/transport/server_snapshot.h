@@ -31,6 +31,9 @@ struct ServerSnapshot {
   std::uint64_t poses_waiting = 0;  // queued behind a running pose, all connections
   std::uint64_t poses_running = 0;
   std::uint64_t buffered_bytes = 0;  // frames being read and replies waiting (BufferBudget)
+  std::uint64_t work_bytes = 0;         // requests' working memory reserved now (WorkBudget)
+  std::uint64_t work_budget_bytes = 0;  // its limit, --work-budget-bytes
+  std::uint64_t work_refusals = 0;      // requests refused for it
   std::uint64_t store_bytes = 0;     // the store directory's files (ModelService::store_bytes)
   std::vector<ModelSnapshot> models;
   CollisionSnapshot collision;  // the collision backend and its GPU fallbacks

@@ -739,6 +739,57 @@ TEST(DaemonErrorsOnTheUnixSocket, OverlongStringsAreRefusedAndTheSessionGoesOn) 
   EXPECT_EQ(reply->sequence(), 61u);
 }
 
+// Issue 49 item 2, the other large replies: a mesh and a contact sheet that could not fit the
+// announced frame limit are refused before any work, naming the size, the limit and what to
+// ask for instead; the sheet's suggested cell passes the check (and reaches the renderer, which
+// this daemon has switched off).
+TEST_P(DaemonErrors, AMeshOrASheetPastTheAnnouncedFrameLimitIsRefusedAtIntake) {
+  flatbuffers::FlatBufferBuilder builder;
+  broken_->send_bytes(protocol::finish_message(
+      builder, protocol::CreateMeshRequest(builder, daemon_->model_id()), 70));
+  // 4,000 vertices at 44 bytes (rest positions, UVs, skin joints and weights) besides the
+  // triangles' indices: over 64 KiB.
+  expect_error_then_service(protocol::ErrorCode::InvalidArgument,
+                            "mesh request: model " + std::to_string(daemon_->model_id()) +
+                                ": its reply can reach ");
+  upload_clip(*broken_, short_clip(3), 71);
+  const protocol::ClipInfo* info = broken_->receive_as<protocol::ClipInfo>();
+  ASSERT_NE(info, nullptr);
+  const std::string clip_id = info->clip_id()->str();
+  const auto send_sheet = [&](std::uint16_t width, std::uint16_t height, std::uint64_t id) {
+    builder.Clear();
+    const std::vector<std::uint32_t> frames = {1};
+    const std::vector<std::string> methods = {"sweep"};
+    broken_->send_bytes(protocol::finish_message(
+        builder,
+        protocol::CreateContactSheetRequest(builder, daemon_->model_id(),
+                                            builder.CreateString(clip_id),
+                                            builder.CreateVector(frames),
+                                            builder.CreateVectorOfStrings(methods), width, height),
+        id));
+  };
+  send_sheet(2048, 1024, 72);
+  const protocol::Error* error = broken_->receive_as<protocol::Error>();
+  ASSERT_NE(error, nullptr);
+  EXPECT_EQ(error->code(), protocol::ErrorCode::InvalidArgument);
+  const std::string message = error->message()->str();
+  // 1,024 rows of 8,193 filtered bytes, 9 bits a byte at worst: 9,437,249, and the fields.
+  EXPECT_NE(message.find("contact sheet: its reply can reach 9,44"), std::string::npos) << message;
+  EXPECT_NE(message.find("over this server's max_frame_bytes 65,536"), std::string::npos)
+      << message;
+  const std::size_t fits = message.find(" fits)");
+  ASSERT_NE(fits, std::string::npos) << message;
+  unsigned width = 0, height = 0;
+  ASSERT_EQ(std::sscanf(message.c_str() + message.rfind('(', fits), "(%u x %u", &width, &height),
+            2)
+      << message;
+  EXPECT_NEAR(width, 2.0 * height, 2.0);  // the asked 2:1
+  // Its PNG at worst (9 bits a byte of its filtered rows) and 3 KiB of fields fit the limit.
+  EXPECT_LE(height * (4u * width + 1) * 9 / 8 + 3 * 1024, kMaxFrameBytes);
+  send_sheet(static_cast<std::uint16_t>(width), static_cast<std::uint16_t>(height), 73);
+  expect_error_then_service(protocol::ErrorCode::NotAvailable, "switched off");
+}
+
 INSTANTIATE_TEST_SUITE_P(Transports, DaemonErrors,
                          ::testing::Values(Transport::kTcp, Transport::kWebSocket),
                          [](const ::testing::TestParamInfo<Transport>& info) {

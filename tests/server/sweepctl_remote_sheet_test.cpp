@@ -180,13 +180,15 @@ TEST_F(SweepctlRemoteSheet, DaemonRefusesABadSheetRequestNamingTheFieldAndKeepsS
   EXPECT_LE(sheet.worst_stretch()->Get(0), 2.0f);
 }
 
-// A sheet's pixels count against the server's buffer budget for all clients (issue 16's bounded
-// memory): on a daemon with 3 MiB of it (the clip's 2 MB upload fits), a 4 MiB picture is refused
-// as ResourceExhausted before any work, and a small one is still drawn.
-TEST_F(SweepctlRemoteSheet, APictureOverTheBufferBudgetIsRefusedAndASmallOneIsDrawn) {
+// A sheet's working memory counts against the server's work budget for all clients (issue 16's
+// bounded memory, issue 49's work budget): on a daemon with 64 MiB of it (the clip's 2 MB upload
+// and its decoding fit), a sheet of one 1024 x 1024 cell (work_size.h: 8 bytes a pixel, the PNG's
+// bound of 4.2 MB five times, 40 bytes a cell pixel: 73.9 MB) is refused as ResourceExhausted
+// before any work, and a small one is still drawn.
+TEST_F(SweepctlRemoteSheet, APictureOverTheWorkBudgetIsRefusedAndASmallOneIsDrawn) {
   const fs::path directory = path("budget");
   fs::create_directories(directory);
-  DaemonProcess daemon(directory, {"--max-buffered-bytes", "3145728"});
+  DaemonProcess daemon(directory, {"--work-budget-bytes", "67108864"});
   ASSERT_TRUE(daemon.running()) << daemon.log();
   client::Connection connection("127.0.0.1", std::to_string(daemon.port()));
   connection.hello("", "sheet budget");
@@ -201,7 +203,9 @@ TEST_F(SweepctlRemoteSheet, APictureOverTheBufferBudgetIsRefusedAndASmallOneIsDr
     ADD_FAILURE() << "a picture over the budget was drawn";
   } catch (const client::ServerError& error) {
     EXPECT_EQ(error.code(), pb::ErrorCode::ResourceExhausted) << error.what();
-    EXPECT_NE(std::string(error.what()).find("4194304 bytes of pixels"), std::string::npos)
+    EXPECT_NE(std::string(error.what()).find("contact sheet: needs 73,9"), std::string::npos)
+        << error.what();
+    EXPECT_NE(std::string(error.what()).find("--work-budget-bytes 67,108,864"), std::string::npos)
         << error.what();
   }
   fields.cell_width = fields.cell_height = 64;

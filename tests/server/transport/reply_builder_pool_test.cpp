@@ -1,5 +1,6 @@
 // ReplyBuilderPool: keeps `base` idle builders plus one per open connection, frees the rest as
-// they are given back and a closing connection's share at once, and hands out cleared builders.
+// they are given back and a closing connection's share at once, frees a builder grown by a
+// reply past kLargestKeptBytes, and hands out cleared builders.
 #include "server/transport/reply_builder_pool.h"
 
 #include <gtest/gtest.h>
@@ -36,6 +37,16 @@ TEST(ReplyBuilderPool, ClosingConnectionsFreeTheirShareAtOnce) {
   EXPECT_EQ(pool.idle(), 2u);
   pool.give_back(grown(1000));
   EXPECT_EQ(pool.idle(), 2u);  // the base is full
+}
+
+// A builder that carried a position map or a sheet is not kept: idle, it would hold a frame's
+// worth of memory outside the work budget (issue 49 item 2).
+TEST(ReplyBuilderPool, ABuilderGrownPastTheLargestKeptReplyIsFreed) {
+  ReplyBuilderPool pool(2);
+  pool.give_back(grown(ReplyBuilderPool::kLargestKeptBytes + 1));
+  EXPECT_EQ(pool.idle(), 0u);
+  pool.give_back(grown(ReplyBuilderPool::kLargestKeptBytes - 64));  // with its vector's length
+  EXPECT_EQ(pool.idle(), 1u);
 }
 
 TEST(ReplyBuilderPool, TakeHandsOutAClearedBuilderAndMakesOneWhenNoneIsIdle) {

@@ -1,0 +1,57 @@
+// Work size: the most working memory a request holds while it runs, known at intake (issue 49
+// item 2), reserved from the server's WorkBudget (server/services/work_budget.h) for the work's
+// life. Upper bounds from what the code allocates, so that the daemon's resident size stays
+// within the budget plus its base (models, threads, libraries, the GPU driver):
+//
+// pose_work_bytes(request): a PosedVertices: its reply frame (largest_reply_bytes) and, for
+//   Float16 and Meshopt, the float32 positions and normals deformed first (24 bytes a vertex).
+// pose_work_bytes for a PositionMapRequest: per texel, the GPU's render targets (2 RGBA32F and
+//   one R32F: 36 bytes; under Mesa's llvmpipe they are host memory), the read-back planes (P, N
+//   when asked, A always: up to 28), the gutter's state and queues (13), half normals' scratch
+//   (6 when asked); then the EXR three times (its compressed chunks, at most uncompressed; the
+//   file's vector, which grows by doubling) and once more as the reply frame; and the
+//   deformed vertices (24 bytes a vertex).
+// sheet_work_bytes(options): a ContactSheet: the picture's RGBA (4 bytes a pixel), stb's
+//   filtered rows (4), the PNG four times at worst (its zlib buffer growing by doubling, stb's
+//   copy, ours) and the reply frame; per cell, the preview renderer's 4x multisampled colour
+//   and depth and the resolved colour (36 bytes a cell pixel) and the cell's read-back (4).
+// clip_upload_work_bytes(upload_bytes): an UploadClip while it is read: 4 bytes for each
+//   uploaded byte (a BVH number is at least 2 characters and becomes a 4-byte float, read
+//   into channels and then rotations). An estimate, not a bound, for a glTF animation whose
+//   sparse keys are sampled at many frames: the held clip counts against --max-clip-bytes by
+//   its uploaded bytes.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "server/handlers/pose_request.h"
+#include "server/handlers/request_error.h"
+#include "server/services/contact_sheet_service.h"
+#include "server/services/work_budget.h"
+
+namespace sweepd::server {
+
+std::uint64_t pose_work_bytes(const PoseRequest& request);
+
+std::uint64_t sheet_work_bytes(const sheet::SheetOptions& options);
+
+std::uint64_t clip_upload_work_bytes(std::uint64_t upload_bytes);
+
+// request.work set to a reservation of pose_work_bytes from `budget` for `client`, or the
+// ResourceExhausted to answer: its bytes, the limit it passed and what to ask for instead.
+std::optional<RequestError> reserve_pose_work(PoseRequest& request, WorkBudget& budget,
+                                              std::uint64_t client);
+
+// "needs 1,234 bytes of working memory, over what the server's work budget has free now
+// (--work-budget-bytes 5,678, 5,000 held by all clients: 678 fit)", or the same of the client's
+// share (--work-budget-client-bytes).
+std::string describe(const WorkRefusal& refusal);
+
+// The ResourceExhausted for any refused request: "<what>: <describe>; <smaller>, or retry when
+// this server's other work has finished".
+RequestError work_refused(const std::string& what, const WorkRefusal& refusal,
+                          const std::string& smaller);
+
+}  // namespace sweepd::server
