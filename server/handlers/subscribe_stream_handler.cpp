@@ -5,7 +5,7 @@
 #include "server/handlers/reply_size.h"
 #include "server/log_event.h"
 #include "server/replies/stream_subscribed.h"
-#include "server/services/vmc/vmc_receiver.h"
+#include "server/services/vmc/vmc_receivers.h"
 
 namespace sweepd::server {
 
@@ -17,17 +17,18 @@ void handle_subscribe_stream(const pb::Message& message, RequestSession& session
   const auto refuse = [&](pb::ErrorCode code, const std::string& why) {
     session.send_error({code, "SubscribeStream: " + why}, request_id);
   };
-  VmcReceiver* receiver = session.environment().vmc;
-  if (receiver == nullptr) {
+  const VmcReceivers* receivers = session.environment().vmc;
+  if (receivers == nullptr) {
     refuse(pb::ErrorCode::NotAvailable,
-           "this server receives no stream (start it with --vmc-listen ADDR[:PORT])");
+           "this server receives no stream (start it with --vmc-listen ADDR[:PORT][=MODEL])");
     return;
   }
   const std::string name = request->stream() ? request->stream()->str() : "";
-  if (name != receiver->stream_name()) {
+  VmcReceiver* receiver = receivers->find(name);
+  if (receiver == nullptr) {
     refuse(pb::ErrorCode::InvalidArgument, "no stream named '" + name +
-                                               "' (this server's stream is '" +
-                                               receiver->stream_name() + "')");
+                                               "' (this server's streams: " +
+                                               receivers->stream_names() + ")");
     return;
   }
   if (session.delivery() != pb::PoseDelivery::LatestWins) {

@@ -98,7 +98,7 @@ void VmcReceiver::publish_frame() {
 VmcSnapshot VmcReceiver::snapshot() {
   const auto since = std::chrono::steady_clock::now() - kSenderWindow;
   std::erase_if(senders_, [&](const auto& sender) { return sender.second < since; });
-  return {counters_, senders_.size(), subscribers_.size()};
+  return {stream_name_, counters_, senders_.size(), subscribers_.size()};
 }
 
 }  // namespace sweepd::server

@@ -1,10 +1,11 @@
-// VmcReceiver: the VMC receiver (sweepd --vmc-listen ADDR[:PORT], VMC's "Marionette"): a UDP
-// socket on the server's I/O thread; each datagram is read as an OSC packet (osc_packet.h) into
-// the stream (vmc_stream.h) named by --vmc-model; each frame a packet ends poses the held model of
-// that name and goes to the stream's subscribers (SubscribeStream, server/handlers/).
+// VmcReceiver: one VMC receiver (sweepd --vmc-listen ADDR[:PORT][=MODEL], VMC's "Marionette";
+// vmc_receivers.h holds them all): a UDP socket on the server's I/O thread; each datagram is read
+// as an OSC packet (osc_packet.h) into the stream (vmc_stream.h) named by its model; each frame a
+// packet ends poses the held model of that name and goes to the stream's subscribers
+// (SubscribeStream, server/handlers/).
 //
-// One stream per receiver: every sender poses it, and the latest frame wins (two senders at once
-// interleave their frames). A subscriber is a callback run on the I/O thread with the model, the
+// One stream per receiver: every sender to its port poses it, and the latest frame wins (two
+// senders to one port interleave their frames; give each its own --vmc-listen). A subscriber is a callback run on the I/O thread with the model, the
 // pose and the frame's number (1, 2, ...); it returns false once its connection is gone, and is
 // then forgotten. Frames that end while the model is not held are counted
 // (frames_without_model) and go nowhere.
@@ -30,6 +31,7 @@
 namespace sweepd::server {
 
 struct VmcSnapshot {
+  std::string stream;  // the stream's name (its model's)
   VmcCounters counters;
   std::size_t senders = 0;      // addresses heard from in the last kSenderWindow
   std::size_t subscribers = 0;  // callbacks held
@@ -52,6 +54,7 @@ class VmcReceiver {
   void close();
 
   const std::string& stream_name() const { return stream_name_; }
+  const std::string& address() const { return address_; }
   // The held model the stream poses (its name is the stream's), or null.
   ModelHandle model() const;
   void subscribe(Subscriber subscriber) { subscribers_.push_back(std::move(subscriber)); }
