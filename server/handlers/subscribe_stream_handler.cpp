@@ -72,7 +72,8 @@ void handle_subscribe_stream(const pb::Message& message, RequestSession& session
   log_event("stream_subscribed", {{"connection", session.connection_id()}, {"stream", name}});
   receiver->subscribe(
       [weak = session.weak_session(), frame_request, request_id](
-          const ModelHandle& posed_model, const deform::Pose& frame_pose, std::uint64_t frame) {
+          const ModelHandle& posed_model, const deform::Pose& frame_pose, std::uint64_t frame,
+          std::chrono::steady_clock::time_point arrived) {
         const std::shared_ptr<RequestSession> subscriber = weak.lock();
         // Gone, or closing: a frame queued now would keep a draining connection open.
         if (!subscriber || subscriber->draining()) return false;
@@ -80,6 +81,7 @@ void handle_subscribe_stream(const pb::Message& message, RequestSession& session
         request.model = posed_model;
         request.pose = frame_pose;
         request.sequence = frame;
+        request.received = arrived;
         if (const deform::JobProblem problem = request.job(0, {}, {}).validate()) {
           subscriber->queue_pose(
               RequestError{pb::ErrorCode::InvalidPose,

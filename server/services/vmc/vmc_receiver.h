@@ -5,10 +5,12 @@
 // (SubscribeStream, server/handlers/).
 //
 // One stream per receiver: every sender to its port poses it, and the latest frame wins (two
-// senders to one port interleave their frames; give each its own --vmc-listen). A subscriber is a callback run on the I/O thread with the model, the
-// pose and the frame's number (1, 2, ...); it returns false once its connection is gone, and is
-// then forgotten. Frames that end while the model is not held are counted
-// (frames_without_model) and go nowhere.
+// senders to one port interleave their frames; give each its own --vmc-listen). A subscriber is
+// a callback run on the I/O thread with the model, the pose, the frame's number (1, 2, ...) and
+// when the datagram that ended it reached this host (the kernel's receive time, SO_TIMESTAMPNS,
+// so that a frame's latency counts its wait for the I/O thread); it returns false once its
+// connection is gone, and is then forgotten. Frames that end while the model is not held are
+// counted (frames_without_model) and go nowhere.
 //
 // open() binds the socket (throws std::runtime_error naming the address and why) and returns the
 // bound port; start() begins reading. Everything else runs on the I/O thread, snapshot() too.
@@ -40,7 +42,8 @@ struct VmcSnapshot {
 class VmcReceiver {
  public:
   using Subscriber =
-      std::function<bool(const ModelHandle& model, const deform::Pose& pose, std::uint64_t frame)>;
+      std::function<bool(const ModelHandle& model, const deform::Pose& pose, std::uint64_t frame,
+                         std::chrono::steady_clock::time_point arrived)>;
   // A sender heard from within this window counts in VmcSnapshot::senders.
   static constexpr std::chrono::seconds kSenderWindow{10};
   // At most this many senders are remembered (a flood of forged addresses counts no further).
@@ -63,7 +66,9 @@ class VmcReceiver {
  private:
   void receive_next();
   void take_packet(std::size_t size);
-  void publish_frame();
+  // When the datagram just read reached the host, on the steady clock (now, if not known).
+  std::chrono::steady_clock::time_point arrival_of_last_datagram();
+  void publish_frame(std::chrono::steady_clock::time_point arrived);
   const std::array<int, deform::kHumanBodyBoneCount>& bones_of(const ModelHandle& model);
 
   ModelService& models_;
