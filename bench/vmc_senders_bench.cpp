@@ -13,11 +13,12 @@
 // latency is that send to the mesh received. Latest wins: frames the daemon could not deform in
 // time are dropped, and only the delivered ones have a latency. The backlog is the kernel's
 // receive queue of the VMC socket (/proc/net/udp rx_queue) sampled every 100 ms, and its drops.
-// Where a frame's time went: the reply's ServerTimings split it into queued (from the frame's
-// end in the daemon to the start of its deformation: waiting for the subscriber's previous
-// frame, then for a worker), deformed (posing and deformation) and the rest (the datagram's way
-// to the daemon's I/O thread, writing the reply, the reply's way to the subscriber); printed for
-// all frames and for the slowest 1 % (the tail the p99 target is about).
+// Where a frame's time went: sending (the logged send to lo_send_bundle's return: the sender's
+// side), then, from the reply's ServerTimings, queued (from the datagram's arrival, the kernel's
+// stamp, to the start of its deformation: the wait for the I/O thread, for the subscriber's
+// previous frame, for a worker) and deformed (posing and deformation), and replying, the rest
+// (writing the reply, its way to the subscriber); printed for all frames and for the slowest
+// 1 % (the tail the p99 target is about).
 #include <lo/lo.h>
 
 #include <algorithm>
@@ -51,6 +52,7 @@ constexpr const char* kBones[] = {"Spine",        "Chest",         "Neck",      
 struct SendLog {
   std::mutex lock;
   std::vector<Clock::time_point> sent;
+  std::vector<Clock::time_point> returned;  // when lo_send_bundle returned
 };
 
 lo_bundle sway_frame(double seconds, int sender) {
@@ -143,7 +145,7 @@ int main(int argc, char** argv) {
   SendLog log;
   std::vector<double> latencies_ms;
   struct Split {
-    double total_ms, queued_ms, deform_ms;
+    double total_ms, sending_ms, queued_ms, deform_ms;
   };
   std::vector<Split> splits;
   std::uint64_t dropped = 0;
@@ -162,7 +164,14 @@ int main(int argc, char** argv) {
               std::chrono::duration<double, std::milli>(now - log.sent[index]).count());
           const pb::ServerTimings* timings = frame.timings();
           if (timings != nullptr) {
-            splits.push_back({latencies_ms.back(), 1e-6 * static_cast<double>(timings->queued_ns()),
+            // The sender's side: from the logged send to lo_send_bundle's return (the datagram
+            // is in the daemon's socket by then; an upper bound, as the daemon may start on it
+            // before the call returns).
+            const double sending_ms =
+                std::chrono::duration<double, std::milli>(log.returned[index] - log.sent[index])
+                    .count();
+            splits.push_back({latencies_ms.back(), sending_ms,
+                              1e-6 * static_cast<double>(timings->queued_ns()),
                               1e-6 * static_cast<double>(timings->deform_ns())});
           }
         }
@@ -192,6 +201,7 @@ int main(int argc, char** argv) {
           std::lock_guard<std::mutex> hold(log.lock);
           log.sent.push_back(Clock::now());
           lo_send_bundle(to, bundle);
+          log.returned.push_back(Clock::now());
         }
         lo_bundle_free_recursive(bundle);
         next += std::chrono::duration_cast<Clock::duration>(period);
@@ -231,16 +241,19 @@ int main(int argc, char** argv) {
   std::sort(splits.begin(), splits.end(),
             [](const Split& a, const Split& b) { return a.total_ms > b.total_ms; });
   const auto print_split = [&](const char* which, std::size_t count) {
-    Split sum{0, 0, 0};
+    Split sum{0, 0, 0, 0};
     for (std::size_t i = 0; i < count; ++i) {
       sum.total_ms += splits[i].total_ms;
+      sum.sending_ms += splits[i].sending_ms;
       sum.queued_ms += splits[i].queued_ms;
       sum.deform_ms += splits[i].deform_ms;
     }
     const double n = static_cast<double>(std::max<std::size_t>(count, 1));
-    std::printf("  %s (%zu frames), mean: %.2f ms = queued %.2f + deformed %.2f + elsewhere %.2f\n",
-                which, count, sum.total_ms / n, sum.queued_ms / n, sum.deform_ms / n,
-                (sum.total_ms - sum.queued_ms - sum.deform_ms) / n);
+    std::printf(
+        "  %s (%zu frames), mean: %.2f ms = sending %.2f + queued %.2f + deformed %.2f + "
+        "replying %.2f\n",
+        which, count, sum.total_ms / n, sum.sending_ms / n, sum.queued_ms / n, sum.deform_ms / n,
+        (sum.total_ms - sum.sending_ms - sum.queued_ms - sum.deform_ms) / n);
   };
   print_split("slowest 1 %", (splits.size() + 99) / 100);
   print_split("all", splits.size());
