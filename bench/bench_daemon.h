@@ -8,7 +8,8 @@
 //   does not start.
 // address(), port(); http_port(): the side port when extra_args hold --http-port-file
 //   directory/http_port (0 otherwise); binding(): the store's first .sweepbind (the default
-//   mannequin); cpu_ms(): its CPU time so far (user + system); resident_mib(): its VmRSS.
+//   mannequin); cpu_ms(): its CPU time so far (user + system); resident_mib(): its VmRSS;
+//   pid(): its process id.
 #pragma once
 
 #include <sys/types.h>
@@ -29,6 +30,7 @@ class BenchDaemon {
 
   std::string address() const { return "127.0.0.1:" + std::to_string(port_); }
   int port() const { return port_; }
+  pid_t pid() const { return pid_; }
   int http_port() const;
   std::filesystem::path binding() const;
   double cpu_ms() const;

@@ -66,28 +66,45 @@ Setting address_and_port_setting(const char* key, std::string ServerConfig::*add
           }};
 }
 
-// "ADDR", "ADDR:PORT", "[V6ADDR]" or "[V6ADDR]:PORT" (a bare V6ADDR has no port) into `address`
-// and `port`; `default_port` where none is given.
-Setting address_and_optional_port_setting(const char* key, std::string ServerConfig::*address_field,
-                                          int ServerConfig::*port_field, int default_port) {
-  return {key, [address_field, port_field, default_port](
-                   ServerConfig& config, const std::string& value, const std::string& where) {
-            std::string address = value;
-            std::string port;
-            if (!value.empty() && value.front() == '[') {
-              const std::size_t close = value.find(']');
-              if (close == std::string::npos || (close + 1 < value.size() && value[close + 1] != ':'))
-                throw ConfigError(where + ": '" + value + "' is not ADDR[:PORT]");
-              address = value.substr(1, close - 1);
-              if (close + 1 < value.size()) port = value.substr(close + 2);
-            } else if (std::count(value.begin(), value.end(), ':') == 1) {
-              address = value.substr(0, value.find(':'));
-              port = value.substr(value.find(':') + 1);
+// "ADDR", "ADDR:PORT", "[V6ADDR]" or "[V6ADDR]:PORT" (a bare V6ADDR has no port), then
+// "=MODEL" or nothing, into a VmcListen (its port VMC's when none is given).
+VmcListen parse_vmc_listen(const std::string& value, const std::string& where) {
+  const std::size_t equals = value.find('=');
+  const std::string address_and_port = value.substr(0, equals);
+  VmcListen listen;
+  if (equals != std::string::npos) {
+    listen.model = value.substr(equals + 1);
+    if (listen.model.empty()) throw ConfigError(where + ": '" + value + "' names no model after '='");
+  }
+  std::string port;
+  listen.address = address_and_port;
+  if (!address_and_port.empty() && address_and_port.front() == '[') {
+    const std::size_t close = address_and_port.find(']');
+    if (close == std::string::npos ||
+        (close + 1 < address_and_port.size() && address_and_port[close + 1] != ':'))
+      throw ConfigError(where + ": '" + value + "' is not ADDR[:PORT][=MODEL]");
+    listen.address = address_and_port.substr(1, close - 1);
+    if (close + 1 < address_and_port.size()) port = address_and_port.substr(close + 2);
+  } else if (std::count(address_and_port.begin(), address_and_port.end(), ':') == 1) {
+    listen.address = address_and_port.substr(0, address_and_port.find(':'));
+    port = address_and_port.substr(address_and_port.find(':') + 1);
+  }
+  if (listen.address.empty()) throw ConfigError(where + ": '" + value + "' names no address");
+  if (!port.empty()) listen.port = static_cast<int>(parse_integer(port, where, 0, 65535));
+  return listen;
+}
+
+// Each --vmc-listen adds a receiver (a comma-separated list adds several: the config file's
+// one string).
+Setting vmc_listen_setting(const char* key) {
+  return {key, [](ServerConfig& config, const std::string& value, const std::string& where) {
+            std::size_t start = 0;
+            while (start <= value.size()) {
+              const std::size_t comma = std::min(value.find(',', start), value.size());
+              config.vmc_listens.push_back(
+                  parse_vmc_listen(value.substr(start, comma - start), where));
+              start = comma + 1;
             }
-            if (address.empty()) throw ConfigError(where + ": '" + value + "' names no address");
-            config.*address_field = address;
-            config.*port_field = port.empty() ? default_port
-                                              : static_cast<int>(parse_integer(port, where, 0, 65535));
           }};
 }
 
@@ -124,8 +141,7 @@ const std::vector<Setting>& settings() {
       address_and_port_setting("ws_listen", &ServerConfig::ws_address, &ServerConfig::ws_port),
       text_setting("ws_port_file", &ServerConfig::ws_port_file),
       list_setting("ws_allowed_origin", &ServerConfig::ws_allowed_origins),
-      address_and_optional_port_setting("vmc_listen", &ServerConfig::vmc_address,
-                                        &ServerConfig::vmc_port, 39539),
+      vmc_listen_setting("vmc_listen"),
       text_setting("vmc_port_file", &ServerConfig::vmc_port_file),
       text_setting("vmc_model", &ServerConfig::vmc_model),
       text_setting("model_dir", &ServerConfig::model_dir),
@@ -221,6 +237,32 @@ void check_transport_security(const ServerConfig& config) {
               "--ws-listen 127.0.0.1:PORT");
 }
 
+// Every receiver without =MODEL poses --vmc-model's; a stream is named by its model, so no two
+// receivers pose one model, and no two bind one port.
+void name_vmc_models(ServerConfig& config) {
+  const auto named = [](const VmcListen& listen) {
+    const bool v6 = listen.address.find(':') != std::string::npos;
+    return (v6 ? "[" + listen.address + "]" : listen.address) + ":" + std::to_string(listen.port) +
+           "=" + listen.model;
+  };
+  for (std::size_t i = 0; i < config.vmc_listens.size(); ++i) {
+    VmcListen& listen = config.vmc_listens[i];
+    if (listen.model.empty()) listen.model = config.vmc_model;
+    for (std::size_t earlier = 0; earlier < i; ++earlier) {
+      const VmcListen& other = config.vmc_listens[earlier];
+      if (other.model == listen.model) {
+        throw ConfigError("--vmc-listen " + named(listen) + ": the model '" + listen.model +
+                          "' is posed by --vmc-listen " + named(other) +
+                          " already; a stream is named by its model, one receiver each");
+      }
+      if (listen.port != 0 && other.port == listen.port && other.address == listen.address) {
+        throw ConfigError("--vmc-listen " + named(listen) + ": the same address and port as " +
+                          "--vmc-listen " + named(other) + "; each receiver needs its own port");
+      }
+    }
+  }
+}
+
 std::string read_token_file(const std::filesystem::path& file) {
   std::ifstream in(file);
   if (!in) throw ConfigError("--token-file " + file.string() + ": cannot read the file");
@@ -308,6 +350,7 @@ ServerConfig parse_server_config(std::span<const std::string_view> args) {
                       "its own");
   }
   check_transport_security(config);
+  name_vmc_models(config);
   return config;
 }
 
@@ -335,13 +378,16 @@ Flags (each also a key of the JSON config file, with '_' for '-'):
   --ws-allowed-origin LIST  browser Origins (scheme://host[:port], comma-separated, or *) that
                             may connect; repeatable. Default: requests without Origin (not a
                             browser) and pages served by the host the request names
-  --vmc-listen ADDR[:PORT]  receive VMC pose streams (OSC 1.0 over UDP, protocol.vmc.info):
-                            their bones pose the model --vmc-model names, whose posed meshes
-                            go to SubscribeStream's subscribers; PORT 0 picks a free one
-                            ([V6ADDR]:PORT for IPv6; default port 39539; default: off)
-  --vmc-port-file FILE      write the bound VMC port to FILE once listening
-  --vmc-model NAME          the held model VMC streams pose, and the stream's name
-                            (default mannequin)
+  --vmc-listen ADDR[:PORT][=MODEL]
+                            receive VMC pose streams (OSC 1.0 over UDP, protocol.vmc.info):
+                            their bones pose the held model MODEL (default: --vmc-model's),
+                            the stream's name, whose posed meshes go to SubscribeStream's
+                            subscribers; repeatable, a receiver (a port) per model, or a
+                            comma-separated list; PORT 0 picks a free one ([V6ADDR]:PORT for
+                            IPv6; default port 39539; default: off)
+  --vmc-port-file FILE      write the bound VMC ports to FILE once listening, a line each,
+                            in --vmc-listen's order
+  --vmc-model NAME          the model a --vmc-listen without =MODEL poses (default mannequin)
   --model-dir DIR           .glb/.gltf files clients may load by name
   --store-dir DIR           where bound models are kept (default ./sweepd-store)
   --token TOKEN             shared token clients must send in Hello (default: none)

@@ -4,7 +4,8 @@
 // parse_server_config(args): args are argv[1..] (program name excluded). Throws ConfigError
 // naming the flag, key or file and the reason (unknown flag, missing value, bad number,
 // unreadable or invalid JSON, a --collision other than auto/gpu/cpu, an --http-listen or
-// --ws-listen on another listener's port, a --vmc-listen that is not ADDR[:PORT], --viewer-dir without --http-listen, --tls-cert without
+// --ws-listen on another listener's port, a --vmc-listen that is not ADDR[:PORT][=MODEL]
+// or poses a model another one poses, --viewer-dir without --http-listen, --tls-cert without
 // --tls-key or the reverse, --tls-client-ca without them, a token on a plain TCP listener that
 // is not loopback without --allow-plaintext, the same for --ws-listen). `--help` sets `show_help`.
 // config_usage(): the text `sweepd --help` prints, listing every flag and config key.
@@ -19,6 +20,7 @@
 #include <vector>
 
 #include "gpu/collision_backend.h"
+#include "server/services/vmc/vmc_listen.h"
 
 namespace sweepd::server {
 
@@ -43,11 +45,11 @@ struct ServerConfig {
   int ws_port = -1;
   std::filesystem::path ws_port_file;
   std::vector<std::string> ws_allowed_origins;
-  // The VMC receiver (--vmc-listen ADDR[:PORT], server/vmc/): VMC pose streams (OSC over UDP)
-  // into the stream named vmc_model, which poses the held model of that name; vmc_port -1: off,
-  // 0: a free port (see vmc_port_file).
-  std::string vmc_address;
-  int vmc_port = -1;
+  // The VMC receivers (--vmc-listen ADDR[:PORT][=MODEL], repeatable; server/services/vmc/): each
+  // a UDP socket whose VMC pose streams (OSC over UDP) pose one held model, and the stream is
+  // named by that model; port 0: a free one (see vmc_port_file, a line per receiver, in order).
+  // A receiver without =MODEL poses vmc_model; no two pose one model.
+  std::vector<VmcListen> vmc_listens;
   std::filesystem::path vmc_port_file;
   std::string vmc_model = "mannequin";
   std::filesystem::path model_dir;                   // .glb/.gltf files clients may load by name

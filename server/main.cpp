@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstdio>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -28,9 +29,15 @@ namespace {
 // How long a /metrics scrape waits for the I/O thread to copy its counters.
 constexpr std::chrono::milliseconds kSnapshotTimeout{1000};
 
-void write_port_file(const std::filesystem::path& file, int port) {
-  const std::string text = std::to_string(port) + "\n";
+// One port a line (several: the VMC receivers', in --vmc-listen's order).
+void write_port_file(const std::filesystem::path& file, std::span<const int> ports) {
+  std::string text;
+  for (const int port : ports) text += std::to_string(port) + "\n";
   io::write_file_durably(file, {reinterpret_cast<const std::uint8_t*>(text.data()), text.size()});
+}
+
+void write_port_file(const std::filesystem::path& file, int port) {
+  write_port_file(file, std::span<const int>(&port, 1));
 }
 
 }  // namespace
@@ -145,7 +152,7 @@ int main(int argc, char** argv) {
     // The WebSocket and VMC ports first: whoever waits for the port file finds them all.
     if (!config.ws_port_file.empty())
       write_port_file(config.ws_port_file, server->websocket_port());
-    if (!config.vmc_port_file.empty()) write_port_file(config.vmc_port_file, server->vmc_port());
+    if (!config.vmc_port_file.empty()) write_port_file(config.vmc_port_file, server->vmc_ports());
     if (!config.port_file.empty()) write_port_file(config.port_file, port);
     std::printf("sweepd listening port=%d\n", port);
     std::fflush(stdout);

@@ -5,7 +5,7 @@
 #include "server/handlers/reply_size.h"
 #include "server/log_event.h"
 #include "server/replies/stream_subscribed.h"
-#include "server/services/vmc/vmc_receiver.h"
+#include "server/services/vmc/vmc_receivers.h"
 
 namespace sweepd::server {
 
@@ -17,17 +17,18 @@ void handle_subscribe_stream(const pb::Message& message, RequestSession& session
   const auto refuse = [&](pb::ErrorCode code, const std::string& why) {
     session.send_error({code, "SubscribeStream: " + why}, request_id);
   };
-  VmcReceiver* receiver = session.environment().vmc;
-  if (receiver == nullptr) {
+  const VmcReceivers* receivers = session.environment().vmc;
+  if (receivers == nullptr) {
     refuse(pb::ErrorCode::NotAvailable,
-           "this server receives no stream (start it with --vmc-listen ADDR[:PORT])");
+           "this server receives no stream (start it with --vmc-listen ADDR[:PORT][=MODEL])");
     return;
   }
   const std::string name = request->stream() ? request->stream()->str() : "";
-  if (name != receiver->stream_name()) {
+  VmcReceiver* receiver = receivers->find(name);
+  if (receiver == nullptr) {
     refuse(pb::ErrorCode::InvalidArgument, "no stream named '" + name +
-                                               "' (this server's stream is '" +
-                                               receiver->stream_name() + "')");
+                                               "' (this server's streams: " +
+                                               receivers->stream_names() + ")");
     return;
   }
   if (session.delivery() != pb::PoseDelivery::LatestWins) {
@@ -71,7 +72,8 @@ void handle_subscribe_stream(const pb::Message& message, RequestSession& session
   log_event("stream_subscribed", {{"connection", session.connection_id()}, {"stream", name}});
   receiver->subscribe(
       [weak = session.weak_session(), frame_request, request_id](
-          const ModelHandle& posed_model, const deform::Pose& frame_pose, std::uint64_t frame) {
+          const ModelHandle& posed_model, const deform::Pose& frame_pose, std::uint64_t frame,
+          std::chrono::steady_clock::time_point arrived) {
         const std::shared_ptr<RequestSession> subscriber = weak.lock();
         // Gone, or closing: a frame queued now would keep a draining connection open.
         if (!subscriber || subscriber->draining()) return false;
@@ -79,6 +81,7 @@ void handle_subscribe_stream(const pb::Message& message, RequestSession& session
         request.model = posed_model;
         request.pose = frame_pose;
         request.sequence = frame;
+        request.received = arrived;
         if (const deform::JobProblem problem = request.job(0, {}, {}).validate()) {
           subscriber->queue_pose(
               RequestError{pb::ErrorCode::InvalidPose,

@@ -78,37 +78,48 @@ class Page {
   std::string text_;
 };
 
-// The VMC receiver's (--vmc-listen; server/services/vmc/vmc_receiver.h), only when it runs.
-void add_vmc(Page& page, const VmcSnapshot& vmc) {
-  const VmcCounters& counted = vmc.counters;
-  page.single("sweepd_vmc_packets_total", "counter", "VMC datagrams received (OSC packets).",
-              counted.packets);
-  page.single("sweepd_vmc_bundles_total", "counter", "OSC bundles read, nested ones included.",
-              counted.bundles);
-  page.single("sweepd_vmc_messages_total", "counter", "OSC messages read from VMC packets.",
-              counted.messages);
-  page.single("sweepd_vmc_bones_total", "counter",
-              "/VMC/Ext/Bone/Pos messages applied to the stream.", counted.bones);
-  page.single("sweepd_vmc_frames_total", "counter",
-              "Frames ended (a bundle, /VMC/Ext/OK or /VMC/Ext/T); each poses the stream's model.",
-              counted.frames);
-  page.single("sweepd_vmc_frames_without_model_total", "counter",
-              "Frames ended while the stream's model (--vmc-model) was not held.",
-              counted.frames_without_model);
+// The VMC receivers' (--vmc-listen; server/services/vmc/vmc_receivers.h), only when they run: a
+// sample per stream, labelled by its name (its model's).
+void add_vmc(Page& page, const std::vector<VmcSnapshot>& streams) {
+  const auto per_stream = [&](const char* name, const char* type, const char* help,
+                              std::uint64_t (*value)(const VmcSnapshot&)) {
+    page.header(name, type, help);
+    for (const VmcSnapshot& stream : streams)
+      page.sample(name, "stream=\"" + escaped(stream.stream) + "\"",
+                  std::to_string(value(stream)));
+  };
+  per_stream("sweepd_vmc_packets_total", "counter", "VMC datagrams received (OSC packets).",
+             [](const VmcSnapshot& s) { return s.counters.packets; });
+  per_stream("sweepd_vmc_bundles_total", "counter", "OSC bundles read, nested ones included.",
+             [](const VmcSnapshot& s) { return s.counters.bundles; });
+  per_stream("sweepd_vmc_messages_total", "counter", "OSC messages read from VMC packets.",
+             [](const VmcSnapshot& s) { return s.counters.messages; });
+  per_stream("sweepd_vmc_bones_total", "counter", "/VMC/Ext/Bone/Pos messages applied to the stream.",
+             [](const VmcSnapshot& s) { return s.counters.bones; });
+  per_stream("sweepd_vmc_frames_total", "counter",
+             "Frames ended (a bundle, /VMC/Ext/OK or /VMC/Ext/T); each poses the stream's model.",
+             [](const VmcSnapshot& s) { return s.counters.frames; });
+  per_stream("sweepd_vmc_frames_without_model_total", "counter",
+             "Frames ended while the stream's model was not held.",
+             [](const VmcSnapshot& s) { return s.counters.frames_without_model; });
   page.header("sweepd_vmc_dropped_total", "counter",
               "VMC input dropped: whole packets that are not OSC 1.0 (torn, short, fuzzed), and "
               "messages of a VMC address with wrong type tags or values.");
-  page.sample("sweepd_vmc_dropped_total", "what=\"packet\"", std::to_string(counted.dropped_packets));
-  page.sample("sweepd_vmc_dropped_total", "what=\"message\"",
-              std::to_string(counted.dropped_messages));
-  page.single("sweepd_vmc_ignored_messages_total", "counter",
-              "Messages of addresses the receiver does not read (blend shapes, unknown ones).",
-              counted.ignored_messages);
-  page.single("sweepd_vmc_senders", "gauge",
-              "Addresses VMC packets came from in the last 10 seconds.",
-              static_cast<std::uint64_t>(vmc.senders));
-  page.single("sweepd_vmc_subscribers", "gauge", "Subscriptions to the stream (SubscribeStream).",
-              static_cast<std::uint64_t>(vmc.subscribers));
+  for (const VmcSnapshot& stream : streams) {
+    const std::string label = "stream=\"" + escaped(stream.stream) + "\",what=";
+    page.sample("sweepd_vmc_dropped_total", label + "\"packet\"",
+                std::to_string(stream.counters.dropped_packets));
+    page.sample("sweepd_vmc_dropped_total", label + "\"message\"",
+                std::to_string(stream.counters.dropped_messages));
+  }
+  per_stream("sweepd_vmc_ignored_messages_total", "counter",
+             "Messages of addresses the receiver does not read (blend shapes, unknown ones).",
+             [](const VmcSnapshot& s) { return s.counters.ignored_messages; });
+  per_stream("sweepd_vmc_senders", "gauge",
+             "Addresses the stream's VMC packets came from in the last 10 seconds.",
+             [](const VmcSnapshot& s) { return static_cast<std::uint64_t>(s.senders); });
+  per_stream("sweepd_vmc_subscribers", "gauge", "Subscriptions to the stream (SubscribeStream).",
+             [](const VmcSnapshot& s) { return static_cast<std::uint64_t>(s.subscribers); });
 }
 
 void add_server(Page& page, const ServerSnapshot& server) {
@@ -208,7 +219,7 @@ void add_server(Page& page, const ServerSnapshot& server) {
   page.single("sweepd_collision_gpu_fallbacks_total", "counter",
               "Poses answered with the CPU reference's pairs after a GPU collision job failed.",
               collision.gpu_fallbacks);
-  if (server.vmc) add_vmc(page, *server.vmc);
+  if (!server.vmc.empty()) add_vmc(page, server.vmc);
 }
 
 }  // namespace

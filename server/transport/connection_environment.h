@@ -21,7 +21,7 @@
 #include "server/services/collision_service.h"
 #include "server/services/contact_sheet_service.h"
 #include "server/services/position_map_service.h"
-#include "server/services/vmc/vmc_receiver.h"
+#include "server/services/vmc/vmc_receivers.h"
 #include "server/services/work_budget.h"
 #include "server/transport/auth_backoff.h"
 #include "server/transport/connection_counters.h"
@@ -51,7 +51,7 @@ struct ConnectionEnvironment {
   TrafficCounters traffic;                // requests, errors and latencies of every connection
   AuthBackoff& auth_backoff;              // failed authentications per peer address
   std::size_t members_open = 0;           // authenticated connections (max_connections)
-  VmcReceiver* vmc = nullptr;             // the VMC stream (--vmc-listen); null: none received
+  VmcReceivers* vmc = nullptr;            // the VMC streams (--vmc-listen); null: none received
 };
 
 }  // namespace sweepd::server

@@ -36,7 +36,8 @@ void Connection::queue_pose(std::variant<PoseRequest, RequestError> intake,
     send_error(*error, request_id);
     return;
   }
-  request.received = Clock::now();
+  // A stream's frame comes with the time its datagram reached the host (VmcReceiver).
+  if (request.received == Clock::time_point{}) request.received = Clock::now();
   if (delivery_ == pb::PoseDelivery::LatestWins) {
     // Only plain poses go stale; a requested position map is always rendered.
     const std::size_t dropped = std::erase_if(

@@ -67,9 +67,8 @@ Server::Server(const ServerConfig& config, ModelService& models, Readiness& read
                    auth_backoff_},
       strangers_(config.max_strangers, config.max_strangers_per_address),
       auth_burst_sweep_(io_) {
-  if (config.vmc_port >= 0) {
-    vmc_ = std::make_unique<VmcReceiver>(io_, models, config.vmc_address, config.vmc_port,
-                                         config.vmc_model);
+  if (!config.vmc_listens.empty()) {
+    vmc_ = std::make_unique<VmcReceivers>(io_, models, config.vmc_listens);
     environment_.vmc = vmc_.get();
   }
   // Position maps' EXR compression runs on OpenEXR's process-wide pool: one thread per worker,
@@ -130,10 +129,7 @@ int Server::open() {
     accept_next(*websocket_acceptor_);
   }
   if (vmc_) {
-    vmc_port_ = vmc_->open();
-    log_event("listening", {{"address", config_.vmc_address},
-                            {"vmc_port", vmc_port_},
-                            {"stream", vmc_->stream_name()}});
+    vmc_ports_ = vmc_->open();
     vmc_->start();
   }
   if (!config_.unix_socket.empty()) {
@@ -307,7 +303,7 @@ ServerSnapshot Server::gather_snapshot() const {
   snapshot.work_budget_bytes = work_budget_.limit();
   snapshot.work_refusals = work_budget_.refusals();
   snapshot.collision = environment_.collision.snapshot();
-  if (vmc_) snapshot.vmc = vmc_->snapshot();
+  if (vmc_) snapshot.vmc = vmc_->snapshots();
   for (const ModelHandle& model : environment_.models.models()) {
     ModelSnapshot& entry = snapshot.models.emplace_back();
     entry.id = model->id;

@@ -6,7 +6,7 @@
 // open(): binds the TCP listener (config.listen_address:port; port 0 picks a free one), the
 //   WebSocket listener (config.ws_address:ws_port; TLS like the TCP one) and the Unix-socket
 //   listener (config.unix_socket, a stale socket file is replaced; always plain) and the VMC
-//   receiver's UDP socket (config.vmc_address:vmc_port, server/services/vmc/vmc_receiver.h). Throws
+//   receivers' UDP sockets (config.vmc_listens, server/services/vmc/vmc_receivers.h). Throws
 //   std::runtime_error naming the address and the reason. Returns the bound TCP port (0 with
 //   no TCP listener); websocket_port() the bound WebSocket port (0: none).
 // run(): serves until SIGTERM/SIGINT, then stops accepting, lets every
@@ -55,7 +55,7 @@ class Server {
 
   int open();
   int websocket_port() const { return websocket_port_; }
-  int vmc_port() const { return vmc_port_; }  // 0: no VMC receiver
+  const std::vector<int>& vmc_ports() const { return vmc_ports_; }  // --vmc-listen's order
   void run();
   std::optional<ServerSnapshot> snapshot(std::chrono::milliseconds timeout);
 
@@ -92,8 +92,8 @@ class Server {
   std::optional<asio::ip::tcp::acceptor> websocket_acceptor_;
   int websocket_port_ = 0;
   std::optional<asio::local::stream_protocol::acceptor> unix_acceptor_;
-  std::unique_ptr<VmcReceiver> vmc_;  // null without --vmc-listen
-  int vmc_port_ = 0;
+  std::unique_ptr<VmcReceivers> vmc_;  // null without --vmc-listen
+  std::vector<int> vmc_ports_;
   AuthBackoff auth_backoff_;
   ConnectionEnvironment environment_;
   StrangerSlots strangers_;

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "server/services/collision_service.h"
-#include "server/services/vmc/vmc_receiver.h"
+#include "server/services/vmc/vmc_receivers.h"
 #include "server/transport/traffic_counters.h"
 
 namespace sweepd::server {
@@ -37,7 +37,7 @@ struct ServerSnapshot {
   std::uint64_t store_bytes = 0;     // the store directory's files (ModelService::store_bytes)
   std::vector<ModelSnapshot> models;
   CollisionSnapshot collision;  // the collision backend and its GPU fallbacks
-  std::optional<VmcSnapshot> vmc;  // the VMC receiver's counters (--vmc-listen); none: off
+  std::vector<VmcSnapshot> vmc;  // each VMC receiver's counters (--vmc-listen); none: off
 };
 
 }  // namespace sweepd::server

@@ -162,25 +162,65 @@ TEST(ServerConfig, WebSocketListenerIsOffByDefaultAndKeepsTheTokenOffPlainNetwor
 }
 
 TEST(ServerConfig, VmcReceiverIsOffByDefaultAndTakesAnAddressWithOrWithoutAPort) {
-  EXPECT_EQ(parse({}).vmc_port, -1);
+  EXPECT_TRUE(parse({}).vmc_listens.empty());
   EXPECT_EQ(parse({}).vmc_model, "mannequin");
   const auto listens = [](std::string_view value) {
     const server::ServerConfig config = parse({"--vmc-listen", value});
-    return config.vmc_address + " " + std::to_string(config.vmc_port);
+    EXPECT_EQ(config.vmc_listens.size(), 1u);
+    const server::VmcListen& listen = config.vmc_listens.at(0);
+    return listen.address + " " + std::to_string(listen.port) + " " + listen.model;
   };
-  EXPECT_EQ(listens("127.0.0.1"), "127.0.0.1 39539") << "VMC's receiver port when left out";
-  EXPECT_EQ(listens("0.0.0.0:0"), "0.0.0.0 0");
-  EXPECT_EQ(listens("[::1]:40000"), "::1 40000");
-  EXPECT_EQ(listens("[::1]"), "::1 39539");
-  EXPECT_EQ(listens("::1"), "::1 39539") << "a bare IPv6 address has no port";
+  EXPECT_EQ(listens("127.0.0.1"), "127.0.0.1 39539 mannequin")
+      << "VMC's receiver port when left out, --vmc-model's default model";
+  EXPECT_EQ(listens("0.0.0.0:0"), "0.0.0.0 0 mannequin");
+  EXPECT_EQ(listens("[::1]:40000"), "::1 40000 mannequin");
+  EXPECT_EQ(listens("[::1]"), "::1 39539 mannequin");
+  EXPECT_EQ(listens("::1"), "::1 39539 mannequin") << "a bare IPv6 address has no port";
+  EXPECT_EQ(listens("127.0.0.1=alice"), "127.0.0.1 39539 alice");
+  EXPECT_EQ(listens("[::1]:40000=alice"), "::1 40000 alice");
+  EXPECT_EQ(listens("::1=alice"), "::1 39539 alice");
   const server::ServerConfig config =
       parse({"--vmc-listen", "127.0.0.1", "--vmc-port-file", "vmc_port", "--vmc-model", "body"});
   EXPECT_EQ(config.vmc_port_file, "vmc_port");
   EXPECT_EQ(config.vmc_model, "body");
+  EXPECT_EQ(config.vmc_listens.at(0).model, "body") << "--vmc-model applies wherever it stands";
   EXPECT_EQ(error_of({"--vmc-listen", "127.0.0.1:70000"}),
             "--vmc-listen: 70000 is out of range [0, 65535]");
   EXPECT_EQ(error_of({"--vmc-listen", ":39539"}), "--vmc-listen: ':39539' names no address");
-  EXPECT_EQ(error_of({"--vmc-listen", "[::1]39539"}), "--vmc-listen: '[::1]39539' is not ADDR[:PORT]");
+  EXPECT_EQ(error_of({"--vmc-listen", "[::1]39539"}),
+            "--vmc-listen: '[::1]39539' is not ADDR[:PORT][=MODEL]");
+  EXPECT_EQ(error_of({"--vmc-listen", "127.0.0.1:39539="}),
+            "--vmc-listen: '127.0.0.1:39539=' names no model after '='");
+}
+
+// A receiver (a port) per model, as a VMC receiving app listens on a port per avatar: the
+// streams are named by their models, so no two receivers pose one model or share one port.
+TEST(ServerConfig, EachVmcReceiverPosesItsOwnModel) {
+  const server::ServerConfig config =
+      parse({"--vmc-listen", "127.0.0.1:39539=alice", "--vmc-listen", "127.0.0.1:39540",
+             "--vmc-listen", "[::1]:0=carol,[::1]:0=dave", "--vmc-model", "bob"});
+  const std::vector<server::VmcListen> expected = {{"127.0.0.1", 39539, "alice"},
+                                                   {"127.0.0.1", 39540, "bob"},
+                                                   {"::1", 0, "carol"},
+                                                   {"::1", 0, "dave"}};
+  EXPECT_EQ(config.vmc_listens, expected) << "repeatable, or a comma-separated list";
+  EXPECT_EQ(error_of({"--vmc-listen", "127.0.0.1:39539", "--vmc-listen", "127.0.0.1:39540"}),
+            "--vmc-listen 127.0.0.1:39540=mannequin: the model 'mannequin' is posed by "
+            "--vmc-listen 127.0.0.1:39539=mannequin already; a stream is named by its model, one "
+            "receiver each");
+  EXPECT_EQ(error_of({"--vmc-listen", "[::1]:39539=a", "--vmc-listen", "[::1]:39539=b"}),
+            "--vmc-listen [::1]:39539=b: the same address and port as --vmc-listen [::1]:39539=a; "
+            "each receiver needs its own port");
+  EXPECT_EQ(error_of({"--vmc-listen", "127.0.0.1:0=a", "--vmc-listen", "127.0.0.1:0=b"}), "")
+      << "port 0: each picks a free one";
+  const fs::path directory = fresh_directory("vmc_config");
+  const fs::path file = directory / "sweepd.json";
+  std::ofstream(file) << R"({"vmc_listen": "127.0.0.1:39539=alice,127.0.0.1:39540=bob"})";
+  const server::ServerConfig from_file =
+      parse({"--config", file.c_str(), "--vmc-listen", "127.0.0.1:39541=carol"});
+  ASSERT_EQ(from_file.vmc_listens.size(), 3u) << "the file's receivers, then the flag's";
+  EXPECT_EQ(from_file.vmc_listens[1].model, "bob");
+  EXPECT_EQ(from_file.vmc_listens[2].model, "carol");
 }
 
 TEST(ServerConfig, TlsFlagsGoTogetherAndAreConfigKeys) {

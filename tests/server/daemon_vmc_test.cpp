@@ -5,10 +5,10 @@
 // translation) mirrored into Unity's frame, then OK and T. A subscriber (SubscribeStream, latest
 // wins) gets each frame's mesh; it equals PoseFromClip's mesh of the same clip frame within
 // 1e-5 m (the conversion is exact: the same vertices). A sender on the npm `osc` package
-// (tests/tools/vmc_osc_send.js) replays the same frames, with the same result. Torn and random datagrams afterwards
-// change nothing but the drop counter: the next frame's mesh is the last one, bit for bit, and
-// /metrics counts packets, bundles, bones, drops and senders. Subscriptions the server cannot
-// serve are refused naming why.
+// (tests/tools/vmc_osc_send.js) replays the same frames, with the same result. Torn and random
+// datagrams afterwards change nothing but the drop counter: the next frame's mesh is the last one,
+// bit for bit, and /metrics counts packets, bundles, bones, drops and senders. Subscriptions the
+// server cannot serve are refused naming why.
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <lo/lo.h>
@@ -36,13 +36,13 @@
 #include "metrics/quality_metrics.h"
 #include "motion/retarget.h"
 #include "server/handlers/client_string_limits.h"
-#include "server/services/vmc/unity_frame.h"
 #include "tests/server/client_run.h"
 #include "tests/server/daemon_process.h"
 #include "tests/server/http_probe.h"
 #include "tests/server/services/vmc/vmc_packets.h"
 #include "tests/server/stored_binding.h"
 #include "tests/server/sweepctl_remote.h"
+#include "tests/server/vmc_replay.h"
 
 namespace sweepd::test {
 namespace {
@@ -53,14 +53,6 @@ using server::kMaxNameBytes;
 const fs::path kModels = fs::path(SWEEPD_SHARED_DATA) / "models";
 const fs::path kMotion = fs::path(SWEEPD_SHARED_DATA) / "motion";
 constexpr const char* kBody = "makehuman_female_old_heavy_mixamo";
-// Nanometres apart at most: the same pose, deformed by the same code.
-constexpr double kSameMesh = 1e-5;
-
-std::vector<glm::vec3> positions_of(const pb::PosedVertices& reply) {
-  std::vector<glm::vec3> positions(reply.vertex_count());
-  EXPECT_TRUE(pb::copy_positions(reply, {&positions[0].x, 3 * positions.size()}));
-  return positions;
-}
 
 // Raw bytes to a UDP port on loopback (what liblo cannot send: packets that are not OSC).
 void send_datagram(int port, std::span<const std::byte> bytes) {
@@ -106,30 +98,6 @@ class DaemonVmc : public ::testing::Test {
     connection->hello("", "daemon_vmc_test", delivery);
     return connection;
   }
-  // SubscribeStream on `connection`: the reply's model id, or the ServerError thrown.
-  std::uint32_t subscribe(client::Connection& connection, const std::string& stream) {
-    flatbuffers::FlatBufferBuilder& builder = connection.builder();
-    builder.Clear();
-    const auto pose = pb::add_pose(builder, pb::PoseFields{});
-    connection.send(pb::finish_message(
-        builder, pb::CreateSubscribeStream(builder, builder.CreateString(stream), pose), 5));
-    const pb::StreamSubscribed& reply = connection.expect<pb::StreamSubscribed>();
-    EXPECT_EQ(reply.stream()->str(), stream);
-    return reply.model_id();
-  }
-  // PoseFromClip's mesh of `frame` of the uploaded clip on the main connection.
-  std::vector<glm::vec3> clip_frame(std::uint32_t model, const std::string& clip_id,
-                                    std::uint32_t frame) {
-    flatbuffers::FlatBufferBuilder& builder = main_->builder();
-    builder.Clear();
-    pb::PoseFields fields;
-    fields.model_id = model;
-    fields.sequence = frame + 1;
-    const auto pose = pb::add_pose(builder, fields);
-    const auto clip = pb::CreateClipFrame(builder, builder.CreateString(clip_id), frame);
-    main_->send(pb::finish_message(builder, pb::CreatePoseFromClip(builder, pose, clip)));
-    return positions_of(main_->expect<pb::PosedVertices>());
-  }
   std::string metrics() { return curl_get(http_port_, "/metrics").body; }
   Replay replay_clips(const char* sender,
                       const std::function<void(const std::vector<VmcBone>&, float)>& send_frame);
@@ -140,30 +108,11 @@ class DaemonVmc : public ::testing::Test {
   int vmc_port_ = 0, http_port_ = 0;
 };
 
-// The VMC bones of `pose` on `model`: each HumanBodyBones bone the model has, its joint's local
-// rotation (and, on joint 0, the root translation; elsewhere the rest translation) in Unity's
-// frame.
-std::vector<VmcBone> vmc_bones(const deform::BoundModel& model, const deform::Pose& pose) {
-  const deform::Skeleton& skeleton = model.model.skeleton;
-  const auto bones = deform::map_human_body_bones(skeleton, model.rig);
-  std::vector<VmcBone> sent;
-  for (int bone = 0; bone < deform::kHumanBodyBoneCount; ++bone) {
-    const int joint = bones[bone];
-    if (joint < 0) continue;
-    const glm::vec3 position =
-        joint == 0 ? pose.root_translation : skeleton.joints[joint].rest_translation;
-    sent.push_back({std::string(deform::kHumanBodyBones[bone]), server::unity_mirrored(position),
-                    server::unity_mirrored(pose.local_rotations[joint])});
-  }
-  return sent;
-}
-
 // Six frames each of CMU 01_01 and 01_03, retargeted onto the body, sent by `send_frame`
 // (a frame's bones and its time) one at a time: each frame's mesh the subscriber gets equals
-// PoseFromClip's mesh of the same clip frame within kSameMesh. `sender` names the sender.
+// PoseFromClip's mesh of the same clip frame within kVmcSameMesh. `sender` names the sender.
 Replay DaemonVmc::replay_clips(
-    const char* sender,
-    const std::function<void(const std::vector<VmcBone>&, float)>& send_frame) {
+    const char* sender, const std::function<void(const std::vector<VmcBone>&, float)>& send_frame) {
   Replay replay;
   const fs::path body = kModels / "corpus" / (std::string(kBody) + ".glb");
   const std::vector<std::uint8_t> glb = read_bytes(body);
@@ -172,7 +121,7 @@ Replay DaemonVmc::replay_clips(
   EXPECT_EQ(deform::map_human_body_bones(bound.model.skeleton, bound.rig)[0], 0)
       << "the hips are joint 0: their Bone/Pos carries the root translation";
   replay.subscriber = connect(pb::PoseDelivery::LatestWins);
-  EXPECT_EQ(subscribe(*replay.subscriber, kBody), model);
+  EXPECT_EQ(subscribe_to_stream(*replay.subscriber, kBody), model);
   double largest_apart = 0.0;
   for (const char* clip_file : {"cmu_01_01.bvh", "cmu_01_03.bvh"}) {
     const std::vector<char> text = file_bytes(kMotion / clip_file);
@@ -182,7 +131,7 @@ Replay DaemonVmc::replay_clips(
     const int frame_count = played.frame_count();
     for (int step = 0; step < 6; ++step) {
       const int frame = step * (frame_count - 1) / 5;
-      const std::vector<VmcBone> bones = vmc_bones(bound, played.pose_at_frame(frame));
+      const std::vector<VmcBone> bones = vmc_pose_bones(bound, played.pose_at_frame(frame));
       send_frame(bones, static_cast<float>(frame) / 120.0f);
       ++replay.frames;
       replay.bones += bones.size();
@@ -191,9 +140,9 @@ Replay DaemonVmc::replay_clips(
       EXPECT_EQ(streamed.model_id(), model);
       replay.last_mesh = positions_of(streamed);
       const std::vector<glm::vec3> expected =
-          clip_frame(model, clip_id, static_cast<std::uint32_t>(frame));
+          pose_from_clip_mesh(*main_, model, clip_id, static_cast<std::uint32_t>(frame));
       const double apart = metrics::largest_distance(replay.last_mesh, expected);
-      EXPECT_LE(apart, kSameMesh) << clip_file << " frame " << frame;
+      EXPECT_LE(apart, kVmcSameMesh) << clip_file << " frame " << frame;
       largest_apart = std::max(largest_apart, apart);
       if (frame > 0) {
         EXPECT_GT(metrics::largest_distance(replay.last_mesh, bound.model.positions), 0.05)
@@ -222,9 +171,9 @@ TEST_F(DaemonVmc, ARetargetedClipSentAsVmcPosesTheSubscribersMeshAsPoseFromClipD
   // Torn and random datagrams: each a dropped packet, nothing else.
   const std::string before = metrics();
   std::vector<std::vector<std::byte>> hostile;
-  const std::vector<std::byte> bone = osc_bytes(
-      vmc_bone_message({"LeftUpperArm", {}, glm::angleAxis(1.0f, glm::vec3(0, 0, 1))}),
-      "/VMC/Ext/Bone/Pos");
+  const std::vector<std::byte> bone =
+      osc_bytes(vmc_bone_message({"LeftUpperArm", {}, glm::angleAxis(1.0f, glm::vec3(0, 0, 1))}),
+                "/VMC/Ext/Bone/Pos");
   for (std::size_t size = 1; size < bone.size(); size += 3)
     hostile.emplace_back(bone.begin(), bone.begin() + static_cast<long>(size));
   std::mt19937 random(51);
@@ -243,20 +192,24 @@ TEST_F(DaemonVmc, ARetargetedClipSentAsVmcPosesTheSubscribersMeshAsPoseFromClipD
   lo_address_free(sender);
 
   const std::string after = metrics();
+  const auto of = [](const std::string& name, const std::string& labels = "") {
+    return vmc_series(name, kBody, labels);
+  };
   const auto grew = [&](const std::string& series) {
     return metric(after, series) - metric(before, series);
   };
-  EXPECT_EQ(grew("sweepd_vmc_dropped_total{what=\"packet\"}"), static_cast<double>(hostile.size()));
-  EXPECT_EQ(grew("sweepd_vmc_packets_total"), static_cast<double>(hostile.size() + 1));
-  EXPECT_EQ(grew("sweepd_vmc_dropped_total{what=\"message\"}"), 0.0);
-  EXPECT_EQ(grew("sweepd_vmc_bones_total"), 0.0);
-  EXPECT_EQ(grew("sweepd_vmc_bundles_total"), 0.0);
-  EXPECT_EQ(grew("sweepd_vmc_frames_total"), 1.0);
-  EXPECT_EQ(metric(after, "sweepd_vmc_bones_total"), static_cast<double>(bones_sent));
-  EXPECT_EQ(metric(after, "sweepd_vmc_bundles_total"), static_cast<double>(frames_sent));
-  EXPECT_EQ(metric(after, "sweepd_vmc_frames_without_model_total"), 0.0);
-  EXPECT_GE(metric(after, "sweepd_vmc_senders"), 2.0) << "liblo's sender and the raw socket's";
-  EXPECT_EQ(metric(after, "sweepd_vmc_subscribers"), 1.0);
+  EXPECT_EQ(grew(of("sweepd_vmc_dropped_total", "what=\"packet\"")),
+            static_cast<double>(hostile.size()));
+  EXPECT_EQ(grew(of("sweepd_vmc_packets_total")), static_cast<double>(hostile.size() + 1));
+  EXPECT_EQ(grew(of("sweepd_vmc_dropped_total", "what=\"message\"")), 0.0);
+  EXPECT_EQ(grew(of("sweepd_vmc_bones_total")), 0.0);
+  EXPECT_EQ(grew(of("sweepd_vmc_bundles_total")), 0.0);
+  EXPECT_EQ(grew(of("sweepd_vmc_frames_total")), 1.0);
+  EXPECT_EQ(metric(after, of("sweepd_vmc_bones_total")), static_cast<double>(bones_sent));
+  EXPECT_EQ(metric(after, of("sweepd_vmc_bundles_total")), static_cast<double>(frames_sent));
+  EXPECT_EQ(metric(after, of("sweepd_vmc_frames_without_model_total")), 0.0);
+  EXPECT_GE(metric(after, of("sweepd_vmc_senders")), 2.0) << "liblo's sender and the raw socket's";
+  EXPECT_EQ(metric(after, of("sweepd_vmc_subscribers")), 1.0);
 }
 
 // The same replay from a sender on the npm `osc` package (osc.js, what Node and browser VMC
@@ -293,16 +246,18 @@ TEST_F(DaemonVmc, ARetargetedClipSentByTheNpmOscPackagePosesTheSubscribersMeshAs
   EXPECT_EQ(pclose(node), 0) << read_text(log);
   std::signal(SIGPIPE, previous_handler);
   const std::string after = metrics();
-  EXPECT_EQ(metric(after, "sweepd_vmc_bundles_total"), static_cast<double>(replay.frames));
-  EXPECT_EQ(metric(after, "sweepd_vmc_bones_total"), static_cast<double>(replay.bones));
-  EXPECT_EQ(metric(after, "sweepd_vmc_dropped_total{what=\"packet\"}"), 0.0);
-  EXPECT_EQ(metric(after, "sweepd_vmc_dropped_total{what=\"message\"}"), 0.0);
+  EXPECT_EQ(metric(after, vmc_series("sweepd_vmc_bundles_total", kBody)),
+            static_cast<double>(replay.frames));
+  EXPECT_EQ(metric(after, vmc_series("sweepd_vmc_bones_total", kBody)),
+            static_cast<double>(replay.bones));
+  EXPECT_EQ(metric(after, vmc_series("sweepd_vmc_dropped_total", kBody, "what=\"packet\"")), 0.0);
+  EXPECT_EQ(metric(after, vmc_series("sweepd_vmc_dropped_total", kBody, "what=\"message\"")), 0.0);
 }
 
 TEST_F(DaemonVmc, SubscriptionsTheServerCannotServeAreRefusedNamingWhy) {
   const auto refusal = [&](client::Connection& connection, const std::string& stream) {
     try {
-      subscribe(connection, stream);
+      subscribe_to_stream(connection, stream);
     } catch (const client::ServerError& error) {
       return std::string(error.what());
     }
@@ -313,23 +268,28 @@ TEST_F(DaemonVmc, SubscriptionsTheServerCannotServeAreRefusedNamingWhy) {
             std::string("server error UnknownModel: SubscribeStream: the stream '") + kBody +
                 "' poses the model '" + kBody + "', which this server does not hold: load it");
   EXPECT_EQ(refusal(*latest, "mannequin"),
-            std::string("server error InvalidArgument: SubscribeStream: no stream named 'mannequin' (this "
-                        "server's stream is '") + kBody + "')");
+            std::string(
+                "server error InvalidArgument: SubscribeStream: no stream named 'mannequin' (this "
+                "server's streams: '") +
+                kBody + "')");
   const std::string long_name(kMaxNameBytes + 1, 's');
   EXPECT_EQ(refusal(*latest, long_name),
-            "server error InvalidArgument: SubscribeStream.stream has " + std::to_string(kMaxNameBytes + 1) +
-                " bytes; the limit is " + std::to_string(kMaxNameBytes) + " bytes")
+            "server error InvalidArgument: SubscribeStream.stream has " +
+                std::to_string(kMaxNameBytes + 1) + " bytes; the limit is " +
+                std::to_string(kMaxNameBytes) + " bytes")
       << "a client's string is bounded before it is echoed";
-  EXPECT_EQ(refusal(*main_, kBody),
-            "server error InvalidArgument: SubscribeStream: a stream is sent latest wins: say delivery "
-            "LatestWins in Hello");
+  EXPECT_EQ(
+      refusal(*main_, kBody),
+      "server error InvalidArgument: SubscribeStream: a stream is sent latest wins: say delivery "
+      "LatestWins in Hello");
   // Frames end while the model is not held: counted, sent nowhere.
   lo_address sender = lo_address_new("127.0.0.1", std::to_string(vmc_port_).c_str());
   ASSERT_GT(lo_send(sender, "/VMC/Ext/OK", "i", 1), 0);
   lo_address_free(sender);
-  for (int wait = 0; wait < 100 && metric(metrics(), "sweepd_vmc_frames_total") < 1.0; ++wait)
+  for (int wait = 0;
+       wait < 100 && metric(metrics(), vmc_series("sweepd_vmc_frames_total", kBody)) < 1.0; ++wait)
     usleep(20000);
-  EXPECT_EQ(metric(metrics(), "sweepd_vmc_frames_without_model_total"), 1.0);
+  EXPECT_EQ(metric(metrics(), vmc_series("sweepd_vmc_frames_without_model_total", kBody)), 1.0);
 }
 
 // Hello (latest wins) and SubscribeStream to the stream "mannequin" on a raw frame client.
@@ -347,9 +307,9 @@ void subscribe_to_the_mannequin(FrameClient& client) {
 // than the deformation of a 10k mannequin would otherwise hold it open for as long as it sends).
 TEST(DaemonVmcSubscription, ByeEndsItWhileTheStreamGoesOn) {
   ScratchDirectory directory("vmc_bye");
-  DaemonProcess daemon(directory.path(), {"--vmc-listen", "127.0.0.1:0", "--vmc-port-file",
-                                          (directory / "vmc_port").string(),
-                                          "--mannequin-vertices", "10000"});
+  DaemonProcess daemon(directory.path(),
+                       {"--vmc-listen", "127.0.0.1:0", "--vmc-port-file",
+                        (directory / "vmc_port").string(), "--mannequin-vertices", "10000"});
   ASSERT_TRUE(daemon.running()) << daemon.log();
   const std::string vmc_port = std::to_string(std::stoi(read_text(directory / "vmc_port")));
   std::atomic<bool> stop{false};
@@ -385,9 +345,8 @@ TEST(DaemonVmcSubscription, ByeEndsItWhileTheStreamGoesOn) {
 TEST(DaemonVmcSubscription, ItsFramesKeepASubscriberFromIdlingOut) {
   ScratchDirectory directory("vmc_idle");
   DaemonProcess daemon(directory.path(), {"--vmc-listen", "127.0.0.1:0", "--vmc-port-file",
-                                          (directory / "vmc_port").string(),
-                                          "--mannequin-vertices", "1000", "--idle-timeout-ms",
-                                          "300"});
+                                          (directory / "vmc_port").string(), "--mannequin-vertices",
+                                          "1000", "--idle-timeout-ms", "300"});
   ASSERT_TRUE(daemon.running()) << daemon.log();
   const std::string vmc_port = std::to_string(std::stoi(read_text(directory / "vmc_port")));
   FrameClient client(daemon.port());

@@ -472,7 +472,7 @@ class Exchanges:
     def _stream(self, stream, *, method="sweep", features=(), float16=False, normals=False,
                 encoding=None):
         """Protocol 1.15: subscribes to a stream the server receives (a VMC stream, sweepd
-        --vmc-listen; `stream` is its name, the model --vmc-model names) and yields a Posed per
+        --vmc-listen; `stream` is its name, the model its receiver poses) and yields a Posed per
         frame of it, for as long as the caller iterates: Posed.sequence is the stream's frame
         number. Latest wins: the client must be made with
         latest_wins=True (the server refuses otherwise), and a caller slower than the stream gets

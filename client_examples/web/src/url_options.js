@@ -2,7 +2,7 @@
 // [&stream=NAME][&methods=sweep,lbs,dqs][&positions=float16|meshopt]. ws: sweepd's WebSocket
 // listener (--ws-listen; wss:// with TLS); token: its --token; model: the model's name (default:
 // "mannequin" when held, else the first held); stream: instead of clips and sliders, the VMC
-// stream of that name (sweepd's --vmc-model, docs/vmc.md) on the model it poses (model= is not
+// stream of that name (the model a sweepd --vmc-listen poses, docs/vmc.md) on the model it poses (model= is not
 // used); methods: the viewports shown at first (default all three); positions: how the
 // vertices travel (default float16, 6 bytes a vertex; meshopt, about 4, costs the server about
 // 2 ms a 72k pose to encode: protocol/README.md).
