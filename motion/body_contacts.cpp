@@ -12,8 +12,7 @@ namespace sweepd::motion {
 
 namespace {
 
-// Fractions of the hip height (see the header): a 0.9 m hip gives 3.2 cm, 0.36 m/s, 0.23 m/s.
-constexpr float kPartContactHeight = 0.035f;
+// Fractions of the hip height per second (see the header): 0.23 m/s and 0.72 m/s on a 0.9 m hip.
 constexpr float kReturnSpeed = 0.25f;  // per second: a hold fades no faster
 constexpr float kFastestHold = 0.8f;   // per second: twice a contact's speed
 

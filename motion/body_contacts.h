@@ -99,6 +99,8 @@ class BodyContacts {
     kRightArm,
   };
   static constexpr int kPartCount = 8;
+  // A part rests within this share of the hip height above the floor (see contact above).
+  static constexpr float kPartContactHeight = 0.035f;
   static const char* name(int part);  // "back", "hips", "left knee", ...
 
   // Per joint: its part, or -1 (the feet, joints above the pelvis).

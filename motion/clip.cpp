@@ -136,4 +136,16 @@ void Clip::set_keyframed_timing() {
   header_frame_count = frame_count;
 }
 
+void clip_forward_kinematics(const Clip& motion, std::span<const glm::quat> local,
+                             std::span<const glm::vec3> translation, std::vector<glm::quat>& world,
+                             std::vector<glm::vec3>& position) {
+  world.resize(motion.joints.size());
+  position.resize(motion.joints.size());
+  for (std::size_t b = 0; b < motion.joints.size(); ++b) {
+    const int parent = motion.joints[b].parent;
+    world[b] = parent < 0 ? local[b] : world[parent] * local[b];
+    position[b] = parent < 0 ? translation[b] : position[parent] + world[parent] * translation[b];
+  }
+}
+
 }  // namespace sweepd::motion

@@ -106,4 +106,10 @@ struct Clip {
   void set_keyframed_timing();
 };
 
+// World rotations and positions of a clip's joints from their local ones (local_pose's).
+//   local, translation  joints.size() each; world, position  resized to joints.size()
+void clip_forward_kinematics(const Clip& motion, std::span<const glm::quat> local,
+                             std::span<const glm::vec3> translation, std::vector<glm::quat>& world,
+                             std::vector<glm::vec3>& position);
+
 }  // namespace sweepd::motion

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <stdexcept>
 
 #include "deform/model/forward_kinematics.h"
 #include "motion/contact_timing.h"
@@ -54,13 +55,17 @@ FootPlanting::FootPlanting(const deform::Model& model, float floor, double frame
 
 std::optional<FootPlanting> FootPlanting::build(
     const deform::Model& model, const deform::RigMap& map, float hip_height, int frame_count,
-    double frame_time, const std::function<deform::Pose(int)>& frame_pose) {
+    double frame_time, const std::function<deform::Pose(int)>& frame_pose,
+    const std::vector<float>& lowered) {
   if (model.positions.empty() || frame_count < 1 || !(frame_time > 0.0) || !(hip_height > 0.0f))
     return std::nullopt;
+  if (!lowered.empty() && static_cast<int>(lowered.size()) != frame_count)
+    throw std::invalid_argument("foot planting: a drop per clip frame is needed");
   float floor = std::numeric_limits<float>::infinity();
   for (const glm::vec3& p : model.positions) floor = std::min(floor, p.y);
   FootPlanting planting(model, floor, frame_time);
   planting.frame_count_ = frame_count;
+  planting.lowered_ = lowered;
   const std::vector<glm::mat4> rest = model.skeleton.world_rest_matrices();
   for (int side = 0; side < 2; ++side) {
     const deform::LegJoints& leg = side == 0 ? map.left_leg : map.right_leg;
@@ -237,6 +242,16 @@ void FootPlanting::plan(const std::vector<std::vector<Sole>>& soles, float hip_h
   // drops faster than the largest need per kFade). Dropping the body can bring a slow foot into
   // contact, so contacts are found again until none is added (twice at most in practice).
   hip_drop_.assign(n, settle);
+  const int fade_frames = static_cast<int>(kFade / frame_time_);
+  // Each frame's need spreads kFade either side, falling linearly (the drop is their envelope).
+  const auto ease_in = [&](int f, float drop) {
+    for (int g = std::max(0, f - fade_frames); g <= std::min(n - 1, f + fade_frames); ++g) {
+      const float ease = 1.0f - static_cast<float>(std::abs(g - f)) / (fade_frames + 1);
+      hip_drop_[g] = std::max(hip_drop_[g], settle + (drop - settle) * ease);
+    }
+  };
+  for (int f = 0; f < static_cast<int>(lowered_.size()); ++f)
+    if (lowered_[f] > settle) ease_in(f, lowered_[f]);
   const auto is_down = [&](std::size_t i, int f) {
     return soles[i][f].height - hip_drop_[f] <= kSoleContactHeight * hip_height;
   };
@@ -244,7 +259,6 @@ void FootPlanting::plan(const std::vector<std::vector<Sole>>& soles, float hip_h
     if (!keep_contacts) foot.contact.assign(n, 0);
     foot.offset.assign(n, glm::vec3(0.0f));
   }
-  const int fade_frames = static_cast<int>(kFade / frame_time_);
   for (int round = 0; round < 4; ++round) {
     bool added = false;
     for (std::size_t i = 0; i < feet_.size(); ++i) {
@@ -280,13 +294,8 @@ void FootPlanting::plan(const std::vector<std::vector<Sole>>& soles, float hip_h
           need[f] = std::max(need[f], hip_drop(soles[i][f], {shift.x, shift.z}) - settle);
         }
     }
-    for (int f = 0; f < n; ++f) {
-      if (need[f] <= 0.0f) continue;
-      for (int g = std::max(0, f - fade_frames); g <= std::min(n - 1, f + fade_frames); ++g) {
-        const float ease = 1.0f - static_cast<float>(std::abs(g - f)) / (fade_frames + 1);
-        hip_drop_[g] = std::max(hip_drop_[g], settle + need[f] * ease);
-      }
-    }
+    for (int f = 0; f < n; ++f)
+      if (need[f] > 0.0f) ease_in(f, settle + need[f]);
   }
   for (std::size_t i = 0; i < feet_.size(); ++i) {
     Foot& foot = feet_[i];

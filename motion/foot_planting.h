@@ -68,6 +68,10 @@
 // reach (kSoftReach) from 0.15 s away from the foot's contacts, eased linearly between, so that
 // a leg straightening as its target goes out of reach does not snap its knee (a fading shift
 // along a leg stretched on the floor stepped the knee by up to 13 cm in a frame).
+// Parts the clip rests on its floor other than the feet (a kneeling knee, motion/
+// clip_resting_knees.h) may ask the body to come down further (`lowered`, per clip frame: the
+// least drop from the uncorrected pose), eased in and out as a foot's need is; the planted legs'
+// IK takes it up as it takes up any drop.
 // A clip sampled between frames (pose_at_time) puts the sole on the floor exactly where both
 // frames are contact frames and interpolates the frames' offsets (across everywhere) and the
 // body's drop.
@@ -92,9 +96,14 @@ class FootPlanting {
   //   frame_pose  the retargeted, uncorrected pose of clip frame f, for 0 <= f < frame_count
   //   frame_time  seconds between clip frames
   //   hip_height  the model's pelvis height above its floor on straight legs (L above)
+  //   lowered     per clip frame, the least drop of the body (see the header), or empty
   static std::optional<FootPlanting> build(const deform::Model& model, const deform::RigMap& map,
                                            float hip_height, int frame_count, double frame_time,
-                                           const std::function<deform::Pose(int)>& frame_pose);
+                                           const std::function<deform::Pose(int)>& frame_pose,
+                                           const std::vector<float>& lowered = {});
+
+  // How far the body comes down on clip frame `frame` (m).
+  float drop(int frame) const { return hip_drop_.at(frame); }
 
   // Corrects `pose`, the uncorrected pose of the clip at `seconds` (clamped to the clip).
   void apply(double seconds, deform::Pose& pose) const;
@@ -177,6 +186,7 @@ class FootPlanting {
   int frame_count_ = 0;
   std::vector<Foot> feet_;       // at most two
   std::vector<float> hip_drop_;  // per clip frame: the root's move down
+  std::vector<float> lowered_;   // per clip frame: the least drop asked for, or empty
 };
 
 }  // namespace sweepd::motion

@@ -1,5 +1,7 @@
 #include "motion/retarget.h"
 
+#include "motion/clip_resting_knees.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -8,6 +10,7 @@
 #include <stdexcept>
 
 #include "deform/rig/rig_map.h"
+#include "motion/clip_resting_knees.h"
 #include "motion/clip_up_axis.h"
 #include "motion/name_list.h"
 #include "motion/shortest_arc.h"
@@ -120,19 +123,6 @@ float rest_ankle_height(const deform::RigMap& map, const std::vector<glm::vec3>&
   return (world[map.left_leg.foot].y + world[map.right_leg.foot].y) / 2.0f - floor;
 }
 
-// World rotations and positions of the clip's joints from their local ones.
-void clip_forward_kinematics(const Clip& motion, std::span<const glm::quat> local,
-                             std::span<const glm::vec3> translation, std::vector<glm::quat>& world,
-                             std::vector<glm::vec3>& position) {
-  world.resize(motion.joints.size());
-  position.resize(motion.joints.size());
-  for (std::size_t b = 0; b < motion.joints.size(); ++b) {
-    const int parent = motion.joints[b].parent;
-    world[b] = parent < 0 ? local[b] : world[parent] * local[b];
-    position[b] = parent < 0 ? translation[b] : position[parent] + world[parent] * translation[b];
-  }
-}
-
 // The clip's ankles' height as it stands (see the header): the 10th percentile over its frames
 // of the lower ankle's height above y = 0.
 float clip_stance_ankle_height(const Clip& motion, const deform::RigMap& map) {
@@ -204,10 +194,12 @@ Retargeter::Retargeter(std::shared_ptr<const Clip> motion, const deform::Model& 
   const auto samples = std::make_shared<const BodySamples>(model);
   const std::vector<int> contact_part =
       BodyContacts::part_of_samples(*model_map_, skeleton_, *samples);
+  std::vector<float> lowered;  // the body's least drop per frame, for resting knees
   const auto plant = [&] {
     planting_ = FootPlanting::build(model, *model_map_, model_hip_height_, motion_->frame_count,
                                     motion_->frame_time,
-                                    [this](int frame) { return unplanted_pose_at_frame(frame); });
+                                    [this](int frame) { return unplanted_pose_at_frame(frame); },
+                                    lowered);
   };
   const auto lift = [&] {
     body_floor_ = BodyFloor::build(
@@ -217,6 +209,15 @@ Retargeter::Retargeter(std::shared_ptr<const Clip> motion, const deform::Model& 
   };
   plant();
   lift();
+  // A resting knee held up by the model's proportions: the body comes down, planted and lifted
+  // again; a second pass takes what a planted leg's IK took up of the first.
+  for (int pass = 0; pass < 2 && planting_; ++pass) {
+    std::vector<float> more = lower_resting_knees(lowered);
+    if (more.empty()) break;
+    lowered = std::move(more);
+    plant();
+    lift();
+  }
   // Parts resting on the floor (motion/body_contacts.h), found on the lifted poses. Where the
   // back or hips, a knee beside its planted foot, or two limbs rest, the root is held and the
   // feet are planted again on the
@@ -563,6 +564,7 @@ void Retargeter::compute_root_scale(const deform::Skeleton& bvh, const OptionalR
           "ankle's 10th percentile is " +
           std::to_string(stance_ankle) + "): its hip height is measured in its rest pose");
     bvh_height = *legs + (stands ? stance_ankle : rest_ankle);
+    if (stands) clip_ankle_height_ = stance_ankle, clip_hip_height_ = bvh_height;
   }
   model_hip_height_ = model_world[model_pelvis_].y - model_floor;
   if (const std::optional<float> legs = straight_leg_length(model_map, model_world, model_pelvis_))
@@ -572,6 +574,36 @@ void Retargeter::compute_root_scale(const deform::Skeleton& bvh, const OptionalR
   } else {
     warnings_.push_back("no hip height on one side: root translation not scaled");
   }
+}
+
+std::vector<float> Retargeter::lower_resting_knees(const std::vector<float>& lowered) const {
+  if (!model_map_ || !planting_ || !body_floor_ || !(clip_hip_height_ > 0.0f)) return {};
+  const auto clip_knee = [&](int model_knee) {
+    return model_knee >= 0 ? bvh_of_model_[model_knee] : -1;
+  };
+  const std::array<std::vector<std::uint8_t>, 2> resting = clip_resting_knees(
+      *motion_, {clip_knee(model_map_->left_leg.lower), clip_knee(model_map_->right_leg.lower)},
+      clip_floor_, clip_ankle_height_, clip_hip_height_);
+  const int n = motion_->frame_count;
+  std::vector<float> drop = lowered.empty() ? std::vector<float>(n, 0.0f) : lowered;
+  // A knee rests within a part's contact height (body_contacts.h); it is brought a millimetre
+  // under it, so that round-off does not leave it on the line.
+  const float rests = BodyContacts::kPartContactHeight * model_hip_height_ - 0.001f;
+  bool more = false;
+  for (int f = 0; f < n; ++f) {
+    if (body_floor_->lift(f) > 0.0f) continue;  // another part is down already
+    float up = 0.0f;
+    for (int side = 0; side < 2; ++side)
+      if (!resting[side].empty() && resting[side][f] &&
+          BodyContacts::kLeftKnee + side < body_floor_->group_count())
+        up = std::max(up, std::min(body_floor_->lowest(BodyContacts::kLeftKnee + side, f).height,
+                                   body_floor_->lowest(BodyContacts::kHips, f).height) -
+                              rests);
+    if (up <= 0.0f) continue;
+    drop[f] = planting_->drop(f) + up;
+    more = true;
+  }
+  return more ? drop : std::vector<float>{};
 }
 
 std::vector<std::string> Retargeter::unmapped_bvh_joints() const {

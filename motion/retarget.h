@@ -111,7 +111,11 @@
 // hands, arms) are held still there while they rest: the root shifted across where the back or
 // hips rest, the limbs by IK (motion/body_contacts.h); foot planting and the body floor are then
 // built again over those holds. Feet::kPlantedOnly plants and lifts without these holds (to
-// measure them). Feet::kFree
+// measure them). A knee the clip rests on its floor (motion/clip_resting_knees.h) that the
+// model's proportions hold above the model's floor brings the body down with it (foot
+// planting's drop, the planted legs' IK taking it up) until it lies within a resting part's
+// contact height, as far as the body floor lets it (a part already on the floor stops it).
+// Feet::kFree
 // (and a bare skeleton, which has no soles) keeps every rotation above: onto a copy of the
 // clip's own skeleton the clip's rotations come back.
 #pragma once
@@ -223,6 +227,13 @@ class Retargeter final : public ClipPoses {
   void compute_alignments(const deform::Skeleton& bvh, const OptionalRigMap& model_map);
   void compute_root_scale(const deform::Skeleton& bvh, const OptionalRigMap& model_map,
                           const OptionalRigMap& bvh_map, float model_floor);
+  // Per clip frame, how far the body must come down at least so that the knees the clip rests
+  // on its floor (motion/clip_resting_knees.h) rest on the model's: measured on the lifted
+  // poses (the lower of the body floor's lowest knee and hips samples, the thighs carrying the
+  // kneecap's skin, above a part's contact height) over `lowered`, the drop asked for so far;
+  // not on frames the body floor lifts (another part is down already); empty where nothing
+  // more is needed.
+  std::vector<float> lower_resting_knees(const std::vector<float>& lowered) const;
   // bvh_local: rotations and translations of every BVH joint (motion_->joints.size()).
   deform::Pose retarget(std::span<const glm::quat> bvh_local,
                         std::span<const glm::vec3> bvh_translation, bool keep_root_rest) const;
@@ -274,6 +285,9 @@ class Retargeter final : public ClipPoses {
   int bvh_pelvis_ = 0, model_pelvis_ = 0;
   glm::vec3 model_pelvis_rest_{0.0f};
   float root_scale_ = 1.0f;
+  // The clip's floor, its standing ankle above it and its hip height (compute_root_scale);
+  // the hip height 0 where the clip has no floor to stand on (no whole legs, or sitting).
+  float clip_floor_ = 0.0f, clip_ankle_height_ = 0.0f, clip_hip_height_ = 0.0f;
   float model_hip_height_ = 0.0f;
   OptionalRigMap model_map_;
   std::optional<FootPlanting> planting_;
