@@ -11,8 +11,9 @@
 // them is turned inside out. The rest pose has f > 0 at every bound point of every shared body,
 // so the ratio f_pose / f_rest per (vertex, sweep term) says how far a pose compressed the skin
 // along the sweep (1: as at rest; towards 0: crowded; below 0: reversed).
-// Measured on the heavy male (tests/metrics/sweep_plane_crossing_test.cpp) as the cause of the
-// triangles the sweep flips and skinning does not.
+// Measured (tests/metrics/sweep_plane_crossing_test.cpp, deform/README.md): the cause of most
+// of the triangles the sweep flips and skinning does not on the heavy male and the child, not
+// of those on the heavy and the OpenPose female.
 // Inputs:  a BoundModel (outlives the meter); per measurement the posed sweeps (SweepPoser).
 // Output:  per vertex the least ratio over its sweep terms (#V; 1 where no sweep moves it).
 #pragma once
