@@ -16,12 +16,15 @@
 // counts, so handing the crotch or an armpit to skinning (which would clear the count above)
 // fails here. The clip is not mirrored with the body: a mirrored body performs the mirror image
 // of the motion, which is why its figures differ.
+// And on both CMU clips, for the variants where it holds (kWithinTargetOnCmu), issue 47's target
+// that no edge of those regions stretches past 3x its rest length.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -68,6 +71,24 @@ const std::map<std::string, int> kLedger = {
     {"mannequin:20000", 309},
     {"mannequin:72000", 342},
 };
+
+// Issue 47's target "on cmu_01_01 and cmu_01_03, every corpus body's sweep keeps every edge
+// within 3x its rest length", asserted for the variants where it holds at the gate's sampling
+// (every 100th frame; every edge of the torso, neck, arms and legs), worst of both clips
+// measured: male 2.59 (mirrored 2.65, x0.6 2.59), heavy female 2.97 (x0.6 2.97), RiggedFigure
+// 1.68 (mirrored 1.67), mannequins 2.11 / 2.21 / 2.26 (6k / 20k / 72k, all three variants).
+// Not yet, printed: the heavy female mirrored (4.00), the OpenPose female (3.56, mirrored
+// 3.86), the heavy male (3.85, mirrored 3.96: its belly folds on the inside of a deep forward
+// bend, cmu_01_01 frame 1760, where LBS squashes the same edge to 0.56) and the child (3.31,
+// mirrored 4.84: the same fold at its waist).
+constexpr double kCmuStretchTarget = 3.0;
+const std::set<std::string> kWithinTargetOnCmu = {
+    "makehuman_male_cmu", "makehuman_male_cmu mirrored", "makehuman_male_cmu x0.6",
+    "makehuman_female_old_heavy_mixamo", "makehuman_female_old_heavy_mixamo x0.6",
+    "RiggedFigure", "RiggedFigure mirrored", "RiggedFigure x0.6",
+    "mannequin:6000", "mannequin:6000 mirrored", "mannequin:6000 x0.6",
+    "mannequin:20000", "mannequin:20000 mirrored", "mannequin:20000 x0.6",
+    "mannequin:72000", "mannequin:72000 mirrored", "mannequin:72000 x0.6"};
 
 struct ClipCount {
   int worse = 0, frames = 0;
@@ -153,6 +174,10 @@ TEST_P(CorpusGate, TheSweepIsWorseThanSkinningNowhereNewAndKeepsItsAdvantage) {
       worse += count.worse;
       EXPECT_LE(count.worst[0] * advantage, std::min(count.worst[1], count.worst[2]))
           << variant.name << " " << clip << ": the sweep's worst limb or torso edge against skinning's";
+      if (clip != "range of motion" && kWithinTargetOnCmu.contains(variant.name)) {
+        EXPECT_LE(count.worst[0], kCmuStretchTarget)
+            << variant.name << " " << clip << ": an edge stretched past 3x its rest length";
+      }
     }
   }
   std::printf("%s: worse than skinning in %d (frame, region) pairs (ledger %d, target 0)\n",
