@@ -73,12 +73,12 @@ void print_rig(const deform::Skeleton& skeleton) {
       {deform::RigPart::kRightArm, !rig.right_arm.absent()},
       {deform::RigPart::kLeftLeg, !rig.left_leg.absent()},
       {deform::RigPart::kRightLeg, !rig.right_leg.absent()}};
-  // As the binding plans its sweeps (deform/binding/bind.cpp): a torso or neck of one joint and
-  // the forearm of an arm without a hand joint are skinned.
+  // As the binding plans its sweeps (deform/binding/bind.cpp): a neck of one joint, a torso of
+  // one joint with no neck above it and the forearm of an arm without a hand joint are skinned.
   std::vector<std::string> swept;
   std::string skinned;
-  if (rig.torso.chain.size() >= 2)
-    swept.push_back("torso");
+  if (rig.torso_sweep_chain().size() >= 2)
+    swept.push_back(rig.torso.chain.size() >= 2 ? "torso" : "torso (up to the neck's first joint)");
   else
     skinned = "torso (one joint), ";
   if (rig.has_head() && rig.neck.chain.size() >= 2) {

@@ -24,13 +24,15 @@ struct SweepPlan {
 };
 
 // One sweep per part the map has: torso, neck, arms, legs. An absent part is left to skinning,
-// and so is a torso or neck of one joint (no link to sweep along: rig_detection warns) and the
-// forearm of an arm without a hand joint (its sweep ends at the elbow).
+// and so is a neck of one joint, a torso of one joint with no neck above it (no link to sweep
+// along: rig_detection warns; RigMap::torso_sweep_chain) and the forearm of an arm without a
+// hand joint (its sweep ends at the elbow).
 std::vector<SweepPlan> plan_sweeps(const RigMap& rig, std::span<const glm::mat4> world_rest) {
   // The body's own axes, so the keys' first axes agree from model to model.
   const BodyAxes axes = rest_body_axes(rig, world_rest);
   std::vector<SweepPlan> plans;
-  if (rig.torso.chain.size() >= 2) plans.push_back({BodyPart::kTorso, rig.torso.chain, axes.left});
+  if (std::vector<int> torso = rig.torso_sweep_chain(); torso.size() >= 2)
+    plans.push_back({BodyPart::kTorso, torso, axes.left});
   if (rig.has_head() && rig.neck.chain.size() >= 2)
     plans.push_back({BodyPart::kNeck, rig.neck.chain, axes.left});
   for (const auto& [part, arm] : {std::pair{BodyPart::kLeftArm, &rig.left_arm},

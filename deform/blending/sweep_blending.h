@@ -20,6 +20,9 @@
 // chain's joint-to-joint length). Beyond the torso's first and last keys (below the pelvis,
 // above the chest: the shoulders) its share hands over to skinning the same way as the limbs',
 // starting at the key.
+// Where sweeps meet, the shares are smoothed over the mesh, and around the hips and the armpits
+// a little beyond (sweep_blending.cpp: kShareSmoothingReach, kArmShareSmoothingReach), so that
+// no share steps across one edge at the border of the meeting.
 // Last, no skinned share rises faster along the surface than from 0 to 1 over a twentieth of
 // the longest sweep's chain: a steeper hand-over spreads back over the swept skin, since an edge
 // across it stretches by the share's step times how far apart the sweep and skinning put it.

@@ -112,14 +112,15 @@ void add_absent_part_warnings(RigMap& map) {
   }
 }
 
-// Parts the map has but the binding cannot sweep (bind.cpp, plan_sweeps): a torso or neck of
-// one joint has no link to sweep along; an arm without a hand joint has no forearm link.
+// Parts the map has but the binding cannot sweep (bind.cpp, plan_sweeps): a neck of one joint,
+// or a torso of one joint with no neck above it, has no link to sweep along; an arm without a
+// hand joint has no forearm link.
 void add_unswept_part_warnings(RigMap& map, const Skeleton& skeleton) {
   auto joint = [&](int j) { return "'" + skeleton.joints[j].name + "'"; };
-  if (map.torso.chain.size() == 1)
+  if (map.torso_sweep_chain().size() == 1)
     map.warnings.push_back("the torso is one joint (" + joint(map.torso.pelvis()) +
-                           "): with no link to sweep along it is skinned by linear blending; "
-                           "the limbs are swept up to it");
+                           ") with no neck above it: with no link to sweep along it is skinned by "
+                           "linear blending; the limbs are swept up to it");
   if (map.has_head() && map.neck.chain.size() == 1)
     map.warnings.push_back("the neck is one joint (" + joint(map.neck.head) +
                            ", the head's): the neck and head are skinned by linear blending");

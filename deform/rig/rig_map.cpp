@@ -125,6 +125,12 @@ std::vector<int> RigMap::skinned_part_roots() const {
   return {neck.head, left_arm.hand, right_arm.hand, left_leg.foot, right_leg.foot};
 }
 
+std::vector<int> RigMap::torso_sweep_chain() const {
+  std::vector<int> chain = torso.chain;
+  if (chain.size() == 1 && !neck.chain.empty()) chain.push_back(neck.chain.front());
+  return chain;
+}
+
 const char* to_string(BodyPart part) {
   switch (part) {
     case BodyPart::kNone:

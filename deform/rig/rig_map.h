@@ -98,6 +98,13 @@ struct RigMap {
   // left foot, right foot (in this order; -1 for an absent part). Their descendants follow
   // them.
   std::vector<int> skinned_part_roots() const;
+
+  // The joints the torso's sweep follows (deform/binding/bind.cpp): the torso chain, pelvis up to
+  // the chest; where that is one joint with a neck above it (OpenPose's MidHip, from which the
+  // arms and the head hang), on up to the neck's first joint, where the neck meets the
+  // shoulders: the keypoint rigs' one spine bone runs from the mid-hip to the neck. Fewer than
+  // two joints: no torso sweep (a lone torso joint is skinned).
+  std::vector<int> torso_sweep_chain() const;
 };
 
 // Which body part a joint belongs to (see label_joints).

@@ -16,12 +16,15 @@
 // counts, so handing the crotch or an armpit to skinning (which would clear the count above)
 // fails here. The clip is not mirrored with the body: a mirrored body performs the mirror image
 // of the motion, which is why its figures differ.
+// And on both CMU clips, for the variants where it holds (kWithinTargetOnCmu), issue 47's target
+// that no edge of those regions stretches past 3x its rest length.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -49,20 +52,43 @@ constexpr int kClipStep = 100;
 // of motion's peaks and both clips, measured with the adapted binding (target: 0). Lowered when
 // the skinned share's rise was limited along the surface (deform/blending/sweep_blending.h,
 // kHandoverReach): from male 465, RiggedFigure 991, child 659, heavy female 474, OpenPose 486,
-// heavy male 634, mannequins 263 / 391 / 408 (4771 in all) to the figures below (4207). The
-// RiggedFigure measures 988 here, with or without the limit: its entry stays at the last stop's
-// 991, within the 2 % below (another machine's rounding).
+// heavy male 634, mannequins 263 / 391 / 408 (4771 in all) to male 399, child 516, heavy female
+// 451, OpenPose 435, heavy male 531, mannequins 233 / 309 / 342; then when the share smoothing
+// reached past where an arm meets another sweep (kArmShareSmoothingReach) and the OpenPose
+// body's one-joint torso was swept up to its neck (RigMap::torso_sweep_chain), to the figures
+// below (male 400 -> 381, child 519 -> 515, heavy female 449 -> 330, OpenPose 433 -> 96, heavy
+// male 523 -> 523, 6k mannequin 234 -> 228, measured before and after on one machine). The
+// 20k mannequin measured 311 -> 313 and the 72k 345 (not measured before): their entries stay,
+// within the 2 % below; so does the RiggedFigure's 991 (993 before and after).
 const std::map<std::string, int> kLedger = {
-    {"makehuman_male_cmu", 399},
+    {"makehuman_male_cmu", 381},
     {"RiggedFigure", 991},
-    {"makehuman_child_mixamo_unity", 516},
-    {"makehuman_female_old_heavy_mixamo", 451},
-    {"makehuman_female_slim_openpose", 435},
-    {"makehuman_male_old_heavy_unreal", 531},
-    {"mannequin:6000", 233},
+    {"makehuman_child_mixamo_unity", 515},
+    {"makehuman_female_old_heavy_mixamo", 330},
+    {"makehuman_female_slim_openpose", 96},
+    {"makehuman_male_old_heavy_unreal", 523},
+    {"mannequin:6000", 228},
     {"mannequin:20000", 309},
     {"mannequin:72000", 342},
 };
+
+// Issue 47's target "on cmu_01_01 and cmu_01_03, every corpus body's sweep keeps every edge
+// within 3x its rest length", asserted for the variants where it holds at the gate's sampling
+// (every 100th frame; every edge of the torso, neck, arms and legs), worst of both clips
+// measured: male 2.59 (mirrored 2.65, x0.6 2.59), heavy female 2.97 (x0.6 2.97), RiggedFigure
+// 1.68 (mirrored 1.67), mannequins 2.11 / 2.21 / 2.26 (6k / 20k / 72k, all three variants).
+// Not yet, printed: the heavy female mirrored (4.00), the OpenPose female (3.56, mirrored
+// 3.86), the heavy male (3.85, mirrored 3.96: its belly folds on the inside of a deep forward
+// bend, cmu_01_01 frame 1760, where LBS squashes the same edge to 0.56) and the child (3.31,
+// mirrored 4.84: the same fold at its waist).
+constexpr double kCmuStretchTarget = 3.0;
+const std::set<std::string> kWithinTargetOnCmu = {
+    "makehuman_male_cmu", "makehuman_male_cmu mirrored", "makehuman_male_cmu x0.6",
+    "makehuman_female_old_heavy_mixamo", "makehuman_female_old_heavy_mixamo x0.6",
+    "RiggedFigure", "RiggedFigure mirrored", "RiggedFigure x0.6",
+    "mannequin:6000", "mannequin:6000 mirrored", "mannequin:6000 x0.6",
+    "mannequin:20000", "mannequin:20000 mirrored", "mannequin:20000 x0.6",
+    "mannequin:72000", "mannequin:72000 mirrored", "mannequin:72000 x0.6"};
 
 struct ClipCount {
   int worse = 0, frames = 0;
@@ -148,6 +174,10 @@ TEST_P(CorpusGate, TheSweepIsWorseThanSkinningNowhereNewAndKeepsItsAdvantage) {
       worse += count.worse;
       EXPECT_LE(count.worst[0] * advantage, std::min(count.worst[1], count.worst[2]))
           << variant.name << " " << clip << ": the sweep's worst limb or torso edge against skinning's";
+      if (clip != "range of motion" && kWithinTargetOnCmu.contains(variant.name)) {
+        EXPECT_LE(count.worst[0], kCmuStretchTarget)
+            << variant.name << " " << clip << ": an edge stretched past 3x its rest length";
+      }
     }
   }
   std::printf("%s: worse than skinning in %d (frame, region) pairs (ledger %d, target 0)\n",
