@@ -143,9 +143,12 @@ void SweepPoser::set_pose(std::span<const glm::mat4> world_pose) {
 void SweepPoser::deform(std::span<const glm::mat4> skinning, std::span<glm::vec3> positions,
                         std::span<glm::vec3> normals, int threads) {
   const SweepVertexKinds& kinds = *tables_->vertex_kinds;
-  run_in_vertex_blocks(kinds.item_count(), threads, [&](std::size_t begin, std::size_t end) {
-    kinds.evaluate(table_, skinning, positions, begin, end);
-  });
+  run_in_vertex_blocks(
+      kinds.item_count(), threads,
+      [&](std::size_t begin, std::size_t end) {
+        kinds.evaluate(table_, skinning, positions, begin, end);
+      },
+      SweepVertexKinds::kItemGranule);
   if (!normals.empty()) tables_->normals->compute(positions, normals, normal_sums_, threads);
 }
 
