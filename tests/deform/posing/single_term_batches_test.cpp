@@ -7,33 +7,15 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <glm/gtc/matrix_transform.hpp>
 #include <vector>
+
+#include "tests/deform/posing/hand_made_table.h"
 
 namespace sweepd::deform {
 namespace {
 
-// Three rows of one sweep: frames turned by 0.1 rad about z from row to row, a and b growing.
-std::vector<SweepSample> three_row_table() {
-  std::vector<SweepSample> table(3);
-  for (int r = 0; r < 3; ++r) {
-    const glm::mat3 frame = glm::mat3(glm::rotate(glm::mat4(1.0f), 0.1f * r, glm::vec3(0, 0, 1)));
-    table[r].centre = glm::vec3(0.1f, 1.0f + 0.2f * r, -0.3f);
-    table[r].x_axis = frame[0];
-    table[r].y_axis = frame[1];
-    table[r].normal = frame[2];
-    table[r].a = 0.05f + 0.01f * r;
-    table[r].b = 0.04f + 0.02f * r;
-  }
-  for (int r = 0; r < 2; ++r) {
-    table[r].a_step = table[r + 1].a - table[r].a;
-    table[r].b_step = table[r + 1].b - table[r].b;
-  }
-  return table;
-}
-
 TEST(SingleTermBatches, SortsPadsAndEvaluatesEveryVertexAsWrittenOut) {
-  const std::vector<SweepSample> table = three_row_table();
+  const std::vector<SweepSample> table = test::hand_made_table(3);
   std::vector<std::uint32_t> vertices;
   std::vector<SweepTerm> terms;
   std::vector<glm::vec3> expected;
