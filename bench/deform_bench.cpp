@@ -10,7 +10,8 @@
 // Run a Release build: build/<dir>/bench/deform_bench [--benchmark_filter=...]
 // The "per_vertex" counter is the time per vertex (Google Benchmark prints it in seconds with
 // an SI prefix: "2.1n" = 2.1 ns). The pose bends every joint; its cost is outside the timing
-// except for the per-frame matrix conversion DQS does itself. The "split" rows time one 250k pose
+// except for the per-frame matrix conversion DQS does itself. The "sweep_stage" rows time a sweep
+// pose's two stages apart (posing: per frame; vertices: per vertex). The "split" rows time one 250k pose
 // split over 1, 2, 4, … threads (up to the cores) in wall time: one client's latency.
 #include <benchmark/benchmark.h>
 
@@ -97,6 +98,24 @@ void run_sweep(benchmark::State& state, const BenchModel* subject,
   report_per_vertex(state, n);
 }
 
+// One stage of a sweep pose (positions, widest loops): "posing" is set_pose alone (the keys,
+// the curves, the sample table: per frame, whatever the vertex count), "vertices" deform alone.
+void run_sweep_stage(benchmark::State& state, const BenchModel* subject, bool posing) {
+  const std::size_t n = subject->model.vertex_count();
+  std::vector<glm::vec3> positions(n);
+  deform::SweepPoser poser(*subject->bound);
+  poser.set_pose(subject->world);
+  for (auto _ : state) {
+    if (posing)
+      poser.set_pose(subject->world);
+    else
+      poser.deform(subject->skinning, positions, {}, 1);
+    benchmark::DoNotOptimize(positions.data());
+    benchmark::ClobberMemory();
+  }
+  report_per_vertex(state, n);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -148,6 +167,13 @@ int main(int argc, char** argv) {
       }
     }
   }
+  // Where a sweep pose's time goes (issue 50 item 2).
+  for (const auto& subject : models)
+    for (const bool posing : {true, false})
+      benchmark::RegisterBenchmark(
+          ("sweep_stage/" + subject->name + "/" + (posing ? "posing" : "vertices")).c_str(),
+          run_sweep_stage, subject.get(), posing)
+          ->Unit(benchmark::kMicrosecond);
   // One pose split over threads (issue 50 item 3): wall time, the latency a client sees.
   const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   for (const auto& subject : models) {

@@ -21,7 +21,7 @@ echo
 "$build/bench/bind_bench" --benchmark_format=json >"$out/bind.json"
 /usr/bin/python3 - "$out/deform.json" "$out/bind.json" <<'PY'
 import json, sys
-rows, split = {}, {}
+rows, split, stages = {}, {}, {}
 for b in json.load(open(sys.argv[1]))["benchmarks"]:
     if b.get("run_type", "iteration") != "iteration":
         continue  # aggregates of the repetitions
@@ -29,6 +29,10 @@ for b in json.load(open(sys.argv[1]))["benchmarks"]:
     if method == "split":  # one pose over threads: wall milliseconds
         key = (model, outputs, int(b["run_name"].split("threads:")[1].split("/")[0]))
         split[key] = min(split.get(key, float("inf")), b["real_time"] / 1e3)
+        continue
+    if method == "sweep_stage":  # posing or vertices alone: ns per vertex
+        key = (model, outputs)
+        stages[key] = min(stages.get(key, float("inf")), b["per_vertex"] * 1e9)
         continue
     row = rows.setdefault((model, outputs), {})
     row[method] = min(row.get(method, float("inf")), b["per_vertex"] * 1e9)
@@ -49,6 +53,11 @@ for (model, outputs), r in rows.items():
         line += (f" {sweep:.1f} | {lbs:.1f} | {dqs:.1f} | {sweep / lbs:.2f} | {dqs / lbs:.2f} |"
                  f" {sweep * r['vertices'] / 1e6:.3f} |")
     print(line)
+print()
+print("| where a sweep pose goes (positions) | posing ns/vertex (per frame: keys, curves, table) | vertices ns/vertex |")
+print("|---|---|---|")
+for model in dict.fromkeys(m for m, _ in stages):
+    print(f"| {model} | {stages[(model, 'posing')]:.2f} | {stages[(model, 'vertices')]:.2f} |")
 print()
 print("| one pose over threads (sweep) | outputs | threads | ms per pose (wall) | against 1 thread |")
 print("|---|---|---|---|---|")

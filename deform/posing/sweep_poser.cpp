@@ -6,6 +6,7 @@
 
 #include "deform/binding/sweep_coordinates.h"
 #include "deform/posing/key_posing.h"
+#include "deform/simd/float_lanes.h"
 #include "deform/simd/vertex_blocks.h"
 
 namespace sweepd::deform {
@@ -63,14 +64,12 @@ void SweepPoser::refresh_table() {
     d.points.assign(curve.points().begin(), curve.points().end());
     d.second.assign(curve.span_second_derivatives().begin(), curve.span_second_derivatives().end());
     d.keys.assign(sweep.orientation_curve().keys().begin(), sweep.orientation_curve().keys().end());
-    auto padded = [](std::vector<float>& out, std::span<const double> controls) {
-      out.assign(controls.begin(), controls.end());
-      out.resize(out.size() + 2, 0.0f);
-    };
-    padded(d.alpha, sweep.alpha());
-    padded(d.beta, sweep.beta());
-    padded(d.offset_x, sweep.offset_x_function().controls());
-    padded(d.offset_y, sweep.offset_y_function().controls());
+    const auto alpha = sweep.alpha(), beta = sweep.beta();
+    const auto offset_x = sweep.offset_x_function().controls();
+    const auto offset_y = sweep.offset_y_function().controls();
+    d.axis_controls.assign(alpha.size() + 2, glm::vec4(0.0f));
+    for (std::size_t k = 0; k < alpha.size(); ++k)
+      d.axis_controls[k] = glm::vec4(alpha[k], beta[k], offset_x[k], offset_y[k]);
   }
   // Centre and frame: one loop per run of rows on the same span, over the rows' weights only
   // (the span's points and keys are loop constants), so it vectorises.
@@ -104,18 +103,17 @@ void SweepPoser::refresh_table() {
   }
   for (const SweepPoserTables::SampleRun& run : tables_->sample_runs) {
     const SweepData& d = sweep_data_[run.sweep];
+    const float* controls = &d.axis_controls[0].x;
     for (std::uint32_t row = run.begin; row < run.end; ++row) {
       const SweepPoserTables::SampleAxisWeights& w = tables_->sample_axis[row];
-      const std::uint32_t k = w.first;
-      table[row].a =
-          w.axis[0] * d.alpha[k] + w.axis[1] * d.alpha[k + 1] + w.axis[2] * d.alpha[k + 2];
-      table[row].b = w.axis[0] * d.beta[k] + w.axis[1] * d.beta[k + 1] + w.axis[2] * d.beta[k + 2];
+      const float* k = controls + 4 * w.first;
+      // a, b and the offset o at once: lanes (α, β, o_x, o_y).
+      const FloatLanes axis =
+          load_lanes(k) * w.axis[0] + load_lanes(k + 4) * w.axis[1] + load_lanes(k + 8) * w.axis[2];
+      table[row].a = axis[0];
+      table[row].b = axis[1];
       // The ellipse's centre C + R (o, 0) (KeyEllipse::offset).
-      const float ox =
-          w.axis[0] * d.offset_x[k] + w.axis[1] * d.offset_x[k + 1] + w.axis[2] * d.offset_x[k + 2];
-      const float oy =
-          w.axis[0] * d.offset_y[k] + w.axis[1] * d.offset_y[k + 1] + w.axis[2] * d.offset_y[k + 2];
-      table[row].centre += ox * table[row].x_axis + oy * table[row].y_axis;
+      table[row].centre += axis[2] * table[row].x_axis + axis[3] * table[row].y_axis;
     }
   }
   // A sweep's last row gets the next sweep's first row: no term starts there.
@@ -143,9 +141,12 @@ void SweepPoser::set_pose(std::span<const glm::mat4> world_pose) {
 void SweepPoser::deform(std::span<const glm::mat4> skinning, std::span<glm::vec3> positions,
                         std::span<glm::vec3> normals, int threads) {
   const SweepVertexKinds& kinds = *tables_->vertex_kinds;
-  run_in_vertex_blocks(kinds.item_count(), threads, [&](std::size_t begin, std::size_t end) {
-    kinds.evaluate(table_, skinning, positions, begin, end);
-  });
+  run_in_vertex_blocks(
+      kinds.item_count(), threads,
+      [&](std::size_t begin, std::size_t end) {
+        kinds.evaluate(table_, skinning, positions, begin, end);
+      },
+      SweepVertexKinds::kItemGranule);
   if (!normals.empty()) tables_->normals->compute(positions, normals, normal_sums_, threads);
 }
 

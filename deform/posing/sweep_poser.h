@@ -80,7 +80,9 @@ class SweepPoser {
   struct SweepData {  // per frame, float copies of a sweep's curve data
     std::vector<glm::vec3> points, second;
     std::vector<glm::quat> keys;
-    std::vector<float> alpha, beta, offset_x, offset_y;  // padded with zeros for a degree below 2
+    // Per control: (α, β, offset x, offset y), one vector so a row's four are one weighted sum;
+    // padded with zeros for a degree below 2.
+    std::vector<glm::vec4> axis_controls;
   };
 
   std::shared_ptr<const SweepPoserTables> tables_;

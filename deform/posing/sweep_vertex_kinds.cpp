@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "deform/binding/bound_model.h"
+#include "deform/posing/single_term_batches.h"
 #include "deform/simd/float_lanes.h"
 
 namespace sweepd::deform {
@@ -15,6 +16,7 @@ namespace sweepd::deform {
 namespace {
 
 constexpr int kTermKinds = kSweepsPerVertex + 1;  // 0 to kSweepsPerVertex terms
+static_assert(SweepVertexKinds::kItemGranule == SingleTermBatches::kLanes);
 
 struct ItemData {
   const std::uint32_t* vertex;
@@ -184,6 +186,13 @@ SweepVertexKinds::SweepVertexKinds(
                                   std::to_string(term_count) + " sweep terms");
     by_kind[influences_of(v) * kTermKinds + term_count].push_back(static_cast<std::uint32_t>(v));
   }
+  // One term, no skinned share: batches.
+  std::vector<std::uint32_t>& single = by_kind[0 * kTermKinds + 1];
+  std::vector<SweepTerm> single_terms;
+  for (const std::uint32_t v : single) single_terms.push_back(terms[first_term[v]]);
+  single_term_ = std::make_shared<const SingleTermBatches>(single, single_terms, instructions);
+  single_term_items_ = single_term_->item_count();
+  single.clear();
   for (std::size_t k = 0; k < by_kind.size(); ++k) {
     if (by_kind[k].empty()) continue;
     kinds_.push_back({static_cast<int>(k) / kTermKinds, static_cast<int>(k) % kTermKinds,
@@ -206,6 +215,9 @@ SweepVertexKinds::SweepVertexKinds(
 void SweepVertexKinds::evaluate(std::span<const SweepSample> table,
                                 std::span<const glm::mat4> skinning, std::span<glm::vec3> positions,
                                 std::size_t begin, std::size_t end) const {
+  single_term_->evaluate(table, positions, begin, std::min(end, single_term_items_));
+  begin = std::max(begin, single_term_items_) - single_term_items_;
+  end = std::max(end, single_term_items_) - single_term_items_;
   const KindLoops& loops = loops_for(instructions_);
   for (const Kind& kind : kinds_) {
     const std::size_t from = std::max(begin, kind.begin), to = std::min(end, kind.end);

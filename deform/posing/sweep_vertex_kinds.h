@@ -13,15 +13,19 @@
 //                  g1 = w f.
 // The loops run on SSE2 (any x86-64, or the generic vector code elsewhere) or, where the CPU
 // has them, AVX2 with FMA (8 lanes, fused multiply-adds: the results differ by rounding).
+// The vertices with one sweep term and no skinned share come first, eight at a time
+// (SingleTermBatches, single_term_batches.h: items padded to whole batches), then the other kinds.
 // evaluate() computes items [begin, end) from the per-frame table (SweepSample rows) and the
-// skinning matrices; each vertex is computed by the same code whatever the range, so results do
-// not depend on how the items are split between threads.
+// skinning matrices; begin is a multiple of kItemGranule (a batch is never split); each vertex
+// is computed by the same code whatever the range, so results do not depend on how the items
+// are split between threads.
 #pragma once
 
 #include <array>
 #include <cstddef>
 #include <cstdint>
 #include <glm/glm.hpp>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -57,8 +61,12 @@ enum class VertexLoopInstructions { kBaseline, kAvx2Fma };
 // kAvx2Fma on an x86-64 CPU that has AVX2 and FMA, else kBaseline.
 VertexLoopInstructions widest_vertex_loop_instructions();
 
+class SingleTermBatches;
+
 class SweepVertexKinds {
  public:
+  static constexpr std::size_t kItemGranule = 8;  // SingleTermBatches::kLanes
+
   // skin_share: per vertex, the share that follows LBS; terms of vertex v:
   // terms[first_term[v], first_term[v + 1]), at most kSweepsPerVertex. Throws for more terms,
   // mismatched sizes, or kAvx2Fma on a CPU without them.
@@ -74,7 +82,7 @@ class SweepVertexKinds {
                    std::span<const SweepTerm> terms,
                    VertexLoopInstructions instructions = widest_vertex_loop_instructions());
 
-  std::size_t item_count() const { return vertex_.size(); }
+  std::size_t item_count() const { return single_term_items_ + vertex_.size(); }
 
   // Writes positions[vertex[i]] for the items i in [begin, end).
   void evaluate(std::span<const SweepSample> table, std::span<const glm::mat4> skinning,
@@ -88,7 +96,9 @@ class SweepVertexKinds {
   };
 
   VertexLoopInstructions instructions_;
-  std::vector<Kind> kinds_;
+  std::shared_ptr<const SingleTermBatches> single_term_;  // items [0, single_term_items_)
+  std::size_t single_term_items_ = 0;
+  std::vector<Kind> kinds_;  // items from single_term_items_ on
   std::vector<std::uint32_t> vertex_;   // per item
   std::vector<glm::vec4> scaled_rest_;  // per influence: s w_j (p, 1)
   std::vector<std::uint32_t> joint_;    // per influence

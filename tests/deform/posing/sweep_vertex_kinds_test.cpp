@@ -11,26 +11,10 @@
 #include <vector>
 
 #include "deform/binding/bound_model.h"
+#include "tests/deform/posing/hand_made_table.h"
 
 namespace sweepd::deform {
 namespace {
-
-// Two rows of one sweep: frames turned by 0.1 rad about z from each other, a and b growing.
-std::vector<SweepSample> two_row_table() {
-  std::vector<SweepSample> table(2);
-  for (int r = 0; r < 2; ++r) {
-    const glm::mat3 frame = glm::mat3(glm::rotate(glm::mat4(1.0f), 0.1f * r, glm::vec3(0, 0, 1)));
-    table[r].centre = glm::vec3(0.1f, 1.0f + 0.2f * r, -0.3f);
-    table[r].x_axis = frame[0];
-    table[r].y_axis = frame[1];
-    table[r].normal = frame[2];
-    table[r].a = 0.05f + 0.01f * r;
-    table[r].b = 0.04f + 0.02f * r;
-  }
-  table[0].a_step = table[1].a - table[0].a;
-  table[0].b_step = table[1].b - table[0].b;
-  return table;
-}
 
 SweepTerm make_term(float fraction, float weight, float theta, float da, float db, float c) {
   SweepTerm term{};
@@ -68,7 +52,7 @@ Model three_vertices() {
 
 TEST(SweepVertexKinds, EvaluatesTermsAndSkinnedSharesAsWrittenOut) {
   const Model model = three_vertices();
-  const std::vector<SweepSample> table = two_row_table();
+  const std::vector<SweepSample> table = test::hand_made_table(2);
   const std::vector<glm::mat4> skinning = {
       glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.1f, 0.0f)),
       glm::rotate(glm::mat4(1.0f), 0.4f, glm::vec3(1, 0, 0))};
@@ -87,9 +71,11 @@ TEST(SweepVertexKinds, EvaluatesTermsAndSkinnedSharesAsWrittenOut) {
     sets.push_back(widest_vertex_loop_instructions());
   for (const VertexLoopInstructions set : sets) {
     const SweepVertexKinds kinds(model, skin_share, first_term, terms, set);
-    ASSERT_EQ(kinds.item_count(), 3u);
+    // Vertex 0 fills a batch of single-term items (its copies in the unused lanes), then one
+    // item each.
+    ASSERT_EQ(kinds.item_count(), SweepVertexKinds::kItemGranule + 2);
     std::vector<glm::vec3> positions(3, glm::vec3(9.0f));
-    kinds.evaluate(table, skinning, positions, 0, 3);
+    kinds.evaluate(table, skinning, positions, 0, kinds.item_count());
     for (int v = 0; v < 3; ++v)  // float rounding of values near 1: a few 1e-7
       EXPECT_LE(glm::length(positions[v] - expected[v]), 1e-6f)
           << "vertex " << v << ", instruction set " << static_cast<int>(set);
