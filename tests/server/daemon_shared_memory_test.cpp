@@ -278,6 +278,16 @@ bool send_shared_pose(FrameClient& client, std::uint32_t model_id,
   return send_pose(client, fields);
 }
 
+// A pose on `client` answered in its reply with `expected`'s bits.
+void expect_reply_bits(FrameClient& client, std::uint32_t model_id,
+                       const std::vector<pb::Quat>& rotations, std::uint64_t sequence,
+                       const std::vector<float>& expected) {
+  ASSERT_TRUE(send_shared_pose(client, model_id, rotations, sequence, std::nullopt));
+  const pb::PosedVertices* reply = client.receive_as<pb::PosedVertices>();
+  ASSERT_NE(reply, nullptr);
+  EXPECT_TRUE(same_bits(copy_floats(reply->positions_f32()), expected)) << "pose " << sequence;
+}
+
 TEST(DaemonSharedMemory, HostileClientsOfTheRegionLeaveTheDaemonAndAnHonestClientAsTheyWere) {
   const ScratchDirectory directory("shared_memory_hostile");
   const fs::path socket = directory / "sweepd.sock";
@@ -316,10 +326,7 @@ TEST(DaemonSharedMemory, HostileClientsOfTheRegionLeaveTheDaemonAndAnHonestClien
                                            "4096 bytes"),
               std::string::npos)
         << error->message()->str();
-    ASSERT_TRUE(send_shared_pose(small, id, rotations, 3, std::nullopt));
-    const pb::PosedVertices* reply = small.receive_as<pb::PosedVertices>();
-    ASSERT_NE(reply, nullptr);
-    EXPECT_TRUE(same_bits(copy_floats(reply->positions_f32()), expected));
+    expect_reply_bits(small, id, rotations, 3, expected);
   }
 
   // 2. A client that unmaps its mapping and closes its descriptor, then poses into the region:
@@ -381,10 +388,7 @@ TEST(DaemonSharedMemory, HostileClientsOfTheRegionLeaveTheDaemonAndAnHonestClien
             send_shared_pose(*vanishing.back(), id, rotations, 100 + p, (p % 16) * reply_bytes));
     }
   }
-  ASSERT_TRUE(send_shared_pose(honest, id, rotations, 30, std::nullopt));
-  const pb::PosedVertices* after = honest.receive_as<pb::PosedVertices>();
-  ASSERT_NE(after, nullptr);
-  EXPECT_TRUE(same_bits(copy_floats(after->positions_f32()), expected));
+  expect_reply_bits(honest, id, rotations, 30, expected);
 
   // Every region given back: within 5 s a new client maps the whole budget but what the honest
   // connection holds (its read buffer: less than 1 MiB), and the daemon holds no descriptor more
