@@ -9,7 +9,7 @@
 // address(), port(); http_port(): the side port when extra_args hold --http-port-file
 //   directory/http_port (0 otherwise); binding(): the store's first .sweepbind (the default
 //   mannequin); cpu_ms(): its CPU time so far (user + system); resident_mib(): its VmRSS;
-//   pid(): its process id.
+//   peak_resident_mib(): its VmHWM (the most it has been resident); pid(): its process id.
 #pragma once
 
 #include <sys/types.h>
@@ -35,6 +35,7 @@ class BenchDaemon {
   std::filesystem::path binding() const;
   double cpu_ms() const;
   double resident_mib() const;
+  double peak_resident_mib() const;
 
  private:
   std::filesystem::path directory_;

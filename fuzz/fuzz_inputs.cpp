@@ -36,6 +36,7 @@
 #include "server/services/position_map_service.h"
 #include "server/services/vmc/osc_packet.h"
 #include "server/services/vmc/vmc_stream.h"
+#include "server/transport/websocket_session.h"
 
 namespace sweepd::fuzz {
 namespace {
@@ -181,30 +182,75 @@ void decode_message(const protocol::Message& message, server::ClipStore& clips) 
   }
 }
 
+// One connection's frames as the daemon reads them (a shared BufferBudget, its own clip store),
+// every whole frame decoded, whatever happened to the ones before.
+class ConnectionFrames {
+ public:
+  void read(std::span<const std::uint8_t> input) {
+    for (protocol::FrameEvent event = reader_.read(input);
+         event.status != protocol::FrameStatus::kPending; event = reader_.read(input)) {
+      const bool decoded = event.status == protocol::FrameStatus::kFrame &&
+                           accepted([&] { decode_message(*event.message, clips_); });
+      whole_ = whole_ && decoded;
+      ++frames_;
+    }
+  }
+  // Every frame so far whole and decoded, and none begun and not ended.
+  bool whole() const { return whole_ && !reader_.mid_frame(); }
+  std::size_t frames() const { return frames_; }
+
+ private:
+  protocol::BufferBudget budget_{1 << 20};
+  protocol::FrameReader reader_{256 * 1024, &budget_};
+  server::ClipStore clips_{2, server::ServerConfig{}.max_clip_bytes};
+  bool whole_ = true;
+  std::size_t frames_ = 0;
+};
+
+// The first byte of `bytes` sets how the rest is cut into reads (1 to 256 bytes at a time); each
+// piece goes to `read`, which returns false to stop reading.
+template <typename Read>
+void in_pieces(std::span<const std::uint8_t> bytes, Read&& read) {
+  const std::size_t piece = static_cast<std::size_t>(bytes[0]) + 1;
+  bytes = bytes.subspan(1);
+  for (std::size_t at = 0; at < bytes.size(); at += piece)
+    if (!read(bytes.subspan(at, std::min(piece, bytes.size() - at)))) return;
+}
+
 }  // namespace
 
 void prepare() { model(); }
 
 bool fuzz_frames(std::span<const std::uint8_t> bytes) {
   if (bytes.empty()) return false;
-  // The first byte sets how the stream is cut into reads: 1 to 256 bytes at a time.
-  const std::size_t piece = static_cast<std::size_t>(bytes[0]) + 1;
-  bytes = bytes.subspan(1);
-  protocol::BufferBudget budget(1 << 20);
-  protocol::FrameReader reader(256 * 1024, &budget);
-  server::ClipStore clips(2, server::ServerConfig{}.max_clip_bytes);
-  bool whole = true;  // every frame whole and decoded
-  for (std::size_t at = 0; at < bytes.size(); at += piece) {
-    std::span<const std::uint8_t> input = bytes.subspan(at, std::min(piece, bytes.size() - at));
-    for (protocol::FrameEvent event = reader.read(input);
-         event.status != protocol::FrameStatus::kPending; event = reader.read(input)) {
-      // Every frame is decoded, whatever happened to the ones before.
-      const bool decoded = event.status == protocol::FrameStatus::kFrame &&
-                           accepted([&] { decode_message(*event.message, clips); });
-      whole = whole && decoded;
-    }
-  }
-  return whole && !reader.mid_frame();
+  ConnectionFrames frames;
+  in_pieces(bytes, [&](std::span<const std::uint8_t> input) {
+    frames.read(input);
+    return true;
+  });
+  return frames.whole();
+}
+
+bool fuzz_websocket(std::span<const std::uint8_t> bytes) {
+  if (bytes.empty()) return false;
+  // As --ws-listen takes a connection: a server session (an allowed Origin, as with
+  // --ws-allowed-origin; a message of at most 256 KiB, the frame limit fuzz_frames reads with).
+  server::WebSocketSession session(server::WebSocketSession::Role::kServer,
+                                   {"https://viewer.example"},
+                                   256 * 1024 + protocol::kLengthPrefixBytes);
+  ConnectionFrames frames;
+  in_pieces(bytes, [&](std::span<const std::uint8_t> input) {
+    session.receive(input.data(), input.size());
+    session.outgoing().clear();  // what the daemon would write back: the handshake, pongs
+    std::vector<std::uint8_t>& payload = session.payload();
+    frames.read(payload);
+    payload.clear();
+    // The daemon reads no more of a session that has ended.
+    return session.state() != server::WebSocketSession::State::kEnded;
+  });
+  // Accepted: the session open, and frames carried in it, every one whole and decoded.
+  return session.state() == server::WebSocketSession::State::kOpen && !session.mid_message() &&
+         frames.frames() > 0 && frames.whole();
 }
 
 bool fuzz_gltf(std::span<const std::uint8_t> bytes) {

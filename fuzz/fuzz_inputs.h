@@ -3,6 +3,10 @@
 //                        says), every whole frame decoded as the daemon would: a Pose validated
 //                        and deformed, LoadModel and EditKeyEllipse read (the edit applied to a
 //                        copy of the model), PositionMapRequest checked
+//   fuzz_websocket       the same frames as the bytes of a --ws-listen connection: the HTTP
+//                        upgrade and RFC 6455 frames read by a server WebSocketSession
+//                        (websocketpp; split where the first byte says), the binary messages'
+//                        payload read and decoded as fuzz_frames decodes the stream
 //   fuzz_gltf            io::load_gltf, as an upload (self-contained: no file but itself)
 //   fuzz_fbx             io::load_assimp over the bytes (FBX or COLLADA; assimp may open no
 //                        other file)
@@ -34,6 +38,7 @@ namespace sweepd::fuzz {
 void prepare();
 
 bool fuzz_frames(std::span<const std::uint8_t> bytes);
+bool fuzz_websocket(std::span<const std::uint8_t> bytes);
 bool fuzz_gltf(std::span<const std::uint8_t> bytes);
 bool fuzz_fbx(std::span<const std::uint8_t> bytes);
 bool fuzz_bvh(std::span<const std::uint8_t> bytes);

@@ -13,7 +13,7 @@ cd "$(dirname "$0")/.."
 seconds=${1:-60}
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(frames gltf fbx bvh sweepbind json vmc http)
+[ ${#targets[@]} -gt 0 ] || targets=(frames websocket gltf fbx bvh sweepbind json vmc http)
 build=build/fuzz
 cmake --preset fuzz >/dev/null
 cmake --build "$build" -j "$(nproc)" --target make_seeds "${targets[@]/%/_fuzzer}" >/dev/null

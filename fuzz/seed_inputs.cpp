@@ -124,6 +124,40 @@ Input session(const deform::BoundModel& bound, const Input& glb, const std::stri
   return stream;
 }
 
+// A frames seed (fuzz_frames' input) as a --ws-listen client sends it: its upgrade request (a
+// browser's, with an allowed Origin), then each frame as one binary message, masked as a client
+// must with the key 0 (so the bytes stay readable and the seed the same on every run), cut into
+// reads of `piece` bytes.
+Input websocket_session(const Input& frames, std::uint8_t piece) {
+  const std::string upgrade =
+      "GET / HTTP/1.1\r\nHost: 127.0.0.1:7879\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+      "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n"
+      "Origin: https://viewer.example\r\n\r\n";
+  Input stream(1, piece);
+  append(stream, as_input(upgrade));
+  for (std::size_t at = 1; at + 4 <= frames.size();) {
+    const std::size_t length = 4 + (frames[at] | frames[at + 1] << 8 | frames[at + 2] << 16 |
+                                    static_cast<std::size_t>(frames[at + 3]) << 24);
+    stream.push_back(0x82);  // FIN, binary
+    // RFC 6455 5.2: the mask bit, then the length in 7 bits, or 126 and 16 bits, or 127 and 64.
+    if (length < 126) {
+      stream.push_back(static_cast<std::uint8_t>(0x80 | length));
+    } else if (length <= 0xffff) {
+      stream.insert(stream.end(), {0x80 | 126, static_cast<std::uint8_t>(length >> 8),
+                                   static_cast<std::uint8_t>(length)});
+    } else {
+      stream.push_back(0x80 | 127);
+      for (int shift = 56; shift >= 0; shift -= 8)
+        stream.push_back(static_cast<std::uint8_t>(length >> shift));
+    }
+    stream.insert(stream.end(), 4, 0);  // the masking key
+    stream.insert(stream.end(), frames.begin() + static_cast<std::ptrdiff_t>(at),
+                  frames.begin() + static_cast<std::ptrdiff_t>(at + length));
+    at += length;
+  }
+  return stream;
+}
+
 // A skeleton (the mannequin's, or a short chain) as a BVH clip of two frames (rest, then every
 // joint turned a little).
 std::string bvh_of(const deform::Skeleton& skeleton) {
@@ -200,6 +234,8 @@ std::map<std::string, std::vector<Input>> seed_inputs() {
   std::map<std::string, std::vector<Input>> seeds;
   const std::string bvh = bvh_of(model.skeleton);
   seeds["frames"] = {session(bound, glb, bvh, 255), session(bound, glb, bvh, 0)};
+  seeds["websocket"] = {websocket_session(seeds["frames"][0], 255),
+                        websocket_session(seeds["frames"][0], 0)};
   seeds["gltf"] = {glb};
   // The smallest mannequin as ASCII FBX (about 0.3 MB; made here, never committed).
   io::save_gltf(mannequin::make_mannequin({.target_vertices = mannequin::kMannequinMinVertices}),

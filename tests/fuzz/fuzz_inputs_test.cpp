@@ -22,7 +22,7 @@ namespace fs = std::filesystem;
 const std::map<std::string, std::function<bool(std::span<const std::uint8_t>)>> kTargets = {
     {"frames", fuzz_frames}, {"gltf", fuzz_gltf},           {"fbx", fuzz_fbx},
     {"bvh", fuzz_bvh},       {"sweepbind", fuzz_sweepbind}, {"json", fuzz_json},
-    {"vmc", fuzz_vmc},       {"http", fuzz_http}};
+    {"vmc", fuzz_vmc},       {"http", fuzz_http},           {"websocket", fuzz_websocket}};
 
 const std::map<std::string, std::vector<Input>>& seeds() {
   static const auto all = seed_inputs();
@@ -40,9 +40,10 @@ TEST(FuzzInputs, EverySeedIsAnInputItsParserAccepts) {
 }
 
 TEST(FuzzInputs, DamagedInputsAreRefusedNotAccepted) {
-  // The same entry points say no: a truncated .glb, FBX, .sweepbind, frame stream, VMC datagram
-  // and request head.
-  for (const std::string target : {"frames", "gltf", "fbx", "sweepbind", "vmc", "http"}) {
+  // The same entry points say no: a truncated .glb, FBX, .sweepbind, frame stream, VMC datagram,
+  // request head and WebSocket session.
+  for (const std::string target :
+       {"frames", "gltf", "fbx", "sweepbind", "vmc", "http", "websocket"}) {
     Input cut = seeds().at(target).front();
     cut.resize(cut.size() / 2);
     EXPECT_FALSE(kTargets.at(target)(cut)) << target;

@@ -2,9 +2,11 @@
 // before Hello, 16 that trickle a large frame, 16 that never read their replies, 16 that send
 // garbage after Hello — next to 4 honest clients streaming poses. Every honest pose is answered
 // with the library's own vertices, the daemon's peak memory stays within a stated bound, and
-// every hostile connection is closed with its reason logged. Then: an idle connection is
-// closed, and a frame past the shared buffer budget gets ResourceExhausted while the session
-// goes on.
+// every hostile connection is closed with its reason logged. That runs on TCP and on the Unix
+// socket (issue 49 item 5: the other doors; WebSocket's own version, whose oversized messages
+// end with a close code, is daemon_websocket_test.cpp's SilentTricklingIdleAndNonReading...).
+// Then: an idle connection is closed, and a frame past the shared buffer budget gets
+// ResourceExhausted while the session goes on.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -50,18 +52,49 @@ std::size_t status_kib(pid_t pid, const std::string& field) {
   return 0;
 }
 
-TEST(DaemonHostileClients, HonestClientsAreServedWhileSixtyFourHostileOnesAreCutOff) {
+enum class Transport { kTcp, kUnix };
+
+class HostileClients : public ::testing::TestWithParam<Transport> {
+ protected:
+  // A client of the transport under test. receive_buffer_bytes > 0: TCP's SO_RCVBUF (a Unix
+  // socket has none of its own: what its peer has not read counts against the daemon's send
+  // buffer, so a non-reader stalls the daemon's writes all the same).
+  std::unique_ptr<FrameClient> connect(const DaemonProcess& daemon, int receive_buffer_bytes = 0) {
+    if (GetParam() == Transport::kUnix) return std::make_unique<FrameClient>(socket_);
+    return std::make_unique<FrameClient>(daemon.port(), receive_buffer_bytes);
+  }
+
+  fs::path socket_;
+};
+
+TEST_P(HostileClients, HonestClientsAreServedWhileSixtyFourHostileOnesAreCutOff) {
   const fs::path directory = fresh_directory("hostile");
+  socket_ = directory / "sweepd.sock";
   DaemonProcess daemon(
       // The default 20k model: its replies are large enough to fill a non-reader's socket.
       // Strangers' quotas past the 16 oversized peers, which connect faster than their
       // prefixes are read: this test counts each attack's own cut (daemon_strangers_test.cpp
       // sheds strangers).
-      directory, {"--mannequin-vertices", "20000", "--position-maps", "0", "--max-connections",
-                  "80", "--max-strangers-per-address", "80", "--hello-timeout-ms",
-                  std::to_string(kTimeoutMs), "--frame-timeout-ms",
-                  std::to_string(kTimeoutMs), "--send-timeout-ms", std::to_string(kTimeoutMs),
-                  "--idle-timeout-ms", "0", "--max-buffered-bytes", std::to_string(64 << 20)});
+      directory, {"--mannequin-vertices",
+                  "20000",
+                  "--position-maps",
+                  "0",
+                  "--max-connections",
+                  "80",
+                  "--max-strangers-per-address",
+                  "80",
+                  "--hello-timeout-ms",
+                  std::to_string(kTimeoutMs),
+                  "--frame-timeout-ms",
+                  std::to_string(kTimeoutMs),
+                  "--send-timeout-ms",
+                  std::to_string(kTimeoutMs),
+                  "--idle-timeout-ms",
+                  "0",
+                  "--max-buffered-bytes",
+                  std::to_string(64 << 20),
+                  "--unix-socket",
+                  socket_.string()});
   ASSERT_TRUE(daemon.running()) << daemon.log();
   const deform::BoundModel mannequin =
       io::load_sweepbind(stored_binding(directory / "store", "mannequin"));
@@ -69,23 +102,23 @@ TEST(DaemonHostileClients, HonestClientsAreServedWhileSixtyFourHostileOnesAreCut
   const std::vector<protocol::Quat> wire = to_wire(rotations);
   const Deformed expected = library_deformation(mannequin, rotations, deform::DeformMethod::kSweep);
   {
-    FrameClient warm(daemon.port());
-    ASSERT_NE(warm.hello(""), nullptr);
-    ASSERT_TRUE(send_pose(warm, pose_fields(daemon.model_id(), 1, wire)));
-    ASSERT_NE(warm.receive_as<protocol::PosedVertices>(), nullptr);
+    const std::unique_ptr<FrameClient> warm = connect(daemon);
+    ASSERT_NE(warm->hello(""), nullptr);
+    ASSERT_TRUE(send_pose(*warm, pose_fields(daemon.model_id(), 1, wire)));
+    ASSERT_NE(warm->receive_as<protocol::PosedVertices>(), nullptr);
   }
   const std::size_t rss_before_kib = status_kib(daemon.pid(), "VmRSS:");
 
   // Hostile 1: a 1 MiB length prefix before Hello (the limit there is 64 KiB).
   std::vector<std::unique_ptr<FrameClient>> oversized, tricklers, non_readers, garbage;
   for (int i = 0; i < kHostileEach; ++i) {
-    oversized.push_back(std::make_unique<FrameClient>(daemon.port()));
+    oversized.push_back(connect(daemon));
     ASSERT_TRUE(oversized.back()->send_bytes(length_prefix(1u << 20)));
   }
   // Hostile 2: Hello, then a 16 MiB frame trickled a byte at a time (the old reader reserved
   // the whole declared frame at its prefix: 16 × 16 MiB).
   for (int i = 0; i < kHostileEach; ++i) {
-    tricklers.push_back(std::make_unique<FrameClient>(daemon.port()));
+    tricklers.push_back(connect(daemon));
     ASSERT_NE(tricklers.back()->hello(""), nullptr);
     ASSERT_TRUE(tricklers.back()->send_bytes(length_prefix(16u << 20)));
   }
@@ -100,7 +133,7 @@ TEST(DaemonHostileClients, HonestClientsAreServedWhileSixtyFourHostileOnesAreCut
   // Hostile 3: Hello, 40 poses (about 10 MB of replies), and never a byte read (a 4 KiB receive
   // buffer): the server's writes stall.
   for (int i = 0; i < kHostileEach; ++i) {
-    non_readers.push_back(std::make_unique<FrameClient>(daemon.port(), 4096));
+    non_readers.push_back(connect(daemon, 4096));
     ASSERT_NE(non_readers.back()->hello(""), nullptr);
     for (int p = 0; p < 40; ++p)
       ASSERT_TRUE(send_pose(*non_readers.back(), pose_fields(daemon.model_id(), p, wire)));
@@ -108,7 +141,7 @@ TEST(DaemonHostileClients, HonestClientsAreServedWhileSixtyFourHostileOnesAreCut
   // Hostile 4: Hello, then 20 frames of garbage (16 bad frames close a connection).
   const std::vector<std::uint8_t> junk = garbage_frame();
   for (int i = 0; i < kHostileEach; ++i) {
-    garbage.push_back(std::make_unique<FrameClient>(daemon.port()));
+    garbage.push_back(connect(daemon));
     ASSERT_NE(garbage.back()->hello(""), nullptr);
     for (int f = 0; f < 20; ++f) garbage.back()->send_bytes(junk);
   }
@@ -118,7 +151,8 @@ TEST(DaemonHostileClients, HonestClientsAreServedWhileSixtyFourHostileOnesAreCut
   std::vector<std::thread> honest;
   for (int c = 0; c < kHonestClients; ++c) {
     honest.emplace_back([&, c] {
-      FrameClient client(daemon.port());
+      const std::unique_ptr<FrameClient> connection = connect(daemon);
+      FrameClient& client = *connection;
       if (client.hello("") == nullptr) return;
       for (int p = 0; p < kHonestPoses; ++p) {
         if (!send_pose(client, pose_fields(daemon.model_id(), 100 * c + p, wire))) return;
@@ -173,6 +207,12 @@ TEST(DaemonHostileClients, HonestClientsAreServedWhileSixtyFourHostileOnesAreCut
               peak_kib);
   fs::remove_all(directory);
 }
+
+INSTANTIATE_TEST_SUITE_P(Transports, HostileClients,
+                         ::testing::Values(Transport::kTcp, Transport::kUnix),
+                         [](const ::testing::TestParamInfo<Transport>& info) {
+                           return info.param == Transport::kTcp ? "Tcp" : "Unix";
+                         });
 
 TEST(DaemonHostileClients, AnIdleConnectionIsClosedAndABusyOneIsNot) {
   const fs::path directory = fresh_directory("idle");
