@@ -429,6 +429,11 @@ Flags (each also a key of the JSON config file, with '_' for '-'):
                             (default 268435456)
   --max-buffered-bytes N    frames and replies all connections may buffer together; a frame
                             past it is refused with ResourceExhausted (default 1073741824)
+  --work-budget-bytes N     working memory (render targets, read-back, encoding, sheets,
+                            decoded clips) all requests may hold together; a request that
+                            does not fit now is refused with ResourceExhausted (default 2147483648)
+  --work-budget-client-bytes N
+                            the same for one client's requests (default 1073741824)
   --max-frame-errors N      close a connection after N bad frames (default 16)
   --max-model-vertices N    largest model accepted for loading (default 2000000)
   --worker-threads N        deformation workers; 0 = one per core (default 0)
