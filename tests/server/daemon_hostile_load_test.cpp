@@ -21,7 +21,7 @@ namespace {
 constexpr std::size_t kMannequinJoints = 31;  // mannequin/mannequin.h
 constexpr int kPoses = 24;                    // per honest client
 constexpr int kHostileEach = 8;               // per kind and door
-const std::string kToken = "honest-token";
+const std::string kHonestToken = "honest-token";
 
 enum class Door { kTcp, kUnix, kWebSocket };
 constexpr Door kDoors[] = {Door::kTcp, Door::kUnix, Door::kWebSocket};
@@ -38,14 +38,15 @@ class HostileLoad : public ::testing::Test {
   void SetUp() override {
     if (!have_program("curl")) GTEST_SKIP() << "curl is not installed (deploy/install_deps.sh)";
     daemon_ = std::make_unique<DaemonProcess>(
-        directory_, with(DaemonProcess::websocket_flags(directory_),
-                         {"--token", kToken, "--unix-socket", socket_.string(), "--http-listen",
-                          "127.0.0.1:0", "--http-port-file", (directory_ / "http_port").string(),
-                          "--mannequin-vertices", "4000", "--position-maps", "0",
-                          // Room for the authenticated attackers (4 kinds × 8 × 3 doors) and
-                          // the honest clients: 0 honest refusals is asked below the limit.
-                          "--max-connections", "128", "--hello-timeout-ms", "1500",
-                          "--frame-timeout-ms", "1500", "--send-timeout-ms", "1500"}));
+        directory_,
+        with(DaemonProcess::websocket_flags(directory_),
+             {"--token", kHonestToken, "--unix-socket", socket_.string(), "--http-listen",
+              "127.0.0.1:0", "--http-port-file", (directory_ / "http_port").string(),
+              "--mannequin-vertices", "4000", "--position-maps", "0",
+              // Room for the authenticated attackers (4 kinds × 8 × 3 doors) and
+              // the honest clients: 0 honest refusals is asked below the limit.
+              "--max-connections", "128", "--hello-timeout-ms", "1500", "--frame-timeout-ms",
+              "1500", "--send-timeout-ms", "1500"}));
     ASSERT_TRUE(daemon_->running()) << daemon_->log();
     http_port_ = std::stoi(read_text(directory_ / "http_port"));
   }
@@ -69,7 +70,7 @@ class HostileLoad : public ::testing::Test {
     const protocol::Message* welcome = nullptr;
     {
       flatbuffers::FlatBufferBuilder builder;
-      client->send_bytes(protocol::build_hello(builder, kToken, "honest"));
+      client->send_bytes(protocol::build_hello(builder, kHonestToken, "honest"));
       welcome = client->receive();
     }
     if (welcome == nullptr || welcome->body_as_Welcome() == nullptr) {
@@ -134,7 +135,7 @@ TEST_F(HostileLoad, HonestClientsOnEveryDoorGetTheSameBitsBesideEveryAttackAndNo
                                   .unix_socket = socket_,
                                   .websocket_port = daemon_->websocket_port(),
                                   .http_port = http_port_},
-                                 kToken, pose_frame, kHostileEach);
+                                 kHonestToken, pose_frame, kHostileEach);
     std::atomic<bool> streaming = true;
     std::thread prober([&] {
       while (streaming) {
