@@ -1,7 +1,10 @@
 // A hand-made per-frame sample table for the vertex-loop tests: `rows` rows of one sweep, frames
-// turned by 0.1 rad about z from row to row, the centre rising, a and b growing, the steps set.
+// turned by 0.1 rad about z from row to row, the centre rising, a and b growing, the steps set;
+// and a sweep term on it, written out from its parameters.
 #pragma once
 
+#include <cmath>
+#include <cstdint>
 #include <glm/gtc/matrix_transform.hpp>
 #include <vector>
 
@@ -25,6 +28,23 @@ inline std::vector<SweepSample> hand_made_table(int rows) {
     table[r].b_step = table[r + 1].b - table[r].b;
   }
   return table;
+}
+
+// A term between `row` and the next at `fraction`, of weight `weight`, at angle `theta` on the
+// ellipse, its axes changed by da and db, offset c along the normal.
+inline SweepTerm make_term(std::uint32_t row, float fraction, float weight, float theta, float da,
+                           float db, float c) {
+  SweepTerm term{};
+  term.row = row;
+  term.fraction = fraction;
+  term.weight_below = weight * (1.0f - fraction);
+  term.weight_above = weight * fraction;
+  term.cos_theta = std::cos(theta);
+  term.sin_theta = std::sin(theta);
+  term.x_shift = da * term.cos_theta;
+  term.y_shift = db * term.sin_theta;
+  term.c = c;
+  return term;
 }
 
 }  // namespace sweepd::deform::test

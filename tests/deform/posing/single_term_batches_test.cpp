@@ -24,16 +24,7 @@ TEST(SingleTermBatches, SortsPadsAndEvaluatesEveryVertexAsWrittenOut) {
     const float fraction = 0.05f * static_cast<float>(v), weight = 1.0f - 0.01f * v;
     const float theta = 0.33f * static_cast<float>(v), da = 0.001f * v, db = -0.002f * v;
     const float c = 0.0005f * static_cast<float>(v % 5);
-    SweepTerm term{};
-    term.row = row;
-    term.fraction = fraction;
-    term.weight_below = weight * (1.0f - fraction);
-    term.weight_above = weight * fraction;
-    term.cos_theta = std::cos(theta);
-    term.sin_theta = std::sin(theta);
-    term.x_shift = da * term.cos_theta;
-    term.y_shift = db * term.sin_theta;
-    term.c = c;
+    const SweepTerm term = test::make_term(row, fraction, weight, theta, da, db, c);
     vertices.push_back(v);
     terms.push_back(term);
     const float a = glm::mix(table[row].a, table[row + 1].a, fraction) + da;

@@ -16,20 +16,6 @@
 namespace sweepd::deform {
 namespace {
 
-SweepTerm make_term(float fraction, float weight, float theta, float da, float db, float c) {
-  SweepTerm term{};
-  term.row = 0;
-  term.fraction = fraction;
-  term.weight_below = weight * (1.0f - fraction);
-  term.weight_above = weight * fraction;
-  term.cos_theta = std::cos(theta);
-  term.sin_theta = std::sin(theta);
-  term.x_shift = da * term.cos_theta;
-  term.y_shift = db * term.sin_theta;
-  term.c = c;
-  return term;
-}
-
 // The term written out: each row's point at the interpolated half-axes, then the rows blended.
 glm::vec3 expected_term(const std::vector<SweepSample>& table, float fraction, float weight,
                         float theta, float da, float db, float c) {
@@ -59,8 +45,9 @@ TEST(SweepVertexKinds, EvaluatesTermsAndSkinnedSharesAsWrittenOut) {
   // Vertex 0: one term only; vertex 1: half skinned, half the term; vertex 2: nothing.
   const std::vector<float> skin_share = {0.0f, 0.5f, 0.0f};
   const std::vector<std::uint32_t> first_term = {0, 1, 2, 2};
-  const std::vector<SweepTerm> terms = {make_term(0.25f, 1.0f, 0.7f, 0.01f, -0.02f, 0.003f),
-                                        make_term(0.6f, 0.5f, 2.5f, 0.0f, 0.01f, -0.002f)};
+  const std::vector<SweepTerm> terms = {
+      test::make_term(0, 0.25f, 1.0f, 0.7f, 0.01f, -0.02f, 0.003f),
+      test::make_term(0, 0.6f, 0.5f, 2.5f, 0.0f, 0.01f, -0.002f)};
   const glm::vec3 lbs1 =
       glm::vec3((0.7f * skinning[0] + 0.3f * skinning[1]) * glm::vec4(model.positions[1], 1.0f));
   const glm::vec3 expected[3] = {
@@ -84,7 +71,7 @@ TEST(SweepVertexKinds, EvaluatesTermsAndSkinnedSharesAsWrittenOut) {
 
 TEST(SweepVertexKinds, RefusesMismatchedSizesAndTooManyTerms) {
   const Model model = three_vertices();
-  const std::vector<SweepTerm> terms(4, make_term(0.5f, 0.25f, 0.0f, 0.0f, 0.0f, 0.0f));
+  const std::vector<SweepTerm> terms(4, test::make_term(0, 0.5f, 0.25f, 0.0f, 0.0f, 0.0f, 0.0f));
   EXPECT_THROW(SweepVertexKinds(model, std::vector<float>(2), std::vector<std::uint32_t>(4), terms),
                std::invalid_argument);
   EXPECT_THROW(SweepVertexKinds(model, std::vector<float>(3), std::vector<std::uint32_t>(3), terms),
