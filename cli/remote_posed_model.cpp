@@ -332,15 +332,20 @@ sheet::SheetPicture RemotePosedModel::contact_sheet(const sheet::SheetOptions& o
   picture.width = static_cast<int>(reply.width());
   picture.height = static_cast<int>(reply.height());
   if (reply.png()) picture.png.assign(reply.png()->begin(), reply.png()->end());
-  if (reply.worst_stretch())
-    picture.worst_stretch.assign(reply.worst_stretch()->begin(), reply.worst_stretch()->end());
   picture.renderer = reply.renderer() ? reply.renderer()->str() : "";
   const std::size_t cells = options.frames.size() * options.methods.size();
-  if (picture.png.empty() || picture.worst_stretch.size() != cells)
+  // A server before protocol 1.16 sends no ratios, only |l / l_rest - 1|.
+  const auto* shortest = reply.shortest_edge_ratio();
+  const auto* longest = reply.longest_edge_ratio();
+  const std::size_t figures = shortest && longest ? std::min(shortest->size(), longest->size()) : 0;
+  if (picture.png.empty() || figures != cells)
     throw std::runtime_error("sweepd at " + connection_->address() + ": its contact sheet has " +
-                             std::to_string(picture.worst_stretch.size()) + " cell figures for " +
+                             std::to_string(figures) + " cells' edge length ratios for " +
                              std::to_string(cells) + " cells" +
-                             (picture.png.empty() ? " and no PNG" : ""));
+                             (picture.png.empty() ? " and no PNG" : "") +
+                             (figures == 0 ? " (a server before protocol 1.16 sends none)" : ""));
+  for (std::size_t i = 0; i < cells; ++i)
+    picture.edge_ratios.push_back({shortest->Get(i), longest->Get(i)});
   return picture;
 }
 

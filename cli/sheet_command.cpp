@@ -74,12 +74,16 @@ void print_picture(const SheetCommandOptions& options, const sheet::SheetPicture
   std::printf("wrote %s (%dx%d: %d frames x %zu methods, %s%s)\n", options.png.string().c_str(),
               picture.width, picture.height, rows, columns, picture.renderer.c_str(),
               where.c_str());
-  std::printf("largest edge length change |l/l_rest - 1|, %%:\n%8s", "frame");
+  std::printf("shortest and longest edge, length ratio l / l_rest:\n%8s", "frame");
   for (const deform::MethodChoice& m : grid.methods) std::printf(" %14s", m.name.c_str());
   for (int row = 0; row < rows; ++row) {
     std::printf("\n%8d", grid.frames[row]);
-    for (std::size_t m = 0; m < columns; ++m)
-      std::printf(" %14.1f", 100.0 * picture.worst_stretch[row * columns + m]);
+    for (std::size_t m = 0; m < columns; ++m) {
+      const sheet::EdgeRatios& cell = picture.edge_ratios[row * columns + m];
+      char range[32];
+      std::snprintf(range, sizeof range, "%.2f-%.2fx", cell.shortest, cell.longest);
+      std::printf(" %14s", range);
+    }
   }
   std::printf("\n");
 }

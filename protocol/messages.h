@@ -31,7 +31,7 @@ namespace sweepd::protocol {
 
 // Hello.version_major must equal the server's; minor versions only add (README.md).
 inline constexpr std::uint16_t kProtocolVersionMajor = 1;
-inline constexpr std::uint16_t kProtocolVersionMinor = 15;
+inline constexpr std::uint16_t kProtocolVersionMinor = 16;
 
 // Wraps `body` in a Message (with `request_id`) and finishes the builder as one frame.
 template <typename BodyTable>

@@ -156,8 +156,10 @@ void ContactSheet::render_cell(std::size_t frame_index, std::size_t method,
   // and DQS's skinned normals keep the rest pose's smooth shading over their creases, which made
   // the sheet compare a sweep's shape with the baselines' rest shading (issue 17).
   model_.runtime.welded_normals().compute(positions_, normals_, normal_sums_);
-  const double stretch = meter_.largest_edge_stretch(positions_);
-  worst_stretch_.push_back(stretch);
+  // Edge lengths as ratios l / l_rest, the shortest and the longest (issue 47: "stretch 297 %"
+  // read as within 3x when an edge was 3.97x its rest length).
+  const auto [squash, longest] = meter_.edge_ratio_range(positions_);
+  edge_ratios_.push_back({squash, longest});
   if (options_.heat) heat_.colour(positions_, options_.heat_full_scale, colours_);
 
   const int width = options_.cell_width, render_height = options_.cell_height - caption_height_;
@@ -179,9 +181,6 @@ void ContactSheet::render_cell(std::size_t frame_index, std::size_t method,
         static_cast<std::size_t>(width) * 4,
         rgba.begin() +
             (static_cast<std::size_t>(top + caption_height_ + y) * picture_width + left) * 4);
-  // Edge lengths as ratios l / l_rest, the shortest and the longest (issue 47: "stretch 297 %"
-  // read as within 3x when an edge was 3.97x its rest length).
-  const auto [squash, longest] = meter_.edge_ratio_range(positions_);
   char detail[64];
   std::snprintf(detail, sizeof detail, "frame %d  edges %.2f-%.2fx", frame, squash, longest);
   const int height = static_cast<int>(rgba.size() / 4 / picture_width);
@@ -205,7 +204,7 @@ SheetPicture draw_picture(ContactSheet& contact, std::string renderer) {
   std::vector<std::uint8_t> rgba(static_cast<std::size_t>(picture.width) * picture.height * 4);
   for (int row = 0; row < rows; ++row) contact.render_row(row, rgba, row);
   io::encode_png(picture.width, picture.height, rgba, picture.png);
-  picture.worst_stretch = contact.worst_stretch();
+  picture.edge_ratios = contact.edge_ratios();
   picture.renderer = std::move(renderer);
   return picture;
 }

@@ -25,10 +25,11 @@
 //   width() × rows × cell_height × 4 bytes, row 0 at the top).
 // Every cell is shaded with the normals of its posed surface (the runtime's WeldedNormals), for
 // every method alike: LBS's and DQS's own skinned normals would hide their creases.
-// worst_stretch(): the largest edge stretch of each rendered cell, in order.
+// edge_ratios(): each rendered cell's shortest and longest edge as l / l_rest, in order.
 // Use on one thread; DrawCell is called on it.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -74,12 +75,19 @@ struct SheetModel {
   std::function<deform::Pose(int frame)> pose;
 };
 
+// A cell's shortest and longest edge as length ratios l / l_rest (squash, stretch).
+struct EdgeRatios {
+  double shortest = 1.0, longest = 1.0;
+  // The largest |l / l_rest - 1|: protocol 1.11-1.15's ContactSheet.worst_stretch.
+  double largest_change() const { return std::max(longest - 1.0, 1.0 - shortest); }
+};
+
 // A whole sheet as sweepctl writes it and the daemon sends it (ContactSheet, protocol 1.11).
 struct SheetPicture {
   int width = 0, height = 0;
-  std::vector<std::uint8_t> png;      // RGBA PNG file bytes
-  std::vector<double> worst_stretch;  // each cell's, row by row (frame, then method)
-  std::string renderer;               // GL_RENDERER of the context that drew it
+  std::vector<std::uint8_t> png;        // RGBA PNG file bytes
+  std::vector<EdgeRatios> edge_ratios;  // each cell's, row by row (frame, then method)
+  std::string renderer;                 // GL_RENDERER of the context that drew it
 };
 
 // Renders one cell's mesh as gpu::PreviewRenderer::render does, into `rgba` (width × height × 4).
@@ -97,7 +105,7 @@ class ContactSheet {
   const SheetOptions& options() const { return options_; }
   int width() const { return options_.cell_width * static_cast<int>(options_.methods.size()); }
   void render_row(std::size_t frame_index, std::span<std::uint8_t> rgba, int row);
-  const std::vector<double>& worst_stretch() const { return worst_stretch_; }
+  const std::vector<EdgeRatios>& edge_ratios() const { return edge_ratios_; }
 
  private:
   void render_cell(std::size_t frame_index, std::size_t method, std::span<std::uint8_t> rgba,
@@ -115,10 +123,10 @@ class ContactSheet {
   std::vector<glm::vec3> positions_, normals_, colours_;
   std::vector<deform::FloatLanes> normal_sums_;  // WeldedNormals' scratch
   std::vector<std::uint8_t> cell_;  // the render, cell_width × (cell_height − caption) × 4
-  std::vector<double> worst_stretch_;
+  std::vector<EdgeRatios> edge_ratios_;
 };
 
-// The whole grid, row by row, as a PNG (io::encode_png), with each cell's worst stretch and
+// The whole grid, row by row, as a PNG (io::encode_png), with each cell's edge ratios and
 // `renderer`, the GL_RENDERER of the context that DrawCell draws with.
 SheetPicture draw_picture(ContactSheet& contact, std::string renderer);
 

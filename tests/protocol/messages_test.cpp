@@ -375,11 +375,14 @@ std::vector<Sample> one_of_each_body() {
       {Body::ContactSheet,
        [](FlatBufferBuilder& b) {
          const std::vector<std::uint8_t> png = {0x89, 'P', 'N', 'G'};
-         const std::vector<float> stretch = {0.5f, 1.25f};
-         return finish_message(b,
-                               CreateContactSheet(b, 7, 192, 128, b.CreateVector(png),
-                                                  b.CreateVector(stretch), b.CreateString("gl")),
-                               17);
+         const std::vector<float> stretch = {0.5f, 1.25f}, shortest = {0.5f, 0.9f},
+                                  longest = {1.25f, 2.25f};
+         return finish_message(
+             b,
+             CreateContactSheet(b, 7, 192, 128, b.CreateVector(png), b.CreateVector(stretch),
+                                b.CreateString("gl"), b.CreateVector(shortest),
+                                b.CreateVector(longest)),
+             17);
        },
        [](const Message& m) {
          const ContactSheet* sheet = m.body_as_ContactSheet();
@@ -387,6 +390,8 @@ std::vector<Sample> one_of_each_body() {
          EXPECT_EQ(sheet->png()->size(), 4u);
          EXPECT_EQ(sheet->worst_stretch()->Get(1), 1.25f);
          EXPECT_EQ(sheet->renderer()->str(), "gl");
+         EXPECT_EQ(sheet->shortest_edge_ratio()->Get(0), 0.5f);
+         EXPECT_EQ(sheet->longest_edge_ratio()->Get(1), 2.25f);
        }},
       {Body::SubscribeStream,
        [](FlatBufferBuilder& b) {

@@ -320,10 +320,12 @@ def main(port, token, glb, rotations_file, out, other_port, clip_file, animated_
                                      focus="elbow_l", heat=True)
         check(sheet.png[:8] == b"\x89PNG\r\n\x1a\n" and len(sheet.png) > 1000, "a sheet's PNG")
         check((sheet.width, sheet.height) == (128, 192), f"sheet size {sheet.width}x{sheet.height}")
-        # Each cell's worst edge stretch: finite, and under the quality tests' 3x (2 = 200 %).
-        check(sheet.worst_stretch.shape == (2, 2) and np.all(np.isfinite(sheet.worst_stretch))
-              and np.all((sheet.worst_stretch >= 0) & (sheet.worst_stretch < 2)),
-              f"sheet stretch {sheet.worst_stretch}")
+        # Each cell's shortest and longest edge as length ratios l / l_rest: the longest within
+        # the quality tests' 3x, the shortest not collapsed to a point.
+        check(sheet.shortest_edge_ratio.shape == (2, 2) and sheet.longest_edge_ratio.shape == (2, 2)
+              and np.all((sheet.longest_edge_ratio >= 1) & (sheet.longest_edge_ratio <= 3))
+              and np.all((sheet.shortest_edge_ratio > 0) & (sheet.shortest_edge_ratio <= 1)),
+              f"sheet edge ratios {sheet.shortest_edge_ratio} {sheet.longest_edge_ratio}")
         with open(f"{out}/sheet.png", "wb") as file:
             file.write(sheet.png)
         unknown_method = expect_error(errors.InvalidArgument, lambda: sweepd.contact_sheet(

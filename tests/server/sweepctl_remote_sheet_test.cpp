@@ -18,10 +18,10 @@ namespace {
 
 namespace pb = sweepd::protocol;
 
-// The printed table of each cell's largest edge length change: from its header to the collision line
-// (which says where the pairs were found) or the time taken.
+// The printed table of each cell's shortest and longest edge: from its header to the collision
+// line (which says where the pairs were found) or the time taken.
 std::string stretch_table(const std::string& output) {
-  const std::size_t start = output.find("largest edge length change");
+  const std::size_t start = output.find("shortest and longest edge");
   const std::size_t end = std::min(output.find("\ncollision", start), output.find("took ", start));
   return start == std::string::npos ? "" : output.substr(start, end - start);
 }
@@ -98,7 +98,7 @@ void send_sheet_request(client::Connection& connection, const SheetFields& f) {
 
 TEST_F(SweepctlRemoteSheet, DaemonRefusesABadSheetRequestNamingTheFieldAndKeepsServing) {
   client::Connection connection("127.0.0.1", std::to_string(port()));
-  const pb::Welcome& welcome = connection.hello(kToken, "sheet refusals");
+  const pb::Welcome& welcome = connection.hello(kRemoteTestToken, "sheet refusals");
   std::vector<std::string> capabilities;
   for (const auto* c : *welcome.capabilities()) capabilities.push_back(c->str());
   EXPECT_NE(std::find(capabilities.begin(), capabilities.end(), "contact_sheet"),
@@ -172,12 +172,22 @@ TEST_F(SweepctlRemoteSheet, DaemonRefusesABadSheetRequestNamingTheFieldAndKeepsS
   const std::array<std::uint8_t, 8> signature = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
   ASSERT_GE(sheet.png()->size(), signature.size());
   EXPECT_TRUE(std::equal(signature.begin(), signature.end(), sheet.png()->begin()));
+  ASSERT_NE(sheet.shortest_edge_ratio(), nullptr);
+  ASSERT_NE(sheet.longest_edge_ratio(), nullptr);
+  ASSERT_EQ(sheet.shortest_edge_ratio()->size(), 1u);
+  ASSERT_EQ(sheet.longest_edge_ratio()->size(), 1u);
+  // Length ratios l / l_rest, as the local sheet measures them: the shortest edge not collapsed
+  // to a point and the longest within the quality tests' 3x bound for every frame, and
+  // 1.11-1.15's worst_stretch the larger of their changes (float rounding: 1e-6).
+  const float shortest = sheet.shortest_edge_ratio()->Get(0);
+  const float longest = sheet.longest_edge_ratio()->Get(0);
+  EXPECT_GT(shortest, 0.0f);
+  EXPECT_LE(shortest, 1.0f);
+  EXPECT_GE(longest, 1.0f);
+  EXPECT_LE(longest, 3.0f);
   ASSERT_NE(sheet.worst_stretch(), nullptr);
   ASSERT_EQ(sheet.worst_stretch()->size(), 1u);
-  // A stretch, as the local sheet measures it, under the quality tests' 3x bound for every
-  // frame (a stretch of 2 is an edge 3 times its rest length).
-  EXPECT_GE(sheet.worst_stretch()->Get(0), 0.0f);
-  EXPECT_LE(sheet.worst_stretch()->Get(0), 2.0f);
+  EXPECT_NEAR(sheet.worst_stretch()->Get(0), std::max(longest - 1.0f, 1.0f - shortest), 1e-6f);
 }
 
 // A sheet's working memory counts against the server's work budget for all clients (issue 16's

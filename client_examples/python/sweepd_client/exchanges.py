@@ -47,7 +47,7 @@ from . import meshopt
 from .connection import body_of, finish_frame, new_builder
 from .errors import ConnectionLost, SweepdError, Timeout, UnknownModel, server_error
 
-PROTOCOL_VERSION = (1, 15)  # stream subscriptions (1.15) are the newest it sends
+PROTOCOL_VERSION = (1, 16)  # a contact sheet's edge length ratios (1.16) are the newest it reads
 METHODS = {"sweep": DeformMethod.DeformMethod.Sweep, "lbs": DeformMethod.DeformMethod.Lbs,
            "dqs": DeformMethod.DeformMethod.Dqs}
 FEATURES = {"folding": Features.Features.Folding, "protrusion": Features.Features.Protrusion,
@@ -134,11 +134,13 @@ class Clip:
 @dataclass(frozen=True)
 class Sheet:
     """A contact sheet drawn by the server (contact_sheet()): the PNG file's bytes, its size,
-    each cell's worst edge stretch as an array (frames, methods) and the GL renderer."""
+    each cell's shortest and longest edge as length ratios l / l_rest, arrays (frames, methods),
+    and the GL renderer."""
     png: bytes
     width: int
     height: int
-    worst_stretch: np.ndarray
+    shortest_edge_ratio: np.ndarray
+    longest_edge_ratio: np.ndarray
     renderer: str
 
 
@@ -581,13 +583,19 @@ class Exchanges:
         request = ContactSheetRequest.End(builder)
         yield Send(finish_frame(builder, Body.Body.ContactSheetRequest, request))
         reply = yield Receive(ContactSheet.ContactSheet)
-        stretch = reply.WorstStretchAsNumpy()
-        stretch = np.zeros(0, np.float32) if isinstance(stretch, int) else stretch.copy()
-        if stretch.size != len(frames) * len(methods):
-            raise SweepdError(f"the server's contact sheet has {stretch.size} cell figures for "
-                              f"{len(frames) * len(methods)} cells")
-        return Sheet(reply.PngAsNumpy().tobytes(), reply.Width(), reply.Height(),
-                     stretch.reshape(len(frames), len(methods)), _text(reply.Renderer()))
+        cells = len(frames) * len(methods)
+        ratios = []
+        for figures in (reply.ShortestEdgeRatioAsNumpy(), reply.LongestEdgeRatioAsNumpy()):
+            # A server before protocol 1.16 sends no ratios (flatbuffers gives 0 for none).
+            figures = np.zeros(0, np.float32) if isinstance(figures, int) else figures.copy()
+            if figures.size != cells:
+                raise SweepdError(f"the server's contact sheet has {figures.size} cells' edge "
+                                  f"length ratios for {cells} cells"
+                                  + (" (a server before protocol 1.16 sends none)"
+                                     if figures.size == 0 else ""))
+            ratios.append(figures.reshape(len(frames), len(methods)))
+        return Sheet(reply.PngAsNumpy().tobytes(), reply.Width(), reply.Height(), *ratios,
+                     _text(reply.Renderer()))
 
     def _map_shared_memory(self, size):
         """Protocol 1.10, on a Unix socket: a region of `size` bytes shared with the server,

@@ -110,7 +110,61 @@ class ContactSheet(object):
             return self._tab.String(o + self._tab.Pos)
         return None
 
-def ContactSheetStart(builder): builder.StartObject(6)
+    # ContactSheet
+    def ShortestEdgeRatio(self, j):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(16))
+        if o != 0:
+            a = self._tab.Vector(o)
+            return self._tab.Get(flatbuffers.number_types.Float32Flags, a + flatbuffers.number_types.UOffsetTFlags.py_type(j * 4))
+        return 0
+
+    # ContactSheet
+    def ShortestEdgeRatioAsNumpy(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(16))
+        if o != 0:
+            return self._tab.GetVectorAsNumpy(flatbuffers.number_types.Float32Flags, o)
+        return 0
+
+    # ContactSheet
+    def ShortestEdgeRatioLength(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(16))
+        if o != 0:
+            return self._tab.VectorLen(o)
+        return 0
+
+    # ContactSheet
+    def ShortestEdgeRatioIsNone(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(16))
+        return o == 0
+
+    # ContactSheet
+    def LongestEdgeRatio(self, j):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(18))
+        if o != 0:
+            a = self._tab.Vector(o)
+            return self._tab.Get(flatbuffers.number_types.Float32Flags, a + flatbuffers.number_types.UOffsetTFlags.py_type(j * 4))
+        return 0
+
+    # ContactSheet
+    def LongestEdgeRatioAsNumpy(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(18))
+        if o != 0:
+            return self._tab.GetVectorAsNumpy(flatbuffers.number_types.Float32Flags, o)
+        return 0
+
+    # ContactSheet
+    def LongestEdgeRatioLength(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(18))
+        if o != 0:
+            return self._tab.VectorLen(o)
+        return 0
+
+    # ContactSheet
+    def LongestEdgeRatioIsNone(self):
+        o = flatbuffers.number_types.UOffsetTFlags.py_type(self._tab.Offset(18))
+        return o == 0
+
+def ContactSheetStart(builder): builder.StartObject(8)
 def Start(builder):
     return ContactSheetStart(builder)
 def ContactSheetAddModelId(builder, modelId): builder.PrependUint32Slot(0, modelId, 0)
@@ -137,6 +191,18 @@ def StartWorstStretchVector(builder, numElems):
 def ContactSheetAddRenderer(builder, renderer): builder.PrependUOffsetTRelativeSlot(5, flatbuffers.number_types.UOffsetTFlags.py_type(renderer), 0)
 def AddRenderer(builder, renderer):
     return ContactSheetAddRenderer(builder, renderer)
+def ContactSheetAddShortestEdgeRatio(builder, shortestEdgeRatio): builder.PrependUOffsetTRelativeSlot(6, flatbuffers.number_types.UOffsetTFlags.py_type(shortestEdgeRatio), 0)
+def AddShortestEdgeRatio(builder, shortestEdgeRatio):
+    return ContactSheetAddShortestEdgeRatio(builder, shortestEdgeRatio)
+def ContactSheetStartShortestEdgeRatioVector(builder, numElems): return builder.StartVector(4, numElems, 4)
+def StartShortestEdgeRatioVector(builder, numElems):
+    return ContactSheetStartShortestEdgeRatioVector(builder, numElems)
+def ContactSheetAddLongestEdgeRatio(builder, longestEdgeRatio): builder.PrependUOffsetTRelativeSlot(7, flatbuffers.number_types.UOffsetTFlags.py_type(longestEdgeRatio), 0)
+def AddLongestEdgeRatio(builder, longestEdgeRatio):
+    return ContactSheetAddLongestEdgeRatio(builder, longestEdgeRatio)
+def ContactSheetStartLongestEdgeRatioVector(builder, numElems): return builder.StartVector(4, numElems, 4)
+def StartLongestEdgeRatioVector(builder, numElems):
+    return ContactSheetStartLongestEdgeRatioVector(builder, numElems)
 def ContactSheetEnd(builder): return builder.EndObject()
 def End(builder):
     return ContactSheetEnd(builder)
