@@ -1,7 +1,8 @@
 // sweepctl metrics: how well each deformation method keeps the body's shape — per body part
 // volume change (closed mesh region and sweep integral), smallest limb section ratio,
 // crossing triangle pairs, whole-body contact pairs (skin through skin, less the rest pose's own:
-// deform/features/skin_contact.h), largest edge stretch, per body part the crease (largest dihedral
+// deform/features/skin_contact.h), the longest and shortest edge as length ratios l / l_rest,
+// per body part the crease (largest dihedral
 // change from rest, anywhere and at the sweep's keys; the posed sweep's kink at its keys for sweep
 // methods; metrics/crease_metrics.h) and the rest-pose error — for one pose or over a clip
 // (worst, mean and the frame of the worst) — and the candy wrapper (smallest limb section ratio
@@ -153,8 +154,9 @@ MethodReport measure_method(const Method& m, const deform::BoundModel& bound,
   if (sweep)
     for (const deform::BoundSweep& s : bound.sweeps)
       report.series.push_back({std::string(deform::to_string(s.part)) + " sweep integral %"});
-  for (const char* name : {"smallest section ratio", "crossing triangle pairs",
-                           "whole-body contact pairs", "edge stretch %"})
+  for (const char* name :
+       {"smallest section ratio", "crossing triangle pairs", "whole-body contact pairs",
+        "longest edge l/l_rest", "shortest edge l/l_rest"})
     report.series.push_back({name});
   for (const deform::BoundSweep& s : bound.sweeps) {
     const std::string part = deform::to_string(s.part);
@@ -180,7 +182,8 @@ MethodReport measure_method(const Method& m, const deform::BoundModel& bound,
     report.series[k++].add(q.self_intersections, q.self_intersections, frames[i]);
     report.contact_pairs.push_back(contact.count(positions));
     report.series[k++].add(report.contact_pairs.back(), report.contact_pairs.back(), frames[i]);
-    report.series[k++].add(100.0 * q.largest_edge_stretch, q.largest_edge_stretch, frames[i]);
+    report.series[k++].add(q.longest_edge_ratio, q.longest_edge_ratio, frames[i]);
+    report.series[k++].add(q.shortest_edge_ratio, -q.shortest_edge_ratio, frames[i]);
     for (const metrics::RegionCrease& region : crease.regions) {
       report.series[k++].add(region.dihedral_change, region.dihedral_change, frames[i]);
       report.series[k++].add(region.dihedral_change_at_keys, region.dihedral_change_at_keys,
@@ -300,12 +303,12 @@ void print_json(const std::vector<MethodReport>& reports, const PosingArguments&
     method["method"] = r.method;
     method["rest_error_m"] = r.rest_error_m;
     for (const Series& s : r.series)
-      method["metrics"].push_back({{"name", s.name},
-                                   {"worst", s.worst},
-                                   {"mean", s.mean()},
-                                   {"worst_frame", clip_frames && s.worst_frame >= 0
-                                                       ? nlohmann::json(s.worst_frame)
-                                                       : nlohmann::json()}});
+      method["metrics"].push_back(
+          {{"name", s.name},
+           {"worst", s.worst},
+           {"mean", s.mean()},
+           {"worst_frame",
+            clip_frames && s.worst_frame >= 0 ? nlohmann::json(s.worst_frame) : nlohmann::json()}});
     method["contact_pairs_per_frame"] = r.contact_pairs;
     out["methods"].push_back(method);
   }
@@ -410,7 +413,7 @@ Command add_metrics_command(CLI::App& sweepctl, const ServerAddress& server) {
       "Per body part the volume change (closed mesh region and sweep integral), the smallest\n"
       "limb section ratio, crossing triangle pairs, whole-body contact pairs (skin through\n"
       "skin anywhere, less the rest mesh's own; --per-frame lists them frame by frame), the\n"
-      "largest edge stretch, per body part the\n"
+      "longest and the shortest edge as length ratios l / l_rest, per body part the\n"
       "crease (largest change of dihedral angle from rest, anywhere and at the sweep's keys, and\n"
       "for sweep methods the posed sweep's kink at its keys, in degrees) and the rest-pose\n"
       "error, for one pose or over a clip (worst, mean and the frame of the worst; without\n"

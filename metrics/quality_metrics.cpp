@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <tuple>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -212,7 +213,7 @@ QualityMetrics QualityMeter::measure(std::span<const glm::vec3> positions, const
     }
   }
   metrics.self_intersections = count_self_intersections(positions, bound_.model.indices, welded_);
-  metrics.largest_edge_stretch = largest_edge_stretch(positions);
+  std::tie(metrics.shortest_edge_ratio, metrics.longest_edge_ratio) = edge_ratio_range(positions);
   return metrics;
 }
 

@@ -11,7 +11,7 @@
 // - self-intersecting triangle pairs (triangles sharing no welded vertex; a uniform grid of
 //   triangle bounds, bound overlap, plane sides, then edge–triangle crossings; coplanar
 //   touching is not counted);
-// - the largest edge stretch max |l / l_rest − 1| over the welded edges;
+// - the shortest and the longest welded edge as length ratios l / l_rest;
 // - the rest-pose error: the largest distance to the rest positions (measure it on the rest
 //   pose's output).
 // Inputs: positions: vertex_count() posed positions; the SweepPoser posed to the same pose
@@ -38,10 +38,10 @@ struct PartMetrics {
 };
 
 struct QualityMetrics {
-  std::vector<PartMetrics> parts;       // one per sweep
-  double smallest_section_ratio = 1.0;  // over the arm and leg sweeps
-  int self_intersections = 0;           // triangle pairs
-  double largest_edge_stretch = 0.0;
+  std::vector<PartMetrics> parts;                              // one per sweep
+  double smallest_section_ratio = 1.0;                         // over the arm and leg sweeps
+  int self_intersections = 0;                                  // triangle pairs
+  double shortest_edge_ratio = 1.0, longest_edge_ratio = 1.0;  // edges as l / l_rest
 };
 
 // Triangle pairs that cross each other; triangles sharing a (welded) vertex are skipped.
@@ -67,7 +67,7 @@ class QualityMeter {
   // reported); for LBS/DQS pass false (the poser still gives the section planes).
   QualityMetrics measure(std::span<const glm::vec3> positions, const deform::SweepPoser& posed,
                          bool sweep_method) const;
-  // measure's largest_edge_stretch alone: the edges' lengths against their rest lengths, without
+  // The largest |l / l_rest - 1| over the welded edges (the stretch heat map's scale), without
   // the self-intersection count and the limb sections that make up most of measure's time.
   double largest_edge_stretch(std::span<const glm::vec3> positions) const;
   // The shortest and the longest edge as length ratios l / l_rest (squash, stretch): what a

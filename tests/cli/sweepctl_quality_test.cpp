@@ -61,8 +61,8 @@ TEST(SweepctlMetrics, ElbowPoseAsJsonShowsVolumePreservationAtWork) {
   const fs::path pose = scratch() / "elbow.json";
   std::ofstream(pose)
       << R"({"rotations": {"LeftForeArm": {"axis": [-0.7, -0.7, 0], "degrees": 70}}})";
-  const nlohmann::json report =
-      metrics_report(kMale.string() + " --pose " + pose.string() + " --method sweep,sweep+volume,lbs");
+  const nlohmann::json report = metrics_report(kMale.string() + " --pose " + pose.string() +
+                                               " --method sweep,sweep+volume,lbs");
   ASSERT_FALSE(report.is_null());
   ASSERT_EQ(report["methods"].size(), 3u);
   auto metric = [&](int method, const std::string& name) {
@@ -84,7 +84,8 @@ TEST(SweepctlMetrics, ElbowPoseAsJsonShowsVolumePreservationAtWork) {
   // A pose file has no frame: the report names the file and gives no frame of the worst
   // (issue 52 item 6: it said frame 0).
   EXPECT_EQ(report["pose"], pose.string());
-  for (const auto& m : report["methods"][0]["metrics"]) EXPECT_TRUE(m["worst_frame"].is_null()) << m;
+  for (const auto& m : report["methods"][0]["metrics"])
+    EXPECT_TRUE(m["worst_frame"].is_null()) << m;
 }
 
 TEST(SweepctlMetrics, ATimeInTheClipIsReportedAsItsTimeNotAsFrameZero) {
@@ -95,7 +96,8 @@ TEST(SweepctlMetrics, ATimeInTheClipIsReportedAsItsTimeNotAsFrameZero) {
   EXPECT_EQ(report["time_seconds"], 5.0);
   EXPECT_EQ(report["frames"], 1);
   ASSERT_FALSE(report["methods"][0]["metrics"].empty());
-  for (const auto& m : report["methods"][0]["metrics"]) EXPECT_TRUE(m["worst_frame"].is_null()) << m;
+  for (const auto& m : report["methods"][0]["metrics"])
+    EXPECT_TRUE(m["worst_frame"].is_null()) << m;
 }
 
 TEST(SweepctlMetrics, ClipFramesGiveWorstMeanAndFrameAsCsvAndTable) {
@@ -119,10 +121,10 @@ TEST(SweepctlMetrics, ClipFramesGiveWorstMeanAndFrameAsCsvAndTable) {
     EXPECT_TRUE(frame == 0 || frame == 10 || frame == 20) << line;  // a measured frame
     ++rows;
   }
-  // Six part volumes, section ratio, crossings, whole-body contact pairs, edge stretch, and per
-  // part the crease anywhere and at keys (no kink: DQS has no sweep); the candy wrapper at 90
-  // and 180 degrees.
-  EXPECT_EQ(rows, 6 + 4 + 2 * 6);
+  // Six part volumes, section ratio, crossings, whole-body contact pairs, the longest and the
+  // shortest edge, and per part the crease anywhere and at keys (no kink: DQS has no sweep); the
+  // candy wrapper at 90 and 180 degrees.
+  EXPECT_EQ(rows, 6 + 5 + 2 * 6);
   EXPECT_EQ(twists, 2);
   ASSERT_EQ(sweepctl(common, table), 0) << table;
   EXPECT_NE(table.find("at frame"), std::string::npos) << table;
@@ -150,8 +152,7 @@ TEST(SweepctlBind, ChecksItselfAndInspectSaysTheSameOfTheStoredBinding) {
   REQUIRE_DATA();
   const fs::path plain = scratch() / "checked.sweepbind", adapted = scratch() / "adapted.sweepbind";
   std::string bind, bind_adapted, inspect, inspect_adapted;
-  ASSERT_EQ(sweepctl("bind " + kMale.string() + " -o " + plain.string() + " --no-adapt", bind),
-            0)
+  ASSERT_EQ(sweepctl("bind " + kMale.string() + " -o " + plain.string() + " --no-adapt", bind), 0)
       << bind;
   ASSERT_EQ(sweepctl("bind " + kMale.string() + " -o " + adapted.string(), bind_adapted), 0)
       << bind_adapted;
@@ -167,8 +168,8 @@ TEST(SweepctlBind, ChecksItselfAndInspectSaysTheSameOfTheStoredBinding) {
   for (const std::string& w : warnings)
     EXPECT_NE(w.find("worse than skinning in "), std::string::npos) << w;
   EXPECT_TRUE(std::any_of(warnings.begin(), warnings.end(), [](const std::string& w) {
-    return w.starts_with("warning: left arm:") && w.find("the sweep stretches an edge") !=
-                                                       std::string::npos;
+    return w.starts_with("warning: left arm:") &&
+           w.find("the sweep stretches an edge") != std::string::npos;
   })) << bind;
   // inspect runs the same check on the stored binding: the same count, the same warnings.
   const auto inspected = lines_starting(inspect, "self-check (48 range-of-motion peaks");
@@ -193,9 +194,8 @@ TEST(SweepctlBind, ChecksItselfAndInspectSaysTheSameOfTheStoredBinding) {
   ASSERT_EQ(inspected_adapted.size(), 1u) << inspect_adapted;
   EXPECT_EQ(worse_pairs(inspected_adapted[0]), after);
   std::size_t chosen = 0;
-  for (std::size_t at = 0; (at = inspect_adapted.find("chosen by the self-check", at)) !=
-                           std::string::npos;
-       ++at)
+  for (std::size_t at = 0;
+       (at = inspect_adapted.find("chosen by the self-check", at)) != std::string::npos; ++at)
     ++chosen;
   EXPECT_EQ(chosen, notes.size()) << inspect_adapted;
 }

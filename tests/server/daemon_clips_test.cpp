@@ -37,7 +37,7 @@ class DaemonClips : public SweepctlRemote {
   void SetUp() override {
     SweepctlRemote::SetUp();
     connection_ = std::make_unique<client::Connection>("127.0.0.1:" + std::to_string(port()));
-    connection_->hello(kToken, "daemon_clips_test");
+    connection_->hello(kRemoteTestToken, "daemon_clips_test");
   }
   static std::string clip_text() {
     const std::vector<char> bytes = file_bytes(kClip);

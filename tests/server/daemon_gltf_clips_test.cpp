@@ -44,7 +44,7 @@ class DaemonGltfClips : public SweepctlRemote {
   void SetUp() override {
     SweepctlRemote::SetUp();
     connection_ = std::make_unique<client::Connection>("127.0.0.1:" + std::to_string(port()));
-    connection_->hello(kToken, "daemon_gltf_clips_test");
+    connection_->hello(kRemoteTestToken, "daemon_gltf_clips_test");
   }
 
   // `pose ARGUMENTS` run here and on the daemon: both exit 0 and write the same bytes.
@@ -116,7 +116,7 @@ TEST_F(DaemonGltfClips, ServerFramesEqualSweepctlPoseBitForBit) {
 
 TEST_F(DaemonGltfClips, FbxAnimationStacksPlayAsSweepctlPoseBitForBit) {
   client::Connection probe("127.0.0.1:" + std::to_string(port()));
-  const pb::Welcome& welcome = probe.hello(kToken, "daemon_gltf_clips_test");
+  const pb::Welcome& welcome = probe.hello(kRemoteTestToken, "daemon_gltf_clips_test");
   bool fbx_clips = false;
   for (const auto* capability : *welcome.capabilities())
     fbx_clips = fbx_clips || capability->str() == "fbx_clips";

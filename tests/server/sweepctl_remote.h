@@ -29,14 +29,15 @@ inline std::vector<char> file_bytes(const fs::path& file) {
 inline const fs::path kSharedMale = fs::path(SWEEPD_SHARED_DATA) / "models/makehuman_male_cmu.glb";
 inline const fs::path kClip = fs::path(SWEEPD_SHARED_DATA) / "motion/cmu_01_01.bvh";
 inline constexpr int kClipFrame = 300;  // arms and legs well away from the rest pose
-inline constexpr const char* kToken = "remote-test-token";
+inline constexpr const char* kRemoteTestToken = "remote-test-token";
 
-// One daemon (with kToken) for a suite's tests; `server()` is the sweepctl flags reaching it.
+// One daemon (with kRemoteTestToken) for a suite's tests; `server()` is the sweepctl flags reaching
+// it.
 class SweepctlRemote : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     directory_ = new fs::path(fresh_directory("sweepctl_remote"));
-    daemon_ = new DaemonProcess(*directory_, {"--token", kToken});
+    daemon_ = new DaemonProcess(*directory_, {"--token", kRemoteTestToken});
   }
   static void TearDownTestSuite() {
     delete daemon_;
@@ -46,7 +47,7 @@ class SweepctlRemote : public ::testing::Test {
   void SetUp() override { ASSERT_TRUE(daemon_->running()) << daemon_->log(); }
 
   static std::string server() {
-    return "--server 127.0.0.1:" + std::to_string(daemon_->port()) + " --token " + kToken;
+    return "--server 127.0.0.1:" + std::to_string(daemon_->port()) + " --token " + kRemoteTestToken;
   }
   static int port() { return daemon_->port(); }
   static std::uint32_t mannequin_id() { return daemon_->model_id(); }

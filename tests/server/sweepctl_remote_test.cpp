@@ -127,7 +127,7 @@ TEST_F(SweepctlRemote, ServerOnlyMannequinIsWrittenFromTheServedMesh) {
   // the daemon's stored binding.
   const deform::BoundModel bound = io::load_sweepbind(stored_binding(path("store"), "mannequin"));
   client::Connection connection("127.0.0.1:" + std::to_string(port()));
-  connection.hello(kToken, "sweepctl_remote_test");
+  connection.hello(kRemoteTestToken, "sweepctl_remote_test");
   connection.load_model("mannequin");
   const deform::Pose pose =
       motion::Retargeter(io::load_bvh(kClip), bound.model).pose_at_frame(kClipFrame);
@@ -167,7 +167,7 @@ TEST_F(SweepctlRemote, ServerOnlyMannequinIsWrittenFromTheServedMesh) {
 TEST_F(SweepctlRemote, MeshRequestAnswersTheRestMeshOrUnknownModel) {
   const deform::BoundModel bound = io::load_sweepbind(stored_binding(path("store"), "mannequin"));
   FrameClient client(port());
-  ASSERT_NE(client.hello(kToken), nullptr);
+  ASSERT_NE(client.hello(kRemoteTestToken), nullptr);
   const std::uint32_t mannequin = mannequin_id();
   for (const std::uint32_t model_id : {mannequin, 99u}) {
     flatbuffers::FlatBufferBuilder builder;
@@ -239,9 +239,9 @@ TEST_F(SweepctlRemote, RemoteMetricsEqualTheLocalOnesWithoutTheSweepIntegral) {
           << l["method"] << " " << name;
       ++compared;
     }
-    EXPECT_EQ(compared, 10 + 2 * 6 + 2)
-        << "6 part volumes, section, crossings, whole-body contact pairs, stretch, 6 parts' "
-           "crease anywhere and at keys, the candy wrapper at 90 and 180 degrees";
+    EXPECT_EQ(compared, 11 + 2 * 6 + 2)
+        << "6 part volumes, section, crossings, whole-body contact pairs, longest and shortest "
+           "edge, 6 parts' crease anywhere and at keys, the candy wrapper at 90 and 180 degrees";
   }
 }
 
@@ -362,7 +362,8 @@ TEST(SweepctlRemoteRestart, ADaemonRestartedOnAnEmptyStoreMidRangeGetsTheModelAg
   const fs::path directory = fresh_directory("sweepctl_remote_restart");
   const fs::path glb = directory / "body.glb";
   io::save_gltf(mannequin::make_mannequin({.target_vertices = 2500}), glb);
-  const std::vector<std::string> flags = {"--token", kToken, "--mannequin-vertices", "1000"};
+  const std::vector<std::string> flags = {"--token", kRemoteTestToken, "--mannequin-vertices",
+                                          "1000"};
   fs::create_directories(directory / "first");
   DaemonProcess first(directory / "first", flags);
   ASSERT_TRUE(first.running()) << first.log();
@@ -370,8 +371,8 @@ TEST(SweepctlRemoteRestart, ADaemonRestartedOnAnEmptyStoreMidRangeGetsTheModelAg
   const std::string pose =
       "pose " + glb.string() + " --bvh " + kClip.string() + " --frames 100-399 -o ";
   std::future<ClientRun> remote = std::async(std::launch::async, [&] {
-    return run_sweepctl("--server 127.0.0.1:" + std::to_string(port) + " --token " + kToken + " " +
-                        pose + (directory / "remote").string());
+    return run_sweepctl("--server 127.0.0.1:" + std::to_string(port) + " --token " +
+                        kRemoteTestToken + " " + pose + (directory / "remote").string());
   });
   // Killed once the first frame is written: 299 requests come after it.
   while (!fs::exists(directory / "remote/frame_00100.glb") &&
