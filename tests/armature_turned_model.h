@@ -1,0 +1,29 @@
+// A model whose joints' own frames are turned while the body stays where it is: what a glTF
+// exporter writes when the armature node is turned (Blender's +90° about X, its Z-up bones
+// under a Y-up scene) and the bones inside are turned back, so joints and mesh keep their world
+// places. Every joint's world rest rotation W becomes W * turn; rest positions, mesh and skin
+// weights are unchanged (uniform joint scales assumed, as every shared body has).
+// Input: a Model (by value), the turn. Output: the Model with its joints' frames turned.
+#pragma once
+
+#include <glm/gtc/quaternion.hpp>
+
+#include "deform/model/model.h"
+
+namespace sweepd::test_models {
+
+inline deform::Model armature_turned(deform::Model model, glm::quat turn) {
+  const glm::quat back = glm::inverse(turn);
+  for (deform::Joint& joint : model.skeleton.joints) {
+    if (joint.parent < 0) {
+      joint.rest_rotation = joint.rest_rotation * turn;  // W * turn at the root
+    } else {
+      // Local L' = turn^-1 * L * turn: its translation is in the parent's turned frame.
+      joint.rest_translation = back * joint.rest_translation;
+      joint.rest_rotation = back * joint.rest_rotation * turn;
+    }
+  }
+  return model;
+}
+
+}  // namespace sweepd::test_models
