@@ -1,11 +1,12 @@
 // Each body a test checks, as other rigs would carry it (issue 48 item 6): the same mesh with its
 // armature turned (tests/armature_turned_model.h: Blender's +90° about X; 90° about the
-// vertical), its joints renamed (tests/renamed_joints_model.h: a "mixamorig:" prefix, Unreal's
-// names, meaningless names) and joints removed (tests/joints_removed_model.h: a spine joint,
-// the clavicles, the toes, a neck joint, weights merged into the parent).
-// Input: a body's name and model. Output: its variants, named "NAME armature +90° X" etc.; a
-// variant the body's rig cannot have (no spine joint between pelvis and chest to drop, no
-// clavicle, no toe, no neck joint below the head) is left out and named in `not_made`.
+// vertical; and the whole body turned 90° about the vertical with its armature +90° about X,
+// tests/turned_model.h), its joints renamed (tests/renamed_joints_model.h: a "mixamorig:" prefix,
+// Unreal's names, meaningless names) and joints removed (tests/joints_removed_model.h: a spine
+// joint, the clavicles, the toes, a neck joint, weights merged into the parent). Input: a body's
+// name and model. Output: its variants, named "NAME armature +90° X" etc.; a variant the body's rig
+// cannot have (no spine joint between pelvis and chest to drop, no clavicle, no toe, no neck joint
+// below the head) is left out and named in `not_made`.
 #pragma once
 
 #include <glm/gtc/quaternion.hpp>
@@ -18,6 +19,7 @@
 #include "tests/body_variants.h"
 #include "tests/joints_removed_model.h"
 #include "tests/renamed_joints_model.h"
+#include "tests/turned_model.h"
 
 namespace sweepd::test_models {
 
@@ -41,6 +43,9 @@ inline RigVariants rig_variants(const std::string& name, const deform::Model& mo
       armature_turned(model, glm::angleAxis(glm::radians(90.0f), glm::vec3(1, 0, 0))));
   add("armature 90° Y",
       armature_turned(model, glm::angleAxis(glm::radians(90.0f), glm::vec3(0, 1, 0))));
+  add("turned 90°, armature +90° X",
+      armature_turned(turned(model, 90.0f),
+                      glm::angleAxis(glm::radians(90.0f), glm::vec3(1, 0, 0))));
   add("mixamorig: names", prefixed_joint_names(model, "mixamorig:"));
   add("unreal names", unreal_joint_names(model, map));
   add("meaningless names", meaningless_joint_names(model));

@@ -29,24 +29,12 @@
 #include "tests/motion/facing_difference.h"
 #include "tests/motion/test_bodies.h"
 #include "tests/test_paths.h"
+#include "tests/turned_model.h"
 
 namespace sweepd::motion {
 namespace {
 
 namespace fs = std::filesystem;
-
-// The model turned `degrees` about the vertical through the origin: mesh and skeleton.
-deform::Model turned(deform::Model model, float degrees) {
-  const glm::quat turn = glm::angleAxis(glm::radians(degrees), glm::vec3(0, 1, 0));
-  for (glm::vec3& p : model.positions) p = turn * p;
-  for (glm::vec3& n : model.normals) n = turn * n;
-  for (deform::Joint& joint : model.skeleton.joints) {
-    if (joint.parent >= 0) continue;  // every root: OpenPose's legs are roots of their own
-    joint.rest_translation = turn * joint.rest_translation;
-    joint.rest_rotation = turn * joint.rest_rotation;
-  }
-  return model;
-}
 
 using test_models::Body;
 
@@ -61,7 +49,7 @@ TEST_P(Facing, TurnedModelsFaceTheClipsWayAtEveryFrame) {
     for (const float degrees : {0.0f, 90.0f, 180.0f}) {
       SCOPED_TRACE(std::string(clip_file) + " turned " + std::to_string(static_cast<int>(degrees)) +
                    "°");
-      const deform::Model body = turned(model, degrees);
+      const deform::Model body = test_models::turned(model, degrees);
       // Feet free: planting and the body floor move the root only up or down and bend the
       // legs, so they leave the hips' yaw as it is (the same figures to 0.01°), and skipping
       // them makes the test a quarter as costly (under ASan 187 s of 8 tests with them).

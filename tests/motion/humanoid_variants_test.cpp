@@ -1,6 +1,7 @@
 // Any humanoid, any clip (issue 48 item 6): every shared body (the male, the RiggedFigure, the
 // four corpus bodies, the mannequin), as it is and as other rigs would carry it
-// (tests/rig_variants.h: armature turned +90° about X and 90° about the vertical, joints renamed
+// (tests/rig_variants.h: armature turned +90° about X and 90° about the vertical, the body turned
+// 90° with its armature +90° about X, joints renamed
 // with a "mixamorig:" prefix, to Unreal's names and to meaningless names, and a spine joint, the
 // clavicles, the toes or a neck joint removed with their weights merged into the parent), on
 // cmu_01_01, cmu_01_03, cmu_01_01 knocked down (tests/motion/knocked_down_clip.h) and cmu_01_01
