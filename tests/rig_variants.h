@@ -1,5 +1,6 @@
 // Each body a test checks, as other rigs would carry it (issue 48 item 6): the same mesh with its
-// armature turned (tests/armature_turned_model.h: Blender's +90° about X; 90° about the
+// armature turned (tests/armature_turned_model.h: Blender's +90° about X, also at Mixamo's 0.01
+// scale with the bones in centimetres; 90° about the
 // vertical; and the whole body turned 90° about the vertical with its armature +90° about X,
 // tests/turned_model.h), its joints renamed (tests/renamed_joints_model.h: a "mixamorig:" prefix,
 // Unreal's names, meaningless names) and joints removed (tests/joints_removed_model.h: a spine
@@ -41,6 +42,8 @@ inline RigVariants rig_variants(const std::string& name, const deform::Model& mo
   };
   add("armature +90° X",
       armature_turned(model, glm::angleAxis(glm::radians(90.0f), glm::vec3(1, 0, 0))));
+  add("armature +90° X at 0.01, bones in cm",
+      armature_turned(model, glm::angleAxis(glm::radians(90.0f), glm::vec3(1, 0, 0)), 0.01f));
   add("armature 90° Y",
       armature_turned(model, glm::angleAxis(glm::radians(90.0f), glm::vec3(0, 1, 0))));
   add("turned 90°, armature +90° X",
