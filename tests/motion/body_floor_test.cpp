@@ -28,6 +28,7 @@
 #include "motion/body_samples.h"
 #include "motion/retarget.h"
 #include "tests/deform/shared_male.h"
+#include "tests/motion/floor_figures.h"
 #include "tests/motion/kneeling_clip.h"
 #include "tests/motion/knocked_down_clip.h"
 #include "tests/motion/test_bodies.h"
@@ -37,34 +38,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-float lowest(std::span<const glm::vec3> positions) {
-  float y = std::numeric_limits<float>::infinity();
-  for (const glm::vec3& p : positions) y = std::min(y, p.y);
-  return y;
-}
-
-// The lowest the swept body goes below its floor over every 10th frame (m, negative below).
-float lowest_over_clip(const deform::BoundModel& bound, const Clip& clip, Feet feet) {
-  const Retargeter retargeter(clip, bound.model, {}, feet);
-  deform::test::Posing posing(bound);
-  std::vector<glm::vec3> positions(bound.model.vertex_count());
-  const float floor = lowest(bound.model.positions);
-  float worst = std::numeric_limits<float>::infinity();
-  for (int frame = 0; frame < clip.frame_count; frame += 10) {
-    deform::Pose pose = retargeter.pose_at_frame(frame);
-    posing.deform(pose, deform::DeformMethod::kSweep, positions);
-    worst = std::min(worst, lowest(positions) - floor);
-  }
-  return worst;
-}
-
-// The worst slide of a foot over its contacts (m), on the retargeter's own poses.
-float worst_foot_slide(const Retargeter& r) {
-  float worst = 0.0f;
-  for (const auto& s : r.foot_planting()->contact_slides([&](int f) { return r.pose_at_frame(f); }))
-    worst = std::max(worst, s.slide);
-  return worst;
-}
+using test::lowest;
+using test::lowest_over_clip;
+using test::worst_foot_slide;
 
 // Slide per contact of the parts other than the feet, on the retargeter's own poses.
 std::vector<BodyContacts::ContactSlide> body_slides(const Retargeter& r) {

@@ -26,53 +26,15 @@
 #include "io/bvh/bvh_load.h"
 #include "io/gltf/gltf_load.h"
 #include "motion/retarget.h"
-#include "tests/motion/clip_world_positions.h"
+#include "tests/motion/facing_difference.h"
 #include "tests/motion/test_bodies.h"
 #include "tests/test_paths.h"
+#include "tests/turned_model.h"
 
 namespace sweepd::motion {
 namespace {
 
 namespace fs = std::filesystem;
-
-// The model turned `degrees` about the vertical through the origin: mesh and skeleton.
-deform::Model turned(deform::Model model, float degrees) {
-  const glm::quat turn = glm::angleAxis(glm::radians(degrees), glm::vec3(0, 1, 0));
-  for (glm::vec3& p : model.positions) p = turn * p;
-  for (glm::vec3& n : model.normals) n = turn * n;
-  for (deform::Joint& joint : model.skeleton.joints) {
-    if (joint.parent >= 0) continue;  // every root: OpenPose's legs are roots of their own
-    joint.rest_translation = turn * joint.rest_translation;
-    joint.rest_rotation = turn * joint.rest_rotation;
-  }
-  return model;
-}
-
-// Signed angle about +Y from a to b, both made horizontal, in degrees.
-float yaw_between(glm::vec3 a, glm::vec3 b) {
-  a.y = b.y = 0.0f;
-  return glm::degrees(std::atan2(glm::cross(a, b).y, glm::dot(a, b)));
-}
-
-// The worst facing difference over every frame of the clip.
-float worst_facing_difference(const deform::Model& model, const Clip& clip,
-                              const Retargeter& retargeter) {
-  const deform::RigMap map = deform::detect_rig_map(model.skeleton);
-  const int clip_left = clip.find("LeftUpLeg"), clip_right = clip.find("RightUpLeg");
-  EXPECT_GE(clip_left, 0);
-  EXPECT_GE(clip_right, 0);
-  std::vector<glm::mat4> world(model.skeleton.size());
-  float worst = 0.0f;
-  for (int frame = 0; frame < clip.frame_count; ++frame) {
-    forward_kinematics(model.skeleton, retargeter.pose_at_frame(frame), world);
-    const glm::vec3 model_left =
-        glm::vec3(world[map.left_leg.upper][3]) - glm::vec3(world[map.right_leg.upper][3]);
-    const std::vector<glm::vec3> at = clip_world_positions(clip, frame);
-    const glm::vec3 clip_left_vector = at[clip_left] - at[clip_right];
-    worst = std::max(worst, std::abs(yaw_between(model_left, clip_left_vector)));
-  }
-  return worst;
-}
 
 using test_models::Body;
 
@@ -87,12 +49,12 @@ TEST_P(Facing, TurnedModelsFaceTheClipsWayAtEveryFrame) {
     for (const float degrees : {0.0f, 90.0f, 180.0f}) {
       SCOPED_TRACE(std::string(clip_file) + " turned " + std::to_string(static_cast<int>(degrees)) +
                    "°");
-      const deform::Model body = turned(model, degrees);
+      const deform::Model body = test_models::turned(model, degrees);
       // Feet free: planting and the body floor move the root only up or down and bend the
       // legs, so they leave the hips' yaw as it is (the same figures to 0.01°), and skipping
       // them makes the test a quarter as costly (under ASan 187 s of 8 tests with them).
       const Retargeter retargeter(clip, body, {}, Feet::kFree);
-      const float worst = worst_facing_difference(body, clip, retargeter);
+      const float worst = test::worst_facing_difference(body, clip, retargeter);
       std::printf("%s, %s turned %.0f°: worst facing difference %.2f°\n", clip_file,
                   GetParam().file, degrees, worst);
       EXPECT_LT(worst, 10.0f);
@@ -108,14 +70,7 @@ TEST_P(Facing, TurnedModelsFaceTheClipsWayAtEveryFrame) {
 
 INSTANTIATE_TEST_SUITE_P(
     Bodies, Facing,
-    testing::Values(Body{"models/makehuman_male_cmu.glb", false},
-                    Body{"models/makehuman_male_cmu.glb", true},
-                    Body{"models/RiggedFigure/RiggedFigure.gltf", false},
-                    Body{"models/corpus/makehuman_female_slim_openpose.glb", false},
-                    Body{"models/corpus/makehuman_female_old_heavy_mixamo.glb", false},
-                    Body{"models/corpus/makehuman_male_old_heavy_unreal.glb", false},
-                    Body{"models/corpus/makehuman_child_mixamo_unity.glb", false},
-                    Body{test_models::kMannequinBody, false}),
+    testing::ValuesIn(test_models::every_body(true)),
     [](const testing::TestParamInfo<Body>& info) {
       return test_models::body_test_name(info.param);
     });

@@ -3,7 +3,8 @@
 // the procedural mannequin at 4,000 vertices (its own rig convention, made here, never absent).
 // nullopt when the shared file is absent (the caller skips, naming it).
 // Body: a value-parameterized test's body (name and whether mirrored), loaded by load_body and
-// named for gtest by body_test_name ("makehuman_male_cmu_mirrored", "mannequin").
+// named for gtest by body_test_name ("makehuman_male_cmu_mirrored", "mannequin"); every_body
+// lists them.
 #pragma once
 
 #include <algorithm>
@@ -12,6 +13,7 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "deform/model/model.h"
 #include "io/gltf/gltf_load.h"
@@ -39,6 +41,21 @@ inline std::optional<deform::Model> load_body(const Body& body) {
   std::optional<deform::Model> model = load_body(body.file);
   if (model && body.mirror) model = mirrored(std::move(*model));
   return model;
+}
+
+// Every shared body issue 48 names, and the mannequin: the male (also mirrored where asked),
+// the RiggedFigure, the four corpus bodies.
+inline std::vector<Body> every_body(bool and_the_male_mirrored = false) {
+  std::vector<Body> bodies = {{"models/makehuman_male_cmu.glb", false},
+                              {"models/RiggedFigure/RiggedFigure.gltf", false},
+                              {"models/corpus/makehuman_female_slim_openpose.glb", false},
+                              {"models/corpus/makehuman_female_old_heavy_mixamo.glb", false},
+                              {"models/corpus/makehuman_male_old_heavy_unreal.glb", false},
+                              {"models/corpus/makehuman_child_mixamo_unity.glb", false},
+                              {kMannequinBody, false}};
+  if (and_the_male_mirrored)
+    bodies.insert(bodies.begin() + 1, {"models/makehuman_male_cmu.glb", true});
+  return bodies;
 }
 
 inline std::string body_test_name(const Body& body) {
