@@ -17,6 +17,7 @@
 #include "deform/mesh/welded_mesh.h"
 #include "deform/rig/rig_map.h"
 #include "io/gltf/gltf_load.h"
+#include "io/sweepbind/sweepbind.h"
 #include "tests/body_variants.h"
 #include "tests/deform/posed_section.h"
 #include "tests/deform/rig/handless_cut.h"
@@ -97,6 +98,11 @@ TEST(CarriedEnd, BindSweepsTheForearmsAndTheNeckOnToTheirEnds) {
       EXPECT_EQ(sweep.rest_keys.size(), sweep.part == BodyPart::kNeck ? 4u : 7u) << variant.name;
     }
     EXPECT_EQ(ending, 3) << variant.name;
+    // The end keys (fraction 1 on the last joint's bone) survive a .sweepbind round trip.
+    const BoundModel read = io::decode_sweepbind(io::encode_sweepbind(carried), "carried");
+    ASSERT_EQ(read.sweeps.size(), carried.sweeps.size());
+    for (std::size_t s = 0; s < read.sweeps.size(); ++s)
+      EXPECT_EQ(read.sweeps[s].ends_on_carried_end(), carried.sweeps[s].ends_on_carried_end());
     // The rest pose is rebuilt from the bindings as exactly as without the ends (float rounding).
     const std::vector<glm::vec3> rest = rest_positions_from_binding(carried);
     float worst = 0.0f;
