@@ -169,9 +169,23 @@ int bind_model(const BindCommandOptions& options) {
   for (int s = 0; s < static_cast<int>(bound.sweeps.size()); ++s) print_sweep(bound, s);
   // Coverage said out loud: the vertices no sweep moves, by the body part of their strongest
   // joint (hands, feet and head always; a one-joint torso or neck, a forearm without a hand joint
-  // or an absent limb where the rig's warnings say so).
+  // (unless --sweep-carried-ends) or an absent limb where the rig's warnings say so).
   std::printf("\nskinned only: %s vertices (%s)\n", console::with_thousands(skinned).c_str(),
               skinned_by_part(bound).c_str());
+  // --sweep-carried-ends: the rig's warnings (printed before binding) say these parts are
+  // skinned; here they are not.
+  for (const deform::BoundSweep& sweep : bound.sweeps)
+    if (sweep.ends_on_carried_end())
+      std::printf("carried end: the %s is swept past '%s' to the %s found on the mesh, %.1f cm "
+                  "on; beyond it the %s is skinned, rigid with '%s'\n",
+                  deform::to_string(sweep.part),
+                  bound.model.skeleton.joints[sweep.chain.back()].name.c_str(),
+                  sweep.part == deform::BodyPart::kNeck ? "neck's top" : "wrist",
+                  100.0f * glm::distance(sweep.rest_keys.back().centre,
+                                         glm::vec3(bound.model.skeleton.world_rest_matrices()
+                                                       [sweep.chain.back()][3])),
+                  deform::to_string(deform::end_part(sweep.part)),
+                  bound.model.skeleton.joints[sweep.chain.back()].name.c_str());
   print_rigid_islands(bound.model);
   std::printf("rest-pose error: max %.3g m (%.3g x height)\n", worst, worst / (hi - lo));
   print_self_check(bound, verdict,
