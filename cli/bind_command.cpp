@@ -20,6 +20,7 @@
 #include "console/command_line.h"
 #include "console/progress_bar.h"
 #include "deform/blending/rigid_islands.h"
+#include "deform/blending/sweep_blending.h"
 #include "deform/mesh/welded_mesh.h"
 #include "io/gltf/gltf_save.h"
 #include "io/sweepbind/sweepbind.h"
@@ -30,9 +31,12 @@ namespace sweepd::cli {
 namespace {
 
 // "head 2,345, left hand 1,200, ...": the fully skinned vertices per body part, largest first.
+// A bone that carries an end its sweep stops at (OpenPose's forearm, its neck) counts as that end.
 std::string skinned_by_part(const deform::BoundModel& bound) {
   const deform::Model& model = bound.model;
-  const std::vector<deform::BodyPart> part_of = deform::label_joints(bound.rig, model.skeleton);
+  std::vector<deform::BodyPart> part_of = deform::label_joints(bound.rig, model.skeleton);
+  for (const deform::BoundSweep& sweep : bound.sweeps)
+    if (sweep.ends_on_carried_end()) part_of[sweep.chain.back()] = deform::end_part(sweep.part);
   std::map<std::string, std::size_t> count;
   for (std::size_t v = 0; v < model.vertex_count(); ++v) {
     if (bound.vertices[v].skin_weight < 1.0f) continue;
@@ -65,7 +69,9 @@ void print_sweep(const deform::BoundModel& bound, int s) {
   for (std::size_t k = 0; k < sweep.rest_keys.size(); ++k) {
     const deform::KeyAnchor& anchor = sweep.anchors[k];
     std::string where = skeleton.joints[anchor.joint].name;
-    if (!anchor.is_joint_key()) {
+    if (anchor.is_on_carried_end() && anchor.fraction == 1.0f) {
+      where += " +1.00 (carried end)";  // the end its bone carries begins here
+    } else if (!anchor.is_joint_key()) {
       char fraction[16];
       std::snprintf(fraction, sizeof fraction, " +%.2f", anchor.fraction);
       where += fraction;
@@ -127,6 +133,7 @@ struct BindCommandOptions {
   std::filesystem::path model, out, rig, debug_gltf;
   deform::BindOptions bind;
   bool adapt = true;  // --no-adapt: keep bind's sweeps as fitted (selfcheck::adapt_binding)
+  bool sweep_carried_ends = false;  // deform::bind's
 };
 
 int bind_model(const BindCommandOptions& options) {
@@ -136,7 +143,8 @@ int bind_model(const BindCommandOptions& options) {
     console::ProgressBar bar("binding " + options.model.filename().string());
     checked = selfcheck::bind_checked(
         loaded.model, loaded.rig, options.bind, options.adapt,
-        [&](double f, std::string_view stage) { bar.update(f, stage); });
+        [&](double f, std::string_view stage) { bar.update(f, stage); },
+        options.sweep_carried_ends);
   }
   const deform::BoundModel& bound = checked.bound;
   const selfcheck::BindingVerdict& verdict = checked.verdict;
@@ -161,9 +169,23 @@ int bind_model(const BindCommandOptions& options) {
   for (int s = 0; s < static_cast<int>(bound.sweeps.size()); ++s) print_sweep(bound, s);
   // Coverage said out loud: the vertices no sweep moves, by the body part of their strongest
   // joint (hands, feet and head always; a one-joint torso or neck, a forearm without a hand joint
-  // or an absent limb where the rig's warnings say so).
+  // (unless --sweep-carried-ends) or an absent limb where the rig's warnings say so).
   std::printf("\nskinned only: %s vertices (%s)\n", console::with_thousands(skinned).c_str(),
               skinned_by_part(bound).c_str());
+  // --sweep-carried-ends: the rig's warnings (printed before binding) say these parts are
+  // skinned; here they are not.
+  for (const deform::BoundSweep& sweep : bound.sweeps)
+    if (sweep.ends_on_carried_end())
+      std::printf("carried end: the %s is swept past '%s' to the %s found on the mesh, %.1f cm "
+                  "on; beyond it the %s is skinned, rigid with '%s'\n",
+                  deform::to_string(sweep.part),
+                  bound.model.skeleton.joints[sweep.chain.back()].name.c_str(),
+                  sweep.part == deform::BodyPart::kNeck ? "neck's top" : "wrist",
+                  100.0f * glm::distance(sweep.rest_keys.back().centre,
+                                         glm::vec3(bound.model.skeleton.world_rest_matrices()
+                                                       [sweep.chain.back()][3])),
+                  deform::to_string(deform::end_part(sweep.part)),
+                  bound.model.skeleton.joints[sweep.chain.back()].name.c_str());
   print_rigid_islands(bound.model);
   std::printf("rest-pose error: max %.3g m (%.3g x height)\n", worst, worst / (hi - lo));
   print_self_check(bound, verdict,
@@ -217,6 +239,13 @@ Command add_bind_command(CLI::App& sweepctl) {
                    "the mesh coloured by sweep and blend share, with every key ellipse as a "
                    "line loop, for a glTF viewer")
       ->type_name("OUT.glb");
+  command->add_flag(
+      "--sweep-carried-ends", options->sweep_carried_ends,
+      "where a forearm bone carries the hand or a one-joint neck the head (no hand or head joint: "
+      "OpenPose), sweep the forearm from the elbow to the wrist and the neck to below the head, "
+      "both found on the mesh (narrowest section), the hand and head skinned rigid with the bone; "
+      "off by default: on the corpus's OpenPose body the sweep is then worse than skinning in more "
+      "(frame, region) pairs (docs/carried_ends.md)");
   command->add_flag(
       "--adapt,!--no-adapt", options->adapt,
       "where the self-check finds a sweep worse than skinning, fit it again with fewer link "

@@ -415,10 +415,10 @@ std::vector<std::string> adaptation_notes(const deform::BoundModel& bound) {
 
 CheckedBinding bind_checked(const deform::Model& model, const deform::RigMap& rig,
                             const deform::BindOptions& options, bool adapt,
-                            const deform::BindProgress& progress) {
+                            const deform::BindProgress& progress, bool sweep_carried_ends) {
   const auto started = std::chrono::steady_clock::now();
   CheckedBinding checked;
-  checked.bound = deform::bind(model, rig, options, progress);
+  checked.bound = deform::bind(model, rig, options, progress, sweep_carried_ends);
   const auto bound_at = std::chrono::steady_clock::now();
   const BindingChecker checker(checked.bound, range_of_motion_peaks(checked.bound));
   if (adapt) {

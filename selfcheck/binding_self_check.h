@@ -155,7 +155,8 @@ struct CheckedBinding {
 };
 CheckedBinding bind_checked(const deform::Model& model, const deform::RigMap& rig,
                             const deform::BindOptions& options = {}, bool adapt = false,
-                            const deform::BindProgress& progress = {});
+                            const deform::BindProgress& progress = {},
+                            bool sweep_carried_ends = false);  // deform::bind's
 
 std::vector<std::string> self_check_warnings(const BindingVerdict& verdict);
 

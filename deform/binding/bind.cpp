@@ -1,8 +1,11 @@
 #include "deform/binding/bind.h"
 
 #include <algorithm>
+#include <optional>
+#include <string>
 #include <stdexcept>
 
+#include "deform/binding/carried_end.h"
 #include "deform/binding/chain_key_ellipses.h"
 #include "deform/binding/mesh_parts_joined.h"
 #include "deform/binding/rest_sweep.h"
@@ -21,30 +24,60 @@ struct SweepPlan {
   BodyPart part;
   std::vector<int> chain;
   glm::vec3 x_hint;
+  std::optional<glm::vec3> end;  // where the last joint's bone carries the hand or head
 };
 
+// The end a chain's last bone carries (carried_end.h), or none; where none is found, `warnings`
+// says so and the part's sweep ends at that joint.
+std::optional<glm::vec3> carried_end(const Model& model, const WeldedMesh& mesh,
+                                     std::span<const glm::mat4> world_rest, int joint,
+                                     CarriedEndKind kind, const std::string& part,
+                                     std::vector<std::string>* warnings) {
+  const CarriedEnd end = find_carried_end(model, mesh, world_rest, joint, kind);
+  if (end.found) return end.point;
+  if (warnings)
+    warnings->push_back("found no end of the " + part + " on '" + model.skeleton.joints[joint].name +
+                        "' (" + end.problem + "): it is skinned by linear blending from that joint on");
+  return std::nullopt;
+}
+
 // One sweep per part the map has: torso, neck, arms, legs. An absent part is left to skinning,
-// and so is a neck of one joint, a torso of one joint with no neck above it (no link to sweep
-// along: rig_detection warns; RigMap::torso_sweep_chain) and the forearm of an arm without a
-// hand joint (its sweep ends at the elbow).
-std::vector<SweepPlan> plan_sweeps(const RigMap& rig, std::span<const glm::mat4> world_rest) {
+// and so is a torso of one joint with no neck above it (no link to sweep along: rig_detection
+// warns; RigMap::torso_sweep_chain). A neck of one joint (the head's) and the forearm of an arm
+// without a hand joint are skinned too (rig_detection warns), unless sweep_carried_ends: then
+// they are swept on to the end their bone carries, found on the mesh (carried_end.h), or end at
+// that joint where none is found (a warning in `warnings`).
+std::vector<SweepPlan> plan_sweeps(const Model& model, const WeldedMesh& mesh, const RigMap& rig,
+                                   std::span<const glm::mat4> world_rest, bool sweep_carried_ends,
+                                   std::vector<std::string>* warnings) {
   // The body's own axes, so the keys' first axes agree from model to model.
   const BodyAxes axes = rest_body_axes(rig, world_rest);
   std::vector<SweepPlan> plans;
   if (std::vector<int> torso = rig.torso_sweep_chain(); torso.size() >= 2)
-    plans.push_back({BodyPart::kTorso, torso, axes.left});
-  if (rig.has_head() && rig.neck.chain.size() >= 2)
-    plans.push_back({BodyPart::kNeck, rig.neck.chain, axes.left});
+    plans.push_back({BodyPart::kTorso, torso, axes.left, std::nullopt});
+  if (rig.has_head() && rig.neck.chain.size() >= 2) {
+    plans.push_back({BodyPart::kNeck, rig.neck.chain, axes.left, std::nullopt});
+  } else if (rig.has_head() && rig.neck.chain.size() == 1 && sweep_carried_ends) {
+    if (const auto end = carried_end(model, mesh, world_rest, rig.neck.head, CarriedEndKind::kHead,
+                                     "neck", warnings))
+      plans.push_back({BodyPart::kNeck, rig.neck.chain, axes.left, end});
+  }
   for (const auto& [part, arm] : {std::pair{BodyPart::kLeftArm, &rig.left_arm},
                                   std::pair{BodyPart::kRightArm, &rig.right_arm}}) {
     if (arm->absent()) continue;
     std::vector<int> chain = {arm->upper, arm->lower};
-    if (arm->hand >= 0) chain.push_back(arm->hand);
-    plans.push_back({part, chain, axes.forward});
+    std::optional<glm::vec3> end;
+    if (arm->hand >= 0)
+      chain.push_back(arm->hand);
+    else if (sweep_carried_ends)
+      end = carried_end(model, mesh, world_rest, arm->lower, CarriedEndKind::kHand,
+                        std::string(to_string(part)) + "'s forearm", warnings);
+    plans.push_back({part, chain, axes.forward, end});
   }
   for (const auto& [part, leg] : {std::pair{BodyPart::kLeftLeg, &rig.left_leg},
                                   std::pair{BodyPart::kRightLeg, &rig.right_leg}})
-    if (!leg->absent()) plans.push_back({part, {leg->upper, leg->lower, leg->foot}, axes.forward});
+    if (!leg->absent())
+      plans.push_back({part, {leg->upper, leg->lower, leg->foot}, axes.forward, std::nullopt});
   return plans;
 }
 
@@ -76,28 +109,29 @@ BoundSweep fit_sweep(const WeldedMesh& mesh, std::span<const glm::mat4> world_re
                      const SweepPlan& plan, BindOptions options, const SweepChoice& choice) {
   options.intermediate_keys_per_link = choice.keys_per_link;
   BoundSweep sweep = fit_chain_key_ellipses(mesh.positions, mesh.indices, world_rest, plan.part,
-                                            plan.chain, options, plan.x_hint);
+                                            plan.chain, plan.end, options, plan.x_hint);
   sweep.choice = choice;
   sweep.rest_volume = sweep_volume(rest_sweep(sweep, options));
   return sweep;
 }
 
 BoundModel bind_one_body(const Model& model, const RigMap& rig, const BindOptions& options,
-                         const BindProgress& progress);
+                         const BindProgress& progress, bool sweep_carried_ends);
 
 }  // namespace
 
 // The separate pieces (mesh_parts_joined.h) take no part in the sweeps: the body binds alone,
 // and every other vertex follows the model's own skin weights.
 BoundModel bind(const Model& model, const RigMap& rig, const BindOptions& options,
-                const BindProgress& progress) {
+                const BindProgress& progress, bool sweep_carried_ends) {
   if (std::string why = model.validate(); !why.empty())
     throw std::invalid_argument("cannot bind an invalid model: " + why);
   const std::vector<std::uint8_t> joined = vertices_joined(model);
   if (std::all_of(joined.begin(), joined.end(), [](std::uint8_t j) { return j != 0; }))
-    return bind_one_body(model, rig, options, progress);
+    return bind_one_body(model, rig, options, progress, sweep_carried_ends);
   std::vector<std::uint32_t> body_vertex;
-  BoundModel body = bind_one_body(body_of(model, joined, body_vertex), rig, options, progress);
+  BoundModel body = bind_one_body(body_of(model, joined, body_vertex), rig, options, progress,
+                                  sweep_carried_ends);
   BoundModel bound;
   bound.model = model;
   bound.rig = std::move(body.rig);
@@ -122,7 +156,7 @@ BoundModel bind(const Model& model, const RigMap& rig, const BindOptions& option
 namespace {
 
 BoundModel bind_one_body(const Model& model, const RigMap& rig, const BindOptions& options,
-                         const BindProgress& progress) {
+                         const BindProgress& progress, bool sweep_carried_ends) {
   if (std::string why = validate_rig_map(rig, model.skeleton); !why.empty())
     throw std::invalid_argument("cannot bind with this rig map: " + why);
   if (options.intermediate_keys_per_link < 0 || options.plane_samples_per_span < 1 ||
@@ -142,7 +176,8 @@ BoundModel bind_one_body(const Model& model, const RigMap& rig, const BindOption
   // surface: weld the UV-seam copies once, for every stage.
   const WeldedMesh mesh = weld_mesh(model.positions, model.indices);
 
-  const std::vector<SweepPlan> plans = plan_sweeps(rig, world_rest);
+  const std::vector<SweepPlan> plans =
+      plan_sweeps(model, mesh, rig, world_rest, sweep_carried_ends, &bound.rig.warnings);
   std::vector<Sweep> sweeps;
   const SweepChoice choice{.orientation_curve = options.orientation_curve,
                            .keys_per_link = options.intermediate_keys_per_link};
@@ -183,20 +218,25 @@ BoundModel bind_one_body(const Model& model, const RigMap& rig, const BindOption
 
 SweepRebinder::SweepRebinder(const BoundModel& bound)
     : world_rest_(bound.model.skeleton.world_rest_matrices()) {
-  const Model& model = bound.model;
-  const std::vector<std::uint8_t> joined = vertices_joined(model);
-  if (std::all_of(joined.begin(), joined.end(), [](std::uint8_t j) { return j != 0; })) {
-    mesh_ = weld_mesh(model.positions, model.indices);
-  } else {
+  // The body bind fitted the sweeps to (bind: the joined vertices alone).
+  const std::vector<std::uint8_t> joined = vertices_joined(bound.model);
+  Model body;
+  if (!std::all_of(joined.begin(), joined.end(), [](std::uint8_t j) { return j != 0; })) {
     std::vector<std::uint32_t> body_vertex;
-    const Model body = body_of(model, joined, body_vertex);
-    mesh_ = weld_mesh(body.positions, body.indices);
+    body = body_of(bound.model, joined, body_vertex);
   }
-  const std::vector<SweepPlan> plans = plan_sweeps(bound.rig, world_rest_);
+  const Model& fitted = body.positions.empty() ? bound.model : body;
+  mesh_ = weld_mesh(fitted.positions, fitted.indices);
+  // On the same body, so the carried ends are found where bind found them.
+  const bool carried = std::any_of(bound.sweeps.begin(), bound.sweeps.end(),
+                                   [](const BoundSweep& s) { return s.ends_on_carried_end(); });
+  const std::vector<SweepPlan> plans =
+      plan_sweeps(fitted, mesh_, bound.rig, world_rest_, carried, nullptr);
   for (const BoundSweep& sweep : bound.sweeps) {
     const auto plan = std::find_if(plans.begin(), plans.end(),
                                    [&](const SweepPlan& p) { return p.part == sweep.part; });
     x_hints_.push_back(plan == plans.end() ? glm::vec3(1, 0, 0) : plan->x_hint);
+    ends_.push_back(plan == plans.end() ? std::nullopt : plan->end);
   }
 }
 
@@ -212,7 +252,7 @@ void SweepRebinder::rebind(BoundModel& bound, int s, const SweepChoice& choice) 
     auto fitted = fitted_.find(key);
     if (fitted == fitted_.end())
       fitted = fitted_
-                   .emplace(key, fit_sweep(mesh_, world_rest_, {old.part, old.chain, x_hints_[s]},
+                   .emplace(key, fit_sweep(mesh_, world_rest_, {old.part, old.chain, x_hints_[s], ends_[s]},
                                            bound.options, choice))
                    .first;
     sweep_fitted = fitted->second;

@@ -13,6 +13,7 @@
 #include <functional>
 #include <glm/glm.hpp>
 #include <map>
+#include <optional>
 #include <string_view>
 #include <utility>
 #include <vector>
@@ -26,14 +27,19 @@ namespace sweepd::deform {
 
 using BindProgress = std::function<void(double fraction, std::string_view stage)>;
 
+// sweep_carried_ends: sweep a neck of one joint (the head's) and the forearm of an arm without a
+// hand joint on to the end their bone carries, found on the mesh (carried_end.h; the end then
+// skinned, rigid with the bone), instead of skinning them. Off by default: on the corpus's
+// OpenPose body it left the sweep worse than skinning in more (frame, region) pairs of the
+// corpus gate (96 -> 108 with the forearms alone, 176 with the neck too; docs/carried_ends.md).
 BoundModel bind(const Model& model, const RigMap& rig, const BindOptions& options = {},
-                const BindProgress& progress = {});
+                const BindProgress& progress = {}, bool sweep_carried_ends = false);
 
 // SweepRebinder: fits one sweep of a bound model again with another SweepChoice (its keys per
 // link, its orientation curve) and binds again the coordinates of the vertices on it; the
 // blend shares, the other sweeps and everything else stay. What the binding's self-check tries
 // where a sweep loses to skinning. Built once per bound model (it welds the body's mesh, as
-// bind does); rebind throws std::invalid_argument as bind does when the sweep cannot be fitted.
+// bind does, and finds again the ends its sweeps run on to, if any); rebind throws std::invalid_argument as bind does when the sweep cannot be fitted.
 // The key ellipses depend on the key count alone: a choice with the sweep's own count keeps its
 // keys (only the orientation curve changes), and each other count is fitted once per sweep and
 // kept for the next choice with it.
@@ -47,6 +53,7 @@ class SweepRebinder {
   std::map<std::pair<int, int>, BoundSweep> fitted_;  // (sweep, keys per link): its fit
   std::vector<glm::mat4> world_rest_;
   std::vector<glm::vec3> x_hints_;  // per sweep: its first key's first axis hint
+  std::vector<std::optional<glm::vec3>> ends_;  // per sweep: the end its last bone carries
 };
 
 // Every vertex evaluated from its binding at the rest pose (skinned share: the rest position).

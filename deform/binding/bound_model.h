@@ -11,6 +11,8 @@
 
 #include <array>
 #include <cstdint>
+#include <glm/glm.hpp>
+#include <span>
 #include <vector>
 
 #include "deform/edits/angle_driven_key_edits.h"
@@ -30,6 +32,10 @@ struct KeyAnchor {
   int next_joint = -1;  // -1 for the last joint key of the chain
   float fraction = 0.0f;
   bool is_joint_key() const { return fraction == 0.0f; }
+  // A key past the chain's last joint, on the end its bone carries (a forearm bone that carries
+  // the hand, a neck bone that carries the head: carried_end.h): it rides that joint's bone
+  // rigidly, at `fraction` of the way from the joint to the end (1: the end's own key).
+  bool is_on_carried_end() const { return next_joint < 0 && fraction > 0.0f; }
 };
 
 // What a sweep was bound with, where it may differ from the model's BindOptions: bind() copies
@@ -57,6 +63,13 @@ struct BoundSweep {
   std::vector<std::uint8_t> key_fallback;  // 1 where the cut was unusable and the key copied
   double rest_volume = 0.0;                // the swept volume of the rest keys (m³)
   SweepChoice choice;  // its orientation curve (what rest_sweep builds) and keys per link
+
+  // The points the sweep runs through at rest: its chain's joints, then, where its last bone
+  // carries an end (KeyAnchor::is_on_carried_end), the centre of the end's key.
+  std::vector<glm::vec3> rest_path(std::span<const glm::mat4> world_rest) const;
+  bool ends_on_carried_end() const {
+    return !anchors.empty() && anchors.back().is_on_carried_end();
+  }
 };
 
 // A vertex's place on one sweep: V = C(t) + R(t) ((a(t)+da) cos θ, (b(t)+db) sin θ, c).

@@ -1,6 +1,8 @@
 #include "deform/binding/chain_key_ellipses.h"
 
+#include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -61,39 +63,46 @@ int nearest_usable(const std::vector<RawKey>& keys, int k) {
 BoundSweep fit_chain_key_ellipses(std::span<const glm::vec3> positions,
                                   std::span<const std::uint32_t> indices,
                                   std::span<const glm::mat4> world_rest, BodyPart part,
-                                  std::span<const int> chain, const BindOptions& options,
-                                  glm::vec3 x_hint) {
+                                  std::span<const int> chain, std::optional<glm::vec3> end,
+                                  const BindOptions& options, glm::vec3 x_hint) {
   const int keys_per_link = options.intermediate_keys_per_link;
   const JointKeyCentre centre_rule = options.joint_key_centre;
   const std::string part_name = to_string(part);
-  if (chain.size() < 2)
-    throw std::invalid_argument("the " + part_name + " sweep needs at least two joints");
   const int joints = static_cast<int>(chain.size());
-  std::vector<glm::vec3> link_direction(joints);
-  for (int i = 0; i + 1 < joints; ++i) {
-    const glm::vec3 link =
-        joint_position(world_rest, chain[i + 1]) - joint_position(world_rest, chain[i]);
+  // The points the sweep runs through: its joints, then the carried end (if any).
+  std::vector<glm::vec3> points;
+  for (int j : chain) points.push_back(joint_position(world_rest, j));
+  if (end) points.push_back(*end);
+  const int count = static_cast<int>(points.size());
+  if (count < 2)
+    throw std::invalid_argument("the " + part_name +
+                                " sweep needs at least two joints, or a joint and its end");
+  std::vector<glm::vec3> link_direction(count);
+  for (int i = 0; i + 1 < count; ++i) {
+    const glm::vec3 link = points[i + 1] - points[i];
     if (glm::length(link) < 1e-5f)
-      throw std::invalid_argument("the " + part_name + " sweep: joints " +
-                                  std::to_string(chain[i]) + " and " +
-                                  std::to_string(chain[i + 1]) + " coincide");
+      throw std::invalid_argument("the " + part_name + " sweep: joint " +
+                                  std::to_string(chain[i]) + " and the " +
+                                  (i + 1 < joints ? "joint " + std::to_string(chain[i + 1])
+                                                  : std::string("end it carries")) +
+                                  " coincide");
     link_direction[i] = glm::normalize(link);
   }
-  link_direction[joints - 1] = link_direction[joints - 2];
+  link_direction[count - 1] = link_direction[count - 2];
 
   std::vector<RawKey> keys;
-  for (int i = 0; i < joints; ++i) {
-    const int steps = i + 1 < joints ? keys_per_link + 1 : 1;
+  for (int i = 0; i < count; ++i) {
+    const int steps = i + 1 < count ? keys_per_link + 1 : 1;
     for (int s = 0; s < steps; ++s) {
       RawKey key;
-      key.anchor.joint = chain[i];
+      // Keys on the carried end's link, and the end's own key (fraction 1), ride the last joint.
+      key.anchor.joint = chain[std::min(i, joints - 1)];
       key.anchor.next_joint = i + 1 < joints ? chain[i + 1] : -1;
-      key.anchor.fraction = static_cast<float>(s) / static_cast<float>(keys_per_link + 1);
-      const glm::vec3 start = joint_position(world_rest, chain[i]);
-      key.origin = key.anchor.next_joint < 0
-                       ? start
-                       : glm::mix(start, joint_position(world_rest, key.anchor.next_joint),
-                                  key.anchor.fraction);
+      key.anchor.fraction =
+          i < joints ? static_cast<float>(s) / static_cast<float>(keys_per_link + 1) : 1.0f;
+      key.origin = i < joints && i + 1 < count
+                       ? glm::mix(points[i], points[i + 1], key.anchor.fraction)
+                       : points[i];
       key.normal = part == BodyPart::kTorso
                        ? torso_key_normal(link_direction, i, key.anchor.fraction)
                        : link_direction[i];
@@ -121,6 +130,21 @@ BoundSweep fit_chain_key_ellipses(std::span<const glm::vec3> positions,
     if (neighbour >= 0 && !keys[neighbour].anchor.is_joint_key() &&
         keys[k].fit.fit_2d.area > kMaxJointKeyAreaRatio * keys[neighbour].fit.fit_2d.area)
       keys[k].usable = false;
+  }
+
+  // On a bone that carries an end, the keys nearest its joint may cut the body around it (the
+  // OpenPose neck bone's plane at the neck base cuts the trapezius, 240-500 cm² against the
+  // neck's 55-70): walking in from the end, a key far larger than the next one out took it in.
+  if (end) {
+    int outer = static_cast<int>(keys.size()) - 1;
+    for (int k = outer - 1; k >= 0 && keys[k].anchor.joint == chain.back(); --k) {
+      if (!keys[k].usable) continue;
+      if (keys[outer].usable &&
+          keys[k].fit.fit_2d.area > kMaxJointKeyAreaRatio * keys[outer].fit.fit_2d.area)
+        keys[k].usable = false;
+      else
+        outer = k;
+    }
   }
 
   BoundSweep sweep;

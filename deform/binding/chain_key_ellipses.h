@@ -24,9 +24,14 @@
 // The first axis of every key is chosen among the fitted major/minor axes to stay closest to the
 // previous key's (to x_hint for the first key), so Q(t) does not twist by 90° where a limb's
 // section turns from wide to deep; a may therefore be smaller than b.
+// A chain whose last joint's bone carries an end of the body (no hand or head joint: OpenPose's
+// forearm and neck bones; carried_end.h) runs on to that end: link keys along the bone from the
+// joint to `end`, and a last key at `end` (fraction 1 on the joint's own bone), all riding the
+// chain's last joint; that joint's key plane is then orthogonal to the bone, from joint to end.
 // Inputs:  positions, indices: the rest mesh with UV-seam duplicates welded (cut loops are
 //          chained through shared vertices), world_rest (Skeleton::world_rest_matrices, one per
-//          joint), part and chain (>= 2 joints, root first), options, x_hint (world direction).
+//          joint), part and chain (root first), end (the carried end's rest point, or none;
+//          chain and end give at least two points), options, x_hint (world direction).
 // Output:  BoundSweep with chain, anchors, rest_keys, key_fit_errors, key_area_ratios,
 //          key_fallback filled (rest_volume is left to the caller).
 // Throws std::invalid_argument naming the part when no key of the chain can be fitted or two
@@ -35,6 +40,7 @@
 
 #include <cstdint>
 #include <glm/glm.hpp>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -47,7 +53,7 @@ inline constexpr float kMaxJointKeyAreaRatio = 1.8f;
 BoundSweep fit_chain_key_ellipses(std::span<const glm::vec3> positions,
                                   std::span<const std::uint32_t> indices,
                                   std::span<const glm::mat4> world_rest, BodyPart part,
-                                  std::span<const int> chain, const BindOptions& options,
-                                  glm::vec3 x_hint);
+                                  std::span<const int> chain, std::optional<glm::vec3> end,
+                                  const BindOptions& options, glm::vec3 x_hint);
 
 }  // namespace sweepd::deform

@@ -76,23 +76,19 @@ struct PlanePair {
   }
 };
 
-// Planes centred at `joint`, orthogonal to the link from `link_from` to `link_to`.
-PlanePair planes_at(std::span<const glm::mat4> world_rest, int joint, int link_from, int link_to,
-                    float half_width_fraction) {
-  const glm::vec3 from(world_rest[link_from][3]), to(world_rest[link_to][3]);
+// Planes centred at `centre`, orthogonal to the link from `from` to `to`.
+PlanePair planes_at(glm::vec3 centre, glm::vec3 from, glm::vec3 to, float half_width_fraction) {
   PlanePair pair;
-  pair.centre = glm::vec3(world_rest[joint][3]);
+  pair.centre = centre;
   pair.direction = glm::normalize(to - from);
   pair.half_width = half_width_fraction * glm::length(to - from);
   return pair;
 }
 
-// Joint-to-joint length of a chain in the rest pose.
-float chain_length(std::span<const glm::mat4> world_rest, std::span<const int> chain) {
+// Point-to-point length of a sweep's rest path (BoundSweep::rest_path).
+float path_length(std::span<const glm::vec3> path) {
   float length = 0.0f;
-  for (std::size_t i = 1; i < chain.size(); ++i)
-    length +=
-        glm::length(glm::vec3(world_rest[chain[i]][3]) - glm::vec3(world_rest[chain[i - 1]][3]));
+  for (std::size_t i = 1; i < path.size(); ++i) length += glm::length(path[i] - path[i - 1]);
   return length;
 }
 
@@ -234,21 +230,21 @@ std::vector<VertexBinding> blend_shares(const Model& model, const WeldedMesh& me
   std::vector<PlanePair> start(sweep_count), finish(sweep_count);
   PlanePair torso_top, torso_bottom;  // beyond the torso's end keys, skinning takes over
   int torso = -1;
+  std::vector<float> length(sweep_count);
   for (int s = 0; s < sweep_count; ++s) {
-    const std::vector<int>& chain = sweeps[s].chain;
-    const int n = static_cast<int>(chain.size());
+    const std::vector<glm::vec3> path = sweeps[s].rest_path(world_rest);
+    const int n = static_cast<int>(path.size());
+    length[s] = path_length(path);
     if (sweeps[s].part == BodyPart::kTorso) torso = s;
-    start[s] = planes_at(world_rest, chain[0], chain[0], chain[1], options.transition_half_width);
-    finish[s] = planes_at(world_rest, chain[n - 1], chain[n - 2], chain[n - 1],
-                          options.end_blend_half_width);
+    start[s] = planes_at(path[0], path[0], path[1], options.transition_half_width);
+    finish[s] = planes_at(path[n - 1], path[n - 2], path[n - 1], options.end_blend_half_width);
     // A leg hands over by the ankle (the header says why an arm does not).
     if (sweeps[s].part == BodyPart::kLeftLeg || sweeps[s].part == BodyPart::kRightLeg)
       finish[s].centre -= finish[s].half_width * finish[s].direction;
     if (s == torso) {
       torso_top = finish[s];
       torso_top.centre += torso_top.half_width * torso_top.direction;
-      torso_bottom =
-          planes_at(world_rest, chain[0], chain[1], chain[0], options.end_blend_half_width);
+      torso_bottom = planes_at(path[0], path[1], path[0], options.end_blend_half_width);
       torso_bottom.centre += torso_bottom.half_width * torso_bottom.direction;
     }
   }
@@ -264,11 +260,12 @@ std::vector<VertexBinding> blend_shares(const Model& model, const WeldedMesh& me
         weight += model.skin_weights[v][k];
     head_weight[welded[v]] = weight;
   }
+  // A neck whose bone carries the head has the head's weight all along it: its hand-over is
+  // its planes', as a forearm's that carries the hand.
   std::vector<float> head_handover;
-  for (const BoundSweep& sweep : sweeps)
-    if (sweep.part == BodyPart::kNeck)
-      head_handover = head_handover_by_distance(mesh.adjacency, head_weight,
-                                                chain_length(world_rest, sweep.chain));
+  for (int s = 0; s < sweep_count; ++s)
+    if (sweeps[s].part == BodyPart::kNeck && !sweeps[s].ends_on_carried_end())
+      head_handover = head_handover_by_distance(mesh.adjacency, head_weight, length[s]);
 
   const int columns = sweep_count + 1;
   std::vector<float> shares(welded_count * columns, 0.0f);
@@ -305,7 +302,8 @@ std::vector<VertexBinding> blend_shares(const Model& model, const WeldedMesh& me
       // The hand's or foot's own skin weight takes over once it passes one half; the head's
       // by its surface ramp.
       const float end_skin = skin[static_cast<int>(end_part(sweeps[s].part))];
-      const float by_skin = sweeps[s].part == BodyPart::kNeck
+      const float by_skin = sweeps[s].ends_on_carried_end() ? 0.0f
+                            : sweeps[s].part == BodyPart::kNeck
                                 ? head_handover[welded[v]]
                                 : std::clamp(2.0f * end_skin - 1.0f, 0.0f, 1.0f);
       skinned += share[s] * std::max(finish[s].weight(p), by_skin);
@@ -319,9 +317,8 @@ std::vector<VertexBinding> blend_shares(const Model& model, const WeldedMesh& me
       row[s] = total > 0.0f ? share[s] * (1.0f - skinned) / total : 0.0f;
     row[sweep_count] = skinned;
   }
-  float longest_chain = 0.0f;
-  for (const BoundSweep& sweep : sweeps)
-    longest_chain = std::max(longest_chain, chain_length(world_rest, sweep.chain));
+  const float longest_chain =
+      sweep_count > 0 ? *std::max_element(length.begin(), length.end()) : 0.0f;
   std::vector<float> column_reach(sweep_count, 0.0f);
   for (int s = 0; s < sweep_count; ++s) {
     const BodyPart part = sweeps[s].part;

@@ -19,7 +19,9 @@
 // from where the head's skin weight passes one half, reaching 1 one neck length further (the neck
 // chain's joint-to-joint length). Beyond the torso's first and last keys (below the pelvis,
 // above the chest: the shoulders) its share hands over to skinning the same way as the limbs',
-// starting at the key.
+// starting at the key. A sweep that runs on to the end its last bone carries (a forearm bone
+// that carries the hand, a neck bone the head: BoundSweep::rest_path) hands over by the planes
+// around that end alone: the end's skin weight is the bone's, all along the part.
 // Where sweeps meet, the shares are smoothed over the mesh, and around the hips and the armpits
 // a little beyond (sweep_blending.cpp: kShareSmoothingReach, kArmShareSmoothingReach), so that
 // no share steps across one edge at the border of the meeting.

@@ -40,16 +40,18 @@ Mitre mitre_factors(const KeyEllipse& rest, const glm::quat& upper_turn,
 // pose bends (the shared male's elbows, 46°) cuts no mitre: its rest key already has the
 // bent joint's section, and growing it inflated the arm by 2.4 % when the clip's T-pose
 // straightened the elbows.
-bool bends_further_than_at_rest(std::span<const int> chain, int joint, int next,
-                                std::span<const glm::vec3> rest_joint,
+// The next point is the next chain joint's position, or past the chain's last joint the next
+// key's centre on the end its bone carries.
+bool bends_further_than_at_rest(std::span<const int> chain, int joint, glm::vec3 rest_next,
+                                glm::vec3 pose_next, std::span<const glm::vec3> rest_joint,
                                 std::span<const glm::vec3> pose_joint) {
   const auto at = std::find(chain.begin(), chain.end(), joint);
   if (at == chain.begin() || at == chain.end()) return false;
   const int previous = *(at - 1);
-  auto straightness = [&](std::span<const glm::vec3> p) {
-    return glm::dot(glm::normalize(p[joint] - p[previous]), glm::normalize(p[next] - p[joint]));
+  auto straightness = [&](std::span<const glm::vec3> p, glm::vec3 next) {
+    return glm::dot(glm::normalize(p[joint] - p[previous]), glm::normalize(next - p[joint]));
   };
-  return straightness(pose_joint) < straightness(rest_joint);
+  return straightness(pose_joint, pose_next) < straightness(rest_joint, rest_next);
 }
 
 // Stretches key k's ellipse along the outside of the bend only: its half-axes grow by half of
@@ -158,9 +160,12 @@ void pose_key_ellipses(const BoundSweep& sweep, std::span<const std::array<float
         anchor.is_joint_key() ? joint_key_turn(skeleton, joint_rotation, j) : joint_rotation[j];
     glm::quat orientation_turn = turn;
     const bool column = sweep.part == BodyPart::kNeck || sweep.part == BodyPart::kTorso;
-    if (column && !anchor.is_joint_key() && anchor.next_joint >= 0) {
+    if (column && !anchor.is_joint_key()) {
+      // On a neck bone that carries the head, towards the head's own turn (the bone's).
       const glm::quat from = joint_key_turn(skeleton, joint_rotation, j);
-      const glm::quat to = joint_key_turn(skeleton, joint_rotation, anchor.next_joint);
+      const glm::quat to = anchor.next_joint >= 0
+                               ? joint_key_turn(skeleton, joint_rotation, anchor.next_joint)
+                               : joint_rotation[j];
       orientation_turn = glm::slerp(from, glm::dot(from, to) < 0.0f ? -to : to, anchor.fraction);
     }
     KeyEllipse& posed = keys[k];
@@ -176,8 +181,14 @@ void pose_key_ellipses(const BoundSweep& sweep, std::span<const std::array<float
     const KeyAnchor& anchor = sweep.anchors[k];
     const int j = anchor.joint;
     const int parent = skeleton.joints[j].parent;
-    if (!anchor.is_joint_key() || parent < 0 || j == sweep.chain.front() || anchor.next_joint < 0 ||
-        !bends_further_than_at_rest(sweep.chain, j, anchor.next_joint, rest_joint, pose_joint))
+    // The chain's last joint bends like an inner one where its bone carries an end on to it.
+    const bool inner = anchor.next_joint >= 0 || (k + 1 < count && sweep.anchors[k + 1].is_on_carried_end());
+    if (!anchor.is_joint_key() || parent < 0 || j == sweep.chain.front() || !inner) continue;
+    const glm::vec3 rest_next =
+        anchor.next_joint >= 0 ? rest_joint[anchor.next_joint] : sweep.rest_keys[k + 1].centre;
+    const glm::vec3 pose_next =
+        anchor.next_joint >= 0 ? pose_joint[anchor.next_joint] : keys[k + 1].centre;
+    if (!bends_further_than_at_rest(sweep.chain, j, rest_next, pose_next, rest_joint, pose_joint))
       continue;
     const Mitre mitre = mitre_factors(sweep.rest_keys[k], joint_rotation[parent], joint_rotation[j],
                                       joint_key_turn(skeleton, joint_rotation, j));

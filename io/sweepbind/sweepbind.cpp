@@ -237,7 +237,8 @@ std::string validate(const BoundModel& bound) {
         return name + ": chain joint " + std::to_string(j) + " out of range";
     for (const deform::KeyAnchor& anchor : sweep.anchors)
       if (anchor.joint < 0 || anchor.joint >= joints || anchor.next_joint < -1 ||
-          anchor.next_joint >= joints || !(anchor.fraction >= 0.0f && anchor.fraction < 1.0f))
+          anchor.next_joint >= joints || !(anchor.fraction >= 0.0f && anchor.fraction <= 1.0f) ||
+          (anchor.fraction == 1.0f && anchor.next_joint >= 0))  // 1: a carried end's own key
         return name + ": a key anchor is out of range";
     for (const deform::KeyEllipse& key : sweep.rest_keys)
       if (!finite(key.centre.x) || !finite(key.centre.y) || !finite(key.centre.z) ||
