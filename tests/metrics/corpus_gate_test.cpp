@@ -61,16 +61,21 @@ constexpr int kClipStep = 100;
 // below (male 400 -> 381, child 519 -> 515, heavy female 449 -> 330, OpenPose 433 -> 96, heavy
 // male 523 -> 523, 6k mannequin 234 -> 228, measured before and after on one machine). The
 // 20k mannequin measured 311 -> 313 and the 72k 345 (not measured before): their entries stay,
-// within the 2 % below; so does the RiggedFigure's 991 (993 before and after).
+// within the 2 % below; so does the RiggedFigure's 991 (993 before and after). Then when the
+// self-check's adaptation stopped refusing a candidate for bringing a pair it wins nearer to
+// losing (selfcheck/binding_self_check.cpp, pair_acceptable), measured before and after on one
+// machine: male 381 -> 355, RiggedFigure 993 -> 991, child 515 -> 471, heavy female 330 -> 328,
+// OpenPose 96 -> 96, heavy male 523 -> 493, mannequins 228 -> 228, 313 -> 300 and 345 -> 344
+// (the 72k's entry stays, within the 2 %).
 const std::map<std::string, int> kLedger = {
-    {"makehuman_male_cmu", 381},
+    {"makehuman_male_cmu", 355},
     {"RiggedFigure", 991},
-    {"makehuman_child_mixamo_unity", 515},
-    {"makehuman_female_old_heavy_mixamo", 330},
+    {"makehuman_child_mixamo_unity", 471},
+    {"makehuman_female_old_heavy_mixamo", 328},
     {"makehuman_female_slim_openpose", 96},
-    {"makehuman_male_old_heavy_unreal", 523},
+    {"makehuman_male_old_heavy_unreal", 493},
     {"mannequin:6000", 228},
-    {"mannequin:20000", 309},
+    {"mannequin:20000", 300},
     {"mannequin:72000", 342},
 };
 
@@ -82,7 +87,7 @@ const std::map<std::string, int> kLedger = {
 // Not yet, printed: the heavy female mirrored (4.00), the OpenPose female (3.56, mirrored
 // 3.86), the heavy male (3.85, mirrored 3.96: its belly folds on the inside of a deep forward
 // bend, cmu_01_01 frame 1760, where LBS squashes the same edge to 0.56) and the child (3.31,
-// mirrored 4.84: the same fold at its waist).
+// mirrored 3.27; 4.84, the same fold at its waist, before the self-check adapted more sweeps).
 constexpr double kCmuStretchTarget = 3.0;
 const std::set<std::string> kWithinTargetOnCmu = {
     "makehuman_male_cmu", "makehuman_male_cmu mirrored", "makehuman_male_cmu x0.6",
