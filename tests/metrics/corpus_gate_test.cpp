@@ -18,6 +18,8 @@
 // of the motion, which is why its figures differ.
 // And on both CMU clips, for the variants where it holds (kWithinTargetOnCmu), issue 47's target
 // that no edge of those regions stretches past 3x its rest length.
+// Printed per body besides: where its worse pairs are (WorseBreakdown), so that the largest
+// class of them shows without a debugger.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -59,16 +61,21 @@ constexpr int kClipStep = 100;
 // below (male 400 -> 381, child 519 -> 515, heavy female 449 -> 330, OpenPose 433 -> 96, heavy
 // male 523 -> 523, 6k mannequin 234 -> 228, measured before and after on one machine). The
 // 20k mannequin measured 311 -> 313 and the 72k 345 (not measured before): their entries stay,
-// within the 2 % below; so does the RiggedFigure's 991 (993 before and after).
+// within the 2 % below; so does the RiggedFigure's 991 (993 before and after). Then when the
+// self-check's adaptation stopped refusing a candidate for bringing a pair it wins nearer to
+// losing (selfcheck/binding_self_check.cpp, pair_acceptable), measured before and after on one
+// machine: male 381 -> 355, RiggedFigure 993 -> 991, child 515 -> 471, heavy female 330 -> 328,
+// OpenPose 96 -> 96, heavy male 523 -> 493, mannequins 228 -> 228, 313 -> 300 and 345 -> 344
+// (the 72k's entry stays, within the 2 %).
 const std::map<std::string, int> kLedger = {
-    {"makehuman_male_cmu", 381},
+    {"makehuman_male_cmu", 355},
     {"RiggedFigure", 991},
-    {"makehuman_child_mixamo_unity", 515},
-    {"makehuman_female_old_heavy_mixamo", 330},
+    {"makehuman_child_mixamo_unity", 471},
+    {"makehuman_female_old_heavy_mixamo", 328},
     {"makehuman_female_slim_openpose", 96},
-    {"makehuman_male_old_heavy_unreal", 523},
+    {"makehuman_male_old_heavy_unreal", 493},
     {"mannequin:6000", 228},
-    {"mannequin:20000", 309},
+    {"mannequin:20000", 300},
     {"mannequin:72000", 342},
 };
 
@@ -80,7 +87,7 @@ const std::map<std::string, int> kLedger = {
 // Not yet, printed: the heavy female mirrored (4.00), the OpenPose female (3.56, mirrored
 // 3.86), the heavy male (3.85, mirrored 3.96: its belly folds on the inside of a deep forward
 // bend, cmu_01_01 frame 1760, where LBS squashes the same edge to 0.56) and the child (3.31,
-// mirrored 4.84: the same fold at its waist).
+// mirrored 3.27; 4.84, the same fold at its waist, before the self-check adapted more sweeps).
 constexpr double kCmuStretchTarget = 3.0;
 const std::set<std::string> kWithinTargetOnCmu = {
     "makehuman_male_cmu", "makehuman_male_cmu mirrored", "makehuman_male_cmu x0.6",
@@ -89,6 +96,49 @@ const std::set<std::string> kWithinTargetOnCmu = {
     "mannequin:6000", "mannequin:6000 mirrored", "mannequin:6000 x0.6",
     "mannequin:20000", "mannequin:20000 mirrored", "mannequin:20000 x0.6",
     "mannequin:72000", "mannequin:72000 mirrored", "mannequin:72000 x0.6"};
+
+// Where the worse pairs are, printed per body so that the largest class shows: per region, by
+// cause (the stretch, flipped triangles, both) and by how far the stretch passes 1.02x the
+// better baseline's (excess: sweep / (1.02 x baseline), under 1.05, 1.05-1.2, over 1.2), and per
+// clip.
+struct WorseBreakdown {
+  static constexpr const char* kCauses[3] = {"stretch", "flips", "both"};
+  static constexpr const char* kBands[3] = {"<5%", "5-20%", ">20%"};
+  struct Row {
+    int cause[3] = {0, 0, 0};
+    int band[3] = {0, 0, 0};  // pairs worse by their stretch (alone or with flips)
+    std::map<std::string, int> clip;
+    std::map<std::string, int> where;  // clip and frame, or the range of motion's move
+  };
+  std::map<std::string, Row> region;
+
+  void add(const char* region_name, const std::string& clip, const std::string& where,
+           const SkinningComparison& c, bool extra_flips) {
+    const bool stretched = c.excess > 1.0;
+    Row& row = region[region_name];
+    ++row.cause[stretched && extra_flips ? 2 : extra_flips ? 1 : 0];
+    if (stretched) ++row.band[c.excess <= 1.05 ? 0 : c.excess <= 1.2 ? 1 : 2];
+    ++row.clip[clip];
+    ++row.where[where];
+  }
+  void print(const std::string& body) const {
+    for (const auto& [name, row] : region) {
+      std::printf("%s breakdown %-10s", body.c_str(), name.c_str());
+      for (int i = 0; i < 3; ++i) std::printf(" %s %3d", kCauses[i], row.cause[i]);
+      std::printf(" |");
+      for (int i = 0; i < 3; ++i) std::printf(" %s %3d", kBands[i], row.band[i]);
+      std::printf(" |");
+      for (const auto& [clip, n] : row.clip) std::printf(" %s %3d", clip.c_str(), n);
+      std::vector<std::pair<int, std::string>> most;
+      for (const auto& [where, n] : row.where) most.push_back({-n, where});
+      std::sort(most.begin(), most.end());
+      std::printf(" | most:");
+      for (std::size_t i = 0; i < std::min<std::size_t>(4, most.size()); ++i)
+        std::printf(" %s (%d)", most[i].second.c_str(), -most[i].first);
+      std::printf("\n");
+    }
+  }
+};
 
 struct ClipCount {
   int worse = 0, frames = 0;
@@ -103,12 +153,16 @@ bool swept_part(deform::BodyPart part) {
          part == BodyPart::kRightArm || part == BodyPart::kLeftLeg || part == BodyPart::kRightLeg;
 }
 
-ClipCount measure(const deform::BoundModel& bound, const std::vector<deform::Pose>& poses) {
+// poses[i] is named names[i]: its move, or its clip frame.
+ClipCount measure(const deform::BoundModel& bound, const std::vector<deform::Pose>& poses,
+                  const std::vector<std::string>& names, const std::string& clip,
+                  WorseBreakdown& breakdown) {
   deform::test::Posing posing(bound);
   const RegionMeter meter(bound);
   std::vector<glm::vec3> positions(bound.model.vertex_count());
   ClipCount count;
-  for (deform::Pose pose : poses) {
+  for (std::size_t p = 0; p < poses.size(); ++p) {
+    deform::Pose pose = poses[p];  // Posing::deform takes it mutable
     std::vector<RegionFigures> figures[3];
     for (int m = 0; m < 3; ++m) {
       posing.deform(pose, static_cast<DeformMethod>(m), positions);
@@ -117,8 +171,15 @@ ClipCount measure(const deform::BoundModel& bound, const std::vector<deform::Pos
         if (swept_part(meter.regions()[r]))
           count.worst[m] = std::max(count.worst[m], figures[m][r].stretch);
     }
-    for (std::size_t r = 0; r < figures[0].size(); ++r)
-      count.worse += compare_with_skinning(figures[0][r], figures[1][r], figures[2][r]).worse;
+    for (std::size_t r = 0; r < figures[0].size(); ++r) {
+      const SkinningComparison c =
+          compare_with_skinning(figures[0][r], figures[1][r], figures[2][r]);
+      if (!c.worse) continue;
+      ++count.worse;
+      const bool extra_flips = figures[0][r].swept_flipped >
+                               std::min(figures[1][r].swept_flipped, figures[2][r].swept_flipped);
+      breakdown.add(deform::to_string(meter.regions()[r]), clip, names[p], c, extra_flips);
+    }
     ++count.frames;
   }
   return count;
@@ -144,6 +205,7 @@ TEST_P(CorpusGate, TheSweepIsWorseThanSkinningNowhereNewAndKeepsItsAdvantage) {
   // 1.78 against 1.76).
   const double advantage = body == "RiggedFigure" ? 1.0 / kSkinningTolerance : 1.05;
   int worse = 0;
+  WorseBreakdown breakdown;
   for (const test_models::BodyVariant& variant :
        test_models::plain_mirrored_and_rescaled({{body, &model}}, 0.6f)) {
     // Bound as sweepctl bind and sweepd bind it: adapted where the self-check finds a refit
@@ -152,21 +214,30 @@ TEST_P(CorpusGate, TheSweepIsWorseThanSkinningNowhereNewAndKeepsItsAdvantage) {
         selfcheck::bind_checked(variant.model, deform::detect_rig_map(variant.model.skeleton),
                                 {}, true)
             .bound;
-    std::vector<std::pair<std::string, std::vector<deform::Pose>>> clips;
+    struct NamedPoses {
+      std::string clip;
+      std::vector<deform::Pose> poses;
+      std::vector<std::string> names;  // the move, or the clip's frame
+    };
+    std::vector<NamedPoses> clips;
     const motion::RangeOfMotion rom = motion::range_of_motion(variant.model.skeleton, bound.rig);
     const motion::OwnSkeletonClip rom_player(rom.clip, variant.model.skeleton);
-    clips.push_back({"range of motion", {}});
-    for (const motion::RomMove& move : rom.moves)
-      clips.back().second.push_back(rom_player.pose_at_frame(move.peak_frame));
+    clips.push_back({"range of motion", {}, {}});
+    for (const motion::RomMove& move : rom.moves) {
+      clips.back().poses.push_back(rom_player.pose_at_frame(move.peak_frame));
+      clips.back().names.push_back(move.name);
+    }
     for (const char* name : {"cmu_01_01", "cmu_01_03"}) {
       const motion::Retargeter clip(io::load_bvh(data / "motion" / (std::string(name) + ".bvh")),
                                     variant.model);
-      clips.push_back({name, {}});
-      for (int f = 0; f < clip.frame_count(); f += kClipStep)
-        clips.back().second.push_back(clip.pose_at_frame(f));
+      clips.push_back({name, {}, {}});
+      for (int f = 0; f < clip.frame_count(); f += kClipStep) {
+        clips.back().poses.push_back(clip.pose_at_frame(f));
+        clips.back().names.push_back(std::string(name) + "@" + std::to_string(f));
+      }
     }
-    for (const auto& [clip, poses] : clips) {
-      const ClipCount count = measure(bound, poses);
+    for (const auto& [clip, poses, names] : clips) {
+      const ClipCount count = measure(bound, poses, names, clip, breakdown);
       std::printf("%-40s %-16s worse in %3d (frame, region) pairs of %3d frames; worst stretch "
                   "sweep %.2f, lbs %.2f, dqs %.2f\n",
                   variant.name.c_str(), clip.c_str(), count.worse, count.frames, count.worst[0],
@@ -180,6 +251,7 @@ TEST_P(CorpusGate, TheSweepIsWorseThanSkinningNowhereNewAndKeepsItsAdvantage) {
       }
     }
   }
+  breakdown.print(body);
   std::printf("%s: worse than skinning in %d (frame, region) pairs (ledger %d, target 0)\n",
               body.c_str(), worse, kLedger.at(body));
   // 2 % over the ledger: pairs within float rounding of the 1.02 threshold may fall either way
