@@ -418,6 +418,9 @@ void BodyContacts::hold_limbs(double seconds, deform::Pose& pose) const {
   // wrists (two-bone IK to where the hand's hold puts them: the hands win over the elbows).
   deform::forward_kinematics(skeleton_, pose, world);
   std::vector<glm::quat> rotation = world_rotations(skeleton_, pose);
+  std::array<glm::vec3, 2> wrist_before{};
+  for (int side = 0; side < 2; ++side)
+    if (arms_[side].end >= 0) wrist_before[side] = glm::vec3(world[arms_[side].end][3]);
   for (int side = 0; side < 2; ++side) {
     if (const glm::vec3 knee = shift(kLeftKnee + side); knee != glm::vec3(0.0f))
       move_limb_middle(skeleton_, legs_[side], knee, world, rotation, pose);
@@ -428,10 +431,14 @@ void BodyContacts::hold_limbs(double seconds, deform::Pose& pose) const {
   deform::forward_kinematics(skeleton_, pose, world);
   rotation = world_rotations(skeleton_, pose);
   for (int side = 0; side < 2; ++side) {
-    if (limb_shift_[kLeftHand + side].empty()) continue;
-    const glm::vec3 wrist = shift(kLeftHand + side) - shift(kLeftArm + side);
-    // A straight arm bends at the elbow upwards, off the floor.
-    if (wrist != glm::vec3(0.0f))
+    if (limb_shift_[kLeftHand + side].empty() || arms_[side].end < 0) continue;
+    // Across to where the hand's hold puts it, from wherever the elbow's hold left it (the
+    // forearm turned where the elbow would have folded past the clip's bend).
+    glm::vec3 wrist =
+        wrist_before[side] + shift(kLeftHand + side) - glm::vec3(world[arms_[side].end][3]);
+    wrist.y = 0.0f;
+    // A straight arm bends at the elbow upwards, off the floor. (1e-6 m: rounding.)
+    if (glm::length(wrist) > 1e-6f)
       move_limb_end(skeleton_, arms_[side], wrist, world, rotation, glm::vec3(0.0f, -1.0f, 0.0f),
                     kSoftReach, pose);
   }

@@ -44,12 +44,15 @@
 //            do (all fours), by the mean of the limbs' contact points ("several contacts
 //            agree"; one limb alone is held by its IK).
 //   knees    the thigh swings about the hip so that the knee moves across, keeping its height;
-//            the shin keeps its world rotation (two_bone_ik.h, move_limb_middle). Not while
+//            the shin keeps its world rotation, but the knee never folds past the clip's bend
+//            (two_bone_ik.h, move_limb_middle: a swept joint folded further bulged below the
+//            samples the body floor lifts by). Not while
 //            that side's foot is planted: the feet win (the leg is foot planting's, and the
 //            root holds the knee); the knee's shift tapers linearly to nothing over the 0.15 s
 //            before and after.
 //   arms     the same with the upper arm about the shoulder (an elbow or forearm resting).
-//   hands    the arm's two-bone IK moves the wrist across to where the hand's hold puts it;
+//   hands    the arm's two-bone IK moves the wrist across to where the hand's hold puts it
+//            (from where the elbow's hold left it);
 //            the hand keeps its world rotation. The hands win over the elbows.
 // Order: the root hold is applied before foot planting, and foot planting is built again on
 // the held root (a planted foot stays planted: the legs' IK takes up the root's shift); what

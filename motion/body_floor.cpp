@@ -38,7 +38,7 @@ BodyFloor BodyFloor::build(const deform::Model& model,
     float deepest = 0.0f;
     for (std::size_t i = 0; i < samples.size(); ++i) {
       const float y = samples.height(i, skinning);
-      deepest = std::max(deepest, lowest_allowed[i] - y);
+      deepest = std::max(deepest, lowest_allowed[i] - samples.swept_height(i, skinning));
       if (const int g = group_of[i]; g >= 0 && y - floor < lowest[g].height)
         lowest[g] = {y - floor, static_cast<int>(i)};
     }

@@ -9,11 +9,13 @@
 //
 // How: the rest mesh is sampled (motion/body_samples.h: per joint, the vertices furthest along
 // 64 directions; a few thousand samples skinned by linear blending: about 20 µs a frame). A frame's
-// need is how far its lowest sample lies below its height: the floor less kSoleTolerance for a
-// foot's samples (foot planting puts the soles on the floor: they must not lift the body), the
-// floor plus kClearance for every other part (the sweep's surface runs up to about 1.1 cm below
-// linear blending's where a knee, hip or back presses on the floor: the RiggedFigure's, knocked
-// down; tests/motion/body_floor_test.cpp). The lift at a frame is
+// need is how far its lowest sample's swept height (body_samples.h: moved out from a bent joint
+// as the sweep keeps its volume; linear at the feet) lies below its height: the floor less
+// kSoleTolerance for a foot's samples (foot planting puts the soles on the floor: they must not
+// lift the body), the floor plus kClearance for every other part (the sweep's surface still runs
+// up to about 0.9 cm below the swept heights where an elbow, knee, hip or back presses on the
+// floor, 2.0 cm below the linear ones: the RiggedFigure without its middle spine joint, knocked
+// down; tests/motion/humanoid_variants_test.cpp). The lift at a frame is
 // the largest need within kEase either side, scaled down linearly with the distance in time, so
 // the body never rises or settles faster than its deepest need per kEase and nothing pops.
 // A body already above the floor is left where the clip and the feet put it (jumps stay jumps).
@@ -22,7 +24,8 @@
 //          frame time, frame_pose (each clip frame's pose, feet planted), group (optional, per
 //          sample: a group of samples, >= 0, whose lowest is kept per frame, or -1).
 // Output:  apply() raises a pose's root by the lift at that time (interpolated between frames);
-//          lowest(group, frame): that group's lowest sample on the clip frame, lifted (what
+//          lowest(group, frame): that group's lowest sample (linearly blended: the contacts'
+//          points move smoothly with the skin) on the clip frame, lifted (what
 //          motion/body_contacts.h finds contacts by, with no second pass over the clip).
 #pragma once
 

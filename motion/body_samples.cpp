@@ -22,9 +22,28 @@ std::vector<glm::vec3> sphere_directions() {
   return directions;
 }
 
+// The joint a vertex's skin bends about: of its two strongest influences, the one whose parent
+// is the other; -1 when they are not parent and child (or it has one influence), or when any
+// influence is blended linearly.
+int bend_joint(const deform::Model& model, std::uint32_t v, const std::vector<bool>& linear) {
+  for (int k = 0; k < deform::kInfluences; ++k)
+    if (model.skin_weights[v][k] > 0.0f && model.skin_joints[v][k] < linear.size() &&
+        linear[model.skin_joints[v][k]])
+      return -1;
+  std::array<int, deform::kInfluences> order;
+  for (int k = 0; k < deform::kInfluences; ++k) order[k] = k;
+  const auto& weights = model.skin_weights[v];
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return weights[a] > weights[b]; });
+  if (weights[order[1]] <= 0.0f) return -1;
+  const int first = model.skin_joints[v][order[0]], second = model.skin_joints[v][order[1]];
+  if (model.skeleton.joints[first].parent == second) return first;
+  if (model.skeleton.joints[second].parent == first) return second;
+  return -1;
+}
+
 }  // namespace
 
-BodySamples::BodySamples(const deform::Model& model) {
+BodySamples::BodySamples(const deform::Model& model, const std::vector<bool>& linear) {
   const int joints = model.skeleton.size();
   const std::vector<glm::vec3> directions = sphere_directions();
   std::vector<std::uint32_t> best(static_cast<std::size_t>(joints) * kDirections,
@@ -43,11 +62,15 @@ BodySamples::BodySamples(const deform::Model& model) {
   std::sort(best.begin(), best.end());
   best.erase(std::unique(best.begin(), best.end()), best.end());
   vertex_ = std::move(best);
+  const std::vector<glm::mat4> rest_world = model.skeleton.world_rest_matrices();
   for (std::uint32_t v : vertex_) {
     rest_.push_back(model.positions[v]);
     joint_.push_back(model.strongest_joint(v));
     skin_joints_.push_back(model.skin_joints[v]);
     skin_weights_.push_back(model.skin_weights[v]);
+    bend_joint_.push_back(bend_joint(model, v, linear));
+    bend_rest_.push_back(bend_joint_.back() < 0 ? glm::vec3(0.0f)
+                                                : glm::vec3(rest_world[bend_joint_.back()][3]));
   }
 }
 
@@ -71,6 +94,22 @@ float BodySamples::height(std::size_t i, std::span<const glm::mat4> skinning) co
     y += w * (m[0].y * rest.x + m[1].y * rest.y + m[2].y * rest.z + m[3].y);
   }
   return y;
+}
+
+float BodySamples::swept_height(std::size_t i, std::span<const glm::mat4> skinning) const {
+  if (bend_joint_[i] < 0) return height(i, skinning);
+  const glm::vec3 blended = position(i, skinning);
+  const glm::vec3 centre(skinning[bend_joint_[i]] * glm::vec4(bend_rest_[i], 1.0f));
+  const float drawn_in = glm::distance(blended, centre);
+  if (drawn_in < 1e-6f) return blended.y;
+  const glm::vec4 rest(rest_[i], 1.0f);
+  float kept = 0.0f;
+  for (int k = 0; k < deform::kInfluences; ++k) {
+    const float w = skin_weights_[i][k];
+    if (w != 0.0f)
+      kept += w * glm::distance(glm::vec3(skinning[skin_joints_[i][k]] * rest), centre);
+  }
+  return centre.y + (blended.y - centre.y) * (kept / drawn_in);
 }
 
 }  // namespace sweepd::motion

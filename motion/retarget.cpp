@@ -191,7 +191,7 @@ Retargeter::Retargeter(std::shared_ptr<const Clip> motion, const deform::Model& 
   for (std::size_t j = 0; j < parts.size(); ++j)
     foot_joint[j] =
         parts[j] == deform::BodyPart::kLeftFoot || parts[j] == deform::BodyPart::kRightFoot;
-  const auto samples = std::make_shared<const BodySamples>(model);
+  const auto samples = std::make_shared<const BodySamples>(model, foot_joint);
   const std::vector<int> contact_part =
       BodyContacts::part_of_samples(*model_map_, skeleton_, *samples);
   std::vector<float> lowered;  // the body's least drop per frame, for resting knees

@@ -21,11 +21,14 @@
 //            towards bend_if_straight's (all the way at straight): the pose hardly defines the
 //            plane of a nearly straight limb, and a clip's noise turns it from frame to frame.
 // move_limb_middle
-//   Inputs:  as move_limb_end's (limb.end unused); shift (world, m; its vertical part unused).
-//   Output:  pose's local rotations of upper and lower: the upper bone swings about its root so
-//            that the middle joint (knee, elbow) moves across by the shift, keeping its height
-//            as far as the bone reaches; the lower bone keeps its world rotation (what hangs
-//            below it moves across with the middle joint).
+//   Inputs:  as move_limb_end's; shift (world, m; its vertical part unused).
+//   Output:  pose's local rotations of upper, lower and end: the upper bone swings about its
+//            root so that the middle joint (knee, elbow) moves across by the shift, keeping its
+//            height as far as the bone reaches; the lower bone keeps its world rotation (what
+//            hangs below it moves across with the middle joint) unless the middle joint would
+//            then fold past its bend before the swing (the clip's): the lower bone then turns
+//            about the middle joint towards the upper bone by the excess, and the end keeps its
+//            world rotation.
 // world_rotations: each joint's world rotation under a pose (size skeleton.size()).
 #pragma once
 
