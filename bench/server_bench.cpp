@@ -18,9 +18,9 @@
 //      bare loopback round trip of a reply's bytes answered from memory (bare_loopback_ms);
 //   4. under attack: 4 honest clients, one pose at a time for S seconds, alone and then beside
 //      64 hostile connections on TCP (tests/server/hostile_doors.h, four of its kinds: oversized
-//      prefixes before Hello, trickled frames, clients that never read, garbage) → the honest round trip p50 / p99 and the
-//      ratio with / without (issue 16's target: p99 ≤ 2×). The daemon runs with
-//      --max-connections 96 so that this scene measures service, not admission.
+//      prefixes before Hello, trickled frames, clients that never read, garbage) → the honest round
+//      trip p50 / p99 and the ratio with / without (issue 16's target: p99 ≤ 2×). The daemon runs
+//      with --max-connections 96 so that this scene measures service, not admission.
 //   5. shared store: what a replica sharing its store adds (server/models/binding_file.h): one
 //      stat() of the model's binding per pose → µs and its share of the in-process p50; and
 //      re-reading a binding another replica's edit replaced (decode and runtime tables, what

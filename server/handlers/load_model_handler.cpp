@@ -56,9 +56,8 @@ ModelChange run_load_model(ModelService& models, const LoadModelWork& work, Work
   };
   request.hold_binding_memory = [&](const deform::Model& model) {
     return hold_or_refuse(budget, client, model_binding_extra_bytes(model, file_bytes),
-                          "binding model '" + model.name + "' (" +
-                              thousands(model.vertex_count()) + " vertices, " +
-                              thousands(model.triangle_count()) + " triangles)");
+                          "binding model '" + model.name + "' (" + thousands(model.vertex_count()) +
+                              " vertices, " + thousands(model.triangle_count()) + " triangles)");
   };
   request.content_id = work.content_id;
   request.name = work.name;

@@ -10,8 +10,9 @@
 // read_load_model copies what the work needs from the frame on the I/O thread (its storage is
 // reused by the next frame); run_load_model runs on a worker and gives the ModelChange: the
 // model, or the RequestError to answer (the ModelError's code, Internal for any other
-// failure); it holds the binding's memory from `budget` for `client`. log_load_outcome: model_loaded (id, name, vertices, bind time) or model_load_failed
-// (reason), naming the connection that asked.
+// failure); it holds the reading's and the binding's memory from `budget` for `client`.
+// log_load_outcome: model_loaded (id, name, vertices, bind time) or model_load_failed (reason),
+// naming the connection that asked.
 #pragma once
 
 #include <cstdint>

@@ -66,7 +66,7 @@ std::string describe(const WorkRefusal& refusal) {
          (refusal.over_share
               ? "this client's share of the server's work budget (--work-budget-client-bytes " +
                     thousands(refusal.limit) + ", " + thousands(refusal.in_use) +
-                    " held by its other requests now"
+                    " held by this client's requests now"
               : "what the server's work budget has free now (--work-budget-bytes " +
                     thousands(refusal.limit) + ", " + thousands(refusal.in_use) +
                     " held by all clients") +

@@ -195,11 +195,11 @@ ModelHandle ModelService::bind_and_store(const ModelLoadRequest& request,
   } sources{slot.file(".sweepbind"), {}, slot.file(".rig.json")};
   deform::BoundModel bound;
   SelfCheck checked;
-  std::shared_ptr<const void> reading_memory, binding_memory;  // held until it is stored
   try {
+    // Held by the slot: until the binding is stored, and not while the next load reads.
     if (request.hold_reading_memory)
-      reading_memory = request.hold_reading_memory(
-          directory_file.empty() ? request.gltf.size() : fs::file_size(directory_file));
+      slot.hold(request.hold_reading_memory(
+          directory_file.empty() ? request.gltf.size() : fs::file_size(directory_file)));
     deform::Model model;
     if (directory_file.empty()) {
       // An upload reads nothing but itself: a glTF its GLB chunk and data: URIs, an FBX or
@@ -220,7 +220,7 @@ ModelHandle ModelService::bind_and_store(const ModelLoadRequest& request,
                                                    std::to_string(config_.max_model_vertices));
     }
     model.name = request.name;
-    if (request.hold_binding_memory) binding_memory = request.hold_binding_memory(model);
+    if (request.hold_binding_memory) slot.hold(request.hold_binding_memory(model));
     deform::RigMap rig;
     if (request.rig_map_json.empty()) {
       rig = deform::detect_rig_map(model.skeleton);

@@ -3,8 +3,8 @@
 // reply frames, clip uploads' decoded data — and a share of it that no one client may pass, so
 // that a few clients asking for the largest valid work at once cannot take the daemon past the
 // memory an operator allowed (issue 49 item 2). A request's bytes are estimated at intake (an
-// upper bound: server/handlers/work_size.h) and reserved for the work's life; a request that does not fit
-// now is refused at once, as the buffer budget refuses (nothing waits). Thread-safe.
+// upper bound: server/handlers/work_size.h) and reserved for the work's life; a request that does
+// not fit now is refused at once, as the buffer budget refuses (nothing waits). Thread-safe.
 //
 // reserve(client, bytes): a reservation holding the bytes until its last copy is destroyed, or
 //   the WorkRefusal saying which limit they pass (the budget's or the client's share) and what

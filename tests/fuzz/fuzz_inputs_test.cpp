@@ -75,7 +75,8 @@ TEST(FuzzInputs, AnInputIsReadInAtMostFourThousandPieces) {
       const std::size_t piece = read_bytes(static_cast<std::uint8_t>(first), size);
       const std::size_t reads = (size + piece - 1) / piece;
       EXPECT_LE(reads, kMostReads) << size << " bytes, first byte " << first;
-      EXPECT_GE(piece, static_cast<std::size_t>(first) + 1) << "never finer than the first byte asks";
+      EXPECT_GE(piece, static_cast<std::size_t>(first) + 1)
+          << "never finer than the first byte asks";
     }
   }
   // Up to 4 KiB the first byte alone says: a byte at a time is still tried.

@@ -384,11 +384,11 @@ TEST(DaemonVmcSubscription, ItsFramesKeepASubscriberFromIdlingOut) {
 // them, each frame's bytes reserved and given back: /metrics ends with none held.
 TEST(DaemonVmcSubscription, FramesThatCouldNeverFitTheSubscribersWorkShareAreRefusedWhenAsked) {
   ScratchDirectory directory("vmc_work_share");
-  DaemonProcess daemon(directory.path(),
-                       {"--vmc-listen", "127.0.0.1:0", "--vmc-port-file",
-                        (directory / "vmc_port").string(), "--mannequin-vertices", "50000",
-                        "--work-budget-client-bytes", "1048576", "--http-listen", "127.0.0.1:0",
-                        "--http-port-file", (directory / "http_port").string()});
+  DaemonProcess daemon(
+      directory.path(),
+      {"--vmc-listen", "127.0.0.1:0", "--vmc-port-file", (directory / "vmc_port").string(),
+       "--mannequin-vertices", "50000", "--work-budget-client-bytes", "1048576", "--http-listen",
+       "127.0.0.1:0", "--http-port-file", (directory / "http_port").string()});
   ASSERT_TRUE(daemon.running()) << daemon.log();
   const std::string vmc_port = std::to_string(std::stoi(read_text(directory / "vmc_port")));
   const int http_port = std::stoi(read_text(directory / "http_port"));

@@ -189,7 +189,8 @@ TEST(DaemonWorkBudget, TheLargestValidWorkFromManyClientsStaysWithinTheBudgetOrI
 // reading). So four are answered and four refused by name when read, nothing is lost, the
 // peak resident size (VmHWM) stays within the budget plus the 300 MB base, and /metrics counts
 // every refusal and ends with every reservation given back.
-TEST(DaemonWorkBudget, ConcurrentModelUploadsOfTheLargestAcceptedSizeStayWithinTheBudgetOrAreRefusedByName) {
+TEST(DaemonWorkBudget,
+     ConcurrentModelUploadsOfTheLargestAcceptedSizeStayWithinTheBudgetOrAreRefusedByName) {
   constexpr std::uint64_t kUploadBudgetBytes = 64ull << 20;
   const fs::path directory = fresh_directory("work_budget_uploads");
   std::vector<std::vector<std::uint8_t>> glbs;  // the largest, then the smaller
@@ -199,12 +200,12 @@ TEST(DaemonWorkBudget, ConcurrentModelUploadsOfTheLargestAcceptedSizeStayWithinT
     glbs.push_back(read_bytes(file));
   }
   const fs::path http_port_file = directory / "http_port";
-  DaemonProcess daemon(directory, {"--work-budget-bytes", std::to_string(kUploadBudgetBytes),
-                                   "--work-budget-client-bytes", std::to_string(kUploadBudgetBytes),
-                                   "--worker-threads", "8", "--max-models", "16",
-                                   "--max-frame-bytes", std::to_string(glbs[0].size() + 4096),
-                                   "--http-listen", "127.0.0.1:0", "--http-port-file",
-                                   http_port_file.string()});
+  DaemonProcess daemon(
+      directory,
+      {"--work-budget-bytes", std::to_string(kUploadBudgetBytes), "--work-budget-client-bytes",
+       std::to_string(kUploadBudgetBytes), "--worker-threads", "8", "--max-models", "16",
+       "--max-frame-bytes", std::to_string(glbs[0].size() + 4096), "--http-listen", "127.0.0.1:0",
+       "--http-port-file", http_port_file.string()});
   ASSERT_TRUE(daemon.running()) << daemon.log();
   const int http_port = std::stoi(read_text(http_port_file));
 
@@ -221,8 +222,8 @@ TEST(DaemonWorkBudget, ConcurrentModelUploadsOfTheLargestAcceptedSizeStayWithinT
     threads.emplace_back([&, c] {
       flatbuffers::FlatBufferBuilder builder;
       // 1 to 4 keys a link, either orientation curve: eight content ids.
-      const auto options = protocol::CreateBindOptions(builder, 0, static_cast<std::uint8_t>(1 + c % 4),
-                                                       static_cast<std::uint8_t>(c / 4));
+      const auto options = protocol::CreateBindOptions(
+          builder, 0, static_cast<std::uint8_t>(1 + c % 4), static_cast<std::uint8_t>(c / 4));
       const std::string name = "upload_" + std::to_string(c);
       const std::vector<std::uint8_t>& glb = glbs[c % 2];
       const auto frame = protocol::finish_message(
@@ -236,15 +237,16 @@ TEST(DaemonWorkBudget, ConcurrentModelUploadsOfTheLargestAcceptedSizeStayWithinT
   for (std::thread& thread : threads) thread.join();
 
   const std::uint64_t peak = status_bytes(daemon.pid(), "VmHWM");
-  std::cout << "uploads of " << glbs[0].size() << " and " << glbs[1].size() << " bytes; peak (VmHWM) "
-            << peak / 1000000 << " MB; "
-            << outcomes.answered << " answered, " << outcomes.refused << " refused\n";
-  for (const std::string& refusal : outcomes.refusals) std::cout << "  refused: " << refusal << "\n";
-  EXPECT_TRUE(outcomes.unexpected.empty()) << ::testing::PrintToString(outcomes.unexpected)
-                                           << daemon.log();
+  std::cout << "uploads of " << glbs[0].size() << " and " << glbs[1].size()
+            << " bytes; peak (VmHWM) " << peak / 1000000 << " MB; " << outcomes.answered
+            << " answered, " << outcomes.refused << " refused\n";
+  for (const std::string& refusal : outcomes.refusals)
+    std::cout << "  refused: " << refusal << "\n";
+  EXPECT_TRUE(outcomes.unexpected.empty())
+      << ::testing::PrintToString(outcomes.unexpected) << daemon.log();
   EXPECT_EQ(outcomes.answered + outcomes.refused, kClients);  // nothing lost
-  EXPECT_EQ(outcomes.answered, 4);  // the 20k models
-  EXPECT_EQ(outcomes.refused, 4);   // the 80k models, once read
+  EXPECT_EQ(outcomes.answered, 4);                            // the 20k models
+  EXPECT_EQ(outcomes.refused, 4);                             // the 80k models, once read
   for (const std::string& refusal : outcomes.refusals) {
     // What was asked, its bytes, the limit and what is held of it, and what fits.
     EXPECT_TRUE(refusal.starts_with("binding model 'upload_")) << refusal;

@@ -78,7 +78,8 @@ constexpr char kSlowHead[] = "GET /readyz HTTP/1.1\r\nHost: sweepd\r\nX-Slow: ";
 }  // namespace
 
 HostileDoors::HostileDoors(const Doors& doors, const std::string& token,
-                           std::span<const std::uint8_t> pose_frame, int per_kind, HostileKinds kinds)
+                           std::span<const std::uint8_t> pose_frame, int per_kind,
+                           HostileKinds kinds)
     : doors_(doors), kinds_(kinds), hello_(hello(token)), bad_hello_(hello(token + "x")) {
   if (doors_.tcp_port > 0) attack(Door::kTcp, pose_frame, per_kind);
   if (!doors_.unix_socket.empty()) attack(Door::kUnix, pose_frame, per_kind);
