@@ -17,10 +17,10 @@
 //      positions only → p50 / p99, and round trip ÷ in-process; beside it the wire alone, a
 //      bare loopback round trip of a reply's bytes answered from memory (bare_loopback_ms);
 //   4. under attack: 4 honest clients, one pose at a time for S seconds, alone and then beside
-//      64 hostile connections (bench/hostile_peers.h: oversized prefixes before Hello, trickled
-//      frames, clients that never read, garbage) → the honest round trip p50 / p99 and the
-//      ratio with / without (issue 16's target: p99 ≤ 2×). The daemon runs with
-//      --max-connections 96 so that this scene measures service, not admission.
+//      64 hostile connections on TCP (tests/server/hostile_doors.h, four of its kinds: oversized
+//      prefixes before Hello, trickled frames, clients that never read, garbage) → the honest round
+//      trip p50 / p99 and the ratio with / without (issue 16's target: p99 ≤ 2×). The daemon runs
+//      with --max-connections 96 so that this scene measures service, not admission.
 //   5. shared store: what a replica sharing its store adds (server/models/binding_file.h): one
 //      stat() of the model's binding per pose → µs and its share of the in-process p50; and
 //      re-reading a binding another replica's edit replaced (decode and runtime tables, what
@@ -49,11 +49,11 @@
 
 #include "bench/bench_daemon.h"
 #include "bench/bench_poses.h"
-#include "bench/hostile_peers.h"
 #include "client/connection.h"
 #include "console/command_line.h"
 #include "deform/job/deform_job.h"
 #include "io/sweepbind/sweepbind.h"
+#include "tests/server/hostile_doors.h"
 #include "tests/test_paths.h"
 
 namespace {
@@ -291,7 +291,12 @@ AttackScene under_attack(const Daemon& daemon, const std::vector<BenchPose>& pos
   flatbuffers::FlatBufferBuilder builder;
   const std::span<const std::uint8_t> frame =
       pb::finish_message(builder, pb::add_pose(builder, fields));
-  const sweepd::bench::HostilePeers attackers(daemon.port(), frame, kHostileEach);
+  // The kit's four kinds this scene has sent since issue 16, on TCP.
+  sweepd::test::HostileDoors::Doors tcp;
+  tcp.tcp_port = daemon.port();
+  sweepd::test::HostileKinds kinds;
+  kinds.silent = kinds.fuzzed = kinds.bad_tokens = false;
+  const sweepd::test::HostileDoors attackers(tcp, "", frame, kHostileEach, kinds);
   std::vector<double> attacked =
       honest_round_trips(daemon, poses, kHonest, seconds, failed_attacked);
   return {std::move(alone), std::move(attacked), failed_alone,

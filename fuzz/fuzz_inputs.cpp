@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstring>
 #include <exception>
 #include <filesystem>
@@ -207,11 +208,11 @@ class ConnectionFrames {
   std::size_t frames_ = 0;
 };
 
-// The first byte of `bytes` sets how the rest is cut into reads (1 to 256 bytes at a time); each
-// piece goes to `read`, which returns false to stop reading.
+// The first byte of `bytes` cuts the rest into reads (read_bytes); each piece goes to `read`,
+// which returns false to stop reading.
 template <typename Read>
 void in_pieces(std::span<const std::uint8_t> bytes, Read&& read) {
-  const std::size_t piece = static_cast<std::size_t>(bytes[0]) + 1;
+  const std::size_t piece = read_bytes(bytes[0], bytes.size() - 1);
   bytes = bytes.subspan(1);
   for (std::size_t at = 0; at < bytes.size(); at += piece)
     if (!read(bytes.subspan(at, std::min(piece, bytes.size() - at)))) return;
@@ -220,6 +221,11 @@ void in_pieces(std::span<const std::uint8_t> bytes, Read&& read) {
 }  // namespace
 
 void prepare() { model(); }
+
+std::size_t read_bytes(std::uint8_t first_byte, std::size_t input_bytes) {
+  const std::size_t fewest = (input_bytes + kMostReads - 1) / kMostReads;
+  return std::max(static_cast<std::size_t>(first_byte) + 1, fewest);
+}
 
 bool fuzz_frames(std::span<const std::uint8_t> bytes) {
   if (bytes.empty()) return false;

@@ -2,7 +2,10 @@
 
 #include <exception>
 #include <memory>
+#include <variant>
 
+#include "console/text_format.h"
+#include "server/handlers/work_size.h"
 #include "server/log_event.h"
 
 namespace sweepd::server {
@@ -24,8 +27,38 @@ LoadModelWork read_load_model(const pb::LoadModel& load) {
   return work;
 }
 
-ModelChange run_load_model(ModelService& models, const LoadModelWork& work) {
+namespace {
+
+std::string thousands(std::uint64_t n) {
+  return console::with_thousands(static_cast<std::int64_t>(n));
+}
+
+// `bytes` of `budget` held for `client`, or ModelError{ResourceExhausted} naming `what`.
+std::shared_ptr<const void> hold_or_refuse(WorkBudget& budget, std::uint64_t client,
+                                           std::uint64_t bytes, const std::string& what) {
+  auto reserved = budget.reserve(client, bytes);
+  if (const WorkRefusal* refusal = std::get_if<WorkRefusal>(&reserved))
+    throw ModelError(pb::ErrorCode::ResourceExhausted,
+                     work_refused(what, *refusal, "upload a smaller model").message);
+  return std::get<std::shared_ptr<const WorkReservation>>(std::move(reserved));
+}
+
+}  // namespace
+
+ModelChange run_load_model(ModelService& models, const LoadModelWork& work, WorkBudget& budget,
+                           std::uint64_t client) {
   ModelLoadRequest request;
+  std::uint64_t file_bytes = 0;  // what the binding's reservation counts on
+  request.hold_reading_memory = [&](std::uint64_t bytes) {
+    file_bytes = bytes;
+    return hold_or_refuse(budget, client, model_reading_work_bytes(bytes),
+                          "reading model '" + work.name + "' (" + thousands(bytes) + " bytes)");
+  };
+  request.hold_binding_memory = [&](const deform::Model& model) {
+    return hold_or_refuse(budget, client, model_binding_extra_bytes(model, file_bytes),
+                          "binding model '" + model.name + "' (" + thousands(model.vertex_count()) +
+                              " vertices, " + thousands(model.triangle_count()) + " triangles)");
+  };
   request.content_id = work.content_id;
   request.name = work.name;
   request.gltf = work.gltf;
@@ -56,13 +89,28 @@ void log_load_outcome(std::uint64_t connection_id, const ModelChange& outcome) {
 }
 
 void handle_load_model(const pb::Message& message, RequestSession& session) {
-  auto work = std::make_shared<const LoadModelWork>(read_load_model(*message.body_as_LoadModel()));
-  log_event("model_load_start", {{"connection", session.connection_id()},
-                                 {"name", work->name},
-                                 {"upload_bytes", work->gltf.size()}});
+  const pb::LoadModel& load = *message.body_as_LoadModel();
+  const std::uint64_t upload_bytes = load.gltf() ? load.gltf()->size() : 0;
+  WorkBudget& budget = session.environment().work_budget;
+  const std::uint64_t client = session.connection_id();
+  // The upload is copied off the frame, to wait for its turn: reserved before the copy.
+  auto copy = budget.reserve(client, model_upload_work_bytes(upload_bytes));
+  if (const WorkRefusal* refusal = std::get_if<WorkRefusal>(&copy)) {
+    session.send_error(work_refused("model upload '" + (load.name() ? load.name()->str() : "") +
+                                        "' (" + thousands(upload_bytes) + " bytes)",
+                                    *refusal, "upload a smaller model"),
+                       message.request_id());
+    return;
+  }
+  auto work = std::make_shared<const LoadModelWork>(read_load_model(load));
+  log_event("model_load_start",
+            {{"connection", client}, {"name", work->name}, {"upload_bytes", work->gltf.size()}});
   answer_model_change(
       session, message.request_id(),
-      [models = &session.environment().models, work]() { return run_load_model(*models, *work); },
+      [models = &session.environment().models, work, &budget, client,
+       copy = std::get<std::shared_ptr<const WorkReservation>>(std::move(copy))]() {
+        return run_load_model(*models, *work, budget, client);
+      },
       log_load_outcome);
 }
 

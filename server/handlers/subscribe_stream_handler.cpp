@@ -3,6 +3,7 @@
 #include <string>
 
 #include "server/handlers/reply_size.h"
+#include "server/handlers/work_size.h"
 #include "server/log_event.h"
 #include "server/replies/stream_subscribed.h"
 #include "server/services/vmc/vmc_receivers.h"
@@ -64,6 +65,16 @@ void handle_subscribe_stream(const pb::Message& message, RequestSession& session
   if (auto too_large =
           check_reply_fits(frame_request, session.environment().config.max_frame_bytes)) {
     refuse(too_large->code, too_large->message);
+    return;
+  }
+  // Each frame's working memory comes from this client's share (Connection::queue_pose): a
+  // subscription no frame of which could ever fit is refused now, not once per frame.
+  if (const std::optional<WorkRefusal> never =
+          session.environment().work_budget.refusal_whatever_is_held(
+              pose_work_bytes(frame_request))) {
+    refuse(pb::ErrorCode::ResourceExhausted,
+           "each frame " + describe(*never) +
+               "; ask for Float32 vertices (deformed straight into the reply) or no normals");
     return;
   }
   flatbuffers::FlatBufferBuilder builder = session.take_builder();

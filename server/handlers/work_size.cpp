@@ -43,6 +43,20 @@ std::uint64_t sheet_work_bytes(const sheet::SheetOptions& options) {
 
 std::uint64_t clip_upload_work_bytes(std::uint64_t upload_bytes) { return 4 * upload_bytes; }
 
+std::uint64_t model_upload_work_bytes(std::uint64_t upload_bytes) { return upload_bytes; }
+
+std::uint64_t model_reading_work_bytes(std::uint64_t file_bytes) { return 5 * file_bytes; }
+
+std::uint64_t model_binding_work_bytes(const deform::Model& model) {
+  return std::uint64_t{900} * model.vertex_count() + std::uint64_t{256} * model.triangle_count();
+}
+
+std::uint64_t model_binding_extra_bytes(const deform::Model& model, std::uint64_t file_bytes) {
+  const std::uint64_t binding = model_binding_work_bytes(model);
+  const std::uint64_t reading = model_reading_work_bytes(file_bytes);
+  return binding > reading ? binding - reading : 0;
+}
+
 std::string describe(const WorkRefusal& refusal) {
   const auto thousands = [](std::uint64_t n) {
     return console::with_thousands(static_cast<std::int64_t>(n));
@@ -52,7 +66,7 @@ std::string describe(const WorkRefusal& refusal) {
          (refusal.over_share
               ? "this client's share of the server's work budget (--work-budget-client-bytes " +
                     thousands(refusal.limit) + ", " + thousands(refusal.in_use) +
-                    " held by its other requests now"
+                    " held by this client's requests now"
               : "what the server's work budget has free now (--work-budget-bytes " +
                     thousands(refusal.limit) + ", " + thousands(refusal.in_use) +
                     " held by all clients") +

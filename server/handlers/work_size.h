@@ -20,12 +20,25 @@
 //   into channels and then rotations). An estimate, not a bound, for a glTF animation whose
 //   sparse keys are sampled at many frames: the held clip counts against --max-clip-bytes by
 //   its uploaded bytes.
+// model_upload_work_bytes(upload_bytes): a LoadModel's copy of its upload, taken off the frame
+//   at intake and held for the load's life (loads bind one at a time: it waits with them).
+// model_reading_work_bytes(file_bytes): reading the model file once the load's turn comes: 5
+//   bytes a byte of it (the file read back, tinygltf's or assimp's buffers, the Model; sweepctl
+//   inspect's peak over its base was 4.6 times the .glb of the 80k and 300k mannequins).
+// model_binding_work_bytes(model): binding the model read, its self-check on the range of
+//   motion, its adaptation and the store's .sweepbind encoding: 900 bytes a vertex and 256 a
+//   triangle (sweepctl bind's peak over its base, the reading included, was 1,280-1,360 bytes
+//   a vertex on the 20k, 80k and 300k mannequins, 1.95 triangles a vertex; the split between
+//   vertices and triangles is not measured apart). The reading's buffers are freed before it
+//   binds: its reservation counts toward the binding (model_binding_extra_bytes).
+//   Estimates, as the clip's: measured on glTF bodies.
 #pragma once
 
 #include <cstdint>
 #include <optional>
 #include <string>
 
+#include "deform/model/model.h"
 #include "server/handlers/pose_request.h"
 #include "server/handlers/request_error.h"
 #include "server/services/contact_sheet_service.h"
@@ -38,6 +51,15 @@ std::uint64_t pose_work_bytes(const PoseRequest& request);
 std::uint64_t sheet_work_bytes(const sheet::SheetOptions& options);
 
 std::uint64_t clip_upload_work_bytes(std::uint64_t upload_bytes);
+
+std::uint64_t model_upload_work_bytes(std::uint64_t upload_bytes);
+
+std::uint64_t model_reading_work_bytes(std::uint64_t file_bytes);
+
+std::uint64_t model_binding_work_bytes(const deform::Model& model);
+
+// What binding `model` needs beyond its reading's reservation (of `file_bytes`).
+std::uint64_t model_binding_extra_bytes(const deform::Model& model, std::uint64_t file_bytes);
 
 // request.work set to a reservation of pose_work_bytes from `budget` for `client`, or the
 // ResourceExhausted to answer: its bytes, the limit it passed and what to ask for instead.

@@ -123,6 +123,9 @@ class ModelRegistry {
     std::uint32_t id() const { return handle_of(content_id_); }
     const std::string& content_id() const { return content_id_; }
     std::filesystem::path file(std::string_view suffix) const;
+    // Kept as long as the slot (a load's working memory, ModelLoadRequest): let go of before
+    // the next load may claim the store.
+    void hold(std::shared_ptr<const void> held) { held_.push_back(std::move(held)); }
 
    private:
     friend class ModelRegistry;
@@ -132,6 +135,7 @@ class ModelRegistry {
     std::unique_lock<std::mutex> lock_;
     std::filesystem::path store_dir_;
     std::string content_id_;
+    std::vector<std::shared_ptr<const void>> held_;  // after lock_: gone before it unlocks
   };
 
   // Creates store_dir if needed.

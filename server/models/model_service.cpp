@@ -196,6 +196,10 @@ ModelHandle ModelService::bind_and_store(const ModelLoadRequest& request,
   deform::BoundModel bound;
   SelfCheck checked;
   try {
+    // Held by the slot: until the binding is stored, and not while the next load reads.
+    if (request.hold_reading_memory)
+      slot.hold(request.hold_reading_memory(
+          directory_file.empty() ? request.gltf.size() : fs::file_size(directory_file)));
     deform::Model model;
     if (directory_file.empty()) {
       // An upload reads nothing but itself: a glTF its GLB chunk and data: URIs, an FBX or
@@ -215,6 +219,8 @@ ModelHandle ModelService::bind_and_store(const ModelLoadRequest& request,
                                                    " vertices; this server takes at most " +
                                                    std::to_string(config_.max_model_vertices));
     }
+    model.name = request.name;
+    if (request.hold_binding_memory) slot.hold(request.hold_binding_memory(model));
     deform::RigMap rig;
     if (request.rig_map_json.empty()) {
       rig = deform::detect_rig_map(model.skeleton);
@@ -231,7 +237,6 @@ ModelHandle ModelService::bind_and_store(const ModelLoadRequest& request,
     deform::BindOptions options;
     if (request.keys_per_link > 0) options.intermediate_keys_per_link = request.keys_per_link;
     options.orientation_curve = static_cast<deform::OrientationCurveKind>(request.orientation);
-    model.name = request.name;
     // The binding checks itself (issue 47) and adapts the sweeps that lose to skinning where a
     // refit wins (selfcheck::adapt_binding, recorded in the binding); each body region where the
     // sweep is still worse on the range of motion's peaks is said to the operator (the log)

@@ -25,7 +25,8 @@
 //     bound and stored;
 //   - a name alone: the held model of that name, else the store's, else
 //     `name`[.glb|.gltf] from config.model_dir, bound as an upload of its bytes would be.
-//   Binding refuses more than config.max_model_vertices (MemoryLimit), maps the rig
+//   Binding holds the request's hold_reading_memory and hold_binding_memory, refuses more than
+//   config.max_model_vertices (MemoryLimit), maps the rig
 //   (detected, or the request's rig map JSON, kept as <cid>.rig.json); the model is returned
 //   once durable. ModelLoadFailed names the model and the reason. A model adopted from the
 //   store is logged (model_adopted).
@@ -44,6 +45,8 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
+#include <memory>
 #include <span>
 #include <string>
 #include <string_view>
@@ -68,6 +71,12 @@ struct ModelLoadRequest {
   std::string rig_map_json;            // io/json/rig_map_json.h override, or empty: detect
   int keys_per_link = 0;               // 0: the bind default
   int orientation = 0;                 // 0: linear Q(t), 1: smooth (BindOptions)
+  // Working memory held for the load's stages once its store slot is claimed (loads that bind
+  // do so one at a time): called with the model file's bytes before they are read, then with
+  // the model read before it is bound; what each returns is kept until the model is stored.
+  // Each throws ModelError naming what does not fit. Empty: nothing is held.
+  std::function<std::shared_ptr<const void>(std::uint64_t file_bytes)> hold_reading_memory;
+  std::function<std::shared_ptr<const void>(const deform::Model&)> hold_binding_memory;
 };
 
 class ModelService : public ModelLookup {

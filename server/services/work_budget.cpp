@@ -24,6 +24,14 @@ std::variant<std::shared_ptr<const WorkReservation>, WorkRefusal> WorkBudget::re
   return std::make_shared<const WorkReservation>(*this, client, bytes);
 }
 
+std::optional<WorkRefusal> WorkBudget::refusal_whatever_is_held(std::uint64_t bytes) {
+  const bool over_share = bytes > share_;
+  if (!over_share && bytes <= limit_) return std::nullopt;
+  std::lock_guard lock(mutex_);
+  ++refusals_;
+  return WorkRefusal{bytes, over_share, over_share ? share_ : limit_, 0};
+}
+
 void WorkBudget::give_back(std::uint64_t client, std::uint64_t bytes) {
   std::lock_guard lock(mutex_);
   used_ -= bytes;

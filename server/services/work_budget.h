@@ -3,17 +3,20 @@
 // reply frames, clip uploads' decoded data — and a share of it that no one client may pass, so
 // that a few clients asking for the largest valid work at once cannot take the daemon past the
 // memory an operator allowed (issue 49 item 2). A request's bytes are estimated at intake (an
-// upper bound: server/handlers/work_size.h) and reserved for the work's life; a request that does not fit
-// now is refused at once, as the buffer budget refuses (nothing waits). Thread-safe.
+// upper bound: server/handlers/work_size.h) and reserved for the work's life; a request that does
+// not fit now is refused at once, as the buffer budget refuses (nothing waits). Thread-safe.
 //
 // reserve(client, bytes): a reservation holding the bytes until its last copy is destroyed, or
 //   the WorkRefusal saying which limit they pass (the budget's or the client's share) and what
 //   is free of it now (work_size.h's describe says it in an error).
+// refusal_whatever_is_held(bytes): for work asked for now and done later, again and again (a
+//   stream's frames): what could never fit is refused when it is asked.
 #pragma once
 
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <unordered_map>
 #include <variant>
 
@@ -51,6 +54,10 @@ class WorkBudget {
 
   std::variant<std::shared_ptr<const WorkReservation>, WorkRefusal> reserve(std::uint64_t client,
                                                                             std::uint64_t bytes);
+
+  // The refusal a request of `bytes` gets however little is held (past a client's share or the
+  // whole budget), counted as a refusal; nullopt when it fits once other work is done.
+  std::optional<WorkRefusal> refusal_whatever_is_held(std::uint64_t bytes);
 
   std::uint64_t limit() const { return limit_; }
   std::uint64_t client_share() const { return share_; }

@@ -66,6 +66,26 @@ TEST(FuzzInputs, TheFramesSeedIsAWholeSession) {
                           "clip frame, PoseByName, ContactSheetRequest";
 }
 
+TEST(FuzzInputs, AnInputIsReadInAtMostFourThousandPieces) {
+  // The WebSocket session's cost is per read (fuzz_inputs.h): fuzz_websocket's slow inputs
+  // (fuzz/regressions/websocket/slow-*, 65 and 132 KB, first byte 0) were read a byte at a
+  // time, 131,945 reads. Counted: each size's reads at most kMostReads, exactly.
+  for (const std::size_t size : {0, 1, 4095, 4096, 4097, 64'991, 131'945, 1 << 20}) {
+    for (const int first : {0, 7, 255}) {
+      const std::size_t piece = read_bytes(static_cast<std::uint8_t>(first), size);
+      const std::size_t reads = (size + piece - 1) / piece;
+      EXPECT_LE(reads, kMostReads) << size << " bytes, first byte " << first;
+      EXPECT_GE(piece, static_cast<std::size_t>(first) + 1)
+          << "never finer than the first byte asks";
+    }
+  }
+  // Up to 4 KiB the first byte alone says: a byte at a time is still tried.
+  EXPECT_EQ(read_bytes(0, 4096), 1u);
+  EXPECT_EQ(read_bytes(0, 4097), 2u);
+  EXPECT_EQ(read_bytes(0, 131'945), 33u);  // 3,999 reads, not 131,945
+  EXPECT_EQ(read_bytes(99, 131'945), 100u);
+}
+
 TEST(FuzzInputs, EveryRegressionStillPasses) {
   const fs::path root = fs::path(SWEEPD_SOURCE_DIR) / "fuzz" / "regressions";
   int replayed = 0;

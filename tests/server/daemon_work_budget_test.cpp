@@ -17,6 +17,8 @@
 #include <thread>
 
 #include "io/files/file_bytes.h"
+#include "io/gltf/gltf_save.h"
+#include "mannequin/mannequin.h"
 #include "tests/scratch_directory.h"
 #include "tests/server/daemon_process.h"
 #include "tests/server/http_probe.h"
@@ -166,6 +168,97 @@ TEST(DaemonWorkBudget, TheLargestValidWorkFromManyClientsStaysWithinTheBudgetOrI
   std::string page = curl_get(http_port, "/metrics").body;
   EXPECT_EQ(metric(page, "sweepd_work_refusals_total"), outcomes.refused) << page;
   EXPECT_EQ(metric(page, "sweepd_work_budget_bytes"), static_cast<double>(kBudgetBytes));
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (metric(page, "sweepd_work_bytes") != 0 && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    page = curl_get(http_port, "/metrics").body;
+  }
+  EXPECT_EQ(metric(page, "sweepd_work_bytes"), 0) << page;
+  clients.clear();
+  fs::remove_all(directory);
+}
+
+// Model uploads (LoadModel with bytes): eight clients upload at once, four a model of the largest
+// size the daemon takes (--max-frame-bytes just above it: an 80k-vertex mannequin, 6.0 MB of
+// .glb), four a 20k-vertex one (1.45 MB), each with other bind options (another content id: each
+// is read and bound). Loads bind one at a time (the store's slot); each upload's copy is
+// reserved at intake, its reading (5 bytes a byte) when its turn comes, its binding once read
+// (work_size.h: 900 bytes a vertex and 256 a triangle, less the reading: 20.6 MB for the 20k,
+// 81 MB for the 80k), from a budget of 64 MiB: every 20k model fits beside every other
+// upload's copy (at most 58 MB held), no 80k binding fits (88 MB with its own copy and
+// reading). So four are answered and four refused by name when read, nothing is lost, the
+// peak resident size (VmHWM) stays within the budget plus the 300 MB base, and /metrics counts
+// every refusal and ends with every reservation given back.
+TEST(DaemonWorkBudget,
+     ConcurrentModelUploadsOfTheLargestAcceptedSizeStayWithinTheBudgetOrAreRefusedByName) {
+  constexpr std::uint64_t kUploadBudgetBytes = 64ull << 20;
+  const fs::path directory = fresh_directory("work_budget_uploads");
+  std::vector<std::vector<std::uint8_t>> glbs;  // the largest, then the smaller
+  for (const int vertices : {80000, 20000}) {
+    const fs::path file = directory / ("upload_" + std::to_string(vertices) + ".glb");
+    io::save_gltf(mannequin::make_mannequin({.target_vertices = vertices}), file);
+    glbs.push_back(read_bytes(file));
+  }
+  const fs::path http_port_file = directory / "http_port";
+  DaemonProcess daemon(
+      directory,
+      {"--work-budget-bytes", std::to_string(kUploadBudgetBytes), "--work-budget-client-bytes",
+       std::to_string(kUploadBudgetBytes), "--worker-threads", "8", "--max-models", "16",
+       "--max-frame-bytes", std::to_string(glbs[0].size() + 4096), "--http-listen", "127.0.0.1:0",
+       "--http-port-file", http_port_file.string()});
+  ASSERT_TRUE(daemon.running()) << daemon.log();
+  const int http_port = std::stoi(read_text(http_port_file));
+
+  constexpr int kClients = 8;
+  std::vector<std::unique_ptr<FrameClient>> clients;
+  for (int c = 0; c < kClients; ++c) {
+    clients.push_back(std::make_unique<FrameClient>(daemon.port()));
+    ASSERT_NE(clients.back()->hello(""), nullptr);
+  }
+  Outcomes outcomes;
+  std::barrier start(kClients);
+  std::vector<std::thread> threads;
+  for (int c = 0; c < kClients; ++c) {
+    threads.emplace_back([&, c] {
+      flatbuffers::FlatBufferBuilder builder;
+      // 1 to 4 keys a link, either orientation curve: eight content ids.
+      const auto options = protocol::CreateBindOptions(
+          builder, 0, static_cast<std::uint8_t>(1 + c % 4), static_cast<std::uint8_t>(c / 4));
+      const std::string name = "upload_" + std::to_string(c);
+      const std::vector<std::uint8_t>& glb = glbs[c % 2];
+      const auto frame = protocol::finish_message(
+          builder, protocol::CreateLoadModelDirect(builder, name.c_str(), &glb, options), 30);
+      start.arrive_and_wait();
+      clients[c]->send_bytes(frame);
+      read_outcome<protocol::ModelInfo>(*clients[c], "upload of client " + std::to_string(c),
+                                        outcomes);
+    });
+  }
+  for (std::thread& thread : threads) thread.join();
+
+  const std::uint64_t peak = status_bytes(daemon.pid(), "VmHWM");
+  std::cout << "uploads of " << glbs[0].size() << " and " << glbs[1].size()
+            << " bytes; peak (VmHWM) " << peak / 1000000 << " MB; " << outcomes.answered
+            << " answered, " << outcomes.refused << " refused\n";
+  for (const std::string& refusal : outcomes.refusals)
+    std::cout << "  refused: " << refusal << "\n";
+  EXPECT_TRUE(outcomes.unexpected.empty())
+      << ::testing::PrintToString(outcomes.unexpected) << daemon.log();
+  EXPECT_EQ(outcomes.answered + outcomes.refused, kClients);  // nothing lost
+  EXPECT_EQ(outcomes.answered, 4);                            // the 20k models
+  EXPECT_EQ(outcomes.refused, 4);                             // the 80k models, once read
+  for (const std::string& refusal : outcomes.refusals) {
+    // What was asked, its bytes, the limit and what is held of it, and what fits.
+    EXPECT_TRUE(refusal.starts_with("binding model 'upload_")) << refusal;
+    EXPECT_NE(refusal.find("vertices, "), std::string::npos) << refusal;
+    EXPECT_NE(refusal.find(" bytes of working memory, over "), std::string::npos) << refusal;
+    EXPECT_NE(refusal.find("bytes 67,108,864, "), std::string::npos) << refusal;  // the limit
+    EXPECT_NE(refusal.find(" fit); upload a smaller model"), std::string::npos) << refusal;
+  }
+  EXPECT_LE(peak, kUploadBudgetBytes + kBaseBytes);
+
+  std::string page = curl_get(http_port, "/metrics").body;
+  EXPECT_EQ(metric(page, "sweepd_work_refusals_total"), outcomes.refused) << page;
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
   while (metric(page, "sweepd_work_bytes") != 0 && std::chrono::steady_clock::now() < deadline) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));

@@ -78,8 +78,9 @@ constexpr char kSlowHead[] = "GET /readyz HTTP/1.1\r\nHost: sweepd\r\nX-Slow: ";
 }  // namespace
 
 HostileDoors::HostileDoors(const Doors& doors, const std::string& token,
-                           std::span<const std::uint8_t> pose_frame, int per_kind)
-    : doors_(doors), hello_(hello(token)), bad_hello_(hello(token + "x")) {
+                           std::span<const std::uint8_t> pose_frame, int per_kind,
+                           HostileKinds kinds)
+    : doors_(doors), kinds_(kinds), hello_(hello(token)), bad_hello_(hello(token + "x")) {
   if (doors_.tcp_port > 0) attack(Door::kTcp, pose_frame, per_kind);
   if (!doors_.unix_socket.empty()) attack(Door::kUnix, pose_frame, per_kind);
   if (doors_.websocket_port > 0) attack(Door::kWebSocket, pose_frame, per_kind);
@@ -130,43 +131,53 @@ void HostileDoors::attack(Door door, std::span<const std::uint8_t> pose_frame, i
   const Bytes junk = protocol::garbage_frame();
   std::mt19937 random(49);  // the fuzzed frames: the same every run
   for (int i = 0; i < per_kind; ++i) {
-    sockets_.push_back(open(door));  // silent
-    const int oversized = open(door);
-    send(door, oversized, protocol::length_prefix(1u << 20));
-    sockets_.push_back(oversized);
-    const int trickler = open(door);
-    send(door, trickler, hello_);
-    // The 16 MiB frame's prefix; on WebSocket inside a message that announces the whole frame,
-    // whose bytes then follow as the trickle.
-    const Bytes prefix = protocol::length_prefix(16u << 20);
-    if (door == Door::kWebSocket) {
-      Bytes header = websocket_header(4 + (16u << 20));
-      header.insert(header.end(), prefix.begin(), prefix.end());
-      send_all(trickler, header);
-    } else {
-      send_all(trickler, prefix);
+    if (kinds_.silent) sockets_.push_back(open(door));
+    if (kinds_.oversized) {
+      const int oversized = open(door);
+      send(door, oversized, protocol::length_prefix(1u << 20));
+      sockets_.push_back(oversized);
     }
-    sockets_.push_back(trickler);
-    tricklers_.push_back({trickler, door});
-    const int non_reader = open(door, 4096);
-    send(door, non_reader, hello_);
-    for (int p = 0; p < 40; ++p) send(door, non_reader, pose_frame);
-    sockets_.push_back(non_reader);
-    const int garbage = open(door);
-    send(door, garbage, hello_);
-    for (int f = 0; f < 20; ++f) send(door, garbage, junk);
-    sockets_.push_back(garbage);
-    const int fuzzed = open(door);
-    send(door, fuzzed, hello_);
-    for (int f = 0; f < 20; ++f) {
-      Bytes frame(pose_frame.begin(), pose_frame.end());
-      // The length prefix kept: each stays one frame, its body changed.
-      const int changes = 1 + static_cast<int>(random() % 8);
-      for (int c = 0; c < changes; ++c)
-        frame[4 + random() % (frame.size() - 4)] = static_cast<std::uint8_t>(random());
-      send(door, fuzzed, frame);
+    if (kinds_.tricklers) {
+      const int trickler = open(door);
+      send(door, trickler, hello_);
+      // The 16 MiB frame's prefix; on WebSocket inside a message that announces the whole
+      // frame, whose bytes then follow as the trickle.
+      const Bytes prefix = protocol::length_prefix(16u << 20);
+      if (door == Door::kWebSocket) {
+        Bytes header = websocket_header(4 + (16u << 20));
+        header.insert(header.end(), prefix.begin(), prefix.end());
+        send_all(trickler, header);
+      } else {
+        send_all(trickler, prefix);
+      }
+      sockets_.push_back(trickler);
+      tricklers_.push_back({trickler, door});
     }
-    sockets_.push_back(fuzzed);
+    if (kinds_.non_readers) {
+      const int non_reader = open(door, 4096);
+      send(door, non_reader, hello_);
+      for (int p = 0; p < 40; ++p) send(door, non_reader, pose_frame);
+      sockets_.push_back(non_reader);
+    }
+    if (kinds_.garbage) {
+      const int garbage = open(door);
+      send(door, garbage, hello_);
+      for (int f = 0; f < 20; ++f) send(door, garbage, junk);
+      sockets_.push_back(garbage);
+    }
+    if (kinds_.fuzzed) {
+      const int fuzzed = open(door);
+      send(door, fuzzed, hello_);
+      for (int f = 0; f < 20; ++f) {
+        Bytes frame(pose_frame.begin(), pose_frame.end());
+        // The length prefix kept: each stays one frame, its body changed.
+        const int changes = 1 + static_cast<int>(random() % 8);
+        for (int c = 0; c < changes; ++c)
+          frame[4 + random() % (frame.size() - 4)] = static_cast<std::uint8_t>(random());
+        send(door, fuzzed, frame);
+      }
+      sockets_.push_back(fuzzed);
+    }
   }
 }
 
@@ -193,6 +204,7 @@ void HostileDoors::pace(int per_kind) {
       }
     }
     for (const Door door : {Door::kTcp, Door::kWebSocket}) {
+      if (!kinds_.bad_tokens) break;
       if ((door == Door::kTcp ? doors_.tcp_port : doors_.websocket_port) == 0) continue;
       for (int i = 0; i < per_kind; ++i) {
         const int guesser = open(door);

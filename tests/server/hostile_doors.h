@@ -17,7 +17,9 @@
 // 100 ms, a new one when the side port cuts it). The authenticated kinds send `token` (a client
 // holding a valid token and misbehaving); the bad tokens are `token` + "x". TCP and WebSocket
 // peers connect from 127.0.0.2, so that their per-address quotas are not the honest clients'
-// (127.0.0.1): an attacker on another host. The destructor closes every socket.
+// (127.0.0.1): an attacker on another host. `kinds` picks the kinds (all by default; server_bench
+// sends the oversized, tricklers, non-readers and garbage alone, its scene since issue 16); the
+// slowloris peers come with a side port. The destructor closes every socket.
 #pragma once
 
 #include <atomic>
@@ -31,6 +33,12 @@
 
 namespace sweepd::test {
 
+// Which of the kinds a HostileDoors sends.
+struct HostileKinds {
+  bool silent = true, oversized = true, tricklers = true, non_readers = true, garbage = true,
+       fuzzed = true, bad_tokens = true;
+};
+
 class HostileDoors {
  public:
   struct Doors {
@@ -41,7 +49,7 @@ class HostileDoors {
   };
 
   HostileDoors(const Doors& doors, const std::string& token,
-               std::span<const std::uint8_t> pose_frame, int per_kind);
+               std::span<const std::uint8_t> pose_frame, int per_kind, HostileKinds kinds = {});
   ~HostileDoors();
   HostileDoors(const HostileDoors&) = delete;
   HostileDoors& operator=(const HostileDoors&) = delete;
@@ -65,6 +73,7 @@ class HostileDoors {
   void pace(int per_kind);
 
   Doors doors_;
+  HostileKinds kinds_;
   std::vector<std::uint8_t> hello_, bad_hello_;
   std::vector<int> sockets_;
   std::vector<Peer> tricklers_;

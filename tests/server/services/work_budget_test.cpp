@@ -42,6 +42,26 @@ TEST(WorkBudget, AClientPastItsShareIsRefusedWhileOthersStillFitTheBudget) {
   EXPECT_EQ(budget.used(), 450u);  // that one was dropped at once
 }
 
+TEST(WorkBudget, WorkThatCouldNeverFitIsRefusedWhateverIsHeldAndCounted) {
+  // A stream's frames (SubscribeStream): refused when asked if no frame could ever fit.
+  WorkBudget budget(1000, 600);
+  auto held = budget.reserve(1, 550);  // what is held does not matter to it
+  EXPECT_FALSE(budget.refusal_whatever_is_held(600).has_value()) << "fits the share once free";
+  const std::optional<WorkRefusal> past_share = budget.refusal_whatever_is_held(601);
+  ASSERT_TRUE(past_share.has_value());
+  EXPECT_TRUE(past_share->over_share);
+  EXPECT_EQ(past_share->limit, 600u);
+  EXPECT_EQ(past_share->in_use, 0u);
+  WorkBudget share_above_budget(500, 600);
+  const std::optional<WorkRefusal> past_budget = share_above_budget.refusal_whatever_is_held(501);
+  ASSERT_TRUE(past_budget.has_value());
+  EXPECT_FALSE(past_budget->over_share);
+  EXPECT_EQ(past_budget->limit, 500u);
+  EXPECT_EQ(budget.refusals(), 1u);
+  EXPECT_EQ(share_above_budget.refusals(), 1u);
+  EXPECT_EQ(budget.used(), 550u) << "nothing reserved";
+}
+
 TEST(WorkBudget, ARefusalNamesTheBytesTheLimitAndWhatIsHeld) {
   EXPECT_EQ(describe({1234567, false, 2000000, 1500000}),
             "needs 1,234,567 bytes of working memory, over what the server's work budget has "
@@ -49,7 +69,7 @@ TEST(WorkBudget, ARefusalNamesTheBytesTheLimitAndWhatIsHeld) {
             "fit)");
   EXPECT_EQ(describe({700, true, 600, 0}),
             "needs 700 bytes of working memory, over this client's share of the server's work "
-            "budget (--work-budget-client-bytes 600, 0 held by its other requests now: 600 "
+            "budget (--work-budget-client-bytes 600, 0 held by this client's requests now: 600 "
             "fit)");
 }
 
