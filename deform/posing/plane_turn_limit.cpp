@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <glm/gtc/quaternion.hpp>
 
 namespace sweepd::deform {
 
@@ -45,17 +46,6 @@ float span_limit(std::span<const SweepSample> rows, int samples_per_span, int sp
 
 }  // namespace
 
-glm::mat3 rotation_by(const glm::vec3& turn) {
-  const float angle = glm::length(turn);
-  if (!(angle > 0.0f)) return glm::mat3(1.0f);
-  const glm::vec3 k = turn / angle;
-  const float c = std::cos(angle), s = std::sin(angle);
-  // Rodrigues: c I + s [k]x + (1 - c) k k^T, by columns.
-  const glm::mat3 cross_k(glm::vec3(0.0f, k.z, -k.y), glm::vec3(-k.z, 0.0f, k.x),
-                          glm::vec3(k.y, -k.x, 0.0f));
-  return c * glm::mat3(1.0f) + s * cross_k + (1.0f - c) * glm::outerProduct(k, k);
-}
-
 std::vector<SpanRoom> span_rooms(const BoundModel& bound, int sweep, const Sweep& rest) {
   const auto t = rest.parameters();
   const int spans = rest.key_count() - 1;
@@ -86,79 +76,98 @@ std::vector<SpanRoom> span_rooms(const BoundModel& bound, int sweep, const Sweep
   return rooms;
 }
 
+namespace {
+
+// The rotation by the rotation vector `turn` (angle |turn| about its direction), as a unit
+// quaternion.
+glm::quat quaternion_of(const glm::vec3& turn) {
+  const float angle = glm::length(turn);
+  if (!(angle > 0.0f)) return glm::quat(1.0f, 0.0f, 0.0f, 0.0f);
+  return glm::angleAxis(angle, turn / angle);
+}
+
+}  // namespace
+
 bool limit_plane_turns(std::span<SweepSample> rows, int samples_per_span,
-                       std::span<const SpanRoom> rooms, std::span<glm::vec3> corrections,
+                       std::span<const SpanRoom> rooms, std::span<glm::quat> corrections,
                        PlaneTurnScratch& scratch) {
   const int spans = static_cast<int>(rooms.size());
   if (spans < 2) return false;  // one span: no neighbour to take its excess
   scratch.turn.resize(spans);
   scratch.limited.resize(spans);
-  bool over = false;
+  scratch.room.resize(spans);
+  glm::vec3 total(0.0f);
   for (int i = 0; i < spans; ++i) {
-    const glm::vec3 turn =
+    scratch.turn[i] =
         swing_between(rows[i * samples_per_span].normal, rows[(i + 1) * samples_per_span].normal);
-    scratch.turn[i] = scratch.limited[i] = turn;
-    const float angle = glm::length(turn);
-    over = over || (angle > turn_at_rest(rooms[i]) &&
-                    angle > span_limit(rows, samples_per_span, i, rooms[i], turn / angle));
+    total += scratch.turn[i];
+  }
+  // Each span's limit about its own turn's axis (about the sweep's whole turn where it hardly
+  // turns itself), fixed for this frame: a few operations per span.
+  const float total_angle = glm::length(total);
+  bool over = false;
+  float room_sum = 0.0f;
+  for (int i = 0; i < spans; ++i) {
+    const float angle = glm::length(scratch.turn[i]);
+    const glm::vec3 axis = angle > 1e-4f         ? scratch.turn[i] / angle
+                           : total_angle > 1e-6f ? total / total_angle
+                                                 : glm::vec3(0.0f);
+    scratch.room[i] =
+        axis == glm::vec3(0.0f) ? kHalfTurn : span_limit(rows, samples_per_span, i, rooms[i], axis);
+    room_sum += scratch.room[i];
+    over = over || angle > scratch.room[i];
+    scratch.limited[i] = scratch.turn[i];
   }
   if (!over) return false;
   // Each span over its limit hands the excess to its neighbours, half each (all to the one
-  // neighbour at the sweep's ends), until none is over; a bend too sharp for the whole sweep
-  // stops after a bounded number of rounds, spread as far as it got.
+  // neighbour at the sweep's ends), until none is over.
   bool within = false;
-  for (int round = 0; round < 8 * spans && !within; ++round) {
-    bool moved = false;
+  for (int round = 0; round < 8 * spans && !within && room_sum >= total_angle; ++round) {
+    within = true;
     for (int i = 0; i < spans; ++i) {
       glm::vec3& limited = scratch.limited[i];
       const float angle = glm::length(limited);
-      if (!(angle > 1e-6f)) continue;
-      const glm::vec3 axis = limited / angle;
-      const float excess = angle - span_limit(rows, samples_per_span, i, rooms[i], axis);
+      const float excess = angle - scratch.room[i];
       if (!(excess > 1e-5f)) continue;
-      limited -= excess * axis;
+      const glm::vec3 handed = excess / angle * limited;
+      limited -= handed;
       if (i == 0) {
-        scratch.limited[1] += excess * axis;
+        scratch.limited[1] += handed;
       } else if (i == spans - 1) {
-        scratch.limited[i - 1] += excess * axis;
+        scratch.limited[i - 1] += handed;
       } else {
-        scratch.limited[i - 1] += 0.5f * excess * axis;
-        scratch.limited[i + 1] += 0.5f * excess * axis;
+        scratch.limited[i - 1] += 0.5f * handed;
+        scratch.limited[i + 1] += 0.5f * handed;
       }
-      moved = true;
+      within = false;
     }
-    within = !moved;
   }
   if (!within) {
-    // The sweep as a whole has too little room for the bend: every span takes the same share of
-    // its limit (the whole turn shared in proportion to the limits about its axis), so no span
-    // folds further than another.
-    glm::vec3 total(0.0f);
-    for (const glm::vec3& turn : scratch.turn) total += turn;
-    const float angle = glm::length(total);
-    if (angle > 1e-6f) {
-      scratch.room.resize(spans);
-      float sum = 0.0f;
-      for (int i = 0; i < spans; ++i)
-        sum += scratch.room[i] = span_limit(rows, samples_per_span, i, rooms[i], total / angle);
-      for (int i = 0; i < spans; ++i) scratch.limited[i] = total * (scratch.room[i] / sum);
-    }
+    // The sweep as a whole has too little room for the bend: the whole turn is shared in
+    // proportion to the limits, so every span takes the same share of its limit and none folds
+    // further than another.
+    for (int i = 0; i < spans; ++i) scratch.limited[i] = total * (scratch.room[i] / room_sum);
   }
-  glm::vec3 at_key(0.0f);  // the correction at span i's first key
+  // The correction at each key (the difference of the turns summed from the first key), as a
+  // quaternion; each row's is the normalised blend of its span's two, linear in the row.
+  glm::vec3 at_key(0.0f);
+  glm::quat from = quaternion_of(at_key);
   for (int i = 0; i < spans; ++i) {
-    const glm::vec3 next = at_key + (scratch.limited[i] - scratch.turn[i]);
+    at_key += scratch.limited[i] - scratch.turn[i];
+    glm::quat to = quaternion_of(at_key);
+    if (glm::dot(from, to) < 0.0f) to = -to;
     const int last = i + 1 == spans ? samples_per_span : samples_per_span - 1;
     for (int r = 0; r <= last; ++r) {
       const float mix = static_cast<float>(r) / samples_per_span;
-      const glm::vec3 turn = at_key + mix * (next - at_key);
+      const glm::quat turn = r == 0 ? from : glm::normalize((1.0f - mix) * from + mix * to);
       SweepSample& row = rows[i * samples_per_span + r];
       corrections[i * samples_per_span + r] = turn;
-      const glm::mat3 rotation = rotation_by(turn);
+      const glm::mat3 rotation = glm::mat3_cast(turn);
       row.x_axis = rotation * row.x_axis;
       row.y_axis = rotation * row.y_axis;
       row.normal = rotation * row.normal;
     }
-    at_key = next;
+    from = to;
   }
   return true;
 }

@@ -17,17 +17,20 @@
 // male's torso sweep, pelvis to spine_03, is 18 cm of centre line that cmu_01_03 frame 1100
 // bends 77° while its belly reaches 16-20 cm in front of it: room for 53°), the whole turn is
 // shared in proportion to the limits, so every span keeps the same share of its room and none
-// folds further than another; the planes then still cross, nearer the skin's edge. The rows are
-// then turned, about their ellipse centres, by the difference between the spread and the posed turn
-// summed from the sweep's first key (linear in the row within a span): centres, half-axes and the
-// end rows stay, the section keeps its shape, and the bend is taken over more of the sweep instead
-// of folding at one span. A span's limit is never below its turn at rest, so the rest pose (and any
-// pose within every limit, most of them) is left exactly as posed. Cost per frame: a few operations
-// per key span; the rows of a sweep are turned only when one of its spans is over its limit.
+// folds further than another; the planes then still cross, nearer the skin's edge. Each span's
+// limit is taken once a frame, about its own turn's axis. The rows are then turned, about their
+// ellipse centres, by the difference between the spread and the posed turn summed from the
+// sweep's first key (a quaternion per key, blended linearly along the span's rows): centres,
+// half-axes and the end rows stay, the section keeps its shape, and the bend is taken over more
+// of the sweep instead of folding at one span. A span's limit is never below its turn at rest,
+// so the rest pose (and any pose within every limit, most of them) is left exactly as posed.
+// Cost per frame: a few operations per key span; the rows of a sweep are turned (a quaternion
+// blend and a rotation each) only when one of its spans is over its limit.
 #pragma once
 
 #include <array>
 #include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
 #include <span>
 #include <vector>
 
@@ -62,14 +65,11 @@ struct PlaneTurnScratch {
 };
 
 // rows: one sweep's table rows, spans × samples_per_span + 1 (the keys every samples_per_span
-// rows); rooms: its spans. Turns the rows whose span takes another's excess (or hands its own
-// on) and writes each row's turn, as a rotation vector (world), into corrections (rows.size());
-// returns whether any row turned (corrections are then all zero where it did not).
+// rows); rooms: its spans. Turns the rows and writes each row's turn (a unit quaternion, world)
+// into corrections (rows.size()) where any span is over its limit, and returns whether it did
+// (rows and corrections are left alone where it did not).
 bool limit_plane_turns(std::span<SweepSample> rows, int samples_per_span,
-                       std::span<const SpanRoom> rooms, std::span<glm::vec3> corrections,
+                       std::span<const SpanRoom> rooms, std::span<glm::quat> corrections,
                        PlaneTurnScratch& scratch);
-
-// The rotation by the rotation vector `turn`: angle |turn| about its direction.
-glm::mat3 rotation_by(const glm::vec3& turn);
 
 }  // namespace sweepd::deform

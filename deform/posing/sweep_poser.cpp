@@ -171,7 +171,8 @@ glm::vec3 SweepPoser::reference_position(std::size_t v, std::span<const glm::mat
 glm::mat3 SweepPoser::row_turn_at(int s, float t) const {
   if (!sweep_turned_[s]) return glm::mat3(1.0f);
   const SampleRowOf at = sample_row_of(*tables_, s, t);
-  return rotation_by(glm::mix(row_turn_[at.row], row_turn_[at.row + 1], at.fraction));
+  const glm::quat below = row_turn_[at.row], above = row_turn_[at.row + 1];
+  return glm::mat3_cast(glm::normalize((1.0f - at.fraction) * below + at.fraction * above));
 }
 
 glm::vec3 SweepPoser::reference_point(int s, const SweepCoordinate& c) const {

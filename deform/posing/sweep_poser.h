@@ -107,7 +107,7 @@ class SweepPoser {
   std::vector<SweepSample> table_;     // per frame: every sweep at its samples
   // Per frame: per row, the turn the plane turn limit gave it (plane_turn_limit.h), and per
   // sweep whether it turned any (the rows of a sweep that did not hold stale values).
-  std::vector<glm::vec3> row_turn_;
+  std::vector<glm::quat> row_turn_;
   std::vector<char> sweep_turned_;
   PlaneTurnScratch turn_scratch_;
   std::vector<glm::quat> joint_rotation_;

@@ -64,7 +64,7 @@ TEST(PlaneTurnLimit, ASharpSpanHandsItsTurnToItsNeighboursAndTheEndsStay) {
   const float sharp = glm::radians(40.0f);
   std::vector<SweepSample> rows = rows_of_a_bend(sharp);
   const std::vector<SweepSample> posed = rows;
-  std::vector<glm::vec3> corrections(rows.size());
+  std::vector<glm::quat> corrections(rows.size());
   PlaneTurnScratch scratch;
   ASSERT_TRUE(limit_plane_turns(rows, kRows, even_rooms(), corrections, scratch));
   float total = 0.0f;
@@ -101,7 +101,7 @@ TEST(PlaneTurnLimit, ASharpSpanHandsItsTurnToItsNeighboursAndTheEndsStay) {
 TEST(PlaneTurnLimit, ASweepWithinItsLimitsIsLeftAsPosed) {
   std::vector<SweepSample> rows = rows_of_a_bend(glm::radians(9.0f));  // limit 9.2° on 3 cm
   const std::vector<SweepSample> posed = rows;
-  std::vector<glm::vec3> corrections(rows.size());
+  std::vector<glm::quat> corrections(rows.size());
   PlaneTurnScratch scratch;
   EXPECT_FALSE(limit_plane_turns(rows, kRows, even_rooms(), corrections, scratch));
   EXPECT_EQ(0, std::memcmp(rows.data(), posed.data(), rows.size() * sizeof(SweepSample)));
