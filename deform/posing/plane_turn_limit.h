@@ -1,5 +1,6 @@
 // Plane turn limit: keeps a posed sweep's ellipse planes from crossing inside the skin bound to
-// them (issue 47's "torn belly"), in the per-frame sample table.
+// them (issue 47's "torn belly"), in the per-frame sample table; the torso's sweep only
+// (sweep_poser_tables.cpp says why).
 //
 // A point bound to a sweep moves forward with its plane at N · C̃' less the frame's turn rate
 // times its distance from the ellipse's centre towards the inside of the bend: where a key span
