@@ -8,14 +8,34 @@
 
 namespace sweepd::metrics {
 
-double forward_speed(const deform::Sweep& sweep, const deform::SweepCoordinate& coordinate) {
+namespace {
+
+// f by central differences of point(t) over t ± 2e-4 against normal(t).
+template <typename Point, typename Normal>
+double central_forward_speed(const deform::SweepCoordinate& coordinate, const Point& point,
+                             const Normal& normal) {
   constexpr float kStep = 2e-4f;  // in t: small against a key span, large against float noise
   deform::SweepCoordinate before = coordinate, after = coordinate;
   before.t -= kStep;
   after.t += kStep;
-  const glm::dvec3 travel = glm::dvec3(deform::evaluate_point(sweep, after)) -
-                            glm::dvec3(deform::evaluate_point(sweep, before));
-  return glm::dot(glm::dvec3(sweep.normal(coordinate.t)), travel) / (2.0 * kStep);
+  const glm::dvec3 travel = glm::dvec3(point(after)) - glm::dvec3(point(before));
+  return glm::dot(glm::dvec3(normal(coordinate.t)), travel) / (2.0 * kStep);
+}
+
+}  // namespace
+
+double forward_speed(const deform::Sweep& sweep, const deform::SweepCoordinate& coordinate) {
+  return central_forward_speed(
+      coordinate,
+      [&](const deform::SweepCoordinate& c) { return deform::evaluate_point(sweep, c); },
+      [&](float t) { return sweep.normal(t); });
+}
+
+double forward_speed(const deform::SweepPoser& posed, int sweep,
+                     const deform::SweepCoordinate& coordinate) {
+  return central_forward_speed(
+      coordinate, [&](const deform::SweepCoordinate& c) { return posed.reference_point(sweep, c); },
+      [&](float t) { return posed.reference_normal(sweep, t); });
 }
 
 PlaneCrossingMeter::PlaneCrossingMeter(const deform::BoundModel& bound)
@@ -38,8 +58,8 @@ std::vector<double> PlaneCrossingMeter::speed_ratios(const deform::SweepPoser& p
     const deform::VertexBinding& vb = bound_.vertices[v];
     for (int k = 0; k < deform::kSweepsPerVertex; ++k) {
       if (vb.sweep[k] < 0 || vb.weight[k] == 0.0f || rest_speed_[v][k] == 0.0) continue;
-      ratios[v] = std::min(
-          ratios[v], forward_speed(posed.sweep(vb.sweep[k]), vb.coordinate[k]) / rest_speed_[v][k]);
+      ratios[v] = std::min(ratios[v],
+                           forward_speed(posed, vb.sweep[k], vb.coordinate[k]) / rest_speed_[v][k]);
     }
   }
   return ratios;

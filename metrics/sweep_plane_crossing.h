@@ -31,11 +31,16 @@ namespace sweepd::metrics {
 // f = N(t) · ∂P/∂t of the point bound at `coordinate`, by central differences of
 // deform::evaluate_point over t ± 2e-4 (the ends extend the sweep's end pieces).
 double forward_speed(const deform::Sweep& sweep, const deform::SweepCoordinate& coordinate);
+// The same of a posed sweep as its poser evaluates it: with its frame turned where the plane
+// turn limit (deform/posing/plane_turn_limit.h) turned the table's rows.
+double forward_speed(const deform::SweepPoser& posed, int sweep,
+                     const deform::SweepCoordinate& coordinate);
 
 class PlaneCrossingMeter {
  public:
   explicit PlaneCrossingMeter(const deform::BoundModel& bound);
-  // Per vertex: the least f_pose / f_rest over its sweep terms of non-zero weight.
+  // Per vertex: the least f_pose / f_rest over its sweep terms of non-zero weight, f_pose as the
+  // poser evaluates the sweep (its frames turned by the plane turn limit where it acted).
   std::vector<double> speed_ratios(const deform::SweepPoser& posed) const;
   // The least rest speed f_rest over every sweep term (> 0: no plane crosses a bound point at
   // rest).

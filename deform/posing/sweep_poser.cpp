@@ -50,6 +50,8 @@ SweepPoser::SweepPoser(std::shared_ptr<const SweepPoserTables> tables)
       sweeps_(tables_->rest_sweeps),
       sweep_data_(sweeps_.size()),
       table_(tables_->sample_q_mix.size()),
+      row_turn_(table_.size()),
+      sweep_turned_(sweeps_.size(), 0),
       joint_rotation_(tables_->world_rest.size()),
       pose_joint_(tables_->rest_joint) {
   for (const BoundSweep& sweep : bound_.sweeps) posed_keys_.push_back(sweep.rest_keys);
@@ -121,6 +123,14 @@ void SweepPoser::refresh_table() {
     table[row].a_step = table[row + 1].a - table[row].a;
     table[row].b_step = table[row + 1].b - table[row].b;
   }
+  constexpr int kSamplesPerSpan = SweepPoserTables::kSamplesPerSpan;
+  for (std::size_t s = 0; s < sweeps_.size(); ++s) {
+    const std::span<const SpanRoom> rooms = tables_->span_rooms[s];
+    const std::size_t rows = rooms.size() * kSamplesPerSpan + 1;
+    sweep_turned_[s] = limit_plane_turns(
+        std::span(table_).subspan(tables_->first_row[s], rows), kSamplesPerSpan, rooms,
+        std::span(row_turn_).subspan(tables_->first_row[s], rows), turn_scratch_);
+  }
 }
 
 void SweepPoser::set_pose(std::span<const glm::mat4> world_pose) {
@@ -154,9 +164,27 @@ glm::vec3 SweepPoser::reference_position(std::size_t v, std::span<const glm::mat
   const VertexBinding& vb = bound_.vertices[v];
   glm::vec3 p = vb.skin_weight * skinned_position(bound_, skinning, v);
   for (int k = 0; k < kSweepsPerVertex; ++k)
-    if (vb.sweep[k] >= 0)
-      p += vb.weight[k] * evaluate_point(sweeps_[vb.sweep[k]], vb.coordinate[k]);
+    if (vb.sweep[k] >= 0) p += vb.weight[k] * reference_point(vb.sweep[k], vb.coordinate[k]);
   return p;
+}
+
+glm::mat3 SweepPoser::row_turn_at(int s, float t) const {
+  if (!sweep_turned_[s]) return glm::mat3(1.0f);
+  const SampleRowOf at = sample_row_of(*tables_, s, t);
+  const glm::quat below = row_turn_[at.row], above = row_turn_[at.row + 1];
+  return glm::mat3_cast(glm::normalize((1.0f - at.fraction) * below + at.fraction * above));
+}
+
+glm::vec3 SweepPoser::reference_point(int s, const SweepCoordinate& c) const {
+  const Sweep& sweep = sweeps_[s];
+  if (!sweep_turned_[s]) return evaluate_point(sweep, c);
+  const glm::vec3 local((sweep.a(c.t) + c.da) * std::cos(c.theta),
+                        (sweep.b(c.t) + c.db) * std::sin(c.theta), c.c);
+  return sweep.ellipse_centre(c.t) + row_turn_at(s, c.t) * (sweep.rotation(c.t) * local);
+}
+
+glm::vec3 SweepPoser::reference_normal(int s, float t) const {
+  return row_turn_at(s, t) * sweeps_[s].normal(t);
 }
 
 }  // namespace sweepd::deform

@@ -11,12 +11,15 @@
 //   span, aligned with the keys): C̃, R (as 3 columns), a, b; the rows of one span are filled by
 //   one vectorised loop. t_V is fixed per vertex, so each binding keeps its sample index and
 //   fraction, cos θ and sin θ; a sweep term then costs two table rows combined with θ and a
-//   linear interpolation. The vertices are grouped by kind (SweepVertexKinds: skin influences ×
-//   sweep terms) so each group runs a loop without branches, and the skinned share transforms
-//   the rest position by each influence's matrix (cheaper than blending the matrices for 1–3
-//   influences). Nothing is allocated, and the result matches the direct evaluation
-//   (reference_position) within 1e-5 × height (9.1e-6 m on the shared male, 7.5e-6 m before
-//   the ellipses' offsets: R interpolated between samples 1/64 of a span apart).
+//   linear interpolation. Where a key span turns its plane too sharply for the skin bound to
+//   it, the table's rows are turned to spread the bend (plane_turn_limit.h); the reference
+//   evaluation turns its frame by the same rows' turns. The vertices are grouped by kind
+//   (SweepVertexKinds: skin influences × sweep terms) so each group runs a loop without branches,
+//   and the skinned share transforms the rest position by each influence's matrix (cheaper than
+//   blending the matrices for 1–3 influences). Nothing is allocated, and the result matches the
+//   direct evaluation (reference_position) within 1e-5 × height (9.1e-6 m on the shared
+//   male, 7.5e-6 m before the ellipses' offsets: R interpolated between samples 1/64 of a span
+//   apart).
 // Threads: deform(…, threads) splits the vertices into blocks; results are bit-identical for
 //   any thread count.
 // What never changes for a model (rest sweeps, the table's layout, the vertex kinds, the
@@ -61,6 +64,11 @@ class SweepPoser {
 
   // One vertex evaluated directly through Sweep (double-precision curves): the reference.
   glm::vec3 reference_position(std::size_t vertex, std::span<const glm::mat4> skinning) const;
+  // The point of sweep s at a binding coordinate, and its plane's normal at t, as the reference
+  // evaluates them: the sweep's frame turned as the table's rows around t were
+  // (plane_turn_limit.h).
+  glm::vec3 reference_point(int s, const SweepCoordinate& coordinate) const;
+  glm::vec3 reference_normal(int s, float t) const;
 
   int sweep_count() const { return static_cast<int>(sweeps_.size()); }
   const Sweep& sweep(int s) const { return sweeps_[s]; }
@@ -68,6 +76,9 @@ class SweepPoser {
   std::span<const KeyEllipse> posed_keys(int s) const { return posed_keys_[s]; }
   // Call after changing a sweep's α/β (volume correction) so deform sees them.
   void refresh_table();
+  // Whether the last table turned sweep s's rows to keep its planes from crossing in the skin
+  // (plane_turn_limit.h).
+  bool plane_turns_limited(int s) const { return sweep_turned_[s] != 0; }
 
   // Called by set_pose for every sweep with its posed keys, before the sweep is rebuilt from
   // them: edits and muscle bulge change centres, orientations and half-axes here. Empty: none.
@@ -77,6 +88,8 @@ class SweepPoser {
   std::span<const glm::quat> joint_rotations() const { return joint_rotation_; }
 
  private:
+  glm::mat3 row_turn_at(int s, float t) const;  // identity where the sweep was not turned
+
   struct SweepData {  // per frame, float copies of a sweep's curve data
     std::vector<glm::vec3> points, second;
     std::vector<glm::quat> keys;
@@ -92,6 +105,11 @@ class SweepPoser {
   std::vector<std::vector<KeyEllipse>> posed_keys_;
   std::vector<SweepData> sweep_data_;  // per sweep
   std::vector<SweepSample> table_;     // per frame: every sweep at its samples
+  // Per frame: per row, the turn the plane turn limit gave it (plane_turn_limit.h), and per
+  // sweep whether it turned any (the rows of a sweep that did not hold stale values).
+  std::vector<glm::quat> row_turn_;
+  std::vector<char> sweep_turned_;
+  PlaneTurnScratch turn_scratch_;
   std::vector<glm::quat> joint_rotation_;
   std::vector<glm::vec3> pose_joint_;
   std::vector<FloatLanes> normal_sums_;

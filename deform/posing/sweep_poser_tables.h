@@ -20,6 +20,7 @@
 
 #include "deform/binding/bound_model.h"
 #include "deform/mesh/welded_normals.h"
+#include "deform/posing/plane_turn_limit.h"
 #include "deform/posing/sweep_vertex_kinds.h"
 #include "deform/sweep/sweep.h"
 
@@ -46,12 +47,22 @@ struct SweepPoserTables {
   std::array<std::vector<float>, 4> sample_spline;
   std::vector<float> sample_q_mix;
   std::vector<SampleAxisWeights> sample_axis;
+  std::vector<std::uint32_t> first_row;           // per sweep: its first table row
+  std::vector<std::vector<SpanRoom>> span_rooms;  // per sweep, per key span (plane_turn_limit.h)
   std::optional<SweepVertexKinds> vertex_kinds;
   std::vector<glm::mat4> world_rest;  // J
   std::vector<glm::quat> rest_rotation_inverse;
   std::vector<glm::vec3> rest_joint;
   std::optional<WeldedNormals> normals;
 };
+
+// The table row at or below parameter t of sweep `sweep` (the last row's predecessor at t = 1),
+// and the fraction of the way to the next row.
+struct SampleRowOf {
+  std::uint32_t row;
+  float fraction;
+};
+SampleRowOf sample_row_of(const SweepPoserTables& tables, int sweep, float t);
 
 // The rotation of a world joint matrix, its columns normalised (scale removed).
 glm::quat unit_rotation_of(const glm::mat4& world);

@@ -66,14 +66,16 @@ constexpr int kClipStep = 100;
 // losing (selfcheck/binding_self_check.cpp, pair_acceptable), measured before and after on one
 // machine: male 381 -> 355, RiggedFigure 993 -> 991, child 515 -> 471, heavy female 330 -> 328,
 // OpenPose 96 -> 96, heavy male 523 -> 493, mannequins 228 -> 228, 313 -> 300 and 345 -> 344
-// (the 72k's entry stays, within the 2 %).
+// (the 72k's entry stays, within the 2 %). And the plane turn limit on the torso
+// (deform/posing/plane_turn_limit.h), measured alone: child 515 -> 495, heavy male 523 -> 473.
+// MERGED_FIGURES
 const std::map<std::string, int> kLedger = {
     {"makehuman_male_cmu", 355},
     {"RiggedFigure", 991},
     {"makehuman_child_mixamo_unity", 471},
     {"makehuman_female_old_heavy_mixamo", 328},
     {"makehuman_female_slim_openpose", 96},
-    {"makehuman_male_old_heavy_unreal", 493},
+    {"makehuman_male_old_heavy_unreal", 473},
     {"mannequin:6000", 228},
     {"mannequin:20000", 300},
     {"mannequin:72000", 342},
@@ -85,9 +87,10 @@ const std::map<std::string, int> kLedger = {
 // measured: male 2.59 (mirrored 2.65, x0.6 2.59), heavy female 2.97 (x0.6 2.97), RiggedFigure
 // 1.68 (mirrored 1.67), mannequins 2.11 / 2.21 / 2.26 (6k / 20k / 72k, all three variants).
 // Not yet, printed: the heavy female mirrored (4.00), the OpenPose female (3.56, mirrored
-// 3.86), the heavy male (3.85, mirrored 3.96: its belly folds on the inside of a deep forward
-// bend, cmu_01_01 frame 1760, where LBS squashes the same edge to 0.56) and the child (3.31,
-// mirrored 3.27; 4.84, the same fold at its waist, before the self-check adapted more sweeps).
+// 3.86), the heavy male (3.86 with the plane turn limit, 3.85 before; mirrored 3.96: its belly
+// folds on the inside of a deep forward bend, cmu_01_01 frame 1760, where LBS squashes the same
+// edge to 0.56) and the child (3.31, mirrored 3.27; 4.84, the same fold at its waist, before the
+// self-check adapted more sweeps).
 constexpr double kCmuStretchTarget = 3.0;
 const std::set<std::string> kWithinTargetOnCmu = {
     "makehuman_male_cmu", "makehuman_male_cmu mirrored", "makehuman_male_cmu x0.6",

@@ -110,11 +110,17 @@ TEST(SweepPlaneCrossing, NoSharedBodyIsBoundAcrossCrossedPlanes) {
 
 // The cause of the flips the gate counts, measured where they are densest: the heavy male on
 // cmu_01_03 frames 400-3100 (hip and spine flexion), every 100th. Of the triangles the sweep
-// method flips and neither LBS nor DQS does, measured 79 % (1,198 of 1,515) have a vertex where
-// the sweep runs backwards (f_pose / f_rest < 0) and 90 % (1,366) one below 0.4. Asserted: at least
-// 70 % and 85 % (room for another CPU's rounding, not for another cause), and every frame's
-// count printed. A fix in the sweep's evaluation that removes the crossings lowers the first
-// figure: then this test says by how much, and its bound follows the new measurement.
+// method flips and neither LBS nor DQS does, measured 79 % (1,198 of 1,508) had a vertex where
+// the sweep runs backwards (f_pose / f_rest < 0) and 91 % (1,366) one below 0.4. The plane turn
+// limit (deform/posing/plane_turn_limit.h) then took the excess turn of the spans whose planes
+// crossed in the skin into the spans beside them: 1,223 such flips, 70 % (861) still with a
+// vertex running backwards and 89 % (1,085) below 0.4, as the poser evaluates the sweep (its
+// frames turned). They remain where the whole sweep has too little room for the bend: the heavy
+// male's torso sweep (pelvis to spine_03) is 18 cm of centre line that cmu_01_03 frame 1100
+// bends 77° while its belly reaches 16-20 cm in front of it, so it may turn 53° without a
+// crossing. Asserted: at most 1,260 such flips (3 % over the measurement: another CPU's
+// rounding, not the limit undone) and at least 60 % and 80 % of them at a vertex that runs
+// backwards or below 0.4 (the same cause), and every frame's count printed.
 TEST(SweepPlaneCrossing, TheFlipsSkinningDoesNotHaveAreWhereTheSweepRunsBackwards) {
   const fs::path data(SWEEPD_SHARED_DATA);
   const fs::path file = data / "models/corpus/makehuman_male_old_heavy_unreal.glb";
@@ -169,8 +175,9 @@ TEST(SweepPlaneCrossing, TheFlipsSkinningDoesNotHaveAreWhereTheSweepRunsBackward
               "(%.0f %%)\n",
               extra, reversed, 100.0 * reversed / extra, crowded, 100.0 * crowded / extra);
   ASSERT_GT(extra, 0);
-  EXPECT_GE(reversed, 0.70 * extra);
-  EXPECT_GE(crowded, 0.85 * extra);
+  EXPECT_LE(extra, 1260) << "1,508 before the plane turn limit, 1,223 with it";
+  EXPECT_GE(reversed, 0.60 * extra);
+  EXPECT_GE(crowded, 0.80 * extra);
 }
 
 }  // namespace
