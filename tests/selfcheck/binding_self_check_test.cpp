@@ -228,10 +228,11 @@ TEST(BindingSelfCheck, AdaptationKeepsOnlyChoicesThatLeaveFewerPairsWorseAndReco
   // The spoiled arm is fitted again: fewer pairs worse.
   EXPECT_EQ(bound.sweeps[arm].choice.origin, deform::SweepChoiceOrigin::kSelfCheck);
   EXPECT_LT(after.worse_pairs(), before.worse_pairs());
-  // No pair is worse than skinning that was not: a choice may not trade one pair for another.
+  // No pair's stretch excess rose where it was within 10 % of losing (kNearlyWorse), beyond
+  // the meter's float roundings: a choice may not trade a pair for one it nearly loses.
   for (std::size_t p = 0; p < poses.poses.size(); ++p)
     for (std::size_t r = 0; r < after.regions.size(); ++r)
-      EXPECT_TRUE(!after.worse_at[p][r] || before.worse_at[p][r])
+      EXPECT_LE(after.excess_at[p][r], std::max(before.excess_at[p][r], 0.9f) + 1e-4f)
           << poses.names[p] << ", " << deform::to_string(after.regions[r].region);
   // What it returns is what the adapted binding measures, pose by pose (it measured only what
   // each candidate changed).
