@@ -70,6 +70,18 @@ void read_outcome(FrameClient& client, const std::string& what, Outcomes& outcom
   }
 }
 
+// The /metrics page once every reservation is given back (the last one a moment after its
+// reply goes out), or after 10 s.
+std::string metrics_once_work_is_given_back(int http_port) {
+  std::string page = curl_get(http_port, "/metrics").body;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (metric(page, "sweepd_work_bytes") != 0 && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    page = curl_get(http_port, "/metrics").body;
+  }
+  return page;
+}
+
 TEST(DaemonWorkBudget, TheLargestValidWorkFromManyClientsStaysWithinTheBudgetOrIsRefusedByName) {
   const fs::path directory = fresh_directory("work_budget");
   const fs::path http_port_file = directory / "http_port";
@@ -165,14 +177,9 @@ TEST(DaemonWorkBudget, TheLargestValidWorkFromManyClientsStaysWithinTheBudgetOrI
 
   // /metrics tells the same: every refusal counted, the budget as configured, and every
   // reservation given back once its reply is out (the last one a moment after its reply).
-  std::string page = curl_get(http_port, "/metrics").body;
+  const std::string page = metrics_once_work_is_given_back(http_port);
   EXPECT_EQ(metric(page, "sweepd_work_refusals_total"), outcomes.refused) << page;
   EXPECT_EQ(metric(page, "sweepd_work_budget_bytes"), static_cast<double>(kBudgetBytes));
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-  while (metric(page, "sweepd_work_bytes") != 0 && std::chrono::steady_clock::now() < deadline) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    page = curl_get(http_port, "/metrics").body;
-  }
   EXPECT_EQ(metric(page, "sweepd_work_bytes"), 0) << page;
   clients.clear();
   fs::remove_all(directory);
@@ -257,13 +264,8 @@ TEST(DaemonWorkBudget,
   }
   EXPECT_LE(peak, kUploadBudgetBytes + kBaseBytes);
 
-  std::string page = curl_get(http_port, "/metrics").body;
+  const std::string page = metrics_once_work_is_given_back(http_port);
   EXPECT_EQ(metric(page, "sweepd_work_refusals_total"), outcomes.refused) << page;
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-  while (metric(page, "sweepd_work_bytes") != 0 && std::chrono::steady_clock::now() < deadline) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    page = curl_get(http_port, "/metrics").body;
-  }
   EXPECT_EQ(metric(page, "sweepd_work_bytes"), 0) << page;
   clients.clear();
   fs::remove_all(directory);
