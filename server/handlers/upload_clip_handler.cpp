@@ -55,7 +55,8 @@ void handle_upload_clip(const pb::Message& message, RequestSession& session) {
   // The fields live in the reader's storage, reused by the next frame: copied for the worker.
   auto upload =
       std::make_shared<const ClipUpload>(ClipUpload::of_message(*message.body_as_UploadClip()));
-  const std::uint64_t upload_bytes = upload->gltf.empty() ? upload->bvh.size() : upload->gltf.size();
+  const std::uint64_t upload_bytes =
+      upload->gltf.empty() ? upload->bvh.size() : upload->gltf.size();
   // The clip is decoded on a worker: its copy and its frames, reserved from the work budget.
   auto reserved = session.environment().work_budget.reserve(
       session.connection_id(), upload_bytes + clip_upload_work_bytes(upload_bytes));
@@ -64,18 +65,20 @@ void handle_upload_clip(const pb::Message& message, RequestSession& session) {
         work_refused("clip upload '" + upload->name + "'", *refusal, "upload a shorter clip"),
         request_id);
     return;
-  }  log_event("clip_upload_start",
-            {{"connection", session.connection_id()},
-             {"name", upload->name},
-             {"format", upload->range_of_motion ? "range_of_motion"
-                        : upload->gltf.empty()  ? "bvh"
-                                                : "gltf"},
-             {"upload_bytes", upload_bytes}});
+  }
+  log_event("clip_upload_start", {{"connection", session.connection_id()},
+                                  {"name", upload->name},
+                                  {"format", upload->range_of_motion ? "range_of_motion"
+                                             : upload->gltf.empty()  ? "bvh"
+                                                                     : "gltf"},
+                                  {"upload_bytes", upload_bytes}});
   session.run_in_order(
       RequestSession::Pool::kWorkers,
       [environment = &session.environment(), upload,
        reserved = std::get<std::shared_ptr<const WorkReservation>>(std::move(reserved)),
-       request_id]() mutable { return add_clip(*environment, upload, std::move(reserved), request_id); });
+       request_id]() mutable {
+        return add_clip(*environment, upload, std::move(reserved), request_id);
+      });
 }
 
 }  // namespace sweepd::server
