@@ -54,12 +54,14 @@ float rest_height(std::span<const glm::vec3> positions) {
   return high - low;
 }
 
-// The eye's direction from the body at this frame: the pelvis's rest front (+Z) turned as the
-// pelvis turned, flattened onto the ground, then turned by azimuth and raised by elevation.
+// The eye's direction from the body at this frame: the body's rest front (found from its arms or
+// thighs, deform::rest_body_axes, not assumed +Z: a character modelled facing +X was drawn from
+// its side) turned as the pelvis turned, flattened onto the ground, then turned by azimuth and
+// raised by elevation.
 glm::vec3 eye_direction(const glm::mat4& pelvis_world, const glm::mat4& pelvis_rest,
-                        float azimuth_degrees, float elevation_degrees) {
-  glm::vec3 front =
-      glm::mat3(pelvis_world) * glm::inverse(glm::mat3(pelvis_rest)) * glm::vec3(0.0f, 0.0f, 1.0f);
+                        const glm::vec3& rest_front, float azimuth_degrees,
+                        float elevation_degrees) {
+  glm::vec3 front = glm::mat3(pelvis_world) * glm::inverse(glm::mat3(pelvis_rest)) * rest_front;
   front.y = 0.0f;
   front = glm::length(front) > 1e-3f ? glm::normalize(front) : glm::vec3(0.0f, 0.0f, 1.0f);
   const glm::vec3 left = glm::cross(glm::vec3(0.0f, 1.0f, 0.0f), front);
@@ -110,6 +112,7 @@ ContactSheet::ContactSheet(SheetModel model, const SheetOptions& options, PairSo
   const deform::Skeleton& skeleton = model_.bound.model.skeleton;
   const std::vector<glm::mat4> rest = skeleton.world_rest_matrices();
   const int pelvis = model_.bound.rig.torso.pelvis();
+  const glm::vec3 rest_front = deform::rest_body_axes(model_.bound.rig, rest).forward;
   const int joint = options.focus.empty() ? -1 : focus_joint(model_.bound.rig, options.focus);
   const deform::MethodChoice& lbs = deform::methods_by_name().at("lbs");
   std::vector<glm::vec3> centres, towards_eye;
@@ -119,8 +122,8 @@ ContactSheet::ContactSheet(SheetModel model, const SheetOptions& options, PairSo
   for (const int frame : options.frames) {
     deform_with(lbs, model_.runtime, deform_context_, nullptr, model_.pose(frame), positions_);
     const std::span<const glm::mat4> world = deform_context_.world_pose();
-    const glm::vec3 eye = eye_direction(world[pelvis], rest[pelvis], options.azimuth_degrees,
-                                        options.elevation_degrees);
+    const glm::vec3 eye = eye_direction(world[pelvis], rest[pelvis], rest_front,
+                                        options.azimuth_degrees, options.elevation_degrees);
     towards_eye.push_back(eye);
     if (joint >= 0) {
       centres.push_back(glm::vec3(world[joint][3]));

@@ -13,8 +13,9 @@
 //               axes over all frames, 5 % to spare, so the body has the same scale in every cell;
 //   focus       looking at one joint (focus_joint), framing a cube of half side 0.16 × the rest
 //               model's height.
-// The eye looks at the body's front (the pelvis's facing at that frame, turned about the
-// vertical by azimuth_degrees towards the body's left, raised by elevation_degrees).
+// The eye looks at the body's front (its rest front, found from its arms or thighs whichever way
+// it was modelled, turned as the pelvis turned at that frame; then turned about the vertical by
+// azimuth_degrees towards the body's left, raised by elevation_degrees).
 //
 // Inputs: a SheetModel (the bound model, its runtime and the pose of a clip frame); SheetOptions
 //   (methods, frames, cell size, focus, heat); the PairSource of sweep+features (null: the CPU
