@@ -133,9 +133,13 @@ void decode_message(const protocol::Message& message, server::ClipStore& clips) 
       deform(server::read_clip_pose_message(models, clips, *request.pose(), *request.clip(), 1));
       break;
     }
-    case protocol::Body::PoseByName:
-      deform(server::read_named_pose_message(models, *message.body_as_PoseByName(), 1));
+    case protocol::Body::PoseByName: {
+      // As handle_pose_by_name: a PoseByName without its pose is refused before the intake.
+      const protocol::PoseByName& request = *message.body_as_PoseByName();
+      if (!request.pose()) throw std::invalid_argument("no pose");
+      deform(server::read_named_pose_message(models, request, 1));
       break;
+    }
     case protocol::Body::LoadModel:
       server::read_load_model(*message.body_as_LoadModel());
       break;
