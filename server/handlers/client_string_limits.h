@@ -9,7 +9,8 @@
 //                          model service (the store adds suffixes to it within NAME_MAX 255).
 //   kMaxNameBytes 255      Hello.client_name, UploadClip.name and .animation,
 //                          EditKeyEllipse.sweep, PoseByName.joint_names[i],
-//                          ContactSheetRequest.methods[i] and .focus: NAME_MAX, so a label
+//                          ContactSheetRequest.methods[i] and .focus, SubscribeStream.stream
+//                          (echoed when no stream has it): NAME_MAX, so a label
 //                          taken from a file's name always fits, and each is one field of a log
 //                          line or an Error message, never a page of it.
 //   kMaxContentIdBytes 64  LoadModel.content_id, ClipFrame.clip_id (in PoseFromClip and

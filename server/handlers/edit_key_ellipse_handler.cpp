@@ -1,8 +1,12 @@
 #include "server/handlers/edit_key_ellipse_handler.h"
 
 #include <algorithm>
+#include <memory>
 #include <string>
+#include <variant>
 
+#include "console/text_format.h"
+#include "server/handlers/work_size.h"
 #include "server/log_event.h"
 
 namespace sweepd::server {
@@ -39,11 +43,30 @@ void log_edit_outcome(std::uint64_t connection_id, const ModelChange& outcome) {
 
 void handle_edit_key_ellipse(const pb::Message& message, RequestSession& session) {
   const KeyEllipseEditWork work = read_key_ellipse_edit(*message.body_as_EditKeyEllipse());
+  ModelService& models = session.environment().models;
+  // Sized by the model held now; one not held is refused by the worker (UnknownModel).
+  std::shared_ptr<const WorkReservation> copy;
+  if (const ModelHandle held = models.find(work.model_id)) {
+    const std::uint64_t binding_bytes = held->file->size();
+    auto reserved = session.environment().work_budget.reserve(
+        session.connection_id(), key_ellipse_edit_work_bytes(binding_bytes));
+    if (const WorkRefusal* refusal = std::get_if<WorkRefusal>(&reserved)) {
+      session.send_error(
+          work_refused("edit key ellipse of model '" + held->name + "' (" +
+                           console::with_thousands(
+                               static_cast<std::int64_t>(held->bound.model.vertex_count())) +
+                           " vertices, " +
+                           console::with_thousands(static_cast<std::int64_t>(binding_bytes)) +
+                           " bytes of binding)",
+                       *refusal, "an edit copies the whole binding"),
+          message.request_id());
+      return;
+    }
+    copy = std::get<std::shared_ptr<const WorkReservation>>(std::move(reserved));
+  }
   answer_model_change(
       session, message.request_id(),
-      [models = &session.environment().models, work]() {
-        return run_key_ellipse_edit(*models, work);
-      },
+      [&models, work, copy = std::move(copy)]() { return run_key_ellipse_edit(models, work); },
       log_edit_outcome);
 }
 

@@ -1,6 +1,11 @@
 // EditKeyEllipse: one rest key ellipse of a held model changed through ModelService (stored
 // durably, which takes milliseconds: on a worker), answered with the model's new ModelInfo.
 //
+// Its working memory (the binding's copy, its runtime and self-check, the encoding: work_size.h)
+// is reserved from the work budget on the I/O thread, sized by the held model's .sweepbind,
+// before the work is queued, and held until it is done; an edit that does not fit is refused
+// at once (ResourceExhausted naming the model, its vertices and binding bytes, the limit and
+// what fits), changing nothing.
 // read_key_ellipse_edit copies the edit from the frame on the I/O thread; run_key_ellipse_edit
 // runs on a worker and gives the ModelChange: the model, or the ModelError's code with
 // "edit key ellipse: " before its reason. log_edit_outcome logs key_ellipse_edited (its

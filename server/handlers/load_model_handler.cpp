@@ -33,13 +33,15 @@ std::string thousands(std::uint64_t n) {
   return console::with_thousands(static_cast<std::int64_t>(n));
 }
 
-// `bytes` of `budget` held for `client`, or ModelError{ResourceExhausted} naming `what`.
+// `bytes` of `budget` held for `client`, or ModelError{ResourceExhausted} naming `what` and
+// saying what to ask instead (`smaller`).
 std::shared_ptr<const void> hold_or_refuse(WorkBudget& budget, std::uint64_t client,
-                                           std::uint64_t bytes, const std::string& what) {
+                                           std::uint64_t bytes, const std::string& what,
+                                           const std::string& smaller = "upload a smaller model") {
   auto reserved = budget.reserve(client, bytes);
   if (const WorkRefusal* refusal = std::get_if<WorkRefusal>(&reserved))
     throw ModelError(pb::ErrorCode::ResourceExhausted,
-                     work_refused(what, *refusal, "upload a smaller model").message);
+                     work_refused(what, *refusal, smaller).message);
   return std::get<std::shared_ptr<const WorkReservation>>(std::move(reserved));
 }
 
@@ -58,6 +60,13 @@ ModelChange run_load_model(ModelService& models, const LoadModelWork& work, Work
     return hold_or_refuse(budget, client, model_binding_extra_bytes(model, file_bytes),
                           "binding model '" + model.name + "' (" + thousands(model.vertex_count()) +
                               " vertices, " + thousands(model.triangle_count()) + " triangles)");
+  };
+  request.hold_adoption_memory = [&](std::uint64_t bytes) {
+    return hold_or_refuse(budget, client, model_adoption_work_bytes(bytes),
+                          "adopting stored model " +
+                              (work.content_id.empty() ? "'" + work.name + "'" : work.content_id) +
+                              " (" + thousands(bytes) + " bytes of binding)",
+                          "a stored model is read whole");
   };
   request.content_id = work.content_id;
   request.name = work.name;

@@ -4,13 +4,16 @@
 // Its working memory comes from the work budget (server/handlers/work_size.h) in three parts:
 // the upload's copy, reserved on the I/O thread before the copy is taken (refused at once when
 // it does not fit); on the worker, once the load's turn comes, its reading, then its binding
-// once the model is read and its vertices and triangles are known (refused then). Each
-// refusal is ResourceExhausted naming the model, the bytes, the limit and what fits.
+// once the model is read and its vertices and triangles are known (refused then). A model
+// adopted from the store (another replica bound it) holds its reading instead, sized by its
+// .sweepbind before it is read. Each refusal is ResourceExhausted naming the model, the bytes,
+// the limit and what fits.
 //
 // read_load_model copies what the work needs from the frame on the I/O thread (its storage is
 // reused by the next frame); run_load_model runs on a worker and gives the ModelChange: the
 // model, or the RequestError to answer (the ModelError's code, Internal for any other
-// failure); it holds the reading's and the binding's memory from `budget` for `client`.
+// failure); it holds the reading's and the binding's (or the adoption's) memory from `budget`
+// for `client`.
 // log_load_outcome: model_loaded (id, name, vertices, bind time) or model_load_failed (reason),
 // naming the connection that asked.
 #pragma once

@@ -51,6 +51,12 @@ std::uint64_t model_binding_work_bytes(const deform::Model& model) {
   return std::uint64_t{900} * model.vertex_count() + std::uint64_t{256} * model.triangle_count();
 }
 
+std::uint64_t model_adoption_work_bytes(std::uint64_t binding_bytes) { return 10 * binding_bytes; }
+
+std::uint64_t key_ellipse_edit_work_bytes(std::uint64_t binding_bytes) {
+  return 12 * binding_bytes;
+}
+
 std::uint64_t model_binding_extra_bytes(const deform::Model& model, std::uint64_t file_bytes) {
   const std::uint64_t binding = model_binding_work_bytes(model);
   const std::uint64_t reading = model_reading_work_bytes(file_bytes);

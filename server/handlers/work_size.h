@@ -32,6 +32,17 @@
 //   vertices and triangles is not measured apart). The reading's buffers are freed before it
 //   binds: its reservation counts toward the binding (model_binding_extra_bytes).
 //   Estimates, as the clip's: measured on glTF bodies.
+// model_adoption_work_bytes(binding_bytes): adopting a model another replica stored (LoadModel
+//   by content id, by name, or an upload whose content id the store holds): 10 bytes a byte of
+//   its .sweepbind — the bytes read, the binding decoded, its runtime and, when its self-check's
+//   sidecar is missing or stale, the self-check run again (sweepd's peak over its base while
+//   reading one stored mannequin: 8.5 bytes a byte at 80k vertices, 9.1 at 20k; 4.8 and 5.1
+//   with the sidecar).
+// key_ellipse_edit_work_bytes(binding_bytes): an EditKeyEllipse, sized by the held binding's
+//   .sweepbind: the copy edited (or the store's version read again, as an adoption reads it:
+//   another replica edited it), its runtime, its self-check run again and the edited binding
+//   encoded for the store: 12 bytes a byte (the adoption's 10 and the encoding; an edit of a
+//   20k mannequin's 3.6 MB binding peaked 27 MB over the daemon's resident size: 7.5).
 #pragma once
 
 #include <cstdint>
@@ -57,6 +68,10 @@ std::uint64_t model_upload_work_bytes(std::uint64_t upload_bytes);
 std::uint64_t model_reading_work_bytes(std::uint64_t file_bytes);
 
 std::uint64_t model_binding_work_bytes(const deform::Model& model);
+
+std::uint64_t model_adoption_work_bytes(std::uint64_t binding_bytes);
+
+std::uint64_t key_ellipse_edit_work_bytes(std::uint64_t binding_bytes);
 
 // What binding `model` needs beyond its reading's reservation (of `file_bytes`).
 std::uint64_t model_binding_extra_bytes(const deform::Model& model, std::uint64_t file_bytes);

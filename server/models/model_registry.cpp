@@ -306,12 +306,20 @@ std::string ModelRegistry::stored_content_named(std::string_view name) const {
   return {};
 }
 
-ModelHandle ModelRegistry::adopt(const std::string& content_id) {
+ModelHandle ModelRegistry::adopt(
+    const std::string& content_id,
+    const std::function<std::shared_ptr<const void>(std::uint64_t binding_bytes)>&
+        hold_reading_memory) {
   if (ModelHandle held = find_content(content_id)) return held;
   std::lock_guard store_lock(store_mutex_);
   if (ModelHandle held = find_content(content_id)) return held;  // adopted while we waited
-  if (!is_content_id(content_id) || !fs::exists(store_dir_ / (content_id + ".sweepbind")))
-    return nullptr;
+  if (!is_content_id(content_id)) return nullptr;
+  std::error_code missing;
+  const std::uintmax_t binding_bytes =
+      fs::file_size(store_dir_ / (content_id + ".sweepbind"), missing);
+  if (missing) return nullptr;
+  const std::shared_ptr<const void> reading_memory =
+      hold_reading_memory ? hold_reading_memory(binding_bytes) : nullptr;
   std::shared_ptr<RegisteredModel> model;
   try {
     model = read_stored(content_id);

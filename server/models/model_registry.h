@@ -34,9 +34,9 @@
 // content id), then adds the bound model with its self-check. The runtime it derives again
 // whenever the binding is read from the store or edited; the self-check it checks again at an
 // edit, and reads from the binding's sidecar when the binding is read from the store (checking
-// again only when the sidecar is not this binding's). Thread-safe: a bind holds only the slot, never the
-// lock lookups take, so lookups never wait for a bind; edits of a model apply one after the
-// other, each to the binding the last one stored.
+// again only when the sidecar is not this binding's). Thread-safe: a bind holds only the slot,
+// never the lock lookups take, so lookups never wait for a bind; edits of a model apply one after
+// the other, each to the binding the last one stored.
 //
 // Edits on a shared store: an edit renames a new <cid>.sweepbind over the old one (the content
 // id stays: it names the upload, and a new id per edit would fork concurrent editors). It runs
@@ -46,10 +46,9 @@
 // held model keeps the version of the file it came from open (binding_file.h); current(id),
 // which every pose's worker calls before it deforms, stats the file once and, when another
 // replica replaced it, loads the new version first: new requests get it, requests in flight
-// finish with the copy they hold. A replaced file that does not load is quarantined and the held copy
-// served on.
-// Errors a client causes throw ModelError with the protocol code to answer and a message
-// naming the model and the reason.
+// finish with the copy they hold. A replaced file that does not load is quarantined and the held
+// copy served on. Errors a client causes throw ModelError with the protocol code to answer and a
+// message naming the model and the reason.
 #pragma once
 
 #include <cstdint>
@@ -157,7 +156,12 @@ class ModelRegistry {
   // The model `content_id`: held, or loaded from the store (another replica stored it, or this
   // one before it was full); nullptr when the store has no such model. ModelError{ModelLimit,
   // ModelLoadFailed (name or handle taken; a damaged file, which is quarantined)}.
-  ModelHandle adopt(const std::string& content_id);
+  // `hold_reading_memory`, when given, is called with the stored binding's bytes before it is
+  // read; what it returns is kept until the model is held (it may throw ModelError to refuse,
+  // reading nothing).
+  ModelHandle adopt(const std::string& content_id,
+                    const std::function<std::shared_ptr<const void>(std::uint64_t binding_bytes)>&
+                        hold_reading_memory = {});
   // The content id of a model named `name` in the store (stored by any replica); empty: none.
   std::string stored_content_named(std::string_view name) const;
 
@@ -201,9 +205,9 @@ class ModelRegistry {
   std::filesystem::path store_dir_;
   std::uint32_t max_models_;
   mutable std::mutex mutex_;
-  std::mutex store_mutex_;  // held by the StoreSlot of the one load in progress, and by adopt
-  std::mutex edit_mutex_;   // held by the one replace() in progress
-  std::mutex reload_mutex_; // held by the one current() loading a replaced binding
+  std::mutex store_mutex_;   // held by the StoreSlot of the one load in progress, and by adopt
+  std::mutex edit_mutex_;    // held by the one replace() in progress
+  std::mutex reload_mutex_;  // held by the one current() loading a replaced binding
   std::vector<ModelHandle> models_;
 };
 

@@ -121,9 +121,10 @@ fs::path ModelService::model_file_in_directory(const std::string& name) const {
                                                 held_models_clause(*this) + ")");
 }
 
-ModelHandle ModelService::held_or_stored(const std::string& content_id) {
+ModelHandle ModelService::held_or_stored(const std::string& content_id,
+                                         const ModelLoadRequest& request) {
   if (ModelHandle held = registry_.find_content(content_id)) return held;
-  ModelHandle adopted = registry_.adopt(content_id);
+  ModelHandle adopted = registry_.adopt(content_id, request.hold_adoption_memory);
   if (adopted) {
     log_event("model_adopted", {{"model", adopted->id},
                                 {"content_id", adopted->content_id},
@@ -140,7 +141,7 @@ ModelHandle ModelService::load(const ModelLoadRequest& request) {
       throw ModelError(ErrorCode::InvalidArgument,
                        "a content id has 64 lower-case hex digits (SHA-256)");
     }
-    if (ModelHandle model = held_or_stored(request.content_id)) return model;
+    if (ModelHandle model = held_or_stored(request.content_id, request)) return model;
     throw ModelError(ErrorCode::UnknownModel, "no model with content id " + request.content_id +
                                                   " on this server or in its store; upload it (" +
                                                   held_models_clause(*this) + ")");
@@ -157,13 +158,13 @@ ModelHandle ModelService::load(const ModelLoadRequest& request) {
     check_name(upload.name);
     const std::string content_id = model_content_id(upload.gltf, upload.rig_map_json,
                                                     upload.keys_per_link, upload.orientation);
-    if (ModelHandle model = held_or_stored(content_id)) return model;
+    if (ModelHandle model = held_or_stored(content_id, request)) return model;
     return bind_and_store(upload, content_id, {});
   }
   check_name(request.name);
   if (ModelHandle loaded = registry_.find(request.name)) return loaded;
   if (const std::string stored = registry_.stored_content_named(request.name); !stored.empty()) {
-    if (ModelHandle model = held_or_stored(stored)) return model;
+    if (ModelHandle model = held_or_stored(stored, request)) return model;
   }
   const fs::path file = model_file_in_directory(request.name);
   std::ifstream in(file, std::ios::binary);
@@ -171,7 +172,7 @@ ModelHandle ModelService::load(const ModelLoadRequest& request) {
                                         std::istreambuf_iterator<char>()};
   const std::string content_id =
       model_content_id(bytes, request.rig_map_json, request.keys_per_link, request.orientation);
-  if (ModelHandle model = held_or_stored(content_id)) return model;
+  if (ModelHandle model = held_or_stored(content_id, request)) return model;
   return bind_and_store(request, content_id, file);
 }
 
@@ -284,7 +285,7 @@ void ModelService::add_default_model() {
   if (!config_.model_dir.empty() || registry_.find(std::string_view("mannequin"))) return;
   const std::string content_id = described_content_id("procedural mannequin, vertices=" +
                                                       std::to_string(config_.mannequin_vertices));
-  if (held_or_stored(content_id)) return;
+  if (held_or_stored(content_id, {})) return;  // start-up: no client's budget
   ModelRegistry::StoreSlot slot = registry_.claim("mannequin", content_id);
   const deform::Model model =
       mannequin::make_mannequin({.target_vertices = config_.mannequin_vertices});

@@ -25,8 +25,9 @@
 //     bound and stored;
 //   - a name alone: the held model of that name, else the store's, else
 //     `name`[.glb|.gltf] from config.model_dir, bound as an upload of its bytes would be.
-//   Binding holds the request's hold_reading_memory and hold_binding_memory, refuses more than
-//   config.max_model_vertices (MemoryLimit), maps the rig
+//   Adopting holds the request's hold_adoption_memory; binding holds its hold_reading_memory
+//   and hold_binding_memory, refuses more than config.max_model_vertices (MemoryLimit), maps
+//   the rig
 //   (detected, or the request's rig map JSON, kept as <cid>.rig.json); the model is returned
 //   once durable. ModelLoadFailed names the model and the reason. A model adopted from the
 //   store is logged (model_adopted).
@@ -77,6 +78,10 @@ struct ModelLoadRequest {
   // Each throws ModelError naming what does not fit. Empty: nothing is held.
   std::function<std::shared_ptr<const void>(std::uint64_t file_bytes)> hold_reading_memory;
   std::function<std::shared_ptr<const void>(const deform::Model&)> hold_binding_memory;
+  // Working memory held while a model of the store is adopted (ModelRegistry::adopt): called
+  // with its .sweepbind's bytes before they are read; throws ModelError to refuse. Empty:
+  // nothing is held.
+  std::function<std::shared_ptr<const void>(std::uint64_t binding_bytes)> hold_adoption_memory;
 };
 
 class ModelService : public ModelLookup {
@@ -105,8 +110,9 @@ class ModelService : public ModelLookup {
  private:
   // The model directory's file for a client's name, or ModelError{UnknownModel}.
   std::filesystem::path model_file_in_directory(const std::string& name) const;
-  // The model `content_id` held or adopted from the store (logged), or nullptr.
-  ModelHandle held_or_stored(const std::string& content_id);
+  // The model `content_id` held or adopted from the store (logged; holding the request's
+  // hold_adoption_memory while it is read), or nullptr.
+  ModelHandle held_or_stored(const std::string& content_id, const ModelLoadRequest& request);
   // Binds and stores request.gltf (an upload), or else directory_file, as request.name under
   // content_id; a model of that content id stored meanwhile by another load is returned.
   ModelHandle bind_and_store(const ModelLoadRequest& request, const std::string& content_id,

@@ -1,8 +1,17 @@
 // Out of descriptors: a failed accept is tried again after 100 ms, not at once, and an honest
 // client is served once the peers that exhausted the descriptors close. Its own file because it
-// exhausts the daemon's descriptors on purpose: it runs in Release (make test), not under ASan
-// (tests/CMakeLists.txt's trusted_tests), whose daemon holds and paces its descriptors otherwise
-// (there the honest client's Hello timed out: an open finding, not explained).
+// exhausts the daemon's descriptors on purpose: it runs in Release (make test), not under the
+// sanitizers (tests/CMakeLists.txt's trusted_tests; skipped in a sanitized build), because their
+// runtime needs descriptors of its own exactly when the daemon has none. UBSan's vptr check
+// (-fsanitize=undefined includes it) probes a vtable's memory through a pipe on each new
+// (type, vtable) pair (compiler-rt's IsAccessibleMemoryRange): out of descriptors pipe() fails,
+// the probe reads as unmapped memory and a correct object is reported as "invalid vptr" — the
+// first retry timer's make_shared in Server::accept_next (server/transport/server.cpp), with
+// "<memory cannot be printed>" — and then the report file of log_path cannot be opened either
+// ("Can't open file: .../ubsan.PID (reason: 24)", EMFILE). halt_on_error ends the daemon, so
+// the honest client's Hello went unanswered (stop 61's ASan run; reproduced 3 of 3 with stop
+// 63's ASan sweepd). The descriptors counted at rest were not the cause: the limit below
+// leaves 52 free in any build.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -15,6 +24,16 @@
 #include "tests/server/hostile_input.h"
 #include "tests/server/http_probe.h"
 #include "tests/server/pose_frames.h"
+
+// The asan preset builds the tests as it builds the daemon (clang: __has_feature; GCC:
+// __SANITIZE_ADDRESS__).
+#if defined(__SANITIZE_ADDRESS__)
+#define SWEEPD_SANITIZED_BUILD
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define SWEEPD_SANITIZED_BUILD
+#endif
+#endif
 
 namespace sweepd::test::daemon_descriptors_test {
 namespace {
@@ -29,6 +48,10 @@ constexpr std::uint32_t kMannequinJoints = 31;  // mannequin/mannequin.h
 // (12 in Release, many more under ASan), so that 52 descriptors are free in every build.
 TEST(StrangersOutOfDescriptors, AFailedAcceptIsTriedAgainLaterNotAtOnce) {
   if (!have_program("prlimit")) GTEST_SKIP() << "prlimit is not installed (util-linux)";
+#if defined(SWEEPD_SANITIZED_BUILD)
+  GTEST_SKIP() << "a sanitized daemon cannot run out of descriptors: its sanitizer runtime needs "
+                  "a pipe for a vptr check and a descriptor for its report (the file's header)";
+#endif
   const ScratchDirectory directory("strangers_fds");
   DaemonProcess daemon(directory, {"--position-maps", "0"});
   ASSERT_TRUE(daemon.running()) << daemon.log();
