@@ -7,10 +7,12 @@
 // whose hips sit lower pushes its seat. Here the whole body rises, on every frame, as far as its
 // deepest part is below the floor, so that part rests on it.
 //
-// How: the rest mesh is sampled (motion/body_samples.h: per joint, the vertices furthest along
-// 64 directions; a few thousand samples skinned by linear blending: about 20 µs a frame). A frame's
+// How: the rest mesh is sampled (motion/body_samples.h: per joint, and per band of the skin
+// blended across a joint, the vertices furthest along 64 directions; a few thousand samples
+// skinned by linear blending). A frame's
 // need is how far its lowest sample's swept height (body_samples.h: moved out from a bent joint
-// as the sweep keeps its volume; linear at the feet) lies below its height: the floor less
+// as the sweep keeps its volume, and across the bend's outside as a mitre; linear at the feet)
+// lies below its height: the floor less
 // kSoleTolerance for a foot's samples (foot planting puts the soles on the floor: they must not
 // lift the body), the floor plus kClearance for every other part (the sweep's surface still runs
 // up to about 0.9 cm below the swept heights where an elbow, knee, hip or back presses on the

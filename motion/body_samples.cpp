@@ -9,6 +9,12 @@ namespace sweepd::motion {
 namespace {
 
 constexpr int kDirections = 64;
+// A bent joint's skin sampled again in bands by the joint's share: its lowest point, bent, is
+// where the two bones' skins meet (the kneecap), which is no part's furthest point at rest.
+constexpr int kBendBands = 6;
+// The mitre's stretch stops growing at a 120° bend (2x): it grows without bound as a joint
+// folds shut, where the sweep's skin on the inside meets itself instead.
+constexpr float kMitreCosHalfBendLimit = 0.5f;
 
 // kDirections unit vectors spread evenly over the sphere (a Fibonacci lattice).
 std::vector<glm::vec3> sphere_directions() {
@@ -41,20 +47,41 @@ int bend_joint(const deform::Model& model, std::uint32_t v, const std::vector<bo
   return -1;
 }
 
+// The share of a vertex's two strongest influences (bend_joint's pair) that is `bend`'s.
+float bend_share(const deform::Model& model, std::uint32_t v, int bend) {
+  const int parent = model.skeleton.joints[bend].parent;
+  float own = 0.0f, pair = 0.0f;
+  for (int k = 0; k < deform::kInfluences; ++k) {
+    const int joint = model.skin_joints[v][k];
+    if (joint == bend) own += model.skin_weights[v][k];
+    if (joint == bend || joint == parent) pair += model.skin_weights[v][k];
+  }
+  return pair > 0.0f ? own / pair : 0.0f;
+}
+
 }  // namespace
 
 BodySamples::BodySamples(const deform::Model& model, const std::vector<bool>& linear) {
   const int joints = model.skeleton.size();
   const std::vector<glm::vec3> directions = sphere_directions();
-  std::vector<std::uint32_t> best(static_cast<std::size_t>(joints) * kDirections,
+  // Parts: each joint's skin, and each bent joint's skin in kBendBands bands by its share.
+  const int parts = joints * (1 + kBendBands);
+  std::vector<std::uint32_t> best(static_cast<std::size_t>(parts) * kDirections,
                                   std::numeric_limits<std::uint32_t>::max());
   std::vector<float> reach(best.size(), -std::numeric_limits<float>::infinity());
-  for (std::uint32_t v = 0; v < model.vertex_count(); ++v) {
-    const int strongest = model.strongest_joint(v);
+  const auto compete = [&](int part, std::uint32_t v) {
     for (int d = 0; d < kDirections; ++d) {
-      const std::size_t slot = static_cast<std::size_t>(strongest) * kDirections + d;
+      const std::size_t slot = static_cast<std::size_t>(part) * kDirections + d;
       const float along = glm::dot(model.positions[v], directions[d]);
       if (along > reach[slot]) reach[slot] = along, best[slot] = v;
+    }
+  };
+  for (std::uint32_t v = 0; v < model.vertex_count(); ++v) {
+    compete(model.strongest_joint(v), v);
+    if (const int bend = bend_joint(model, v, linear); bend >= 0) {
+      const float share = bend_share(model, v, bend);
+      const int band = std::min(kBendBands - 1, static_cast<int>(share * kBendBands));
+      compete(joints + bend * kBendBands + band, v);
     }
   }
   best.erase(std::remove(best.begin(), best.end(), std::numeric_limits<std::uint32_t>::max()),
@@ -69,8 +96,13 @@ BodySamples::BodySamples(const deform::Model& model, const std::vector<bool>& li
     skin_joints_.push_back(model.skin_joints[v]);
     skin_weights_.push_back(model.skin_weights[v]);
     bend_joint_.push_back(bend_joint(model, v, linear));
-    bend_rest_.push_back(bend_joint_.back() < 0 ? glm::vec3(0.0f)
-                                                : glm::vec3(rest_world[bend_joint_.back()][3]));
+    const int bend = bend_joint_.back();
+    bend_rest_.push_back(bend < 0 ? glm::vec3(0.0f) : glm::vec3(rest_world[bend][3]));
+    const int parent = bend < 0 ? -1 : model.skeleton.joints[bend].parent;
+    bend_parent_.push_back(parent);
+    const glm::vec3 bone =
+        parent < 0 ? glm::vec3(0.0f) : glm::vec3(rest_world[bend][3] - rest_world[parent][3]);
+    bend_bone_.push_back(glm::length(bone) > 1e-6f ? glm::normalize(bone) : glm::vec3(0.0f));
   }
 }
 
@@ -109,7 +141,17 @@ float BodySamples::swept_height(std::size_t i, std::span<const glm::mat4> skinni
     if (w != 0.0f)
       kept += w * glm::distance(glm::vec3(skinning[skin_joints_[i][k]] * rest), centre);
   }
-  return centre.y + (blended.y - centre.y) * (kept / drawn_in);
+  glm::vec3 out = (blended - centre) * (kept / drawn_in);
+  // The mitre: across the outside of the bend the joint's section is 1 / cos(bend / 2) as long.
+  const glm::vec3 before = glm::mat3(skinning[bend_parent_[i]]) * bend_bone_[i];
+  const glm::vec3 after = glm::mat3(skinning[bend_joint_[i]]) * bend_bone_[i];
+  const glm::vec3 corner = before - after;  // from the joint towards the outside of the bend
+  const float cos_half = std::sqrt(std::max(0.0f, 0.5f * (1.0f + glm::dot(before, after))));
+  if (const float across = glm::dot(out, corner); across > 0.0f && glm::length(corner) > 1e-6f) {
+    const float stretch = 1.0f / std::max(cos_half, kMitreCosHalfBendLimit) - 1.0f;
+    out += stretch * across / glm::dot(corner, corner) * corner;
+  }
+  return centre.y + out.y;
 }
 
 }  // namespace sweepd::motion

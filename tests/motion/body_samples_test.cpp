@@ -2,9 +2,13 @@
 // volume, linear blending draws the skin in towards the joint, and the body floor lifts the body
 // by the swept height. A hand-made arm (shoulder at the origin, upper arm 0.3 m along +x,
 // forearm 0.25 m) and one vertex 5 cm below the elbow, half on each bone; the elbow bent 90°
-// upwards (the forearm along +y), so that vertex is the elbow's underside:
+// upwards (the forearm along +y), so that vertex is the elbow's underside, the outside of the
+// bend:
 // - linearly blended it lies 2.5 cm below the elbow (the mean of (0.30, -0.05) and (0.35, 0));
-// - swept, 5 cm from the elbow along the same direction: 5/sqrt(2) = 3.54 cm below it;
+// - swept, moved out to its 5 cm from the elbow and across the outside of the bend by the
+//   mitre's 1 / cos(45°): at (0.35, -0.05), 5 cm below the elbow, where the upper arm's
+//   underside runs on to the corner of a tube bent at a mitre (the sweep's plane at the joint
+//   bisects the bend);
 // - straight, both are the rest height, and with the forearm's joint blended linearly (a
 //   foot's) the swept height is the linear one.
 // Tolerance 1e-6 m: float round-off of a few products.
@@ -12,7 +16,6 @@
 
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <vector>
 
 #include "deform/model/forward_kinematics.h"
@@ -42,13 +45,13 @@ std::vector<glm::mat4> skinning(const deform::Model& model, float degrees) {
   return matrices;
 }
 
-TEST(BodySamples, SweptHeightKeepsABentElbowsUndersideWhereLinearBlendingDrawsItIn) {
+TEST(BodySamples, SweptHeightKeepsABentElbowsUndersideAtTheMitresCorner) {
   const deform::Model model = bent_arm_model();
   const BodySamples samples(model);
   ASSERT_EQ(samples.size(), 1u);
   const std::vector<glm::mat4> bent = skinning(model, 90.0f);
   EXPECT_NEAR(samples.height(0, bent), -0.025f, 1e-6f);
-  EXPECT_NEAR(samples.swept_height(0, bent), -0.05f / std::sqrt(2.0f), 1e-6f);
+  EXPECT_NEAR(samples.swept_height(0, bent), -0.05f, 1e-6f);
   const std::vector<glm::mat4> straight = skinning(model, 0.0f);
   EXPECT_NEAR(samples.height(0, straight), -0.05f, 1e-6f);
   EXPECT_NEAR(samples.swept_height(0, straight), -0.05f, 1e-6f);
@@ -59,6 +62,28 @@ TEST(BodySamples, SweptHeightIsTheLinearOneWhereAnInfluenceBlendsLinearly) {
   const BodySamples samples(model, {false, true, false});
   const std::vector<glm::mat4> bent = skinning(model, 90.0f);
   EXPECT_NEAR(samples.swept_height(0, bent), samples.height(0, bent), 1e-6f);
+}
+
+// The skin where two bones meet is sampled as a part of its own: a vertex blended across the
+// elbow (shoulder 0.6, elbow 0.4) that lies inside the upper arm's skin at rest (a box from
+// x = 0 to 0.32 m, 6 cm about the bone, all on the shoulder), so no direction finds it
+// furthest among the shoulder's vertices, is still a sample: bent, it is the elbow's underside.
+TEST(BodySamples, TheSkinBlendedAcrossAJointIsSampledThoughNoPartReachesFurthestThere) {
+  deform::Model model = bent_arm_model();
+  model.skin_weights = {{0.6f, 0.4f, 0.0f, 0.0f}};
+  for (const float x : {0.0f, 0.32f})
+    for (const float y : {-0.06f, 0.06f})
+      for (const float z : {-0.06f, 0.06f}) {
+        model.positions.emplace_back(x, y, z);
+        model.normals.emplace_back(0.0f, 1.0f, 0.0f);
+        model.skin_joints.push_back({0, 0, 0, 0});
+        model.skin_weights.push_back({1.0f, 0.0f, 0.0f, 0.0f});
+      }
+  const BodySamples samples(model);
+  bool blended_sampled = false;
+  for (std::size_t i = 0; i < samples.size(); ++i) blended_sampled |= samples.vertex(i) == 0;
+  EXPECT_TRUE(blended_sampled);
+  EXPECT_EQ(samples.size(), 9u);  // the box's 8 corners and the blended vertex
 }
 
 }  // namespace
