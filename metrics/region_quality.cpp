@@ -18,6 +18,10 @@ SkinningComparison compare_with_skinning(const RegionFigures& sweep, const Regio
   return c;
 }
 
+std::array<int, 2> edge_regions(int region_a, int region_b) {
+  return {region_a, region_b == region_a ? -1 : region_b};
+}
+
 RegionLabels label_regions(const BoundModel& bound) {
   const Model& model = bound.model;
   const std::vector<BodyPart> part_of = label_joints(bound.rig, model.skeleton);
@@ -58,13 +62,16 @@ std::vector<RegionFigures> RegionMeter::measure(std::span<const glm::vec3> posit
   std::vector<RegionFigures> figures(regions_.size());
   for (std::size_t e = 0; e < quality_.edge_count(); ++e) {
     const auto [a, b] = quality_.edge_vertices(e);
-    RegionFigures& f = figures[region_of_vertex(a)];
     const double ratio = quality_.edge_ratio(positions, e);
-    f.stretch = std::max(f.stretch, ratio);
-    f.squash = std::min(f.squash, ratio);
-    if (swept_[a] || swept_[b]) {
-      f.swept = true;
-      f.swept_stretch = std::max(f.swept_stretch, ratio);
+    for (const int region : edge_regions(region_of_vertex(a), region_of_vertex(b))) {
+      if (region < 0) continue;
+      RegionFigures& f = figures[region];
+      f.stretch = std::max(f.stretch, ratio);
+      f.squash = std::min(f.squash, ratio);
+      if (swept_[a] || swept_[b]) {
+        f.swept = true;
+        f.swept_stretch = std::max(f.swept_stretch, ratio);
+      }
     }
   }
   for (std::size_t e = 0; e < crease_.edge_count(); ++e) {

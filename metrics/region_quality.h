@@ -2,8 +2,9 @@
 // `sweepctl check` and the corpus gate compare between the sweep and skinning (issue 47).
 //
 // A vertex belongs to the body part (deform::label_joints) of its strongest skin joint; a joint
-// above the pelvis counts as torso. An edge, a triangle belongs to the region of its first
-// vertex. Per region and posed mesh:
+// above the pelvis counts as torso. An edge's length ratio counts in the regions of both its
+// vertices (edge_regions); its crease, and a triangle, in the region of its first vertex. Per
+// region and posed mesh:
 //   stretch   the largest edge length ratio l / l_rest over its welded edges (1 at rest)
 //   squash    the smallest l / l_rest (1 at rest)
 //   crease    the largest change of dihedral angle from rest across its welded edges, degrees
@@ -64,6 +65,10 @@ struct RegionLabels {
   std::vector<int> strongest_joint;
 };
 RegionLabels label_regions(const deform::BoundModel& bound);
+// The regions an edge is measured in: both its vertices' (the second -1 where they share one).
+// By both, not by its first vertex, so that the edge's direction in the index buffer (a
+// winding, which a mirrored copy reverses) does not move it from one region to the other.
+std::array<int, 2> edge_regions(int region_a, int region_b);
 
 // Triangle t's normal, unnormalised (twice its area): (p1 - p0) x (p2 - p0).
 inline glm::vec3 triangle_normal(std::span<const glm::vec3> p,

@@ -1,6 +1,7 @@
 #include "metrics/swept_stretch_meter.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "deform/mesh/mesh_topology.h"
@@ -26,14 +27,20 @@ SweptStretchMeter::SweptStretchMeter(const BoundModel& bound) {
   for (std::size_t e = 0; 2 * e < edges.size(); ++e) {
     const std::uint32_t a = edges[2 * e], b = edges[2 * e + 1];
     if (!swept[a] && !swept[b]) continue;
-    region_swept_[labels.region_of_vertex[a]] = true;
+    const std::array<int, 2> regions =
+        edge_regions(labels.region_of_vertex[a], labels.region_of_vertex[b]);
+    for (const int region : regions)
+      if (region >= 0) region_swept_[region] = true;
     const glm::vec3 rest = model.positions[a] - model.positions[b];
     if (glm::dot(rest, rest) <= 0.0f) continue;  // ratio 1, as QualityMeter::edge_ratio
-    edges_.push_back(a);
-    edges_.push_back(b);
     read[a] = read[b] = true;
-    inverse_squared_rest_.push_back(1.0f / glm::dot(rest, rest));
-    edge_region_.push_back(labels.region_of_vertex[a]);
+    for (const int region : regions) {  // an edge between two regions is measured in each
+      if (region < 0) continue;
+      edges_.push_back(a);
+      edges_.push_back(b);
+      inverse_squared_rest_.push_back(1.0f / glm::dot(rest, rest));
+      edge_region_.push_back(region);
+    }
   }
   for (std::size_t t = 0; 3 * t + 2 < model.indices.size(); ++t) {
     const std::uint32_t* corner = &model.indices[3 * t];

@@ -35,7 +35,7 @@ namespace sweepd::selfcheck {
 // moves) or the judgement (compare_with_skinning, the warnings' wording) change, so that a
 // verdict stored with an older one is checked again instead of read
 // (server/models/self_check_sidecar.h).
-inline constexpr int kSelfCheckRevision = 1;
+inline constexpr int kSelfCheckRevision = 2;
 
 struct CheckPoses {
   std::vector<deform::Pose> poses;

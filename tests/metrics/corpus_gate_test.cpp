@@ -65,31 +65,43 @@ constexpr int kClipStep = 100;
 // turn limit on the torso (deform/posing/plane_turn_limit.h), measured before and after on one
 // machine: child 515 -> 495, heavy male 523 -> 473 (male 381, heavy female 330, OpenPose 96
 // unchanged; the RiggedFigure and the mannequins 993 and 228 / 313 / 342-345, within the 2 %).
+// Then two asymmetries of the measurement fixed, measured together on one machine: an edge
+// between two regions counts in both (metrics::edge_regions; it counted in its first vertex's,
+// which a mirrored copy's reversed winding changes) and the mirrored variants of the Mixamo and
+// Unreal bodies have their sides' names swapped (tests/mirrored_model.h; they kept LeftArm on
+// the right and were read as facing backwards): male 381 -> 378, RiggedFigure 993 -> 729, child
+// 495 -> 354, heavy female 330 -> 148, OpenPose 96 -> 74, heavy male 473 -> 388, mannequins
+// 228 -> 233, 313 -> 312, 345 -> 366 (their edges between two regions now count in both), 3,649
+// -> 2,982 in all.
 const std::map<std::string, int> kLedger = {
-    {"makehuman_male_cmu", 381},
-    {"RiggedFigure", 991},
-    {"makehuman_child_mixamo_unity", 495},
-    {"makehuman_female_old_heavy_mixamo", 330},
-    {"makehuman_female_slim_openpose", 96},
-    {"makehuman_male_old_heavy_unreal", 473},
-    {"mannequin:6000", 228},
-    {"mannequin:20000", 313},
-    {"mannequin:72000", 342},
+    {"makehuman_male_cmu", 378},
+    {"RiggedFigure", 729},
+    {"makehuman_child_mixamo_unity", 354},
+    {"makehuman_female_old_heavy_mixamo", 148},
+    {"makehuman_female_slim_openpose", 74},
+    {"makehuman_male_old_heavy_unreal", 388},
+    {"mannequin:6000", 233},
+    {"mannequin:20000", 312},
+    {"mannequin:72000", 366},
 };
 
 // Issue 47's target "on cmu_01_01 and cmu_01_03, every corpus body's sweep keeps every edge
 // within 3x its rest length", asserted for the variants where it holds at the gate's sampling
 // (every 100th frame; every edge of the torso, neck, arms and legs), worst of both clips
-// measured: male 2.59 (mirrored 2.65, x0.6 2.59), heavy female 2.97 (x0.6 2.97), RiggedFigure
-// 1.68 (mirrored 1.67), mannequins 2.11 / 2.21 / 2.26 (6k / 20k / 72k, all three variants).
-// Not yet, printed: the heavy female mirrored (4.00), the OpenPose female (3.56, mirrored
-// 3.86), the heavy male (3.86 with the plane turn limit, 3.85 before; mirrored 3.96: its belly
-// folds on the inside of a deep forward bend, cmu_01_01 frame 1760, where LBS squashes the same
-// edge to 0.56) and the child (3.31, mirrored 4.84: the same fold at its waist).
+// measured: male 2.59 (mirrored 2.65, x0.6 2.59), heavy female 2.97 (mirrored 2.91, x0.6
+// 2.97), RiggedFigure 1.68 (mirrored 1.67), mannequins 2.11 / 2.21 / 2.26 (6k / 20k / 72k, all
+// three variants). Not yet, printed: the OpenPose female (3.56, mirrored 3.99), the heavy male
+// (3.85, mirrored 3.85: its belly folds on the inside of a deep forward bend, cmu_01_01 frame
+// 1760, where LBS squashes the same edge to 0.56) and the child (3.31, mirrored 3.31: the same
+// fold at its waist). The heavy female mirrored (4.00 before), the heavy male mirrored (3.96)
+// and the child mirrored (4.84) were measured facing backwards (tests/mirrored_model.h did not
+// swap their Mixamo and Unreal side names); the OpenPose female mirrored measured 3.86 before an
+// edge between two regions counted in both.
 constexpr double kCmuStretchTarget = 3.0;
 const std::set<std::string> kWithinTargetOnCmu = {
     "makehuman_male_cmu", "makehuman_male_cmu mirrored", "makehuman_male_cmu x0.6",
-    "makehuman_female_old_heavy_mixamo", "makehuman_female_old_heavy_mixamo x0.6",
+    "makehuman_female_old_heavy_mixamo", "makehuman_female_old_heavy_mixamo mirrored",
+    "makehuman_female_old_heavy_mixamo x0.6",
     "RiggedFigure", "RiggedFigure mirrored", "RiggedFigure x0.6",
     "mannequin:6000", "mannequin:6000 mirrored", "mannequin:6000 x0.6",
     "mannequin:20000", "mannequin:20000 mirrored", "mannequin:20000 x0.6",
@@ -199,8 +211,8 @@ TEST_P(CorpusGate, TheSweepIsWorseThanSkinningNowhereNewAndKeepsItsAdvantage) {
   // The better baseline's worst over the sweep's, at least: 1.05 on the MakeHuman bodies (the
   // least measured 1.09, the OpenPose body mirrored on cmu_01_03: 10.11 against 10.97), so that
   // a crotch or an armpit handed to skinning fails; within the gate's 2 % on the low-poly
-  // RiggedFigure, whose skin every method stretches alike (mirrored, on the range of motion:
-  // 1.78 against 1.76).
+  // RiggedFigure, whose skin every method stretches alike (mirrored, on cmu_01_03: 1.67 against
+  // 1.71).
   const double advantage = body == "RiggedFigure" ? 1.0 / kSkinningTolerance : 1.05;
   int worse = 0;
   WorseBreakdown breakdown;

@@ -1,18 +1,21 @@
 // RegionMeter's flipped triangles (metrics/region_quality.h), the count that decides the corpus
 // gate's worse (frame, region) pairs where the stretch does not: a rigid motion of the whole
 // body flips nothing, a triangle folded over its opposite edge counts in its own region, and a
-// triangle of zero rest area never counts (it has no rest normal to point away from). On the
-// 6k mannequin, moved by hand so that every expected figure is known exactly.
+// triangle of zero rest area never counts (it has no rest normal to point away from); and its
+// edges: one between two regions counts in both, whichever way the triangles wind. On the 6k
+// mannequin, moved by hand so that every expected figure is known exactly.
 #include "metrics/region_quality.h"
 
 #include <gtest/gtest.h>
 
 #include <cstdint>
 #include <glm/gtc/matrix_transform.hpp>
+#include <utility>
 #include <vector>
 
 #include "deform/binding/bind.h"
 #include "mannequin/mannequin.h"
+#include "metrics/swept_stretch_meter.h"
 
 namespace sweepd::metrics {
 namespace {
@@ -120,6 +123,59 @@ TEST(RegionMeterFlips, ATriangleOfZeroRestAreaNeverCounts) {
   // degenerate one, the count is the same.
   const RegionMeter plain(source);
   EXPECT_EQ(degenerate_alone, total_flipped(plain.measure(positions, world)));
+}
+
+// An edge whose vertices lie in two regions counts in both, whichever way the triangles wind: a
+// mirrored copy of a body reverses its windings, and with "the region of its first vertex" an
+// edge at the RiggedFigure's ankle counted in the leg (LBS 2.12x on the range of motion) and in
+// the mirrored copy's foot (its leg's worst 1.76x).
+TEST(RegionMeterEdges, AnEdgeBetweenTwoRegionsCountsInBothWhicheverWayTheTrianglesWind) {
+  const deform::BoundModel& bound = mannequin_binding();
+  const deform::Model& model = bound.model;
+  const RegionLabels labels = label_regions(bound);
+  // A triangle edge between two regions, its second vertex moved so that it is 1.5x as long.
+  std::uint32_t a = 0, b = 0;
+  for (std::size_t c = 0; c < model.indices.size() && a == b; ++c) {
+    const std::uint32_t p = model.indices[c], q = model.indices[c % 3 == 2 ? c - 2 : c + 1];
+    if (labels.region_of_vertex[p] != labels.region_of_vertex[q]) {
+      a = p;
+      b = q;
+    }
+  }
+  ASSERT_NE(a, b) << "the mannequin has no edge between two regions";
+  std::vector<glm::vec3> positions = model.positions;
+  const glm::vec3 from = positions[b];
+  for (glm::vec3& p : positions)  // every seam copy of the vertex with it
+    if (p == from) p = positions[a] + 1.5f * (from - positions[a]);
+  const std::vector<glm::mat4> world = model.skeleton.world_rest_matrices();
+  deform::BoundModel rewound = bound;
+  for (std::size_t t = 0; t + 2 < rewound.model.indices.size(); t += 3)
+    std::swap(rewound.model.indices[t + 1], rewound.model.indices[t + 2]);
+  const std::vector<RegionFigures> figures = RegionMeter(bound).measure(positions, world);
+  const std::vector<RegionFigures> rewound_figures = RegionMeter(rewound).measure(positions, world);
+  for (const int region : {labels.region_of_vertex[a], labels.region_of_vertex[b]}) {
+    // The moved edge's own ratio, within float rounding of its lengths (1e-5).
+    EXPECT_GE(figures[region].stretch, 1.5 - 1e-5) << deform::to_string(labels.regions[region]);
+    EXPECT_GE(rewound_figures[region].stretch, 1.5 - 1e-5);
+  }
+  // The same edges in the same regions, only visited in another order: equal figures.
+  ASSERT_EQ(figures.size(), rewound_figures.size());
+  for (std::size_t r = 0; r < figures.size(); ++r) {
+    EXPECT_EQ(figures[r].stretch, rewound_figures[r].stretch) << deform::to_string(labels.regions[r]);
+    EXPECT_EQ(figures[r].squash, rewound_figures[r].squash);
+    EXPECT_EQ(figures[r].swept_stretch, rewound_figures[r].swept_stretch);
+  }
+  // The binding's self-check meter counts the edge in both regions too.
+  std::vector<glm::vec3> lean_positions;
+  std::vector<RegionFigures> lean;
+  const SweptStretchMeter lean_meter(rewound);
+  lean_meter.gather(positions, lean_positions);
+  lean_meter.measure(lean_positions, world, lean);
+  for (std::size_t r = 0; r < figures.size(); ++r) {
+    if (!figures[r].swept) continue;
+    // From squared lengths: within a few float roundings (1e-6).
+    EXPECT_NEAR(lean[r].swept_stretch, figures[r].swept_stretch, 1e-6);
+  }
 }
 
 }  // namespace
