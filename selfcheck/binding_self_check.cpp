@@ -219,14 +219,6 @@ std::vector<std::uint32_t> places_in(const std::vector<std::uint32_t>& whole,
   return places;
 }
 
-std::vector<std::vector<glm::vec3>> gathered(const std::vector<std::vector<glm::vec3>>& positions,
-                                             const std::vector<std::uint32_t>& places) {
-  std::vector<std::vector<glm::vec3>> out(positions.size());
-  for (std::size_t p = 0; p < positions.size(); ++p)
-    for (const std::uint32_t i : places) out[p].push_back(positions[p][i]);
-  return out;
-}
-
 // The sweep's positions of the measured vertices (the checker's meter's, in its order) and its
 // figures, per pose: the body as the adaptation has it so far.
 struct BodyState {
@@ -236,8 +228,8 @@ struct BodyState {
 
 // One sweep's candidates judged by what they change: in the regions its vertices touch, the
 // edges and triangles with a vertex on the sweep are measured again on those vertices and their
-// neighbours posed alone, the others' figures once from the body's positions; the regions it
-// does not touch keep the body's figures.
+// neighbours posed alone, the others' figures once per pose from the body's positions (when a
+// candidate first reaches the pose); the regions it does not touch keep the body's figures.
 class SweepTrial {
  public:
   SweepTrial(const deform::BoundModel& bound, int sweep, const BindingChecker& checker,
@@ -253,9 +245,10 @@ class SweepTrial {
         }
     const metrics::SweptStretchMeter& whole = checker.meter();
     touched_ = whole.regions_touched(moving);
-    const metrics::SweptStretchMeter beside = whole.part(moving, false);
-    beside_ = checker.measure(beside, gathered(body.positions,
-                                               places_in(whole.vertices(), beside.vertices())));
+    beside_.emplace(whole.part(moving, false));
+    beside_places_ = places_in(whole.vertices(), beside_->vertices());
+    beside_figures_.resize(body.positions.size());
+    beside_stretched_.resize(body.positions.size());
     changed_.emplace(whole.part(moving, true));
     changed_places_ = places_in(whole.vertices(), changed_->vertices());
     // The poses by the largest stretch excess of a touched region not yet worse, descending:
@@ -287,8 +280,9 @@ class SweepTrial {
       std::vector<metrics::RegionFigures> measured;
       std::vector<int> stretched;
       changed_->measure(at, checker_.world(p), measured, stretched);
-      metrics::SweptStretchMeter::combine(measured, stretched, beside_.figures[p],
-                                          beside_.stretched[p]);
+      measure_beside(p);
+      metrics::SweptStretchMeter::combine(measured, stretched, beside_figures_[p],
+                                          beside_stretched_[p]);
       for (std::size_t r = 0; r < touched_.size(); ++r) {
         if (!touched_[r]) continue;
         figures.figures[p][r] = measured[r];
@@ -301,6 +295,16 @@ class SweepTrial {
     });
     if (!acceptable) return std::nullopt;
     return figures;
+  }
+  // The figures of the items beside the sweep in pose p, measured on the body's positions when
+  // a candidate first reaches that pose: most candidates lose a pair within the first few poses
+  // of order_, so the other poses' are never needed (the same figures as measuring every pose
+  // up front).
+  void measure_beside(int p) const {
+    if (!beside_figures_[p].empty()) return;
+    std::vector<glm::vec3> positions;
+    for (const std::uint32_t i : beside_places_) positions.push_back(body_.positions[p][i]);
+    beside_->measure(positions, checker_.world(p), beside_figures_[p], beside_stretched_[p]);
   }
   // A candidate's measure made the body's.
   void keep(const std::vector<std::vector<glm::vec3>>& changed_positions, SweepFigures figures,
@@ -316,7 +320,12 @@ class SweepTrial {
   const BodyState& body_;
   std::vector<std::uint32_t> on_sweep_;
   std::vector<std::uint8_t> touched_;  // per region
-  SweepFigures beside_;
+  // The items in the touched regions without a vertex on the sweep, their vertices' places in
+  // the body's positions, and their figures per pose (empty until measure_beside).
+  std::optional<metrics::SweptStretchMeter> beside_;
+  std::vector<std::uint32_t> beside_places_;
+  mutable std::vector<std::vector<metrics::RegionFigures>> beside_figures_;
+  mutable std::vector<std::vector<int>> beside_stretched_;
   std::optional<metrics::SweptStretchMeter> changed_;
   std::vector<std::uint32_t> changed_places_;
   std::vector<int> order_;  // the poses, in the order measured
