@@ -18,6 +18,29 @@ std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t i) {
 
 }  // namespace
 
+// `passes` passes over a packed group: rows first.size() - 1 of `current` (Width columns, or
+// `width` where Width is 0) from themselves and their neighbours; the result in `current`.
+template <std::size_t Width>
+void LengthWeightedSmoothing::packed_passes(std::span<const std::uint32_t> first,
+                                            std::span<const Neighbour> neighbours, int passes,
+                                            std::vector<float>& current, std::vector<float>& next,
+                                            std::size_t width) {
+  if constexpr (Width > 0) width = Width;
+  const std::size_t rows = first.size() - 1;
+  for (int pass = 0; pass < passes; ++pass) {
+    for (std::size_t i = 0; i < rows; ++i) {
+      float* out = &next[i * width];
+      for (std::size_t c = 0; c < width; ++c) out[c] = 0.5f * current[i * width + c];
+      for (std::uint32_t n = first[i]; n < first[i + 1]; ++n) {
+        const float* in = &current[neighbours[n].row * width];
+        const float weight = neighbours[n].weight;
+        for (std::size_t c = 0; c < width; ++c) out[c] += weight * in[c];
+      }
+    }
+    current.swap(next);
+  }
+}
+
 // The passes run one connected group of chosen rows at a time (rows joined when one is the
 // other's neighbour: what one pass spreads stays inside its group and the border rows around
 // it), on a packed copy of the group's rows and border rows that holds only the columns not +0
@@ -81,17 +104,13 @@ void LengthWeightedSmoothing::smooth(int columns, int passes, std::vector<float>
         for (std::size_t c = 0; c < width; ++c)
           current[r * width + c] = table[local_rows[r] * columns + active[c]];
       next = current;  // the border rows, which no pass writes
-      for (int pass = 0; pass < passes; ++pass) {
-        for (std::size_t i = 0; i < group.size(); ++i) {
-          float* out = &next[i * width];
-          for (std::size_t c = 0; c < width; ++c) out[c] = 0.5f * current[i * width + c];
-          for (std::uint32_t n = first[i]; n < first[i + 1]; ++n) {
-            const float* in = &current[packed_neighbours[n].row * width];
-            const float weight = packed_neighbours[n].weight;
-            for (std::size_t c = 0; c < width; ++c) out[c] += weight * in[c];
-          }
-        }
-        current.swap(next);
+      const std::span<const std::uint32_t> group_first(first);
+      switch (width) {  // a group reads two or three columns: loops of a known width
+        case 1: packed_passes<1>(group_first, packed_neighbours, passes, current, next); break;
+        case 2: packed_passes<2>(group_first, packed_neighbours, passes, current, next); break;
+        case 3: packed_passes<3>(group_first, packed_neighbours, passes, current, next); break;
+        case 4: packed_passes<4>(group_first, packed_neighbours, passes, current, next); break;
+        default: packed_passes<0>(group_first, packed_neighbours, passes, current, next, width);
       }
       for (std::size_t i = 0; i < group.size(); ++i)
         for (std::size_t c = 0; c < width; ++c)

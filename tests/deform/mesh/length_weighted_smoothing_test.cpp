@@ -61,27 +61,32 @@ TEST(LengthWeightedSmoothing, PassesGroupByGroupOnTheirOwnColumnsGiveTheWholeTab
   std::mt19937 random(47);
   const SmoothingGrid g = smoothing_grid(40, random);
   constexpr int kColumns = 7;
-  // Three separate groups of chosen rows (squares of the grid), each where other columns are
-  // painted; one column is painted nowhere, one everywhere.
+  // Five separate groups of chosen rows (rectangles of the grid), each where other columns are
+  // painted, so that they read 1, 2, 3 and 5 columns (the packed loops of known widths and the
+  // general one); one column is painted nowhere.
   std::vector<float> table(g.side * g.side * kColumns, 0.0f);
   std::uniform_real_distribution<float> share(0.0f, 1.0f);
   for (int y = 0; y < g.side; ++y)
     for (int x = 0; x < g.side; ++x) {
       float* row = &table[(y * g.side + x) * kColumns];
-      row[6] = 0.25f;
+      if ((y < 20 && x < 25) || (x >= 12 && x < 18 && y >= 26)) row[6] = 0.25f;
       if (x < 15) row[0] = share(random);
       if (x >= 12 && x < 20) row[1] = share(random);
       if (y >= 30) row[2] = share(random);
       if (x >= 30 && y < 10) row[3 + (x + y) % 2] = share(random);
+      if (x >= 35 && y >= 18 && y < 28) row[3] = share(random);
+      if (x >= 13 && x < 17 && y >= 29) row[5] = share(random);
     }
+  const auto inside = [](int x, int y, int x0, int x1, int y0, int y1) {
+    return x >= x0 && x < x1 && y >= y0 && y < y1;
+  };
   std::vector<std::uint32_t> rows;
   for (int y = 0; y < g.side; ++y)
-    for (int x = 0; x < g.side; ++x) {
-      const bool first = x >= 10 && x < 18 && y >= 5 && y < 25;
-      const bool second = x >= 2 && x < 9 && y >= 31 && y < 38;
-      const bool third = x >= 28 && x < 36 && y >= 2 && y < 8;
-      if (first || second || third) rows.push_back(static_cast<std::uint32_t>(y * g.side + x));
-    }
+    for (int x = 0; x < g.side; ++x)
+      if (inside(x, y, 10, 18, 5, 24) || inside(x, y, 2, 9, 31, 38) ||
+          inside(x, y, 28, 36, 2, 8) || inside(x, y, 13, 17, 29, 36) ||
+          inside(x, y, 36, 39, 20, 26))
+        rows.push_back(static_cast<std::uint32_t>(y * g.side + x));
   LengthWeightedSmoothing smoothing;
   std::vector<std::vector<std::pair<std::uint32_t, float>>> weighted;
   for (const std::uint32_t v : rows) {
