@@ -117,7 +117,8 @@ void SweptStretchMeter::gather(std::span<const glm::vec3> positions,
 void SweptStretchMeter::measure(std::span<const glm::vec3> positions,
                                 std::span<const glm::mat4> joint_world,
                                 std::vector<RegionFigures>& figures) const {
-  measure(positions, joint_world, figures, stretched_);
+  std::vector<int> stretched_edges;
+  measure(positions, joint_world, figures, stretched_edges);
 }
 
 void SweptStretchMeter::measure(std::span<const glm::vec3> positions,
@@ -143,14 +144,14 @@ void SweptStretchMeter::measure(std::span<const glm::vec3> positions,
     figures[r].swept_stretch = std::sqrt(static_cast<double>(largest));
     stretched_edges[r] = stretched;
   }
-  carry_.resize(inverse_rest_.size());
-  for (std::size_t j = 0; j < carry_.size(); ++j)
-    carry_[j] = glm::mat3(joint_world[j] * inverse_rest_[j]);
+  std::vector<glm::mat3> carry(inverse_rest_.size());  // per joint: the pose's turn from rest
+  for (std::size_t j = 0; j < carry.size(); ++j)
+    carry[j] = glm::mat3(joint_world[j] * inverse_rest_[j]);
   for (std::size_t r = 0; r < regions_.size(); ++r) {
     int flipped = 0;
     for (std::uint32_t i = triangle_first_[r]; i < triangle_first_[r + 1]; ++i)
       flipped += glm::dot(triangle_normal(positions, triangles_, i),
-                          carry_[triangle_joint_[i]] * rest_normal_[i]) < 0.0f;
+                          carry[triangle_joint_[i]] * rest_normal_[i]) < 0.0f;
     figures[r].swept_flipped += flipped;
   }
 }

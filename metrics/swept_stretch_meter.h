@@ -31,8 +31,8 @@ class SweptStretchMeter {
   // vertices()' positions out of a whole mesh's (vertex_count()).
   void gather(std::span<const glm::vec3> positions, std::vector<glm::vec3>& measured) const;
   // positions: vertices().size(), in vertices()' order; joint_world: the posed joints' world
-  // matrices. Into figures (resized to regions().size()): no allocation once the scratch has its
-  // size. Not thread-safe (one meter per thread).
+  // matrices. Into figures (resized to regions().size()). Const: one meter measures poses on
+  // several threads at once.
   void measure(std::span<const glm::vec3> positions, std::span<const glm::mat4> joint_world,
                std::vector<RegionFigures>& figures) const;
   // The same, and per region how many swept edges are longer than kStretchedEdge times their
@@ -77,8 +77,6 @@ class SweptStretchMeter {
   std::vector<glm::mat4> inverse_rest_;     // per joint
   // Edges and triangles are grouped by region: region r's are [first[r], first[r + 1]).
   std::vector<std::uint32_t> edge_first_, triangle_first_;
-  mutable std::vector<glm::mat3> carry_;    // per joint: the pose's rotation from rest (scratch)
-  mutable std::vector<int> stretched_;      // per region: the stretched edges (scratch)
 };
 
 }  // namespace sweepd::metrics

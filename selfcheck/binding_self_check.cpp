@@ -13,10 +13,20 @@
 #include "deform/blending/sweep_blending.h"
 #include "deform/model/forward_kinematics.h"
 #include "deform/posing/sweep_poser.h"
+#include "deform/simd/vertex_blocks.h"
 #include "motion/own_skeleton_clip.h"
 #include "motion/range_of_motion.h"
 
 namespace sweepd::selfcheck {
+
+namespace {
+
+// The threads the check's per-pose passes (skinning and measuring every pose, posing the body)
+// run on: a pair, as bind's own vertex loop (deform::kBindThreads). Each pose is computed
+// alone, so the figures do not depend on the count.
+constexpr int kCheckThreads = deform::kBindThreads;
+
+}  // namespace
 
 CheckPoses range_of_motion_peaks(const deform::BoundModel& bound) {
   const deform::Skeleton& skeleton = bound.model.skeleton;
@@ -51,17 +61,20 @@ BindingChecker::BindingChecker(const deform::BoundModel& bound, const CheckPoses
     measured_part.skin_weights.push_back(model.skin_weights[v]);
   }
   const deform::SkinningTable measured_table(measured_part);  // built once, for every pose
-  std::vector<glm::vec3> skinned(measured_part.positions.size());
   lbs_.resize(poses.poses.size());
   dqs_.resize(poses.poses.size());
-  for (std::size_t p = 0; p < poses.poses.size(); ++p) {
-    deform::forward_kinematics(model.skeleton, poses.poses[p], world_[p]);
-    deform::skinning_matrices(world_[p], rest_inverse, skinning_[p]);
-    deform::linear_blend_skinning(measured_table, skinning_[p], skinned, {});
-    meter_.measure(skinned, world_[p], lbs_[p]);
-    deform::dual_quaternion_skinning(measured_table, skinning_[p], skinned, {});
-    meter_.measure(skinned, world_[p], dqs_[p]);
-  }
+  deform::run_in_vertex_blocks(poses.poses.size(), kCheckThreads, [&](std::size_t begin,
+                                                                       std::size_t end) {
+    std::vector<glm::vec3> skinned(measured_part.positions.size());
+    for (std::size_t p = begin; p < end; ++p) {
+      deform::forward_kinematics(model.skeleton, poses.poses[p], world_[p]);
+      deform::skinning_matrices(world_[p], rest_inverse, skinning_[p]);
+      deform::linear_blend_skinning(measured_table, skinning_[p], skinned, {});
+      meter_.measure(skinned, world_[p], lbs_[p]);
+      deform::dual_quaternion_skinning(measured_table, skinning_[p], skinned, {});
+      meter_.measure(skinned, world_[p], dqs_[p]);
+    }
+  });
 }
 
 BindingVerdict BindingChecker::verdict(const deform::BoundModel& bound) const {
@@ -71,11 +84,18 @@ BindingVerdict BindingChecker::verdict(const deform::BoundModel& bound) const {
 std::vector<std::vector<glm::vec3>> BindingChecker::sweep_positions(
     const deform::BoundModel& bound, std::span<const std::uint32_t> vertices) const {
   std::vector<std::vector<glm::vec3>> positions(poses_.poses.size());
-  std::vector<int> every(poses_.poses.size());
-  for (std::size_t p = 0; p < every.size(); ++p) every[p] = static_cast<int>(p);
-  pose_each(bound, vertices, every, [&](int p, std::span<const glm::vec3> posed) {
-    positions[p].assign(posed.begin(), posed.end());
-    return true;
+  if (vertices.empty()) return positions;
+  const deform::BoundModel part = deform::bound_part(bound, vertices);
+  const std::shared_ptr<const deform::SweepPoserTables> tables =
+      deform::make_sweep_poser_tables(part);
+  deform::run_in_vertex_blocks(positions.size(), kCheckThreads, [&](std::size_t begin,
+                                                                    std::size_t end) {
+    deform::SweepPoser poser(tables);  // one per thread: a poser holds its pose
+    for (std::size_t p = begin; p < end; ++p) {
+      positions[p].resize(vertices.size());
+      poser.set_pose(world_[p]);
+      poser.deform(skinning_[p], positions[p], {});
+    }
   });
   return positions;
 }
@@ -109,8 +129,11 @@ SweepFigures BindingChecker::measure(const metrics::SweptStretchMeter& part,
   SweepFigures sweep;
   sweep.figures.resize(positions.size());
   sweep.stretched.resize(positions.size());
-  for (std::size_t p = 0; p < positions.size(); ++p)
-    part.measure(positions[p], world_[p], sweep.figures[p], sweep.stretched[p]);
+  deform::run_in_vertex_blocks(positions.size(), kCheckThreads, [&](std::size_t begin,
+                                                                    std::size_t end) {
+    for (std::size_t p = begin; p < end; ++p)
+      part.measure(positions[p], world_[p], sweep.figures[p], sweep.stretched[p]);
+  });
   return sweep;
 }
 
