@@ -63,8 +63,9 @@ SweptStretchMeter::SweptStretchMeter(const BoundModel& bound) {
 void SweptStretchMeter::group_by_region() {
   std::vector<std::uint32_t> order(edge_region_.size());
   std::iota(order.begin(), order.end(), 0u);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::uint32_t a, std::uint32_t b) { return edge_region_[a] < edge_region_[b]; });
+  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return edge_region_[a] < edge_region_[b];
+  });
   std::vector<std::uint32_t> edges;
   std::vector<float> inverse_squared_rest;
   std::vector<int> edge_region;
@@ -85,7 +86,8 @@ void SweptStretchMeter::group_by_region() {
   std::vector<int> triangle_region, triangle_joint;
   std::vector<glm::vec3> rest_normal;
   for (const std::uint32_t t : order) {
-    triangles.insert(triangles.end(), {triangles_[3 * t], triangles_[3 * t + 1], triangles_[3 * t + 2]});
+    triangles.insert(triangles.end(),
+                     {triangles_[3 * t], triangles_[3 * t + 1], triangles_[3 * t + 2]});
     triangle_region.push_back(triangle_region_[t]);
     triangle_joint.push_back(triangle_joint_[t]);
     rest_normal.push_back(rest_normal_[t]);

@@ -63,18 +63,18 @@ BindingChecker::BindingChecker(const deform::BoundModel& bound, const CheckPoses
   const deform::SkinningTable measured_table(measured_part);  // built once, for every pose
   lbs_.resize(poses.poses.size());
   dqs_.resize(poses.poses.size());
-  deform::run_in_vertex_blocks(poses.poses.size(), kCheckThreads, [&](std::size_t begin,
-                                                                       std::size_t end) {
-    std::vector<glm::vec3> skinned(measured_part.positions.size());
-    for (std::size_t p = begin; p < end; ++p) {
-      deform::forward_kinematics(model.skeleton, poses.poses[p], world_[p]);
-      deform::skinning_matrices(world_[p], rest_inverse, skinning_[p]);
-      deform::linear_blend_skinning(measured_table, skinning_[p], skinned, {});
-      meter_.measure(skinned, world_[p], lbs_[p]);
-      deform::dual_quaternion_skinning(measured_table, skinning_[p], skinned, {});
-      meter_.measure(skinned, world_[p], dqs_[p]);
-    }
-  });
+  deform::run_in_vertex_blocks(
+      poses.poses.size(), kCheckThreads, [&](std::size_t begin, std::size_t end) {
+        std::vector<glm::vec3> skinned(measured_part.positions.size());
+        for (std::size_t p = begin; p < end; ++p) {
+          deform::forward_kinematics(model.skeleton, poses.poses[p], world_[p]);
+          deform::skinning_matrices(world_[p], rest_inverse, skinning_[p]);
+          deform::linear_blend_skinning(measured_table, skinning_[p], skinned, {});
+          meter_.measure(skinned, world_[p], lbs_[p]);
+          deform::dual_quaternion_skinning(measured_table, skinning_[p], skinned, {});
+          meter_.measure(skinned, world_[p], dqs_[p]);
+        }
+      });
 }
 
 BindingVerdict BindingChecker::verdict(const deform::BoundModel& bound) const {
@@ -88,35 +88,53 @@ std::vector<std::vector<glm::vec3>> BindingChecker::sweep_positions(
   const deform::BoundModel part = deform::bound_part(bound, vertices);
   const std::shared_ptr<const deform::SweepPoserTables> tables =
       deform::make_sweep_poser_tables(part);
-  deform::run_in_vertex_blocks(positions.size(), kCheckThreads, [&](std::size_t begin,
-                                                                    std::size_t end) {
-    deform::SweepPoser poser(tables);  // one per thread: a poser holds its pose
-    for (std::size_t p = begin; p < end; ++p) {
-      positions[p].resize(vertices.size());
-      poser.set_pose(world_[p]);
-      poser.deform(skinning_[p], positions[p], {});
-    }
-  });
+  deform::run_in_vertex_blocks(
+      positions.size(), kCheckThreads, [&](std::size_t begin, std::size_t end) {
+        deform::SweepPoser poser(tables);  // one per thread: a poser holds its pose
+        for (std::size_t p = begin; p < end; ++p) {
+          positions[p].resize(vertices.size());
+          poser.set_pose(world_[p]);
+          poser.deform(skinning_[p], positions[p], {});
+        }
+      });
   return positions;
 }
 
-void BindingChecker::pose_each(
+bool BindingChecker::pose_each(
     const deform::BoundModel& bound, std::span<const std::uint32_t> vertices,
     std::span<const int> order,
     const std::function<bool(int, std::span<const glm::vec3>)>& each) const {
-  std::vector<glm::vec3> positions(vertices.size());
   if (vertices.empty()) {
+    const std::vector<glm::vec3> none;
     for (const int p : order)
-      if (!each(p, positions)) return;
-    return;
+      if (!each(p, none)) return false;
+    return true;
   }
   const deform::BoundModel part = deform::bound_part(bound, vertices);
-  deform::SweepPoser poser(part);
-  for (const int p : order) {
-    poser.set_pose(world_[p]);
-    poser.deform(skinning_[p], positions, {});
-    if (!each(p, positions)) return;
+  const std::shared_ptr<const deform::SweepPoserTables> tables =
+      deform::make_sweep_poser_tables(part);
+  // kCheckThreads poses at a time, one poser each; a pose after one that stops is computed and
+  // not looked at.
+  std::vector<deform::SweepPoser> posers;
+  posers.reserve(kCheckThreads);
+  std::vector<std::vector<glm::vec3>> positions(kCheckThreads,
+                                                std::vector<glm::vec3>(vertices.size()));
+  for (int k = 0; k < kCheckThreads; ++k) posers.emplace_back(tables);
+  std::vector<std::uint8_t> kept(kCheckThreads);
+  for (std::size_t i = 0; i < order.size(); i += kCheckThreads) {
+    const std::size_t n = std::min<std::size_t>(kCheckThreads, order.size() - i);
+    deform::run_in_vertex_blocks(n, kCheckThreads, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t k = begin; k < end; ++k) {
+        const int p = order[i + k];
+        posers[k].set_pose(world_[p]);
+        posers[k].deform(skinning_[p], positions[k], {});
+        kept[k] = each(p, positions[k]);
+      }
+    });
+    for (std::size_t k = 0; k < n; ++k)
+      if (!kept[k]) return false;
   }
+  return true;
 }
 
 metrics::SkinningComparison BindingChecker::compare(int pose, int region,
@@ -129,11 +147,11 @@ SweepFigures BindingChecker::measure(const metrics::SweptStretchMeter& part,
   SweepFigures sweep;
   sweep.figures.resize(positions.size());
   sweep.stretched.resize(positions.size());
-  deform::run_in_vertex_blocks(positions.size(), kCheckThreads, [&](std::size_t begin,
-                                                                    std::size_t end) {
-    for (std::size_t p = begin; p < end; ++p)
-      part.measure(positions[p], world_[p], sweep.figures[p], sweep.stretched[p]);
-  });
+  deform::run_in_vertex_blocks(
+      positions.size(), kCheckThreads, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t p = begin; p < end; ++p)
+          part.measure(positions[p], world_[p], sweep.figures[p], sweep.stretched[p]);
+      });
   return sweep;
 }
 
@@ -297,25 +315,27 @@ class SweepTrial {
                                       std::vector<std::vector<glm::vec3>>& changed_positions) const {
     SweepFigures figures = body_.figures;
     changed_positions.assign(figures.figures.size(), {});
-    bool acceptable = true;
-    checker_.pose_each(bound, changed_->vertices(), order_, [&](int p, std::span<const glm::vec3> at) {
-      changed_positions[p].assign(at.begin(), at.end());
-      std::vector<metrics::RegionFigures> measured;
-      std::vector<int> stretched;
-      changed_->measure(at, checker_.world(p), measured, stretched);
-      measure_beside(p);
-      metrics::SweptStretchMeter::combine(measured, stretched, beside_figures_[p],
-                                          beside_stretched_[p]);
-      for (std::size_t r = 0; r < touched_.size(); ++r) {
-        if (!touched_[r]) continue;
-        figures.figures[p][r] = measured[r];
-        figures.stretched[p][r] = stretched[r];
-        const auto region = static_cast<int>(r);
-        if (!pair_acceptable(current, p, region, checker_.compare(p, region, measured[r])))
-          acceptable = false;
-      }
-      return acceptable;
-    });
+    const bool acceptable = checker_.pose_each(
+        bound, changed_->vertices(), order_, [&](int p, std::span<const glm::vec3> at) {
+          // Called for two poses at once (pose_each): it writes pose p's entries alone.
+          changed_positions[p].assign(at.begin(), at.end());
+          bool kept = true;
+          std::vector<metrics::RegionFigures> measured;
+          std::vector<int> stretched;
+          changed_->measure(at, checker_.world(p), measured, stretched);
+          measure_beside(p);
+          metrics::SweptStretchMeter::combine(measured, stretched, beside_figures_[p],
+                                              beside_stretched_[p]);
+          for (std::size_t r = 0; r < touched_.size(); ++r) {
+            if (!touched_[r]) continue;
+            figures.figures[p][r] = measured[r];
+            figures.stretched[p][r] = stretched[r];
+            const auto region = static_cast<int>(r);
+            if (!pair_acceptable(current, p, region, checker_.compare(p, region, measured[r])))
+              kept = false;
+          }
+          return kept;
+        });
     if (!acceptable) return std::nullopt;
     return figures;
   }

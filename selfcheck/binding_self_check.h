@@ -95,9 +95,10 @@ class BindingChecker {
   // (deform::bound_part: those vertices posed alone).
   std::vector<std::vector<glm::vec3>> sweep_positions(
       const deform::BoundModel& bound, std::span<const std::uint32_t> vertices) const;
-  // The same one pose at a time, in `order` (pose indices): each(pose, positions) returns
-  // false to stop there.
-  void pose_each(const deform::BoundModel& bound, std::span<const std::uint32_t> vertices,
+  // The same in `order` (pose indices): each(pose, positions) returns false to stop there, and
+  // pose_each then returns false. each is called for two poses at once (on two threads), so it
+  // may write only what belongs to its pose; the pose after one that stopped may be called too.
+  bool pose_each(const deform::BoundModel& bound, std::span<const std::uint32_t> vertices,
                  std::span<const int> order,
                  const std::function<bool(int, std::span<const glm::vec3>)>& each) const;
   // `part` (meter() or one of its parts) measured on those positions of its vertices.

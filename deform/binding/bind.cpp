@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <optional>
-#include <string>
 #include <stdexcept>
+#include <string>
 
 #include "deform/binding/carried_end.h"
 #include "deform/binding/chain_key_ellipses.h"
@@ -267,15 +267,15 @@ void SweepRebinder::rebind(BoundModel& bound, int s, const SweepChoice& choice) 
   sweep_fitted.rest_volume = sweep_volume(sweep);
   bound.sweeps[s] = std::move(sweep_fitted);
   const SweepPlanes planes = sample_planes(sweep, bound.options.plane_samples_per_span);
-  run_in_vertex_blocks(bound.vertices.size(), kBindThreads, [&](std::size_t begin,
-                                                                std::size_t end) {
-    for (std::size_t v = begin; v < end; ++v) {
-      VertexBinding& binding = bound.vertices[v];
-      for (int k = 0; k < kSweepsPerVertex; ++k)
-        if (binding.sweep[k] == s)
-          binding.coordinate[k] = bind_point(sweep, planes, bound.model.positions[v]);
-    }
-  });
+  run_in_vertex_blocks(
+      bound.vertices.size(), kBindThreads, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t v = begin; v < end; ++v) {
+          VertexBinding& binding = bound.vertices[v];
+          for (int k = 0; k < kSweepsPerVertex; ++k)
+            if (binding.sweep[k] == s)
+              binding.coordinate[k] = bind_point(sweep, planes, bound.model.positions[v]);
+        }
+      });
 }
 
 std::vector<glm::vec3> rest_positions_from_binding(const BoundModel& bound) {

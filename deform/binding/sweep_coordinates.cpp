@@ -50,7 +50,7 @@ SweepCoordinate bind_point(const Sweep& sweep, const SweepPlanes& planes, glm::v
     previous = current;
   }
   if (previous >= 0.0f) consider(1.0f);               // after the last plane
-  if (!std::isfinite(best_distance)) {  // unreachable for a finite point; be safe
+  if (!std::isfinite(best_distance)) {                // unreachable for a finite point; be safe
     best_t = 0.0f;
     best_rotation = sweep.rotation(0.0f);
     best_centre = sweep.ellipse_centre(0.0f);

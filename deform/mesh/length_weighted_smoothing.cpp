@@ -52,7 +52,8 @@ void LengthWeightedSmoothing::smooth(int columns, int passes, std::vector<float>
   const std::size_t table_rows = table.size() / static_cast<std::size_t>(columns);
   constexpr std::uint32_t kNotChosen = ~0u;
   std::vector<std::uint32_t> chosen_at(table_rows, kNotChosen);
-  for (std::size_t i = 0; i < rows_.size(); ++i) chosen_at[rows_[i]] = static_cast<std::uint32_t>(i);
+  for (std::size_t i = 0; i < rows_.size(); ++i)
+    chosen_at[rows_[i]] = static_cast<std::uint32_t>(i);
   std::vector<std::uint32_t> parent(rows_.size());
   std::iota(parent.begin(), parent.end(), 0u);
   for (std::size_t i = 0; i < rows_.size(); ++i)
@@ -61,7 +62,8 @@ void LengthWeightedSmoothing::smooth(int columns, int passes, std::vector<float>
         parent[find_root(parent, static_cast<std::uint32_t>(i))] = find_root(parent, j);
   std::vector<std::vector<std::uint32_t>> groups(rows_.size());
   for (std::size_t i = 0; i < rows_.size(); ++i)
-    groups[find_root(parent, static_cast<std::uint32_t>(i))].push_back(static_cast<std::uint32_t>(i));
+    groups[find_root(parent, static_cast<std::uint32_t>(i))].push_back(
+        static_cast<std::uint32_t>(i));
 
   constexpr std::uint32_t kUnplaced = ~0u;
   std::vector<std::uint32_t> local(table_rows, kUnplaced);  // a table row's place in the group
@@ -106,11 +108,20 @@ void LengthWeightedSmoothing::smooth(int columns, int passes, std::vector<float>
       next = current;  // the border rows, which no pass writes
       const std::span<const std::uint32_t> group_first(first);
       switch (width) {  // a group reads two or three columns: loops of a known width
-        case 1: packed_passes<1>(group_first, packed_neighbours, passes, current, next); break;
-        case 2: packed_passes<2>(group_first, packed_neighbours, passes, current, next); break;
-        case 3: packed_passes<3>(group_first, packed_neighbours, passes, current, next); break;
-        case 4: packed_passes<4>(group_first, packed_neighbours, passes, current, next); break;
-        default: packed_passes<0>(group_first, packed_neighbours, passes, current, next, width);
+        case 1:
+          packed_passes<1>(group_first, packed_neighbours, passes, current, next);
+          break;
+        case 2:
+          packed_passes<2>(group_first, packed_neighbours, passes, current, next);
+          break;
+        case 3:
+          packed_passes<3>(group_first, packed_neighbours, passes, current, next);
+          break;
+        case 4:
+          packed_passes<4>(group_first, packed_neighbours, passes, current, next);
+          break;
+        default:
+          packed_passes<0>(group_first, packed_neighbours, passes, current, next, width);
       }
       for (std::size_t i = 0; i < group.size(); ++i)
         for (std::size_t c = 0; c < width; ++c)

@@ -16,8 +16,8 @@ namespace sweepd::deform {
 
 class LengthWeightedSmoothing {
  public:
-  // Chooses `row` (each row once) with its mesh neighbours (each once, at least one) and the lengths of the
-  // edges to them (vertex_adjacency.h): row_of(u) is a neighbour's row in the table.
+  // Chooses `row` (each row once) with its mesh neighbours (each once, at least one) and the
+  // lengths of the edges to them (vertex_adjacency.h): row_of(u) is a neighbour's row in the table.
   template <class RowOf>
   void add(std::uint32_t row, std::span<const std::uint32_t> neighbours,
            std::span<const float> edge_lengths, RowOf row_of) {

@@ -83,9 +83,8 @@ TEST(LengthWeightedSmoothing, PassesGroupByGroupOnTheirOwnColumnsGiveTheWholeTab
   std::vector<std::uint32_t> rows;
   for (int y = 0; y < g.side; ++y)
     for (int x = 0; x < g.side; ++x)
-      if (inside(x, y, 10, 18, 5, 24) || inside(x, y, 2, 9, 31, 38) ||
-          inside(x, y, 28, 36, 2, 8) || inside(x, y, 13, 17, 29, 36) ||
-          inside(x, y, 36, 39, 20, 26))
+      if (inside(x, y, 10, 18, 5, 24) || inside(x, y, 2, 9, 31, 38) || inside(x, y, 28, 36, 2, 8) ||
+          inside(x, y, 13, 17, 29, 36) || inside(x, y, 36, 39, 20, 26))
         rows.push_back(static_cast<std::uint32_t>(y * g.side + x));
   LengthWeightedSmoothing smoothing;
   std::vector<std::vector<std::pair<std::uint32_t, float>>> weighted;
