@@ -1,5 +1,6 @@
 #include "deform/mesh/length_weighted_smoothing.h"
 
+#include <array>
 #include <bit>
 #include <numeric>
 
@@ -106,23 +107,11 @@ void LengthWeightedSmoothing::smooth(int columns, int passes, std::vector<float>
         for (std::size_t c = 0; c < width; ++c)
           current[r * width + c] = table[local_rows[r] * columns + active[c]];
       next = current;  // the border rows, which no pass writes
-      const std::span<const std::uint32_t> group_first(first);
-      switch (width) {  // a group reads two or three columns: loops of a known width
-        case 1:
-          packed_passes<1>(group_first, packed_neighbours, passes, current, next);
-          break;
-        case 2:
-          packed_passes<2>(group_first, packed_neighbours, passes, current, next);
-          break;
-        case 3:
-          packed_passes<3>(group_first, packed_neighbours, passes, current, next);
-          break;
-        case 4:
-          packed_passes<4>(group_first, packed_neighbours, passes, current, next);
-          break;
-        default:
-          packed_passes<0>(group_first, packed_neighbours, passes, current, next, width);
-      }
+      // A group reads two or three columns: loops of a known width up to 4, else of any.
+      constexpr std::array kPasses{&packed_passes<0>, &packed_passes<1>, &packed_passes<2>,
+                                   &packed_passes<3>, &packed_passes<4>};
+      kPasses[width < kPasses.size() ? width : 0](first, packed_neighbours, passes, current, next,
+                                                  width);
       for (std::size_t i = 0; i < group.size(); ++i)
         for (std::size_t c = 0; c < width; ++c)
           table[local_rows[i] * columns + active[c]] = current[i * width + c];
