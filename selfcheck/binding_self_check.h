@@ -136,8 +136,10 @@ BindingVerdict check_binding(const deform::BoundModel& bound, const CheckPoses& 
 // Cost: a candidate changes the vertices on its sweep alone, so only they and their neighbours
 // are posed and only the edges and triangles they touch are measured again (the rest from the
 // body's positions kept per pose); its poses are measured nearest to losing first, and it stops
-// at the first pair it may not have. With the self-check, at most bind's own time again (shared
-// male: 1.74x a plain bind's instructions in all).
+// at the first pair it may not have (each pose's figures beside the sweep measured when a
+// candidate first reaches it); two poses are judged at a time. The self-check with the
+// adaptation costs about 3x bind's own CPU time (72k mannequin 226 ms bind, 873 ms in all;
+// docs/performance.md), most of it in the candidates.
 struct Adaptation {
   BindingVerdict before;  // checker.verdict(bound) as bound
   BindingVerdict after;   // the same after the adaptation
