@@ -315,6 +315,7 @@ class SweepTrial {
                                       std::vector<std::vector<glm::vec3>>& changed_positions) const {
     SweepFigures figures = body_.figures;
     changed_positions.assign(figures.figures.size(), {});
+    std::vector<std::uint8_t> refused(figures.figures.size(), 0);  // per pose
     const bool acceptable = checker_.pose_each(
         bound, changed_->vertices(), order_, [&](int p, std::span<const glm::vec3> at) {
           // Called for two poses at once (pose_each): it writes pose p's entries alone.
@@ -334,9 +335,19 @@ class SweepTrial {
             if (!pair_acceptable(current, p, region, checker_.compare(p, region, measured[r])))
               kept = false;
           }
+          refused[p] = !kept;
           return kept;
         });
-    if (!acceptable) return std::nullopt;
+    if (!acceptable) {
+      // The sweep's next candidate is judged on the pose that refused this one first: a
+      // sweep's candidates mostly lose the same pair, and the verdict needs every pose
+      // acceptable, so the order changes how soon a refusal comes, not what is refused.
+      const auto first_refused = std::find_if(order_.begin(), order_.end(),
+                                              [&](int p) { return refused[p] != 0; });
+      if (first_refused != order_.end())
+        std::rotate(order_.begin(), first_refused, first_refused + 1);
+      return std::nullopt;
+    }
     return figures;
   }
   // The figures of the items beside the sweep in pose p, measured on the body's positions when
@@ -371,7 +382,9 @@ class SweepTrial {
   mutable std::vector<std::vector<int>> beside_stretched_;
   std::optional<metrics::SweptStretchMeter> changed_;
   std::vector<std::uint32_t> changed_places_;
-  std::vector<int> order_;  // the poses, in the order measured
+  // The poses, in the order measured: nearest to losing first, then each refusing pose moved
+  // to the front.
+  mutable std::vector<int> order_;
 };
 
 }  // namespace
