@@ -64,10 +64,17 @@ print("|---|---|---|---|---|")
 for (model, outputs, threads), ms in sorted(split.items()):
     print(f"| {model} | {outputs} | {threads} | {ms:.2f} | {ms / split[(model, outputs, 1)]:.2f} |")
 print()
-print("| binding | vertices | ms |")
-print("|---|---|---|")
-for b in json.load(open(sys.argv[2]))["benchmarks"]:
-    print(f"| {b['name']} | {int(b['vertices']):,} | {b['real_time']:.0f} |")
+# bind alone and bind + self-check + adaptation (as sweepctl binds): CPU time of the process
+# (both threads), wall time, and the checked bind against bind alone in the same run.
+print("| binding | vertices | CPU ms | wall ms | CPU against bind alone |")
+print("|---|---|---|---|---|")
+bind_rows = [b for b in json.load(open(sys.argv[2]))["benchmarks"]
+             if b.get("run_type", "iteration") == "iteration"]
+alone = {b["name"].split("/")[1]: b["cpu_time"] for b in bind_rows if b["name"].startswith("bind/")}
+for b in bind_rows:
+    kind, model = b["name"].split("/")[:2]
+    print(f"| {kind}/{model} | {int(b['vertices']):,} | {b['cpu_time']:.0f} | {b['real_time']:.0f} |"
+          f" {b['cpu_time'] / alone[model]:.2f} |")
 PY
 rm -rf "$out"
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numeric>
 
 #include "deform/mesh/mesh_topology.h"
 #include "metrics/quality_metrics.h"
@@ -53,6 +54,7 @@ SweptStretchMeter::SweptStretchMeter(const BoundModel& bound) {
     triangle_joint_.push_back(labels.strongest_joint[corner[0]]);
     rest_normal_.push_back(triangle_normal(model.positions, model.indices, t));
   }
+  group_by_region();
   std::vector<std::uint32_t> compact(model.vertex_count(), 0);
   for (std::uint32_t v = 0; v < model.vertex_count(); ++v)
     if (read[v]) {
@@ -65,6 +67,56 @@ SweptStretchMeter::SweptStretchMeter(const BoundModel& bound) {
     inverse_rest_.push_back(glm::inverse(world));
 }
 
+void SweptStretchMeter::group_by_region() {
+  std::vector<std::uint32_t> order(edge_region_.size());
+  std::iota(order.begin(), order.end(), 0u);
+  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return edge_region_[a] < edge_region_[b];
+  });
+  std::vector<std::uint32_t> edges;
+  std::vector<float> inverse_squared_rest;
+  std::vector<int> edge_region;
+  for (const std::uint32_t e : order) {
+    edges.insert(edges.end(), {edges_[2 * e], edges_[2 * e + 1]});
+    inverse_squared_rest.push_back(inverse_squared_rest_[e]);
+    edge_region.push_back(edge_region_[e]);
+  }
+  edges_ = std::move(edges);
+  inverse_squared_rest_ = std::move(inverse_squared_rest);
+  edge_region_ = std::move(edge_region);
+  order.resize(triangle_region_.size());
+  std::iota(order.begin(), order.end(), 0u);
+  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return triangle_region_[a] < triangle_region_[b];
+  });
+  std::vector<std::uint32_t> triangles;
+  std::vector<int> triangle_region, triangle_joint;
+  std::vector<glm::vec3> rest_normal;
+  for (const std::uint32_t t : order) {
+    triangles.insert(triangles.end(),
+                     {triangles_[3 * t], triangles_[3 * t + 1], triangles_[3 * t + 2]});
+    triangle_region.push_back(triangle_region_[t]);
+    triangle_joint.push_back(triangle_joint_[t]);
+    rest_normal.push_back(rest_normal_[t]);
+  }
+  triangles_ = std::move(triangles);
+  triangle_region_ = std::move(triangle_region);
+  triangle_joint_ = std::move(triangle_joint);
+  rest_normal_ = std::move(rest_normal);
+  index_regions();
+}
+
+void SweptStretchMeter::index_regions() {
+  auto first_of_each = [&](const std::vector<int>& region_of_item) {
+    std::vector<std::uint32_t> first(regions_.size() + 1, 0);
+    for (const int r : region_of_item) ++first[r + 1];
+    for (std::size_t r = 0; r < regions_.size(); ++r) first[r + 1] += first[r];
+    return first;
+  };
+  edge_first_ = first_of_each(edge_region_);
+  triangle_first_ = first_of_each(triangle_region_);
+}
+
 void SweptStretchMeter::gather(std::span<const glm::vec3> positions,
                                std::vector<glm::vec3>& measured) const {
   measured.resize(vertices_.size());
@@ -74,7 +126,8 @@ void SweptStretchMeter::gather(std::span<const glm::vec3> positions,
 void SweptStretchMeter::measure(std::span<const glm::vec3> positions,
                                 std::span<const glm::mat4> joint_world,
                                 std::vector<RegionFigures>& figures) const {
-  measure(positions, joint_world, figures, stretched_);
+  std::vector<int> stretched_edges;
+  measure(positions, joint_world, figures, stretched_edges);
 }
 
 void SweptStretchMeter::measure(std::span<const glm::vec3> positions,
@@ -83,27 +136,32 @@ void SweptStretchMeter::measure(std::span<const glm::vec3> positions,
                                 std::vector<int>& stretched_edges) const {
   figures.assign(regions_.size(), RegionFigures{});
   stretched_edges.assign(regions_.size(), 0);
-  // The squared ratios' largest per region (a square root per region, not per edge).
-  squared_.assign(regions_.size(), 1.0f);
+  // Region by region (the items are grouped so), the squared ratios' largest (a square root per
+  // region, not per edge) and the counts in registers: the largest of a set of floats and a
+  // count do not depend on the order they are taken in.
   constexpr float kStretchedSquared = kStretchedEdge * kStretchedEdge;
-  for (std::size_t e = 0; e < inverse_squared_rest_.size(); ++e) {
-    const glm::vec3 d = positions[edges_[2 * e]] - positions[edges_[2 * e + 1]];
-    const float squared = glm::dot(d, d) * inverse_squared_rest_[e];
-    float& largest = squared_[edge_region_[e]];
-    largest = std::max(largest, squared);
-    stretched_edges[edge_region_[e]] += squared > kStretchedSquared;
-  }
   for (std::size_t r = 0; r < regions_.size(); ++r) {
+    float largest = 1.0f;
+    int stretched = 0;
+    for (std::uint32_t e = edge_first_[r]; e < edge_first_[r + 1]; ++e) {
+      const glm::vec3 d = positions[edges_[2 * e]] - positions[edges_[2 * e + 1]];
+      const float squared = glm::dot(d, d) * inverse_squared_rest_[e];
+      largest = std::max(largest, squared);
+      stretched += squared > kStretchedSquared;
+    }
     figures[r].swept = region_swept_[r];
-    figures[r].swept_stretch = std::sqrt(static_cast<double>(squared_[r]));
+    figures[r].swept_stretch = std::sqrt(static_cast<double>(largest));
+    stretched_edges[r] = stretched;
   }
-  carry_.resize(inverse_rest_.size());
-  for (std::size_t j = 0; j < carry_.size(); ++j)
-    carry_[j] = glm::mat3(joint_world[j] * inverse_rest_[j]);
-  for (std::size_t i = 0; i < rest_normal_.size(); ++i) {
-    if (glm::dot(triangle_normal(positions, triangles_, i),
-                 carry_[triangle_joint_[i]] * rest_normal_[i]) < 0.0f)
-      ++figures[triangle_region_[i]].swept_flipped;
+  std::vector<glm::mat3> carry(inverse_rest_.size());  // per joint: the pose's turn from rest
+  for (std::size_t j = 0; j < carry.size(); ++j)
+    carry[j] = glm::mat3(joint_world[j] * inverse_rest_[j]);
+  for (std::size_t r = 0; r < regions_.size(); ++r) {
+    int flipped = 0;
+    for (std::uint32_t i = triangle_first_[r]; i < triangle_first_[r + 1]; ++i)
+      flipped += glm::dot(triangle_normal(positions, triangles_, i),
+                          carry[triangle_joint_[i]] * rest_normal_[i]) < 0.0f;
+    figures[r].swept_flipped += flipped;
   }
 }
 
@@ -158,6 +216,7 @@ SweptStretchMeter SweptStretchMeter::part(std::span<const std::uint8_t> moving,
     }
   for (std::uint32_t& v : part.edges_) v = compact[v];
   for (std::uint32_t& v : part.triangles_) v = compact[v];
+  part.index_regions();  // the whole meter's order, so still grouped by region
   return part;
 }
 

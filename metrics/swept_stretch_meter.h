@@ -31,8 +31,8 @@ class SweptStretchMeter {
   // vertices()' positions out of a whole mesh's (vertex_count()).
   void gather(std::span<const glm::vec3> positions, std::vector<glm::vec3>& measured) const;
   // positions: vertices().size(), in vertices()' order; joint_world: the posed joints' world
-  // matrices. Into figures (resized to regions().size()): no allocation once the scratch has its
-  // size. Not thread-safe (one meter per thread).
+  // matrices. Into figures (resized to regions().size()). Const: one meter measures poses on
+  // several threads at once.
   void measure(std::span<const glm::vec3> positions, std::span<const glm::mat4> joint_world,
                std::vector<RegionFigures>& figures) const;
   // The same, and per region how many swept edges are longer than kStretchedEdge times their
@@ -59,6 +59,10 @@ class SweptStretchMeter {
 
  private:
   SweptStretchMeter() = default;
+  // Orders the edges and the triangles by region (measure takes a region's items in one run).
+  void group_by_region();
+  // edge_first_ and triangle_first_ of items grouped by region.
+  void index_regions();
   std::vector<deform::BodyPart> regions_;
   std::vector<bool> region_swept_;          // per region: it has a swept edge
   std::vector<std::uint32_t> vertices_;     // the model vertices read, ascending
@@ -71,9 +75,8 @@ class SweptStretchMeter {
   std::vector<int> triangle_joint_;         // its first vertex's strongest joint
   std::vector<glm::vec3> rest_normal_;      // per such triangle (unnormalised)
   std::vector<glm::mat4> inverse_rest_;     // per joint
-  mutable std::vector<glm::mat3> carry_;    // per joint: the pose's rotation from rest (scratch)
-  mutable std::vector<float> squared_;      // per region: the largest squared ratio (scratch)
-  mutable std::vector<int> stretched_;      // per region: the stretched edges (scratch)
+  // Edges and triangles are grouped by region: region r's are [first[r], first[r + 1]).
+  std::vector<std::uint32_t> edge_first_, triangle_first_;
 };
 
 }  // namespace sweepd::metrics

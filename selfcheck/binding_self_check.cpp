@@ -13,10 +13,20 @@
 #include "deform/blending/sweep_blending.h"
 #include "deform/model/forward_kinematics.h"
 #include "deform/posing/sweep_poser.h"
+#include "deform/simd/vertex_blocks.h"
 #include "motion/own_skeleton_clip.h"
 #include "motion/range_of_motion.h"
 
 namespace sweepd::selfcheck {
+
+namespace {
+
+// The threads the check's per-pose passes (skinning and measuring every pose, posing the body)
+// run on: a pair, as bind's own vertex loop (deform::kBindThreads). Each pose is computed
+// alone, so the figures do not depend on the count.
+constexpr int kCheckThreads = deform::kBindThreads;
+
+}  // namespace
 
 CheckPoses range_of_motion_peaks(const deform::BoundModel& bound) {
   const deform::Skeleton& skeleton = bound.model.skeleton;
@@ -51,17 +61,20 @@ BindingChecker::BindingChecker(const deform::BoundModel& bound, const CheckPoses
     measured_part.skin_weights.push_back(model.skin_weights[v]);
   }
   const deform::SkinningTable measured_table(measured_part);  // built once, for every pose
-  std::vector<glm::vec3> skinned(measured_part.positions.size());
   lbs_.resize(poses.poses.size());
   dqs_.resize(poses.poses.size());
-  for (std::size_t p = 0; p < poses.poses.size(); ++p) {
-    deform::forward_kinematics(model.skeleton, poses.poses[p], world_[p]);
-    deform::skinning_matrices(world_[p], rest_inverse, skinning_[p]);
-    deform::linear_blend_skinning(measured_table, skinning_[p], skinned, {});
-    meter_.measure(skinned, world_[p], lbs_[p]);
-    deform::dual_quaternion_skinning(measured_table, skinning_[p], skinned, {});
-    meter_.measure(skinned, world_[p], dqs_[p]);
-  }
+  deform::run_in_vertex_blocks(
+      poses.poses.size(), kCheckThreads, [&](std::size_t begin, std::size_t end) {
+        std::vector<glm::vec3> skinned(measured_part.positions.size());
+        for (std::size_t p = begin; p < end; ++p) {
+          deform::forward_kinematics(model.skeleton, poses.poses[p], world_[p]);
+          deform::skinning_matrices(world_[p], rest_inverse, skinning_[p]);
+          deform::linear_blend_skinning(measured_table, skinning_[p], skinned, {});
+          meter_.measure(skinned, world_[p], lbs_[p]);
+          deform::dual_quaternion_skinning(measured_table, skinning_[p], skinned, {});
+          meter_.measure(skinned, world_[p], dqs_[p]);
+        }
+      });
 }
 
 BindingVerdict BindingChecker::verdict(const deform::BoundModel& bound) const {
@@ -71,32 +84,57 @@ BindingVerdict BindingChecker::verdict(const deform::BoundModel& bound) const {
 std::vector<std::vector<glm::vec3>> BindingChecker::sweep_positions(
     const deform::BoundModel& bound, std::span<const std::uint32_t> vertices) const {
   std::vector<std::vector<glm::vec3>> positions(poses_.poses.size());
-  std::vector<int> every(poses_.poses.size());
-  for (std::size_t p = 0; p < every.size(); ++p) every[p] = static_cast<int>(p);
-  pose_each(bound, vertices, every, [&](int p, std::span<const glm::vec3> posed) {
-    positions[p].assign(posed.begin(), posed.end());
-    return true;
-  });
+  if (vertices.empty()) return positions;
+  const deform::BoundModel part = deform::bound_part(bound, vertices);
+  const std::shared_ptr<const deform::SweepPoserTables> tables =
+      deform::make_sweep_poser_tables(part);
+  deform::run_in_vertex_blocks(
+      positions.size(), kCheckThreads, [&](std::size_t begin, std::size_t end) {
+        deform::SweepPoser poser(tables);  // one per thread: a poser holds its pose
+        for (std::size_t p = begin; p < end; ++p) {
+          positions[p].resize(vertices.size());
+          poser.set_pose(world_[p]);
+          poser.deform(skinning_[p], positions[p], {});
+        }
+      });
   return positions;
 }
 
-void BindingChecker::pose_each(
+bool BindingChecker::pose_each(
     const deform::BoundModel& bound, std::span<const std::uint32_t> vertices,
     std::span<const int> order,
     const std::function<bool(int, std::span<const glm::vec3>)>& each) const {
-  std::vector<glm::vec3> positions(vertices.size());
   if (vertices.empty()) {
+    const std::vector<glm::vec3> none;
     for (const int p : order)
-      if (!each(p, positions)) return;
-    return;
+      if (!each(p, none)) return false;
+    return true;
   }
   const deform::BoundModel part = deform::bound_part(bound, vertices);
-  deform::SweepPoser poser(part);
-  for (const int p : order) {
-    poser.set_pose(world_[p]);
-    poser.deform(skinning_[p], positions, {});
-    if (!each(p, positions)) return;
+  const std::shared_ptr<const deform::SweepPoserTables> tables =
+      deform::make_sweep_poser_tables(part);
+  // kCheckThreads poses at a time, one poser each; a pose after one that stops is computed and
+  // not looked at.
+  std::vector<deform::SweepPoser> posers;
+  posers.reserve(kCheckThreads);
+  std::vector<std::vector<glm::vec3>> positions(kCheckThreads,
+                                                std::vector<glm::vec3>(vertices.size()));
+  for (int k = 0; k < kCheckThreads; ++k) posers.emplace_back(tables);
+  std::vector<std::uint8_t> kept(kCheckThreads);
+  for (std::size_t i = 0; i < order.size(); i += kCheckThreads) {
+    const std::size_t n = std::min<std::size_t>(kCheckThreads, order.size() - i);
+    deform::run_in_vertex_blocks(n, kCheckThreads, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t k = begin; k < end; ++k) {
+        const int p = order[i + k];
+        posers[k].set_pose(world_[p]);
+        posers[k].deform(skinning_[p], positions[k], {});
+        kept[k] = each(p, positions[k]);
+      }
+    });
+    for (std::size_t k = 0; k < n; ++k)
+      if (!kept[k]) return false;
   }
+  return true;
 }
 
 metrics::SkinningComparison BindingChecker::compare(int pose, int region,
@@ -109,8 +147,11 @@ SweepFigures BindingChecker::measure(const metrics::SweptStretchMeter& part,
   SweepFigures sweep;
   sweep.figures.resize(positions.size());
   sweep.stretched.resize(positions.size());
-  for (std::size_t p = 0; p < positions.size(); ++p)
-    part.measure(positions[p], world_[p], sweep.figures[p], sweep.stretched[p]);
+  deform::run_in_vertex_blocks(
+      positions.size(), kCheckThreads, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t p = begin; p < end; ++p)
+          part.measure(positions[p], world_[p], sweep.figures[p], sweep.stretched[p]);
+      });
   return sweep;
 }
 
@@ -219,14 +260,6 @@ std::vector<std::uint32_t> places_in(const std::vector<std::uint32_t>& whole,
   return places;
 }
 
-std::vector<std::vector<glm::vec3>> gathered(const std::vector<std::vector<glm::vec3>>& positions,
-                                             const std::vector<std::uint32_t>& places) {
-  std::vector<std::vector<glm::vec3>> out(positions.size());
-  for (std::size_t p = 0; p < positions.size(); ++p)
-    for (const std::uint32_t i : places) out[p].push_back(positions[p][i]);
-  return out;
-}
-
 // The sweep's positions of the measured vertices (the checker's meter's, in its order) and its
 // figures, per pose: the body as the adaptation has it so far.
 struct BodyState {
@@ -236,8 +269,8 @@ struct BodyState {
 
 // One sweep's candidates judged by what they change: in the regions its vertices touch, the
 // edges and triangles with a vertex on the sweep are measured again on those vertices and their
-// neighbours posed alone, the others' figures once from the body's positions; the regions it
-// does not touch keep the body's figures.
+// neighbours posed alone, the others' figures once per pose from the body's positions (when a
+// candidate first reaches the pose); the regions it does not touch keep the body's figures.
 class SweepTrial {
  public:
   SweepTrial(const deform::BoundModel& bound, int sweep, const BindingChecker& checker,
@@ -253,9 +286,10 @@ class SweepTrial {
         }
     const metrics::SweptStretchMeter& whole = checker.meter();
     touched_ = whole.regions_touched(moving);
-    const metrics::SweptStretchMeter beside = whole.part(moving, false);
-    beside_ = checker.measure(beside, gathered(body.positions,
-                                               places_in(whole.vertices(), beside.vertices())));
+    beside_.emplace(whole.part(moving, false));
+    beside_places_ = places_in(whole.vertices(), beside_->vertices());
+    beside_figures_.resize(body.positions.size());
+    beside_stretched_.resize(body.positions.size());
     changed_.emplace(whole.part(moving, true));
     changed_places_ = places_in(whole.vertices(), changed_->vertices());
     // The poses by the largest stretch excess of a touched region not yet worse, descending:
@@ -281,26 +315,50 @@ class SweepTrial {
                                       std::vector<std::vector<glm::vec3>>& changed_positions) const {
     SweepFigures figures = body_.figures;
     changed_positions.assign(figures.figures.size(), {});
-    bool acceptable = true;
-    checker_.pose_each(bound, changed_->vertices(), order_, [&](int p, std::span<const glm::vec3> at) {
-      changed_positions[p].assign(at.begin(), at.end());
-      std::vector<metrics::RegionFigures> measured;
-      std::vector<int> stretched;
-      changed_->measure(at, checker_.world(p), measured, stretched);
-      metrics::SweptStretchMeter::combine(measured, stretched, beside_.figures[p],
-                                          beside_.stretched[p]);
-      for (std::size_t r = 0; r < touched_.size(); ++r) {
-        if (!touched_[r]) continue;
-        figures.figures[p][r] = measured[r];
-        figures.stretched[p][r] = stretched[r];
-        const auto region = static_cast<int>(r);
-        if (!pair_acceptable(current, p, region, checker_.compare(p, region, measured[r])))
-          acceptable = false;
-      }
-      return acceptable;
-    });
-    if (!acceptable) return std::nullopt;
+    std::vector<std::uint8_t> refused(figures.figures.size(), 0);  // per pose
+    const bool acceptable = checker_.pose_each(
+        bound, changed_->vertices(), order_, [&](int p, std::span<const glm::vec3> at) {
+          // Called for two poses at once (pose_each): it writes pose p's entries alone.
+          changed_positions[p].assign(at.begin(), at.end());
+          bool kept = true;
+          std::vector<metrics::RegionFigures> measured;
+          std::vector<int> stretched;
+          changed_->measure(at, checker_.world(p), measured, stretched);
+          measure_beside(p);
+          metrics::SweptStretchMeter::combine(measured, stretched, beside_figures_[p],
+                                              beside_stretched_[p]);
+          for (std::size_t r = 0; r < touched_.size(); ++r) {
+            if (!touched_[r]) continue;
+            figures.figures[p][r] = measured[r];
+            figures.stretched[p][r] = stretched[r];
+            const auto region = static_cast<int>(r);
+            if (!pair_acceptable(current, p, region, checker_.compare(p, region, measured[r])))
+              kept = false;
+          }
+          refused[p] = !kept;
+          return kept;
+        });
+    if (!acceptable) {
+      // The sweep's next candidate is judged on the pose that refused this one first: a
+      // sweep's candidates mostly lose the same pair, and the verdict needs every pose
+      // acceptable, so the order changes how soon a refusal comes, not what is refused.
+      const auto first_refused = std::find_if(order_.begin(), order_.end(),
+                                              [&](int p) { return refused[p] != 0; });
+      if (first_refused != order_.end())
+        std::rotate(order_.begin(), first_refused, first_refused + 1);
+      return std::nullopt;
+    }
     return figures;
+  }
+  // The figures of the items beside the sweep in pose p, measured on the body's positions when
+  // a candidate first reaches that pose: most candidates lose a pair within the first few poses
+  // of order_, so the other poses' are never needed (the same figures as measuring every pose
+  // up front).
+  void measure_beside(int p) const {
+    if (!beside_figures_[p].empty()) return;
+    std::vector<glm::vec3> positions;
+    for (const std::uint32_t i : beside_places_) positions.push_back(body_.positions[p][i]);
+    beside_->measure(positions, checker_.world(p), beside_figures_[p], beside_stretched_[p]);
   }
   // A candidate's measure made the body's.
   void keep(const std::vector<std::vector<glm::vec3>>& changed_positions, SweepFigures figures,
@@ -316,10 +374,17 @@ class SweepTrial {
   const BodyState& body_;
   std::vector<std::uint32_t> on_sweep_;
   std::vector<std::uint8_t> touched_;  // per region
-  SweepFigures beside_;
+  // The items in the touched regions without a vertex on the sweep, their vertices' places in
+  // the body's positions, and their figures per pose (empty until measure_beside).
+  std::optional<metrics::SweptStretchMeter> beside_;
+  std::vector<std::uint32_t> beside_places_;
+  mutable std::vector<std::vector<metrics::RegionFigures>> beside_figures_;
+  mutable std::vector<std::vector<int>> beside_stretched_;
   std::optional<metrics::SweptStretchMeter> changed_;
   std::vector<std::uint32_t> changed_places_;
-  std::vector<int> order_;  // the poses, in the order measured
+  // The poses, in the order measured: nearest to losing first, then each refusing pose moved
+  // to the front.
+  mutable std::vector<int> order_;
 };
 
 }  // namespace

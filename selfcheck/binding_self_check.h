@@ -95,9 +95,10 @@ class BindingChecker {
   // (deform::bound_part: those vertices posed alone).
   std::vector<std::vector<glm::vec3>> sweep_positions(
       const deform::BoundModel& bound, std::span<const std::uint32_t> vertices) const;
-  // The same one pose at a time, in `order` (pose indices): each(pose, positions) returns
-  // false to stop there.
-  void pose_each(const deform::BoundModel& bound, std::span<const std::uint32_t> vertices,
+  // The same in `order` (pose indices): each(pose, positions) returns false to stop there, and
+  // pose_each then returns false. each is called for two poses at once (on two threads), so it
+  // may write only what belongs to its pose; the pose after one that stopped may be called too.
+  bool pose_each(const deform::BoundModel& bound, std::span<const std::uint32_t> vertices,
                  std::span<const int> order,
                  const std::function<bool(int, std::span<const glm::vec3>)>& each) const;
   // `part` (meter() or one of its parts) measured on those positions of its vertices.
@@ -135,8 +136,10 @@ BindingVerdict check_binding(const deform::BoundModel& bound, const CheckPoses& 
 // Cost: a candidate changes the vertices on its sweep alone, so only they and their neighbours
 // are posed and only the edges and triangles they touch are measured again (the rest from the
 // body's positions kept per pose); its poses are measured nearest to losing first, and it stops
-// at the first pair it may not have. With the self-check, at most bind's own time again (shared
-// male: 1.74x a plain bind's instructions in all).
+// at the first pair it may not have (each pose's figures beside the sweep measured when a
+// candidate first reaches it); two poses are judged at a time. The self-check with the
+// adaptation costs about 3x bind's own CPU time (72k mannequin 226 ms bind, 873 ms in all;
+// docs/performance.md), most of it in the candidates.
 struct Adaptation {
   BindingVerdict before;  // checker.verdict(bound) as bound
   BindingVerdict after;   // the same after the adaptation

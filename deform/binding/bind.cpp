@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <optional>
-#include <string>
 #include <stdexcept>
+#include <string>
 
 #include "deform/binding/carried_end.h"
 #include "deform/binding/chain_key_ellipses.h"
@@ -14,6 +14,7 @@
 #include "deform/blending/skinned_share_influences.h"
 #include "deform/blending/sweep_blending.h"
 #include "deform/mesh/welded_mesh.h"
+#include "deform/simd/vertex_blocks.h"
 #include "deform/sweep/swept_volume.h"
 
 namespace sweepd::deform {
@@ -202,14 +203,18 @@ BoundModel bind_one_body(const Model& model, const RigMap& rig, const BindOption
   for (const Sweep& sweep : sweeps)
     planes.push_back(sample_planes(sweep, options.plane_samples_per_span));
   const std::size_t n = model.vertex_count();
-  for (std::size_t v = 0; v < n; ++v) {
-    if (v % 4096 == 0) report(0.55 + 0.45 * v / n, "binding vertices");
-    VertexBinding& binding = bound.vertices[v];
-    for (int k = 0; k < kSweepsPerVertex; ++k)
-      if (binding.sweep[k] >= 0)
-        binding.coordinate[k] =
-            bind_point(sweeps[binding.sweep[k]], planes[binding.sweep[k]], model.positions[v]);
-  }
+  run_in_vertex_blocks(n, kBindThreads, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t v = begin; v < end; ++v) {
+      // The caller's thread runs the last block: it reports its own progress.
+      if (end == n && (v - begin) % 4096 == 0)
+        report(0.55 + 0.45 * (v - begin) / (end - begin), "binding vertices");
+      VertexBinding& binding = bound.vertices[v];
+      for (int k = 0; k < kSweepsPerVertex; ++k)
+        if (binding.sweep[k] >= 0)
+          binding.coordinate[k] =
+              bind_point(sweeps[binding.sweep[k]], planes[binding.sweep[k]], model.positions[v]);
+    }
+  });
   report(1.0, "done");
   return bound;
 }
@@ -262,12 +267,15 @@ void SweepRebinder::rebind(BoundModel& bound, int s, const SweepChoice& choice) 
   sweep_fitted.rest_volume = sweep_volume(sweep);
   bound.sweeps[s] = std::move(sweep_fitted);
   const SweepPlanes planes = sample_planes(sweep, bound.options.plane_samples_per_span);
-  for (std::size_t v = 0; v < bound.vertices.size(); ++v) {
-    VertexBinding& binding = bound.vertices[v];
-    for (int k = 0; k < kSweepsPerVertex; ++k)
-      if (binding.sweep[k] == s)
-        binding.coordinate[k] = bind_point(sweep, planes, bound.model.positions[v]);
-  }
+  run_in_vertex_blocks(
+      bound.vertices.size(), kBindThreads, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t v = begin; v < end; ++v) {
+          VertexBinding& binding = bound.vertices[v];
+          for (int k = 0; k < kSweepsPerVertex; ++k)
+            if (binding.sweep[k] == s)
+              binding.coordinate[k] = bind_point(sweep, planes, bound.model.positions[v]);
+        }
+      });
 }
 
 std::vector<glm::vec3> rest_positions_from_binding(const BoundModel& bound) {

@@ -24,11 +24,19 @@ SweepCoordinate bind_point(const Sweep& sweep, const SweepPlanes& planes, glm::v
   const std::size_t count = planes.t.size();
   float best_t = 0.0f;
   float best_distance = std::numeric_limits<float>::infinity();
+  // R(t) and C̃(t) of the best t, kept for the coordinates below: C̃ as Sweep::ellipse_centre
+  // computes it, so the same floats as evaluating both again there.
+  glm::mat3 best_rotation(1.0f);
+  glm::vec3 best_centre(0.0f);
   auto consider = [&](float t) {
-    const float distance = glm::length(point - sweep.ellipse_centre(t));
+    const glm::mat3 rotation = sweep.rotation(t);
+    const glm::vec3 centre = sweep.centre(t) + rotation * glm::vec3(sweep.offset(t), 0.0f);
+    const float distance = glm::length(point - centre);
     if (distance < best_distance) {
       best_distance = distance;
       best_t = t;
+      best_rotation = rotation;
+      best_centre = centre;
     }
   };
   float previous = glm::dot(point - planes.centre[0], planes.normal[0]);
@@ -42,12 +50,15 @@ SweepCoordinate bind_point(const Sweep& sweep, const SweepPlanes& planes, glm::v
     previous = current;
   }
   if (previous >= 0.0f) consider(1.0f);               // after the last plane
-  if (!std::isfinite(best_distance)) consider(0.0f);  // unreachable for a finite point; be safe
+  if (!std::isfinite(best_distance)) {                // unreachable for a finite point; be safe
+    best_t = 0.0f;
+    best_rotation = sweep.rotation(0.0f);
+    best_centre = sweep.ellipse_centre(0.0f);
+  }
 
   SweepCoordinate coordinate;
   coordinate.t = best_t;
-  const glm::vec3 local =
-      glm::transpose(sweep.rotation(best_t)) * (point - sweep.ellipse_centre(best_t));
+  const glm::vec3 local = glm::transpose(best_rotation) * (point - best_centre);
   const float a = sweep.a(best_t), b = sweep.b(best_t);
   const float u = local.x / a, v = local.y / b;
   const float r = std::sqrt(u * u + v * v);

@@ -16,8 +16,8 @@ namespace sweepd::deform {
 
 class LengthWeightedSmoothing {
  public:
-  // Chooses `row` with its mesh neighbours (each once, at least one) and the lengths of the
-  // edges to them (vertex_adjacency.h): row_of(u) is a neighbour's row in the table.
+  // Chooses `row` (each row once) with its mesh neighbours (each once, at least one) and the
+  // lengths of the edges to them (vertex_adjacency.h): row_of(u) is a neighbour's row in the table.
   template <class RowOf>
   void add(std::uint32_t row, std::span<const std::uint32_t> neighbours,
            std::span<const float> edge_lengths, RowOf row_of) {
@@ -39,6 +39,11 @@ class LengthWeightedSmoothing {
     std::uint32_t row;
     float weight;  // half in all per chosen row: the row keeps the other half
   };
+  template <std::size_t Width>
+  static void packed_passes(std::span<const std::uint32_t> first,
+                            std::span<const Neighbour> neighbours, int passes,
+                            std::vector<float>& current, std::vector<float>& next,
+                            std::size_t width = Width);
   std::vector<std::uint32_t> rows_, first_{0};
   std::vector<Neighbour> neighbours_;
 };
