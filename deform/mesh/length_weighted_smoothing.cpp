@@ -2,7 +2,8 @@
 
 #include <array>
 #include <bit>
-#include <numeric>
+
+#include "deform/mesh/disjoint_sets.h"
 
 namespace sweepd::deform {
 
@@ -11,11 +12,6 @@ namespace {
 // Whether a float is +0 to the bit: a column that is +0 in every row a pass reads stays +0
 // (0.5·0 + Σ w·0 adds +0 to +0), so a region of the mesh where it is need not pass over it.
 bool positive_zero(float value) { return std::bit_cast<std::uint32_t>(value) == 0u; }
-
-std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t i) {
-  while (parent[i] != i) i = parent[i] = parent[parent[i]];
-  return i;
-}
 
 }  // namespace
 
@@ -55,16 +51,14 @@ void LengthWeightedSmoothing::smooth(int columns, int passes, std::vector<float>
   std::vector<std::uint32_t> chosen_at(table_rows, kNotChosen);
   for (std::size_t i = 0; i < rows_.size(); ++i)
     chosen_at[rows_[i]] = static_cast<std::uint32_t>(i);
-  std::vector<std::uint32_t> parent(rows_.size());
-  std::iota(parent.begin(), parent.end(), 0u);
+  DisjointSets joined(rows_.size());
   for (std::size_t i = 0; i < rows_.size(); ++i)
     for (std::uint32_t n = first_[i]; n < first_[i + 1]; ++n)
       if (const std::uint32_t j = chosen_at[neighbours_[n].row]; j != kNotChosen)
-        parent[find_root(parent, static_cast<std::uint32_t>(i))] = find_root(parent, j);
+        joined.join(static_cast<std::uint32_t>(i), j);
   std::vector<std::vector<std::uint32_t>> groups(rows_.size());
   for (std::size_t i = 0; i < rows_.size(); ++i)
-    groups[find_root(parent, static_cast<std::uint32_t>(i))].push_back(
-        static_cast<std::uint32_t>(i));
+    groups[joined.find(static_cast<std::uint32_t>(i))].push_back(static_cast<std::uint32_t>(i));
 
   constexpr std::uint32_t kUnplaced = ~0u;
   std::vector<std::uint32_t> local(table_rows, kUnplaced);  // a table row's place in the group
