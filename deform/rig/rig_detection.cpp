@@ -1,7 +1,11 @@
 // detect_rig_map (declared in rig_map.h): names first, then the skeleton's shape part by part,
 // then the torso and neck chains from the parts found.
 #include <algorithm>
+#include <cstdio>
+#include <optional>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "deform/model/joint_paths.h"
 #include "deform/rig/rig_map.h"
@@ -124,11 +128,53 @@ void add_unswept_part_warnings(RigMap& map, const Skeleton& skeleton) {
   if (map.has_head() && map.neck.chain.size() == 1)
     map.warnings.push_back("the neck is one joint (" + joint(map.neck.head) +
                            ", the head's): the neck and head are skinned by linear blending");
-  for (const auto& [arm, side] : {std::pair{&map.left_arm, "left"}, std::pair{&map.right_arm, "right"}})
+  for (const auto& [arm, side] :
+       {std::pair{&map.left_arm, "left"}, std::pair{&map.right_arm, "right"}})
     if (!arm->absent() && arm->hand < 0)
       map.warnings.push_back(std::string("the ") + side + " arm has no hand joint (its forearm " +
                              joint(arm->lower) + " carries the hand): the " + side +
                              " forearm is skinned by linear blending from the elbow on");
+}
+
+// Side names are trusted for the facing (rest_body_axes: left is where the joints named left
+// are), so a rig whose names put its left side on its right is read facing backwards and plays
+// every clip turned around. The toes say which way the body faces whatever the names are: where
+// they point against the facing the names give, say so.
+void add_side_names_warning(RigMap& map, const Skeleton& skeleton) {
+  const LegJoints& a = map.left_leg;
+  const LegJoints& b = map.right_leg;
+  const bool sides_from_names =
+      map.found[index_of(RigPart::kLeftArm)].finding == PartFinding::kByName ||
+      map.found[index_of(RigPart::kLeftLeg)].finding == PartFinding::kByName;
+  if (!sides_from_names) return;
+  const std::vector<glm::mat4> world_rest = skeleton.world_rest_matrices();
+  const BodyAxes axes = rest_body_axes(map, world_rest);
+  std::vector<glm::vec3> positions;
+  for (const glm::mat4& m : world_rest) positions.emplace_back(m[3]);
+  const std::optional<glm::vec3> toes = toes_forward(positions, axes.up, a, b);
+  // Pointing more than 120° away from the named facing: not a splayed foot but a body turned
+  // around.
+  if (!toes || glm::dot(*toes, axes.forward) >= -0.5f) return;
+  const glm::vec3 toward = *toes;
+  auto vector = [](const glm::vec3& v) {
+    char text[64];
+    std::snprintf(text, sizeof text, "(%.2f, %.2f, %.2f)", v.x, v.y, v.z);
+    return std::string(text);
+  };
+  map.warnings.push_back("the side names contradict the feet: the toes point " + vector(toward) +
+                         ", so the joints named left ('" +
+                         skeleton.joints[a.upper >= 0 ? a.upper : a.foot].name +
+                         "') lie on the body's right; the names are followed and the body is "
+                         "read facing " +
+                         vector(axes.forward) +
+                         ", so clips play turned around: swap its Left and Right names if the "
+                         "toes are right");
+}
+
+void add_warnings(RigMap& map, const Skeleton& skeleton) {
+  add_absent_part_warnings(map);
+  add_unswept_part_warnings(map, skeleton);
+  add_side_names_warning(map, skeleton);
 }
 
 }  // namespace
@@ -139,7 +185,10 @@ RigMap detect_rig_map(const Skeleton& skeleton) {
   const NamedRigParts named = match_rig_naming(skeleton);
   if (named.settles_every_part()) {
     RigMap map = merge_parts(named, nullptr);
-    if (complete_chains(map, named.pelvis, -1, skeleton).empty()) return map;
+    if (complete_chains(map, named.pelvis, -1, skeleton).empty()) {
+      add_warnings(map, skeleton);
+      return map;
+    }
   }
   RigMap shape;
   std::string shape_problem;
@@ -165,8 +214,7 @@ RigMap detect_rig_map(const Skeleton& skeleton) {
         (shape_found ? "); names and shape together: " + why
                      : "); and the topological fallback failed: " + shape_problem));
   }
-  add_absent_part_warnings(map);
-  add_unswept_part_warnings(map, skeleton);
+  add_warnings(map, skeleton);
   return map;
 }
 

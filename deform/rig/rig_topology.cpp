@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <span>
 #include <stdexcept>
 #include <vector>
 
@@ -234,20 +236,29 @@ LegJoints leg_roles(const RestHierarchy& h, const Skeleton& skeleton, int start)
 
 glm::vec3 horizontal(const glm::vec3& v, const glm::vec3& up) { return v - glm::dot(v, up) * up; }
 
+}  // namespace
+
+std::optional<glm::vec3> toes_forward(std::span<const glm::vec3> joint_positions,
+                                      const glm::vec3& up, const LegJoints& a, const LegJoints& b) {
+  if (a.toe < 0 || b.toe < 0 || a.foot < 0 || b.foot < 0) return std::nullopt;
+  glm::vec3 toes(0.0f);
+  float length = 0.0f;
+  for (const LegJoints* leg : {&a, &b}) {
+    const glm::vec3 foot = joint_positions[leg->toe] - joint_positions[leg->foot];
+    toes += horizontal(foot, up);
+    length += glm::length(foot);
+  }
+  // Toes that agree on a mostly horizontal direction tell the facing.
+  if (glm::length(toes) > 0.3f * length) return glm::normalize(toes);
+  return std::nullopt;
+}
+
+namespace {
+
 // The direction the body faces: where the toes point, else the glTF convention.
 glm::vec3 forward_direction(const RestHierarchy& h, const glm::vec3& up, const LegJoints& a,
                             const LegJoints& b) {
-  if (a.toe >= 0 && b.toe >= 0) {
-    glm::vec3 toes(0.0f);
-    float length = 0.0f;
-    for (const LegJoints* leg : {&a, &b}) {
-      const glm::vec3 foot = h.position[leg->toe] - h.position[leg->foot];
-      toes += horizontal(foot, up);
-      length += glm::length(foot);
-    }
-    // Toes that agree on a mostly horizontal direction tell the facing.
-    if (glm::length(toes) > 0.3f * length) return glm::normalize(toes);
-  }
+  if (const std::optional<glm::vec3> toes = toes_forward(h.position, up, a, b)) return *toes;
   const glm::vec3 z_forward = horizontal(glm::vec3(0, 0, 1), up);
   if (glm::length(z_forward) > 0.5f) return glm::normalize(z_forward);
   return glm::normalize(horizontal(glm::vec3(0, -1, 0), up));

@@ -30,11 +30,21 @@
 //   at the neck) is clavicle, upper arm and a forearm without a hand joint (hand -1).
 #pragma once
 
+#include <glm/glm.hpp>
+#include <optional>
+#include <span>
+
 #include "deform/model/skeleton.h"
 #include "deform/rig/rig_map.h"
 
 namespace sweepd::deform {
 
 RigMap detect_rig_map_by_topology(const Skeleton& skeleton);
+
+// Where the feet point (ankle to toe, made level with `up`), summed over both legs: the body's
+// forward whatever its joints are named. nullopt where a leg has no toe or the feet do not agree
+// on a mostly level direction. joint_positions: world rest position per joint.
+std::optional<glm::vec3> toes_forward(std::span<const glm::vec3> joint_positions,
+                                      const glm::vec3& up, const LegJoints& a, const LegJoints& b);
 
 }  // namespace sweepd::deform

@@ -1,14 +1,19 @@
 // RigMap detection on the shared real models: the MakeHuman male by its CMU names, the Khronos
-// RiggedFigure (unnamed joints) and the corpus's OpenPose body by the topological fallback. Expected chains were read off the
-// files' node hierarchies and joint positions by hand (see SOURCES.md).
+// RiggedFigure (unnamed joints) and the corpus's OpenPose body by the topological fallback.
+// Expected chains were read off the files' node hierarchies and joint positions by hand (see
+// SOURCES.md).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "deform/rig/rig_map.h"
 #include "io/gltf/gltf_load.h"
+#include "tests/mirrored_model.h"
+#include "tests/motion/test_bodies.h"
 
 namespace sweepd::deform {
 namespace {
@@ -87,6 +92,47 @@ TEST(RigMapSharedModels, OpenPoseBodyWithOneJointTorsoAndRootLegsBinds) {
   EXPECT_NE(rig.warnings[1].find("left forearm is skinned"), std::string::npos);
   EXPECT_NE(rig.warnings[2].find("right forearm is skinned"), std::string::npos);
   EXPECT_EQ(names(skeleton, rig.torso_sweep_chain()), (Names{"MidHip", "Neck"}));
+}
+
+// The facing is read from the side names (rest_body_axes), so a rig whose Left and Right names
+// are exchanged without its geometry would be read facing backwards in silence. Every shared
+// body as it is gets no such warning; with only its names swapped (tests/mirrored_model.h's
+// side_swapped, the geometry as it was), every body whose sides were read from names is warned
+// of, naming the joint; a body sided by its shape (the toes) is read as before.
+TEST(RigMapSharedModels, SideNamesThatContradictTheToesAreWarnedOf) {
+  int warned = 0;
+  for (const test_models::Body& body : test_models::every_body()) {
+    std::optional<Model> model = test_models::load_body(body);
+    if (!model) continue;
+    const auto contradiction = [](const RigMap& rig) {
+      return std::count_if(rig.warnings.begin(), rig.warnings.end(), [](const std::string& w) {
+        return w.find("the side names contradict the feet") != std::string::npos;
+      });
+    };
+    const RigMap rig = detect_rig_map(model->skeleton);
+    EXPECT_EQ(contradiction(rig), 0) << body.file;
+    Skeleton swapped = model->skeleton;
+    for (Joint& joint : swapped.joints) joint.name = test_models::side_swapped(joint.name);
+    const RigMap swapped_rig = detect_rig_map(swapped);
+    const bool named_sides =
+        rig.found[static_cast<int>(RigPart::kLeftArm)].finding == PartFinding::kByName ||
+        rig.found[static_cast<int>(RigPart::kLeftLeg)].finding == PartFinding::kByName;
+    EXPECT_EQ(contradiction(swapped_rig), named_sides ? 1 : 0) << body.file;
+    if (named_sides) {
+      warned++;
+      const std::string left = swapped.joints[swapped_rig.left_leg.upper].name;
+      EXPECT_NE(std::find_if(swapped_rig.warnings.begin(), swapped_rig.warnings.end(),
+                             [&](const std::string& w) {
+                               return w.find("'" + left + "'") != std::string::npos;
+                             }),
+                swapped_rig.warnings.end())
+          << body.file << ": the warning names the joint read as the left thigh";
+    }
+  }
+  // The male (CMU names), the three Mixamo/Unreal corpus bodies and the mannequin (made here,
+  // never absent) name their sides; the RiggedFigure and the OpenPose body are sided by shape.
+  const bool shared = fs::exists(fs::path(SWEEPD_SHARED_DATA) / "models/makehuman_male_cmu.glb");
+  EXPECT_EQ(warned, shared ? 5 : 1);
 }
 
 }  // namespace
