@@ -21,16 +21,30 @@
 // the largest need within kEase either side, scaled down linearly with the distance in time, so
 // the body never rises or settles faster than its deepest need per kEase and nothing pops.
 // A body already above the floor is left where the clip and the feet put it (jumps stay jumps).
+// An arm the clip pushes through its own floor beside its lying torso (`arms_through`,
+// motion/clip_arms_through_floor.h) holds nothing up: its samples (each at or below the arm's
+// upper joint) make no need on that frame or within kEase of it (else that need, eased, lifts the
+// body around the frames where the arm comes up), so the torso comes down onto the floor (knocked
+// down forwards, the clip's swinging hand 11-22 cm below its floor had held the model's chest 14-24
+// cm up), and apply() raises the arm instead, until its lowest sample's swept height is at the
+// floor plus kClearance: a hand lowest, its wrist straight up (two-bone IK: the elbow bends, a
+// hand resting on the floor stays where it rests); else the arm swung up about its upper joint,
+// its bend kept.
 // Inputs:  model (rest mesh, skin), feet (per joint: a foot's or toe's, planted by foot
 //          planting), floor (the rest mesh's lowest vertex height), the clip's frame count and
 //          frame time, frame_pose (each clip frame's pose, feet planted), group (optional, per
-//          sample: a group of samples, >= 0, whose lowest is kept per frame, or -1).
-// Output:  apply() raises a pose's root by the lift at that time (interpolated between frames);
+//          sample: a group of samples, >= 0, whose lowest is kept per frame, or -1),
+//          arms_through (optional, per clip frame: bit 1 the left arm, 2 the right, as
+//          clip_arms_through_floor gives), arms (left, right: shoulder, elbow, wrist joints).
+// Output:  apply() raises a pose's root by the lift at that time (interpolated between frames)
+//          and raises each arm through the floor on that frame (the nearest clip frame's bits);
 //          lowest(group, frame): that group's lowest sample (linearly blended: the contacts'
 //          points move smoothly with the skin) on the clip frame, lifted (what
 //          motion/body_contacts.h finds contacts by, with no second pass over the clip).
 #pragma once
 
+#include <array>
+#include <cstdint>
 #include <functional>
 #include <limits>
 #include <memory>
@@ -40,6 +54,7 @@
 #include "deform/model/model.h"
 #include "deform/model/pose.h"
 #include "motion/body_samples.h"
+#include "motion/two_bone_ik.h"
 
 namespace sweepd::motion {
 
@@ -53,12 +68,18 @@ class BodyFloor {
   static BodyFloor build(const deform::Model& model, std::shared_ptr<const BodySamples> samples,
                          const std::vector<bool>& feet, float floor, int frame_count,
                          double frame_time, const std::function<deform::Pose(int)>& frame_pose,
-                         std::span<const int> group = {});
+                         std::span<const int> group = {},
+                         std::span<const std::uint8_t> arms_through = {},
+                         std::array<LimbJoints, 2> arms = {});
 
-  // Raises `pose` (the pose of the clip at `seconds`, clamped to the clip) by the lift there.
+  // Raises `pose` (the pose of the clip at `seconds`, clamped to the clip) by the lift there,
+  // and raises each arm the clip pushes through its floor there (see the header).
   void apply(double seconds, deform::Pose& pose) const;
   // The largest lift over the clip (m).
   float largest_lift() const;
+  // About the most an arm the clip pushes through its floor rises off it (m: its samples'
+  // depth below the floor on the lifted pose, before it rises).
+  float largest_arm_rise() const { return largest_arm_rise_; }
   // The lift on clip frame `frame` (m).
   float lift(int frame) const { return lift_[frame]; }
 
@@ -76,6 +97,15 @@ class BodyFloor {
   int groups_ = 0;
   std::vector<Lowest> lowest_;  // per frame, per group: before the lift
   std::shared_ptr<const BodySamples> samples_;
+  // Raises that side's arm until its samples rest on the floor (see the header).
+  void raise_arm(int side, deform::Pose& pose) const;
+  std::vector<std::uint8_t> arms_through_;       // per clip frame, or empty
+  deform::Skeleton skeleton_;                    // for the arms' swing
+  std::vector<glm::mat4> rest_inverse_;          // per joint
+  std::array<LimbJoints, 2> arms_;               // left, right: shoulder, elbow, wrist
+  std::array<std::vector<int>, 2> arm_samples_;  // per side: into samples_
+  float arm_lowest_ = 0.0f;                      // the floor plus kClearance (m)
+  float largest_arm_rise_ = 0.0f;                // m
 };
 
 }  // namespace sweepd::motion

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "deform/rig/rig_map.h"
+#include "motion/clip_arms_through_floor.h"
 #include "motion/clip_resting_knees.h"
 #include "motion/clip_up_axis.h"
 #include "motion/name_list.h"
@@ -195,6 +196,23 @@ Retargeter::Retargeter(std::shared_ptr<const Clip> motion, const deform::Model& 
   const std::vector<int> contact_part =
       BodyContacts::part_of_samples(*model_map_, skeleton_, *samples);
   std::vector<float> lowered;  // the body's least drop per frame, for resting knees
+  // The frames where the clip pushes an arm through its floor beside its lying torso: that arm
+  // holds nothing up, and rises off the model's floor instead (motion/body_floor.h).
+  std::vector<int> clip_torso;
+  std::array<int, 2> clip_arms{-1, -1};
+  const std::vector<int> joint_part = BodyContacts::part_of_joints(*model_map_, skeleton_);
+  const deform::ArmJoints* arms[2] = {&model_map_->left_arm, &model_map_->right_arm};
+  for (int m = 0; m < skeleton_.size(); ++m)
+    if (joint_part[m] == BodyContacts::kBack || joint_part[m] == BodyContacts::kHips)
+      clip_torso.push_back(bvh_of_model_[m]);
+  for (int side = 0; side < 2; ++side)
+    if (arms[side]->upper >= 0) clip_arms[side] = bvh_of_model_[arms[side]->upper];
+  // A clip whose ankles do not stand near its floor (lying most of the time) has no stance hip
+  // height: the rest pose's, which the root scale took.
+  const float clip_hip =
+      clip_hip_height_ > 0.0f ? clip_hip_height_ : model_hip_height_ / root_scale_;
+  const std::vector<std::uint8_t> arms_through =
+      clip_arms_through_floor(*motion_, clip_torso, clip_arms, clip_floor_, clip_hip);
   const auto plant = [&] {
     planting_ = FootPlanting::build(model, *model_map_, model_hip_height_, motion_->frame_count,
                                     motion_->frame_time,
@@ -205,7 +223,9 @@ Retargeter::Retargeter(std::shared_ptr<const Clip> motion, const deform::Model& 
     body_floor_ = BodyFloor::build(
         model, samples, foot_joint, lowest_vertex_height(model), motion_->frame_count,
         motion_->frame_time, [this](int frame) { return feet_planted_pose_at_frame(frame); },
-        contact_part);
+        contact_part, arms_through,
+        {LimbJoints{arms[0]->upper, arms[0]->lower, arms[0]->hand},
+         LimbJoints{arms[1]->upper, arms[1]->lower, arms[1]->hand}});
   };
   plant();
   lift();
@@ -249,11 +269,16 @@ Retargeter::Retargeter(std::shared_ptr<const Clip> motion, const deform::Model& 
         [this](int side, int frame) { return planting_ && planting_->planted(side, frame); });
     lift();
   }
-  if (const float lift = body_floor_->largest_lift(); lift > 0.01f)
+  const auto cm = [](float m) { return std::to_string(static_cast<int>(std::lround(m * 100.0f))); };
+  const float rise = body_floor_->largest_lift(), arm_rise = body_floor_->largest_arm_rise();
+  if (rise > 0.01f || arm_rise > 0.01f)
     warnings_.push_back(
         "parts of the body went below the floor (the model's proportions are not "
-        "the clip's): the body is raised by up to " +
-        std::to_string(static_cast<int>(std::lround(lift * 100.0f))) + " cm where they would");
+        "the clip's): the body is raised by up to " + cm(rise) +
+        " cm where they would" +
+        (arm_rise > 0.01f ? ", and arms the clip pushes through its floor beside its lying torso "
+                            "are raised off it by up to " + cm(arm_rise) + " cm"
+                          : ""));
 }
 
 Retargeter::Retargeter(Clip motion, deform::Skeleton skeleton, const JointNameMap& name_map)
