@@ -121,7 +121,7 @@ class BindingChecker {
 BindingVerdict check_binding(const deform::BoundModel& bound, const CheckPoses& poses);
 
 // adapt_binding: for each sweep whose own regions (its part, the skinned part at its end) lose
-// to skinning, fits it again with fewer link keys (1, or 2 where it has 1), the other
+// to skinning, fits it again with the other link key count (2 where it has 1, bind's default, else 1), the other
 // orientation curve, and both (deform::SweepRebinder), and judges each candidate on every pose.
 // A candidate is acceptable when it leaves fewer (pose, region) pairs worse over the whole body,
 // makes no (pose, region) pair worse that was not, raises no pair's stretch excess (sweep /
