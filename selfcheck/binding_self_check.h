@@ -34,8 +34,9 @@ namespace sweepd::selfcheck {
 // Which self-check a stored verdict came from: raised whenever the poses (the range of motion's
 // moves) or the judgement (compare_with_skinning, the warnings' wording) change, so that a
 // verdict stored with an older one is checked again instead of read
-// (server/models/self_check_sidecar.h).
-inline constexpr int kSelfCheckRevision = 2;
+// (server/models/self_check_sidecar.h). 3: a triangle counts in the region of each of its
+// corners and flips against each corner's joint (metrics::triangle_regions, flipped_from_rest).
+inline constexpr int kSelfCheckRevision = 3;
 
 struct CheckPoses {
   std::vector<deform::Pose> poses;
