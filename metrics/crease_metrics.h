@@ -17,6 +17,7 @@
 // Not a per-frame hot path (allocates): ~10 ms for the shared male.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <glm/glm.hpp>
 #include <span>
@@ -59,10 +60,12 @@ class CreaseMeter {
                                       float radius) const;
 
   // The welded edges between two triangles one by one (metrics/region_quality.h sorts them into
-  // body regions): a model vertex at one end, and the edge's dihedral change from rest, degrees
-  // in [0, 180].
+  // body regions): its two end vertices (model ids), and the edge's dihedral change from rest,
+  // degrees in [0, 180].
   std::size_t edge_count() const { return wings_.size(); }
-  std::uint32_t edge_vertex(std::size_t e) const { return wings_[e].a; }
+  std::array<std::uint32_t, 2> edge_vertices(std::size_t e) const {
+    return {wings_[e].a, wings_[e].b};
+  }
   double change_from_rest(std::span<const glm::vec3> positions, std::size_t e) const;
 
  private:

@@ -22,6 +22,11 @@ std::array<int, 2> edge_regions(int region_a, int region_b) {
   return {region_a, region_b == region_a ? -1 : region_b};
 }
 
+std::array<int, 3> triangle_regions(int region_a, int region_b, int region_c) {
+  return {region_a, region_b == region_a ? -1 : region_b,
+          region_c == region_a || region_c == region_b ? -1 : region_c};
+}
+
 RegionLabels label_regions(const BoundModel& bound) {
   const Model& model = bound.model;
   const std::vector<BodyPart> part_of = label_joints(bound.rig, model.skeleton);
@@ -75,19 +80,30 @@ std::vector<RegionFigures> RegionMeter::measure(std::span<const glm::vec3> posit
     }
   }
   for (std::size_t e = 0; e < crease_.edge_count(); ++e) {
-    RegionFigures& f = figures[region_of_vertex(crease_.edge_vertex(e))];
-    f.crease = std::max(f.crease, crease_.change_from_rest(positions, e));
+    const auto [a, b] = crease_.edge_vertices(e);
+    const double change = crease_.change_from_rest(positions, e);
+    for (const int region : edge_regions(region_of_vertex(a), region_of_vertex(b)))
+      if (region >= 0) figures[region].crease = std::max(figures[region].crease, change);
   }
+  std::vector<glm::mat3> joint_turn(inverse_rest_.size());
+  for (std::size_t j = 0; j < joint_turn.size(); ++j)
+    joint_turn[j] = glm::mat3(joint_world[j] * inverse_rest_[j]);
   const std::vector<std::uint32_t>& indices = bound_.model.indices;
   for (std::size_t t = 0; t < rest_normal_.size(); ++t) {
-    const std::uint32_t v = indices[3 * t];
-    const int joint = strongest_joint_[v];
-    const glm::mat3 carry(joint_world[joint] * inverse_rest_[joint]);
-    if (glm::dot(triangle_normal(positions, indices, t), carry * rest_normal_[t]) >= 0.0f)
+    const std::uint32_t* corner = &indices[3 * t];
+    const int corner_joint[3] = {strongest_joint_[corner[0]], strongest_joint_[corner[1]],
+                                 strongest_joint_[corner[2]]};
+    if (!flipped_from_rest(triangle_normal(positions, indices, t), rest_normal_[t], joint_turn,
+                           corner_joint))
       continue;
-    RegionFigures& f = figures[region_of_vertex(v)];
-    ++f.flipped;
-    f.swept_flipped += swept_[v] || swept_[indices[3 * t + 1]] || swept_[indices[3 * t + 2]];
+    const bool swept = swept_[corner[0]] || swept_[corner[1]] || swept_[corner[2]];
+    for (const int region :
+         triangle_regions(region_of_vertex(corner[0]), region_of_vertex(corner[1]),
+                          region_of_vertex(corner[2]))) {
+      if (region < 0) continue;
+      ++figures[region].flipped;
+      figures[region].swept_flipped += swept;
+    }
   }
   return figures;
 }

@@ -2,17 +2,19 @@
 // `sweepctl check` and the corpus gate compare between the sweep and skinning (issue 47).
 //
 // A vertex belongs to the body part (deform::label_joints) of its strongest skin joint; a joint
-// above the pelvis counts as torso. An edge's length ratio counts in the regions of both its
-// vertices (edge_regions); its crease, and a triangle, in the region of its first vertex. Per
-// region and posed mesh:
+// above the pelvis counts as torso. An edge's length ratio and its crease count in the regions of
+// both its vertices (edge_regions), a triangle in the region of each of its corners
+// (triangle_regions): by every vertex, not the first, so that the order of an index buffer (a
+// winding a mirrored copy reverses, corners a re-export rotates) moves nothing between regions.
+// Per region and posed mesh:
 //   stretch   the largest edge length ratio l / l_rest over its welded edges (1 at rest)
 //   squash    the smallest l / l_rest (1 at rest)
 //   crease    the largest change of dihedral angle from rest across its welded edges, degrees
 //             (metrics/crease_metrics.h's, over every edge, not only the swept ones)
 //   flipped   triangles whose normal points away (negative dot) from their rest normal turned
-//             by their first vertex's strongest joint: skin folded over itself, which no
-//             rotation of the body explains (a triangle of zero rest area has no rest normal
-//             and never counts)
+//             by each of their corners' strongest joints (flipped_from_rest): skin folded over
+//             itself, which no rotation of a bone it hangs on explains (a triangle of zero rest
+//             area has no rest normal and never counts)
 // and the same over the swept part of the region alone (edges and triangles with a vertex that
 // a sweep moves: VertexBinding::skin_weight < 1): where the sweep method differs from its own
 // skinned remainder (LBS), so where comparing it with skinning judges the sweep.
@@ -69,6 +71,20 @@ RegionLabels label_regions(const deform::BoundModel& bound);
 // By both, not by its first vertex, so that the edge's direction in the index buffer (a
 // winding, which a mirrored copy reverses) does not move it from one region to the other.
 std::array<int, 2> edge_regions(int region_a, int region_b);
+// The regions a triangle is counted in: each of its corners' (-1 for a region already given),
+// for the same reason, and so that rotating its corners (a re-export may) moves it nowhere.
+std::array<int, 3> triangle_regions(int region_a, int region_b, int region_c);
+// Whether a triangle whose posed normal is `normal` (unnormalised) flipped: it points away from
+// rest_normal turned by each of its three corners' strongest joints (joint_turn: per joint, the
+// pose's turn from rest, mat3(world x inverse rest)). By every corner, not the first, so that
+// the corners' order does not decide it; where the turn of any bone the triangle hangs on
+// explains its normal, it is not skin folded over itself.
+inline bool flipped_from_rest(glm::vec3 normal, glm::vec3 rest_normal,
+                              std::span<const glm::mat3> joint_turn, const int* corner_joint) {
+  for (int k = 0; k < 3; ++k)
+    if (glm::dot(normal, joint_turn[corner_joint[k]] * rest_normal) >= 0.0f) return false;
+  return true;
+}
 
 // Triangle t's normal, unnormalised (twice its area): (p1 - p0) x (p2 - p0).
 inline glm::vec3 triangle_normal(std::span<const glm::vec3> p,

@@ -46,13 +46,19 @@ SweptStretchMeter::SweptStretchMeter(const BoundModel& bound) {
   for (std::size_t t = 0; 3 * t + 2 < model.indices.size(); ++t) {
     const std::uint32_t* corner = &model.indices[3 * t];
     if (!swept[corner[0]] && !swept[corner[1]] && !swept[corner[2]]) continue;
-    for (int k = 0; k < 3; ++k) {
-      triangles_.push_back(corner[k]);
-      read[corner[k]] = true;
+    for (int k = 0; k < 3; ++k) read[corner[k]] = true;
+    const glm::vec3 rest_normal = triangle_normal(model.positions, model.indices, t);
+    for (const int region :
+         triangle_regions(labels.region_of_vertex[corner[0]], labels.region_of_vertex[corner[1]],
+                          labels.region_of_vertex[corner[2]])) {
+      if (region < 0) continue;  // a triangle between regions is measured in each
+      for (int k = 0; k < 3; ++k) {
+        triangles_.push_back(corner[k]);
+        triangle_joints_.push_back(labels.strongest_joint[corner[k]]);
+      }
+      triangle_region_.push_back(region);
+      rest_normal_.push_back(rest_normal);
     }
-    triangle_region_.push_back(labels.region_of_vertex[corner[0]]);
-    triangle_joint_.push_back(labels.strongest_joint[corner[0]]);
-    rest_normal_.push_back(triangle_normal(model.positions, model.indices, t));
   }
   group_by_region();
   std::vector<std::uint32_t> compact(model.vertex_count(), 0);
@@ -90,18 +96,20 @@ void SweptStretchMeter::group_by_region() {
     return triangle_region_[a] < triangle_region_[b];
   });
   std::vector<std::uint32_t> triangles;
-  std::vector<int> triangle_region, triangle_joint;
+  std::vector<int> triangle_region, triangle_joints;
   std::vector<glm::vec3> rest_normal;
   for (const std::uint32_t t : order) {
     triangles.insert(triangles.end(),
                      {triangles_[3 * t], triangles_[3 * t + 1], triangles_[3 * t + 2]});
     triangle_region.push_back(triangle_region_[t]);
-    triangle_joint.push_back(triangle_joint_[t]);
+    triangle_joints.insert(
+        triangle_joints.end(),
+        {triangle_joints_[3 * t], triangle_joints_[3 * t + 1], triangle_joints_[3 * t + 2]});
     rest_normal.push_back(rest_normal_[t]);
   }
   triangles_ = std::move(triangles);
   triangle_region_ = std::move(triangle_region);
-  triangle_joint_ = std::move(triangle_joint);
+  triangle_joints_ = std::move(triangle_joints);
   rest_normal_ = std::move(rest_normal);
   index_regions();
 }
@@ -153,14 +161,14 @@ void SweptStretchMeter::measure(std::span<const glm::vec3> positions,
     figures[r].swept_stretch = std::sqrt(static_cast<double>(largest));
     stretched_edges[r] = stretched;
   }
-  std::vector<glm::mat3> carry(inverse_rest_.size());  // per joint: the pose's turn from rest
-  for (std::size_t j = 0; j < carry.size(); ++j)
-    carry[j] = glm::mat3(joint_world[j] * inverse_rest_[j]);
+  std::vector<glm::mat3> joint_turn(inverse_rest_.size());  // per joint: the pose's from rest
+  for (std::size_t j = 0; j < joint_turn.size(); ++j)
+    joint_turn[j] = glm::mat3(joint_world[j] * inverse_rest_[j]);
   for (std::size_t r = 0; r < regions_.size(); ++r) {
     int flipped = 0;
     for (std::uint32_t i = triangle_first_[r]; i < triangle_first_[r + 1]; ++i)
-      flipped += glm::dot(triangle_normal(positions, triangles_, i),
-                          carry[triangle_joint_[i]] * rest_normal_[i]) < 0.0f;
+      flipped += flipped_from_rest(triangle_normal(positions, triangles_, i), rest_normal_[i],
+                                   joint_turn, &triangle_joints_[3 * i]);
     figures[r].swept_flipped += flipped;
   }
 }
@@ -206,7 +214,9 @@ SweptStretchMeter SweptStretchMeter::part(std::span<const std::uint8_t> moving,
       part.triangles_.insert(part.triangles_.end(),
                              {triangles_[3 * t], triangles_[3 * t + 1], triangles_[3 * t + 2]});
       part.triangle_region_.push_back(triangle_region_[t]);
-      part.triangle_joint_.push_back(triangle_joint_[t]);
+      part.triangle_joints_.insert(
+          part.triangle_joints_.end(),
+          {triangle_joints_[3 * t], triangle_joints_[3 * t + 1], triangle_joints_[3 * t + 2]});
       part.rest_normal_.push_back(rest_normal_[t]);
     }
   for (std::size_t i = 0; i < vertices_.size(); ++i)

@@ -70,9 +70,10 @@ class SweptStretchMeter {
   std::vector<std::uint32_t> edges_;        // 2 per swept welded edge of positive rest length
   std::vector<float> inverse_squared_rest_; // per such edge: 1 / l_rest²
   std::vector<int> edge_region_;            // per such edge
-  std::vector<std::uint32_t> triangles_;    // 3 per triangle with a swept vertex
+  // 3 per triangle with a swept vertex, once per region it counts in (triangle_regions)
+  std::vector<std::uint32_t> triangles_;
   std::vector<int> triangle_region_;        // per such triangle
-  std::vector<int> triangle_joint_;         // its first vertex's strongest joint
+  std::vector<int> triangle_joints_;        // 3 per such triangle: its corners' strongest joints
   std::vector<glm::vec3> rest_normal_;      // per such triangle (unnormalised)
   std::vector<glm::mat4> inverse_rest_;     // per joint
   // Edges and triangles are grouped by region: region r's are [first[r], first[r + 1]).

@@ -409,7 +409,7 @@ Adaptation adapt_binding(deform::BoundModel& bound, const BindingChecker& checke
         current.orientation_curve == deform::OrientationCurveKind::kLinear
             ? deform::OrientationCurveKind::kSmooth
             : deform::OrientationCurveKind::kLinear;
-    const int fewer = current.keys_per_link == 1 ? 2 : 1;
+    const int other_keys = current.keys_per_link == 1 ? 2 : 1;
     // Only the sweep and its vertices' bindings change: those are kept to restore.
     const deform::BoundSweep kept_sweep = bound.sweeps[s];
     std::vector<deform::VertexBinding> kept_vertices;
@@ -422,9 +422,9 @@ Adaptation adapt_binding(deform::BoundModel& bound, const BindingChecker& checke
       std::vector<std::vector<glm::vec3>> positions;
     };
     std::optional<Best> best;
-    for (const auto& [keys, curve] : {std::pair{fewer, current.orientation_curve},
+    for (const auto& [keys, curve] : {std::pair{other_keys, current.orientation_curve},
                                       std::pair{current.keys_per_link, other},
-                                      std::pair{fewer, other}}) {
+                                      std::pair{other_keys, other}}) {
       const deform::SweepChoice choice{
           .orientation_curve = curve,
           .keys_per_link = keys,

@@ -34,8 +34,9 @@ namespace sweepd::selfcheck {
 // Which self-check a stored verdict came from: raised whenever the poses (the range of motion's
 // moves) or the judgement (compare_with_skinning, the warnings' wording) change, so that a
 // verdict stored with an older one is checked again instead of read
-// (server/models/self_check_sidecar.h).
-inline constexpr int kSelfCheckRevision = 2;
+// (server/models/self_check_sidecar.h). 3: a triangle counts in the region of each of its
+// corners and flips against each corner's joint (metrics::triangle_regions, flipped_from_rest).
+inline constexpr int kSelfCheckRevision = 3;
 
 struct CheckPoses {
   std::vector<deform::Pose> poses;
@@ -121,7 +122,7 @@ class BindingChecker {
 BindingVerdict check_binding(const deform::BoundModel& bound, const CheckPoses& poses);
 
 // adapt_binding: for each sweep whose own regions (its part, the skinned part at its end) lose
-// to skinning, fits it again with fewer link keys (1, or 2 where it has 1), the other
+// to skinning, fits it again with the other link key count (2 where it has 1, bind's default, else 1), the other
 // orientation curve, and both (deform::SweepRebinder), and judges each candidate on every pose.
 // A candidate is acceptable when it leaves fewer (pose, region) pairs worse over the whole body,
 // makes no (pose, region) pair worse that was not, raises no pair's stretch excess (sweep /

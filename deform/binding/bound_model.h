@@ -101,7 +101,7 @@ enum class JointKeyCentre : std::int32_t {
 };
 
 struct BindOptions {
-  int intermediate_keys_per_link = 2;  // link keys between two joint keys (paper Fig. 3: >= 1)
+  int intermediate_keys_per_link = 1;  // link keys between two joint keys (paper Fig. 3: >= 1)
   // Spines are rigged near the back (the shared male's lie 6-9 cm behind the torso's centre),
   // where a joint-centred ellipse misfits its section by ~40 %; the centroid fits within ~5 %
   // and still moves with the joint. kAtJoint is the paper's rule; kAuto keeps it for limbs,

@@ -105,7 +105,10 @@ TEST(CreaseMetrics, RestMeasuresNoCreaseAndTheLinearCurveKinksABentLimb) {
     }
   }
   const Pose bent = test::elbows_and_knees_flexed(*pair.bound[0], 120.0f);
-  EXPECT_GT(pair.measure(0, bent).crease.largest_kink(), 20.0);  // measured 67° (left knee)
+  // Measured 18.3° with one link key per link (bind's default since stop 65); 67° (left knee)
+  // with two, whose link keys sat a third of a link from the joint key instead of half: the
+  // joint key's share of the bend turned over a shorter span, so its turning rate jumped more.
+  EXPECT_GT(pair.measure(0, bent).crease.largest_kink(), 10.0);
 }
 
 TEST(CreaseMetrics, SmoothCurveLowersTheCreaseAtKeysOnTheMannequin) {
@@ -161,20 +164,25 @@ TEST(CreaseMetrics, SmoothCurveLowersTheLimbsCreaseAtKeysOnBothClipsWorstFrames)
     }
     const Comparison c = compare(pair, retargeter.pose_at_frame(worst_frame),
                                  std::string(clip) + " frame " + std::to_string(worst_frame));
-    // Measured (frames 560 and 960): every limb's largest change at keys falls (cmu_01_01 arms
-    // 178.7° -> 89.8° and 170.6° -> 97.1°, legs 28.3° -> 21.3°; cmu_01_03 arms 62.0° -> 25.9°
-    // and 58.7° -> 24.2°, legs 10.5° -> 10.1°). On cmu_01_01 the arms are the body's largest, so
-    // the body's falls 46 %, past the 30 %, and the stretch falls (100.3 -> 78.2 %). On
-    // cmu_01_03 the body's largest is the neck, which the smooth curve folds more (148.2° ->
-    // 173.3°; docs/quality.md, "Creases"), and the stretch rises 132.4 -> 143.4 %: the target is
-    // not met there, not asserted, and linear stays the default. (Before the torso's key centres
-    // were laid along its centre line, the torso folded at both clips' worst frames under both
-    // curves, 59.9° and 180.0°, and hid the neck.) The torso itself reads higher under the
-    // smooth curve (24.8° -> 29.0°, 30.4° -> 37.1°): its planes only approximate the inner
-    // keys', whose turns lay the centres. Asserted: no limb higher on either clip; on cmu_01_01
+    // Measured with one link key per link (bind's default since stop 65; frames 1240 and 960):
+    // the arms' largest change at keys falls (cmu_01_01 171.8° -> 106.4° and 122.6° -> 54.1°;
+    // cmu_01_03 30.1° -> 12.9° and 27.7° -> 12.1°), the legs' barely bend there and stay
+    // within a degree (cmu_01_01 11.4° -> 9.8° and 8.7° -> 7.9°; cmu_01_03 7.3° -> 6.8° and
+    // 7.1° -> 7.6°, the one that rises). On cmu_01_01 the arms are the body's largest, so the
+    // body's falls 38 %, past the 30 %, and the stretch falls (80.9 -> 79.4 %). On
+    // cmu_01_03 the body's largest is the neck (170.1° -> 161.4°), and the stretch rises
+    // 130.8 -> 144.2 %: the target is not met there, not asserted, and linear stays the
+    // default. (With two link keys, frames 560 and 960: arms 178.7° -> 89.8°, 170.6° -> 97.1°,
+    // 62.0° -> 25.9°, 58.7° -> 24.2°, legs 28.3° -> 21.3°, 10.5° -> 10.1°, the neck 148.2° ->
+    // 173.3°, stretch 100.3 -> 78.2 % and 132.4 -> 143.4 %.) The torso itself may read higher
+    // under the smooth curve (25.2° anywhere against 21.4° on cmu_01_01): its planes only
+    // approximate the inner keys', whose turns lay the centres. Asserted: no limb higher on
+    // either clip beyond 1° where its linear figure is under 15° (an edge turned a few degrees
+    // from rest, which either curve's approximation moves by a fraction of one); on cmu_01_01
     // the body's largest at least 30 % lower and the stretch within 1.5 points.
     for (const Comparison::Limb& limb : c.limbs)
-      EXPECT_LE(limb.smooth, limb.linear) << clip << " " << to_string(limb.part);
+      EXPECT_LE(limb.smooth, limb.linear + (limb.linear < 15.0 ? 1.0 : 0.0))
+          << clip << " " << to_string(limb.part);
     if (std::string(clip) == "motion/cmu_01_01.bvh") {
       EXPECT_LE(c.smooth.crease.largest_dihedral_change_at_keys(),
                 0.7 * c.linear.crease.largest_dihedral_change_at_keys());

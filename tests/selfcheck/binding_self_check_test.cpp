@@ -247,13 +247,14 @@ TEST(BindingSelfCheck, AdaptationKeepsOnlyChoicesThatLeaveFewerPairsWorseAndReco
   for (const deform::BoundSweep& sweep : bound.sweeps) {
     const deform::SweepChoice& c = sweep.choice;
     if (c.origin != deform::SweepChoiceOrigin::kSelfCheck) {
-      EXPECT_EQ(c.keys_per_link, 2) << deform::to_string(sweep.part);  // bind's options
+      EXPECT_EQ(c.keys_per_link, bound.options.intermediate_keys_per_link)  // bind's options
+          << deform::to_string(sweep.part);
       continue;
     }
     ++adapted;
     SCOPED_TRACE(deform::to_string(sweep.part));
     EXPECT_LT(c.worse_after, c.worse_before);  // kept only when fewer pairs are worse
-    EXPECT_TRUE(c.keys_per_link != 2 ||
+    EXPECT_TRUE(c.keys_per_link != bound.options.intermediate_keys_per_link ||
                 c.orientation_curve != deform::OrientationCurveKind::kLinear);
     // The keys it was fitted with: joint keys plus keys_per_link per link.
     EXPECT_EQ(sweep.rest_keys.size(),

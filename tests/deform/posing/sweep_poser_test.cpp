@@ -137,7 +137,8 @@ TEST(SweepPoser, AgreesWithSkinningFarFromABentElbow) {
   // from the elbow (the local C(t) of the arm sweep feels the bend one span on each side).
   const int upper = model.skeleton.find("LeftArm"), lower = model.skeleton.find("LeftForeArm");
   const glm::vec3 elbow = joint_position(model, "LeftForeArm");
-  const float spacing = glm::length(joint_position(model, "LeftHand") - elbow) / 3.0f;
+  const float spacing = glm::length(joint_position(model, "LeftHand") - elbow) /
+                        static_cast<float>(male.options.intermediate_keys_per_link + 1);
   float worst = 0.0f;
   int compared = 0;
   for (std::size_t v = 0; v < model.vertex_count(); ++v) {

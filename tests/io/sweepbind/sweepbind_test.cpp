@@ -13,6 +13,7 @@
 #include "io/files/durable_file.h"
 #include "io/sweepbind/byte_stream.h"
 #include "mannequin/mannequin.h"
+#include "tests/deform/shared_male.h"
 
 namespace sweepd::io {
 namespace {
@@ -174,6 +175,38 @@ TEST(Sweepbind, CarriesEachSweepsChoiceAndReadsVersion8AsTheBindOptions) {
   EXPECT_NE(decode_error(bad).find("sweep keys per link -2147483647 is out of range"),
             std::string::npos)
       << decode_error(bad);
+}
+
+// Bind's default is one link key per link since stop 65; a file bound with two (the default
+// before, or --keys-per-link 2) keeps its keys, because each sweep's key count is stored with it
+// (SweepChoice::keys_per_link) and its keys are read, not fitted again: it deforms as it did.
+TEST(Sweepbind, AFileBoundWithTwoLinkKeysKeepsThemAndDeformsAsBound) {
+  const deform::Model model = mannequin::make_mannequin({.target_vertices = 3000});
+  deform::BindOptions two_keys;
+  two_keys.intermediate_keys_per_link = 2;
+  const deform::BoundModel bound =
+      deform::bind(model, deform::detect_rig_map(model.skeleton), two_keys);
+  ASSERT_NE(deform::BindOptions{}.intermediate_keys_per_link, 2);  // else this proves nothing
+  const deform::BoundModel read = decode_sweepbind(encode_sweepbind(bound), "two_keys.sweepbind");
+  ASSERT_EQ(read.sweeps.size(), bound.sweeps.size());
+  for (const deform::BoundSweep& sweep : read.sweeps) {
+    EXPECT_EQ(sweep.choice.keys_per_link, 2) << deform::to_string(sweep.part);
+    EXPECT_EQ(sweep.rest_keys.size(), sweep.chain.size() + 2 * (sweep.chain.size() - 1))
+        << deform::to_string(sweep.part);
+  }
+  // Every joint turned 25° about one axis: the same positions to the bit (same keys, same
+  // bindings, same arithmetic).
+  deform::Pose pose = deform::rest_pose(model.skeleton);
+  for (std::size_t j = 1; j < pose.local_rotations.size(); ++j)
+    pose.local_rotations[j] =
+        pose.local_rotations[j] * glm::angleAxis(glm::radians(25.0f), glm::vec3(1, 0, 0));
+  deform::test::Posing as_bound(bound), as_read(read);
+  const std::vector<glm::vec3> expected =
+      deform::test::deformed(as_bound, pose, deform::DeformMethod::kSweep);
+  const std::vector<glm::vec3> got =
+      deform::test::deformed(as_read, pose, deform::DeformMethod::kSweep);
+  ASSERT_EQ(got.size(), expected.size());
+  for (std::size_t v = 0; v < got.size(); ++v) ASSERT_EQ(got[v], expected[v]) << "vertex " << v;
 }
 
 TEST(Sweepbind, CarriesTheMeshPartsAndRefusesOnesThatDoNotFitTheModel) {
