@@ -67,42 +67,42 @@ SweptStretchMeter::SweptStretchMeter(const BoundModel& bound) {
     inverse_rest_.push_back(glm::inverse(world));
 }
 
+namespace {
+
+// The items' indices ordered by their region, stably.
+std::vector<std::uint32_t> order_by_region(const std::vector<int>& region_of_item) {
+  std::vector<std::uint32_t> order(region_of_item.size());
+  std::iota(order.begin(), order.end(), 0u);
+  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return region_of_item[a] < region_of_item[b];
+  });
+  return order;
+}
+
+// Per-item values (`width` of them per item) put in `order`.
+template <class T>
+void permute(std::vector<T>& values, const std::vector<std::uint32_t>& order,
+             std::size_t width = 1) {
+  std::vector<T> permuted;
+  permuted.reserve(values.size());
+  for (const std::uint32_t item : order)
+    permuted.insert(permuted.end(), values.begin() + width * item,
+                    values.begin() + width * (item + 1));
+  values = std::move(permuted);
+}
+
+}  // namespace
+
 void SweptStretchMeter::group_by_region() {
-  std::vector<std::uint32_t> order(edge_region_.size());
-  std::iota(order.begin(), order.end(), 0u);
-  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
-    return edge_region_[a] < edge_region_[b];
-  });
-  std::vector<std::uint32_t> edges;
-  std::vector<float> inverse_squared_rest;
-  std::vector<int> edge_region;
-  for (const std::uint32_t e : order) {
-    edges.insert(edges.end(), {edges_[2 * e], edges_[2 * e + 1]});
-    inverse_squared_rest.push_back(inverse_squared_rest_[e]);
-    edge_region.push_back(edge_region_[e]);
-  }
-  edges_ = std::move(edges);
-  inverse_squared_rest_ = std::move(inverse_squared_rest);
-  edge_region_ = std::move(edge_region);
-  order.resize(triangle_region_.size());
-  std::iota(order.begin(), order.end(), 0u);
-  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
-    return triangle_region_[a] < triangle_region_[b];
-  });
-  std::vector<std::uint32_t> triangles;
-  std::vector<int> triangle_region, triangle_joint;
-  std::vector<glm::vec3> rest_normal;
-  for (const std::uint32_t t : order) {
-    triangles.insert(triangles.end(),
-                     {triangles_[3 * t], triangles_[3 * t + 1], triangles_[3 * t + 2]});
-    triangle_region.push_back(triangle_region_[t]);
-    triangle_joint.push_back(triangle_joint_[t]);
-    rest_normal.push_back(rest_normal_[t]);
-  }
-  triangles_ = std::move(triangles);
-  triangle_region_ = std::move(triangle_region);
-  triangle_joint_ = std::move(triangle_joint);
-  rest_normal_ = std::move(rest_normal);
+  const std::vector<std::uint32_t> edge_order = order_by_region(edge_region_);
+  permute(edges_, edge_order, 2);
+  permute(inverse_squared_rest_, edge_order);
+  permute(edge_region_, edge_order);
+  const std::vector<std::uint32_t> triangle_order = order_by_region(triangle_region_);
+  permute(triangles_, triangle_order, 3);
+  permute(triangle_region_, triangle_order);
+  permute(triangle_joint_, triangle_order);
+  permute(rest_normal_, triangle_order);
   index_regions();
 }
 
