@@ -165,6 +165,21 @@ void SweptStretchMeter::measure(std::span<const glm::vec3> positions,
   }
 }
 
+std::optional<std::array<std::uint32_t, 2>> SweptStretchMeter::longest_edge(
+    std::span<const glm::vec3> positions, int region) const {
+  std::optional<std::array<std::uint32_t, 2>> longest;
+  float largest = -1.0f;
+  for (std::uint32_t e = edge_first_[region]; e < edge_first_[region + 1]; ++e) {
+    const glm::vec3 d = positions[edges_[2 * e]] - positions[edges_[2 * e + 1]];
+    const float squared = glm::dot(d, d) * inverse_squared_rest_[e];
+    if (squared > largest) {
+      largest = squared;
+      longest = {vertices_[edges_[2 * e]], vertices_[edges_[2 * e + 1]]};
+    }
+  }
+  return longest;
+}
+
 std::vector<std::uint8_t> SweptStretchMeter::regions_touched(
     std::span<const std::uint8_t> moving) const {
   std::vector<std::uint8_t> touched(regions_.size(), 0);

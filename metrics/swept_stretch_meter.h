@@ -11,8 +11,10 @@
 // from squared lengths, so within a few float roundings (1e-6) of RegionMeter's.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <glm/glm.hpp>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -41,6 +43,12 @@ class SweptStretchMeter {
   static constexpr float kStretchedEdge = 1.3f;
   void measure(std::span<const glm::vec3> positions, std::span<const glm::mat4> joint_world,
                std::vector<RegionFigures>& figures, std::vector<int>& stretched_edges) const;
+
+  // The two model vertices of region `region`'s edge with the largest ratio l / l_rest in these
+  // positions (as measure takes them; the first such edge where several tie); none where the
+  // region has no edge here.
+  std::optional<std::array<std::uint32_t, 2>> longest_edge(std::span<const glm::vec3> positions,
+                                                           int region) const;
 
   // The regions with an edge or triangle that has a vertex flagged in `moving` (one flag per
   // model vertex): the regions whose figures change when those vertices move alone.

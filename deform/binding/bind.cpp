@@ -245,7 +245,7 @@ SweepRebinder::SweepRebinder(const BoundModel& bound)
   }
 }
 
-void SweepRebinder::rebind(BoundModel& bound, int s, const SweepChoice& choice) {
+Sweep SweepRebinder::refit(BoundModel& bound, int s, const SweepChoice& choice) {
   const BoundSweep& old = bound.sweeps[s];
   // The keys depend on the key count alone: a choice with the bound sweep's count changes its
   // orientation curve only, and another count is fitted once.
@@ -263,9 +263,14 @@ void SweepRebinder::rebind(BoundModel& bound, int s, const SweepChoice& choice) 
     sweep_fitted = fitted->second;
   }
   sweep_fitted.choice = choice;
-  const Sweep sweep = rest_sweep(sweep_fitted, bound.options);
+  Sweep sweep = rest_sweep(sweep_fitted, bound.options);
   sweep_fitted.rest_volume = sweep_volume(sweep);
   bound.sweeps[s] = std::move(sweep_fitted);
+  return sweep;
+}
+
+void SweepRebinder::rebind(BoundModel& bound, int s, const SweepChoice& choice) {
+  const Sweep sweep = refit(bound, s, choice);
   const SweepPlanes planes = sample_planes(sweep, bound.options.plane_samples_per_span);
   run_in_vertex_blocks(
       bound.vertices.size(), kBindThreads, [&](std::size_t begin, std::size_t end) {
@@ -276,6 +281,18 @@ void SweepRebinder::rebind(BoundModel& bound, int s, const SweepChoice& choice) 
               binding.coordinate[k] = bind_point(sweep, planes, bound.model.positions[v]);
         }
       });
+}
+
+void SweepRebinder::rebind_vertices(BoundModel& bound, int s, const SweepChoice& choice,
+                                    std::span<const std::uint32_t> vertices) {
+  const Sweep sweep = refit(bound, s, choice);
+  const SweepPlanes planes = sample_planes(sweep, bound.options.plane_samples_per_span);
+  for (const std::uint32_t v : vertices) {
+    VertexBinding& binding = bound.vertices[v];
+    for (int k = 0; k < kSweepsPerVertex; ++k)
+      if (binding.sweep[k] == s)
+        binding.coordinate[k] = bind_point(sweep, planes, bound.model.positions[v]);
+  }
 }
 
 std::vector<glm::vec3> rest_positions_from_binding(const BoundModel& bound) {

@@ -130,6 +130,38 @@ TEST(SweptStretchMeter, ItsPartsTouchingAVertexSetAndNotCombineIntoTheWhole) {
   }
 }
 
+// longest_edge names the edge whose ratio l / l_rest is the region's stretch (the probe's seed:
+// the edge a candidate most likely stretches past).
+TEST(SweptStretchMeter, ItsLongestEdgeIsTheOneWhoseRatioIsTheRegionsStretch) {
+  const deform::BoundModel& bound = mannequin_binding();
+  const metrics::SweptStretchMeter meter(bound);
+  const CheckPoses poses = range_of_motion_peaks(bound);
+  deform::test::Posing posing(bound);
+  std::vector<glm::vec3> positions(bound.model.vertex_count()), measured;
+  int stretched_regions = 0;
+  for (std::size_t p = 0; p < poses.poses.size(); p += 5) {
+    deform::Pose pose = poses.poses[p];
+    posing.deform(pose, DeformMethod::kSweep, positions);
+    meter.gather(positions, measured);
+    std::vector<metrics::RegionFigures> figures;
+    meter.measure(measured, posing.world_pose(), figures);
+    for (std::size_t r = 0; r < figures.size(); ++r) {
+      SCOPED_TRACE(poses.names[p] + ", " + deform::to_string(meter.regions()[r]));
+      const auto edge = meter.longest_edge(measured, static_cast<int>(r));
+      if (!figures[r].swept) continue;
+      ASSERT_TRUE(edge.has_value());
+      if (figures[r].swept_stretch <= 1.0) continue;  // the figure's floor: no edge longer
+      ++stretched_regions;
+      const auto [a, b] = *edge;
+      const double ratio = glm::length(glm::dvec3(positions[a] - positions[b])) /
+                           glm::length(glm::dvec3(bound.model.positions[a] - bound.model.positions[b]));
+      // The meter squares in float: a few float roundings apart.
+      EXPECT_NEAR(ratio, figures[r].swept_stretch, 1e-5 * ratio);
+    }
+  }
+  EXPECT_GT(stretched_regions, 10);
+}
+
 TEST(BindingSelfCheck, ReachesTheVerdictThatRegionMeterReachesOnTheSamePoses) {
   const deform::BoundModel& bound = mannequin_binding();
   const CheckPoses poses = range_of_motion_peaks(bound);
