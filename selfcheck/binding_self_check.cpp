@@ -308,12 +308,20 @@ class SweepTrial {
     // as bound, where a candidate most likely stretches past it (14 of the 72k mannequin's 15
     // candidates lose on these or their neighbours).
     probe_seed_.assign(bound.vertices.size(), 0);
-    std::vector<glm::vec3> at(changed_places_.size());
-    for (const std::vector<glm::vec3>& pose : body.positions) {
-      for (std::size_t k = 0; k < changed_places_.size(); ++k) at[k] = pose[changed_places_[k]];
-      for (std::size_t r = 0; r < touched_.size(); ++r)
-        if (touched_[r]) seed(changed_->longest_edge(at, static_cast<int>(r)));
-    }
+    std::vector<std::vector<std::optional<std::array<std::uint32_t, 2>>>> longest(
+        body.positions.size());  // per pose and touched region
+    deform::run_in_vertex_blocks(
+        body.positions.size(), kCheckThreads, [&](std::size_t begin, std::size_t end) {
+          std::vector<glm::vec3> at(changed_places_.size());
+          for (std::size_t p = begin; p < end; ++p) {
+            for (std::size_t k = 0; k < changed_places_.size(); ++k)
+              at[k] = body.positions[p][changed_places_[k]];
+            for (std::size_t r = 0; r < touched_.size(); ++r)
+              if (touched_[r]) longest[p].push_back(changed_->longest_edge(at, static_cast<int>(r)));
+          }
+        });
+    for (const auto& edges : longest)
+      for (const auto& edge : edges) seed(edge);
   }
   // The model vertices the sweep's candidates re-bind.
   const std::vector<std::uint32_t>& on_sweep() const { return on_sweep_; }
