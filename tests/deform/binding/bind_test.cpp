@@ -139,6 +139,26 @@ TEST(Bind, VertexParameterFollowsTheSweepAndEndsClamp) {
   EXPECT_NEAR(above.c, 0.4f, 1e-6f);
 }
 
+// bind fits the sweeps on two threads; where two cannot be fitted (a left elbow and a right knee
+// moved onto the joint above them: a link of length 0), the error is the first sweep's in
+// order, the left arm's, as fitting one after another would give it.
+TEST(Bind, TheFirstSweepThatCannotBeFittedIsTheErrorWhateverThreadFitsIt) {
+  MannequinOptions options;
+  options.target_vertices = 5000;
+  Model model = make_mannequin(options);
+  const RigMap rig = detect_rig_map(model.skeleton);
+  model.skeleton.joints[rig.left_arm.lower].rest_translation = glm::vec3(0.0f);
+  model.skeleton.joints[rig.right_leg.lower].rest_translation = glm::vec3(0.0f);
+  try {
+    bind(model, rig);
+    FAIL() << "bound a model with two links of length 0";
+  } catch (const std::invalid_argument& error) {
+    const std::string what = error.what();
+    EXPECT_NE(what.find("left arm"), std::string::npos) << what;
+    EXPECT_EQ(what.find("right leg"), std::string::npos) << what;
+  }
+}
+
 // rebind_vertices (what the self-check's probe binds) gives the vertices it is handed exactly the
 // coordinates rebind gives them, the same sweep, and leaves the sweep's other vertices as they
 // were: a probe's figures are then the whole candidate's on those vertices.
