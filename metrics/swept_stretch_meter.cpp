@@ -134,34 +134,63 @@ void SweptStretchMeter::measure(std::span<const glm::vec3> positions,
                                 std::span<const glm::mat4> joint_world,
                                 std::vector<RegionFigures>& figures,
                                 std::vector<int>& stretched_edges) const {
-  figures.assign(regions_.size(), RegionFigures{});
-  stretched_edges.assign(regions_.size(), 0);
+  measure_sets<1>({positions}, joint_world, {&figures}, {&stretched_edges});
+}
+
+void SweptStretchMeter::measure_two(std::span<const glm::vec3> first,
+                                    std::span<const glm::vec3> second,
+                                    std::span<const glm::mat4> joint_world,
+                                    std::vector<RegionFigures>& first_figures,
+                                    std::vector<RegionFigures>& second_figures) const {
+  std::vector<int> first_stretched, second_stretched;
+  measure_sets<2>({first, second}, joint_world, {&first_figures, &second_figures},
+                  {&first_stretched, &second_stretched});
+}
+
+template <std::size_t K>
+void SweptStretchMeter::measure_sets(const std::array<std::span<const glm::vec3>, K>& positions,
+                                     std::span<const glm::mat4> joint_world,
+                                     const std::array<std::vector<RegionFigures>*, K>& figures,
+                                     const std::array<std::vector<int>*, K>& stretched_edges) const {
+  for (std::size_t k = 0; k < K; ++k) {
+    figures[k]->assign(regions_.size(), RegionFigures{});
+    stretched_edges[k]->assign(regions_.size(), 0);
+  }
   // Region by region (the items are grouped so), the squared ratios' largest (a square root per
   // region, not per edge) and the counts in registers: the largest of a set of floats and a
-  // count do not depend on the order they are taken in.
+  // count do not depend on the order they are taken in. Each set by the same operations.
   constexpr float kStretchedSquared = kStretchedEdge * kStretchedEdge;
   for (std::size_t r = 0; r < regions_.size(); ++r) {
-    float largest = 1.0f;
-    int stretched = 0;
+    std::array<float, K> largest;
+    largest.fill(1.0f);
+    std::array<int, K> stretched{};
     for (std::uint32_t e = edge_first_[r]; e < edge_first_[r + 1]; ++e) {
-      const glm::vec3 d = positions[edges_[2 * e]] - positions[edges_[2 * e + 1]];
-      const float squared = glm::dot(d, d) * inverse_squared_rest_[e];
-      largest = std::max(largest, squared);
-      stretched += squared > kStretchedSquared;
+      const std::uint32_t a = edges_[2 * e], b = edges_[2 * e + 1];
+      const float inverse_squared_rest = inverse_squared_rest_[e];
+      for (std::size_t k = 0; k < K; ++k) {
+        const glm::vec3 d = positions[k][a] - positions[k][b];
+        const float squared = glm::dot(d, d) * inverse_squared_rest;
+        largest[k] = std::max(largest[k], squared);
+        stretched[k] += squared > kStretchedSquared;
+      }
     }
-    figures[r].swept = region_swept_[r];
-    figures[r].swept_stretch = std::sqrt(static_cast<double>(largest));
-    stretched_edges[r] = stretched;
+    for (std::size_t k = 0; k < K; ++k) {
+      (*figures[k])[r].swept = region_swept_[r];
+      (*figures[k])[r].swept_stretch = std::sqrt(static_cast<double>(largest[k]));
+      (*stretched_edges[k])[r] = stretched[k];
+    }
   }
   std::vector<glm::mat3> carry(inverse_rest_.size());  // per joint: the pose's turn from rest
   for (std::size_t j = 0; j < carry.size(); ++j)
     carry[j] = glm::mat3(joint_world[j] * inverse_rest_[j]);
   for (std::size_t r = 0; r < regions_.size(); ++r) {
-    int flipped = 0;
-    for (std::uint32_t i = triangle_first_[r]; i < triangle_first_[r + 1]; ++i)
-      flipped += glm::dot(triangle_normal(positions, triangles_, i),
-                          carry[triangle_joint_[i]] * rest_normal_[i]) < 0.0f;
-    figures[r].swept_flipped += flipped;
+    std::array<int, K> flipped{};
+    for (std::uint32_t i = triangle_first_[r]; i < triangle_first_[r + 1]; ++i) {
+      const glm::vec3 turned = carry[triangle_joint_[i]] * rest_normal_[i];
+      for (std::size_t k = 0; k < K; ++k)
+        flipped[k] += glm::dot(triangle_normal(positions[k], triangles_, i), turned) < 0.0f;
+    }
+    for (std::size_t k = 0; k < K; ++k) (*figures[k])[r].swept_flipped += flipped[k];
   }
 }
 

@@ -65,14 +65,13 @@ BindingChecker::BindingChecker(const deform::BoundModel& bound, const CheckPoses
   dqs_.resize(poses.poses.size());
   deform::run_in_vertex_blocks(
       poses.poses.size(), kCheckThreads, [&](std::size_t begin, std::size_t end) {
-        std::vector<glm::vec3> skinned(measured_part.positions.size());
+        std::vector<glm::vec3> lbs(measured_part.positions.size()), dqs(lbs.size());
         for (std::size_t p = begin; p < end; ++p) {
           deform::forward_kinematics(model.skeleton, poses.poses[p], world_[p]);
           deform::skinning_matrices(world_[p], rest_inverse, skinning_[p]);
-          deform::linear_blend_skinning(measured_table, skinning_[p], skinned, {});
-          meter_.measure(skinned, world_[p], lbs_[p]);
-          deform::dual_quaternion_skinning(measured_table, skinning_[p], skinned, {});
-          meter_.measure(skinned, world_[p], dqs_[p]);
+          deform::linear_blend_skinning(measured_table, skinning_[p], lbs, {});
+          deform::dual_quaternion_skinning(measured_table, skinning_[p], dqs, {});
+          meter_.measure_two(lbs, dqs, world_[p], lbs_[p], dqs_[p]);
         }
       });
 }
