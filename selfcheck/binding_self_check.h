@@ -143,9 +143,10 @@ BindingVerdict check_binding(const deform::BoundModel& bound, const CheckPoses& 
 // touch are measured again (the rest from the body's positions kept per pose); its poses are
 // measured nearest to losing first, and it stops at the first pair it may not have (each
 // pose's figures beside the sweep measured when a candidate first reaches it); two poses are
-// judged at a time. The self-check with the
-// adaptation costs about 3x bind's own CPU time (72k mannequin 226 ms bind, 873 ms in all;
-// docs/performance.md), most of it in the candidates.
+// judged at a time. The self-check with the adaptation costs about 2.3x bind's own CPU time
+// (72k mannequin at load 6: 212 ms bind, 697 ms in all; docs/performance.md): a third the
+// candidates (most of it the one the probe passes), a third the meter and the baselines'
+// figures, a fifth the body's figures.
 struct Adaptation {
   BindingVerdict before;  // checker.verdict(bound) as bound
   BindingVerdict after;   // the same after the adaptation
