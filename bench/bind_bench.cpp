@@ -1,5 +1,6 @@
 // Binding benchmark (paper §3, issue 47 item 3): on the procedural mannequin at about 72k vertices
-// (the paper's scale) and on the shared male, one thread, two rows each —
+// (the paper's scale) and on the shared male, bind's two threads (deform::kBindThreads), two rows
+// each —
 //   bind/…          deform::bind alone: the binder's own work;
 //   bind_checked/…  bind, the self-check and its adaptation (selfcheck::bind_checked with adapt,
 //                   as `sweepctl bind` and the daemon bind): what a user waits for.

@@ -251,7 +251,7 @@ Command add_bind_command(CLI::App& sweepctl) {
       "where the self-check finds a sweep worse than skinning, fit it again with fewer link "
       "keys and/or the other orientation curve and keep what leaves fewer (pose, region) pairs "
       "worse and no pair worse or nearer to losing (recorded per sweep in the binding; on by "
-      "default; the self-check and adaptation cost about 3x bind's own CPU time; --no-adapt keeps "
+      "default; the self-check and adaptation cost about 2.3x bind's own CPU time; --no-adapt keeps "
       "the sweeps as fitted)");
   return {command, [options] { return bind_model(*options); }};
 }

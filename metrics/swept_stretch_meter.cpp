@@ -73,44 +73,42 @@ SweptStretchMeter::SweptStretchMeter(const BoundModel& bound) {
     inverse_rest_.push_back(glm::inverse(world));
 }
 
+namespace {
+
+// The items' indices ordered by their region, stably.
+std::vector<std::uint32_t> order_by_region(const std::vector<int>& region_of_item) {
+  std::vector<std::uint32_t> order(region_of_item.size());
+  std::iota(order.begin(), order.end(), 0u);
+  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return region_of_item[a] < region_of_item[b];
+  });
+  return order;
+}
+
+// Per-item values (`width` of them per item) put in `order`.
+template <class T>
+void permute(std::vector<T>& values, const std::vector<std::uint32_t>& order,
+             std::size_t width = 1) {
+  std::vector<T> permuted;
+  permuted.reserve(values.size());
+  for (const std::uint32_t item : order)
+    permuted.insert(permuted.end(), values.begin() + width * item,
+                    values.begin() + width * (item + 1));
+  values = std::move(permuted);
+}
+
+}  // namespace
+
 void SweptStretchMeter::group_by_region() {
-  std::vector<std::uint32_t> order(edge_region_.size());
-  std::iota(order.begin(), order.end(), 0u);
-  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
-    return edge_region_[a] < edge_region_[b];
-  });
-  std::vector<std::uint32_t> edges;
-  std::vector<float> inverse_squared_rest;
-  std::vector<int> edge_region;
-  for (const std::uint32_t e : order) {
-    edges.insert(edges.end(), {edges_[2 * e], edges_[2 * e + 1]});
-    inverse_squared_rest.push_back(inverse_squared_rest_[e]);
-    edge_region.push_back(edge_region_[e]);
-  }
-  edges_ = std::move(edges);
-  inverse_squared_rest_ = std::move(inverse_squared_rest);
-  edge_region_ = std::move(edge_region);
-  order.resize(triangle_region_.size());
-  std::iota(order.begin(), order.end(), 0u);
-  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
-    return triangle_region_[a] < triangle_region_[b];
-  });
-  std::vector<std::uint32_t> triangles;
-  std::vector<int> triangle_region, triangle_joints;
-  std::vector<glm::vec3> rest_normal;
-  for (const std::uint32_t t : order) {
-    triangles.insert(triangles.end(),
-                     {triangles_[3 * t], triangles_[3 * t + 1], triangles_[3 * t + 2]});
-    triangle_region.push_back(triangle_region_[t]);
-    triangle_joints.insert(
-        triangle_joints.end(),
-        {triangle_joints_[3 * t], triangle_joints_[3 * t + 1], triangle_joints_[3 * t + 2]});
-    rest_normal.push_back(rest_normal_[t]);
-  }
-  triangles_ = std::move(triangles);
-  triangle_region_ = std::move(triangle_region);
-  triangle_joints_ = std::move(triangle_joints);
-  rest_normal_ = std::move(rest_normal);
+  const std::vector<std::uint32_t> edge_order = order_by_region(edge_region_);
+  permute(edges_, edge_order, 2);
+  permute(inverse_squared_rest_, edge_order);
+  permute(edge_region_, edge_order);
+  const std::vector<std::uint32_t> triangle_order = order_by_region(triangle_region_);
+  permute(triangles_, triangle_order, 3);
+  permute(triangle_region_, triangle_order);
+  permute(triangle_joints_, triangle_order, 3);
+  permute(rest_normal_, triangle_order);
   index_regions();
 }
 
@@ -142,35 +140,78 @@ void SweptStretchMeter::measure(std::span<const glm::vec3> positions,
                                 std::span<const glm::mat4> joint_world,
                                 std::vector<RegionFigures>& figures,
                                 std::vector<int>& stretched_edges) const {
-  figures.assign(regions_.size(), RegionFigures{});
-  stretched_edges.assign(regions_.size(), 0);
+  measure_sets<1>({positions}, joint_world, {&figures}, {&stretched_edges});
+}
+
+void SweptStretchMeter::measure_two(std::span<const glm::vec3> first,
+                                    std::span<const glm::vec3> second,
+                                    std::span<const glm::mat4> joint_world,
+                                    std::vector<RegionFigures>& first_figures,
+                                    std::vector<RegionFigures>& second_figures) const {
+  std::vector<int> first_stretched, second_stretched;
+  measure_sets<2>({first, second}, joint_world, {&first_figures, &second_figures},
+                  {&first_stretched, &second_stretched});
+}
+
+template <std::size_t K>
+void SweptStretchMeter::measure_sets(const std::array<std::span<const glm::vec3>, K>& positions,
+                                     std::span<const glm::mat4> joint_world,
+                                     const std::array<std::vector<RegionFigures>*, K>& figures,
+                                     const std::array<std::vector<int>*, K>& stretched_edges) const {
+  for (std::size_t k = 0; k < K; ++k) {
+    figures[k]->assign(regions_.size(), RegionFigures{});
+    stretched_edges[k]->assign(regions_.size(), 0);
+  }
   // Region by region (the items are grouped so), the squared ratios' largest (a square root per
   // region, not per edge) and the counts in registers: the largest of a set of floats and a
-  // count do not depend on the order they are taken in.
+  // count do not depend on the order they are taken in. Each set by the same operations.
   constexpr float kStretchedSquared = kStretchedEdge * kStretchedEdge;
   for (std::size_t r = 0; r < regions_.size(); ++r) {
-    float largest = 1.0f;
-    int stretched = 0;
+    std::array<float, K> largest;
+    largest.fill(1.0f);
+    std::array<int, K> stretched{};
     for (std::uint32_t e = edge_first_[r]; e < edge_first_[r + 1]; ++e) {
-      const glm::vec3 d = positions[edges_[2 * e]] - positions[edges_[2 * e + 1]];
-      const float squared = glm::dot(d, d) * inverse_squared_rest_[e];
-      largest = std::max(largest, squared);
-      stretched += squared > kStretchedSquared;
+      const std::uint32_t a = edges_[2 * e], b = edges_[2 * e + 1];
+      const float inverse_squared_rest = inverse_squared_rest_[e];
+      for (std::size_t k = 0; k < K; ++k) {
+        const glm::vec3 d = positions[k][a] - positions[k][b];
+        const float squared = glm::dot(d, d) * inverse_squared_rest;
+        largest[k] = std::max(largest[k], squared);
+        stretched[k] += squared > kStretchedSquared;
+      }
     }
-    figures[r].swept = region_swept_[r];
-    figures[r].swept_stretch = std::sqrt(static_cast<double>(largest));
-    stretched_edges[r] = stretched;
+    for (std::size_t k = 0; k < K; ++k) {
+      (*figures[k])[r].swept = region_swept_[r];
+      (*figures[k])[r].swept_stretch = std::sqrt(static_cast<double>(largest[k]));
+      (*stretched_edges[k])[r] = stretched[k];
+    }
   }
   std::vector<glm::mat3> joint_turn(inverse_rest_.size());  // per joint: the pose's from rest
   for (std::size_t j = 0; j < joint_turn.size(); ++j)
     joint_turn[j] = glm::mat3(joint_world[j] * inverse_rest_[j]);
   for (std::size_t r = 0; r < regions_.size(); ++r) {
-    int flipped = 0;
+    std::array<int, K> flipped{};
     for (std::uint32_t i = triangle_first_[r]; i < triangle_first_[r + 1]; ++i)
-      flipped += flipped_from_rest(triangle_normal(positions, triangles_, i), rest_normal_[i],
-                                   joint_turn, &triangle_joints_[3 * i]);
-    figures[r].swept_flipped += flipped;
+      for (std::size_t k = 0; k < K; ++k)
+        flipped[k] += flipped_from_rest(triangle_normal(positions[k], triangles_, i),
+                                        rest_normal_[i], joint_turn, &triangle_joints_[3 * i]);
+    for (std::size_t k = 0; k < K; ++k) (*figures[k])[r].swept_flipped += flipped[k];
   }
+}
+
+std::optional<std::array<std::uint32_t, 2>> SweptStretchMeter::longest_edge(
+    std::span<const glm::vec3> positions, int region) const {
+  std::optional<std::array<std::uint32_t, 2>> longest;
+  float largest = -1.0f;
+  for (std::uint32_t e = edge_first_[region]; e < edge_first_[region + 1]; ++e) {
+    const glm::vec3 d = positions[edges_[2 * e]] - positions[edges_[2 * e + 1]];
+    const float squared = glm::dot(d, d) * inverse_squared_rest_[e];
+    if (squared > largest) {
+      largest = squared;
+      longest = {vertices_[edges_[2 * e]], vertices_[edges_[2 * e + 1]]};
+    }
+  }
+  return longest;
 }
 
 std::vector<std::uint8_t> SweptStretchMeter::regions_touched(

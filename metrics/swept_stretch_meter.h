@@ -11,8 +11,10 @@
 // from squared lengths, so within a few float roundings (1e-6) of RegionMeter's.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <glm/glm.hpp>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -41,6 +43,19 @@ class SweptStretchMeter {
   static constexpr float kStretchedEdge = 1.3f;
   void measure(std::span<const glm::vec3> positions, std::span<const glm::mat4> joint_world,
                std::vector<RegionFigures>& figures, std::vector<int>& stretched_edges) const;
+  // Two sets of positions in one pose (the self-check's LBS and DQS), each measured as measure
+  // measures it, to the bit: the items' vertices and rest lengths, and the rest normals turned
+  // into the pose, are read and computed once for both.
+  void measure_two(std::span<const glm::vec3> first, std::span<const glm::vec3> second,
+                   std::span<const glm::mat4> joint_world,
+                   std::vector<RegionFigures>& first_figures,
+                   std::vector<RegionFigures>& second_figures) const;
+
+  // The two model vertices of region `region`'s edge with the largest ratio l / l_rest in these
+  // positions (as measure takes them; the first such edge where several tie); none where the
+  // region has no edge here.
+  std::optional<std::array<std::uint32_t, 2>> longest_edge(std::span<const glm::vec3> positions,
+                                                           int region) const;
 
   // The regions with an edge or triangle that has a vertex flagged in `moving` (one flag per
   // model vertex): the regions whose figures change when those vertices move alone.
@@ -59,6 +74,12 @@ class SweptStretchMeter {
 
  private:
   SweptStretchMeter() = default;
+  // measure and measure_two: K sets of positions at once.
+  template <std::size_t K>
+  void measure_sets(const std::array<std::span<const glm::vec3>, K>& positions,
+                    std::span<const glm::mat4> joint_world,
+                    const std::array<std::vector<RegionFigures>*, K>& figures,
+                    const std::array<std::vector<int>*, K>& stretched_edges) const;
   // Orders the edges and the triangles by region (measure takes a region's items in one run).
   void group_by_region();
   // edge_first_ and triangle_first_ of items grouped by region.

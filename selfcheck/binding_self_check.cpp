@@ -65,14 +65,13 @@ BindingChecker::BindingChecker(const deform::BoundModel& bound, const CheckPoses
   dqs_.resize(poses.poses.size());
   deform::run_in_vertex_blocks(
       poses.poses.size(), kCheckThreads, [&](std::size_t begin, std::size_t end) {
-        std::vector<glm::vec3> skinned(measured_part.positions.size());
+        std::vector<glm::vec3> lbs(measured_part.positions.size()), dqs(lbs.size());
         for (std::size_t p = begin; p < end; ++p) {
           deform::forward_kinematics(model.skeleton, poses.poses[p], world_[p]);
           deform::skinning_matrices(world_[p], rest_inverse, skinning_[p]);
-          deform::linear_blend_skinning(measured_table, skinning_[p], skinned, {});
-          meter_.measure(skinned, world_[p], lbs_[p]);
-          deform::dual_quaternion_skinning(measured_table, skinning_[p], skinned, {});
-          meter_.measure(skinned, world_[p], dqs_[p]);
+          deform::linear_blend_skinning(measured_table, skinning_[p], lbs, {});
+          deform::dual_quaternion_skinning(measured_table, skinning_[p], dqs, {});
+          meter_.measure_two(lbs, dqs, world_[p], lbs_[p], dqs_[p]);
         }
       });
 }
@@ -276,7 +275,8 @@ class SweepTrial {
   SweepTrial(const deform::BoundModel& bound, int sweep, const BindingChecker& checker,
              const BodyState& body, const BindingVerdict& current)
       : checker_(checker), body_(body) {
-    std::vector<std::uint8_t> moving(bound.vertices.size(), 0);
+    std::vector<std::uint8_t>& moving = on_sweep_flag_;
+    moving.assign(bound.vertices.size(), 0);
     for (std::uint32_t v = 0; v < bound.vertices.size(); ++v)
       for (int k = 0; k < deform::kSweepsPerVertex; ++k)
         if (bound.vertices[v].sweep[k] == sweep) {
@@ -303,6 +303,24 @@ class SweepTrial {
     }
     std::stable_sort(order_.begin(), order_.end(),
                      [&](int a, int b) { return nearest[a] > nearest[b]; });
+    // The probe's first edges: in every pose, each touched region's longest edge on the sweep
+    // as bound, where a candidate most likely stretches past it (14 of the 72k mannequin's 15
+    // candidates lose on these or their neighbours).
+    probe_seed_.assign(bound.vertices.size(), 0);
+    std::vector<std::vector<std::optional<std::array<std::uint32_t, 2>>>> longest(
+        body.positions.size());  // per pose and touched region
+    deform::run_in_vertex_blocks(
+        body.positions.size(), kCheckThreads, [&](std::size_t begin, std::size_t end) {
+          std::vector<glm::vec3> at(changed_places_.size());
+          for (std::size_t p = begin; p < end; ++p) {
+            for (std::size_t k = 0; k < changed_places_.size(); ++k)
+              at[k] = body.positions[p][changed_places_[k]];
+            for (std::size_t r = 0; r < touched_.size(); ++r)
+              if (touched_[r]) longest[p].push_back(changed_->longest_edge(at, static_cast<int>(r)));
+          }
+        });
+    for (const auto& edges : longest)
+      for (const auto& edge : edges) seed(edge);
   }
   // The model vertices the sweep's candidates re-bind.
   const std::vector<std::uint32_t>& on_sweep() const { return on_sweep_; }
@@ -312,10 +330,12 @@ class SweepTrial {
   // (pair_acceptable: the poses are measured nearest to losing first, and it stops there).
   std::optional<SweepFigures> measure(const deform::BoundModel& bound,
                                       const BindingVerdict& current,
-                                      std::vector<std::vector<glm::vec3>>& changed_positions) const {
+                                      std::vector<std::vector<glm::vec3>>& changed_positions) {
     SweepFigures figures = body_.figures;
     changed_positions.assign(figures.figures.size(), {});
     std::vector<std::uint8_t> refused(figures.figures.size(), 0);  // per pose
+    // Per pose: the longest edge of each region that refused there, for the probe.
+    std::vector<std::vector<std::array<std::uint32_t, 2>>> refusing(figures.figures.size());
     const bool acceptable = checker_.pose_each(
         bound, changed_->vertices(), order_, [&](int p, std::span<const glm::vec3> at) {
           // Called for two poses at once (pose_each): it writes pose p's entries alone.
@@ -332,23 +352,53 @@ class SweepTrial {
             figures.figures[p][r] = measured[r];
             figures.stretched[p][r] = stretched[r];
             const auto region = static_cast<int>(r);
-            if (!pair_acceptable(current, p, region, checker_.compare(p, region, measured[r])))
+            if (!pair_acceptable(current, p, region, checker_.compare(p, region, measured[r]))) {
               kept = false;
+              if (const auto edge = changed_->longest_edge(at, region)) refusing[p].push_back(*edge);
+            }
           }
           refused[p] = !kept;
           return kept;
         });
     if (!acceptable) {
-      // The sweep's next candidate is judged on the pose that refused this one first: a
-      // sweep's candidates mostly lose the same pair, and the verdict needs every pose
-      // acceptable, so the order changes how soon a refusal comes, not what is refused.
-      const auto first_refused = std::find_if(order_.begin(), order_.end(),
-                                              [&](int p) { return refused[p] != 0; });
-      if (first_refused != order_.end())
-        std::rotate(order_.begin(), first_refused, first_refused + 1);
+      for (const auto& edges : refusing)
+        for (const auto& edge : edges) seed(edge);
+      judge_refusing_pose_first(refused);
       return std::nullopt;
     }
     return figures;
+  }
+
+  // The model vertices a candidate binds first (its probe's on the sweep; probe_refuses).
+  const std::vector<std::uint32_t>& probe_on_sweep() {
+    make_probe();
+    return probe_on_sweep_;
+  }
+  // Whether `bound` (this sweep re-bound, probe_on_sweep() at least) loses a pair it may not on
+  // the probe's edges and triangles alone (the seeds' and their neighbours'): then measure()
+  // refuses it too, as they are some of the items it reads and the figures judged (a region's
+  // largest ratio, its flipped count) can only grow with more items. A candidate refused here
+  // costs a few hundred vertices bound and posed instead of the sweep's thousands.
+  bool probe_refuses(const deform::BoundModel& bound, const BindingVerdict& current) {
+    make_probe();
+    std::vector<std::uint8_t> refused(order_.size(), 0);  // per pose
+    const bool acceptable = checker_.pose_each(
+        bound, probe_->vertices(), order_, [&](int p, std::span<const glm::vec3> at) {
+          std::vector<metrics::RegionFigures> measured;
+          std::vector<int> stretched;
+          probe_->measure(at, checker_.world(p), measured, stretched);
+          bool kept = true;
+          for (std::size_t r = 0; r < touched_.size(); ++r) {
+            const auto region = static_cast<int>(r);
+            if (touched_[r] &&
+                !pair_acceptable(current, p, region, checker_.compare(p, region, measured[r])))
+              kept = false;
+          }
+          refused[p] = !kept;
+          return kept;
+        });
+    if (!acceptable) judge_refusing_pose_first(refused);
+    return !acceptable;
   }
   // The figures of the items beside the sweep in pose p, measured on the body's positions when
   // a candidate first reaches that pose: most candidates lose a pair within the first few poses
@@ -359,6 +409,28 @@ class SweepTrial {
     std::vector<glm::vec3> positions;
     for (const std::uint32_t i : beside_places_) positions.push_back(body_.positions[p][i]);
     beside_->measure(positions, checker_.world(p), beside_figures_[p], beside_stretched_[p]);
+  }
+  // The sweep's next candidate is judged on the pose that refused this one first: a sweep's
+  // candidates mostly lose the same pair, and the verdict needs every pose acceptable, so the
+  // order changes how soon a refusal comes, not what is refused.
+  void judge_refusing_pose_first(const std::vector<std::uint8_t>& refused) {
+    const auto first_refused =
+        std::find_if(order_.begin(), order_.end(), [&](int p) { return refused[p] != 0; });
+    if (first_refused != order_.end())
+      std::rotate(order_.begin(), first_refused, first_refused + 1);
+  }
+  void seed(const std::optional<std::array<std::uint32_t, 2>>& edge) {
+    if (!edge) return;
+    for (const std::uint32_t v : *edge)
+      if (!probe_seed_[v]) probe_seed_[v] = 1, probe_.reset();
+  }
+  // The probe: the changed items with a seed vertex, once per set of seeds.
+  void make_probe() {
+    if (probe_) return;
+    probe_.emplace(changed_->part(probe_seed_, true));
+    probe_on_sweep_.clear();
+    for (const std::uint32_t v : probe_->vertices())
+      if (on_sweep_flag_[v]) probe_on_sweep_.push_back(v);
   }
   // A candidate's measure made the body's.
   void keep(const std::vector<std::vector<glm::vec3>>& changed_positions, SweepFigures figures,
@@ -373,6 +445,7 @@ class SweepTrial {
   const BindingChecker& checker_;
   const BodyState& body_;
   std::vector<std::uint32_t> on_sweep_;
+  std::vector<std::uint8_t> on_sweep_flag_;  // per model vertex
   std::vector<std::uint8_t> touched_;  // per region
   // The items in the touched regions without a vertex on the sweep, their vertices' places in
   // the body's positions, and their figures per pose (empty until measure_beside).
@@ -384,7 +457,12 @@ class SweepTrial {
   std::vector<std::uint32_t> changed_places_;
   // The poses, in the order measured: nearest to losing first, then each refusing pose moved
   // to the front.
-  mutable std::vector<int> order_;
+  std::vector<int> order_;
+  // Per model vertex: an end of an edge that was longest where a candidate may lose (seed);
+  // the probe measured on them (rebuilt when a seed is added), and its vertices on the sweep.
+  std::vector<std::uint8_t> probe_seed_;
+  std::optional<metrics::SweptStretchMeter> probe_;
+  std::vector<std::uint32_t> probe_on_sweep_;
 };
 
 }  // namespace
@@ -403,7 +481,7 @@ Adaptation adapt_binding(deform::BoundModel& bound, const BindingChecker& checke
     const deform::BodyPart part = bound.sweeps[s].part;
     if (!sweep_loses(verdict, part)) continue;
     if (!rebinder) rebinder.emplace(bound);
-    const SweepTrial trial(bound, s, checker, body, verdict);
+    SweepTrial trial(bound, s, checker, body, verdict);
     const deform::SweepChoice current = bound.sweeps[s].choice;
     const deform::OrientationCurveKind other =
         current.orientation_curve == deform::OrientationCurveKind::kLinear
@@ -430,13 +508,18 @@ Adaptation adapt_binding(deform::BoundModel& bound, const BindingChecker& checke
           .keys_per_link = keys,
           .origin = deform::SweepChoiceOrigin::kSelfCheck,
           .worse_before = static_cast<std::uint32_t>(verdict.worse_pairs())};
+      std::optional<SweepFigures> figures;
+      std::vector<std::vector<glm::vec3>> positions;
       try {
-        rebinder->rebind(bound, s, choice);
+        // Its likeliest losing edges first; bound whole and measured only where they pass.
+        rebinder->rebind_vertices(bound, s, choice, trial.probe_on_sweep());
+        if (!trial.probe_refuses(bound, verdict)) {
+          rebinder->rebind(bound, s, choice);
+          figures = trial.measure(bound, verdict, positions);
+        }
       } catch (const std::invalid_argument&) {
         continue;  // this choice cannot be fitted: not a candidate
       }
-      std::vector<std::vector<glm::vec3>> positions;
-      std::optional<SweepFigures> figures = trial.measure(bound, verdict, positions);
       BindingVerdict tried;
       if (figures) tried = checker.judge(*figures);
       if (figures && better(verdict, tried) && (!best || score(tried) < score(best->verdict))) {

@@ -134,13 +134,20 @@ BindingVerdict check_binding(const deform::BoundModel& bound, const CheckPoses& 
 // cmu_01_03 frames. The best acceptable one (fewer pairs; as many, a smaller summed excess) is
 // kept and recorded in BoundSweep::choice; else the sweep stays as bound. Sweeps are tried in
 // order, each from the previous ones' result.
-// Cost: a candidate changes the vertices on its sweep alone, so only they and their neighbours
-// are posed and only the edges and triangles they touch are measured again (the rest from the
-// body's positions kept per pose); its poses are measured nearest to losing first, and it stops
-// at the first pair it may not have (each pose's figures beside the sweep measured when a
-// candidate first reaches it); two poses are judged at a time. The self-check with the
-// adaptation costs about 3x bind's own CPU time (72k mannequin 226 ms bind, 873 ms in all;
-// docs/performance.md), most of it in the candidates.
+// Cost: a candidate is first judged on a probe: the edges and triangles around each touched
+// region's longest edge on the sweep in every pose (as bound, and where an earlier candidate
+// lost), their vertices alone bound and posed. Its figures are some of the whole's, and the
+// ones judged (a region's largest ratio, its flipped count) only grow with more items, so a
+// pair the probe refuses the whole refuses too: the same choices, at a few hundred vertices a
+// candidate. A candidate the probe passes is bound whole; it changes the vertices on its sweep
+// alone, so only they and their neighbours are posed and only the edges and triangles they
+// touch are measured again (the rest from the body's positions kept per pose); its poses are
+// measured nearest to losing first, and it stops at the first pair it may not have (each
+// pose's figures beside the sweep measured when a candidate first reaches it); two poses are
+// judged at a time. The self-check with the adaptation costs about 2.3x bind's own CPU time
+// (72k mannequin at load 6: 212 ms bind, 697 ms in all; docs/performance.md): a third the
+// candidates (most of it the one the probe passes), a third the meter and the baselines'
+// figures, a fifth the body's figures.
 struct Adaptation {
   BindingVerdict before;  // checker.verdict(bound) as bound
   BindingVerdict after;   // the same after the adaptation

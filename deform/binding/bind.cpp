@@ -1,6 +1,7 @@
 #include "deform/binding/bind.h"
 
 #include <algorithm>
+#include <exception>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -179,13 +180,29 @@ BoundModel bind_one_body(const Model& model, const RigMap& rig, const BindOption
 
   const std::vector<SweepPlan> plans =
       plan_sweeps(model, mesh, rig, world_rest, sweep_carried_ends, &bound.rig.warnings);
-  std::vector<Sweep> sweeps;
   const SweepChoice choice{.orientation_curve = options.orientation_curve,
                            .keys_per_link = options.intermediate_keys_per_link};
+  // Each sweep is fitted alone, so on bind's threads; the first sweep (in order) that cannot be
+  // fitted is the error, as one after another would give it.
+  bound.sweeps.resize(plans.size());
+  std::vector<std::optional<Sweep>> fitted(plans.size());
+  std::vector<std::exception_ptr> failed(plans.size());
+  run_in_vertex_blocks(plans.size(), kBindThreads, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t s = begin; s < end; ++s) {
+      if (end == plans.size()) report(0.5 * s / plans.size(), "fitting key ellipses");
+      try {
+        bound.sweeps[s] = fit_sweep(mesh, world_rest, plans[s], options, choice);
+        fitted[s].emplace(rest_sweep(bound.sweeps[s], options));
+      } catch (...) {
+        failed[s] = std::current_exception();
+        return;
+      }
+    }
+  });
+  std::vector<Sweep> sweeps;
   for (std::size_t s = 0; s < plans.size(); ++s) {
-    report(0.5 * s / plans.size(), "fitting key ellipses");
-    bound.sweeps.push_back(fit_sweep(mesh, world_rest, plans[s], options, choice));
-    sweeps.push_back(rest_sweep(bound.sweeps.back(), options));
+    if (failed[s]) std::rethrow_exception(failed[s]);
+    sweeps.push_back(std::move(*fitted[s]));
   }
 
   report(0.5, "blending regions");
@@ -245,7 +262,7 @@ SweepRebinder::SweepRebinder(const BoundModel& bound)
   }
 }
 
-void SweepRebinder::rebind(BoundModel& bound, int s, const SweepChoice& choice) {
+Sweep SweepRebinder::refit(BoundModel& bound, int s, const SweepChoice& choice) {
   const BoundSweep& old = bound.sweeps[s];
   // The keys depend on the key count alone: a choice with the bound sweep's count changes its
   // orientation curve only, and another count is fitted once.
@@ -263,9 +280,14 @@ void SweepRebinder::rebind(BoundModel& bound, int s, const SweepChoice& choice) 
     sweep_fitted = fitted->second;
   }
   sweep_fitted.choice = choice;
-  const Sweep sweep = rest_sweep(sweep_fitted, bound.options);
+  Sweep sweep = rest_sweep(sweep_fitted, bound.options);
   sweep_fitted.rest_volume = sweep_volume(sweep);
   bound.sweeps[s] = std::move(sweep_fitted);
+  return sweep;
+}
+
+void SweepRebinder::rebind(BoundModel& bound, int s, const SweepChoice& choice) {
+  const Sweep sweep = refit(bound, s, choice);
   const SweepPlanes planes = sample_planes(sweep, bound.options.plane_samples_per_span);
   run_in_vertex_blocks(
       bound.vertices.size(), kBindThreads, [&](std::size_t begin, std::size_t end) {
@@ -276,6 +298,18 @@ void SweepRebinder::rebind(BoundModel& bound, int s, const SweepChoice& choice) 
               binding.coordinate[k] = bind_point(sweep, planes, bound.model.positions[v]);
         }
       });
+}
+
+void SweepRebinder::rebind_vertices(BoundModel& bound, int s, const SweepChoice& choice,
+                                    std::span<const std::uint32_t> vertices) {
+  const Sweep sweep = refit(bound, s, choice);
+  const SweepPlanes planes = sample_planes(sweep, bound.options.plane_samples_per_span);
+  for (const std::uint32_t v : vertices) {
+    VertexBinding& binding = bound.vertices[v];
+    for (int k = 0; k < kSweepsPerVertex; ++k)
+      if (binding.sweep[k] == s)
+        binding.coordinate[k] = bind_point(sweep, planes, bound.model.positions[v]);
+  }
 }
 
 std::vector<glm::vec3> rest_positions_from_binding(const BoundModel& bound) {

@@ -14,6 +14,7 @@
 #include <glm/glm.hpp>
 #include <map>
 #include <optional>
+#include <span>
 #include <string_view>
 #include <utility>
 #include <vector>
@@ -22,6 +23,7 @@
 #include "deform/mesh/welded_mesh.h"
 #include "deform/model/model.h"
 #include "deform/rig/rig_map.h"
+#include "deform/sweep/sweep.h"
 
 namespace sweepd::deform {
 
@@ -52,6 +54,11 @@ class SweepRebinder {
  public:
   explicit SweepRebinder(const BoundModel& bound);
   void rebind(BoundModel& bound, int sweep, const SweepChoice& choice);
+  // The same fit, binding again only `vertices` (model indices; those on the sweep get the
+  // coordinates rebind gives them, the sweep's others keep their old ones): what the self-check
+  // judges a candidate's few likeliest losing edges on before binding it whole.
+  void rebind_vertices(BoundModel& bound, int sweep, const SweepChoice& choice,
+                       std::span<const std::uint32_t> vertices);
 
  private:
   WeldedMesh mesh_;
@@ -59,6 +66,8 @@ class SweepRebinder {
   std::vector<glm::mat4> world_rest_;
   std::vector<glm::vec3> x_hints_;  // per sweep: its first key's first axis hint
   std::vector<std::optional<glm::vec3>> ends_;  // per sweep: the end its last bone carries
+  // Sets bound.sweeps[sweep] to its fit with `choice` and returns that sweep at rest.
+  Sweep refit(BoundModel& bound, int sweep, const SweepChoice& choice);
 };
 
 // Every vertex evaluated from its binding at the rest pose (skinned share: the rest position).

@@ -139,9 +139,14 @@ CrossSection cross_section(std::span<const glm::vec3> positions,
     }
     return it->second;
   };
+  // Each vertex's distance once (a vertex is in about six triangles), and a triangle with its
+  // three on one side skipped: the plane crosses few of a body's triangles.
+  std::vector<double> distances(positions.size());
+  for (std::uint32_t v = 0; v < distances.size(); ++v) distances[v] = distance(v);
   for (std::size_t f = 0; f < indices.size(); f += 3) {
     const std::array<std::uint32_t, 3> v{indices[f], indices[f + 1], indices[f + 2]};
-    const std::array<double, 3> d{distance(v[0]), distance(v[1]), distance(v[2])};
+    const std::array<double, 3> d{distances[v[0]], distances[v[1]], distances[v[2]]};
+    if ((d[0] >= 0.0) == (d[1] >= 0.0) && (d[1] >= 0.0) == (d[2] >= 0.0)) continue;
     std::array<int, 2> found{};
     int count = 0;
     for (int e = 0; e < 3; ++e) {

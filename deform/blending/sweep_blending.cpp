@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "deform/binding/bind.h"
 #include "deform/mesh/length_weighted_smoothing.h"
 #include "deform/mesh/surface_distance.h"
 
@@ -156,7 +157,8 @@ void smooth_over_mesh(const VertexAdjacency& adjacency, std::span<const float> c
                         adjacency.lengths(v).end());
   }
   const float longest_reach = reaches.empty() ? 0.0f : reaches.back();
-  near_junctions.smooth(columns, share_smoothing_passes(edge_lengths, longest_reach), shares);
+  near_junctions.smooth(columns, share_smoothing_passes(edge_lengths, longest_reach), shares,
+                        kBindThreads);
 }
 
 // The neck's hand-over to the head's skinning, per welded vertex: 0 up to where the head's skin

@@ -2,8 +2,10 @@
 
 #include <array>
 #include <bit>
+#include <numeric>
 
 #include "deform/mesh/disjoint_sets.h"
+#include "deform/simd/vertex_blocks.h"
 
 namespace sweepd::deform {
 
@@ -43,8 +45,12 @@ void LengthWeightedSmoothing::packed_passes(std::span<const std::uint32_t> first
 // it), on a packed copy of the group's rows and border rows that holds only the columns not +0
 // everywhere in them: a share or joint weight lives near where it is painted, so a group reads
 // two or three of the table's columns. Each value is computed by the same products and sums in
-// the same order as a pass over the whole table, so the result is the same to the bit.
-void LengthWeightedSmoothing::smooth(int columns, int passes, std::vector<float>& table) const {
+// the same order as a pass over the whole table, so the result is the same to the bit. A group
+// writes its own rows alone and reads no other group's (a row beside a chosen row is in its
+// group or a border row, which no group writes), so groups run on `threads` threads at once,
+// each thread a share of the groups by their neighbour count, largest first.
+void LengthWeightedSmoothing::smooth(int columns, int passes, std::vector<float>& table,
+                                     int threads) const {
   if (passes <= 0 || rows_.empty() || columns <= 0) return;
   const std::size_t table_rows = table.size() / static_cast<std::size_t>(columns);
   constexpr std::uint32_t kNotChosen = ~0u;
@@ -59,15 +65,44 @@ void LengthWeightedSmoothing::smooth(int columns, int passes, std::vector<float>
   std::vector<std::vector<std::uint32_t>> groups(rows_.size());
   for (std::size_t i = 0; i < rows_.size(); ++i)
     groups[joined.find(static_cast<std::uint32_t>(i))].push_back(static_cast<std::uint32_t>(i));
+  std::erase_if(groups, [](const std::vector<std::uint32_t>& group) { return group.empty(); });
 
+  // Each thread's groups: the largest (by neighbours, what a pass reads) to the least loaded.
+  const std::size_t lanes =
+      std::clamp<std::size_t>(threads < 1 ? 1 : static_cast<std::size_t>(threads), 1,
+                              std::max<std::size_t>(groups.size(), 1));
+  std::vector<std::size_t> work(groups.size(), 0), by_work(groups.size());
+  for (std::size_t g = 0; g < groups.size(); ++g)
+    for (const std::uint32_t i : groups[g]) work[g] += first_[i + 1] - first_[i];
+  std::iota(by_work.begin(), by_work.end(), std::size_t{0});
+  std::stable_sort(by_work.begin(), by_work.end(),
+                   [&](std::size_t a, std::size_t b) { return work[a] > work[b]; });
+  std::vector<std::vector<std::size_t>> lane_groups(lanes);
+  std::vector<std::size_t> lane_work(lanes, 0);
+  for (const std::size_t g : by_work) {
+    const auto lane = static_cast<std::size_t>(
+        std::min_element(lane_work.begin(), lane_work.end()) - lane_work.begin());
+    lane_groups[lane].push_back(g);
+    lane_work[lane] += work[g];
+  }
+  run_in_vertex_blocks(lanes, static_cast<int>(lanes), [&](std::size_t begin, std::size_t end) {
+    for (std::size_t lane = begin; lane < end; ++lane)
+      smooth_groups(groups, lane_groups[lane], columns, passes, table);
+  });
+}
+
+void LengthWeightedSmoothing::smooth_groups(const std::vector<std::vector<std::uint32_t>>& groups,
+                                            std::span<const std::size_t> chosen, int columns,
+                                            int passes, std::vector<float>& table) const {
+  const std::size_t table_rows = table.size() / static_cast<std::size_t>(columns);
   constexpr std::uint32_t kUnplaced = ~0u;
   std::vector<std::uint32_t> local(table_rows, kUnplaced);  // a table row's place in the group
   std::vector<std::uint32_t> local_rows, first;
   std::vector<Neighbour> packed_neighbours;
   std::vector<int> active;
   std::vector<float> current, next;
-  for (const std::vector<std::uint32_t>& group : groups) {
-    if (group.empty()) continue;
+  for (const std::size_t g : chosen) {
+    const std::vector<std::uint32_t>& group = groups[g];
     // The group's rows first (in the order they were added), then its border rows.
     local_rows.clear();
     for (const std::uint32_t i : group) {

@@ -31,14 +31,19 @@ class LengthWeightedSmoothing {
     first_.push_back(static_cast<std::uint32_t>(neighbours_.size()));
   }
 
-  // `passes` passes over `table` (rows of `columns` values).
-  void smooth(int columns, int passes, std::vector<float>& table) const;
+  // `passes` passes over `table` (rows of `columns` values), on up to `threads` threads (the
+  // same table to the bit for any count).
+  void smooth(int columns, int passes, std::vector<float>& table, int threads = 1) const;
 
  private:
   struct Neighbour {
     std::uint32_t row;
     float weight;  // half in all per chosen row: the row keeps the other half
   };
+  // The passes over groups[g] for each g in `chosen`.
+  void smooth_groups(const std::vector<std::vector<std::uint32_t>>& groups,
+                     std::span<const std::size_t> chosen, int columns, int passes,
+                     std::vector<float>& table) const;
   template <std::size_t Width>
   static void packed_passes(std::span<const std::uint32_t> first,
                             std::span<const Neighbour> neighbours, int passes,

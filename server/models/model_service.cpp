@@ -241,7 +241,8 @@ ModelHandle ModelService::bind_and_store(const ModelLoadRequest& request,
     // The binding checks itself (issue 47) and adapts the sweeps that lose to skinning where a
     // refit wins (selfcheck::adapt_binding, recorded in the binding); each body region where the
     // sweep is still worse on the range of motion's peaks is said to the operator (the log)
-    // and to the client (ModelInfo.bind_warnings). At most about bind's own time again.
+    // and to the client (ModelInfo.bind_warnings). About 2.3x bind's own CPU time again
+    // (docs/performance.md).
     selfcheck::CheckedBinding adapted = selfcheck::bind_checked(model, rig, options, true);
     bound = std::move(adapted.bound);
     checked = self_check(adapted.verdict);

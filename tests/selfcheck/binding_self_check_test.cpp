@@ -130,6 +130,73 @@ TEST(SweptStretchMeter, ItsPartsTouchingAVertexSetAndNotCombineIntoTheWhole) {
   }
 }
 
+// measure_two (the self-check's LBS and DQS at once) gives each set what measure gives it, to the
+// bit: the verdicts compare those figures to the bit across changes.
+TEST(SweptStretchMeter, MeasuringTwoSetsAtOnceGivesEachWhatMeasuringItAloneGives) {
+  const deform::BoundModel& bound = mannequin_binding();
+  const metrics::SweptStretchMeter meter(bound);
+  const CheckPoses poses = range_of_motion_peaks(bound);
+  deform::test::Posing posing(bound);
+  std::vector<glm::vec3> positions(bound.model.vertex_count()), lbs, dqs;
+  int differing = 0;
+  for (std::size_t p = 0; p < poses.poses.size(); p += 3) {
+    deform::Pose pose = poses.poses[p];
+    posing.deform(pose, DeformMethod::kLbs, positions);
+    meter.gather(positions, lbs);
+    posing.deform(pose, DeformMethod::kDqs, positions);
+    meter.gather(positions, dqs);
+    std::vector<metrics::RegionFigures> lbs_alone, dqs_alone, lbs_both, dqs_both;
+    meter.measure(lbs, posing.world_pose(), lbs_alone);
+    meter.measure(dqs, posing.world_pose(), dqs_alone);
+    meter.measure_two(lbs, dqs, posing.world_pose(), lbs_both, dqs_both);
+    ASSERT_EQ(lbs_both.size(), lbs_alone.size());
+    ASSERT_EQ(dqs_both.size(), dqs_alone.size());
+    for (std::size_t r = 0; r < lbs_alone.size(); ++r) {
+      SCOPED_TRACE(poses.names[p] + ", " + deform::to_string(meter.regions()[r]));
+      EXPECT_EQ(lbs_both[r].swept, lbs_alone[r].swept);
+      EXPECT_EQ(lbs_both[r].swept_stretch, lbs_alone[r].swept_stretch);
+      EXPECT_EQ(lbs_both[r].swept_flipped, lbs_alone[r].swept_flipped);
+      EXPECT_EQ(dqs_both[r].swept_stretch, dqs_alone[r].swept_stretch);
+      EXPECT_EQ(dqs_both[r].swept_flipped, dqs_alone[r].swept_flipped);
+      // Two different sets: LBS and DQS differ somewhere, or the test compares one set twice.
+      differing += lbs_alone[r].swept_stretch != dqs_alone[r].swept_stretch;
+    }
+  }
+  EXPECT_GT(differing, 10);
+}
+
+// longest_edge names the edge whose ratio l / l_rest is the region's stretch (the probe's seed:
+// the edge a candidate most likely stretches past).
+TEST(SweptStretchMeter, ItsLongestEdgeIsTheOneWhoseRatioIsTheRegionsStretch) {
+  const deform::BoundModel& bound = mannequin_binding();
+  const metrics::SweptStretchMeter meter(bound);
+  const CheckPoses poses = range_of_motion_peaks(bound);
+  deform::test::Posing posing(bound);
+  std::vector<glm::vec3> positions(bound.model.vertex_count()), measured;
+  int stretched_regions = 0;
+  for (std::size_t p = 0; p < poses.poses.size(); p += 5) {
+    deform::Pose pose = poses.poses[p];
+    posing.deform(pose, DeformMethod::kSweep, positions);
+    meter.gather(positions, measured);
+    std::vector<metrics::RegionFigures> figures;
+    meter.measure(measured, posing.world_pose(), figures);
+    for (std::size_t r = 0; r < figures.size(); ++r) {
+      SCOPED_TRACE(poses.names[p] + ", " + deform::to_string(meter.regions()[r]));
+      const auto edge = meter.longest_edge(measured, static_cast<int>(r));
+      if (!figures[r].swept) continue;
+      ASSERT_TRUE(edge.has_value());
+      if (figures[r].swept_stretch <= 1.0) continue;  // the figure's floor: no edge longer
+      ++stretched_regions;
+      const auto [a, b] = *edge;
+      const double ratio = glm::length(glm::dvec3(positions[a] - positions[b])) /
+                           glm::length(glm::dvec3(bound.model.positions[a] - bound.model.positions[b]));
+      // The meter squares in float: a few float roundings apart.
+      EXPECT_NEAR(ratio, figures[r].swept_stretch, 1e-5 * ratio);
+    }
+  }
+  EXPECT_GT(stretched_regions, 10);
+}
+
 TEST(BindingSelfCheck, ReachesTheVerdictThatRegionMeterReachesOnTheSamePoses) {
   const deform::BoundModel& bound = mannequin_binding();
   const CheckPoses poses = range_of_motion_peaks(bound);

@@ -139,5 +139,74 @@ TEST(Bind, VertexParameterFollowsTheSweepAndEndsClamp) {
   EXPECT_NEAR(above.c, 0.4f, 1e-6f);
 }
 
+// bind fits the sweeps on two threads; where two cannot be fitted (a left elbow and a right knee
+// moved onto the joint above them: a link of length 0), the error is the first sweep's in
+// order, the left arm's, as fitting one after another would give it.
+TEST(Bind, TheFirstSweepThatCannotBeFittedIsTheErrorWhateverThreadFitsIt) {
+  MannequinOptions options;
+  options.target_vertices = 5000;
+  Model model = make_mannequin(options);
+  const RigMap rig = detect_rig_map(model.skeleton);
+  model.skeleton.joints[rig.left_arm.lower].rest_translation = glm::vec3(0.0f);
+  model.skeleton.joints[rig.right_leg.lower].rest_translation = glm::vec3(0.0f);
+  try {
+    bind(model, rig);
+    FAIL() << "bound a model with two links of length 0";
+  } catch (const std::invalid_argument& error) {
+    const std::string what = error.what();
+    EXPECT_NE(what.find("left arm"), std::string::npos) << what;
+    EXPECT_EQ(what.find("right leg"), std::string::npos) << what;
+  }
+}
+
+// rebind_vertices (what the self-check's probe binds) gives the vertices it is handed exactly the
+// coordinates rebind gives them, the same sweep, and leaves the sweep's other vertices as they
+// were: a probe's figures are then the whole candidate's on those vertices.
+TEST(SweepRebinder, RebindingSomeVerticesGivesThemTheCoordinatesRebindingAllGives) {
+  MannequinOptions options;
+  options.target_vertices = 5000;
+  const Model model = make_mannequin(options);
+  const BoundModel bound = bind(model, detect_rig_map(model.skeleton));
+  int arm = -1;
+  for (std::size_t s = 0; s < bound.sweeps.size(); ++s)
+    if (bound.sweeps[s].part == BodyPart::kLeftArm) arm = static_cast<int>(s);
+  ASSERT_GE(arm, 0);
+  std::vector<std::uint32_t> on_arm;
+  for (std::uint32_t v = 0; v < bound.vertices.size(); ++v)
+    for (int k = 0; k < kSweepsPerVertex; ++k)
+      if (bound.vertices[v].sweep[k] == arm) on_arm.push_back(v);
+  ASSERT_GT(on_arm.size(), 100u);
+  std::vector<std::uint32_t> some;  // every third of them
+  for (std::size_t i = 0; i < on_arm.size(); i += 3) some.push_back(on_arm[i]);
+  // One link key per link and the smooth curve: both the refit and the other curve.
+  const SweepChoice choice{.orientation_curve = OrientationCurveKind::kSmooth,
+                           .keys_per_link = 1,
+                           .origin = SweepChoiceOrigin::kSelfCheck};
+  BoundModel all = bound, part = bound;
+  SweepRebinder(bound).rebind(all, arm, choice);
+  SweepRebinder(bound).rebind_vertices(part, arm, choice, some);
+  EXPECT_EQ(part.sweeps[arm].rest_keys.size(), all.sweeps[arm].rest_keys.size());
+  EXPECT_EQ(part.sweeps[arm].rest_volume, all.sweeps[arm].rest_volume);
+  std::vector<bool> handed(bound.vertices.size(), false);
+  for (const std::uint32_t v : some) handed[v] = true;
+  int changed = 0;
+  for (const std::uint32_t v : on_arm)
+    for (int k = 0; k < kSweepsPerVertex; ++k) {
+      if (bound.vertices[v].sweep[k] != arm) continue;
+      const SweepCoordinate& got = part.vertices[v].coordinate[k];
+      const SweepCoordinate& expected =
+          handed[v] ? all.vertices[v].coordinate[k] : bound.vertices[v].coordinate[k];
+      // Bit for bit: the same code on the same vertex and sweep.
+      EXPECT_EQ(got.t, expected.t) << v;
+      EXPECT_EQ(got.theta, expected.theta) << v;
+      EXPECT_EQ(got.da, expected.da) << v;
+      EXPECT_EQ(got.db, expected.db) << v;
+      EXPECT_EQ(got.c, expected.c) << v;
+      changed += handed[v] && got.t != bound.vertices[v].coordinate[k].t;
+    }
+  // The choice moved the handed vertices' coordinates: the test compares a refit, not the old.
+  EXPECT_GT(changed, static_cast<int>(some.size()) / 2);
+}
+
 }  // namespace
 }  // namespace sweepd::deform

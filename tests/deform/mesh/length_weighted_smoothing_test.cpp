@@ -1,6 +1,6 @@
 // LengthWeightedSmoothing::smooth against the plain pass it replaces (every chosen row, every
-// column of the whole table, each pass): the group-by-group, packed-column passes must give the
-// same table to the bit, because the binding's shares and the self-check's verdicts are
+// column of the whole table, each pass): the group-by-group, packed-column passes, on one
+// thread or several, must give the same table to the bit, because the binding's shares and the self-check's verdicts are
 // compared to the bit across changes (the corpus gate's ledger).
 #include "deform/mesh/length_weighted_smoothing.h"
 
@@ -107,6 +107,13 @@ TEST(LengthWeightedSmoothing, PassesGroupByGroupOnTheirOwnColumnsGiveTheWholeTab
   // group's column 0 borders zeros at x = 15, so its row at x = 14 changes by more than 1e-3.
   const std::size_t at = (10 * g.side + 14) * kColumns + 0;
   EXPECT_GT(std::abs(table[at] - painted[at]), 1e-3f);
+  // The groups on several threads at once (bind smooths on two): the same table to the bit.
+  for (const int threads : {2, 3, 8}) {
+    SCOPED_TRACE(threads);
+    std::vector<float> threaded = painted;
+    smoothing.smooth(kColumns, 37, threaded, threads);
+    EXPECT_EQ(std::memcmp(threaded.data(), expected.data(), threaded.size() * sizeof(float)), 0);
+  }
 }
 
 }  // namespace
