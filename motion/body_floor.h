@@ -11,7 +11,8 @@
 // blended across a joint, the vertices furthest along 64 directions; a few thousand samples
 // skinned by linear blending). A frame's
 // need is how far its lowest sample's swept height (body_samples.h: moved out from a bent joint
-// as the sweep keeps its volume, and across the bend's outside as a mitre; linear at the feet)
+// as the sweep keeps its volume, turned near it as the sweep's keys turn the skin, and across
+// the bend's outside as a mitre; linear at the feet)
 // lies below its height: the floor less
 // kSoleTolerance for a foot's samples (foot planting puts the soles on the floor: they must not
 // lift the body), the floor plus kClearance for every other part (the sweep's surface still runs

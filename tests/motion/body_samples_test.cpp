@@ -16,6 +16,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <vector>
 
 #include "deform/model/forward_kinematics.h"
@@ -62,6 +63,35 @@ TEST(BodySamples, SweptHeightIsTheLinearOneWhereAnInfluenceBlendsLinearly) {
   const BodySamples samples(model, {false, true, false});
   const std::vector<glm::mat4> bent = skinning(model, 90.0f);
   EXPECT_NEAR(samples.swept_height(0, bent), samples.height(0, bent), 1e-6f);
+}
+
+// Near a joint the sweep turns the skin from its bone's frame towards the joint key's (half-way
+// between the two bones) over the span to the link key, whatever its skin weights: the heavy
+// female knocked down forwards, a thigh vertex 1.6 cm above her knee bent 66° (knee weight
+// 0.017) lay 3.7 cm from its linear blend, turned about 28° with the shin, 2.5 cm below the
+// samples' swept height. Here a vertex 2 cm before the elbow and 5 cm below the upper arm
+// (shoulder 0.98, elbow 0.02), the elbow bent 90° up; one link key per link puts the upper
+// arm's at 0.15 m from the elbow, so the sweep turns it 0.5 * (1 - 0.02 / 0.15)^2 = 0.3756 of
+// the way: its offset from the elbow (-0.02, -0.05) mixed with the forearm's (0.05, -0.02) by
+// 0.3756 and kept at its 5.385 cm, (0.00863, -0.05316), then the mitre across the outside
+// (corner (1, -1), 1 / cos 45° - 1 of its 6.179 cm across): (0.02143, -0.06595), 6.60 cm below
+// the elbow (by its linear blend, moved out and mitred only, 5.69). 20 cm before the elbow,
+// past the link key, it is not turned: its swept height is as linearly blended and moved out,
+// as before. Tolerance 1e-6 m: float round-off of a few products.
+TEST(BodySamples, SweptHeightTurnsTheSkinNearAJointAsTheSweepsKeysDo) {
+  deform::Model model = bent_arm_model();
+  model.positions = {glm::vec3(0.28f, -0.05f, 0.0f)};
+  model.skin_weights = {{0.98f, 0.02f, 0.0f, 0.0f}};
+  const std::vector<glm::mat4> bent = skinning(model, 90.0f);
+  EXPECT_NEAR(BodySamples(model).swept_height(0, bent), -0.065952f, 1e-6f);
+  model.positions = {glm::vec3(0.1f, -0.05f, 0.0f)};
+  // Linearly blended: 0.98 (0.1, -0.05) + 0.02 (0.35, -0.2) = (0.105, -0.053), 20.21 cm from
+  // the elbow, moved out to its 20.62 cm under either bone; it lies along the upper arm, on the
+  // corner's inner side (across (1, -1) < 0), so the mitre adds nothing.
+  const glm::vec3 blended(0.105f, -0.053f, 0.0f), elbow(0.3f, 0.0f, 0.0f);
+  const glm::vec3 out = (blended - elbow) * (std::sqrt(0.2f * 0.2f + 0.05f * 0.05f) /
+                                             glm::distance(blended, elbow));
+  EXPECT_NEAR(BodySamples(model).swept_height(0, bent), out.y, 1e-6f);
 }
 
 // The skin where two bones meet is sampled as a part of its own: a vertex blended across the

@@ -32,8 +32,12 @@
 // samples reach across the outside of a bend as a mitre and the skin blended across a joint is
 // sampled too (motion/body_samples.h).
 //
-// Knocked down forwards, the lowest vertex over the 81 variants: -0.65 cm at worst (the heavy
-// female turned 90° with her armature +90° X; -0.48 to -0.63 on the others below -0.5).
+// Knocked down forwards, the lowest vertex over the 81 variants: -0.82 cm at worst (the
+// mannequin turned 90° with its armature +90° X; its others -0.77 to -0.79, the rest -0.36 to
+// 0.00). With one link key per link the heavy female went to -1.20 cm (turned 90°, armature +90°
+// X) and -1.02 (no spine joint), -0.95 on her others: a thigh vertex just above her bent knee
+// that the sweep turns with the shin; now the samples are turned as the sweep's keys turn them
+// (motion/body_samples.h): -0.00 on all her variants.
 // Every body is the slow test (12 bindings, 60 clips retargeted twice: 134 s of CPU for the
 // seven bodies on a loaded 2-core machine with the forwards clip, which added a fifth of the
 // clips); the RiggedFigure's variants on the short clip (30 Hz) are the fast one.
