@@ -1,7 +1,5 @@
 #include "motion/retarget.h"
 
-#include "motion/clip_resting_knees.h"
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
