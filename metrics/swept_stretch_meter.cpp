@@ -154,10 +154,11 @@ void SweptStretchMeter::measure_two(std::span<const glm::vec3> first,
 }
 
 template <std::size_t K>
-void SweptStretchMeter::measure_sets(const std::array<std::span<const glm::vec3>, K>& positions,
-                                     std::span<const glm::mat4> joint_world,
-                                     const std::array<std::vector<RegionFigures>*, K>& figures,
-                                     const std::array<std::vector<int>*, K>& stretched_edges) const {
+void SweptStretchMeter::measure_sets(
+    const std::array<std::span<const glm::vec3>, K>& positions,
+    std::span<const glm::mat4> joint_world,
+    const std::array<std::vector<RegionFigures>*, K>& figures,
+    const std::array<std::vector<int>*, K>& stretched_edges) const {
   for (std::size_t k = 0; k < K; ++k) {
     figures[k]->assign(regions_.size(), RegionFigures{});
     stretched_edges[k]->assign(regions_.size(), 0);

@@ -11,9 +11,9 @@
 // lying body's joints are about its half thickness up: CMU knocked down, 0.14-0.19 of the hip
 // height at the pelvis, -0.02-0.16 at the chest; a kneeling or crouching pelvis stays above
 // 0.3 of it). An arm goes through the floor where any of its joints (its upper joint and
-// every joint below it: elbow, wrist, fingers) lies below the clip's floor: no arm of a real body
-// does, so the clip's own pose says that the arm, not the torso, is wrong there. Inputs:  the clip,
-// its torso joints (-1 ignored), each arm's upper joint (the model's left,
+// every joint below it: elbow, wrist, fingers) lies below the clip's floor: no arm of a real
+// body does, so the clip's own pose says that the arm, not the torso, is wrong there.
+// Inputs:  the clip, its torso joints (-1 ignored), each arm's upper joint (the model's left,
 //          right; clip joints, -1: none), the clip's floor (y), its hip height (the root
 //          scale's).
 // Output:  per clip frame, a bit per arm (1 the left, 2 the right) set where the torso lies and

@@ -212,18 +212,17 @@ Retargeter::Retargeter(std::shared_ptr<const Clip> motion, const deform::Model& 
   const std::vector<std::uint8_t> arms_through =
       clip_arms_through_floor(*motion_, clip_torso, clip_arms, clip_floor_, clip_hip);
   const auto plant = [&] {
-    planting_ = FootPlanting::build(model, *model_map_, model_hip_height_, motion_->frame_count,
-                                    motion_->frame_time,
-                                    [this](int frame) { return unplanted_pose_at_frame(frame); },
-                                    lowered);
+    planting_ = FootPlanting::build(
+        model, *model_map_, model_hip_height_, motion_->frame_count, motion_->frame_time,
+        [this](int frame) { return unplanted_pose_at_frame(frame); }, lowered);
   };
   const auto lift = [&] {
-    body_floor_ = BodyFloor::build(
-        model, samples, foot_joint, lowest_vertex_height(model), motion_->frame_count,
-        motion_->frame_time, [this](int frame) { return feet_planted_pose_at_frame(frame); },
-        contact_part, arms_through,
-        {LimbJoints{arms[0]->upper, arms[0]->lower, arms[0]->hand},
-         LimbJoints{arms[1]->upper, arms[1]->lower, arms[1]->hand}});
+    body_floor_ = BodyFloor::build(model, samples, foot_joint, lowest_vertex_height(model),
+                                   motion_->frame_count, motion_->frame_time,
+                                   [this](int frame) { return feet_planted_pose_at_frame(frame); },
+                                   contact_part, arms_through,
+                                   {LimbJoints{arms[0]->upper, arms[0]->lower, arms[0]->hand},
+                                    LimbJoints{arms[1]->upper, arms[1]->lower, arms[1]->hand}});
   };
   plant();
   lift();
@@ -269,14 +268,19 @@ Retargeter::Retargeter(std::shared_ptr<const Clip> motion, const deform::Model& 
   }
   const auto cm = [](float m) { return std::to_string(static_cast<int>(std::lround(m * 100.0f))); };
   const float rise = body_floor_->largest_lift(), arm_rise = body_floor_->largest_arm_rise();
-  if (rise > 0.01f || arm_rise > 0.01f)
+  // Only what was done: a body lying on arms the clip pushes through its floor may not rise.
+  std::vector<std::string> raised;
+  if (rise > 0.01f)
+    raised.push_back("the body is raised by up to " + cm(rise) + " cm where they would");
+  if (arm_rise > 0.01f)
+    raised.push_back(
+        "arms the clip pushes through its floor beside its lying torso are raised off it by up "
+        "to " +
+        cm(arm_rise) + " cm");
+  if (!raised.empty())
     warnings_.push_back(
-        "parts of the body went below the floor (the model's proportions are not "
-        "the clip's): the body is raised by up to " + cm(rise) +
-        " cm where they would" +
-        (arm_rise > 0.01f ? ", and arms the clip pushes through its floor beside its lying torso "
-                            "are raised off it by up to " + cm(arm_rise) + " cm"
-                          : ""));
+        "parts of the body went below the floor (the model's proportions are not the clip's): " +
+        raised[0] + (raised.size() > 1 ? ", and " + raised[1] : ""));
 }
 
 Retargeter::Retargeter(Clip motion, deform::Skeleton skeleton, const JointNameMap& name_map)

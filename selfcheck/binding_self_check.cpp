@@ -167,8 +167,8 @@ BindingVerdict BindingChecker::judge(const SweepFigures& sweep) const {
     const std::vector<metrics::RegionFigures>& lbs = lbs_[p];
     const std::vector<metrics::RegionFigures>& dqs = dqs_[p];
     for (std::size_t r = 0; r < verdict.regions.size(); ++r) {
-      const metrics::SkinningComparison c = compare(static_cast<int>(p), static_cast<int>(r),
-                                                    figures[r]);
+      const metrics::SkinningComparison c =
+          compare(static_cast<int>(p), static_cast<int>(r), figures[r]);
       if (!c.swept) continue;
       RegionVerdict& v = verdict.regions[r];
       v.swept = true;
@@ -254,8 +254,8 @@ std::vector<std::uint32_t> places_in(const std::vector<std::uint32_t>& whole,
                                      const std::vector<std::uint32_t>& part) {
   std::vector<std::uint32_t> places;
   for (const std::uint32_t v : part)
-    places.push_back(static_cast<std::uint32_t>(
-        std::lower_bound(whole.begin(), whole.end(), v) - whole.begin()));
+    places.push_back(static_cast<std::uint32_t>(std::lower_bound(whole.begin(), whole.end(), v) -
+                                                whole.begin()));
   return places;
 }
 
@@ -316,7 +316,8 @@ class SweepTrial {
             for (std::size_t k = 0; k < changed_places_.size(); ++k)
               at[k] = body.positions[p][changed_places_[k]];
             for (std::size_t r = 0; r < touched_.size(); ++r)
-              if (touched_[r]) longest[p].push_back(changed_->longest_edge(at, static_cast<int>(r)));
+              if (touched_[r])
+                longest[p].push_back(changed_->longest_edge(at, static_cast<int>(r)));
           }
         });
     for (const auto& edges : longest)
@@ -354,7 +355,8 @@ class SweepTrial {
             const auto region = static_cast<int>(r);
             if (!pair_acceptable(current, p, region, checker_.compare(p, region, measured[r]))) {
               kept = false;
-              if (const auto edge = changed_->longest_edge(at, region)) refusing[p].push_back(*edge);
+              if (const auto edge = changed_->longest_edge(at, region))
+                refusing[p].push_back(*edge);
             }
           }
           refused[p] = !kept;
@@ -446,7 +448,7 @@ class SweepTrial {
   const BodyState& body_;
   std::vector<std::uint32_t> on_sweep_;
   std::vector<std::uint8_t> on_sweep_flag_;  // per model vertex
-  std::vector<std::uint8_t> touched_;  // per region
+  std::vector<std::uint8_t> touched_;        // per region
   // The items in the touched regions without a vertex on the sweep, their vertices' places in
   // the body's positions, and their figures per pose (empty until measure_beside).
   std::optional<metrics::SweptStretchMeter> beside_;
@@ -500,9 +502,9 @@ Adaptation adapt_binding(deform::BoundModel& bound, const BindingChecker& checke
       std::vector<std::vector<glm::vec3>> positions;
     };
     std::optional<Best> best;
-    for (const auto& [keys, curve] : {std::pair{other_keys, current.orientation_curve},
-                                      std::pair{current.keys_per_link, other},
-                                      std::pair{other_keys, other}}) {
+    for (const auto& [keys, curve] :
+         {std::pair{other_keys, current.orientation_curve}, std::pair{current.keys_per_link, other},
+          std::pair{other_keys, other}}) {
       const deform::SweepChoice choice{
           .orientation_curve = curve,
           .keys_per_link = keys,
@@ -523,8 +525,8 @@ Adaptation adapt_binding(deform::BoundModel& bound, const BindingChecker& checke
       BindingVerdict tried;
       if (figures) tried = checker.judge(*figures);
       if (figures && better(verdict, tried) && (!best || score(tried) < score(best->verdict))) {
-        best = Best{bound.sweeps[s], {}, std::move(tried), std::move(*figures),
-                    std::move(positions)};
+        best =
+            Best{bound.sweeps[s], {}, std::move(tried), std::move(*figures), std::move(positions)};
         for (const std::uint32_t v : trial.on_sweep()) best->vertices.push_back(bound.vertices[v]);
       }
       bound.sweeps[s] = kept_sweep;
@@ -549,13 +551,13 @@ std::vector<std::string> adaptation_notes(const deform::BoundModel& bound) {
     const deform::SweepChoice& c = sweep.choice;
     if (c.origin != deform::SweepChoiceOrigin::kSelfCheck) continue;
     char text[240];
-    std::snprintf(text, sizeof text,
-                  "%s sweep: %d link key%s per link, %s orientation curve (worse than skinning "
-                  "in %u (pose, region) pairs before, %u after)",
-                  deform::to_string(sweep.part), c.keys_per_link, c.keys_per_link == 1 ? "" : "s",
-                  c.orientation_curve == deform::OrientationCurveKind::kSmooth ? "smooth"
-                                                                                : "linear",
-                  c.worse_before, c.worse_after);
+    std::snprintf(
+        text, sizeof text,
+        "%s sweep: %d link key%s per link, %s orientation curve (worse than skinning "
+        "in %u (pose, region) pairs before, %u after)",
+        deform::to_string(sweep.part), c.keys_per_link, c.keys_per_link == 1 ? "" : "s",
+        c.orientation_curve == deform::OrientationCurveKind::kSmooth ? "smooth" : "linear",
+        c.worse_before, c.worse_after);
     notes.push_back(text);
   }
   return notes;

@@ -122,8 +122,8 @@ class BindingChecker {
 BindingVerdict check_binding(const deform::BoundModel& bound, const CheckPoses& poses);
 
 // adapt_binding: for each sweep whose own regions (its part, the skinned part at its end) lose
-// to skinning, fits it again with the other link key count (2 where it has 1, bind's default, else 1), the other
-// orientation curve, and both (deform::SweepRebinder), and judges each candidate on every pose.
+// to skinning, fits it again with the other link key count (2 where it has 1, bind's default,
+// else 1), the other orientation curve, and both (deform::SweepRebinder), and judges each candidate on every pose.
 // A candidate is acceptable when it leaves fewer (pose, region) pairs worse over the whole body,
 // makes no (pose, region) pair worse that was not, raises no pair's stretch excess (sweep /
 // 1.02x the better baseline) above both its current one and 0.9, and stretches no more edges
