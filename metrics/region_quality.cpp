@@ -27,6 +27,14 @@ std::array<int, 3> triangle_regions(int region_a, int region_b, int region_c) {
           region_c == region_a || region_c == region_b ? -1 : region_c};
 }
 
+std::vector<glm::mat3> joint_turns(std::span<const glm::mat4> joint_world,
+                                   std::span<const glm::mat4> inverse_rest) {
+  std::vector<glm::mat3> turn(inverse_rest.size());
+  for (std::size_t j = 0; j < turn.size(); ++j)
+    turn[j] = glm::mat3(joint_world[j] * inverse_rest[j]);
+  return turn;
+}
+
 RegionLabels label_regions(const BoundModel& bound) {
   const Model& model = bound.model;
   const std::vector<BodyPart> part_of = label_joints(bound.rig, model.skeleton);
@@ -85,9 +93,7 @@ std::vector<RegionFigures> RegionMeter::measure(std::span<const glm::vec3> posit
     for (const int region : edge_regions(region_of_vertex(a), region_of_vertex(b)))
       if (region >= 0) figures[region].crease = std::max(figures[region].crease, change);
   }
-  std::vector<glm::mat3> joint_turn(inverse_rest_.size());
-  for (std::size_t j = 0; j < joint_turn.size(); ++j)
-    joint_turn[j] = glm::mat3(joint_world[j] * inverse_rest_[j]);
+  const std::vector<glm::mat3> joint_turn = joint_turns(joint_world, inverse_rest_);
   const std::vector<std::uint32_t>& indices = bound_.model.indices;
   for (std::size_t t = 0; t < rest_normal_.size(); ++t) {
     const std::uint32_t* corner = &indices[3 * t];

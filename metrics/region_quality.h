@@ -79,6 +79,9 @@ std::array<int, 3> triangle_regions(int region_a, int region_b, int region_c);
 // pose's turn from rest, mat3(world x inverse rest)). By every corner, not the first, so that
 // the corners' order does not decide it; where the turn of any bone the triangle hangs on
 // explains its normal, it is not skin folded over itself.
+// Per joint, the pose's turn from rest that flipped_from_rest takes: mat3(world x inverse rest).
+std::vector<glm::mat3> joint_turns(std::span<const glm::mat4> joint_world,
+                                   std::span<const glm::mat4> inverse_rest);
 inline bool flipped_from_rest(glm::vec3 normal, glm::vec3 rest_normal,
                               std::span<const glm::mat3> joint_turn, const int* corner_joint) {
   for (int k = 0; k < 3; ++k)

@@ -172,11 +172,8 @@ void SweptStretchMeter::measure_sets(
     largest.fill(1.0f);
     std::array<int, K> stretched{};
     for (std::uint32_t e = edge_first_[r]; e < edge_first_[r + 1]; ++e) {
-      const std::uint32_t a = edges_[2 * e], b = edges_[2 * e + 1];
-      const float inverse_squared_rest = inverse_squared_rest_[e];
       for (std::size_t k = 0; k < K; ++k) {
-        const glm::vec3 d = positions[k][a] - positions[k][b];
-        const float squared = glm::dot(d, d) * inverse_squared_rest;
+        const float squared = squared_ratio(positions[k], e);
         largest[k] = std::max(largest[k], squared);
         stretched[k] += squared > kStretchedSquared;
       }
@@ -187,9 +184,7 @@ void SweptStretchMeter::measure_sets(
       (*stretched_edges[k])[r] = stretched[k];
     }
   }
-  std::vector<glm::mat3> joint_turn(inverse_rest_.size());  // per joint: the pose's from rest
-  for (std::size_t j = 0; j < joint_turn.size(); ++j)
-    joint_turn[j] = glm::mat3(joint_world[j] * inverse_rest_[j]);
+  const std::vector<glm::mat3> joint_turn = joint_turns(joint_world, inverse_rest_);
   for (std::size_t r = 0; r < regions_.size(); ++r) {
     std::array<int, K> flipped{};
     for (std::uint32_t i = triangle_first_[r]; i < triangle_first_[r + 1]; ++i)
@@ -205,8 +200,7 @@ std::optional<std::array<std::uint32_t, 2>> SweptStretchMeter::longest_edge(
   std::optional<std::array<std::uint32_t, 2>> longest;
   float largest = -1.0f;
   for (std::uint32_t e = edge_first_[region]; e < edge_first_[region + 1]; ++e) {
-    const glm::vec3 d = positions[edges_[2 * e]] - positions[edges_[2 * e + 1]];
-    const float squared = glm::dot(d, d) * inverse_squared_rest_[e];
+    const float squared = squared_ratio(positions, e);
     if (squared > largest) {
       largest = squared;
       longest = {vertices_[edges_[2 * e]], vertices_[edges_[2 * e + 1]]};

@@ -80,6 +80,11 @@ class SweptStretchMeter {
                     std::span<const glm::mat4> joint_world,
                     const std::array<std::vector<RegionFigures>*, K>& figures,
                     const std::array<std::vector<int>*, K>& stretched_edges) const;
+  // Edge e's squared length ratio (l / l_rest)² in positions (vertices_' order).
+  float squared_ratio(std::span<const glm::vec3> positions, std::uint32_t e) const {
+    const glm::vec3 d = positions[edges_[2 * e]] - positions[edges_[2 * e + 1]];
+    return glm::dot(d, d) * inverse_squared_rest_[e];
+  }
   // Orders the edges and the triangles by region (measure takes a region's items in one run).
   void group_by_region();
   // edge_first_ and triangle_first_ of items grouped by region.

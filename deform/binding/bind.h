@@ -19,6 +19,7 @@
 #include <utility>
 #include <vector>
 
+#include "deform/binding/bind_threads.h"
 #include "deform/binding/bound_model.h"
 #include "deform/mesh/welded_mesh.h"
 #include "deform/model/model.h"
@@ -28,11 +29,6 @@
 namespace sweepd::deform {
 
 using BindProgress = std::function<void(double fraction, std::string_view stage)>;
-
-// The threads bind and SweepRebinder::rebind bind the vertices' coordinates on (each vertex
-// alone, so the binding does not depend on the count): a pair, the cores of the machine issue
-// 47's bind time is measured on; more would take cores a daemon's other workers serve with.
-inline constexpr int kBindThreads = 2;
 
 // sweep_carried_ends: sweep a neck of one joint (the head's) and the forearm of an arm without a
 // hand joint on to the end their bone carries, found on the mesh (carried_end.h; the end then

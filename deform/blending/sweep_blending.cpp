@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "deform/binding/bind.h"
+#include "deform/binding/bind_threads.h"
 #include "deform/mesh/length_weighted_smoothing.h"
 #include "deform/mesh/surface_distance.h"
 
