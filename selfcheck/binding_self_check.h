@@ -36,7 +36,9 @@ namespace sweepd::selfcheck {
 // verdict stored with an older one is checked again instead of read
 // (server/models/self_check_sidecar.h). 3: a triangle counts in the region of each of its
 // corners and flips against each corner's joint (metrics::triangle_regions, flipped_from_rest).
-inline constexpr int kSelfCheckRevision = 3;
+// 4: the torso's first key turns with the hips, not halfway to a root above them
+// (deform/posing/key_posing.h): the same binding deforms otherwise on such rigs.
+inline constexpr int kSelfCheckRevision = 4;
 
 struct CheckPoses {
   std::vector<deform::Pose> poses;

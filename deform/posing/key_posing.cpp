@@ -102,11 +102,15 @@ void lay_centres_along_the_column(std::span<const KeyEllipse> rest, std::span<Ke
   }
 }
 
-// The turn of the joint key at joint j: halfway between its upper and its lower link.
-glm::quat joint_key_turn(const Skeleton& skeleton, std::span<const glm::quat> joint_rotation,
-                         int j) {
+// The turn of the joint key at joint j of `sweep`: halfway between its upper and its lower
+// link, except at the torso's first joint (the hips), whose parent, where it has one, is no part
+// of the body (key_posing.h).
+glm::quat joint_key_turn(const BoundSweep& sweep, const Skeleton& skeleton,
+                         std::span<const glm::quat> joint_rotation, int j) {
   const int parent = skeleton.joints[j].parent;
-  return parent >= 0 ? halfway(joint_rotation[parent], joint_rotation[j]) : joint_rotation[j];
+  const bool below_the_body = sweep.part == BodyPart::kTorso && j == sweep.chain.front();
+  return parent >= 0 && !below_the_body ? halfway(joint_rotation[parent], joint_rotation[j])
+                                        : joint_rotation[j];
 }
 
 }  // namespace
@@ -156,15 +160,16 @@ void pose_key_ellipses(const BoundSweep& sweep, std::span<const std::array<float
     const KeyAnchor& anchor = sweep.anchors[k];
     const int j = anchor.joint;
     const KeyEllipse& rest = sweep.rest_keys[k];
-    const glm::quat turn =
-        anchor.is_joint_key() ? joint_key_turn(skeleton, joint_rotation, j) : joint_rotation[j];
+    const glm::quat turn = anchor.is_joint_key()
+                               ? joint_key_turn(sweep, skeleton, joint_rotation, j)
+                               : joint_rotation[j];
     glm::quat orientation_turn = turn;
     const bool column = sweep.part == BodyPart::kNeck || sweep.part == BodyPart::kTorso;
     if (column && !anchor.is_joint_key()) {
       // On a neck bone that carries the head, towards the head's own turn (the bone's).
-      const glm::quat from = joint_key_turn(skeleton, joint_rotation, j);
+      const glm::quat from = joint_key_turn(sweep, skeleton, joint_rotation, j);
       const glm::quat to = anchor.next_joint >= 0
-                               ? joint_key_turn(skeleton, joint_rotation, anchor.next_joint)
+                               ? joint_key_turn(sweep, skeleton, joint_rotation, anchor.next_joint)
                                : joint_rotation[j];
       orientation_turn = glm::slerp(from, glm::dot(from, to) < 0.0f ? -to : to, anchor.fraction);
     }
@@ -182,7 +187,8 @@ void pose_key_ellipses(const BoundSweep& sweep, std::span<const std::array<float
     const int j = anchor.joint;
     const int parent = skeleton.joints[j].parent;
     // The chain's last joint bends like an inner one where its bone carries an end on to it.
-    const bool inner = anchor.next_joint >= 0 || (k + 1 < count && sweep.anchors[k + 1].is_on_carried_end());
+    const bool inner =
+        anchor.next_joint >= 0 || (k + 1 < count && sweep.anchors[k + 1].is_on_carried_end());
     if (!anchor.is_joint_key() || parent < 0 || j == sweep.chain.front() || !inner) continue;
     const glm::vec3 rest_next =
         anchor.next_joint >= 0 ? rest_joint[anchor.next_joint] : sweep.rest_keys[k + 1].centre;
@@ -191,7 +197,7 @@ void pose_key_ellipses(const BoundSweep& sweep, std::span<const std::array<float
     if (!bends_further_than_at_rest(sweep.chain, j, rest_next, pose_next, rest_joint, pose_joint))
       continue;
     const Mitre mitre = mitre_factors(sweep.rest_keys[k], joint_rotation[parent], joint_rotation[j],
-                                      joint_key_turn(skeleton, joint_rotation, j));
+                                      joint_key_turn(sweep, skeleton, joint_rotation, j));
     if (mitre.factor != glm::vec2(1.0f))
       grow_outside_of_bend(sweep.rest_keys, k, mitre, spread[k], keys);
   }

@@ -3,7 +3,12 @@
 // A joint key keeps its place relative to its joint (its centre stays at the joint, or at the
 // section centroid attached to it) and turns by the rotation halfway (slerp 0.5) between the
 // world rotations of the joint's upper link (its parent joint) and its lower link (the joint),
-// so a bend or a twist is shared between the two sides of the joint. A link key follows its
+// so a bend or a twist is shared between the two sides of the joint. The torso's first key (at
+// the hips) has no upper link on the body and turns with the hips: a root joint above them
+// (Mixamo-to-Unity's and Unreal's "Root"), which the clips leave at rest while the hips take the
+// body's heading, turned it through half that heading against the chest (the corpus child
+// turned about, cmu_01_01 frame 1200: a band round the waist 3.13x its rest length, LBS 0.89x
+// there; now 1.55x at that frame's worst edge). A link key follows its
 // link rigidly, except on the neck and the torso: there a link key turns by the slerp, at its
 // fraction along the link, between the turns of the joint keys at the link's two ends. The
 // rig's two or three neck joints stand for seven vertebrae that share a head turn, so the twist

@@ -82,14 +82,18 @@ constexpr int kClipStep = 100;
 // machine: male 332 -> 316, RiggedFigure 718 -> 727, child 309 -> 297, heavy female 120 -> 91,
 // OpenPose 73 -> 44, heavy male 354 -> 360, mannequins 179 -> 164, 225 -> 217, 236 -> 236;
 // 2,546 -> 2,452 in all. The pairs worse by flipped triangles alone went 521 -> 427, those worse
-// by both flips and stretch 84 -> 104.
+// by both flips and stretch 84 -> 104. Then the torso's first key turned with the hips, not
+// halfway to a root joint above them (deform/posing/key_posing.h; only the child's and the heavy
+// male's rigs have such a root), measured before and after on one machine: child 297 -> 225
+// (its torso's 64 worse pairs gone), heavy male 360 -> 259 (its legs' 97 and 39 of its torso's
+// 55), every other entry unchanged; 2,452 -> 2,279 in all.
 const std::map<std::string, int> kLedger = {
     {"makehuman_male_cmu", 316},
     {"RiggedFigure", 727},
-    {"makehuman_child_mixamo_unity", 297},
+    {"makehuman_child_mixamo_unity", 225},
     {"makehuman_female_old_heavy_mixamo", 91},
     {"makehuman_female_slim_openpose", 44},
-    {"makehuman_male_old_heavy_unreal", 360},
+    {"makehuman_male_old_heavy_unreal", 259},
     {"mannequin:6000", 164},
     {"mannequin:20000", 217},
     {"mannequin:72000", 236},
@@ -100,24 +104,31 @@ const std::map<std::string, int> kLedger = {
 // frame; every edge of the torso, neck, arms and legs), worst of both clips measured with one link
 // key per link (stop 65): male 2.59 (mirrored 2.65, x0.6 2.59), heavy female 2.89 (mirrored 2.85,
 // x0.6 2.89), RiggedFigure 1.69 (mirrored 1.68), mannequins 2.13 / 2.13 / 2.19 (6k / 20k / 72k;
-// mirrored 2.08 / 2.18 / 2.17). Not yet, printed: the OpenPose female (3.56 as is: the armpit's
-// wall with an arm raised behind the head or crossed overhead, cmu_01_03 frames 1900 and 2100,
-// LBS's worst edge at those frames 4.91 and 6.62, and every 10th frame 4.11 at frame 2010; mirrored
-// 3.99, not looked at), the heavy male (3.78, mirrored 3.78, on cmu_01_03: the skin tucked under
-// its belly's overhang pulled open in a band when the arms go overhead with the back extended,
-// frame 3700, where LBS keeps a thin line; 3.85 with two link keys, on cmu_01_01 frame 1760: the
-// belly's fold on the inside of a deep forward bend) and the child (3.13, mirrored 3.13, on
-// cmu_01_01 frame 1200: a band round its waist above the hip while it stands, where LBS and DQS
-// stretch nothing (its torso loses to skinning on 9 of the clip's 28 sampled frames, frame 1300
-// 2.93 against 1.45); 3.31 with two link keys). The heavy female mirrored (4.00 before), the heavy
-// male mirrored (3.96) and the child mirrored (4.84) were measured facing backwards before stop 64
-// (tests/mirrored_model.h did not swap their Mixamo and Unreal side names); the OpenPose female
+// mirrored 2.08 / 2.18 / 2.17); and the child since its torso's first key turns with its hips
+// (deform/posing/key_posing.h): 2.81 (mirrored 2.87, x0.6 2.81) on cmu_01_03, and on cmu_01_01
+// 1.88 (mirrored 1.94) where it was 3.13 (mirrored 3.13): its hips turned 185° from rest below a
+// root the clip leaves at rest, the first key turned halfway to the root the short way round, 90°
+// against the chest, a band round its waist where LBS and DQS stretch nothing (frame 1200; its
+// torso lost to skinning on 9 of the clip's 28 sampled frames, on none now). Not yet, printed:
+// the OpenPose female (3.56 as is: the armpit's wall with an arm raised behind the head or
+// crossed overhead, cmu_01_03 frames 1900 and 2100, LBS's worst edge at those frames 4.91 and
+// 6.62, and every 10th frame 4.11 at frame 2010; mirrored 3.99, not looked at) and the heavy male
+// (3.78, mirrored 3.78, on cmu_01_03 frame 3700, arms overhead: the torso's side wall below the
+// armpit, an edge from a vertex 81 % skinned, 11 % on the arm's sweep 7 cm outside its ellipse
+// (which the raised arm carries 30 cm from where skinning puts it) and 8 % torso, to one all
+// skinned; LBS 1.55 on that edge, 8.19 at its worst; stop 65 read it as the belly's overhang; on
+// cmu_01_01 3.40 before its first key turned with the hips, 2.25 after). The heavy female
+// mirrored (4.00 before), the heavy male mirrored (3.96) and the child mirrored (4.84) were
+// measured facing backwards before stop 64 (tests/mirrored_model.h did not swap their Mixamo and
+// Unreal side names); the OpenPose female
 // mirrored measured 3.86 before an edge between two regions counted in both.
 constexpr double kCmuStretchTarget = 3.0;
 const std::set<std::string> kWithinTargetOnCmu = {
     "makehuman_male_cmu", "makehuman_male_cmu mirrored", "makehuman_male_cmu x0.6",
     "makehuman_female_old_heavy_mixamo", "makehuman_female_old_heavy_mixamo mirrored",
     "makehuman_female_old_heavy_mixamo x0.6",
+    "makehuman_child_mixamo_unity", "makehuman_child_mixamo_unity mirrored",
+    "makehuman_child_mixamo_unity x0.6",
     "RiggedFigure", "RiggedFigure mirrored", "RiggedFigure x0.6",
     "mannequin:6000", "mannequin:6000 mirrored", "mannequin:6000 x0.6",
     "mannequin:20000", "mannequin:20000 mirrored", "mannequin:20000 x0.6",

@@ -118,7 +118,7 @@ TEST(SweepPlaneCrossing, NoSharedBodyIsBoundAcrossCrossedPlanes) {
 // frames turned). They remain where the whole sweep has too little room for the bend: the heavy
 // male's torso sweep (pelvis to spine_03) is 18 cm of centre line that cmu_01_03 frame 1100
 // bends 77° while its belly reaches 16-20 cm in front of it, so it may turn 53° without a
-// crossing. Asserted: at most 1,003 such flips (3 % over the measurement: another CPU's
+// crossing. Asserted: at most 915 such flips (3 % over the measurement: another CPU's
 // rounding, not the limit undone) and at least 60 % and 80 % of them at a vertex that runs
 // backwards or below 0.4 (the same cause), and every frame's count printed.
 TEST(SweepPlaneCrossing, TheFlipsSkinningDoesNotHaveAreWhereTheSweepRunsBackwards) {
@@ -180,8 +180,9 @@ TEST(SweepPlaneCrossing, TheFlipsSkinningDoesNotHaveAreWhereTheSweepRunsBackward
               extra, reversed, 100.0 * reversed / extra, crowded, 100.0 * crowded / extra);
   ASSERT_GT(extra, 0);
   // 1,508 before the plane turn limit, 1,223 with it, 1,023 with one link key per link, 974
-  // judged against each corner's joint (metrics::flipped_from_rest).
-  EXPECT_LE(extra, 1003);
+  // judged against each corner's joint (metrics::flipped_from_rest), 888 with the torso's first
+  // key turned with the pelvis, not halfway to the root above it (deform/posing/key_posing.h).
+  EXPECT_LE(extra, 915);
   EXPECT_GE(reversed, 0.60 * extra);
   EXPECT_GE(crowded, 0.80 * extra);
 }
