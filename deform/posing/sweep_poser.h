@@ -13,8 +13,8 @@
 //   fraction, cos θ and sin θ; a sweep term then costs two table rows combined with θ and a
 //   linear interpolation; the terms are evaluated eight at a time, batched by row, and a vertex
 //   with several terms or a skinned share adds up its terms' points (sweep_vertex_kinds.h).
-//   Where a key span turns its plane too sharply for the skin bound to
-//   it, the table's rows are turned to spread the bend (plane_turn_limit.h); the reference
+//   Where a key span turns its plane too sharply for the skin bound to it, the table's rows
+//   are turned to spread the bend (plane_turn_limit.h); the reference
 //   evaluation turns its frame by the same rows' turns. The vertices are grouped by kind
 //   (SweepVertexKinds: skin influences × sweep terms) so each group runs a loop without branches,
 //   and the skinned share transforms the rest position by each influence's matrix (cheaper than
