@@ -13,16 +13,21 @@ namespace {
 using Batch = SingleTermBatches::Batch;
 
 // By reference: a vector returned by value would change the ABI with the target (-Wpsabi).
-[[gnu::always_inline]] inline void load(FloatLanes8& lanes,
-                                        const std::array<float, SingleTermBatches::kLanes>& values) {
+[[gnu::always_inline]] inline void load(
+    FloatLanes8& lanes, const std::array<float, SingleTermBatches::kLanes>& values) {
   std::memcpy(&lanes, values.data(), sizeof(lanes));
 }
 
+// Where a batch's points go: to outputs[vertex[lane]] (kScattered), or lane by lane to
+// lanes[3 kLanes i, 3 kLanes (i + 1)) for batch i (kLaneByLane: x, y, z lanes, three stores).
+enum class Output { kScattered, kLaneByLane };
+
 // Batches [0, count): kLanes vertices each, every lane computed alike. Inlined into one function
-// per instruction set (on AVX2 the sums contract into fused multiply-adds).
+// per instruction set and output (on AVX2 the sums contract into fused multiply-adds).
+template <Output kOutput>
 [[gnu::always_inline]] inline void evaluate_batches(const Batch* batches, const std::uint32_t* rows,
                                                     std::size_t count, const SweepSample* table,
-                                                    glm::vec3* positions) {
+                                                    glm::vec3* outputs, float* lanes) {
   for (std::size_t i = 0; i < count; ++i) {
     const Batch& batch = batches[i];
     const SweepSample& below = table[rows[i]];
@@ -46,24 +51,44 @@ using Batch = SingleTermBatches::Batch;
                                    y * above.y_axis[axis] + c * above.normal[axis];
       p[axis] = at_below * weight_below + at_above * weight_above;
     }
-    for (std::size_t lane = 0; lane < SingleTermBatches::kLanes; ++lane)
-      positions[batch.vertex[lane]] = glm::vec3(p[0][lane], p[1][lane], p[2][lane]);
+    if constexpr (kOutput == Output::kLaneByLane) {
+      std::memcpy(lanes + 3 * SingleTermBatches::kLanes * i, p, sizeof(p));
+    } else {
+      for (std::size_t lane = 0; lane < SingleTermBatches::kLanes; ++lane)
+        outputs[batch.vertex[lane]] = glm::vec3(p[0][lane], p[1][lane], p[2][lane]);
+    }
   }
 }
 
+template <Output kOutput>
 void evaluate_batches_baseline(const Batch* batches, const std::uint32_t* rows, std::size_t count,
-                               const SweepSample* table, glm::vec3* positions) {
-  evaluate_batches(batches, rows, count, table, positions);
+                               const SweepSample* table, glm::vec3* outputs, float* lanes) {
+  evaluate_batches<kOutput>(batches, rows, count, table, outputs, lanes);
 }
 
 #if defined(__x86_64__)
+template <Output kOutput>
 [[gnu::target("avx2,fma")]] void evaluate_batches_avx2(const Batch* batches,
-                                                       const std::uint32_t* rows,
-                                                       std::size_t count, const SweepSample* table,
-                                                       glm::vec3* positions) {
-  evaluate_batches(batches, rows, count, table, positions);
+                                                       const std::uint32_t* rows, std::size_t count,
+                                                       const SweepSample* table, glm::vec3* outputs,
+                                                       float* lanes) {
+  evaluate_batches<kOutput>(batches, rows, count, table, outputs, lanes);
 }
 #endif
+
+template <Output kOutput>
+void evaluate_range(VertexLoopInstructions instructions, const Batch* batches,
+                    const std::uint32_t* rows, std::size_t count, const SweepSample* table,
+                    glm::vec3* outputs, float* lanes) {
+#if defined(__x86_64__)
+  if (instructions == VertexLoopInstructions::kAvx2Fma) {
+    evaluate_batches_avx2<kOutput>(batches, rows, count, table, outputs, lanes);
+    return;
+  }
+#endif
+  (void)instructions;
+  evaluate_batches_baseline<kOutput>(batches, rows, count, table, outputs, lanes);
+}
 
 }  // namespace
 
@@ -116,20 +141,31 @@ SingleTermBatches::SingleTermBatches(std::span<const std::uint32_t> vertices,
   if (!batches_.empty()) fill_last_batch(lane);
 }
 
-void SingleTermBatches::evaluate(std::span<const SweepSample> table,
-                                 std::span<glm::vec3> positions, std::size_t begin,
-                                 std::size_t end) const {
+void SingleTermBatches::evaluate(std::span<const SweepSample> table, std::span<glm::vec3> outputs,
+                                 std::size_t begin, std::size_t end) const {
   const std::size_t first = begin / kLanes, last = (end + kLanes - 1) / kLanes;
   if (first >= last) return;
-#if defined(__x86_64__)
-  if (instructions_ == VertexLoopInstructions::kAvx2Fma) {
-    evaluate_batches_avx2(batches_.data() + first, row_.data() + first, last - first,
-                          table.data(), positions.data());
-    return;
-  }
-#endif
-  evaluate_batches_baseline(batches_.data() + first, row_.data() + first, last - first,
-                            table.data(), positions.data());
+  evaluate_range<Output::kScattered>(instructions_, batches_.data() + first, row_.data() + first,
+                                     last - first, table.data(), outputs.data(), nullptr);
+}
+
+void SingleTermBatches::evaluate_lane_by_lane(std::span<const SweepSample> table,
+                                              std::span<float> lanes, std::size_t begin,
+                                              std::size_t end) const {
+  const std::size_t first = begin / kLanes, last = (end + kLanes - 1) / kLanes;
+  if (first >= last) return;
+  evaluate_range<Output::kLaneByLane>(instructions_, batches_.data() + first, row_.data() + first,
+                                      last - first, table.data(), nullptr,
+                                      lanes.data() + 3 * kLanes * first);
+}
+
+std::vector<std::uint32_t> SingleTermBatches::lane_offsets(std::size_t outputs) const {
+  std::vector<std::uint32_t> offset(outputs, 0);
+  // Backwards, so an output padded into later lanes keeps its first lane.
+  for (std::size_t i = batches_.size(); i-- > 0;)
+    for (std::size_t lane = kLanes; lane-- > 0;)
+      offset[batches_[i].vertex[lane]] = static_cast<std::uint32_t>(3 * kLanes * i + lane);
+  return offset;
 }
 
 }  // namespace sweepd::deform

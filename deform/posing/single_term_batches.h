@@ -1,5 +1,8 @@
-// SingleTermBatches: the sweep fast path for the commonest vertex, one moved by a single sweep
-// term and no skinned share (44 % of the 72k mannequin's vertices), eight vertices at a time.
+// SingleTermBatches: sweep terms eight at a time, each written to its own output point — the
+// sweep fast path for the commonest vertex, one moved by a single sweep term and no skinned share
+// (43 % of the 72k mannequin's vertices; the output is its position), and for every other
+// vertex's terms (the output is a term point that the vertex's loop adds; sweep_vertex_kinds.h).
+// Below, "vertex" is the output's index.
 //
 // The vertices are sorted by their term's table row and packed into batches of kLanes that read
 // the same two rows, so a batch's row data are the same in every lane (broadcast) and its
@@ -30,16 +33,24 @@ class SingleTermBatches {
  public:
   static constexpr std::size_t kLanes = 8;
 
-  // vertices[i] is moved by terms[i] alone.
+  // Item i writes output vertices[i] with terms[i] alone.
   SingleTermBatches(std::span<const std::uint32_t> vertices, std::span<const SweepTerm> terms,
                     VertexLoopInstructions instructions);
 
   std::size_t item_count() const { return row_.size() * kLanes; }
 
-  // Writes positions of the items [begin, end); begin is a multiple of kLanes, end of kLanes or
+  // Writes the outputs of the items [begin, end); begin is a multiple of kLanes, end of kLanes or
   // item_count().
-  void evaluate(std::span<const SweepSample> table, std::span<glm::vec3> positions,
-                std::size_t begin, std::size_t end) const;
+  void evaluate(std::span<const SweepSample> table, std::span<glm::vec3> outputs, std::size_t begin,
+                std::size_t end) const;
+
+  // The same points lane by lane: batch i's x, y and z lanes (kLanes floats each) to
+  // lanes[3 kLanes i, 3 kLanes (i + 1)); lanes holds 3 × item_count() floats.
+  void evaluate_lane_by_lane(std::span<const SweepSample> table, std::span<float> lanes,
+                             std::size_t begin, std::size_t end) const;
+  // Per output index in [0, outputs): where evaluate_lane_by_lane writes its x (y follows kLanes
+  // floats later, z 2 kLanes).
+  std::vector<std::uint32_t> lane_offsets(std::size_t outputs) const;
 
   struct Batch {  // kLanes vertices on the same two rows, lane by lane
     std::array<float, kLanes> fraction, cos_theta, sin_theta, x_shift, y_shift, c, weight_below,

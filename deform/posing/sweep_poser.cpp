@@ -53,7 +53,8 @@ SweepPoser::SweepPoser(std::shared_ptr<const SweepPoserTables> tables)
       row_turn_(table_.size()),
       sweep_turned_(sweeps_.size(), 0),
       joint_rotation_(tables_->world_rest.size()),
-      pose_joint_(tables_->rest_joint) {
+      pose_joint_(tables_->rest_joint),
+      term_lanes_(tables_->vertex_kinds->term_lane_count()) {
   for (const BoundSweep& sweep : bound_.sweeps) posed_keys_.push_back(sweep.rest_keys);
   set_pose(tables_->world_rest);
 }
@@ -151,12 +152,16 @@ void SweepPoser::set_pose(std::span<const glm::mat4> world_pose) {
 void SweepPoser::deform(std::span<const glm::mat4> skinning, std::span<glm::vec3> positions,
                         std::span<glm::vec3> normals, int threads) {
   const SweepVertexKinds& kinds = *tables_->vertex_kinds;
+  // Two passes (sweep_vertex_kinds.h): the second reads the term lanes the first wrote.
   run_in_vertex_blocks(
-      kinds.item_count(), threads,
+      kinds.batch_item_count(), threads,
       [&](std::size_t begin, std::size_t end) {
-        kinds.evaluate(table_, skinning, positions, begin, end);
+        kinds.evaluate_batches(table_, positions, term_lanes_, begin, end);
       },
       SweepVertexKinds::kItemGranule);
+  run_in_vertex_blocks(kinds.junction_count(), threads, [&](std::size_t begin, std::size_t end) {
+    kinds.evaluate_junctions(skinning, term_lanes_, positions, begin, end);
+  });
   if (!normals.empty()) tables_->normals->compute(positions, normals, normal_sums_, threads);
 }
 

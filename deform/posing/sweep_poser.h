@@ -11,8 +11,10 @@
 //   span, aligned with the keys): C̃, R (as 3 columns), a, b; the rows of one span are filled by
 //   one vectorised loop. t_V is fixed per vertex, so each binding keeps its sample index and
 //   fraction, cos θ and sin θ; a sweep term then costs two table rows combined with θ and a
-//   linear interpolation. Where a key span turns its plane too sharply for the skin bound to
-//   it, the table's rows are turned to spread the bend (plane_turn_limit.h); the reference
+//   linear interpolation; the terms are evaluated eight at a time, batched by row, and a vertex
+//   with several terms or a skinned share adds up its terms' points (sweep_vertex_kinds.h).
+//   Where a key span turns its plane too sharply for the skin bound to it, the table's rows
+//   are turned to spread the bend (plane_turn_limit.h); the reference
 //   evaluation turns its frame by the same rows' turns. The vertices are grouped by kind
 //   (SweepVertexKinds: skin influences × sweep terms) so each group runs a loop without branches,
 //   and the skinned share transforms the rest position by each influence's matrix (cheaper than
@@ -70,6 +72,11 @@ class SweepPoser {
   glm::vec3 reference_point(int s, const SweepCoordinate& coordinate) const;
   glm::vec3 reference_normal(int s, float t) const;
 
+  // The last frame's sample table (SweepSample rows, as the vertex loops read them) and the
+  // model's tables (which row a binding reads: sample_row_of).
+  std::span<const SweepSample> sample_table() const { return table_; }
+  const SweepPoserTables& tables() const { return *tables_; }
+
   int sweep_count() const { return static_cast<int>(sweeps_.size()); }
   const Sweep& sweep(int s) const { return sweeps_[s]; }
   Sweep& sweep(int s) { return sweeps_[s]; }
@@ -113,6 +120,7 @@ class SweepPoser {
   std::vector<glm::quat> joint_rotation_;
   std::vector<glm::vec3> pose_joint_;
   std::vector<FloatLanes> normal_sums_;
+  std::vector<float> term_lanes_;  // per frame: the junction vertices' terms (SweepVertexKinds)
 };
 
 }  // namespace sweepd::deform

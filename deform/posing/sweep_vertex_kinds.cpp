@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cstring>
+#include <numeric>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -22,26 +23,20 @@ struct ItemData {
   const std::uint32_t* vertex;
   const glm::vec4* scaled_rest;
   const std::uint32_t* joint;
-  const SweepTerm* term;
+  const std::uint32_t* term_lane;  // per term: where its point's x lies in the term lanes
 };
 
-struct TermRows {
-  const float* first;  // the term's first row (aligned); the second follows it
-  float x, y;          // the cross-section point's coordinates in the rows' frame
-};
-
-[[gnu::always_inline]] inline TermRows term_rows(const SweepTerm& term, const SweepSample* table) {
-  const float* s0 = static_cast<const float*>(
-      __builtin_assume_aligned(&table[term.row].centre.x, alignof(SweepSample)));
-  const float a = s0[3] + term.fraction * s0[11];
-  const float b = s0[7] + term.fraction * s0[15];
-  return {s0, a * term.cos_theta + term.x_shift, b * term.sin_theta + term.y_shift};
+// A term's point from the term lanes (SingleTermBatches::evaluate_lane_by_lane).
+inline FloatLanes term_point(const float* term_lanes, std::uint32_t lane) {
+  const float* x = term_lanes + lane;
+  constexpr std::size_t kLanes = SingleTermBatches::kLanes;
+  return FloatLanes{x[0], x[kLanes], x[2 * kLanes], 0.0f};
 }
 
 // Items [0, count) of one kind: kJoints skinned joints and kTerms sweep terms each, 4 lanes
-// (SSE2, NEON).
+// (SSE2, NEON). A term's point (weighted, both rows) is already in the term lanes.
 template <int kJoints, int kTerms>
-void evaluate_kind(ItemData d, std::size_t count, const SweepSample* table,
+void evaluate_kind(ItemData d, std::size_t count, const float* term_lanes,
                    const glm::mat4* skinning, glm::vec3* positions) {
   for (std::size_t i = 0; i < count; ++i) {
     FloatLanes p = {0.0f, 0.0f, 0.0f, 0.0f};
@@ -51,26 +46,17 @@ void evaluate_kind(ItemData d, std::size_t count, const SweepSample* table,
       p += load_lanes(m) * s.x + load_lanes(m + 4) * s.y + load_lanes(m + 8) * s.z +
            load_lanes(m + 12) * s.w;
     }
-    for (int t = 0; t < kTerms; ++t, ++d.term) {
-      const SweepTerm& term = *d.term;
-      const auto [s0, x, y] = term_rows(term, table);
-      const float* s1 = s0 + 16;
-      const FloatLanes at0 = load_lanes(s0) + load_lanes(s0 + 4) * x + load_lanes(s0 + 8) * y +
-                             load_lanes(s0 + 12) * term.c;
-      const FloatLanes at1 = load_lanes(s1) + load_lanes(s1 + 4) * x + load_lanes(s1 + 8) * y +
-                             load_lanes(s1 + 12) * term.c;
-      p += at0 * term.weight_below + at1 * term.weight_above;
-    }
+    for (int t = 0; t < kTerms; ++t, ++d.term_lane) p += term_point(term_lanes, *d.term_lane);
     positions[d.vertex[i]] = glm::vec3(p[0], p[1], p[2]);
   }
 }
 
 #if defined(__x86_64__)
-// The same with 8 lanes (AVX2, FMA). They hold two partial sums of the position (lanes 0-3 and
-// 4-7): a matrix's columns 0|1 and 2|3, a term's rows row|row + 1; added once per vertex.
+// The same with 8 lanes (AVX2, FMA) for the skinned share: they hold two partial sums of the
+// position (lanes 0-3 and 4-7: a matrix's columns 0|1 and 2|3), added once per vertex.
 template <int kJoints, int kTerms>
 [[gnu::target("avx2,fma")]] void evaluate_kind_avx2(ItemData d, std::size_t count,
-                                                    const SweepSample* table,
+                                                    const float* term_lanes,
                                                     const glm::mat4* skinning,
                                                     glm::vec3* positions) {
   for (std::size_t i = 0; i < count; ++i) {
@@ -84,31 +70,16 @@ template <int kJoints, int kTerms>
       p += columns01 * __builtin_shufflevector(s, s, 0, 0, 0, 0, 1, 1, 1, 1) +
            columns23 * __builtin_shufflevector(s, s, 2, 2, 2, 2, 3, 3, 3, 3);
     }
-    for (int t = 0; t < kTerms; ++t, ++d.term) {
-      const SweepTerm& term = *d.term;
-      const auto [s0, x, y] = term_rows(term, table);
-      const float* s1 = s0 + 16;
-      const FloatLanes weights = {term.weight_below, term.weight_above, 0.0f, 0.0f};
-      const FloatLanes8 centres =
-          __builtin_shufflevector(load_lanes(s0), load_lanes(s1), 0, 1, 2, 3, 4, 5, 6, 7);
-      const FloatLanes8 x_axes =
-          __builtin_shufflevector(load_lanes(s0 + 4), load_lanes(s1 + 4), 0, 1, 2, 3, 4, 5, 6, 7);
-      const FloatLanes8 y_axes =
-          __builtin_shufflevector(load_lanes(s0 + 8), load_lanes(s1 + 8), 0, 1, 2, 3, 4, 5, 6, 7);
-      const FloatLanes8 normals =
-          __builtin_shufflevector(load_lanes(s0 + 12), load_lanes(s1 + 12), 0, 1, 2, 3, 4, 5, 6, 7);
-      p += (centres + x_axes * x + y_axes * y + normals * term.c) *
-           __builtin_shufflevector(weights, weights, 0, 0, 0, 0, 1, 1, 1, 1);
-    }
-    const FloatLanes sum =
+    FloatLanes sum =
         __builtin_shufflevector(p, p, 0, 1, 2, 3) + __builtin_shufflevector(p, p, 4, 5, 6, 7);
+    for (int t = 0; t < kTerms; ++t, ++d.term_lane) sum += term_point(term_lanes, *d.term_lane);
     positions[d.vertex[i]] = glm::vec3(sum[0], sum[1], sum[2]);
   }
 }
 
 #endif
 
-using KindLoop = void (*)(ItemData, std::size_t, const SweepSample*, const glm::mat4*, glm::vec3*);
+using KindLoop = void (*)(ItemData, std::size_t, const float*, const glm::mat4*, glm::vec3*);
 
 // Indexed by influences * kTermKinds + terms.
 using KindLoops = std::array<KindLoop, (kInfluences + 1) * kTermKinds>;
@@ -191,13 +162,13 @@ SweepVertexKinds::SweepVertexKinds(
   std::vector<SweepTerm> single_terms;
   for (const std::uint32_t v : single) single_terms.push_back(terms[first_term[v]]);
   single_term_ = std::make_shared<const SingleTermBatches>(single, single_terms, instructions);
-  single_term_items_ = single_term_->item_count();
   single.clear();
+  std::vector<SweepTerm> junction_terms;  // item by item
   for (std::size_t k = 0; k < by_kind.size(); ++k) {
     if (by_kind[k].empty()) continue;
     kinds_.push_back({static_cast<int>(k) / kTermKinds, static_cast<int>(k) % kTermKinds,
                       vertex_.size(), vertex_.size() + by_kind[k].size(), scaled_rest_.size(),
-                      terms_.size()});
+                      junction_terms.size()});
     for (const std::uint32_t v : by_kind[k]) {
       vertex_.push_back(v);
       if (kinds_.back().influences > 0)
@@ -207,17 +178,39 @@ SweepVertexKinds::SweepVertexKinds(
           scaled_rest_.push_back(skin_share[v] * w * glm::vec4(model.positions[v], 1.0f));
           joint_.push_back(static_cast<std::uint32_t>(skin_joints[v][j]));
         }
-      terms_.insert(terms_.end(), terms.begin() + first_term[v], terms.begin() + first_term[v + 1]);
+      junction_terms.insert(junction_terms.end(), terms.begin() + first_term[v],
+                            terms.begin() + first_term[v + 1]);
     }
   }
+  // The junctions' terms in batches too, their points written lane by lane (whole batches at
+  // once); term_lane_ says where each term's point lies.
+  std::vector<std::uint32_t> term_index(junction_terms.size());
+  std::iota(term_index.begin(), term_index.end(), std::uint32_t{0});
+  junction_terms_ =
+      std::make_shared<const SingleTermBatches>(term_index, junction_terms, instructions);
+  term_lane_ = junction_terms_->lane_offsets(junction_terms.size());
 }
 
-void SweepVertexKinds::evaluate(std::span<const SweepSample> table,
-                                std::span<const glm::mat4> skinning, std::span<glm::vec3> positions,
-                                std::size_t begin, std::size_t end) const {
-  single_term_->evaluate(table, positions, begin, std::min(end, single_term_items_));
-  begin = std::max(begin, single_term_items_) - single_term_items_;
-  end = std::max(end, single_term_items_) - single_term_items_;
+std::size_t SweepVertexKinds::term_lane_count() const { return 3 * junction_terms_->item_count(); }
+
+std::size_t SweepVertexKinds::batch_item_count() const {
+  return single_term_->item_count() + junction_terms_->item_count();
+}
+
+void SweepVertexKinds::evaluate_batches(std::span<const SweepSample> table,
+                                        std::span<glm::vec3> positions, std::span<float> term_lanes,
+                                        std::size_t begin, std::size_t end) const {
+  const std::size_t single_items = single_term_->item_count();
+  single_term_->evaluate(table, positions, begin, std::min(end, single_items));
+  junction_terms_->evaluate_lane_by_lane(table, term_lanes,
+                                         std::max(begin, single_items) - single_items,
+                                         std::max(end, single_items) - single_items);
+}
+
+void SweepVertexKinds::evaluate_junctions(std::span<const glm::mat4> skinning,
+                                          std::span<const float> term_lanes,
+                                          std::span<glm::vec3> positions, std::size_t begin,
+                                          std::size_t end) const {
   const KindLoops& loops = loops_for(instructions_);
   for (const Kind& kind : kinds_) {
     const std::size_t from = std::max(begin, kind.begin), to = std::min(end, kind.end);
@@ -226,10 +219,17 @@ void SweepVertexKinds::evaluate(std::span<const SweepSample> table,
     const ItemData data{vertex_.data() + from,
                         scaled_rest_.data() + kind.first_influence + skipped * kind.influences,
                         joint_.data() + kind.first_influence + skipped * kind.influences,
-                        terms_.data() + kind.first_term + skipped * kind.terms};
-    loops[kind.influences * kTermKinds + kind.terms](data, to - from, table.data(), skinning.data(),
-                                                     positions.data());
+                        term_lane_.data() + kind.first_term + skipped * kind.terms};
+    loops[kind.influences * kTermKinds + kind.terms](data, to - from, term_lanes.data(),
+                                                     skinning.data(), positions.data());
   }
+}
+
+void SweepVertexKinds::evaluate(std::span<const SweepSample> table,
+                                std::span<const glm::mat4> skinning, std::span<float> term_lanes,
+                                std::span<glm::vec3> positions) const {
+  evaluate_batches(table, positions, term_lanes, 0, batch_item_count());
+  evaluate_junctions(skinning, term_lanes, positions, 0, junction_count());
 }
 
 }  // namespace sweepd::deform

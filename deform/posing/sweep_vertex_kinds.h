@@ -3,9 +3,7 @@
 //
 // A vertex's kind is (skin influences, sweep terms): how many joints its skinned share follows
 // (0 to kInfluences; 0 when it has no skinned share) and how many sweeps it is bound to (0 to
-// kSweepsPerVertex). Vertices of one kind are consecutive items, in vertex order within a kind;
-// item i moves vertex vertex[i]. A kind's influences and terms are stored item by item, so the
-// loop walks them in order:
+// kSweepsPerVertex). The vertex's position is the sum of its skinned share and its terms:
 //   skinned share  Σ_j M_j (s w_j p, s w_j)   (s: skin share, w_j: skin weight, p: rest position)
 //   sweep term     g0 · at(row) + g1 · at(row + 1), at(r) = C_r + x X_r + y Y_r + c N_r,
 //                  x = a(f) cos θ + da cos θ, y = b(f) sin θ + db sin θ, a(f) = a + f a_step
@@ -13,12 +11,22 @@
 //                  g1 = w f.
 // The loops run on SSE2 (any x86-64, or the generic vector code elsewhere) or, where the CPU
 // has them, AVX2 with FMA (8 lanes, fused multiply-adds: the results differ by rounding).
-// The vertices with one sweep term and no skinned share come first, eight at a time
-// (SingleTermBatches, single_term_batches.h: items padded to whole batches), then the other kinds.
-// evaluate() computes items [begin, end) from the per-frame table (SweepSample rows) and the
-// skinning matrices; begin is a multiple of kItemGranule (a batch is never split); each vertex
-// is computed by the same code whatever the range, so results do not depend on how the items
-// are split between threads.
+// A frame is two passes, in this order:
+//   1. batches: every sweep term, eight at a time (SingleTermBatches, single_term_batches.h:
+//      terms sorted by table row so a batch's rows are broadcast, items padded to whole
+//      batches). A vertex with one term and no skinned share (the commonest) is written to
+//      positions there; every other vertex's terms are written to the term lanes, one weighted
+//      point per term, batch by batch (x, y and z lanes: three stores a batch).
+//   2. junctions: the other vertices (a skinned share, several terms, or no term), each its
+//      skinned share plus its terms' points, one kind per loop without branches. Vertices of a
+//      kind are consecutive items, in vertex order; their influences and their terms' places
+//      in the term lanes are stored item by item, so the loop reads them in order.
+// A term costs about 12 instructions in a batch writing term lanes, 19 in one writing positions,
+// and 3 more to add its point; 33 when each vertex fetched its own two rows (callgrind, AVX2).
+// Each pass takes item ranges [begin, end); a batches range starts at a multiple of
+// kItemGranule (a batch is never split). Each item is computed by the same code whatever the
+// range, so results do not depend on how the items are split between threads (the second pass
+// starts when the first has finished on every thread).
 #pragma once
 
 #include <array>
@@ -82,11 +90,19 @@ class SweepVertexKinds {
                    std::span<const SweepTerm> terms,
                    VertexLoopInstructions instructions = widest_vertex_loop_instructions());
 
-  std::size_t item_count() const { return single_term_items_ + vertex_.size(); }
-
-  // Writes positions[vertex[i]] for the items i in [begin, end).
+  // Pass 1 over items [0, batch_item_count()): writes the single-term vertices' positions and
+  // the term lanes (term_lane_count() floats, the caller's per-frame scratch).
+  std::size_t batch_item_count() const;
+  std::size_t term_lane_count() const;
+  void evaluate_batches(std::span<const SweepSample> table, std::span<glm::vec3> positions,
+                        std::span<float> term_lanes, std::size_t begin, std::size_t end) const;
+  // Pass 2 over items [0, junction_count()): writes the other vertices' positions.
+  std::size_t junction_count() const { return vertex_.size(); }
+  void evaluate_junctions(std::span<const glm::mat4> skinning, std::span<const float> term_lanes,
+                          std::span<glm::vec3> positions, std::size_t begin, std::size_t end) const;
+  // Both passes over every item, on this thread.
   void evaluate(std::span<const SweepSample> table, std::span<const glm::mat4> skinning,
-                std::span<glm::vec3> positions, std::size_t begin, std::size_t end) const;
+                std::span<float> term_lanes, std::span<glm::vec3> positions) const;
 
  private:
   struct Kind {
@@ -96,13 +112,13 @@ class SweepVertexKinds {
   };
 
   VertexLoopInstructions instructions_;
-  std::shared_ptr<const SingleTermBatches> single_term_;  // items [0, single_term_items_)
-  std::size_t single_term_items_ = 0;
-  std::vector<Kind> kinds_;  // items from single_term_items_ on
-  std::vector<std::uint32_t> vertex_;   // per item
+  std::shared_ptr<const SingleTermBatches> single_term_;     // writes positions
+  std::shared_ptr<const SingleTermBatches> junction_terms_;  // writes the term lanes
+  std::vector<std::uint32_t> term_lane_;  // per junction term, item by item: its x in the lanes
+  std::vector<Kind> kinds_;
+  std::vector<std::uint32_t> vertex_;   // per junction item
   std::vector<glm::vec4> scaled_rest_;  // per influence: s w_j (p, 1)
   std::vector<std::uint32_t> joint_;    // per influence
-  std::vector<SweepTerm> terms_;        // per term, item by item
 };
 
 }  // namespace sweepd::deform

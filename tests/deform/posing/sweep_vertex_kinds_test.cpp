@@ -58,11 +58,14 @@ TEST(SweepVertexKinds, EvaluatesTermsAndSkinnedSharesAsWrittenOut) {
     sets.push_back(widest_vertex_loop_instructions());
   for (const VertexLoopInstructions set : sets) {
     const SweepVertexKinds kinds(model, skin_share, first_term, terms, set);
-    // Vertex 0 fills a batch of single-term items (its copies in the unused lanes), then one
-    // item each.
-    ASSERT_EQ(kinds.item_count(), SweepVertexKinds::kItemGranule + 2);
+    // Vertex 0 fills a batch of single-term items (its copies in the unused lanes), vertex 1's
+    // term a batch of term points; vertices 1 and 2 are one junction item each.
+    ASSERT_EQ(kinds.batch_item_count(), 2 * SweepVertexKinds::kItemGranule);
+    ASSERT_EQ(kinds.junction_count(), 2u);
+    ASSERT_EQ(kinds.term_lane_count(), 3 * SweepVertexKinds::kItemGranule);  // one batch
     std::vector<glm::vec3> positions(3, glm::vec3(9.0f));
-    kinds.evaluate(table, skinning, positions, 0, kinds.item_count());
+    std::vector<float> term_lanes(kinds.term_lane_count());
+    kinds.evaluate(table, skinning, term_lanes, positions);
     for (int v = 0; v < 3; ++v)  // float rounding of values near 1: a few 1e-7
       EXPECT_LE(glm::length(positions[v] - expected[v]), 1e-6f)
           << "vertex " << v << ", instruction set " << static_cast<int>(set);
