@@ -403,11 +403,14 @@ void BodyContacts::plan_raised_arms(const std::function<deform::Pose(int)>& fram
       if (steps[f][part]) step[f] = -*steps[f][part];
     raised_arm_shift_[part] = hold(held, step);
     limit_rate(raised_arm_shift_[part]);
-    // It tapers linearly to nothing within kFade of that hand's resting frames (none there):
-    // the hand's hold before the lift keeps the hand there (as a knee's beside its planted foot).
-    const std::vector<std::uint8_t>& hand = parts_[part - kLeftArm + kLeftHand].contact;
-    const std::vector<int> distance =
-        planted_distance(0, [&hand](int, int frame) { return hand[frame] != 0; });
+    // It tapers linearly to nothing within kFade of a frame where that hand rests (the hand's
+    // hold before the lift keeps the hand there, as a knee's beside its planted foot) or the
+    // arm is not raised (only the raise keeps a held arm off the floor: the lift was built
+    // without this hold).
+    const int side = part - kLeftArm;
+    const std::vector<std::uint8_t>& hand = parts_[kLeftHand + side].contact;
+    const std::vector<int> distance = planted_distance(
+        side, [&](int s, int frame) { return hand[frame] != 0 || !raised(s, frame); });
     for (int f = 0; f < frame_count_; ++f)
       raised_arm_shift_[part][f] *= static_cast<float>(distance[f]) / static_cast<float>(taper());
     holds_raised_arms_ = true;
@@ -427,13 +430,14 @@ std::vector<std::uint8_t> BodyContacts::raised_runs(
     }
     int last = first;
     bool any = raised(side, first);
-    for (; last + 1 < frame_count_ && contact[last + 1]; ++last) any = any || raised(side, last + 1);
+    for (; last + 1 < frame_count_ && contact[last + 1]; ++last)
+      any = any || raised(side, last + 1);
     // Where the hand rests too, the hands' and elbows' holds before the lift keep the hand
     // (the raise lifts its wrist straight up); holding the elbow after the raise as well
     // moved the held hand (the male's 0.1 -> 4.2 cm).
     const std::vector<std::uint8_t>& hand = parts_[kLeftHand + side].contact;
-    any = any && std::find(hand.begin() + first, hand.begin() + last + 1, 1) ==
-                     hand.begin() + last + 1;
+    any = any &&
+          std::find(hand.begin() + first, hand.begin() + last + 1, 1) == hand.begin() + last + 1;
     if (any) std::fill(runs.begin() + first, runs.begin() + last + 1, 1);
     first = last + 1;
   }

@@ -62,7 +62,10 @@
 //            its shift is measured on the raised poses, the elbow swung across so that the
 //            arm's lowest point stands where its hold puts it, the arm raised again where that
 //            dipped it and the point moved across again (a raise about the shoulder moves it),
-//            three times; the shift tapers to nothing within 0.15 s of a resting hand. Where
+//            three times; the shift tapers to nothing within 0.15 s of a resting hand and of
+//            a frame where the floor does not raise the arm (the lift is built without this
+//            hold, so only the raise keeps the held arm off the floor: the RiggedFigure
+//            without its spine joint, knocked down backwards, went 3.7 cm below it). Where
 //            the hand rests too, the hand's hold before the lift keeps the hand (the raise lifts
 //            its wrist straight up): held after the raise as well, the elbow dragged the held
 //            hand along (the male's 0.1 -> 4.2 cm).
@@ -205,8 +208,8 @@ class BodyContacts {
   glm::vec2 at(const std::vector<glm::vec2>& values, double seconds) const;
   // kFade in clip frames (at least one).
   int taper() const;
-  // Per clip frame: how many frames from the nearest frame where that side's foot is planted,
-  // at most taper().
+  // Per clip frame: how many frames from the nearest frame where that side's foot is planted
+  // (or whatever foot_planted(side, frame) says), at most taper().
   std::vector<int> planted_distance(int side,
                                     const std::function<bool(int, int)>& foot_planted) const;
   // Whether a knee bound to its planted foot rests on `frame` (the root holds it).
