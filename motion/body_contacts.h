@@ -238,7 +238,7 @@ class BodyContacts {
   std::array<std::vector<std::uint8_t>, 2> knee_bound_;
   // Per part (knees, hands, arms), per clip frame (x, z); empty where the part is not held.
   std::array<std::vector<glm::vec2>, kPartCount> limb_shift_;
-  // The same for the arms and hands the body floor raises, applied after the raise.
+  // The same for the arms the body floor raises (kLeftArm, kRightArm), applied after the raise.
   std::array<std::vector<glm::vec2>, kPartCount> raised_arm_shift_;
   bool holds_raised_arms_ = false;
 };
