@@ -346,7 +346,8 @@ void BodyContacts::hold_root(double seconds, deform::Pose& pose) const {
 }
 
 void BodyContacts::plan_limbs(const std::function<deform::Pose(int)>& frame_pose,
-                              const std::function<bool(int, int)>& foot_planted) {
+                              const std::function<bool(int, int)>& foot_planted,
+                              const std::function<bool(int, int)>& raised) {
   const auto whole = [](LimbJoints limb, bool end) {
     return limb.upper >= 0 && limb.lower >= 0 && (!end || limb.end >= 0);
   };
@@ -363,6 +364,9 @@ void BodyContacts::plan_limbs(const std::function<deform::Pose(int)>& frame_pose
     // A knee whose foot is planted is foot planting's: the feet win.
     const int knee_side = part == kLeftKnee ? 0 : part == kRightKnee ? 1 : -1;
     std::vector<std::uint8_t> held = parts_[part].contact;
+    // An arm the body floor raises is held after the raise (plan_raised_arms).
+    if (const std::vector<std::uint8_t> later = raised_runs(part, raised); !later.empty())
+      for (int f = 0; f < frame_count_; ++f) held[f] = held[f] && !later[f];
     std::vector<glm::vec2> step(frame_count_, glm::vec2(0.0f));
     bool any = false;
     for (int f = 0; f < frame_count_; ++f) {
@@ -380,6 +384,64 @@ void BodyContacts::plan_limbs(const std::function<deform::Pose(int)>& frame_pose
     for (int f = 0; f < frame_count_; ++f)
       limb_shift_[part][f] *= static_cast<float>(distance[f]) / static_cast<float>(taper());
   }
+}
+
+void BodyContacts::plan_raised_arms(const std::function<deform::Pose(int)>& frame_pose,
+                                    const std::function<bool(int, int)>& raised) {
+  std::array<bool, kPartCount> arms{};
+  for (int side = 0; side < 2; ++side)
+    arms[kLeftArm + side] = arms_[side].upper >= 0 && arms_[side].lower >= 0;
+  for (std::vector<glm::vec2>& shift : raised_arm_shift_) shift.clear();
+  holds_raised_arms_ = false;
+  const auto steps = contact_steps(frame_pose, arms);
+  for (int part = 0; part < kPartCount; ++part) {
+    if (!arms[part]) continue;
+    const std::vector<std::uint8_t> held = raised_runs(part, raised);
+    if (std::find(held.begin(), held.end(), 1) == held.end()) continue;
+    std::vector<glm::vec2> step(frame_count_, glm::vec2(0.0f));
+    for (int f = 0; f < frame_count_; ++f)
+      if (steps[f][part]) step[f] = -*steps[f][part];
+    raised_arm_shift_[part] = hold(held, step);
+    limit_rate(raised_arm_shift_[part]);
+    // It tapers linearly to nothing within kFade of a frame where that hand rests (the hand's
+    // hold before the lift keeps the hand there, as a knee's beside its planted foot) or the
+    // arm is not raised (only the raise keeps a held arm off the floor: the lift was built
+    // without this hold).
+    const int side = part - kLeftArm;
+    const std::vector<std::uint8_t>& hand = parts_[kLeftHand + side].contact;
+    const std::vector<int> distance = planted_distance(
+        side, [&](int s, int frame) { return hand[frame] != 0 || !raised(s, frame); });
+    for (int f = 0; f < frame_count_; ++f)
+      raised_arm_shift_[part][f] *= static_cast<float>(distance[f]) / static_cast<float>(taper());
+    holds_raised_arms_ = true;
+  }
+}
+
+std::vector<std::uint8_t> BodyContacts::raised_runs(
+    int part, const std::function<bool(int, int)>& raised) const {
+  const int side = part == kLeftArm ? 0 : part == kRightArm ? 1 : -1;
+  if (side < 0 || !raised) return {};
+  const std::vector<std::uint8_t>& contact = parts_[part].contact;
+  std::vector<std::uint8_t> runs(frame_count_, 0);
+  for (int first = 0; first < frame_count_;) {
+    if (!contact[first]) {
+      ++first;
+      continue;
+    }
+    int last = first;
+    bool any = raised(side, first);
+    for (; last + 1 < frame_count_ && contact[last + 1]; ++last)
+      any = any || raised(side, last + 1);
+    // Where the hand rests too, the hands' and elbows' holds before the lift keep the hand
+    // (the raise lifts its wrist straight up); holding the elbow after the raise as well
+    // moved the held hand (the male's 0.1 -> 4.2 cm).
+    const std::vector<std::uint8_t>& hand = parts_[kLeftHand + side].contact;
+    any = any &&
+          std::find(hand.begin() + first, hand.begin() + last + 1, 1) == hand.begin() + last + 1;
+    if (any) std::fill(runs.begin() + first, runs.begin() + last + 1, 1);
+    first = last + 1;
+  }
+  return runs;
 }
 
 int BodyContacts::taper() const {
@@ -404,6 +466,42 @@ std::vector<int> BodyContacts::planted_distance(
 bool BodyContacts::knee_bound(int frame) const {
   return (!knee_bound_[0].empty() && knee_bound_[0][frame]) ||
          (!knee_bound_[1].empty() && knee_bound_[1][frame]);
+}
+
+void BodyContacts::hold_raised_arms(double seconds, const BodyFloor& body_floor,
+                                    deform::Pose& pose) const {
+  if (!holds_raised_arms_) return;
+  std::vector<glm::mat4> world(skeleton_.joints.size()), skin(skeleton_.joints.size());
+  for (int side = 0; side < 2; ++side) {
+    const int part = kLeftArm + side;
+    if (raised_arm_shift_[part].empty()) continue;
+    const glm::vec2 shift = at(raised_arm_shift_[part], seconds);
+    if (shift == glm::vec2(0.0f)) continue;
+    // The part's lowest point as raised, and where its hold puts it across.
+    const auto skinned = [&] {
+      deform::forward_kinematics(skeleton_, pose, world);
+      deform::skinning_matrices(world, rest_inverse_, skin);
+    };
+    skinned();
+    int lowest = -1;
+    float y = std::numeric_limits<float>::infinity();
+    for (const int i : parts_[part].samples)
+      if (const float h = samples_->height(i, skin); h < y) y = h, lowest = i;
+    if (lowest < 0) continue;
+    const glm::vec3 start = samples_->position(lowest, skin);
+    const glm::vec2 target = glm::vec2(start.x, start.z) + shift;
+    // Moved across, then raised again where that dipped it, which may move it across (an arm
+    // swung up about its shoulder): what is left is moved again (kRaisedHoldPasses).
+    for (int pass = 0; pass < kRaisedHoldPasses; ++pass) {
+      const glm::vec3 now = samples_->position(lowest, skin);
+      const glm::vec2 left = target - glm::vec2(now.x, now.z);
+      if (glm::length(left) < 1e-4f) break;  // 0.1 mm
+      move_limb_middle(skeleton_, arms_[side], glm::vec3(left.x, 0.0f, left.y), world,
+                       world_rotations(skeleton_, pose), pose);
+      body_floor.raise_arms(seconds, pose);
+      skinned();
+    }
+  }
 }
 
 void BodyContacts::hold_limbs(double seconds, deform::Pose& pose) const {

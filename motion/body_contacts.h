@@ -54,13 +54,29 @@
 //   hands    the arm's two-bone IK moves the wrist across to where the hand's hold puts it
 //            (from where the elbow's hold left it);
 //            the hand keeps its world rotation. The hands win over the elbows.
+//   raised   an arm the body floor raises off the floor (body_floor.h: the clip pushes it
+//   arms     through its own beside its lying torso) moves with the raise, so the holds above,
+//            measured before it, left it sliding as the clip swung it (2.5-30.7 cm a contact
+//            knocked down forwards). A contact of such an arm (touching a frame the floor
+//            raises it on) during which its hand never rests is held after the raise instead:
+//            its shift is measured on the raised poses, the elbow swung across so that the
+//            arm's lowest point stands where its hold puts it, the arm raised again where that
+//            dipped it and the point moved across again (a raise about the shoulder moves it),
+//            three times; the shift tapers to nothing within 0.15 s of a resting hand and of
+//            a frame where the floor does not raise the arm (the lift is built without this
+//            hold, so only the raise keeps the held arm off the floor: the RiggedFigure
+//            without its spine joint, knocked down backwards, went 3.7 cm below it). Where
+//            the hand rests too, the hand's hold before the lift keeps the hand (the raise lifts
+//            its wrist straight up): held after the raise as well, the elbow dragged the held
+//            hand along (the male's 0.1 -> 4.2 cm).
 // Order: the root hold is applied before foot planting, and foot planting is built again on
 // the held root (a planted foot stays planted: the legs' IK takes up the root's shift); what
 // the back and hips still slide then (planting turns the thighs otherwise on a held root),
 // and what the knees beside planted feet still move on the clip's own legs, is added to the
 // hold (refine_root), four times over, planting again each time; the limbs' holds come
 // after foot planting; the body floor is then built again over every hold, so no hold
-// pushes a part below the floor (a swung thigh or a bent elbow can dip the skin).
+// pushes a part below the floor (a swung thigh or a bent elbow can dip the skin); the raised
+// arms' holds are planned last, on the lifted and raised poses, and applied after the lift.
 // Conflicts: the feet win over everything (above); the root hold wins over the clip's path
 // where the back or hips rest (the body stays where it lay down), and a knee beside its
 // planted foot wins over the back and hips (above); the clip wins where it moves
@@ -71,7 +87,8 @@
 //          clip frame's pose as the body floor saw it, lifted).
 // Outputs: hold_root() (the root's shift, applied before foot planting), hold_limbs() (the
 //          limbs' IK, applied after foot planting and before the body floor's lift, which is
-//          built again over them), contact_slides() (measured on any poses of the clip).
+//          built again over them), hold_raised_arms() (after the lift and the arms' raise),
+//          contact_slides() (measured on any poses of the clip).
 #pragma once
 
 #include <array>
@@ -142,10 +159,23 @@ class BodyContacts {
   // The limbs' holds (knees, arms, hands): their shifts measured on frame_pose (the clip's
   // poses with the root held and the feet planted), over the contacts found;
   // foot_planted(side, frame): whether foot planting holds that foot (its knee is then not
-  // held).
+  // held); raised(side, frame): whether the body floor raises that arm on the frame (an arm's
+  // contact that touches such a frame is left to plan_raised_arms, see raised_runs), or empty.
   void plan_limbs(const std::function<deform::Pose(int)>& frame_pose,
-                  const std::function<bool(int, int)>& foot_planted);
+                  const std::function<bool(int, int)>& foot_planted,
+                  const std::function<bool(int, int)>& raised = {});
   void hold_limbs(double seconds, deform::Pose& pose) const;
+  // The holds of the arms the body floor raises (raised as plan_limbs'), over the contacts
+  // raised_runs gives: their shifts measured on frame_pose (the clip's poses with every other
+  // hold, lifted and the arms raised), applied after the raise (hold_raised_arms).
+  void plan_raised_arms(const std::function<deform::Pose(int)>& frame_pose,
+                        const std::function<bool(int, int)>& raised);
+  // Moves each raised arm's lowest point across to where its hold puts it (the elbow swung
+  // across, move_limb_middle), and has body_floor raise the arm again where that dipped it,
+  // kRaisedHoldPasses times (a raise that swings the arm up about its shoulder moves that
+  // point across again).
+  void hold_raised_arms(double seconds, const BodyFloor& body_floor, deform::Pose& pose) const;
+  static constexpr int kRaisedHoldPasses = 3;
 
   struct ContactSlide {
     int part = 0;
@@ -178,12 +208,17 @@ class BodyContacts {
   glm::vec2 at(const std::vector<glm::vec2>& values, double seconds) const;
   // kFade in clip frames (at least one).
   int taper() const;
-  // Per clip frame: how many frames from the nearest frame where that side's foot is planted,
-  // at most taper().
+  // Per clip frame: how many frames from the nearest frame where that side's foot is planted
+  // (or whatever foot_planted(side, frame) says), at most taper().
   std::vector<int> planted_distance(int side,
                                     const std::function<bool(int, int)>& foot_planted) const;
   // Whether a knee bound to its planted foot rests on `frame` (the root holds it).
   bool knee_bound(int frame) const;
+  // Per clip frame, 1 within a contact of an arm part (kLeftArm, kRightArm) that touches a
+  // frame where raised(side, frame) and during which that side's hand never rests; empty for
+  // other parts or no raised.
+  std::vector<std::uint8_t> raised_runs(int part,
+                                        const std::function<bool(int, int)>& raised) const;
   // No hold moves faster than 0.8 L/s (twice a contact's speed): one frame's step of a contact
   // point may be marker noise far above its speed over the window.
   void limit_rate(std::vector<glm::vec2>& values) const;
@@ -203,6 +238,9 @@ class BodyContacts {
   std::array<std::vector<std::uint8_t>, 2> knee_bound_;
   // Per part (knees, hands, arms), per clip frame (x, z); empty where the part is not held.
   std::array<std::vector<glm::vec2>, kPartCount> limb_shift_;
+  // The same for the arms the body floor raises (kLeftArm, kRightArm), applied after the raise.
+  std::array<std::vector<glm::vec2>, kPartCount> raised_arm_shift_;
+  bool holds_raised_arms_ = false;
 };
 
 }  // namespace sweepd::motion

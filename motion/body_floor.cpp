@@ -142,7 +142,13 @@ void BodyFloor::apply(double seconds, deform::Pose& pose) const {
   const int f0 = static_cast<int>(std::floor(position));
   const int f1 = std::min(f0 + 1, last);
   pose.root_translation.y += glm::mix(lift_[f0], lift_[f1], static_cast<float>(position - f0));
+  raise_arms(seconds, pose);
+}
+
+void BodyFloor::raise_arms(double seconds, deform::Pose& pose) const {
   if (arms_through_.empty()) return;
+  const int last = static_cast<int>(lift_.size()) - 1;
+  const double position = std::clamp(seconds / frame_time_, 0.0, static_cast<double>(last));
   const int free_arms = arms_through_[static_cast<int>(std::lround(position))];
   for (int side = 0; side < 2; ++side)
     if (free_arms & (1 << side)) raise_arm(side, pose);

@@ -76,6 +76,14 @@ class BodyFloor {
   // Raises `pose` (the pose of the clip at `seconds`, clamped to the clip) by the lift there,
   // and raises each arm the clip pushes through its floor there (see the header).
   void apply(double seconds, deform::Pose& pose) const;
+  // The arms part of apply() alone: raises each arm the clip pushes through its floor at
+  // `seconds` until it rests on the floor (a pose already lifted; body contacts hold such an
+  // arm after the raise, then raise it again where the hold dipped it).
+  void raise_arms(double seconds, deform::Pose& pose) const;
+  // Whether apply() raises that side's arm (0 left, 1 right) on clip frame `frame`.
+  bool raises_arm(int side, int frame) const {
+    return !arms_through_.empty() && (arms_through_[frame] & (1 << side));
+  }
   // The largest lift over the clip (m).
   float largest_lift() const;
   // About the most an arm the clip pushes through its floor rises off it (m: its samples'

@@ -261,10 +261,17 @@ Retargeter::Retargeter(std::shared_ptr<const Clip> motion, const deform::Model& 
       }
       plant();
     }
+    const auto raised = [this](int side, int frame) {
+      return body_floor_->raises_arm(side, frame);
+    };
     body_contacts_->plan_limbs(
         [this](int frame) { return feet_planted_pose_at_frame(frame); },
-        [this](int side, int frame) { return planting_ && planting_->planted(side, frame); });
+        [this](int side, int frame) { return planting_ && planting_->planted(side, frame); },
+        raised);
     lift();
+    // The arms the body floor raises are held on the raised poses (the raise moves them).
+    body_contacts_->plan_raised_arms([this](int frame) { return lifted_pose_at_frame(frame); },
+                                     raised);
   }
   const auto cm = [](float m) { return std::to_string(static_cast<int>(std::lround(m * 100.0f))); };
   const float rise = body_floor_->largest_lift(), arm_rise = body_floor_->largest_arm_rise();
@@ -706,7 +713,7 @@ deform::Pose Retargeter::feet_planted_pose_at_frame(int frame) const {
 
 deform::Pose Retargeter::lifted_pose_at_frame(int frame) const {
   deform::Pose pose = feet_planted_pose_at_frame(frame);
-  if (body_floor_) body_floor_->apply(frame * double{motion_->frame_time}, pose);
+  lift_and_raise(frame * double{motion_->frame_time}, pose);
   return pose;
 }
 
@@ -718,8 +725,16 @@ deform::Pose Retargeter::pose_at_time(double seconds) const {
   if (body_contacts_) body_contacts_->hold_root(seconds, pose);
   if (planting_) planting_->apply(seconds, pose);
   if (body_contacts_) body_contacts_->hold_limbs(seconds, pose);
-  if (body_floor_) body_floor_->apply(seconds, pose);
+  lift_and_raise(seconds, pose);
   return pose;
+}
+
+void Retargeter::lift_and_raise(double seconds, deform::Pose& pose) const {
+  if (!body_floor_) return;
+  body_floor_->apply(seconds, pose);
+  if (!body_contacts_) return;
+  // An arm the floor raised, held where it rests, is raised again where the hold dipped it.
+  body_contacts_->hold_raised_arms(seconds, *body_floor_, pose);
 }
 
 deform::Pose Retargeter::pose_at_bvh_rest() const {

@@ -244,6 +244,9 @@ class Retargeter final : public ClipPoses {
   // on the floor held, before the body floor lifts it; lifted (pose_at_frame).
   deform::Pose feet_planted_pose_at_frame(int frame) const;
   deform::Pose lifted_pose_at_frame(int frame) const;
+  // The body floor's lift and arm raise, and the holds of the raised arms (raised again where
+  // a hold dipped one): the last steps of a pose.
+  void lift_and_raise(double seconds, deform::Pose& pose) const;
   // The shoulder rhythm (see the header): clavicles the clip leaves still follow the arm.
   struct ShoulderRhythm {
     int clavicle = -1, upper = -1, chest = -1;
