@@ -64,87 +64,10 @@ FloatLanes area_normal(const glm::vec3* positions, std::size_t count, const std:
                load_position(positions, corner[2], count) - a);
 }
 
-#if defined(__x86_64__)
-// The same for two triangles in one AVX register (corner[0..2] in the low half, corner[3..5] in
-// the high half): one rounding where the baseline's has two (FMA).
-[[gnu::target("avx2,fma")]] inline __m256 area_normals_of_two(const glm::vec3* positions,
-                                                              std::size_t count,
-                                                              const std::uint32_t* corner) {
-  __m256 c[3];
-  for (int k = 0; k < 3; ++k)
-    c[k] = _mm256_set_m128(load_position(positions, corner[3 + k], count),
-                           load_position(positions, corner[k], count));
-  const __m256 u = _mm256_sub_ps(c[1], c[0]);
-  const __m256 v = _mm256_sub_ps(c[2], c[0]);
-  constexpr int kYzx = _MM_SHUFFLE(3, 0, 2, 1);
-  const __m256 c_zxy = _mm256_fmsub_ps(u, _mm256_permute_ps(v, kYzx),
-                                       _mm256_mul_ps(_mm256_permute_ps(u, kYzx), v));
-  return _mm256_permute_ps(c_zxy, kYzx);
-}
-
-// Area normals of the triangles with corners vertex[0, corners) added to their corners' welded
-// sums welded[0, corners), two triangles at a time (an odd last one as the low half of a pair
-// with itself, as store_area_normals_avx2 computes it).
-[[gnu::target("avx2,fma")]] void scatter_area_normals_avx2(const glm::vec3* positions,
-                                                           std::size_t count,
-                                                           const std::uint32_t* vertex,
-                                                           const std::uint32_t* welded,
-                                                           std::size_t corners, FloatLanes* sums) {
-  std::size_t c = 0;
-  for (; c + 6 <= corners; c += 6) {
-    const __m256 two = area_normals_of_two(positions, count, vertex + c);
-    const FloatLanes first = _mm256_castps256_ps128(two);
-    const FloatLanes second = _mm256_extractf128_ps(two, 1);
-    sums[welded[c]] += first;
-    sums[welded[c + 1]] += first;
-    sums[welded[c + 2]] += first;
-    sums[welded[c + 3]] += second;
-    sums[welded[c + 4]] += second;
-    sums[welded[c + 5]] += second;
-  }
-  if (c < corners) {
-    const std::uint32_t twice[6] = {vertex[c], vertex[c + 1], vertex[c + 2],
-                                    vertex[c], vertex[c + 1], vertex[c + 2]};
-    const FloatLanes last = _mm256_castps256_ps128(area_normals_of_two(positions, count, twice));
-    for (int k = 0; k < 3; ++k) sums[welded[c + k]] += last;
-  }
-}
-
-// Area normals of triangles [begin, end) (begin even) stored at area_normals[t], two at a time.
-[[gnu::target("avx2,fma")]] void store_area_normals_avx2(const glm::vec3* positions,
-                                                         std::size_t count,
-                                                         const std::uint32_t* vertex,
-                                                         std::size_t begin, std::size_t end,
-                                                         FloatLanes* area_normals) {
-  std::size_t t = begin;
-  for (; t + 2 <= end; t += 2)
-    _mm256_storeu_ps(&area_normals[t][0], area_normals_of_two(positions, count, vertex + 3 * t));
-  if (t < end) {
-    const std::uint32_t* c = vertex + 3 * t;
-    const std::uint32_t twice[6] = {c[0], c[1], c[2], c[0], c[1], c[2]};
-    area_normals[t] = _mm256_castps256_ps128(area_normals_of_two(positions, count, twice));
-  }
-}
-#endif
-
-// The baseline's scatter, one triangle at a time.
-void scatter_area_normals(const glm::vec3* positions, std::size_t count,
-                          const std::uint32_t* vertex, const std::uint32_t* welded,
-                          std::size_t corners, FloatLanes* sums) {
-  for (std::size_t c = 0; c < corners; c += 3) {
-    const FloatLanes n = area_normal(positions, count, vertex + c);
-    sums[welded[c]] += n;
-    sums[welded[c + 1]] += n;
-    sums[welded[c + 2]] += n;
-  }
-}
-
 }  // namespace
 
 WeldedNormals::WeldedNormals(std::span<const glm::vec3> rest_positions,
-                             std::span<const std::uint32_t> indices,
-                             VertexLoopInstructions instructions)
-    : instructions_(instructions) {
+                             std::span<const std::uint32_t> indices) {
   if (indices.size() % 3 != 0)
     throw std::invalid_argument("welded normals: " + std::to_string(indices.size()) +
                                 " triangle indices, not a multiple of 3");
@@ -152,9 +75,6 @@ WeldedNormals::WeldedNormals(std::span<const glm::vec3> rest_positions,
     if (v >= rest_positions.size())
       throw std::invalid_argument("welded normals: triangle corner " + std::to_string(v) +
                                   " past " + std::to_string(rest_positions.size()) + " vertices");
-  if (instructions == VertexLoopInstructions::kAvx2Fma &&
-      widest_vertex_loop_instructions() != VertexLoopInstructions::kAvx2Fma)
-    throw std::invalid_argument("welded normals: this CPU has no AVX2 with FMA");
   std::size_t welded_count = 0;
   welded_ = weld_coincident_positions(rest_positions, &welded_count);
   // Triangles ordered by their first welded vertex, so that the triangles a vertex gathers lie
@@ -206,15 +126,12 @@ void WeldedNormals::scatter(std::span<const glm::vec3> positions, std::span<glm:
                             FloatLanes* sums) const {
   const std::size_t welded_count = first_more_.size() - 1;
   std::fill(sums, sums + (welded_count + 3) / 4 * 4, FloatLanes{0.0f, 0.0f, 0.0f, 0.0f});
-#if defined(__x86_64__)
-  if (instructions_ == VertexLoopInstructions::kAvx2Fma) {
-    scatter_area_normals_avx2(positions.data(), positions.size(), corner_vertex_.data(),
-                              corner_welded_.data(), corner_vertex_.size(), sums);
-  } else
-#endif
-  {
-    scatter_area_normals(positions.data(), positions.size(), corner_vertex_.data(),
-                         corner_welded_.data(), corner_vertex_.size(), sums);
+  const std::uint32_t* welded = corner_welded_.data();
+  for (std::size_t corner = 0; corner < corner_vertex_.size(); corner += 3) {
+    const FloatLanes n = area_normal(positions.data(), positions.size(), &corner_vertex_[corner]);
+    sums[welded[corner]] += n;
+    sums[welded[corner + 1]] += n;
+    sums[welded[corner + 2]] += n;
   }
   for (std::size_t w = 0; w < welded_count; w += 4) normalise_four(sums + w);
   for (std::size_t v = 0; v < normals.size(); ++v) {
@@ -229,22 +146,11 @@ void WeldedNormals::gather(std::span<const glm::vec3> positions, std::span<glm::
   // Unused slots' entry: adding −0 leaves every float as it is (−0 included), so a vertex's sum
   // is the scatter's to the bit.
   area_normals[triangles] = FloatLanes{-0.0f, -0.0f, -0.0f, -0.0f};
-  // Blocks of whole pairs: the AVX2 loop pairs triangles as the scatter does.
-  run_in_vertex_blocks(
-      triangles, threads,
-      [&](std::size_t begin, std::size_t end) {
-#if defined(__x86_64__)
-        if (instructions_ == VertexLoopInstructions::kAvx2Fma) {
-          store_area_normals_avx2(positions.data(), positions.size(), corner_vertex_.data(),
-                                  begin, end, area_normals);
-          return;
-        }
-#endif
-        for (std::size_t t = begin; t < end; ++t)
-          area_normals[t] =
-              area_normal(positions.data(), positions.size(), corner_vertex_.data() + 3 * t);
-      },
-      2);
+  run_in_vertex_blocks(triangles, threads, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t t = begin; t < end; ++t)
+      area_normals[t] =
+          area_normal(positions.data(), positions.size(), corner_vertex_.data() + 3 * t);
+  });
   run_in_vertex_blocks(
       normals.size(), threads,
       [&](std::size_t begin, std::size_t end) {

@@ -1,20 +1,17 @@
 // WeldedNormals: area-weighted unit vertex normals of a deformed triangle mesh, shared by the
 // vertices that coincide in the rest mesh (seam copies), recomputed per frame without allocating.
 //
-// Construction (once): the rest positions (to weld coincident vertices), the triangle indices
-// (3 per triangle) and the instructions the loops run. compute(): positions of the deformed mesh
-// (rest vertex count) → normals (as many): the normalised sum of the cross products of the
-// triangles around the welded vertex, (0, 1, 0) where that sum is zero. The per-frame triangle
-// normals live in the caller's `scratch` (resized to scratch_count() on first use), so one
-// WeldedNormals is shared read-only by threads that each own their scratch
-// (deform/job/model_runtime.h).
+// Construction (once): the rest positions (to weld coincident vertices) and the triangle
+// indices (3 per triangle). compute(): positions of the deformed mesh (rest vertex count) →
+// normals (as many): the normalised sum of the cross products of the triangles around the
+// welded vertex, (0, 1, 0) where that sum is zero. The per-frame triangle normals live in the
+// caller's `scratch` (resized to scratch_count() on first use), so one WeldedNormals is shared
+// read-only by threads that each own their scratch (deform/job/model_runtime.h).
 // On one thread, each triangle's area normal is added to its corners' welded sums (a scatter:
 // the fastest on one core). On several, two passes split over the threads (run_in_vertex_blocks):
 // every triangle's area normal, then every vertex gathers its welded vertex's triangles in
 // ascending order — the order the scatter adds them — so results are bit-identical for any thread
-// count. With kAvx2Fma the area normals are computed two triangles per AVX register (pairs
-// (0, 1), (2, 3), … in both passes; FMA rounds once, so the two instruction sets differ in the
-// last bits: both are within 0.001° of a double-precision sum, welded_normals_test.cpp).
+// count.
 #pragma once
 
 #include <algorithm>
@@ -24,16 +21,12 @@
 #include <vector>
 
 #include "deform/simd/float_lanes.h"
-#include "deform/simd/vertex_loop_instructions.h"
 
 namespace sweepd::deform {
 
 class WeldedNormals {
  public:
-  // Throws for indices that are not whole triangles or name a vertex past rest_positions, and
-  // for kAvx2Fma on a CPU without them.
-  WeldedNormals(std::span<const glm::vec3> rest_positions, std::span<const std::uint32_t> indices,
-                VertexLoopInstructions instructions = widest_vertex_loop_instructions());
+  WeldedNormals(std::span<const glm::vec3> rest_positions, std::span<const std::uint32_t> indices);
 
   void compute(std::span<const glm::vec3> positions, std::span<glm::vec3> normals,
                std::vector<FloatLanes>& scratch, int threads = 1) const;
@@ -48,7 +41,6 @@ class WeldedNormals {
   void gather(std::span<const glm::vec3> positions, std::span<glm::vec3> normals,
               FloatLanes* area_normals, int threads) const;
 
-  VertexLoopInstructions instructions_;
   std::vector<std::uint32_t> corner_vertex_;  // per triangle corner: its vertex
   std::vector<std::uint32_t> corner_welded_;  // per triangle corner: its welded vertex
   std::vector<std::uint32_t> welded_;         // per vertex: its welded vertex

@@ -43,7 +43,7 @@ std::shared_ptr<const SweepPoserTables> make_sweep_poser_tables(
   auto tables = std::make_shared<SweepPoserTables>();
   SweepPoserTables& out = *tables;
   out.bound = &bound;
-  out.normals.emplace(bound.model.positions, bound.model.indices, instructions);
+  out.normals.emplace(bound.model.positions, bound.model.indices);
   const Skeleton& skeleton = bound.model.skeleton;
   out.world_rest = skeleton.world_rest_matrices();
   for (const glm::mat4& m : out.world_rest) {

@@ -139,6 +139,14 @@ const KindLoops& loops_for(VertexLoopInstructions instructions) {
 
 }  // namespace
 
+VertexLoopInstructions widest_vertex_loop_instructions() {
+#if defined(__x86_64__)
+  if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"))
+    return VertexLoopInstructions::kAvx2Fma;
+#endif
+  return VertexLoopInstructions::kBaseline;
+}
+
 SweepVertexKinds::SweepVertexKinds(const Model& model, std::span<const float> skin_share,
                                    std::span<const std::uint32_t> first_term,
                                    std::span<const SweepTerm> terms,

@@ -30,7 +30,6 @@
 #include <vector>
 
 #include "deform/model/model.h"
-#include "deform/simd/vertex_loop_instructions.h"
 
 namespace sweepd::deform {
 
@@ -57,6 +56,10 @@ struct SweepTerm {
   float x_shift, y_shift;  // da cos θ, db sin θ
   float c;                 // offset along the sweep's normal
 };
+
+enum class VertexLoopInstructions { kBaseline, kAvx2Fma };
+// kAvx2Fma on an x86-64 CPU that has AVX2 and FMA, else kBaseline.
+VertexLoopInstructions widest_vertex_loop_instructions();
 
 class SingleTermBatches;
 

@@ -1,8 +1,7 @@
 // WeldedNormals: seam copies share the welded normal, area weighting, the fallback for vertices
 // outside every triangle, bad indices and buffer sizes refused, agreement with a direct
-// per-triangle sum on the shared male, bit-identical for any thread count, and every instruction
-// set within 0.001° of a double-precision sum on the male and the 72k mannequin at range-of-motion
-// peaks.
+// per-triangle sum on the shared male, bit-identical for any thread count, and within 0.001° of
+// a double-precision sum on the male and the 72k mannequin at range-of-motion peaks.
 #include "deform/mesh/welded_normals.h"
 
 #include <gtest/gtest.h>
@@ -147,8 +146,7 @@ double degrees_between(const glm::dvec3& a, const glm::dvec3& b) {
   return glm::degrees(2.0 * std::asin(std::min(1.0, glm::length(a - b) / 2.0)));
 }
 
-// On every instruction set this CPU has, at three range-of-motion peaks of the sweep: the
-// normals within 0.001° of the double-precision sum (float rounding only: measured 0.00001° to
+// At three range-of-motion peaks of the sweep: the normals within 0.001° of the double-precision sum (float rounding only: measured 0.00001° to
 // 0.0001°, so a wrong triangle or a lost seam copy, degrees off, fails), and bit-identical for 1,
 // 2, 3 and 7 threads.
 void expect_within_a_thousandth_of_a_degree(const BoundModel& bound) {
@@ -156,9 +154,6 @@ void expect_within_a_thousandth_of_a_degree(const BoundModel& bound) {
   const motion::RangeOfMotion rom = motion::range_of_motion(model.skeleton, bound.rig);
   const motion::OwnSkeletonClip player(rom.clip, model.skeleton);
   test::Posing posing(bound);
-  std::vector<VertexLoopInstructions> sets = {VertexLoopInstructions::kBaseline};
-  if (widest_vertex_loop_instructions() == VertexLoopInstructions::kAvx2Fma)
-    sets.push_back(VertexLoopInstructions::kAvx2Fma);
   int peaks = 0;
   for (const motion::RomMove& move : rom.moves) {
     if (move.name != "elbow flexion 150°" && move.name != "left knee to chest" &&
@@ -169,33 +164,30 @@ void expect_within_a_thousandth_of_a_degree(const BoundModel& bound) {
     const std::vector<glm::vec3> posed =
         test::deformed(posing, player.pose_at_frame(move.peak_frame), DeformMethod::kSweep);
     const std::vector<glm::dvec3> expected = double_precision_normals(model, posed);
-    for (const VertexLoopInstructions instructions : sets) {
-      SCOPED_TRACE(instructions == VertexLoopInstructions::kAvx2Fma ? "AVX2+FMA" : "baseline");
-      const WeldedNormals welded(model.positions, model.indices, instructions);
-      std::vector<FloatLanes> scratch;
-      std::vector<glm::vec3> one(posed.size());
-      welded.compute(posed, one, scratch);
-      double worst = 0.0;
-      for (std::size_t v = 0; v < posed.size(); ++v)
-        worst = std::max(worst, degrees_between(glm::dvec3(one[v]), expected[v]));
-      EXPECT_LE(worst, 0.001);
-      for (const int threads : {2, 3, 7}) {
-        std::vector<glm::vec3> split(posed.size());
-        welded.compute(posed, split, scratch, threads);
-        EXPECT_EQ(0, std::memcmp(one.data(), split.data(), one.size() * sizeof(glm::vec3)))
-            << threads << " threads";
-      }
+    const WeldedNormals welded(model.positions, model.indices);
+    std::vector<FloatLanes> scratch;
+    std::vector<glm::vec3> one(posed.size());
+    welded.compute(posed, one, scratch);
+    double worst = 0.0;
+    for (std::size_t v = 0; v < posed.size(); ++v)
+      worst = std::max(worst, degrees_between(glm::dvec3(one[v]), expected[v]));
+    EXPECT_LE(worst, 0.001);
+    for (const int threads : {2, 3, 7}) {
+      std::vector<glm::vec3> split(posed.size());
+      welded.compute(posed, split, scratch, threads);
+      EXPECT_EQ(0, std::memcmp(one.data(), split.data(), one.size() * sizeof(glm::vec3)))
+          << threads << " threads";
     }
   }
   EXPECT_EQ(peaks, 3);  // every named move is in the range of motion
 }
 
-TEST(WeldedNormals, EveryInstructionSetIsWithinAThousandthOfADegreeOnTheMale) {
+TEST(WeldedNormals, IsWithinAThousandthOfADegreeOnTheMale) {
   REQUIRE_SHARED_MALE();
   expect_within_a_thousandth_of_a_degree(male);
 }
 
-TEST(WeldedNormals, EveryInstructionSetIsWithinAThousandthOfADegreeOnThe72kMannequin) {
+TEST(WeldedNormals, IsWithinAThousandthOfADegreeOnThe72kMannequin) {
   const Model model = mannequin::make_mannequin({.target_vertices = 72000});
   const BoundModel bound = bind(model, detect_rig_map(model.skeleton));
   expect_within_a_thousandth_of_a_degree(bound);
