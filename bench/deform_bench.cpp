@@ -11,8 +11,9 @@
 // The "per_vertex" counter is the time per vertex (Google Benchmark prints it in seconds with
 // an SI prefix: "2.1n" = 2.1 ns). The pose bends every joint; its cost is outside the timing
 // except for the per-frame matrix conversion DQS does itself. The "sweep_stage" rows time a sweep
-// pose's two stages apart (posing: per frame; vertices: per vertex). The "split" rows time one 250k pose
-// split over 1, 2, 4, … threads (up to the cores) in wall time: one client's latency.
+// pose's stages apart (posing: per frame; vertices and normals: per vertex). The "split" rows
+// time one 250k pose split over 1, 2, 4, … threads (up to the cores) in wall time: one client's
+// latency.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -27,6 +28,7 @@
 #include "deform/baselines/dual_quaternion_skinning.h"
 #include "deform/baselines/linear_blend_skinning.h"
 #include "deform/binding/bind.h"
+#include "deform/mesh/welded_normals.h"
 #include "deform/model/forward_kinematics.h"
 #include "deform/posing/sweep_poser.h"
 #include "deform/rig/rig_map.h"
@@ -98,19 +100,28 @@ void run_sweep(benchmark::State& state, const BenchModel* subject,
   report_per_vertex(state, n);
 }
 
-// One stage of a sweep pose (positions, widest loops): "posing" is set_pose alone (the keys,
-// the curves, the sample table: per frame, whatever the vertex count), "vertices" deform alone.
-void run_sweep_stage(benchmark::State& state, const BenchModel* subject, bool posing) {
+enum class SweepStage { kPosing, kVertices, kNormals };
+
+// One stage of a sweep pose (widest loops): "posing" is set_pose alone (the keys, the curves,
+// the sample table: per frame, whatever the vertex count), "vertices" deform alone (positions),
+// "normals" the normals recomputed from the posed positions alone (WeldedNormals, one thread).
+void run_sweep_stage(benchmark::State& state, const BenchModel* subject, SweepStage stage) {
   const std::size_t n = subject->model.vertex_count();
-  std::vector<glm::vec3> positions(n);
+  std::vector<glm::vec3> positions(n), normals(n);
+  std::vector<deform::FloatLanes> normal_scratch;
   deform::SweepPoser poser(*subject->bound);
+  const deform::WeldedNormals welded(subject->model.positions, subject->model.indices);
   poser.set_pose(subject->world);
+  poser.deform(subject->skinning, positions, {}, 1);
   for (auto _ : state) {
-    if (posing)
+    if (stage == SweepStage::kPosing)
       poser.set_pose(subject->world);
-    else
+    else if (stage == SweepStage::kVertices)
       poser.deform(subject->skinning, positions, {}, 1);
+    else
+      welded.compute(positions, normals, normal_scratch);
     benchmark::DoNotOptimize(positions.data());
+    benchmark::DoNotOptimize(normals.data());
     benchmark::ClobberMemory();
   }
   report_per_vertex(state, n);
@@ -169,10 +180,11 @@ int main(int argc, char** argv) {
   }
   // Where a sweep pose's time goes (issue 50 item 2).
   for (const auto& subject : models)
-    for (const bool posing : {true, false})
-      benchmark::RegisterBenchmark(
-          ("sweep_stage/" + subject->name + "/" + (posing ? "posing" : "vertices")).c_str(),
-          run_sweep_stage, subject.get(), posing)
+    for (const auto& [stage, name] : {std::pair{SweepStage::kPosing, "posing"},
+                                      std::pair{SweepStage::kVertices, "vertices"},
+                                      std::pair{SweepStage::kNormals, "normals"}})
+      benchmark::RegisterBenchmark(("sweep_stage/" + subject->name + "/" + name).c_str(),
+                                   run_sweep_stage, subject.get(), stage)
           ->Unit(benchmark::kMicrosecond);
   // One pose split over threads (issue 50 item 3): wall time, the latency a client sees.
   const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));

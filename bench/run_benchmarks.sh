@@ -54,10 +54,12 @@ for (model, outputs), r in rows.items():
                  f" {sweep * r['vertices'] / 1e6:.3f} |")
     print(line)
 print()
-print("| where a sweep pose goes (positions) | posing ns/vertex (per frame: keys, curves, table) | vertices ns/vertex |")
-print("|---|---|---|")
+print("| where a sweep pose goes | posing ns/vertex (per frame: keys, curves, table) | vertices ns/vertex |"
+      " normals ns/vertex (recomputed from the posed triangles) |")
+print("|---|---|---|---|")
 for model in dict.fromkeys(m for m, _ in stages):
-    print(f"| {model} | {stages[(model, 'posing')]:.2f} | {stages[(model, 'vertices')]:.2f} |")
+    print(f"| {model} | {stages[(model, 'posing')]:.2f} | {stages[(model, 'vertices')]:.2f} |"
+          f" {stages[(model, 'normals')]:.2f} |")
 print()
 print("| one pose over threads (sweep) | outputs | threads | ms per pose (wall) | against 1 thread |")
 print("|---|---|---|---|---|")

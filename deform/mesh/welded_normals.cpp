@@ -17,7 +17,12 @@ namespace sweepd::deform {
 
 namespace {
 
-FloatLanes lanes_of(const glm::vec3& p) { return FloatLanes{p.x, p.y, p.z, 0.0f}; }
+// Position v in lanes 0-2: one 16-byte load where another vertex follows it in the array (lane 3
+// then holds that vertex's x, which no caller reads), else three floats.
+FloatLanes load_position(const glm::vec3* positions, std::uint32_t v, std::size_t count) {
+  if (v + 1 < count) return load_lanes(&positions[v].x);
+  return FloatLanes{positions[v].x, positions[v].y, positions[v].z, 0.0f};
+}
 
 FloatLanes cross(FloatLanes u, FloatLanes v) {
   const FloatLanes u_yzx = __builtin_shufflevector(u, u, 1, 2, 0, 3);
@@ -49,6 +54,14 @@ void normalise_four(FloatLanes* n) {
   const FloatLanes inverse_length = inverse_square_roots(length_squared);
   for (int k = 0; k < 4; ++k)
     n[k] = length_squared[k] > 0.0f ? n[k] * inverse_length[k] : FloatLanes{0.0f, 1.0f, 0.0f, 0.0f};
+}
+
+// Area normal (cross product of two edges) of the triangle with corners corner[0..2]; lane 3
+// holds no meaning.
+FloatLanes area_normal(const glm::vec3* positions, std::size_t count, const std::uint32_t* corner) {
+  const FloatLanes a = load_position(positions, corner[0], count);
+  return cross(load_position(positions, corner[1], count) - a,
+               load_position(positions, corner[2], count) - a);
 }
 
 }  // namespace
@@ -113,15 +126,12 @@ void WeldedNormals::scatter(std::span<const glm::vec3> positions, std::span<glm:
                             FloatLanes* sums) const {
   const std::size_t welded_count = first_more_.size() - 1;
   std::fill(sums, sums + (welded_count + 3) / 4 * 4, FloatLanes{0.0f, 0.0f, 0.0f, 0.0f});
-  const std::uint32_t* vertex = corner_vertex_.data();
   const std::uint32_t* welded = corner_welded_.data();
   for (std::size_t corner = 0; corner < corner_vertex_.size(); corner += 3) {
-    const FloatLanes a = lanes_of(positions[vertex[corner]]);
-    const FloatLanes area_normal = cross(lanes_of(positions[vertex[corner + 1]]) - a,
-                                         lanes_of(positions[vertex[corner + 2]]) - a);
-    sums[welded[corner]] += area_normal;
-    sums[welded[corner + 1]] += area_normal;
-    sums[welded[corner + 2]] += area_normal;
+    const FloatLanes n = area_normal(positions.data(), positions.size(), &corner_vertex_[corner]);
+    sums[welded[corner]] += n;
+    sums[welded[corner + 1]] += n;
+    sums[welded[corner + 2]] += n;
   }
   for (std::size_t w = 0; w < welded_count; w += 4) normalise_four(sums + w);
   for (std::size_t v = 0; v < normals.size(); ++v) {
@@ -137,12 +147,9 @@ void WeldedNormals::gather(std::span<const glm::vec3> positions, std::span<glm::
   // is the scatter's to the bit.
   area_normals[triangles] = FloatLanes{-0.0f, -0.0f, -0.0f, -0.0f};
   run_in_vertex_blocks(triangles, threads, [&](std::size_t begin, std::size_t end) {
-    const std::uint32_t* vertex = corner_vertex_.data();
-    for (std::size_t t = begin; t < end; ++t) {
-      const FloatLanes a = lanes_of(positions[vertex[3 * t]]);
-      area_normals[t] = cross(lanes_of(positions[vertex[3 * t + 1]]) - a,
-                              lanes_of(positions[vertex[3 * t + 2]]) - a);
-    }
+    for (std::size_t t = begin; t < end; ++t)
+      area_normals[t] =
+          area_normal(positions.data(), positions.size(), corner_vertex_.data() + 3 * t);
   });
   run_in_vertex_blocks(
       normals.size(), threads,
@@ -153,9 +160,13 @@ void WeldedNormals::gather(std::span<const glm::vec3> positions, std::span<glm::
           for (std::size_t k = 0; k < count; ++k) {
             const std::uint32_t w = welded_[v0 + k];
             const std::uint32_t* slot = &slots_[std::size_t{w} * kSlots];
-            for (std::size_t i = 0; i < kSlots; ++i) n[k] += area_normals[slot[i]];
+            // Summed in a local, which stays in a register (adding into n[k] kept the sum on
+            // the stack: each add waited for the last one's store).
+            FloatLanes sum = {};
+            for (std::size_t i = 0; i < kSlots; ++i) sum += area_normals[slot[i]];
             for (std::uint32_t i = first_more_[w]; i < first_more_[w + 1]; ++i)
-              n[k] += area_normals[more_[i]];
+              sum += area_normals[more_[i]];
+            n[k] = sum;
           }
           normalise_four(n);
           for (std::size_t k = 0; k < count; ++k)
