@@ -38,6 +38,7 @@ EXTERNAL = {
     "GoogleTest": ["--gtest_filter"],
     "Google Benchmark": ["--benchmark_filter", "--benchmark_min_time", "--benchmark_repetitions"],
     "git": ["--short"],
+    "valgrind (callgrind)": ["--toggle-collect"],
     "docker / podman": ["--build-arg", "--isolation", "--variant"],
     "kubectl": ["--dry-run", "--from-file", "--validate", "--for"],
     "systemd-analyze / systemctl": ["--now", "--offline"],
